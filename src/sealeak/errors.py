@@ -1,0 +1,85 @@
+"""The exceptions sealeak raises.
+
+Every error a user can cause derives from :class:`SealeakError`; the CLI catches that base class,
+prints the message and exits non-zero without a traceback. Anything else escaping is a bug.
+
+    SealeakError
+    ├── InputError            a value is outside what is allowed (names the field, value, allowed range)
+    │   └── UnitError         a quantity has an unknown unit or the wrong dimension
+    ├── FileFormatError       a file is missing, empty, truncated or malformed (names the file)
+    ├── ConvergenceError      an iterative solver did not reach its tolerance
+    ├── SolutionCheckError    a computed solution failed its own consistency check
+    └── ResourceError         a job would need more memory (or time) than the machine has
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "SealeakError",
+    "InputError",
+    "UnitError",
+    "FileFormatError",
+    "ConvergenceError",
+    "SolutionCheckError",
+    "ResourceError",
+]
+
+
+class SealeakError(Exception):
+    """Base class of every error sealeak raises on purpose."""
+
+
+class InputError(SealeakError, ValueError):
+    """A value outside what is allowed.
+
+    Parameters
+    ----------
+    field:
+        Name of the offending field, as the user wrote it (e.g. ``rubber.youngs_modulus``).
+    value:
+        The offending value (printed with ``repr``-like formatting).
+    allowed:
+        Human-readable description of what is allowed.
+    """
+
+    def __init__(self, field: str, value: Any, allowed: str) -> None:
+        self.field = field
+        self.value = value
+        self.allowed = allowed
+        super().__init__(f"{field} = {_show(value)}: {allowed}")
+
+
+class UnitError(InputError):
+    """A quantity with an unknown unit or a unit of the wrong dimension."""
+
+
+class FileFormatError(SealeakError, ValueError):
+    """A file that cannot be read: missing, empty, truncated or malformed."""
+
+    def __init__(self, path: Any, problem: str) -> None:
+        self.path = str(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: {problem}")
+
+
+class ConvergenceError(SealeakError, RuntimeError):
+    """An iterative solver stopped at its iteration limit without reaching its tolerance."""
+
+
+class SolutionCheckError(SealeakError, RuntimeError):
+    """A solution failed its own check (conservation, residual); no number is returned."""
+
+
+class ResourceError(SealeakError, RuntimeError):
+    """A job was refused up front because it would need more memory than is available."""
+
+
+def _show(value: Any) -> str:
+    if isinstance(value, str):
+        return repr(value)
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
