@@ -132,8 +132,9 @@ class PowerSpectrum:
             C(q) = C0 (q/q_rolloff)^(-2(1+H))  q_rolloff <= q <= q_cutoff
             C(q) = 0                           otherwise
 
-        Exactly one of ``h_rms`` (m) and ``C0`` (m⁴) fixes the amplitude. ``q_lowest`` defaults to
-        ``q_rolloff`` (no plateau). All wavevectors in 1/m.
+        Exactly one of ``h_rms`` (m) and ``C0`` (m⁴) fixes the amplitude (h_rms is that of the band
+        [q_lowest, q_cutoff]). ``q_lowest`` defaults to ``q_rolloff`` (no plateau); above q_rolloff the
+        band starts on the power law. All wavevectors in 1/m.
         """
         _check_positive("surface.hurst", hurst, open_upper=1.0)
         _check_positive("surface.rolloff_wavevector", q_rolloff)
@@ -141,20 +142,21 @@ class PowerSpectrum:
         if q_lowest is None:
             q_lowest = q_rolloff
         _check_positive("surface.lowest_wavevector", q_lowest)
-        if not q_lowest <= q_rolloff:
+        if not q_lowest < q_cutoff:
             raise InputError("surface.lowest_wavevector", q_lowest,
-                             f"must not exceed the roll-off wavevector {q_rolloff:.6g} 1/m")
+                             f"must be below the cut-off wavevector {q_cutoff:.6g} 1/m")
         if not q_rolloff < q_cutoff:
             raise InputError("surface.cutoff_wavevector", q_cutoff,
                              f"must exceed the roll-off wavevector {q_rolloff:.6g} 1/m")
         if (h_rms is None) == (C0 is None):
             raise InputError("surface", {"h_rms": h_rms, "C0": C0}, "give exactly one of h_rms and C0")
+        decay = -2.0 * (1.0 + hurst)
         if q_lowest < q_rolloff:
             nodes = np.array([q_lowest, q_rolloff, q_cutoff])
-            shape = np.array([1.0, 1.0, (q_cutoff / q_rolloff) ** (-2.0 * (1.0 + hurst))])
-        else:
-            nodes = np.array([q_rolloff, q_cutoff])
-            shape = np.array([1.0, (q_cutoff / q_rolloff) ** (-2.0 * (1.0 + hurst))])
+            shape = np.array([1.0, 1.0, (q_cutoff / q_rolloff) ** decay])
+        else:  # the band starts on the power law (roll-off at or below q_lowest)
+            nodes = np.array([q_lowest, q_cutoff])
+            shape = np.array([(q_lowest / q_rolloff) ** decay, (q_cutoff / q_rolloff) ** decay])
         if h_rms is not None:
             _check_positive("surface.h_rms", h_rms)
             unit = cls(nodes, shape)

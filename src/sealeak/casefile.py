@@ -1,0 +1,416 @@
+"""Case files: TOML with quantities in any units, read into :class:`~sealeak.case.Case` objects.
+
+Format (see the README for the full list of keys)::
+
+    title = "PDMS ring on sandpaper"
+
+    [surface]
+    model = "self-affine"              # or "table" with file = "psd.csv"
+    h_rms = "44 um"                    # or C0 = "... m^4"
+    hurst = 0.8
+    rolloff_wavevector = "9.1e3 1/m"   # or rolloff_wavelength = "0.69 mm"
+    cutoff_wavevector = "3.14e5 1/m"   # q1; or cutoff_wavelength = "20 um"
+    # lowest_wavevector = "..."        # where C(q) starts (or lowest_wavelength); default: q0
+
+    [rubber]
+    youngs_modulus = "2.3 MPa"
+    poisson_ratio = 0.5
+
+    [seal]
+    shape = "ring"                     # or "rectangle" with width (Lx, along the flow) and length (Ly)
+    inner_diameter = "3 cm"
+    outer_diameter = "4 cm"
+
+    [fluid]
+    viscosity = "1 mPa*s"
+
+    [conditions]
+    squeeze_pressure = ["20 kPa", "60 kPa"]   # or {start = "...", stop = "...", num = 50, spacing = "log"}
+    pressure_difference = "10 kPa"
+
+    [theory]
+    alpha = 0.2
+    percolation_threshold = 0.6
+    gamma = 1.0
+    # lowest_wavevector = "..."        # override q0 = 2π/Lx (or square_side = "...")
+
+    [study]                            # optional: one case per value of one key
+    vary = "surface.h_rms"
+    values = ["1 um", "2 um", "4 um"]
+
+Every unknown section or key, missing field, wrong unit or out-of-range value raises a
+:class:`~sealeak.errors.SealeakError` naming the field (``section.key``) and the value.
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from importlib import resources
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from .case import Case
+from .contact import contact_modulus
+from .errors import FileFormatError, InputError, SealeakError
+from .fluid import Fluid
+from .roughness import PowerSpectrum
+from .seal import Seal
+from .tables import read_spectrum_table
+from .units import parse_quantity
+
+__all__ = ["load_cases", "load_case", "parse_cases", "example_names", "example_text", "example_path",
+           "register_surface_model"]
+
+_SECTIONS: dict[str, set[str]] = {
+    "surface": {"model", "h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength",
+                "cutoff_wavevector", "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength",
+                "file", "label", "files", "pixel_size", "size", "height_unit", "periodic"},
+    "rubber": {"youngs_modulus", "poisson_ratio", "name"},
+    "substrate": {"youngs_modulus", "poisson_ratio", "name"},
+    "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height"},
+    "fluid": {"viscosity", "density", "name"},
+    "conditions": {"squeeze_pressure", "pressure_difference"},
+    "theory": {"alpha", "percolation_threshold", "gamma", "lowest_wavevector", "square_side", "model"},
+    "study": {"vary", "values", "labels"},
+    "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},
+    "simulation": {"grid", "realizations", "seed"},
+}
+_TOP_LEVEL = {"title", "description"}
+_REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")
+
+#: Extra surface models (name -> builder(section, case_dir, q0) -> (PowerSpectrum, note)).
+_SURFACE_MODELS: dict[str, Callable[["_Section", Path, float], tuple[PowerSpectrum, str]]] = {}
+
+
+def register_surface_model(name: str, builder: Callable[["_Section", Path, float], tuple[PowerSpectrum, str]]) -> None:
+    """Register a ``[surface] model = name`` builder (used by the measured-topography module)."""
+    _SURFACE_MODELS[name] = builder
+
+
+class _Section:
+    """One TOML table, with typed getters whose errors name ``section.key``."""
+
+    def __init__(self, name: str, data: Any) -> None:
+        if not isinstance(data, dict):
+            raise InputError(name, data, "must be a TOML table ([" + name + "])")
+        self.name = name
+        self.data = data
+        allowed = _SECTIONS[name]
+        for key in data:
+            if key not in allowed:
+                raise InputError(f"{name}.{key}", data[key],
+                                 f"unknown key in [{name}]; allowed keys: {', '.join(sorted(allowed))}")
+
+    def field(self, key: str) -> str:
+        return f"{self.name}.{key}"
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def raw(self, key: str, default: Any = None) -> Any:
+        return self.data.get(key, default)
+
+    def quantity(self, key: str, dimension: str, default: Any = None, *, positive: bool = True) -> float:
+        if key not in self.data:
+            if default is None:
+                raise InputError(self.field(key), None, f"is required: give a {dimension.replace('_', ' ')} with its unit")
+            return default
+        value = parse_quantity(self.field(key), self.data[key], dimension)
+        if positive and not value > 0:
+            raise InputError(self.field(key), self.data[key], "must be > 0")
+        return value
+
+    def number(self, key: str, default: float | None = None, *, low: float | None = None, high: float | None = None,
+               low_open: bool = True, high_open: bool = True) -> float:
+        if key not in self.data:
+            if default is None:
+                raise InputError(self.field(key), None, "is required")
+            return default
+        value = self.data[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            if isinstance(value, str):
+                value = parse_quantity(self.field(key), value, "dimensionless")
+            else:
+                raise InputError(self.field(key), value, "must be a number")
+        value = float(value)
+        rng = (("(" if low_open else "[") + (f"{low:g}" if low is not None else "-inf") + ", "
+               + (f"{high:g}" if high is not None else "inf") + (")" if high_open else "]"))
+        ok = np.isfinite(value)
+        if low is not None:
+            ok &= value > low if low_open else value >= low
+        if high is not None:
+            ok &= value < high if high_open else value <= high
+        if not ok:
+            raise InputError(self.field(key), value, f"must lie in {rng}")
+        return value
+
+    def choice(self, key: str, options: tuple[str, ...], default: str | None = None) -> str:
+        value = self.data.get(key, default)
+        if value is None:
+            raise InputError(self.field(key), None, f"is required; allowed: {', '.join(options)}")
+        if value not in options:
+            raise InputError(self.field(key), value, f"allowed: {', '.join(repr(o) for o in options)}")
+        return value
+
+    def one_of(self, keys: tuple[str, str], dims: tuple[str, str], required: bool = True) -> tuple[str, float] | None:
+        present = [k for k in keys if k in self.data]
+        if len(present) > 1:
+            raise InputError(self.field(keys[0]), {k: self.data[k] for k in present},
+                             f"give either {keys[0]} or {keys[1]}, not both")
+        if not present:
+            if required:
+                raise InputError(self.field(keys[0]), None, f"is required (or give {self.field(keys[1])})")
+            return None
+        k = present[0]
+        return k, self.quantity(k, dims[keys.index(k)])
+
+
+def _wavevector(sec: _Section, stem: str, required: bool = True) -> float | None:
+    got = sec.one_of((f"{stem}_wavevector", f"{stem}_wavelength"), ("wavevector", "length"), required)
+    if got is None:
+        return None
+    key, value = got
+    return value if key.endswith("wavevector") else 2.0 * np.pi / value
+
+
+def _seal(sec: _Section) -> Seal:
+    shape = sec.choice("shape", ("ring", "rectangle"))
+    if shape == "ring":
+        for k in ("width", "length"):
+            if sec.has(k):
+                raise InputError(sec.field(k), sec.raw(k), "a ring seal takes inner_diameter and outer_diameter")
+        di = sec.quantity("inner_diameter", "length")
+        do = sec.quantity("outer_diameter", "length")
+        return Seal.ring(di, do)
+    for k in ("inner_diameter", "outer_diameter"):
+        if sec.has(k):
+            raise InputError(sec.field(k), sec.raw(k), "a rectangular seal takes width (along the flow) and length")
+    return Seal.rectangle(sec.quantity("width", "length"), sec.quantity("length", "length"))
+
+
+def _squeeze(sec: _Section) -> np.ndarray:
+    key = "squeeze_pressure"
+    value = sec.raw(key)
+    field = sec.field(key)
+    if value is None:
+        raise InputError(field, None, "is required: a list such as [\"20 kPa\", \"60 kPa\"] or "
+                                      "{start = \"10 kPa\", stop = \"100 kPa\", num = 20, spacing = \"log\"}")
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+        values = [value]
+    elif isinstance(value, list):
+        values = value
+    elif isinstance(value, dict):
+        unknown = set(value) - {"start", "stop", "num", "spacing"}
+        if unknown:
+            raise InputError(f"{field}.{sorted(unknown)[0]}", value[sorted(unknown)[0]],
+                             "unknown key; a range takes start, stop, num, spacing")
+        sub = _Section.__new__(_Section)
+        sub.name, sub.data = field, value
+        start = sub.quantity("start", "pressure")
+        stop = sub.quantity("stop", "pressure")
+        num = value.get("num", 20)
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
+            raise InputError(f"{field}.num", num, "must be a whole number from 1 to 100000")
+        spacing = value.get("spacing", "log")
+        if spacing not in ("log", "linear"):
+            raise InputError(f"{field}.spacing", spacing, "allowed: 'log', 'linear'")
+        if not stop > start:
+            raise InputError(f"{field}.stop", value["stop"], f"must exceed start ({value['start']})")
+        return np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
+    else:
+        raise InputError(field, value, "must be a list of pressures or a {start, stop, num} range")
+    if not values:
+        raise InputError(field, [], "is empty: give at least one squeeze pressure")
+    out = np.array([parse_quantity(f"{field}[{i}]", v, "pressure") for i, v in enumerate(values)])
+    bad = out <= 0
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError(f"{field}[{i}]", values[i], "must be > 0")
+    return out
+
+
+def _self_affine(sec: _Section, q0: float) -> tuple[PowerSpectrum, str]:
+    amp = sec.one_of(("h_rms", "C0"), ("length", "psd"))
+    assert amp is not None
+    hurst = sec.number("hurst", low=0.0, high=1.0)
+    q_r = _wavevector(sec, "rolloff")
+    q_1 = _wavevector(sec, "cutoff")
+    q_l = _wavevector(sec, "lowest", required=False)
+    q_l = q0 if q_l is None else q_l
+    kwargs = {"h_rms": amp[1]} if amp[0] == "h_rms" else {"C0": amp[1]}
+    label = sec.raw("label", "")
+    if not isinstance(label, str):
+        raise InputError(sec.field("label"), label, "must be text")
+    assert q_r is not None and q_1 is not None
+    spec = PowerSpectrum.self_affine(hurst=hurst, q_rolloff=q_r, q_cutoff=q_1, q_lowest=q_l, label=label, **kwargs)
+    note = label or f"self-affine model: H = {hurst:g}, q_r = {q_r:.4g} 1/m, q1 = {q_1:.4g} 1/m"
+    return spec, note
+
+
+def _table(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
+    name = sec.raw("file")
+    if not isinstance(name, str) or not name:
+        raise InputError(sec.field("file"), name, "is required for model = 'table': the path of a q, C table")
+    path = Path(name)
+    if not path.is_absolute():
+        path = case_dir / path
+    q, c = read_spectrum_table(path)
+    try:
+        spec = PowerSpectrum.from_arrays(q, c, label=sec.raw("label", "") or f"table {path.name}")
+    except InputError as exc:
+        raise FileFormatError(path, str(exc)) from None
+    return spec, f"tabulated spectrum from {path.name} ({q.size} points, log-log interpolation)"
+
+
+def _build(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
+    for key in doc:
+        if key not in _SECTIONS and key not in _TOP_LEVEL:
+            raise InputError(key, doc[key], f"unknown section or key; allowed sections: "
+                                            f"{', '.join(sorted(_SECTIONS))}")
+    for name in _REQUIRED:
+        if name not in doc:
+            raise InputError(name, None, f"section [{name}] is missing")
+    title = doc.get("title", Path(source).stem if source else "case")
+    if not isinstance(title, str):
+        raise InputError("title", title, "must be text")
+    rubber = _Section("rubber", doc["rubber"])
+    youngs = rubber.quantity("youngs_modulus", "pressure")
+    nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
+    sub = doc.get("substrate")
+    if sub is not None:
+        s = _Section("substrate", sub)
+        e_star = contact_modulus(youngs, nu, s.quantity("youngs_modulus", "pressure"),
+                                 s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False))
+    else:
+        e_star = contact_modulus(youngs, nu)
+    seal = _seal(_Section("seal", doc["seal"]))
+    fsec = _Section("fluid", doc["fluid"])
+    density = fsec.quantity("density", "density", default=-1.0)
+    fluid = Fluid(fsec.quantity("viscosity", "viscosity"), None if density < 0 else density,
+                  str(fsec.raw("name", "")))
+    cond = _Section("conditions", doc["conditions"])
+    p0 = _squeeze(cond)
+    dp = cond.quantity("pressure_difference", "pressure", positive=False)
+    if dp < 0:
+        raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"), "must be >= 0")
+    theory = _Section("theory", doc.get("theory", {}))
+    alpha = theory.number("alpha", 1.0, low=0.0)
+    pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
+    gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
+    model = theory.choice("model", ("critical-junction", "effective-medium", "both"), "critical-junction")
+    if theory.has("lowest_wavevector") and theory.has("square_side"):
+        raise InputError("theory.lowest_wavevector", theory.raw("lowest_wavevector"),
+                         "give either lowest_wavevector or square_side, not both")
+    if theory.has("lowest_wavevector"):
+        q0 = theory.quantity("lowest_wavevector", "wavevector")
+        q0_note = "q0 set in the case file"
+    elif theory.has("square_side"):
+        q0 = 2.0 * np.pi / theory.quantity("square_side", "length")
+        q0_note = "q0 = 2π/L with L set in the case file"
+    else:
+        q0 = 2.0 * np.pi / seal.width
+        q0_note = "q0 = 2π/Lx (seal width)"
+    surf = _Section("surface", doc["surface"])
+    model_name = surf.raw("model")
+    builders: dict[str, Callable[..., tuple[PowerSpectrum, str]]] = {
+        "self-affine": lambda s, d, q: _self_affine(s, q),
+        "table": _table,
+        **_SURFACE_MODELS,
+    }
+    if model_name not in builders:
+        raise InputError("surface.model", model_name, f"allowed: {', '.join(repr(k) for k in builders)}")
+    spectrum, note = builders[model_name](surf, case_dir, q0)
+    if not q0 < spectrum.q_max:
+        raise InputError("theory.lowest_wavevector (q0)", q0,
+                         f"q0 = 2π/L must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
+    return Case(
+        title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
+        e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
+        percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, label=label,
+        source=source, inputs=copy.deepcopy(doc),
+    )
+
+
+def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:
+    """Cases from TOML text (one, or one per value of a ``[study]``)."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise FileFormatError(source, f"malformed TOML: {exc}") from None
+    case_dir = Path(case_dir)
+    study = doc.pop("study", None)
+    if study is None:
+        return [_build(doc, case_dir, source)]
+    sec = _Section("study", study)
+    vary = sec.raw("vary")
+    if not isinstance(vary, str) or vary.count(".") != 1:
+        raise InputError("study.vary", vary, "must name one key as 'section.key', e.g. 'surface.h_rms'")
+    section, key = vary.split(".")
+    if section not in _SECTIONS or section == "study" or key not in _SECTIONS[section]:
+        raise InputError("study.vary", vary, "names no known case-file key")
+    values = sec.raw("values")
+    if not isinstance(values, list) or not values:
+        raise InputError("study.values", values, "must be a non-empty list of values for " + vary)
+    labels = sec.raw("labels", [f"{key} = {v}" for v in values])
+    if not isinstance(labels, list) or len(labels) != len(values):
+        raise InputError("study.labels", labels, f"must be a list of {len(values)} names")
+    cases = []
+    for value, label in zip(values, labels):
+        variant = copy.deepcopy(doc)
+        variant.setdefault(section, {})[key] = value
+        try:
+            cases.append(_build(variant, case_dir, source, label=str(label)))
+        except InputError as exc:
+            raise InputError(f"{exc.field} (study value {value!r})", exc.value, exc.allowed) from None
+    return cases
+
+
+def load_cases(path: str | Path) -> list[Case]:
+    """Read a case file; a ``[study]`` gives one case per value."""
+    p = Path(path)
+    if not p.exists():
+        raise FileFormatError(p, "case file not found")
+    if p.is_dir():
+        raise FileFormatError(p, "is a folder, not a case file")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise FileFormatError(p, "is not UTF-8 text") from None
+    if not text.strip():
+        raise FileFormatError(p, "is empty")
+    return parse_cases(text, p.parent, str(p))
+
+
+def load_case(path: str | Path) -> Case:
+    """Read a case file that defines exactly one case."""
+    cases = load_cases(path)
+    if len(cases) != 1:
+        raise SealeakError(f"{path}: defines a study of {len(cases)} cases; use load_cases")
+    return cases[0]
+
+
+# ---------------------------------------------------------------------- bundled examples
+def _examples_dir() -> Any:
+    return resources.files("sealeak") / "examples"
+
+
+def example_names() -> list[str]:
+    """Names of the bundled example cases."""
+    return sorted(p.name[:-5] for p in _examples_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def example_text(name: str) -> str:
+    """The TOML text of a bundled example."""
+    if name not in example_names():
+        raise InputError("example", name, f"allowed: {', '.join(example_names())}")
+    return (_examples_dir() / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def example_path(name: str) -> Path:
+    """File-system path of a bundled example (for reading it as a case)."""
+    if name not in example_names():
+        raise InputError("example", name, f"allowed: {', '.join(example_names())}")
+    return Path(str(_examples_dir() / f"{name}.toml"))

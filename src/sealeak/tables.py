@@ -1,0 +1,134 @@
+"""Numeric text tables whose header names each column with its unit (an edge module).
+
+Format: optional comment lines starting with '#', then optionally one header row naming the
+columns, each with its unit in parentheses or brackets, e.g.::
+
+    # sandpaper spectrum
+    q (1/m), C (m^4)
+    1.0e3, 2.1e-17
+    ...
+
+Columns are separated by commas, semicolons, tabs or spaces. Without a header the caller's default
+units apply. Every problem raises :class:`FileFormatError` naming the file, the line and the problem.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .errors import FileFormatError, UnitError
+
+__all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
+
+_HEADER_CELL = re.compile(r"^\s*([^\(\)\[\]]*?)\s*(?:[\(\[]\s*(.*?)\s*[\)\]])?\s*$")
+
+
+@dataclass(frozen=True)
+class UnitTable:
+    """Columns of a table: ``names`` and ``units`` as written (unit '' if none) and the numbers."""
+
+    path: str
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    data: NDArray[np.float64]  # (rows, columns)
+    has_header: bool
+
+
+def _split(line: str) -> list[str]:
+    line = line.strip()
+    if re.search(r"[,;\t]", line):
+        return [c.strip() for c in re.split(r"[,;\t]", line)]
+    return line.split()
+
+
+def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
+    """Read a numeric table with an optional unit header (see the module docstring)."""
+    p = Path(path)
+    if not p.exists():
+        raise FileFormatError(p, "file not found")
+    if p.is_dir():
+        raise FileFormatError(p, "is a folder, not a file")
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise FileFormatError(p, "is not a UTF-8 text table") from None
+    names: tuple[str, ...] = ()
+    units: tuple[str, ...] = ()
+    rows: list[list[float]] = []
+    header = False
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        cells = _split(line)
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            if rows or header:
+                bad = next(c for c in cells if not _is_float(c))
+                raise FileFormatError(p, f"line {lineno}: {bad!r} is not a number") from None
+            header = True
+            parsed = [_HEADER_CELL.match(c) for c in cells]
+            names = tuple((m.group(1) if m else c).strip() for m, c in zip(parsed, cells))
+            units = tuple(((m.group(2) or "") if m else "").strip() for m in parsed)
+            continue
+        if names and len(values) != len(names):
+            raise FileFormatError(p, f"line {lineno}: {len(values)} values, but the header names {len(names)} columns")
+        if rows and len(values) != len(rows[0]):
+            raise FileFormatError(p, f"line {lineno}: {len(values)} values, the rows above have {len(rows[0])}")
+        rows.append(values)
+    if not rows:
+        raise FileFormatError(p, "no numeric rows (empty file or header only)")
+    data = np.asarray(rows, dtype=float)
+    if data.shape[1] < min_columns:
+        raise FileFormatError(p, f"needs at least {min_columns} columns, found {data.shape[1]}")
+    if not names:
+        names = tuple(f"column {i + 1}" for i in range(data.shape[1]))
+        units = ("",) * data.shape[1]
+    return UnitTable(str(p), names, units, data, header)
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def read_spectrum_table(path: str | Path) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Read a two-column power-spectrum table: q (default 1/m) and C (default m⁴).
+
+    Units come from a header row such as ``q (1/um), C (um^4)``. Rows are checked: no NaN or inf,
+    q strictly increasing and positive, C positive. Returns (q in 1/m, C in m⁴).
+    """
+    from .units import unit_factor
+
+    table = read_unit_table(path)
+    if table.data.shape[1] != 2:
+        raise FileFormatError(path, f"a spectrum table has two columns (q, C); found {table.data.shape[1]}")
+    try:
+        fq = unit_factor(f"{path}: column '{table.names[0]}' unit", table.units[0] or "1/m", "wavevector")
+        fc = unit_factor(f"{path}: column '{table.names[1]}' unit", table.units[1] or "m^4", "psd")
+    except UnitError as exc:
+        raise FileFormatError(path, str(exc)) from None
+    q = table.data[:, 0] * fq
+    c = table.data[:, 1] * fc
+    for name, col in (("q", q), ("C", c)):
+        bad = ~np.isfinite(col)
+        if bad.any():
+            raise FileFormatError(path, f"data row {int(np.argmax(bad)) + 1}: {name} is {col[bad][0]} (NaN or inf not allowed)")
+        bad = col <= 0
+        if bad.any():
+            raise FileFormatError(path, f"data row {int(np.argmax(bad)) + 1}: {name} = {col[bad][0]:.6g} (must be > 0)")
+    steps = np.diff(q)
+    if (steps <= 0).any():
+        i = int(np.argmax(steps <= 0)) + 2
+        raise FileFormatError(path, f"data row {i}: q = {q[i - 1]:.6g} 1/m is not above the previous row's "
+                                    f"{q[i - 2]:.6g} 1/m (q must be strictly increasing)")
+    return q, c
