@@ -142,12 +142,12 @@ class PowerSpectrum:
         if q_lowest is None:
             q_lowest = q_rolloff
         _check_positive("surface.lowest_wavevector", q_lowest)
-        if not q_lowest < q_cutoff:
-            raise InputError("surface.lowest_wavevector", q_lowest,
-                             f"must be below the cut-off wavevector {q_cutoff:.6g} 1/m")
         if not q_rolloff < q_cutoff:
             raise InputError("surface.cutoff_wavevector", q_cutoff,
                              f"must exceed the roll-off wavevector {q_rolloff:.6g} 1/m")
+        if not q_lowest < q_cutoff:
+            raise InputError("surface.lowest_wavevector", q_lowest,
+                             f"must be below the cut-off wavevector {q_cutoff:.6g} 1/m")
         if (h_rms is None) == (C0 is None):
             raise InputError("surface", {"h_rms": h_rms, "C0": C0}, "give exactly one of h_rms and C0")
         decay = -2.0 * (1.0 + hurst)

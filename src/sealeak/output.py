@@ -1,0 +1,156 @@
+"""Text, JSON and CSV renderings of predictions (an edge module: SI in, readable units out)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from . import __version__
+from .case import Case
+from .leakage import CriticalJunctionResult
+
+__all__ = ["RESULT_UNITS", "result_records", "prediction_json", "prediction_csv", "prediction_table",
+           "case_summary", "json_value"]
+
+#: SI unit of every field of a result record.
+RESULT_UNITS: dict[str, str] = {
+    "squeeze_pressure": "Pa",
+    "pressure_difference": "Pa",
+    "percolates": "1",
+    "critical_magnification": "1",
+    "critical_gap": "m",
+    "critical_wavelength": "m",
+    "leak_rate": "m^3/s",
+    "contact_area_at_cutoff": "1",
+    "mean_gap": "m",
+}
+
+
+def json_value(x: Any) -> Any:
+    """A JSON-safe value: NaN and inf become None, NumPy scalars plain Python."""
+    if isinstance(x, (np.bool_, bool)):
+        return bool(x)
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return None if not math.isfinite(float(x)) else float(x)
+    return x
+
+
+def result_records(result: CriticalJunctionResult, variant: str = "") -> list[dict[str, Any]]:
+    """One dict per squeeze pressure with the fields of :data:`RESULT_UNITS` (SI values)."""
+    records = []
+    for i in range(len(result)):
+        rec: dict[str, Any] = {}
+        if variant:
+            rec["variant"] = variant
+        for key in RESULT_UNITS:
+            rec[key] = json_value(getattr(result, key)[i])
+        records.append(rec)
+    return records
+
+
+def case_summary(case: Case) -> dict[str, Any]:
+    """The case's main inputs and derived quantities, SI units (for JSON and reports)."""
+    s = case.spectrum
+    return {
+        "title": case.title,
+        "variant": case.label or None,
+        "source": case.source,
+        "spectrum": {"description": case.spectrum_note, "label": s.label, "h_rms": s.h_rms,
+                     "slope_rms": s.slope_rms, "curvature_rms": s.curvature_rms, "area_ratio": s.area_ratio,
+                     "q_min": s.q_min, "q_max": s.q_max},
+        "youngs_modulus": case.youngs_modulus, "poisson_ratio": case.poisson_ratio,
+        "contact_modulus": case.e_star,
+        "seal": {"shape": case.seal.shape, "width": case.seal.width, "length": case.seal.length,
+                 "aspect_ratio": case.seal.aspect_ratio, "nominal_area": case.seal.nominal_area},
+        "viscosity": case.fluid.viscosity,
+        "pressure_difference": case.pressure_difference,
+        "alpha": case.alpha, "percolation_threshold": case.percolation_threshold, "gamma": case.gamma,
+        "q0": case.q0, "q0_note": case.q0_note, "model": case.model,
+    }
+
+
+def prediction_json(cases: Sequence[Case], results: Sequence[CriticalJunctionResult]) -> str:
+    """The ``predict --json`` document: ``units``, ``results`` (one object per pressure), cases, messages."""
+    records: list[dict[str, Any]] = []
+    messages: list[str] = []
+    for case, res in zip(cases, results):
+        records.extend(result_records(res, case.label))
+        messages.extend((f"{case.label}: " if case.label else "") + m for m in res.messages)
+    doc = {
+        "sealeak_version": __version__,
+        "theory": "critical junction (Lorenz & Persson, EPL 86 (2009) 44006)",
+        "units": dict(RESULT_UNITS),
+        "results": records,
+        "cases": [case_summary(c) for c in cases],
+        "messages": messages,
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def prediction_csv(cases: Sequence[Case], results: Sequence[CriticalJunctionResult]) -> str:
+    """CSV with a header naming each column and its unit, e.g. ``leak_rate (m^3/s)``."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    study = any(c.label for c in cases)
+    header = (["variant"] if study else []) + [f"{k} ({u})" for k, u in RESULT_UNITS.items()]
+    writer.writerow(header)
+    for case, res in zip(cases, results):
+        for rec in result_records(res, case.label):
+            row = ([rec["variant"]] if study else []) + [
+                "" if rec[k] is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else f"{rec[k]:.10g}")
+                for k in RESULT_UNITS]
+            writer.writerow(row)
+    return buf.getvalue()
+
+
+def _fmt(x: float, fmt: str) -> str:
+    return "—" if x is None or not np.isfinite(x) else format(x, fmt)
+
+
+def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionResult]) -> str:
+    """A plain-text report: the case, then one table row per squeeze pressure."""
+    lines: list[str] = []
+    first = cases[0]
+    lines.append(first.title)
+    lines.append("=" * min(len(first.title), 100))
+    for case, res in zip(cases, results):
+        s = case.spectrum
+        if case.label or case is first:
+            if case.label:
+                lines.append("")
+                lines.append(f"[{case.label}]")
+            lines.append(f"surface   {case.spectrum_note}")
+            lines.append(f"          h_rms = {s.h_rms * 1e6:.4g} µm, slope_rms = {s.slope_rms:.4g}, "
+                         f"A_true/A0 = {s.area_ratio:.4g}, q = {s.q_min:.4g} .. {s.q_max:.4g} 1/m")
+            if case is first:
+                lines.append(f"rubber    E = {case.youngs_modulus / 1e6:.4g} MPa, ν = {case.poisson_ratio:g}, "
+                             f"E* = {case.e_star / 1e6:.4g} MPa")
+                seal = case.seal
+                geom = (f"ring Di = {seal.inner_diameter * 1e3:.4g} mm, Do = {seal.outer_diameter * 1e3:.4g} mm"
+                        if seal.shape == "ring" else "rectangle")
+                lines.append(f"seal      {geom}: Lx = {seal.width * 1e3:.4g} mm, Ly = {seal.length * 1e3:.4g} mm, "
+                             f"Ly/Lx = {seal.aspect_ratio:.4g}")
+                lines.append(f"fluid     η = {case.fluid.viscosity * 1e3:.4g} mPa·s, ΔP = "
+                             f"{case.pressure_difference / 1e3:.4g} kPa")
+                lines.append(f"theory    critical junction, α = {case.alpha:g}, p_c = {case.percolation_threshold:g} "
+                             f"(A/A0 = {1 - case.percolation_threshold:.3g} at ζc), γ = {case.gamma:g}, "
+                             f"q0 = {case.q0:.4g} 1/m ({case.q0_note})")
+        lines.append("")
+        lines.append(f"{'P0 (kPa)':>10} {'ζc':>9} {'λc (µm)':>10} {'u_c (µm)':>10} {'Q (m³/s)':>11} "
+                     f"{'Q (ml/min)':>11} {'A(ζ1)/A0':>9}")
+        for i in range(len(res)):
+            lines.append(
+                f"{res.squeeze_pressure[i] / 1e3:10.4g} {_fmt(res.critical_magnification[i], '9.4g')} "
+                f"{_fmt(res.critical_wavelength[i] * 1e6, '10.4g')} {_fmt(res.critical_gap[i] * 1e6, '10.4g')} "
+                f"{_fmt(res.leak_rate[i], '11.3e')} {_fmt(res.leak_rate[i] * 6e7, '11.4g')} "
+                f"{res.contact_area_at_cutoff[i]:9.3f}")
+        for m in res.messages:
+            lines.append("note: " + m)
+    return "\n".join(lines) + "\n"
