@@ -52,7 +52,6 @@ class CriticalJunctionResult:
     critical_wavelength: λc = L/ζc (m).
     leak_rate: Q (m³/s), NaN where it does not percolate.
     contact_area_at_cutoff: A(ζ1)/A0 at the roughness cut-off.
-    mean_gap: ū(1) (m), the mean interfacial separation.
     messages: human-readable notes (one per non-percolating pressure, assumption warnings).
     """
 
@@ -64,7 +63,6 @@ class CriticalJunctionResult:
     critical_wavelength: FloatArray
     leak_rate: FloatArray
     contact_area_at_cutoff: FloatArray
-    mean_gap: FloatArray
     alpha: float
     percolation_threshold: float
     gamma: float
@@ -134,7 +132,6 @@ def critical_junction(
 
     zeta_c, percolates = contact.zeta_at_area(1.0 - percolation_threshold, p0)
     area_cut = contact.area(contact.zeta_max, p0)
-    mean_gap = contact.mean_gap(1.0, p0)
     u_c = np.full_like(p0, np.nan)
     if percolates.any():
         u_c[percolates] = contact.u1(zeta_c[percolates], p0[percolates])
@@ -158,7 +155,7 @@ def critical_junction(
     return CriticalJunctionResult(
         squeeze_pressure=p0, pressure_difference=dp, percolates=percolates,
         critical_magnification=zeta_c, critical_gap=u_c, critical_wavelength=lam_c, leak_rate=q,
-        contact_area_at_cutoff=area_cut, mean_gap=mean_gap, alpha=float(alpha),
+        contact_area_at_cutoff=area_cut, alpha=float(alpha),
         percolation_threshold=float(percolation_threshold), gamma=contact.gamma, q0=contact.q0,
         aspect_ratio=float(aspect_ratio), viscosity=float(viscosity), messages=tuple(messages),
     )

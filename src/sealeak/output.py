@@ -27,7 +27,6 @@ RESULT_UNITS: dict[str, str] = {
     "critical_wavelength": "m",
     "leak_rate": "m^3/s",
     "contact_area_at_cutoff": "1",
-    "mean_gap": "m",
 }
 
 

@@ -1,0 +1,115 @@
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from sealeak.case import predict
+from sealeak.casefile import example_path, load_cases
+from sealeak.cli import main
+from sealeak.plotting import PREDICTION_FIGURE_NAMES
+
+
+@pytest.fixture
+def case_file(tmp_path):
+    text = (example_path("reference-experiment").read_text()
+            .replace('{ start = "20 kPa", stop = "250 kPa", num = 40, spacing = "log" }',
+                     '["30 kPa", "60 kPa", "1 GPa"]'))
+    p = tmp_path / "ring.toml"
+    p.write_text(text)
+    return p
+
+
+def test_predict_table(case_file, capsys):
+    assert main(["predict", str(case_file)]) == 0
+    out = capsys.readouterr().out
+    assert "P0 (kPa)" in out and "u_c (µm)" in out and "Q (m³/s)" in out
+    assert "never percolates" in out  # the 1 GPa row
+    assert len([ln for ln in out.splitlines() if ln.strip().startswith(("30 ", "60 ", "1e+06"))]) == 3
+
+
+def test_predict_json_schema(case_file, tmp_path):
+    out = tmp_path / "r.json"
+    assert main(["predict", str(case_file), "--json", str(out), "-q"]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["units"]["leak_rate"] == "m^3/s" and doc["units"]["critical_gap"] == "m"
+    rows = doc["results"]
+    assert len(rows) == 3
+    for key in ("squeeze_pressure", "pressure_difference", "percolates", "critical_magnification",
+                "critical_gap", "critical_wavelength", "leak_rate", "contact_area_at_cutoff"):
+        assert key in rows[0]
+    assert rows[0]["squeeze_pressure"] == pytest.approx(3e4)
+    assert rows[2]["percolates"] is False and rows[2]["leak_rate"] is None
+    # JSON numbers equal the library's
+    (case,) = load_cases(case_file)
+    r = predict(case)
+    assert rows[1]["leak_rate"] == pytest.approx(r.leak_rate[1], rel=1e-15)
+
+
+def test_predict_csv(case_file, tmp_path):
+    out = tmp_path / "r.csv"
+    assert main(["predict", str(case_file), "--csv", str(out), "-q"]) == 0
+    rows = list(csv.reader(out.open()))
+    assert rows[0][0] == "squeeze_pressure (Pa)" and "leak_rate (m^3/s)" in rows[0]
+    assert len(rows) == 4
+    assert rows[3][rows[0].index("leak_rate (m^3/s)")] == ""
+
+
+def test_predict_plots(case_file, tmp_path):
+    d = tmp_path / "figs"
+    assert main(["predict", str(case_file), "--plots", str(d), "-q"]) == 0
+    for name in PREDICTION_FIGURE_NAMES:
+        data = (d / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+
+
+def test_no_overwrite_without_force(case_file, tmp_path, capsys):
+    out = tmp_path / "r.json"
+    out.write_text("precious")
+    assert main(["predict", str(case_file), "--json", str(out)]) == 2
+    assert "--force" in capsys.readouterr().err
+    assert out.read_text() == "precious"
+    assert main(["predict", str(case_file), "--json", str(out), "--force", "-q"]) == 0
+    assert json.loads(out.read_text())["results"]
+
+
+def test_interrupted_write_leaves_no_file(case_file, tmp_path, monkeypatch):
+    import sealeak.output as output
+
+    def boom(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(output, "prediction_csv", boom)
+    out = tmp_path / "r.csv"
+    assert main(["predict", str(case_file), "--csv", str(out), "-q"]) == 130
+    assert list(tmp_path.glob("r.csv*")) == [] and list(tmp_path.glob(".r.csv*")) == []
+
+
+def test_examples_command(capsys):
+    assert main(["examples"]) == 0
+    out = capsys.readouterr().out
+    assert "reference-experiment" in out and "hrms-study" in out
+    assert main(["examples", "reference-experiment"]) == 0
+    assert "[surface]" in capsys.readouterr().out
+    assert main(["examples", "nope"]) == 2
+    assert "example = 'nope'" in capsys.readouterr().err
+
+
+def test_study_case_runs_every_variant(tmp_path):
+    out = tmp_path / "s.json"
+    assert main(["predict", "--example", "hrms-study", "--json", str(out), "-q"]) == 0
+    doc = json.loads(out.read_text())
+    variants = {r["variant"] for r in doc["results"]}
+    assert len(variants) == 4
+    # rougher surfaces leak more at the same pressure
+    by = {v: [r for r in doc["results"] if r["variant"] == v][0]["leak_rate"] for v in variants}
+    assert by["h_rms = 6 µm"] > by["h_rms = 1 µm"]
+
+
+def test_usage_errors_exit_nonzero(capsys):
+    assert main(["predict"]) == 2
+    with pytest.raises(SystemExit) as e:
+        main(["predict", "--bogus"])
+    assert e.value.code == 2
+    assert main(["predict", "/no/such/case.toml"]) == 2
+    assert "case file not found" in capsys.readouterr().err
