@@ -7,9 +7,10 @@ User mistakes (bad case files, units, existing outputs) are SealeakError: the CL
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Sequence
 
 from . import __version__
 from .errors import SealeakError
@@ -112,13 +113,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("name", nargs="?", help="example to print")
     p.set_defaults(func=_cmd_examples)
 
-    for register in _EXTENSIONS:
-        register(sub, _add_case_args)
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(sub, _add_case_args)
     return parser
 
 
-#: Sub-command registrations contributed by other modules: f(subparsers, add_case_args).
-_EXTENSIONS: list[Callable[..., None]] = []
+#: Modules that add sub-commands: each has ``register(subparsers, add_case_args)`` and keeps its
+#: heavy imports inside the command functions, so ``sealeak --help`` stays fast.
+COMMAND_MODULES: tuple[str, ...] = ()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
