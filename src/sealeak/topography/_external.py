@@ -7,6 +7,7 @@ Its exceptions are turned into :class:`~sealeak.errors.FileFormatError` here, at
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +28,9 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
     except ImportError:
         raise FileFormatError(path, f"reading this format needs SurfaceTopography: {INSTALL_HINT}") from None
     try:
-        reader = open_topography(str(path))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            reader = open_topography(str(path))
     except Exception as exc:  # foreign library: many exception types for unknown or damaged files
         raise FileFormatError(path, f"not a recognised topography file ({_why(exc)})") from None
     channels = list(reader.channels)
@@ -47,7 +50,9 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
     if unit is None:
         kwargs["unit"] = "m"  # placeholder: SurfaceTopography wants one; the user's units are applied below
     try:
-        topo = reader.topography(**kwargs)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            topo = reader.topography(**kwargs)
         heights = topo.heights()
         positions = None if topo.is_uniform else topo.positions()
     except Exception as exc:
@@ -70,7 +75,7 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
         notes.append(f"{int(np.isnan(h).sum())} of {h.size} points undefined in the file")
 
     if unit is None:
-        hf = need_height_unit(path, height_unit)
+        hf = need_height_unit(path, height_unit, f" (read by SurfaceTopography as {_reader_name(reader)})")
         notes.append(f"heights in {height_unit} (given by the user; the file states no unit)")
     else:
         hf = length_unit_factor(unit, f"{path.name} unit")
@@ -131,6 +136,11 @@ def _channel_index(path: Path, reader: Any, channels: list, channel: int | str |
         if channel.isdigit() and int(channel) < len(channels):
             return int(channel)
     raise InputError("channel", channel, f"{path} has channels {_list(channels)}")
+
+
+def _reader_name(reader: Any) -> str:
+    name = type(reader).__name__
+    return getattr(reader, "_format", None) or getattr(reader, "name", None) or name
 
 
 def _list(channels: list) -> str:

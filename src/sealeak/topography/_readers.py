@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError, UnitError
-from ._text import RawTable, looks_binary, parse_text
+from ._text import NotPlainText, RawTable, looks_binary, parse_text
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, parse_length
 
@@ -83,7 +83,7 @@ def read_topography(
         full = p.read_bytes()
         try:
             raw = parse_text(p, full)
-        except FileFormatError as native_error:
+        except NotPlainText as native_error:
             if not _have_surfacetopography():
                 raise FileFormatError(p, f"{native_error.problem}; if this is an instrument export "
                                          f"(e.g. Dektak csv), install the reader extra: {INSTALL_HINT}") from None
@@ -93,7 +93,7 @@ def read_topography(
                 return read_external(p, pixel_size=pixel_size, size=size, height_unit=height_unit,
                                      lateral_unit=lateral_unit, periodic=periodic, channel=channel)
             except FileFormatError:
-                raise native_error from None
+                raise FileFormatError(p, native_error.problem) from None
         return _from_raw(p, raw, pixel_size=pixel_size, size=size, height_unit=height_unit,
                          lateral_unit=lateral_unit, periodic=periodic)
     if not _have_surfacetopography():
@@ -121,9 +121,9 @@ def _pair(value: Any, field: str) -> tuple[float, float]:
     return (v, v)
 
 
-def need_height_unit(path: Path, height_unit: str | None) -> float:
+def need_height_unit(path: Path, height_unit: str | None, how: str = "") -> float:
     if height_unit is None:
-        raise UnitError("height_unit", None, f"{path} stores no height unit; pass height_unit "
+        raise UnitError("height_unit", None, f"{path}{how} stores no height unit; pass height_unit "
                                              f"(e.g. height_unit='um'; CLI: --height-unit um)")
     return length_unit_factor(height_unit, "height_unit")
 

@@ -24,7 +24,11 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError
 
-__all__ = ["RawTable", "parse_text", "looks_binary"]
+__all__ = ["RawTable", "parse_text", "looks_binary", "NotPlainText"]
+
+
+class NotPlainText(FileFormatError):
+    """The file has non-numeric lines: maybe an instrument export (tried next with SurfaceTopography)."""
 
 _SPLIT = re.compile(r"[,;\s]+")
 _COMMENT = ("#", "%", "//")
@@ -75,7 +79,7 @@ def _table(path: Path, text: str) -> NDArray[np.float64]:
             values = [float(t) for t in tokens]
         except ValueError:
             bad = next(t for t in tokens if not _is_float(t))
-            raise FileFormatError(path, f"line {lineno}: {bad[:40]!r} is not a number "
+            raise NotPlainText(path, f"line {lineno}: {bad[:40]!r} is not a number "
                                         f"(plain text files must hold numbers only; comments start with #)") from None
         if width is None:
             width, first_line = len(values), lineno
