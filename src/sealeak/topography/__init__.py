@@ -1,0 +1,69 @@
+"""Measured surfaces: instrument files → height maps / line scans → C(q), statistics, fits.
+
+Everything is in SI units (m, 1/m, m⁴) and Persson's convention for C(q) (THEORY.md §1)::
+
+    C(q) = 1/(2π)² ∫ d²x <h(x)h(0)> e^(-iq·x),   h_rms² = 2π ∫ q C(q) dq
+
+(SurfaceTopography's isotropic PSD is (2π)² times this C(q); sealeak uses SurfaceTopography only
+to read instrument files, never for spectra.)
+
+Typical use::
+
+    from sealeak.topography import analyze, plot_spectra
+    result = analyze(["wide.plu", "afm.di"])
+    result.spectrum          # PowerSpectrum over the union of reliable ranges
+    result.statistics        # SurfaceStatistics
+    result.fit               # SelfAffineFit (H, q_r, C0 with standard errors)
+    plot_spectra(result, "spectra.png")
+
+Pipeline pieces: :func:`read_topography` → :func:`prepare` → :func:`spectrum_2d` /
+:func:`spectrum_1d` (+ :func:`spectrum_2d_from_1d`) → :func:`stitch` → :func:`fit_self_affine`,
+and :func:`surface_statistics`.
+"""
+
+from ._analysis import Analysis, SourceAnalysis, analyze
+from ._fit import SelfAffineFit, fit_self_affine
+from ._preprocess import Prepared, hann_window, prepare
+from ._readers import read_topography
+from ._spectrum import (
+    BinnedSpectrum,
+    abel_forward,
+    abel_inverse,
+    power_spectrum_map,
+    spectrum_1d,
+    spectrum_1d_from_2d,
+    spectrum_2d,
+    spectrum_2d_from_1d,
+)
+from ._statistics import SurfaceStatistics, surface_statistics
+from ._stitch import plot_spectra, stitch
+from ._types import LineScans, Topography
+from ._units import length_unit_factor, parse_length
+
+__all__ = [
+    "Topography",
+    "LineScans",
+    "read_topography",
+    "Prepared",
+    "prepare",
+    "hann_window",
+    "BinnedSpectrum",
+    "power_spectrum_map",
+    "spectrum_2d",
+    "spectrum_1d",
+    "spectrum_2d_from_1d",
+    "spectrum_1d_from_2d",
+    "abel_inverse",
+    "abel_forward",
+    "stitch",
+    "plot_spectra",
+    "SurfaceStatistics",
+    "surface_statistics",
+    "SelfAffineFit",
+    "fit_self_affine",
+    "Analysis",
+    "SourceAnalysis",
+    "analyze",
+    "length_unit_factor",
+    "parse_length",
+]

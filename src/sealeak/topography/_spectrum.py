@@ -1,0 +1,365 @@
+"""Power spectra of measured surfaces in Persson's convention (THEORY.md section 1).
+
+2D, from a map of nx × ny points and size sx × sy (NumPy's unnormalised FFT)::
+
+    C(q) = sx sy / (4π² nx² ny²) · |fft2(h)(q)|²              [m⁴]
+    Σ_q C(q) Δqx Δqy = mean(h²)   (Parseval; Δq = 2π/s)       ⇒ h_rms² = ∫ d²q C = 2π ∫ q C dq
+
+1D, from profiles of n points and length L, averaged over the profiles::
+
+    C1D(q) = L / (2π n²) · |fft(h)(q)|²                       [m³],  h_rms² = 2 ∫_0^∞ C1D dq
+
+Radial (2D) or plain (1D) averages go into log-spaced bins anchored at q = 1 1/m, edges
+10^(k/bins_per_decade), so spectra of different measurements share bin edges (for stitching).
+Each bin reports the number of Fourier modes it averages (± q counted separately) and its centre
+√(q_min q_max) over the modes it holds (the geometric bin centre for well-filled bins, which is
+where a steep power law takes its bin-average value to within a fraction of a percent).
+
+Reliable range: q ≥ low_cut · 2π/L (L the shorter side; the lowest bins hold few modes and, for
+non-periodic data, the window's leakage) and q ≤ 2π/(resolution_pixels · Δx) (finer detail is
+beyond the instrument's lateral resolution). Both are options.
+
+1D → 2D for isotropic surfaces (inverse Abel transform)::
+
+    C(q) = -(1/π) ∫_q^∞ dq' C1D'(q') / √(q'² - q²),      C1D(q) = 2 ∫_q^∞ dq' q' C(q') / √(q'² - q²)
+
+computed for piecewise power laws (log-log interpolation between nodes) with q' = q cosh t, which
+removes the square-root singularity; the smooth integrand is integrated by Gauss-Legendre on short
+t intervals (breakpoints at the nodes), and the tail beyond the last node (its power law continued
+to infinity) in closed form with the regularised incomplete beta function.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import special
+from scipy import fft as sfft
+
+from ..errors import InputError
+from ..roughness import PowerSpectrum
+from ._preprocess import Detrend, Prepared, Window, prepare
+from ._types import LineScans, Topography
+
+__all__ = [
+    "BinnedSpectrum",
+    "power_spectrum_map",
+    "spectrum_2d",
+    "spectrum_1d",
+    "spectrum_2d_from_1d",
+    "spectrum_1d_from_2d",
+    "abel_inverse",
+    "abel_forward",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class BinnedSpectrum:
+    """A binned power spectrum of one measurement (raw data for plots, stitching and fits).
+
+    Attributes
+    ----------
+    q:
+        Bin centres in 1/m (non-empty bins only, increasing).
+    C:
+        Bin averages: the 2D C(q) in m⁴ (``dim == 2``) or the 1D C1D(q) in m³ (``dim == 1``).
+    modes:
+        Fourier modes averaged in each bin (± q counted separately; for line scans summed over the
+        profiles, which are not independent).
+    q_lo, q_hi:
+        Bin edges in 1/m.
+    reliable:
+        True for bins inside the reliable range [q_reliable[0], q_reliable[1]].
+    dim:
+        2 for C(q) of a surface, 1 for the profile spectrum C1D(q).
+    label, notes:
+        Source description and what was done.
+    """
+
+    q: FloatArray
+    C: FloatArray
+    modes: NDArray[np.int64]
+    q_lo: FloatArray
+    q_hi: FloatArray
+    reliable: NDArray[np.bool_]
+    q_reliable: tuple[float, float]
+    dim: int
+    label: str = ""
+    notes: tuple[str, ...] = field(default=())
+
+    def to_power_spectrum(self, label: str | None = None) -> PowerSpectrum:
+        """The reliable, positive bins as a :class:`~sealeak.roughness.PowerSpectrum` (2D only)."""
+        if self.dim != 2:
+            raise InputError("spectrum.dim", self.dim, "a 1D profile spectrum must be converted to 2D first "
+                                                       "(spectrum_2d_from_1d)")
+        keep = self.reliable & (self.C > 0) & np.isfinite(self.C)
+        if keep.sum() < 2:
+            raise InputError(f"spectrum of {self.label or 'the measurement'}", f"{int(keep.sum())} reliable bins",
+                             "at least two reliable bins are needed; measure a larger area or "
+                             "relax low_cut / resolution_pixels")
+        return PowerSpectrum.from_arrays(self.q[keep], self.C[keep], label=self.label if label is None else label)
+
+
+# ---------------------------------------------------------------------------- binning
+def _bin_index(q: FloatArray, bins_per_decade: float) -> NDArray[np.int64]:
+    return np.floor(bins_per_decade * np.log10(q) + 1e-9).astype(np.int64)
+
+
+def _bin(q: FloatArray, C: FloatArray, w: FloatArray, bins_per_decade: float
+         ) -> tuple[FloatArray, FloatArray, NDArray[np.int64], FloatArray, FloatArray]:
+    """Weighted averages of C in log bins; q, C, w flat with q > 0."""
+    k = _bin_index(q, bins_per_decade)
+    k0 = int(k.min())
+    kk = k - k0
+    nb = int(kk.max()) + 1
+    wsum = np.bincount(kk, weights=w, minlength=nb)
+    csum = np.bincount(kk, weights=w * C, minlength=nb)
+    qmin = np.full(nb, np.inf)
+    qmax = np.zeros(nb)
+    np.minimum.at(qmin, kk, q)
+    np.maximum.at(qmax, kk, q)
+    full = wsum > 0
+    idx = np.arange(nb)[full] + k0
+    return (np.sqrt(qmin[full] * qmax[full]), csum[full] / wsum[full], np.rint(wsum[full]).astype(np.int64),
+            10.0 ** (idx / bins_per_decade), 10.0 ** ((idx + 1) / bins_per_decade))
+
+
+def _check_options(bins_per_decade: float, low_cut: float, resolution_pixels: float) -> None:
+    if not (np.isfinite(bins_per_decade) and 1 <= bins_per_decade <= 200):
+        raise InputError("bins_per_decade", bins_per_decade, "a number between 1 and 200")
+    if not (np.isfinite(low_cut) and low_cut >= 1):
+        raise InputError("low_cut", low_cut, "a number >= 1 (the reliable range starts at low_cut · 2π/L)")
+    if not (np.isfinite(resolution_pixels) and resolution_pixels >= 2):
+        raise InputError("resolution_pixels", resolution_pixels,
+                         "a number >= 2 (2 = Nyquist; the reliable range ends at 2π/(resolution_pixels · Δx))")
+
+
+# ---------------------------------------------------------------------------- 2D
+def power_spectrum_map(prepared: Prepared) -> tuple[FloatArray, FloatArray, FloatArray, float]:
+    """Discrete C(q) of every Fourier mode of a prepared map, before binning.
+
+    Returns ``(qx, qy, C, weight)`` in the ``rfft2`` layout: qx (nx,), qy (ny//2+1,) in 1/m, C[i, j]
+    in m⁴, and the mode multiplicity weight[i, j] (2 for modes that stand for ±q, 1 otherwise), so
+    that Σ weight·C·(2π/sx)(2π/sy) equals mean(windowed heights²) (Parseval).
+    """
+    surf = prepared.surface
+    if not isinstance(surf, Topography):
+        raise InputError("surface", type(surf).__name__, "a 2D map (Topography)")
+    nx, ny = surf.nb_grid_pts
+    sx, sy = surf.size
+    F = sfft.rfft2(prepared.windowed)
+    C = (sx * sy / (4.0 * np.pi**2 * nx**2 * ny**2)) * (F.real**2 + F.imag**2)
+    qx = 2.0 * np.pi * sfft.fftfreq(nx, d=sx / nx)
+    qy = 2.0 * np.pi * sfft.rfftfreq(ny, d=sy / ny)
+    weight = np.full(C.shape, 2.0)
+    weight[:, 0] = 1.0
+    if ny % 2 == 0:
+        weight[:, -1] = 1.0
+    return qx, qy, C, weight
+
+
+def spectrum_2d(
+    topography: Topography | Prepared,
+    *,
+    detrend: Detrend = "auto",
+    window: Window = "auto",
+    bins_per_decade: float = 10.0,
+    low_cut: float = 3.0,
+    resolution_pixels: float = 4.0,
+) -> BinnedSpectrum:
+    """Radially averaged 2D C(q) (m⁴) of a map in Persson's convention, in log bins.
+
+    Modes up to the smaller Nyquist wavevector π·min(1/Δx, 1/Δy) are binned (complete annuli).
+    ``topography`` may be already prepared (then ``detrend``/``window`` are ignored).
+    """
+    _check_options(bins_per_decade, low_cut, resolution_pixels)
+    prepared = topography if isinstance(topography, Prepared) else prepare(topography, detrend=detrend, window=window)
+    surf = prepared.surface
+    if not isinstance(surf, Topography):
+        raise InputError("surface", type(surf).__name__, "a 2D map (Topography); use spectrum_1d for line scans")
+    qx, qy, C, weight = power_spectrum_map(prepared)
+    q = np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
+    dx, dy = surf.pixel_size
+    q_nyq = np.pi * min(1.0 / dx, 1.0 / dy)
+    use = (q > 0) & (q <= q_nyq * (1 + 1e-12))
+    if not use.any():
+        raise InputError("topography", surf.nb_grid_pts, "too few points for a spectrum")
+    qc, Cb, modes, lo, hi = _bin(q[use], C[use], weight[use], bins_per_decade)
+    q_rel = (low_cut * 2.0 * np.pi / min(surf.size), 2.0 * np.pi / (resolution_pixels * max(dx, dy)))
+    reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
+    notes = list(prepared.notes) + [
+        f"2D spectrum: {surf.nb_grid_pts[0]}×{surf.nb_grid_pts[1]} map, radial average in "
+        f"{bins_per_decade:g} bins per decade up to the Nyquist wavevector {q_nyq:.4g} 1/m",
+        f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, "
+        f"wavelengths >= {resolution_pixels:g} pixels)",
+    ]
+    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 2, label=surf.source, notes=tuple(notes))
+
+
+# ---------------------------------------------------------------------------- 1D
+def spectrum_1d(
+    scans: LineScans | Prepared,
+    *,
+    detrend: Detrend = "auto",
+    window: Window = "auto",
+    bins_per_decade: float = 10.0,
+    low_cut: float = 3.0,
+    resolution_pixels: float = 4.0,
+) -> BinnedSpectrum:
+    """Profile spectrum C1D(q) (m³), averaged over all profiles, in log bins (h_rms² = 2∫C1D dq)."""
+    _check_options(bins_per_decade, low_cut, resolution_pixels)
+    prepared = scans if isinstance(scans, Prepared) else prepare(scans, detrend=detrend, window=window)
+    surf = prepared.surface
+    if not isinstance(surf, LineScans):
+        raise InputError("surface", type(surf).__name__, "line scans (LineScans); use spectrum_2d for maps")
+    n, L = surf.nb_points, surf.length
+    F = sfft.rfft(prepared.windowed, axis=1)
+    C = (L / (2.0 * np.pi * n**2)) * np.mean(F.real**2 + F.imag**2, axis=0)
+    q = 2.0 * np.pi * sfft.rfftfreq(n, d=L / n)
+    weight = np.full(q.shape, 2.0 * surf.nb_scans)
+    if n % 2 == 0:
+        weight[-1] = surf.nb_scans
+    qc, Cb, modes, lo, hi = _bin(q[1:], C[1:], weight[1:], bins_per_decade)
+    q_rel = (low_cut * 2.0 * np.pi / L, 2.0 * np.pi / (resolution_pixels * surf.pixel_size))
+    reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
+    notes = list(prepared.notes) + [
+        f"1D spectrum: {surf.nb_scans} profile(s) of {n} points, averaged, {bins_per_decade:g} bins per decade",
+        f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, "
+        f"wavelengths >= {resolution_pixels:g} pixels)",
+    ]
+    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 1, label=surf.source, notes=tuple(notes))
+
+
+# ---------------------------------------------------------------------------- Abel transforms
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
+_DT = 0.25  # longest t interval per Gauss-Legendre panel
+
+
+def _piecewise(qn: FloatArray, cn: FloatArray) -> tuple[FloatArray, FloatArray]:
+    if qn.size < 2:
+        raise InputError("spectrum", f"{qn.size} points", "at least two points are needed")
+    if (np.diff(qn) <= 0).any() or (qn <= 0).any() or (cn <= 0).any() or not np.isfinite(cn).all():
+        raise InputError("spectrum", "q, C", "q > 0 strictly increasing and C > 0 finite")
+    return qn, np.log(cn[1:] / cn[:-1]) / np.log(qn[1:] / qn[:-1])
+
+
+def _abel_panels(q: float, qn: FloatArray, g) -> float:  # type: ignore[no-untyped-def]
+    """∫_{max(q, qn[0])}^{qn[-1]} g(q') / √(q'² - q²) dq' with q' = q cosh t (g piecewise smooth)."""
+    lo = max(q, qn[0])
+    if lo >= qn[-1]:
+        return 0.0
+    t_nodes = np.arccosh(np.maximum(qn[qn > lo] / q, 1.0))
+    t0 = float(np.arccosh(lo / q))
+    edges = np.concatenate([[t0], t_nodes])
+    pieces = [edges[:1]]
+    for a, b in zip(edges[:-1], edges[1:]):
+        m = max(1, int(np.ceil((b - a) / _DT)))
+        pieces.append(np.linspace(a, b, m + 1)[1:])
+    e = np.concatenate(pieces)
+    a, b = e[:-1], e[1:]
+    half = 0.5 * (b - a)
+    t = (0.5 * (a + b))[:, None] + half[:, None] * _GL_X[None, :]
+    qp = q * np.cosh(t)
+    vals = g(np.clip(qp, qn[0], qn[-1]))
+    return float(np.sum(half[:, None] * _GL_W[None, :] * vals))
+
+
+def _power_tail(q: float, q_n: float, c_n: float, beta: float) -> float:
+    """∫_{q_n}^∞ C1D'(q')/√(q'²-q²) dq' for C1D = c_n (q'/q_n)^β beyond q_n (β < 0), q <= q_n.
+
+    With u = q²/q'²: β c_n q_n^(-β) (q^(β-1)/2) B(s, ½) I_{q²/q_n²}(s, ½), s = (1-β)/2.
+    """
+    s = 0.5 * (1.0 - beta)
+    x = min((q / q_n) ** 2, 1.0)
+    return beta * c_n * (q / q_n) ** beta / q * 0.5 * special.beta(s, 0.5) * special.betainc(s, 0.5, x)
+
+
+def abel_inverse(q_nodes: FloatArray, C1D: FloatArray, *, tail: Literal["power-law", "none"] = "power-law"
+                 ) -> FloatArray:
+    """2D C(q) at the nodes from a 1D spectrum given at them (piecewise power law between nodes).
+
+    C(q) = -(1/π) ∫_q^∞ C1D'(q')/√(q'²-q²) dq'. ``tail="power-law"`` continues the last segment's power
+    law to infinity (it must decrease); ``"none"`` lets C1D drop to zero at the last node, which adds
+    C1D(q_n)/(π√(q_n²-q²)) and makes the last node undefined (returned as NaN).
+    """
+    qn, beta = _piecewise(np.asarray(q_nodes, dtype=float), np.asarray(C1D, dtype=float))
+    cn = np.asarray(C1D, dtype=float)
+
+    def dC(qp: FloatArray) -> FloatArray:
+        k = np.clip(np.searchsorted(qn, qp, side="right") - 1, 0, qn.size - 2)
+        return beta[k] * cn[k] * (qp / qn[k]) ** beta[k] / qp
+
+    out = np.empty(qn.size)
+    for j, q in enumerate(qn):
+        total = _abel_panels(float(q), qn, dC)
+        if tail == "power-law":
+            if not beta[-1] < 0:
+                raise InputError("1D spectrum tail", float(beta[-1]),
+                                 "the last segment must decrease to continue it as a power law; use tail='none'")
+            total += _power_tail(float(q), float(qn[-1]), float(cn[-1]), float(beta[-1]))
+        elif tail == "none":
+            total += -cn[-1] / np.sqrt(qn[-1] ** 2 - q**2) if q < qn[-1] else np.inf
+        else:
+            raise InputError("tail", tail, "allowed: 'power-law', 'none'")
+        out[j] = -total / np.pi
+    if tail == "none":
+        out[-1] = np.nan
+    return out
+
+
+def abel_forward(spectrum: PowerSpectrum, q: FloatArray) -> FloatArray:
+    """1D profile spectrum C1D(q) (m³) of an isotropic surface: C1D(q) = ∫ dq_y C(√(q² + q_y²)).
+
+    Exact up to the Gauss-Legendre error (~1e-13 relative) for the piecewise power law C.
+    """
+    qn = spectrum.q
+
+    def g(qp: FloatArray) -> FloatArray:
+        return 2.0 * qp * spectrum(qp)
+
+    qa = np.atleast_1d(np.asarray(q, dtype=float))
+    if (qa <= 0).any():
+        raise InputError("q", float(qa.min()), "must be > 0")
+    out = np.array([_abel_panels(float(x), qn, g) for x in qa])
+    return out if np.ndim(q) else out[0]
+
+
+def spectrum_1d_from_2d(spectrum: PowerSpectrum, q: FloatArray) -> FloatArray:
+    """Alias of :func:`abel_forward` (C1D from an isotropic C(q))."""
+    return abel_forward(spectrum, q)
+
+
+def spectrum_2d_from_1d(binned: BinnedSpectrum, *, tail: Literal["power-law", "none"] = "power-law"
+                        ) -> BinnedSpectrum:
+    """2D C(q) of an isotropic surface from its profile spectrum (inverse Abel transform).
+
+    Uses the reliable, positive bins only (finer bins beyond the lateral resolution would feed
+    their artefacts into every lower q), continuing the last reliable segment as a power law.
+    Nodes where the transform of noisy data is not positive are dropped (noted).
+    """
+    if binned.dim != 1:
+        raise InputError("spectrum.dim", binned.dim, "a 1D profile spectrum")
+    keep = binned.reliable & (binned.C > 0)
+    if keep.sum() < 3:
+        raise InputError(f"profile spectrum of {binned.label or 'the scan'}", f"{int(keep.sum())} reliable bins",
+                         "at least three reliable bins are needed for the 1D → 2D conversion")
+    q, c = binned.q[keep], binned.C[keep]
+    try:
+        C2 = abel_inverse(q, c, tail=tail)
+        tail_note = "the last segment's power law continued to infinity"
+    except InputError:
+        C2 = abel_inverse(q, c, tail="none")
+        tail_note = "C1D taken to vanish beyond the last bin (its last segment does not decrease)"
+    good = np.isfinite(C2) & (C2 > 0)
+    notes = list(binned.notes) + [
+        f"converted to 2D for an isotropic surface by the inverse Abel transform ({tail_note})"]
+    if (~good).any():
+        notes.append(f"dropped {int((~good).sum())} bin(s) where the transform of the noisy 1D data was not positive")
+    return replace(binned, q=q[good], C=C2[good], modes=binned.modes[keep][good], q_lo=binned.q_lo[keep][good],
+                   q_hi=binned.q_hi[keep][good], reliable=np.ones(int(good.sum()), dtype=bool), dim=2,
+                   notes=tuple(notes))

@@ -1,0 +1,154 @@
+"""Height statistics of a measured surface, from the heights directly and from C(q).
+
+From the heights (detrended, over the points the file defines)::
+
+    h_rms = √<h²>,  skewness = <h³>/h_rms³,  kurtosis = <h⁴>/h_rms⁴  (3 for Gaussian heights)
+    slope_rms = √<|∇h|²>,  curvature_rms = √<(∇²h)²>,  area ratio = <√(1 + |∇h|²)>
+
+with spectral derivatives for periodic maps (exact for the sampled band) and central finite
+differences otherwise (which read slightly low near the Nyquist wavevector). For line scans the
+profile values are converted for an isotropic surface: <|∇h|²> = 2<h'²>, <(∇²h)²> = (8/3)<h''²>,
+and the area ratio follows from the slope assuming Gaussian slopes.
+
+From C(q) (Persson, THEORY.md §1): h_rms² = 2π∫qC dq, slope_rms² = 2π∫q³C dq,
+curvature_rms² = 2π∫q⁵C dq over the spectrum's band, area ratio for Gaussian slopes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import fft as sfft
+
+from ..roughness import PowerSpectrum, area_ratio_from_slope
+from ._preprocess import Detrend, Prepared, prepare
+from ._types import LineScans, Topography
+
+__all__ = ["SurfaceStatistics", "surface_statistics"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SurfaceStatistics:
+    """Roughness statistics (SI units). ``None`` where a value is not available.
+
+    Attributes
+    ----------
+    h_rms:
+        RMS height in m, from the heights.
+    slope_rms:
+        RMS gradient √<|∇h|²> (dimensionless), from the heights.
+    curvature_rms:
+        RMS Laplacian √<(∇²h)²> in 1/m, from the heights.
+    area_ratio:
+        A_true/A0 = <√(1+|∇h|²)> from the heights (line scans: Gaussian-slope estimate).
+    skewness, kurtosis:
+        Of the height distribution (kurtosis 3 for Gaussian heights).
+    spectrum_h_rms, spectrum_slope_rms, spectrum_curvature_rms, spectrum_area_ratio:
+        The same from C(q) over its band (m, 1, 1/m, 1).
+    method:
+        How derivatives were taken.
+    """
+
+    h_rms: float | None
+    slope_rms: float | None
+    curvature_rms: float | None
+    area_ratio: float | None
+    skewness: float | None
+    kurtosis: float | None
+    spectrum_h_rms: float | None = None
+    spectrum_slope_rms: float | None = None
+    spectrum_curvature_rms: float | None = None
+    spectrum_area_ratio: float | None = None
+    method: str = ""
+
+    @classmethod
+    def from_spectrum(cls, spectrum: PowerSpectrum, method: str = "from C(q) only") -> "SurfaceStatistics":
+        return cls(None, None, None, None, None, None, **_spectral(spectrum), method=method)
+
+
+def _spectral(spectrum: PowerSpectrum | None) -> dict[str, float | None]:
+    if spectrum is None:
+        return {}
+    return {"spectrum_h_rms": spectrum.h_rms, "spectrum_slope_rms": spectrum.slope_rms,
+            "spectrum_curvature_rms": spectrum.curvature_rms, "spectrum_area_ratio": spectrum.area_ratio}
+
+
+def _spectral_derivatives(h: FloatArray, size: tuple[float, float]) -> tuple[FloatArray, FloatArray, FloatArray]:
+    nx, ny = h.shape
+    F = sfft.rfft2(h)
+    kx = 2.0 * np.pi * sfft.fftfreq(nx, d=size[0] / nx)
+    ky = 2.0 * np.pi * sfft.rfftfreq(ny, d=size[1] / ny)
+    if nx % 2 == 0:
+        kx_d = kx.copy()
+        kx_d[nx // 2] = 0.0  # the Nyquist mode has no defined derivative in a real signal
+    else:
+        kx_d = kx
+    ky_d = ky.copy()
+    if ny % 2 == 0:
+        ky_d[-1] = 0.0
+    gx = sfft.irfft2(1j * kx_d[:, None] * F, s=h.shape)
+    gy = sfft.irfft2(1j * ky_d[None, :] * F, s=h.shape)
+    lap = sfft.irfft2(-(kx[:, None] ** 2 + ky[None, :] ** 2) * F, s=h.shape)
+    return gx, gy, lap
+
+
+def surface_statistics(
+    surface: Topography | LineScans | Prepared,
+    spectrum: PowerSpectrum | None = None,
+    *,
+    detrend: Detrend = "auto",
+) -> SurfaceStatistics:
+    """Statistics of a map or line scans (detrended as in :func:`prepare`), and of ``spectrum`` if given."""
+    prepared = surface if isinstance(surface, Prepared) else prepare(surface, detrend=detrend, window="none")
+    s = prepared.surface
+    h = np.asarray(s.heights)
+    good = prepared.defined
+    hv = h[good]
+    m2 = float(np.mean(hv**2))
+    h_rms = float(np.sqrt(m2))
+    skew = float(np.mean(hv**3) / m2**1.5) if m2 > 0 else float("nan")
+    kurt = float(np.mean(hv**4) / m2**2) if m2 > 0 else float("nan")
+    if isinstance(s, Topography):
+        dx, dy = s.pixel_size
+        if s.periodic:
+            gx, gy, lap = _spectral_derivatives(h, s.size)
+            method = "spectral derivatives (periodic map)"
+            g2 = gx**2 + gy**2
+            slope = float(np.sqrt(np.mean(g2[good])))
+            area = float(np.mean(np.sqrt(1.0 + g2[good])))
+            curv = float(np.sqrt(np.mean(lap[good] ** 2)))
+        else:
+            gx, gy = np.gradient(h, dx, dy)
+            method = "central finite differences"
+            g2 = gx**2 + gy**2
+            slope = float(np.sqrt(np.mean(g2[good])))
+            area = float(np.mean(np.sqrt(1.0 + g2[good])))
+            lap = ((h[2:, 1:-1] - 2 * h[1:-1, 1:-1] + h[:-2, 1:-1]) / dx**2
+                   + (h[1:-1, 2:] - 2 * h[1:-1, 1:-1] + h[1:-1, :-2]) / dy**2)
+            curv = float(np.sqrt(np.mean(lap[good[1:-1, 1:-1]] ** 2))) if lap.size else float("nan")
+    else:
+        dx = s.pixel_size
+        if s.periodic:
+            k = 2.0 * np.pi * sfft.rfftfreq(s.nb_points, d=dx)
+            F = sfft.rfft(h, axis=1)
+            kd = k.copy()
+            if s.nb_points % 2 == 0:
+                kd[-1] = 0.0
+            g = sfft.irfft(1j * kd * F, n=s.nb_points, axis=1)
+            c = sfft.irfft(-(k**2) * F, n=s.nb_points, axis=1)
+            method = "spectral derivatives (periodic profiles), converted for an isotropic surface"
+        else:
+            g = np.gradient(h, dx, axis=1)
+            c = np.full(h.shape, np.nan)
+            c[:, 1:-1] = (h[:, 2:] - 2 * h[:, 1:-1] + h[:, :-2]) / dx**2
+            method = "central finite differences along the profiles, converted for an isotropic surface"
+        slope = float(np.sqrt(2.0 * np.mean(g[good] ** 2)))
+        cg = c[good]
+        cg = cg[np.isfinite(cg)]
+        curv = float(np.sqrt(8.0 / 3.0 * np.mean(cg**2))) if cg.size else float("nan")
+        area = float(area_ratio_from_slope(slope))
+    return SurfaceStatistics(h_rms, slope, curv, area, skew, kurt, **_spectral(spectrum), method=method)

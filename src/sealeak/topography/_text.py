@@ -1,0 +1,162 @@
+"""Native reader for plain numeric text: a height matrix, x y h columns, x h columns or one column.
+
+Layouts (detected from the number of columns; comment lines start with ``#``, ``%`` or ``//``;
+separators: whitespace, ``,`` or ``;``):
+
+* 1 column, or a single row: heights of one profile on a uniform grid (needs a pixel size or length);
+* 2 columns: ``x h`` of one profile; x may be non-uniform (then interpolated onto a uniform grid);
+* 3 columns: ``x y h`` on a complete uniform grid;
+* 4 or more columns: a matrix of heights, file row = y, column = x (SurfaceTopography's layout:
+  the map is the transpose of the file's table).
+
+This module only parses; units are applied by :mod:`._readers`. Every failure is a
+:class:`~sealeak.errors.FileFormatError` naming the file and the line.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import FileFormatError
+
+__all__ = ["RawTable", "parse_text", "looks_binary", "NotPlainText"]
+
+
+class NotPlainText(FileFormatError):
+    """The file has non-numeric lines: maybe an instrument export (tried next with SurfaceTopography)."""
+
+_SPLIT = re.compile(r"[,;\s]+")
+_COMMENT = ("#", "%", "//")
+MAX_TEXT_BYTES = 512 * 2**20
+
+
+@dataclass(frozen=True)
+class RawTable:
+    """Parsed content, still in file units."""
+
+    kind: str  # "matrix", "xyz", "xh", "h"
+    heights: NDArray[np.float64]  # matrix: [x, y]; xyz: [x, y]; xh/h: 1D
+    x: NDArray[np.float64] | None = None  # xh: positions; xyz: unique x
+    y: NDArray[np.float64] | None = None  # xyz: unique y
+
+
+def looks_binary(data: bytes) -> bool:
+    """True when the first 4 KiB contain NUL bytes or mostly non-text bytes."""
+    head = data[:4096]
+    if b"\x00" in head:
+        return True
+    if not head:
+        return False
+    text_chars = bytes(range(32, 127)) + b"\n\r\t\f\b\xb5"
+    nontext = sum(1 for b in head if b not in text_chars and b < 128)
+    return nontext / len(head) > 0.1
+
+
+def _decode(path: Path, data: bytes) -> str:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
+
+
+def _table(path: Path, text: str) -> NDArray[np.float64]:
+    rows: list[list[float]] = []
+    width = None
+    first_line = 0
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith(_COMMENT):
+            continue
+        tokens = [t for t in _SPLIT.split(stripped) if t]
+        if not tokens:
+            continue
+        try:
+            values = [float(t) for t in tokens]
+        except ValueError:
+            bad = next(t for t in tokens if not _is_float(t))
+            raise NotPlainText(path, f"line {lineno}: {bad[:40]!r} is not a number "
+                                        f"(plain text files must hold numbers only; comments start with #)") from None
+        if width is None:
+            width, first_line = len(values), lineno
+        elif len(values) != width:
+            raise FileFormatError(path, f"line {lineno} has {len(values)} values but line {first_line} has {width} "
+                                        f"(ragged table: truncated or malformed file)")
+        rows.append(values)
+    if not rows:
+        raise FileFormatError(path, "no numeric data (empty or only comments)")
+    table = np.asarray(rows, dtype=float)
+    if np.isinf(table).any():
+        r, c = np.argwhere(np.isinf(table))[0]
+        raise FileFormatError(path, f"value {r + 1} in column {c + 1} is infinite or overflows float64")
+    return table
+
+
+def _is_float(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def parse_text(path: Path, data: bytes) -> RawTable:
+    """Parse plain numeric text into a :class:`RawTable` (no units applied)."""
+    if len(data) > MAX_TEXT_BYTES:
+        raise FileFormatError(path, f"text file of {len(data) / 2**20:.0f} MiB is larger than the "
+                                    f"{MAX_TEXT_BYTES / 2**20:.0f} MiB the text reader accepts; save it as .npy")
+    table = _table(path, _decode(path, data))
+    nrows, ncols = table.shape
+    if ncols == 1 or nrows == 1:
+        h = table.ravel()
+        if h.size < 4:
+            raise FileFormatError(path, f"only {h.size} height values; a profile needs at least 4")
+        return RawTable("h", h)
+    if ncols == 2:
+        return _xh(path, table)
+    if ncols == 3:
+        return _xyz(path, table)
+    if nrows < 2:
+        raise FileFormatError(path, "a height matrix needs at least 2 rows")
+    return RawTable("matrix", np.ascontiguousarray(table.T))
+
+
+def _xh(path: Path, table: NDArray[np.float64]) -> RawTable:
+    x, h = table[:, 0], table[:, 1]
+    if np.isnan(x).any():
+        raise FileFormatError(path, f"x column: position on data row {int(np.argmax(np.isnan(x))) + 1} is NaN")
+    order = np.argsort(x, kind="stable")
+    x, h = x[order], h[order]
+    if (np.diff(x) <= 0).any():
+        i = int(np.argmax(np.diff(x) <= 0))
+        raise FileFormatError(path, f"x column: position {x[i]:.6g} occurs twice (x h columns need distinct x)")
+    if np.isfinite(h).sum() < 4:
+        raise FileFormatError(path, "x h columns: fewer than 4 defined heights")
+    return RawTable("xh", h, x=x)
+
+
+def _xyz(path: Path, table: NDArray[np.float64]) -> RawTable:
+    if np.isnan(table[:, :2]).any():
+        raise FileFormatError(path, "x y h columns: some x or y positions are NaN")
+    xs, ix = np.unique(table[:, 0], return_inverse=True)
+    ys, iy = np.unique(table[:, 1], return_inverse=True)
+    if xs.size < 2 or ys.size < 2:
+        raise FileFormatError(path, f"x y h columns span {xs.size} x value(s) and {ys.size} y value(s); "
+                                    f"a map needs at least 2 of each")
+    if xs.size * ys.size != table.shape[0]:
+        raise FileFormatError(path, f"x y h columns: {table.shape[0]} rows do not fill the {xs.size}×{ys.size} grid "
+                                    f"of distinct x and y values (incomplete grid or duplicates)")
+    heights = np.full((xs.size, ys.size), np.nan)
+    if np.unique(ix * ys.size + iy).size != ix.size:
+        raise FileFormatError(path, "x y h columns: some (x, y) positions occur twice")
+    heights[ix, iy] = table[:, 2]
+    for name, v in (("x", xs), ("y", ys)):
+        d = np.diff(v)
+        if (np.abs(d - d.mean()) > 1e-3 * d.mean()).any():
+            raise FileFormatError(path, f"x y h columns: the {name} positions are not uniformly spaced "
+                                        f"(spacing {d.min():.6g}..{d.max():.6g}); maps need a uniform grid")
+    return RawTable("xyz", heights, x=xs, y=ys)

@@ -1,0 +1,153 @@
+"""Measured surfaces: 2D height maps and 1D line scans, always in metres."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+
+__all__ = ["Topography", "LineScans"]
+
+FloatArray = NDArray[np.float64]
+
+
+def _freeze(a: FloatArray) -> FloatArray:
+    a = np.array(a, dtype=float, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Topography:
+    """A 2D height map on a uniform grid.
+
+    Attributes
+    ----------
+    heights:
+        h[i, j] in m at x_i = i·sx/nx, y_j = j·sy/ny (first index x). NaN marks missing points.
+    size:
+        Physical size (sx, sy) in m; the pixel size is (sx/nx, sy/ny) (the FFT period convention:
+        size = number of points × pixel size).
+    periodic:
+        True when the map is one period of a periodic surface (synthesized maps); measured maps are
+        not periodic.
+    source:
+        Where the data came from (file path and channel, or free text).
+    notes:
+        What was done on reading (unit conversions, interpolation), in order.
+    """
+
+    heights: FloatArray
+    size: tuple[float, float]
+    periodic: bool = False
+    source: str = ""
+    notes: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        h = _freeze(self.heights)
+        if h.ndim != 2 or min(h.shape) < 2:
+            raise InputError("topography.heights", f"shape {h.shape}", "a 2D array with at least 2×2 points")
+        if np.isinf(h).any():
+            raise InputError("topography.heights", "inf", "heights must be finite (NaN marks missing points)")
+        if np.isnan(h).all():
+            raise InputError("topography.heights", "all NaN", "at least some heights must be defined")
+        sx, sy = (float(v) for v in self.size)
+        for name, v in (("size[0]", sx), ("size[1]", sy)):
+            if not (np.isfinite(v) and v > 0):
+                raise InputError(f"topography.{name}", v, "a finite length > 0 (m)")
+        object.__setattr__(self, "heights", h)
+        object.__setattr__(self, "size", (sx, sy))
+        object.__setattr__(self, "notes", tuple(self.notes))
+
+    @property
+    def nb_grid_pts(self) -> tuple[int, int]:
+        """(nx, ny)."""
+        return (int(self.heights.shape[0]), int(self.heights.shape[1]))
+
+    @property
+    def pixel_size(self) -> tuple[float, float]:
+        """(dx, dy) in m."""
+        return (self.size[0] / self.heights.shape[0], self.size[1] / self.heights.shape[1])
+
+    @property
+    def has_missing(self) -> bool:
+        """True when some heights are NaN (undefined points of optical instruments)."""
+        return bool(np.isnan(self.heights).any())
+
+    def __repr__(self) -> str:
+        nx, ny = self.nb_grid_pts
+        return (f"Topography({nx}×{ny}, size {self.size[0]:.4g} m × {self.size[1]:.4g} m, "
+                f"periodic={self.periodic}, source={self.source!r})")
+
+
+@dataclass(frozen=True, eq=False)
+class LineScans:
+    """One or more parallel 1D profiles on a common uniform grid.
+
+    Attributes
+    ----------
+    heights:
+        h[k, i] in m for scan k at x_i = i·length/n. NaN marks missing points.
+    length:
+        Physical length in m (= n × pixel size).
+    periodic, source, notes:
+        As for :class:`Topography`.
+
+    Non-uniformly sampled profiles are interpolated onto a uniform grid on reading (and a note says so).
+    """
+
+    heights: FloatArray
+    length: float
+    periodic: bool = False
+    source: str = ""
+    notes: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        h = _freeze(self.heights)
+        if h.ndim == 1:
+            h = _freeze(h[None, :])
+        if h.ndim != 2 or h.shape[1] < 4 or h.shape[0] < 1:
+            raise InputError("line_scans.heights", f"shape {h.shape}", "1D profiles with at least 4 points")
+        if np.isinf(h).any():
+            raise InputError("line_scans.heights", "inf", "heights must be finite (NaN marks missing points)")
+        if np.isnan(h).all():
+            raise InputError("line_scans.heights", "all NaN", "at least some heights must be defined")
+        length = float(self.length)
+        if not (np.isfinite(length) and length > 0):
+            raise InputError("line_scans.length", length, "a finite length > 0 (m)")
+        object.__setattr__(self, "heights", h)
+        object.__setattr__(self, "length", length)
+        object.__setattr__(self, "notes", tuple(self.notes))
+
+    @classmethod
+    def from_topography(cls, topography: Topography, axis: int = 0) -> "LineScans":
+        """All rows (``axis=0``: profiles along x) or columns (``axis=1``: along y) of a map."""
+        if axis not in (0, 1):
+            raise InputError("axis", axis, "0 (profiles along x) or 1 (along y)")
+        h = topography.heights.T if axis == 0 else topography.heights
+        return cls(h, topography.size[axis], periodic=topography.periodic,
+                   source=f"{topography.source} ({'x' if axis == 0 else 'y'} profiles)",
+                   notes=topography.notes)
+
+    @property
+    def nb_points(self) -> int:
+        return int(self.heights.shape[1])
+
+    @property
+    def nb_scans(self) -> int:
+        return int(self.heights.shape[0])
+
+    @property
+    def pixel_size(self) -> float:
+        return self.length / self.heights.shape[1]
+
+    @property
+    def has_missing(self) -> bool:
+        return bool(np.isnan(self.heights).any())
+
+    def __repr__(self) -> str:
+        return (f"LineScans({self.nb_scans} × {self.nb_points} points, length {self.length:.4g} m, "
+                f"periodic={self.periodic}, source={self.source!r})")
