@@ -67,7 +67,8 @@ __all__ = ["load_cases", "load_case", "parse_cases", "example_names", "example_t
 _SECTIONS: dict[str, set[str]] = {
     "surface": {"model", "h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength",
                 "cutoff_wavevector", "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength",
-                "file", "label", "files", "pixel_size", "size", "height_unit", "periodic"},
+                "file", "label", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic",
+                "channel", "bins_per_decade"},
     "rubber": {"youngs_modulus", "poisson_ratio", "name"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
     "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height"},
@@ -263,6 +264,51 @@ def _table(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str
     except InputError as exc:
         raise FileFormatError(path, str(exc)) from None
     return spec, f"tabulated spectrum from {path.name} ({q.size} points, log-log interpolation)"
+
+
+def _topography(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
+    """``model = "topography"``: C(q) from measured height maps / line scans (stitched if several)."""
+    from .topography import analyze
+
+    files = sec.raw("files", sec.raw("file"))
+    if sec.has("file") and sec.has("files"):
+        raise InputError(sec.field("files"), files, "give either file or files, not both")
+    names = [files] if isinstance(files, str) else files
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
+        raise InputError(sec.field("file"), files, "is required for model = 'topography': a file name or a list")
+    paths = [Path(n) if Path(n).is_absolute() else case_dir / n for n in names]
+
+    def lengths(key: str) -> float | tuple[float, float] | None:
+        if not sec.has(key):
+            return None
+        raw = sec.raw(key)
+        items = raw if isinstance(raw, list) else [raw]
+        if not 1 <= len(items) <= 2:
+            raise InputError(sec.field(key), raw, "one length or a list of two")
+        vals = [parse_quantity(f"{sec.field(key)}", v, "length") for v in items]
+        if min(vals) <= 0:
+            raise InputError(sec.field(key), raw, "must be > 0")
+        return vals[0] if len(vals) == 1 else (vals[0], vals[1])
+
+    for key in ("height_unit", "lateral_unit"):
+        if sec.has(key) and not isinstance(sec.raw(key), str):
+            raise InputError(sec.field(key), sec.raw(key), "must be a unit name such as 'um'")
+    periodic = sec.raw("periodic", False)
+    if not isinstance(periodic, bool):
+        raise InputError(sec.field("periodic"), periodic, "must be true or false")
+    an = analyze(paths, size=lengths("size"), pixel_size=lengths("pixel_size"), height_unit=sec.raw("height_unit"),
+                 lateral_unit=sec.raw("lateral_unit"), periodic=periodic, channel=sec.raw("channel"),
+                 bins_per_decade=sec.number("bins_per_decade", 10.0, low=0.0))
+    spec = an.spectrum
+    note = (f"measured topography ({', '.join(p.name for p in paths)}): C(q) over q = {spec.q_min:.4g} .. "
+            f"{spec.q_max:.4g} 1/m")
+    if spec.q_min > q0 * 1.0001:
+        note += (f"; the measurement starts at q = {spec.q_min:.4g} 1/m > q0 = {q0:.4g} 1/m, so roughness at "
+                 "longer wavelengths is missing (taken as zero)")
+    return spec, note
+
+
+register_surface_model("topography", _topography)
 
 
 def _build(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:

@@ -16,11 +16,10 @@ from ..errors import UnitError
 __all__ = ["length_unit_factor", "parse_length"]
 
 
-@lru_cache(maxsize=1)
 def _registry() -> Any:
-    import pint
+    from ..units import registry
 
-    return pint.UnitRegistry()
+    return registry()
 
 
 @lru_cache(maxsize=64)
