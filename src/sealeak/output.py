@@ -110,7 +110,10 @@ def prediction_csv(cases: Sequence[Case], results: Sequence[CriticalJunctionResu
 
 
 def _fmt(x: float, fmt: str) -> str:
-    return "—" if x is None or not np.isfinite(x) else format(x, fmt)
+    if x is None or not np.isfinite(x):
+        width = int("".join(ch for ch in fmt.split(".")[0] if ch.isdigit()) or 0)
+        return "—".rjust(width)
+    return format(x, fmt)
 
 
 def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionResult]) -> str:
