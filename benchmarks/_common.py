@@ -1,0 +1,28 @@
+"""Shared set-up of the numerics benchmarks: a self-affine surface and a load for a contact fraction."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.special import erfinv
+
+from sealeak.roughness import PowerSpectrum
+from sealeak.synthesis import synthesize
+
+SIZE = 1e-3  # m
+E_STAR = 1e6  # Pa
+
+
+def surface(n: int, seed: int = 1) -> tuple[np.ndarray, PowerSpectrum]:
+    """H = 0.8, q_r = 4·2π/L, cut-off at 1/8 of the Nyquist wavevector, h_rms = 1 µm."""
+    q0 = 2 * np.pi / SIZE
+    sp = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=4 * q0, q_cutoff=np.pi * n / SIZE / 8,
+                                   q_lowest=q0, h_rms=1e-6)
+    return synthesize(sp, n, SIZE, seed=seed), sp
+
+
+def pressure_for(sp: PowerSpectrum, fraction: float) -> float:
+    """Persson's A/A0 = erf(P0/(2√G)), G = E*² slope²/8, times 0.8 (numerics give more area)."""
+    g = E_STAR**2 * sp.slope_rms**2 / 8
+    return 2 * math.sqrt(g) * float(erfinv(fraction)) * 0.8

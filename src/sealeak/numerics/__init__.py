@@ -1,0 +1,60 @@
+"""Numerically exact route to the leak rate (THEORY.md section 5).
+
+Small public API over private modules:
+
+* contact:      :func:`solve_contact`, :func:`solve_contact_sweep`, :class:`ContactResult`,
+                :func:`contact_memory_bytes` (FFT boundary elements, preconditioned
+                Polonsky-Keer constrained conjugate gradient);
+* flow:         :func:`solve_flow`, :class:`FlowResult`, :func:`flow_memory_bytes`
+                (steady Reynolds equation, finite volumes, sparse direct or AMG-CG, every
+                solution checked);
+* percolation:  :func:`label_clusters`, :func:`spans`, :func:`spanning_mask`,
+                :func:`percolation_threshold`, :class:`ThresholdResult`;
+* resources:    :func:`check_memory` refuses a grid that does not fit in memory.
+
+Arrays are indexed [x, y] with flow along x (axis 0) and periodicity along y (axis 1); all
+quantities are SI (m, Pa, Pa·s, m³/s).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from ._contact import ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
+from ._flow import FlowResult, flow_memory_bytes, solve_flow
+from ._memory import available_memory_bytes, require_memory
+from ._percolation import ThresholdResult, label_clusters, percolation_threshold, spanning_mask, spans
+
+__all__ = [
+    "ContactResult",
+    "FlowResult",
+    "ThresholdResult",
+    "solve_contact",
+    "solve_contact_sweep",
+    "solve_flow",
+    "label_clusters",
+    "spans",
+    "spanning_mask",
+    "percolation_threshold",
+    "contact_memory_bytes",
+    "flow_memory_bytes",
+    "check_memory",
+    "available_memory_bytes",
+]
+
+
+def check_memory(n: int, kind: Literal["contact", "flow"], *, available: float | None = None) -> int:
+    """Estimated bytes for an n×n ``kind`` problem; raises ResourceError if above ``available``.
+
+    ``available`` defaults to the memory the OS reports available. Returns the estimate.
+    """
+    from ..errors import InputError
+
+    if kind == "contact":
+        need = contact_memory_bytes(n)
+    elif kind == "flow":
+        need = flow_memory_bytes(n)
+    else:
+        raise InputError("kind", kind, "allowed: 'contact', 'flow'")
+    require_memory(need, f"the {n}x{n} {kind} problem", available)
+    return need

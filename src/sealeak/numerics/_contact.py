@@ -1,0 +1,354 @@
+"""FFT boundary-element solver for frictionless, non-adhesive rough contact (periodic cell).
+
+Problem (THEORY.md section 5, step 2). A rigid periodic rough surface with heights h(x) (m) is
+pressed against a flat elastic half-space of contact modulus E* (Pa). The elastic surface
+displacement u (positive away from the rigid surface) is, per Fourier mode q ≠ 0,
+
+    u(q) = 2 p(q) / (E* |q|)                     (Johnson, Contact Mechanics, 1985; periodic form
+                                                  e.g. Stanley & Kato, J. Tribol. 119 (1997) 481)
+
+and the gap is g(x) = u(x) - h(x) + c, with the constant c (the q = 0 mode: rigid-body position of
+the half-space) fixed by the prescribed mean pressure. The solution satisfies
+
+    g >= 0,   p >= 0,   g p = 0,   mean(p) = P0.
+
+Algorithm: the constrained conjugate gradient method of Polonsky & Keer, Wear 231 (1999) 206,
+in its pressure-controlled form (mean pressure enforced by rescaling after each step; cells that
+interpenetrate outside the contact set receive pressure and restart the CG recurrence), with FFT
+convolutions (scipy.fft rfft2/irfft2, float64) in place of their multi-level summation, and
+preconditioned: the gap residual g_c on the current contact set c is mapped through the Fourier
+stiffness S (S(q) = E*|q|/2, the inverse of the compliance) restricted to the contact set,
+
+    z = P_c (S P_c g - mean_c(S P_c g)),     t = z + β t_old,   β = (g_c·z)/(g_c·z)_old,
+
+which is exact for full contact and cuts the iteration count 3-6x on self-affine surfaces (our
+measurement: 1024², 40 % contact, 489 -> 78 iterations). Cost per iteration: three FFT pairs
+(u = K p, z = S g, r = K t); u is updated incrementally (u <- s (u - τ K t)) on steps where the
+projection did not clip, and always recomputed from scratch before convergence is accepted.
+A previous solution can warm-start the iteration (``initial``), which :func:`solve_contact_sweep`
+uses along increasing pressures.
+
+Convergence criterion (scale-free; evaluated on the current iterate, which always satisfies
+p >= 0 and mean(p) = P0 exactly):
+
+    r_gap  = sqrt( mean_over_all_cells( [p > 0] g²  +  min(g, 0)² ) ) / h_rms
+    r_comp = mean( p |g| ) / (P0 h_rms)
+    residual = max(r_gap, r_comp)  <=  tol
+
+r_gap measures both the gap left where there is pressure and the interpenetration where there is
+none, relative to the rms roughness; r_comp is the pressure-weighted complementarity violation.
+Both are independent of the units, the grid size and the load. The reported gap is the final g
+with interpenetration (below ``tol·h_rms``) clipped to 0; contact cells keep their ~1e-12 h_rms
+remainders, which is why the contact set must be taken from ``pressure > 0``, never ``gap == 0``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import fft as sfft
+
+from ..errors import ConvergenceError, InputError
+from ..synthesis import wavevector_grid
+from ._memory import require_memory
+
+FloatArray = NDArray[np.float64]
+
+DEFAULT_TOL = 1e-8
+DEFAULT_MAX_ITER = 5000
+
+
+@dataclass(frozen=True, eq=False)
+class ContactResult:
+    """Solution of one rough-contact problem.
+
+    Attributes
+    ----------
+    gap:
+        Interfacial gap g[x, y] (m), >= 0; ~0 (not exactly 0) in contact cells.
+    pressure:
+        Contact pressure p[x, y] (Pa), >= 0.
+    contact_area:
+        Relative contact area A/A0: fraction of cells with pressure > 0.
+    mean_gap:
+        Mean gap over the whole cell, contact included (m).
+    approach:
+        Rigid-body approach (m): max(h) - c, i.e. how far the undeformed half-space surface
+        has moved past the highest summit (u has zero mean).
+    mean_pressure:
+        The prescribed mean pressure P0 (Pa).
+    iterations:
+        Conjugate-gradient iterations used.
+    residual:
+        Final value of the convergence measure (module docstring).
+    tol:
+        Tolerance that was requested.
+    size, e_star:
+        Side of the square cell (m) and contact modulus (Pa).
+    """
+
+    gap: FloatArray
+    pressure: FloatArray
+    contact_area: float
+    mean_gap: float
+    approach: float
+    mean_pressure: float
+    iterations: int
+    residual: float
+    tol: float
+    size: float
+    e_star: float
+
+    @property
+    def contact(self) -> NDArray[np.bool_]:
+        """Contact mask (pressure > 0)."""
+        return self.pressure > 0
+
+
+def contact_memory_bytes(n: int) -> int:
+    """Peak memory of :func:`solve_contact` on an n×n grid in bytes (estimate).
+
+    Fourteen n×n float64 arrays (heights, pressure, displacement, gap, search direction, its
+    response, preconditioned residual, masks, temporaries, the returned result), the real
+    compliance and stiffness kernels and three complex half-spectra (n (n/2+1) each).
+    """
+    n = int(n)
+    half = n * (n // 2 + 1)
+    return int(8 * n * n * 14 + 8 * half * 2 + 16 * half * 3)
+
+
+def _validate(heights: ArrayLike, size: float, e_star: float) -> FloatArray:
+    h = np.asarray(heights, dtype=np.float64)
+    if h.ndim != 2 or h.shape[0] != h.shape[1] or h.shape[0] < 2:
+        raise InputError("heights", f"array of shape {h.shape}", "must be a square N×N array with N >= 2")
+    if not np.isfinite(h).all():
+        raise InputError("heights", "non-finite values", "heights must be finite (no NaN or inf)")
+    if not (isinstance(size, (int, float, np.floating)) and math.isfinite(size) and size > 0):
+        raise InputError("size", size, "must be a finite length > 0 (m)")
+    if not (isinstance(e_star, (int, float, np.floating)) and math.isfinite(e_star) and e_star > 0):
+        raise InputError("e_star", e_star, "must be a finite contact modulus > 0 (Pa)")
+    return h
+
+
+def _check_pressure(p: float, name: str = "mean_pressure") -> float:
+    if not (isinstance(p, (int, float, np.floating)) and math.isfinite(p) and p > 0):
+        raise InputError(name, p, "must be a finite pressure > 0 (Pa)")
+    return float(p)
+
+
+def solve_contact(
+    heights: ArrayLike,
+    size: float,
+    e_star: float,
+    mean_pressure: float,
+    *,
+    tol: float = DEFAULT_TOL,
+    max_iter: int = DEFAULT_MAX_ITER,
+    initial: ContactResult | None = None,
+    workers: int = -1,
+    precondition: bool = True,
+    memory_limit: float | None = None,
+) -> ContactResult:
+    """Frictionless contact of a rigid periodic rough surface with an elastic half-space.
+
+    Parameters
+    ----------
+    heights:
+        Rigid-surface heights h[x, y] (m) on an N×N periodic grid (any mean).
+    size:
+        Side of the square cell (m); grid spacing size/N.
+    e_star:
+        Contact modulus E* = E/(1-ν²) (Pa).
+    mean_pressure:
+        Prescribed nominal pressure P0 = mean(p) (Pa).
+    tol:
+        Tolerance on the scale-free residual (module docstring), default 1e-8.
+    max_iter:
+        Iteration limit; reaching it raises :class:`ConvergenceError`.
+    initial:
+        A previous :class:`ContactResult` on the same grid; its pressure, rescaled to P0, starts
+        the iteration (warm start).
+    workers:
+        Threads for scipy.fft (-1: all cores).
+    precondition:
+        Use the Fourier-stiffness preconditioner (default; module docstring). ``False`` gives the
+        plain Polonsky-Keer iteration (2-6x more iterations on self-affine surfaces).
+    memory_limit:
+        Bytes allowed; default: the memory the OS reports available. Larger estimates raise
+        :class:`ResourceError` before any work.
+
+    Returns
+    -------
+    ContactResult
+    """
+    h = _validate(heights, size, e_star)
+    p0 = _check_pressure(mean_pressure)
+    if not (math.isfinite(tol) and tol > 0):
+        raise InputError("tol", tol, "must be a finite number > 0")
+    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
+        raise InputError("max_iter", max_iter, "must be an integer >= 1")
+    n = h.shape[0]
+    require_memory(contact_memory_bytes(n), f"the {n}x{n} contact problem", memory_limit)
+
+    h_mean = float(h.mean())
+    h_rms = float(np.sqrt(np.mean((h - h_mean) ** 2)))
+    if h_rms == 0.0 or h_rms <= 1e-14 * max(abs(h_mean), 1e-300):
+        # flat surface: complete contact at uniform pressure
+        return ContactResult(np.zeros_like(h), np.full_like(h, p0), 1.0, 0.0, 0.0, p0, 0, 0.0,
+                             float(tol), float(size), float(e_star))
+    hs = h - h_mean  # zero-mean heights (mean only shifts c)
+
+    q = wavevector_grid(n, float(size), half=True)
+    kernel = np.zeros_like(q)
+    np.divide(2.0 / e_star, q, out=kernel, where=q > 0)  # compliance 2/(E*|q|), q=0 mode dropped
+    del q
+
+    def convolve(x: FloatArray, k: FloatArray = kernel) -> FloatArray:
+        spec = sfft.rfft2(x, workers=workers)
+        spec *= k
+        return sfft.irfft2(spec, s=(n, n), workers=workers, overwrite_x=True)
+
+    if precondition:  # Fourier stiffness E*|q|/2: the inverse of the compliance for q != 0
+        stiff = np.zeros_like(kernel)
+        np.divide(1.0, kernel, out=stiff, where=kernel > 0)
+
+    if initial is not None:
+        if initial.pressure.shape != h.shape:
+            raise InputError("initial", f"result on a {initial.pressure.shape} grid",
+                             f"must come from the same {n}x{n} grid")
+        p = initial.pressure * (p0 / float(initial.pressure.mean()))
+    else:
+        p = np.full_like(hs, p0)
+    ncell = float(n * n)
+
+    t = np.zeros_like(hs)
+    gm = np.empty_like(hs)
+    tmp = np.empty_like(hs)
+    u = convolve(p)  # elastic displacement (zero mean), kept up to date incrementally
+    fresh = True  # u was computed from p by a full convolution (not updated incrementally)
+    since_fresh = 0
+    g_old = 1.0
+    delta = 0.0
+    residual = math.inf
+    it = 0
+    while True:
+        g = u - hs
+        mask = p > 0
+        nc = int(np.count_nonzero(mask))
+        # shift so that the mean gap over the contact set vanishes: that constant is c
+        np.multiply(g, mask, out=gm)
+        gbar = float(gm.sum()) / nc
+        g -= gbar
+        np.multiply(g, mask, out=gm)  # gap on the contact set (should be 0)
+        # --- convergence measure on the current iterate
+        np.minimum(g, 0.0, out=tmp)  # interpenetration (zero where contact: taken by gm)
+        tmp *= ~mask
+        r_gap = math.sqrt((float(np.dot(gm.ravel(), gm.ravel()))
+                           + float(np.dot(tmp.ravel(), tmp.ravel()))) / ncell) / h_rms
+        r_comp = float(np.dot(p.ravel(), np.abs(gm).ravel())) / (ncell * p0 * h_rms)
+        residual = max(r_gap, r_comp)
+        if residual <= tol:
+            if fresh:
+                break
+            u = convolve(p)  # confirm on a displacement computed from scratch
+            fresh, since_fresh = True, 0
+            continue
+        if it >= max_iter:
+            raise ConvergenceError(
+                f"contact solver: residual {residual:.3g} after {it} iterations, tolerance {tol:.3g} "
+                f"(N = {n}, P0 = {p0:.6g} Pa); raise max_iter or tol")
+        it += 1
+        # --- conjugate direction on the contact set
+        if precondition:  # z = P_c S P_c g, mean over the contact set removed
+            z = convolve(gm, stiff)
+            z *= mask
+            z -= float(z.sum()) / nc
+            z *= mask
+        else:
+            z = gm
+        G = float(np.dot(gm.ravel(), z.ravel()))
+        beta = delta * G / g_old
+        t *= beta
+        t += z  # t = g + beta t on the contact set
+        t *= mask
+        g_old = G
+        r = convolve(t)  # K t (its mean over the contact set is removed in the sums below)
+        np.multiply(r, mask, out=tmp)
+        rbar = float(tmp.sum()) / nc
+        denom = float(np.dot(tmp.ravel(), t.ravel())) - rbar * float(t.sum())
+        if denom <= 0.0:  # lost conjugacy (round-off): restart along steepest descent
+            t[...] = z
+            r = convolve(t)
+            np.multiply(r, mask, out=tmp)
+            rbar = float(tmp.sum()) / nc
+            denom = float(np.dot(tmp.ravel(), t.ravel())) - rbar * float(t.sum())
+        tau = float(np.dot(gm.ravel(), t.ravel())) / denom
+        t_tau = tau * t
+        p -= t_tau
+        clipped = bool((p < 0).any())
+        np.maximum(p, 0.0, out=p)
+        # cells out of contact that interpenetrate: give them pressure, restart CG
+        overlap = ~mask
+        overlap &= g < 0
+        if overlap.any():
+            delta = 0.0
+            p[overlap] -= tau * g[overlap]
+        else:
+            delta = 1.0
+        scale = p0 / float(p.mean())
+        p *= scale
+        since_fresh += 1
+        if clipped or delta == 0.0 or since_fresh >= 50:
+            u = convolve(p)
+            fresh, since_fresh = True, 0
+        else:  # p_new = scale (p - tau t) exactly, so u_new = scale (u - tau K t)
+            r *= tau
+            u -= r
+            u *= scale
+            fresh = False
+
+    mask = p > 0
+    gap = np.maximum(g, 0.0)
+    c = -gbar  # g = u - hs + c  with mean(u) = 0
+    return ContactResult(
+        gap=gap,
+        pressure=p,
+        contact_area=float(np.count_nonzero(mask)) / ncell,
+        mean_gap=float(gap.mean()),
+        approach=float(hs.max() - c),
+        mean_pressure=p0,
+        iterations=it,
+        residual=residual,
+        tol=float(tol),
+        size=float(size),
+        e_star=float(e_star),
+    )
+
+
+def solve_contact_sweep(
+    heights: ArrayLike,
+    size: float,
+    e_star: float,
+    pressures: Iterable[float],
+    **kwargs: object,
+) -> list[ContactResult]:
+    """Solve at several mean pressures (Pa), in increasing order, each warm-started from the last.
+
+    Returns the results in the order of the sorted pressures. Keyword arguments go to
+    :func:`solve_contact` (``initial`` is managed here).
+    """
+    if "initial" in kwargs:
+        raise InputError("initial", "given", "solve_contact_sweep manages warm starts itself")
+    ps: Sequence[float] = sorted(_check_pressure(float(x), "pressures[i]") for x in pressures)
+    if not ps:
+        raise InputError("pressures", "[]", "give at least one pressure")
+    out: list[ContactResult] = []
+    prev: ContactResult | None = None
+    for p in ps:
+        prev = solve_contact(heights, size, e_star, p, initial=prev, **kwargs)  # type: ignore[arg-type]
+        out.append(prev)
+    return out
