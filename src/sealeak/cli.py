@@ -120,7 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 #: Modules that add sub-commands: each has ``register(subparsers, add_case_args)`` and keeps its
 #: heavy imports inside the command functions, so ``sealeak --help`` stays fast.
-COMMAND_MODULES: tuple[str, ...] = ("sealeak.cli_surface",)
+COMMAND_MODULES: tuple[str, ...] = ("sealeak.cli_surface", "sealeak.cli_simulate")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -87,7 +87,9 @@ def simulation_figures(case, res) -> dict:
     p = res.squeeze_pressure / scale
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=150)
     ok = res.leak_rate > 0
-    ax.errorbar(p[ok], res.leak_rate[ok], yerr=res.leak_rate_std[ok], fmt="o", ms=4, capsize=3,
+    std = np.nan_to_num(res.leak_rate_std[ok])
+    lower = np.minimum(std, 0.9 * res.leak_rate[ok])  # keep the bar above zero on the log axis
+    ax.errorbar(p[ok], res.leak_rate[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
                 label=f"numerical (BEM + Reynolds), {res.realizations} realisation(s)")
     ax.plot(p, res.leak_rate_critical_junction, "-", label="critical junction, α = 1")
     if case.alpha != 1.0:
@@ -103,7 +105,7 @@ def simulation_figures(case, res) -> dict:
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=150)
     ok = np.isfinite(res.alpha)
-    ax.errorbar(p[ok], res.alpha[ok], yerr=res.alpha_std[ok], fmt="o-", ms=4, capsize=3, label="α = Q_num / Q_cj(α=1)")
+    ax.errorbar(p[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3, label="α = Q_num / Q_cj(α=1)")
     ax.axhline(case.alpha, color="k", ls="--", lw=0.8, label=f"case α = {case.alpha:g}")
     ax.set_xlabel(f"squeeze pressure P0 ({unit})")
     ax.set_ylabel("α (1)")
@@ -124,13 +126,11 @@ def simulation_figures(case, res) -> dict:
         # img is indexed [x, y]; transpose so x runs horizontally (flow left to right)
         ax.imshow(img.T, cmap=cmap, vmin=0, vmax=2, extent=(0, res.size * 1e3, 0, res.size * 1e3), origin="lower",
                   interpolation="nearest")
-        ax.set_xlabel("x, flow direction (mm)")
+        ax.set_xlabel("x (mm), flow from inlet x = 0 to outlet →")
         ax.set_ylabel("y, periodic (mm)")
         ax.set_title(f"Contact map, realisation 0, P0 = {res.squeeze_pressure[pick] / scale:.3g} {unit}\n"
                      f"black: contact ({contact.mean():.1%}); blue: channels spanning inlet to outlet; "
                      f"grey: trapped fluid", fontsize=8)
-        ax.annotate("", xy=(0.95, 1.03), xytext=(0.05, 1.03), xycoords="axes fraction",
-                    arrowprops=dict(arrowstyle="->", color="C3"))
     figs["contact_map.png"] = fig
     return figs
 

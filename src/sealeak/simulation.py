@@ -47,7 +47,7 @@ def resolved_spectrum_cut(grid: int, size: float) -> float:
 class SimulationResult:
     """Per-pressure statistics over realisations (SI units). Arrays have one entry per pressure.
 
-    ``*_std`` are standard deviations over realisations (ddof = 1; 0 for a single realisation).
+    ``*_std`` are standard deviations over realisations (ddof = 1; NaN with fewer than two values).
     ``leak_rate`` averages all realisations (a blocked one leaks 0); ``alpha`` averages the
     percolating ones only (NaN where none percolates). ``leak_rate_critical_junction`` is the
     critical-junction prediction with α = 1 for the same (possibly cut) spectrum.
@@ -80,14 +80,14 @@ class SimulationResult:
 
 
 def _mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Mean and standard deviation (ddof = 1) over axis 0, ignoring NaN; std 0 for one value, NaN for none."""
+    """Mean and standard deviation (ddof = 1) over axis 0, ignoring NaN; std NaN for fewer than two values."""
     x = np.asarray(x, dtype=float)
     ok = np.isfinite(x)
     n = ok.sum(axis=0)
     mean = np.where(n > 0, np.where(ok, x, 0.0).sum(axis=0) / np.maximum(n, 1), np.nan)
     dev = np.where(ok, x - mean, 0.0)
     var = np.where(n > 1, (dev**2).sum(axis=0) / np.maximum(n - 1, 1), 0.0)
-    return mean, np.where(n > 0, np.sqrt(var), np.nan)
+    return mean, np.where(n > 1, np.sqrt(var), np.nan)
 
 
 def simulate(
