@@ -123,7 +123,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 #: Modules that add sub-commands: each has ``register(subparsers, add_case_args)`` and keeps its
 #: heavy imports inside the command functions, so ``sealeak --help`` stays fast.
-COMMAND_MODULES: tuple[str, ...] = ()
+COMMAND_MODULES: tuple[str, ...] = ("sealeak.cli_lab",)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

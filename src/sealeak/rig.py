@@ -221,3 +221,50 @@ def leak_rate_from_readings(rig: RigSetup, time: ArrayLike, height: ArrayLike, s
     rms = float(np.sqrt(np.mean(resid**2)) / np.log(10.0))
     return ReadingsAnalysis(time=t, height=h, interval_pressure_difference=dp, interval_leak_rate=q,
                             conductance=float(k), conductance_std=float(k_std), rms_log_residual=rms)
+
+
+@dataclass(frozen=True)
+class RigPrediction:
+    """The rig simulated for a case: P0 from the load, the conductance K = Q/ΔP of each model the case
+    asks for (m³/(s·Pa); 0 where it predicts no leak), the water column of each, and notes."""
+
+    squeeze_pressure: float
+    conductance: dict
+    columns: dict
+    messages: tuple[str, ...]
+
+
+def rig_prediction(case) -> RigPrediction:
+    """Simulate the case's [rig]: P0 = load/(ring area), ΔP = ρgH, H(t) for each model of ``case.model``.
+
+    Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP; the ODE is still solved in general
+    (:func:`water_column`) and the closed-form exponential gives the same curve.
+    """
+    from .case import predict, predict_effective_medium
+    from .errors import InputError as _InputError
+
+    rig = case.rig
+    if rig is None:
+        raise _InputError("rig", None, "the case file has no [rig] section (cylinder_diameter, initial_height, load, ...)")
+    p0 = rig.squeeze_pressure(case.seal)
+    unit_dp = 1.0  # Pa: K = Q(ΔP = 1 Pa)
+    conductance: dict[str, float] = {}
+    messages: list[str] = []
+    if case.model in ("critical-junction", "both"):
+        res = predict(case, squeeze_pressure=np.array([p0]), pressure_difference=unit_dp)
+        k = float(res.leak_rate[0]) if res.percolates[0] else 0.0
+        conductance[f"critical junction (α = {case.alpha:g})"] = k
+        messages.extend(res.messages)
+    if case.model in ("effective-medium", "both"):
+        em = predict_effective_medium(case, squeeze_pressure=np.array([p0]), pressure_difference=unit_dp)
+        conductance["effective medium (Bruggeman)"] = float(em.leak_rate[0]) if em.percolates[0] else 0.0
+        messages.extend(em.messages)
+    columns = {}
+    for name, k in conductance.items():
+        if k == 0:
+            messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
+        columns[name] = water_column(rig, lambda dp, k=k: k * np.asarray(dp, dtype=float))
+    if rig.pressure_difference(rig.initial_height) > 0.5 * p0:
+        messages.append(f"ΔP = ρgH0 = {rig.pressure_difference(rig.initial_height):.4g} Pa is not small against "
+                        f"P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
+    return RigPrediction(p0, conductance, columns, tuple(messages))
