@@ -153,7 +153,7 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 
     Rows whose continuous part is empty get a single node of weight 0.
     """
     mass = dist.weights.sum(axis=1)
-    scale = np.maximum(dist.mean, 1e-300)
+    scale = np.maximum(dist.mean, 1e-200)  # (rows in complete contact have no continuous part)
     top = np.maximum(np.max(np.where(dist.weights > 0, dist.centres + 12.0 * dist.widths, 0.0), axis=1), scale)
     u_lo = _quantile(dist, 1e-10 * mass, scale * 1e-30, top)
     u_hi = _quantile(dist, mass - 1e-13 * np.maximum(mass, 1e-300), scale * 1e-30, top * 10.0)

@@ -202,7 +202,9 @@ def gap_distribution(
     k = np.arange(uniform_panels + 1) / uniform_panels
     uniform = b1[:, None] * k[None, :]
     logk = np.arange(log_panels + 1) / log_panels
-    logs = np.exp(np.log(lo)[:, None] + (np.log(b1) - np.log(lo))[:, None] * logk[None, :])
+    safe_lo = np.where(lo > 0, lo, 1.0)  # b1 = 0 (complete contact): every panel has zero width
+    safe_b1 = np.where(b1 > 0, b1, 1.0)
+    logs = np.exp(np.log(safe_lo)[:, None] + (np.log(safe_b1) - np.log(safe_lo))[:, None] * logk[None, :])
     graded = b1[:, None] * (1.0 - 4.0 ** -np.arange(1, graded_panels + 1, dtype=float))[None, :]
     edges = np.sort(np.clip(np.concatenate([uniform, logs, graded], axis=1), lo[:, None], b1[:, None]), axis=1)
     x, w = np.polynomial.legendre.leggauss(order)
@@ -226,7 +228,7 @@ def gap_distribution(
     u1 = np.where(live, np.maximum(u1, 0.0), 0.0)
     # the unresolved part b < ε: ∫_1^{ζm} (-A') u1 dζ = ū(1) - A(ζm) ū(ζm), ζm = ζ(ε)
     ubar1 = contact.mean_gap(np.ones_like(p0), p0)
-    zeta_m = _zeta_of_complement(contact, lo, p0)
+    zeta_m = _zeta_of_complement(contact, np.maximum(lo, 1e-300), p0)
     ubar_m = contact.mean_gap(zeta_m, p0)
     unresolved_mean = np.where(b1 > lo, ubar1 - (1.0 - lo) * ubar_m, ubar1)
     unresolved_weight = np.where(b1 > lo, lo, b1)

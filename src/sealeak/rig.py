@@ -134,6 +134,8 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
     q0 = float(np.asarray(leak_rate(np.array([rig.pressure_difference(rig.initial_height)])))[0])
     if not np.isfinite(q0) or q0 < 0:
         raise InputError("leak rate at the initial height", q0, "must be finite and >= 0 (m^3/s)")
+    if t_end is None and t_eval is not None:
+        t_end = float(np.max(t_eval))
     if t_end is None:
         t_end = rig.duration
     if t_end is None:
