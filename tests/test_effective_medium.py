@@ -178,3 +178,30 @@ def test_no_number_beyond_bruggeman_threshold(contact):
     assert r.percolates.tolist() == [True, False]
     assert np.isnan(r.leak_rate[1]) and r.effective_conductivity[1] == 0
     assert any("0.5" in m and "no flow" in m for m in r.messages)
+
+
+def test_predict_both_models_through_the_cli(tmp_path, capsys):
+    import json
+
+    from sealeak.cli import main
+
+    text = (example_path("reference-experiment").read_text()
+            .replace('{ start = "20 kPa", stop = "250 kPa", num = 40, spacing = "log" }', '["30 kPa", "60 kPa", "1 GPa"]')
+            .replace("[theory]", '[theory]\nmodel = "both"'))
+    cf = tmp_path / "both.toml"
+    cf.write_text(text)
+    out = tmp_path / "r.json"
+    assert main(["predict", str(cf), "--json", str(out)]) == 0
+    table = capsys.readouterr().out
+    assert "Q_CJ (m³/s)" in table and "Q_EM (m³/s)" in table and "<u>_P (µm)" in table and "ū(1) (µm)" in table
+    doc = json.loads(out.read_text())
+    assert doc["units"]["leak_rate_effective_medium"] == "m^3/s"
+    rows = doc["results"]
+    assert all("leak_rate_effective_medium" in r and "leak_rate" in r for r in rows)
+    assert rows[2]["leak_rate_effective_medium"] is None and rows[2]["percolates_effective_medium"] is False
+    (case,) = load_cases(cf)
+    from sealeak.case import predict_effective_medium
+
+    em = predict_effective_medium(case)
+    assert rows[1]["leak_rate_effective_medium"] == pytest.approx(em.leak_rate[1], rel=1e-12)
+    assert rows[1]["gap_distribution_mean"] >= rows[1]["mean_gap"]

@@ -56,7 +56,7 @@ def figure_linearity(dp, q, line, model_lines: dict[str, float], p0: float | Non
     ax.plot(dp / 1e3, q, "ks", ms=4, label="measured")
     x = np.linspace(0.0, dp.max() * 1.1, 50)
     ax.plot(x / 1e3, line.slope * x + line.intercept, "-",
-            label=f"fit: slope {line.slope:.3g} ± {line.slope_std:.2g} m³/(s·Pa), "
+            label=f"fit: slope {line.slope:.3g} ± {line.slope_std:.2g} m³/(s·Pa),\n"
                   f"intercept {line.intercept:.2g} ± {line.intercept_std:.2g} m³/s")
     for (name, slope), ls in zip(model_lines.items(), ("--", ":")):
         ax.plot(x / 1e3, slope * x, ls, label=name)
@@ -65,7 +65,7 @@ def figure_linearity(dp, q, line, model_lines: dict[str, float], p0: float | Non
     ax.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
     ax.set_xlim(left=0)
     _subtitle(ax, f"P0 = {p0 / 1e3:.3g} kPa" if p0 else "")
-    ax.legend()
+    ax.legend(loc="upper left")
     return fig
 
 
