@@ -217,17 +217,22 @@ def figure_gap_distribution(cases: Sequence[Case], results: Sequence[CriticalJun
     fig, ax = _fig("Distribution of interfacial separations P(u)")
     sets = _curve_sets(cases, results)
     dists = [gap_distribution(case.contact(), [p0]) for case, p0, _ in sets]
-    top = 4.0 * max(max(float(d.mean[0]), float(d.mean_gap[0])) for d in dists)
-    u = np.linspace(0.0, top, 500)
+    # u P(u) on a log u axis: the probability per unit ln u, readable across scales
+    lo = 1e-3 * min(float(d.mean_gap[0]) for d in dists)
+    hi = 10.0 * max(max(float(d.mean[0]), float(d.mean_gap[0])) for d in dists)
+    u = np.geomspace(lo, hi, 600)
+    top = 0.0
     for (case, p0, label), d in zip(sets, dists):
-        dens = d.density(u)[0]
-        line, = ax.plot(u * 1e6, dens * 1e-6, label=f"{label}: δ(u) weight A(ζ1)/A0 = {d.contact_fraction[0]:.3g}")
+        y = u * d.density(u)[0]
+        top = max(top, float(y.max()))
+        line, = ax.semilogx(u * 1e6, y,
+                            label=f"{label}: δ(u) weight A(ζ1)/A0 = {d.contact_fraction[0]:.3g}")
         ax.axvline(d.mean_gap[0] * 1e6, color=line.get_color(), ls=":", lw=1)
-    ax.set_xlim(0, top * 1e6)
-    ax.set_ylim(bottom=0)
+    ax.set_xlim(lo * 1e6, hi * 1e6)
+    ax.set_ylim(0, 1.45 * top)  # room for the legend
     ax.set_xlabel("interfacial separation u (µm)")
-    ax.set_ylabel("gap distribution P(u) (1/µm)")
-    _subtitle(ax, "continuous part (the δ(u) contact weight is in the legend); dotted: ū(1)")
+    ax.set_ylabel("u·P(u), probability per unit ln u (1)")
+    _subtitle(ax, "continuous part of P(u) (the δ(u) contact weight is in the legend); dotted: ū(1)")
     ax.legend()
     return fig
 
