@@ -19,7 +19,7 @@ from .leakage import CriticalJunctionResult, critical_junction
 from .roughness import PowerSpectrum
 from .seal import Seal
 
-__all__ = ["Case", "predict"]
+__all__ = ["Case", "predict", "predict_effective_medium"]
 
 
 @dataclass(frozen=True)
@@ -28,6 +28,8 @@ class Case:
 
     ``q0`` is 2π/L with L the side of the squares the nominal contact is divided into (L = Lx
     unless overridden). ``label`` names the variant within a parameter study ('' otherwise).
+    ``model`` is the leak-rate theory the case asks for: "critical-junction", "effective-medium"
+    or "both".
     """
 
     title: str
@@ -46,6 +48,7 @@ class Case:
     q0: float = 0.0
     q0_note: str = ""
     model: str = "critical-junction"
+    rig: Any = None  # sealeak.rig.RigSetup from the case file's [rig] section, or None
     label: str = ""
     source: str = ""
     inputs: dict[str, Any] = field(default_factory=dict, compare=False)
@@ -71,4 +74,18 @@ def predict(case: Case, squeeze_pressure: NDArray[np.float64] | None = None,
         aspect_ratio=case.seal.aspect_ratio,
         alpha=case.alpha,
         percolation_threshold=case.percolation_threshold,
+    )
+
+
+def predict_effective_medium(case: Case, squeeze_pressure: NDArray[np.float64] | None = None,
+                             pressure_difference: float | NDArray[np.float64] | None = None):
+    """Bruggeman effective-medium leak rate of ``case`` (:func:`sealeak.effective_medium.effective_medium`)."""
+    from .effective_medium import effective_medium
+
+    return effective_medium(
+        case.contact(),
+        squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
+        pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
+        viscosity=case.fluid.viscosity,
+        aspect_ratio=case.seal.aspect_ratio,
     )

@@ -372,12 +372,55 @@ def _build(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") ->
     if not q0 < spectrum.q_max:
         raise InputError("theory.lowest_wavevector (q0)", q0,
                          f"q0 = 2π/L must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
+    rig = _rig(_Section("rig", doc["rig"]), fluid) if "rig" in doc else None
     return Case(
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
         e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
-        percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, label=label,
+        percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
         source=source, inputs=copy.deepcopy(doc),
     )
+
+
+def _rig(sec: _Section, fluid: Fluid) -> Any:
+    """The [rig] section: the water-column rig of the reference experiment (sealeak.rig.RigSetup)."""
+    from .errors import UnitError
+    from .rig import RigSetup
+    from .seal import STANDARD_GRAVITY
+    from .units import registry
+
+    gravity = STANDARD_GRAVITY
+    if sec.has("gravity"):
+        raw = sec.raw("gravity")
+        allowed = "an acceleration with its unit, e.g. '9.81 m/s^2'"
+        try:
+            qty = registry().Quantity(str(raw).replace("^", "**")) if isinstance(raw, str) else None
+            gravity = float(qty.to("m/s**2").magnitude) if qty is not None else float("nan")
+        except Exception:
+            raise UnitError(sec.field("gravity"), raw, allowed) from None
+        if not (np.isfinite(gravity) and gravity > 0):
+            raise UnitError(sec.field("gravity"), raw, allowed)
+    if not sec.has("load"):
+        raise InputError(sec.field("load"), None, "is required: the mass (e.g. '3.4 kg') or force (e.g. '33 N') on the ring")
+    try:
+        mass = sec.quantity("load", "mass")
+        load, note = mass * gravity, f"load {mass:g} kg × g"
+    except UnitError:
+        try:
+            load, note = sec.quantity("load", "force"), "load given as a force"
+        except UnitError:
+            raise UnitError(sec.field("load"), sec.raw("load"),
+                            "a mass (e.g. '3.4 kg') or a force (e.g. '33 N') with its unit") from None
+    if sec.has("density"):
+        density = sec.quantity("density", "density")
+    elif fluid.density is not None:
+        density = fluid.density
+    else:
+        raise InputError(sec.field("density"), None, "is required (or give [fluid] density): the rig needs ρ for ΔP = ρ g H")
+    final = sec.quantity("final_height", "length") if sec.has("final_height") else None
+    duration = sec.quantity("duration", "time") if sec.has("duration") else None
+    return RigSetup(cylinder_diameter=sec.quantity("cylinder_diameter", "length"),
+                    initial_height=sec.quantity("initial_height", "length"), load=load, density=density,
+                    final_height=final, gravity=gravity, duration=duration, load_note=note)
 
 
 def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:

@@ -42,7 +42,7 @@ def _load(args: argparse.Namespace):
 
 def _cmd_predict(args: argparse.Namespace) -> int:
     from ._io import check_outputs, write_text
-    from .case import predict
+    from .case import predict, predict_effective_medium
     from .output import prediction_csv, prediction_json, prediction_table
 
     outputs = [p for p in (args.json, args.csv) if p]
@@ -53,18 +53,21 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     check_outputs(outputs, args.force)
     cases = _load(args)
     results = [predict(c) for c in cases]
+    effective = [predict_effective_medium(c) if c.model != "critical-junction" else None for c in cases]
+    if all(em is None for em in effective):
+        effective = None
     if not args.quiet:
-        sys.stdout.write(prediction_table(cases, results))
+        sys.stdout.write(prediction_table(cases, results, effective))
     if args.json:
-        write_text(args.json, prediction_json(cases, results))
+        write_text(args.json, prediction_json(cases, results, effective))
         _say(args, f"wrote {args.json}")
     if args.csv:
-        write_text(args.csv, prediction_csv(cases, results))
+        write_text(args.csv, prediction_csv(cases, results, effective))
         _say(args, f"wrote {args.csv}")
     if args.plots:
         from .plotting import prediction_figures, save_figures
 
-        written = save_figures(prediction_figures(cases, results), args.plots)
+        written = save_figures(prediction_figures(cases, results, effective), args.plots)
         _say(args, f"wrote {len(written)} figures to {args.plots}/")
     return 0
 
@@ -120,7 +123,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 #: Modules that add sub-commands: each has ``register(subparsers, add_case_args)`` and keeps its
 #: heavy imports inside the command functions, so ``sealeak --help`` stays fast.
-COMMAND_MODULES: tuple[str, ...] = ("sealeak.cli_surface", "sealeak.cli_simulate")
+COMMAND_MODULES: tuple[str, ...] = ("sealeak.cli_surface", "sealeak.cli_simulate", "sealeak.cli_lab")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -21,7 +21,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from .case import Case, predict  # noqa: E402
 from .leakage import CriticalJunctionResult  # noqa: E402
 
-__all__ = ["prediction_figures", "representative_pressures", "pressure_axis"]
+__all__ = ["prediction_figures", "figure_gap_distribution", "representative_pressures", "pressure_axis"]
 
 _STYLE = {"figure.figsize": (6.4, 4.4), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
           "axes.titlesize": 10, "legend.fontsize": 8}
@@ -165,18 +165,75 @@ def _settings(case: Case) -> str:
             f"p_c = {case.percolation_threshold:g}, γ = {case.gamma:g}")
 
 
-def figure_leak_rate(cases, results, log: bool) -> Figure:
-    """Q against P0, linear (paper Fig. 6) or log10 (paper Fig. 7)."""
-    if log:
-        fig = _per_pressure(cases, results, "Leak rate against squeeze pressure (log scale)",
-                            "log10 of leak rate Q / (m³/s)", lambda r: np.log10(r.leak_rate), False)
-    else:
-        fig = _per_pressure(cases, results, "Leak rate against squeeze pressure",
-                            "leak rate Q (m³/s)", lambda r: r.leak_rate, False)
-        fig.axes[0].ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
-        fig.axes[0].set_ylim(bottom=0)
-    _subtitle(fig.axes[0], _settings(cases[0]) + ("\nmissing points: the non-contact area does not percolate"
-                                                   if any((~r.percolates).any() for r in results) else ""))
+def figure_leak_rate(cases, results, log: bool, effective=None) -> Figure:
+    """Q against P0, linear (paper Fig. 6) or log10 (paper Fig. 7).
+
+    ``effective``: effective-medium results per case (or None); their curves are drawn dashed next
+    to the critical-junction ones (model "both"), or alone (model "effective-medium").
+    """
+    ems = list(effective) if effective is not None else [None] * len(cases)
+    title = "Leak rate against squeeze pressure" + (" (log scale)" if log else "")
+    fig, ax = _fig(title)
+    scale, unit = pressure_axis(np.concatenate([r.squeeze_pressure for r in results]))
+    shown_cj = shown_em = False
+    for case, res, em in zip(cases, results, ems):
+        prefix = f"{case.label}: " if case.label else ""
+        marker = "-o" if len(res) <= 12 else "-"
+        color = None
+        if em is None or case.model != "effective-medium":
+            y = np.log10(res.leak_rate) if log else res.leak_rate
+            line, = ax.plot(res.squeeze_pressure / scale, y, marker, ms=3,
+                            label=prefix + f"critical junction (α = {case.alpha:g})" if (em is not None or case.label) else None)
+            color = line.get_color()
+            shown_cj = True
+        if em is not None:
+            with np.errstate(divide="ignore"):
+                y = np.log10(em.leak_rate) if log else em.leak_rate
+            ax.plot(em.squeeze_pressure / scale, y, "--" if color else marker, ms=3, color=color,
+                    label=prefix + "effective medium (Bruggeman)")
+            shown_em = True
+    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
+    ax.set_ylabel("log10 of leak rate Q / (m³/s)" if log else "leak rate Q (m³/s)")
+    if not log:
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
+        ax.set_ylim(bottom=0)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend()
+    missing = any((~r.percolates).any() for r in results) if shown_cj else False
+    missing = missing or any(em is not None and (~em.percolates).any() for em in ems)
+    settings = _settings(cases[0]) if shown_cj else (
+        f"ΔP = {cases[0].pressure_difference / 1e3:.3g} kPa, η = {cases[0].fluid.viscosity * 1e3:.3g} mPa·s, "
+        f"Ly/Lx = {cases[0].seal.aspect_ratio:.3g}, γ = {cases[0].gamma:g}")
+    if shown_em and shown_cj:
+        settings += "\nsolid: critical junction; dashed: effective medium (no fit factor)"
+    _subtitle(ax, settings + ("\nmissing points: the non-contact area does not percolate" if missing else ""))
+    return fig
+
+
+def figure_gap_distribution(cases: Sequence[Case], results: Sequence[CriticalJunctionResult]) -> Figure:
+    """P(u) (continuous part) for a few squeeze pressures; the δ(u) weight A(ζ1)/A0 in the legend."""
+    from .gaps import gap_distribution
+
+    fig, ax = _fig("Distribution of interfacial separations P(u)")
+    sets = _curve_sets(cases, results)
+    dists = [gap_distribution(case.contact(), [p0]) for case, p0, _ in sets]
+    # u P(u) on a log u axis: the probability per unit ln u, readable across scales
+    lo = 1e-3 * min(float(d.mean_gap[0]) for d in dists)
+    hi = 10.0 * max(max(float(d.mean[0]), float(d.mean_gap[0])) for d in dists)
+    u = np.geomspace(lo, hi, 600)
+    top = 0.0
+    for (case, p0, label), d in zip(sets, dists):
+        y = u * d.density(u)[0]
+        top = max(top, float(y.max()))
+        line, = ax.semilogx(u * 1e6, y,
+                            label=f"{label}: δ(u) weight A(ζ1)/A0 = {d.contact_fraction[0]:.3g}")
+        ax.axvline(d.mean_gap[0] * 1e6, color=line.get_color(), ls=":", lw=1)
+    ax.set_xlim(lo * 1e6, hi * 1e6)
+    ax.set_ylim(0, 1.45 * top)  # room for the legend
+    ax.set_xlabel("interfacial separation u (µm)")
+    ax.set_ylabel("u·P(u), probability per unit ln u (1)")
+    _subtitle(ax, "continuous part of P(u) (the δ(u) contact weight is in the legend); dotted: ū(1)")
+    ax.legend()
     return fig
 
 
@@ -230,14 +287,16 @@ def figure_pressure_difference(cases, results) -> Figure:
     return fig
 
 
-def prediction_figures(cases: Sequence[Case], results: Sequence[CriticalJunctionResult]) -> dict[str, Figure]:
-    """Every figure of a prediction, keyed by PNG file name."""
+def prediction_figures(cases: Sequence[Case], results: Sequence[CriticalJunctionResult],
+                       effective=None) -> dict[str, Figure]:
+    """Every figure of a prediction, keyed by PNG file name (``effective``: see :func:`figure_leak_rate`)."""
     return {
         "spectrum.png": figure_spectrum(cases),
         "contact_area.png": figure_contact_area(cases, results),
         "separation.png": figure_separation(cases, results),
-        "leak_rate.png": figure_leak_rate(cases, results, log=False),
-        "leak_rate_log.png": figure_leak_rate(cases, results, log=True),
+        "gap_distribution.png": figure_gap_distribution(cases, results),
+        "leak_rate.png": figure_leak_rate(cases, results, log=False, effective=effective),
+        "leak_rate_log.png": figure_leak_rate(cases, results, log=True, effective=effective),
         "critical_junction.png": figure_critical_junction(cases, results),
         "critical_magnification.png": figure_critical_magnification(cases, results),
         "leak_rate_vs_pressure_difference.png": figure_pressure_difference(cases, results),
@@ -260,6 +319,6 @@ def save_figures(figures: dict[str, Figure], folder) -> list[str]:
     return written
 
 
-PREDICTION_FIGURE_NAMES = ("spectrum.png", "contact_area.png", "separation.png", "leak_rate.png",
+PREDICTION_FIGURE_NAMES = ("spectrum.png", "contact_area.png", "separation.png", "gap_distribution.png", "leak_rate.png",
                            "leak_rate_log.png", "critical_junction.png", "critical_magnification.png",
                            "leak_rate_vs_pressure_difference.png")

@@ -1,0 +1,320 @@
+"""Fitting α, leak-test units, the virtual rig, the HTML report and bad data files (THEORY.md section 4)."""
+
+import json
+from dataclasses import replace
+from html.parser import HTMLParser
+
+import numpy as np
+import pytest
+
+from sealeak import FileFormatError, UnitError
+from sealeak.case import predict, predict_effective_medium
+from sealeak.casefile import example_path, load_cases
+from sealeak.cli import main
+from sealeak.fitting import fit_line, fit_models, fit_scale
+from sealeak.labdata import leak_rate_factor, read_leak_data
+from sealeak.rig import (RigSetup, drain_time, exponential_height, leak_rate_from_readings, rig_prediction,
+                         water_column)
+from sealeak.seal import Seal
+
+G = 9.80665
+
+
+@pytest.fixture(scope="module")
+def case():
+    return load_cases(example_path("reference-experiment"))[0]
+
+
+@pytest.fixture(scope="module")
+def sweep(case):
+    """Unit-α predictions of both models over P0 = 20..300 kPa (Q spans about three decades)."""
+    p0 = np.geomspace(2e4, 3e5, 16)
+    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0).leak_rate
+    em = predict_effective_medium(case, squeeze_pressure=p0).leak_rate
+    return p0, cj, em
+
+
+# ---------------------------------------------------------------------- fitting
+def test_sweep_spans_three_decades(sweep):
+    _, cj, em = sweep
+    assert np.log10(cj.max() / cj.min()) > 2.9 and np.log10(em.max() / em.min()) > 2.5
+
+
+def test_fit_recovers_alpha_within_its_error(sweep):
+    p0, cj, em = sweep
+    rng = np.random.default_rng(20240601)
+    for model in (cj, em):
+        for alpha in (0.2, 3.0):
+            q = alpha * model * np.exp(0.3 * rng.standard_normal(model.size))
+            f = fit_scale(q, model)
+            assert f.n_used == model.size and not f.excluded
+            assert abs(f.alpha - alpha) < 3 * f.alpha_std
+            assert f.rms_log10_residual == pytest.approx(0.3 / np.log(10), rel=0.4)
+
+
+def test_stated_error_has_the_right_coverage(sweep):
+    """Over many seeded data sets, |α̂ - α| < α_std about 68 % of the time (t with 15 dof: 66.7 %)."""
+    _, cj, _ = sweep
+    rng = np.random.default_rng(7)
+    hits = 0
+    trials = 600
+    for _ in range(trials):
+        q = 0.2 * cj * np.exp(0.5 * rng.standard_normal(cj.size))
+        f = fit_scale(q, cj)
+        hits += abs(np.log(f.alpha / 0.2)) < f.log10_alpha_std * np.log(10)
+    assert 0.60 < hits / trials < 0.74
+
+
+def test_fit_through_data_file_and_cli(case, sweep, tmp_path):
+    p0, cj, em = sweep
+    rng = np.random.default_rng(3)
+    q = 0.35 * cj * np.exp(0.2 * rng.standard_normal(cj.size))
+    data = tmp_path / "measured.csv"
+    rows = "\n".join(f"{p / 1e3:.10g}, {x * 6e7:.10g}" for p, x in zip(p0, q))
+    data.write_text("# synthetic\nsqueeze_pressure (kPa), leak_rate (ml/min)\n" + rows + "\n")
+    d = read_leak_data(data)
+    assert np.allclose(d.leak_rate, q, rtol=1e-9) and np.isnan(d.pressure_difference).all()
+    fits = fit_models(case, d.squeeze_pressure, d.pressure_difference, d.leak_rate)
+    assert abs(fits["critical_junction"].alpha - 0.35) < 3 * fits["critical_junction"].alpha_std
+    out = tmp_path / "fit.json"
+    figs = tmp_path / "figs"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out),
+                 "--plots", str(figs), "-q"]) == 0
+    doc = json.loads(out.read_text())
+    for name in ("critical_junction", "effective_medium"):
+        assert set(doc[name]) >= {"alpha", "alpha_std", "rms_log10_residual"}
+    assert doc["critical_junction"]["alpha"] == pytest.approx(fits["critical_junction"].alpha, rel=1e-9)
+    # the effective-medium factor: the data are 0.35 × CJ(α=1), so it is 0.35 × CJ/EM on average
+    assert doc["effective_medium"]["alpha"] == pytest.approx(fits["effective_medium"].alpha, rel=1e-9)
+    assert (figs / "fit.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_non_percolating_points_are_excluded_with_a_message(case, tmp_path, capsys):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n"
+                    "30, 200, 10\n60, 70, 10\n100, 20, 5\n1e6, 0.01, 10\n")
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data)]) == 0
+    out = capsys.readouterr().out
+    assert "row 4" in out and "excluded" in out and "does not percolate" in out
+    fits = fit_models(case, [3e4, 6e4, 1e5, 1e9], [1e4, 1e4, 5e3, np.nan], [1, 1, 1, 1])
+    assert fits["critical_junction"].n_used == 3
+    assert [i for i, _ in fits["critical_junction"].excluded] == [3]
+
+
+def test_rows_without_pressure_difference_use_the_case_value(case):
+    p0 = np.array([3e4, 6e4])
+    a = fit_models(case, p0, [np.nan, np.nan], [1e-6, 1e-7])["critical_junction"].prediction
+    b = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=case.pressure_difference).leak_rate
+    assert np.allclose(a, b, rtol=1e-14)
+    c = fit_models(case, p0, [2e4, np.nan], [1e-6, 1e-7])["critical_junction"].prediction
+    assert c[0] == pytest.approx(2 * b[0], rel=1e-12) and c[1] == pytest.approx(b[1], rel=1e-14)
+
+
+def test_linear_fit_closed_form():
+    rng = np.random.default_rng(1)
+    x = np.linspace(1e3, 1e4, 12)
+    y = 2e-10 * x + 1e-8 + 1e-8 * rng.standard_normal(x.size)
+    f = fit_line(x, y)
+    A = np.vstack([x, np.ones_like(x)]).T
+    coef, res, *_ = np.linalg.lstsq(A, y, rcond=None)
+    cov = res[0] / (x.size - 2) * np.linalg.inv(A.T @ A)
+    assert f.slope == pytest.approx(coef[0], rel=1e-10) and f.intercept == pytest.approx(coef[1], rel=1e-8)
+    assert f.slope_std == pytest.approx(np.sqrt(cov[0, 0]), rel=1e-8)
+    assert f.intercept_std == pytest.approx(np.sqrt(cov[1, 1]), rel=1e-8)
+
+
+def test_linearity_cli(tmp_path, capsys):
+    data = tmp_path / "dp.csv"
+    dp = np.array([2, 4, 6, 8, 10.0])
+    data.write_text("pressure_difference (kPa), leak_rate (ml/min)\n" + "\n".join(f"{a}, {7.2 * a + 0.01 * (-1) ** i}"
+                                                                                   for i, a in enumerate(dp)) + "\n")
+    out = tmp_path / "lin.json"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--linearity",
+                 "--json", str(out), "--plots", str(tmp_path)]) == 0
+    text = capsys.readouterr().out
+    assert "slope" in text and "intercept" in text and "[rig] load" in text
+    doc = json.loads(out.read_text())["linearity"]
+    assert doc["slope"] == pytest.approx(7.2e-6 / 60 / 1e3, rel=1e-3)
+    assert abs(doc["intercept"]) < 3 * doc["intercept_std"]
+    assert doc["alpha_from_slope"] > 0 and (tmp_path / "linearity.png").exists()
+
+
+# ---------------------------------------------------------------------- units
+def test_leak_test_units_against_hand_computed_values():
+    assert leak_rate_factor("ml/min") == pytest.approx(1e-6 / 60, rel=1e-14)
+    assert leak_rate_factor("l/h") == pytest.approx(1e-3 / 3600, rel=1e-14)
+    # 1 mbar·l/s = 100 Pa × 1e-3 m³/s = 0.1 Pa·m³/s; at 1 atm: 0.1/101325 m³/s
+    assert leak_rate_factor("mbar*l/s") == pytest.approx(0.1 / 101325, rel=1e-14)
+    assert leak_rate_factor("mbar·l/s") == pytest.approx(9.8692e-7, rel=1e-4)
+    assert leak_rate_factor("Pa*m^3/s") == pytest.approx(1 / 101325, rel=1e-14)
+    # at another stated pressure: volume flow = throughput / pressure
+    assert leak_rate_factor("mbar*l/s", reference_pressure=2e5) == pytest.approx(0.1 / 2e5, rel=1e-14)
+    assert leak_rate_factor("Pa*m^3/s", reference_pressure=1e3) == pytest.approx(1e-3, rel=1e-14)
+    for bad in ("kPa", "m/s", "furlongs", ""):
+        with pytest.raises(UnitError):
+            leak_rate_factor(bad)
+
+
+def test_at_pressure_option(tmp_path, case):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s)\n30, 0.5\n60, 0.1\n")
+    a = read_leak_data(data)
+    b = read_leak_data(data, reference_pressure=2 * 101325)
+    assert a.leak_rate[0] == pytest.approx(0.5 * 0.1 / 101325, rel=1e-14)
+    assert np.allclose(b.leak_rate, a.leak_rate / 2, rtol=1e-14)
+    out1, out2 = tmp_path / "a.json", tmp_path / "b.json"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out1), "-q"]) == 0
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out2), "-q",
+                 "--at-pressure", "2 atm"]) == 0
+    a1 = json.loads(out1.read_text())["critical_junction"]["alpha"]
+    a2 = json.loads(out2.read_text())["critical_junction"]["alpha"]
+    assert a2 == pytest.approx(a1 / 2, rel=1e-12)
+
+
+# ---------------------------------------------------------------------- rig
+def test_load_to_squeeze_pressure_for_the_reference_ring(case):
+    ring = Seal.ring(0.03, 0.04)
+    rig = case.rig
+    assert rig.load == pytest.approx(3.4 * G)
+    want = 3.4 * G / (np.pi * (0.04**2 - 0.03**2) / 4)
+    assert rig.squeeze_pressure(ring) == pytest.approx(want, rel=1e-14)
+    assert want == pytest.approx(60.65e3, rel=1e-3)  # the paper's "P0 ≈ 60 kPa"
+
+
+def test_exponential_matches_the_ode_solver():
+    rig = RigSetup(cylinder_diameter=0.03, initial_height=1.0, load=30.0, density=1000.0, final_height=0.5)
+    k = 1.2e-10
+    col = water_column(rig, lambda dp: k * dp, t_eval=np.linspace(0, 2000, 81))
+    exact = exponential_height(rig, k, col.time)
+    assert np.max(np.abs(col.height - exact)) < 1e-8 * rig.initial_height
+    assert col.time_to_final == pytest.approx(drain_time(rig, k, 0.5), rel=1e-8)
+    tau = rig.cylinder_area / (k * 1000 * G)
+    assert drain_time(rig, k, 0.5) == pytest.approx(tau * np.log(2), rel=1e-14)
+
+
+def test_pressure_dependent_leak_uses_the_ode():
+    # Q = c ΔP²: A dH/dt = -c (ρgH)² has H = H0/(1 + c (ρg)² H0 t/A)
+    rig = RigSetup(cylinder_diameter=0.05, initial_height=0.8, load=30.0, density=1000.0, final_height=0.2)
+    c = 1e-14
+    col = water_column(rig, lambda dp: c * dp**2, t_eval=np.linspace(0, 5000, 51))
+    b = c * (1000 * G) ** 2 / rig.cylinder_area
+    assert np.allclose(col.height, 0.8 / (1 + b * 0.8 * col.time), rtol=1e-8)
+
+
+def test_readings_inverse(case):
+    rig = case.rig
+    k = 1.2e-10
+    t = np.linspace(0, 900, 10)
+    h = exponential_height(rig, k, t)
+    a = leak_rate_from_readings(rig, t, h)
+    assert a.conductance == pytest.approx(k, rel=1e-10)
+    # Q between readings = -A ΔH/Δt, and it is close to K ρ g H at the mid-height
+    assert np.allclose(a.interval_leak_rate, k * a.interval_pressure_difference, rtol=5e-3)
+
+
+def test_rig_cli(tmp_path, capsys):
+    readings = tmp_path / "readings.csv"
+    case = load_cases(example_path("reference-experiment"))[0]
+    pred = rig_prediction(case)
+    k = next(iter(pred.conductance.values()))
+    t = np.linspace(0, 10, 11)  # minutes
+    h = exponential_height(case.rig, 1.3 * k, t * 60) * 100  # cm
+    readings.write_text("time (min), height (cm)\n" + "\n".join(f"{a:.6g}, {b:.10g}" for a, b in zip(t, h)) + "\n")
+    out = tmp_path / "rig.json"
+    assert main(["rig", "--example", "reference-experiment", "--readings", str(readings), "--json", str(out),
+                 "--plots", str(tmp_path / "f")]) == 0
+    text = capsys.readouterr().out
+    assert "P0 = 60.65 kPa" in text and "α implied by the readings: 0.26" in text
+    doc = json.loads(out.read_text())
+    assert doc["readings"]["conductance"] == pytest.approx(1.3 * k, rel=1e-6)
+    assert (tmp_path / "f" / "rig.png").exists() and (tmp_path / "f" / "readings.png").exists()
+
+
+# ---------------------------------------------------------------------- report
+class _Checker(HTMLParser):
+    VOID = {"meta", "img", "br", "hr", "link", "input"}
+
+    def __init__(self):
+        super().__init__()
+        self.stack, self.errors, self.imgs, self.ids, self.links = [], [], [], [], []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "img":
+            self.imgs.append(a.get("src", ""))
+        if tag in ("link", "script") and (a.get("href") or a.get("src")):
+            self.links.append(a.get("href") or a.get("src"))
+        if "id" in a:
+            self.ids.append(a["id"])
+        if tag not in self.VOID:
+            self.stack.append(tag)
+
+    def handle_endtag(self, tag):
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"unbalanced </{tag}> (open: {self.stack[-3:]})")
+        else:
+            self.stack.pop()
+
+
+def test_report_is_valid_self_contained_html(tmp_path):
+    from sealeak.plotting import PREDICTION_FIGURE_NAMES
+
+    text = example_path("reference-experiment").read_text().replace("[theory]", '[theory]\nmodel = "both"')
+    cf = tmp_path / "both.toml"
+    cf.write_text(text)
+    out = tmp_path / "r.html"
+    assert main(["report", str(cf), "-o", str(out), "-q"]) == 0
+    html = out.read_text()
+    p = _Checker()
+    p.feed(html)
+    p.close()
+    assert not p.errors and p.stack == []
+    assert html.startswith("<!DOCTYPE html>")
+    for name in PREDICTION_FIGURE_NAMES + ("rig.png",):
+        assert f"fig-{name}" in p.ids
+    assert all(src.startswith("data:image/png;base64,") for src in p.imgs)
+    assert len(p.imgs) == len(PREDICTION_FIGURE_NAMES) + 1
+    assert not p.links and "http://" not in html and "https://" not in html
+    # the input table with units as written, and the assumptions
+    for s in ("[surface] h_rms", "44 um", "[rubber] youngs_modulus", "2.3 MPa", "[rig] load", "3.4 kg"):
+        assert s in html
+    for s in ("p_c = 0.6", "γ = 1", "α = 0.2", "model (not a measurement)", "Q effective medium"):
+        assert s in html
+    assert main(["report", str(cf), "-o", str(out), "-q"]) == 2  # no overwrite without --force
+
+
+# ---------------------------------------------------------------------- bad data files
+@pytest.mark.parametrize("content, problem", [
+    ("squeeze_pressure (kPa), pressure_difference (kPa)\n30, 10\n60, 10\n", "missing column leak_rate"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, abc\n", "'abc' is not a number"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, -2\n", "negative"),
+    ("squeeze_pressure (kPa), leak_rate (furlong/fortnight)\n30, 1.0\n60, 2\n", "leak_rate"),
+    ("squeeze_pressure (kPa), leak_rate (bogusunit)\n30, 1.0\n60, 2\n", "unknown unit"),
+    ("squeeze_pressure, leak_rate (ml/min)\n30, 1.0\n60, 2\n", "has no unit"),
+    ("30, 1.0\n60, 2\n", "first row must name every column"),
+    ("squeeze_pressure (kg), leak_rate (ml/min)\n30, 1.0\n60, 2\n", "not a pressure"),
+    ("temperature (K), leak_rate (ml/min)\n30, 1.0\n", "'temperature' is not one of the columns"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, nan\n", "not a finite number"),
+    ("", "no numeric rows"),
+])
+def test_bad_data_files_through_the_cli(tmp_path, capsys, content, problem):
+    data = tmp_path / "bad.csv"
+    data.write_text(content)
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error: ") and "Traceback" not in err
+    assert str(data) in err and problem in err
+
+
+def test_bad_readings_and_missing_files(tmp_path, capsys):
+    bad = tmp_path / "r.csv"
+    bad.write_text("time (min), height (cm)\n0, 100\n0, 90\n")
+    assert main(["rig", "--example", "reference-experiment", "--readings", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "times must increase" in err
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(tmp_path / "none.csv")]) == 2
+    assert "file not found" in capsys.readouterr().err
+    assert main(["rig", "--example", "hrms-study"]) == 2
+    assert "study" in capsys.readouterr().err
+    with pytest.raises(FileFormatError):
+        read_leak_data(tmp_path / "none.csv")
