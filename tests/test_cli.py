@@ -73,6 +73,18 @@ def test_no_overwrite_without_force(case_file, tmp_path, capsys):
     assert json.loads(out.read_text())["results"]
 
 
+def test_output_files_get_the_usual_permissions(case_file, tmp_path):
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        assert main(["predict", str(case_file), "--json", str(tmp_path / "r.json"), "-q"]) == 0
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "r.json").stat().st_mode) == 0o644  # not mkstemp's 0600
+
+
 def test_interrupted_write_leaves_no_file(case_file, tmp_path, monkeypatch):
     import sealeak.output as output
 

@@ -2,8 +2,9 @@
 
 Only case files, data files, the CLI and reports use this module; the physics modules take and
 return plain floats in SI units. Parsing uses pint, so any unit pint knows works ("44 um",
-"44 µm", "2.3 MPa", "1 mPa*s", "9.1e3 1/m", "0.69 mm", "10 kPa"), plus the leak-test units
-"ml/min", "mbar*l/s" and "Pa*m^3/s" (see :func:`leak_rate_to_si`).
+"44 µm", "2.3 MPa", "1 mPa*s", "9.1e3 1/m", "0.69 mm", "10 kPa", "ml/min"). Leak-test throughputs
+("mbar*l/s", "Pa*m^3/s"), which need a reference pressure to become volume flows, are converted in
+:func:`sealeak.labdata.leak_rate_factor`.
 """
 
 from __future__ import annotations
