@@ -49,6 +49,7 @@ class Case:
     q0_note: str = ""
     model: str = "critical-junction"
     rig: Any = None  # sealeak.rig.RigSetup from the case file's [rig] section, or None
+    simulation: dict[str, int] = field(default_factory=dict)  # [simulation] grid/realizations/seed given
     label: str = ""
     source: str = ""
     inputs: dict[str, Any] = field(default_factory=dict, compare=False)

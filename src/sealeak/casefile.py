@@ -373,11 +373,12 @@ def _build(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") ->
         raise InputError("theory.lowest_wavevector (q0)", q0,
                          f"q0 = 2π/L must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
     rig = _rig(_Section("rig", doc["rig"]), fluid) if "rig" in doc else None
+    simulation = _simulation(_Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
         e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
         percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
-        source=source, inputs=copy.deepcopy(doc),
+        simulation=simulation, source=source, inputs=copy.deepcopy(doc),
     )
 
 
@@ -421,6 +422,19 @@ def _rig(sec: _Section, fluid: Fluid) -> Any:
     return RigSetup(cylinder_diameter=sec.quantity("cylinder_diameter", "length"),
                     initial_height=sec.quantity("initial_height", "length"), load=load, density=density,
                     final_height=final, gravity=gravity, duration=duration, load_note=note)
+
+
+def _simulation(sec: _Section) -> dict[str, int]:
+    """The [simulation] section: defaults of ``sealeak simulate`` (its options override them)."""
+    out: dict[str, int] = {}
+    for key, low, allowed in (("grid", 8, "an even integer >= 8 (grid points per side)"),
+                              ("realizations", 1, "an integer >= 1"), ("seed", 0, "an integer >= 0")):
+        if sec.has(key):
+            v = sec.raw(key)
+            if isinstance(v, bool) or not isinstance(v, int) or v < low or (key == "grid" and v % 2):
+                raise InputError(sec.field(key), v, f"must be {allowed}")
+            out[key] = v
+    return out
 
 
 def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:

@@ -152,9 +152,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     case = cases[0]
     from tqdm import tqdm
 
-    total = args.realizations * len(case.squeeze_pressure)
+    # options override the case's [simulation] section, which overrides the built-in defaults
+    grid, realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
+                                for k, d in (("grid", 256), ("realizations", 4), ("seed", 0)))
+    total = realizations * len(case.squeeze_pressure)
     with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
-        res = simulate(case, grid=args.grid, realizations=args.realizations, seed=args.seed,
+        res = simulate(case, grid=grid, realizations=realizations, seed=seed,
                        threshold=not args.no_threshold, fields_dir=args.fields, progress=bar.update)
     if not args.quiet:
         sys.stdout.write(simulation_table(case, res))
@@ -171,9 +174,10 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p = sub.add_parser("simulate", help="numerically exact leak rate and α: random surfaces, BEM contact, "
                                         "Reynolds flow")
     add_case_args(p)
-    p.add_argument("--grid", type=int, default=256, help="grid points per side N (even; default 256)")
-    p.add_argument("--realizations", type=int, default=4, help="random surfaces R (default 4)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--grid", type=int, help="grid points per side N (even; default: [simulation] grid, else 256)")
+    p.add_argument("--realizations", type=int,
+                   help="random surfaces R (default: [simulation] realizations, else 4)")
+    p.add_argument("--seed", type=int, help="random seed (default: [simulation] seed, else 0)")
     p.add_argument("--json", metavar="FILE", help="write per-pressure results as JSON")
     p.add_argument("--fields", metavar="DIR", help="write DIR/r<r>-p<i>.npz with height, gap, pressure, size")
     p.add_argument("--plots", metavar="DIR", help="write figures into DIR")
