@@ -266,16 +266,9 @@ def effective_medium(
 
     ``distribution`` may pass a :class:`GapDistribution` already computed for these pressures.
     """
-    from .leakage import _positive_array
+    from .leakage import _pressures
 
-    p0 = _positive_array("conditions.squeeze_pressure", squeeze_pressure)
-    dp = _positive_array("conditions.pressure_difference", pressure_difference, allow_zero=True)
-    try:
-        p0, dp = np.broadcast_arrays(p0, dp)
-    except ValueError:
-        raise InputError("conditions.pressure_difference", dp.tolist(),
-                         f"give one value or one per squeeze pressure ({p0.size})") from None
-    p0, dp = p0.astype(float).copy(), dp.astype(float).copy()
+    p0, dp = _pressures(squeeze_pressure, pressure_difference)
     for name, v in (("fluid.viscosity", viscosity), ("seal aspect ratio Ly/Lx", aspect_ratio)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(name, v, "must be finite and > 0")

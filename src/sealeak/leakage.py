@@ -75,6 +75,18 @@ class CriticalJunctionResult:
         return int(self.squeeze_pressure.size)
 
 
+def _pressures(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Validated P0 (> 0) and ΔP (>= 0) broadcast against each other (fresh float arrays, Pa)."""
+    p0 = _positive_array("conditions.squeeze_pressure", squeeze_pressure)
+    dp = _positive_array("conditions.pressure_difference", pressure_difference, allow_zero=True)
+    try:
+        p0, dp = np.broadcast_arrays(p0, dp)
+    except ValueError:
+        raise InputError("conditions.pressure_difference", dp.tolist(),
+                         f"give one value or one per squeeze pressure ({p0.size})") from None
+    return p0.astype(float).copy(), dp.astype(float).copy()
+
+
 def _positive_array(name: str, value: ArrayLike, allow_zero: bool = False) -> FloatArray:
     arr = np.atleast_1d(np.asarray(value, dtype=float))
     if arr.size == 0:
@@ -116,14 +128,7 @@ def critical_junction(
     percolation_threshold:
         Site-percolation threshold p_c in (0, 1); the junction percolates at A/A0 = 1 - p_c.
     """
-    p0 = _positive_array("conditions.squeeze_pressure", squeeze_pressure)
-    dp = _positive_array("conditions.pressure_difference", pressure_difference, allow_zero=True)
-    try:
-        p0, dp = np.broadcast_arrays(p0, dp)
-    except ValueError:
-        raise InputError("conditions.pressure_difference", dp.tolist(),
-                         f"give one value or one per squeeze pressure ({p0.size})") from None
-    p0, dp = p0.astype(float).copy(), dp.astype(float).copy()
+    p0, dp = _pressures(squeeze_pressure, pressure_difference)
     for name, v in (("fluid.viscosity", viscosity), ("seal aspect ratio Ly/Lx", aspect_ratio), ("theory.alpha", alpha)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(name, v, "must be finite and > 0")
