@@ -9,10 +9,12 @@ periodic. Each (N, fraction, code) runs in a fresh subprocess limited to S secon
 Per row: seconds of the solve (set-up of the elastic kernel included; imports and surface
 synthesis not), relative contact area A/A0 (fraction of cells with pressure > 0), mean gap over
 the whole cell (contact cells included, interpenetration below the tolerance clipped to 0, as
-sealeak reports it) and the peer's relative difference (peer - sealeak) / sealeak of both. A peer that cannot be
-imported prints "<code> not installed: skipped"; one that raises or does not converge "FAILED: ...".
+sealeak reports it) and the peer's relative difference (peer - sealeak) / sealeak of both. A peer
+that cannot be imported prints "<code> not installed: skipped"; one that raises or does not
+converge "FAILED: ...".
 
-Conventions, checked on 128² and 256² (areas identical, mean gaps within 1e-8 relative):
+Conventions, checked on 128², 256² and 512² (contact areas identical but for one cell of 512²
+at 40 %, mean gaps within 5e-8 relative):
 
 * tamaas 2.9: ModelFactory.createModel(basic_2d, [L, L], [N, N]) with E = E*, nu = 0 (tamaas'
   pressure unit is E/(1-nu²)); the surface is the rigid body's heights (summits positive), as in
@@ -30,14 +32,14 @@ ContactMechanics pentol = 1e-8 h_rms (rms and max penetration), forcetol = 1e-8 
 tensile pixel force) and thermotol = 1e-8. The peers get at most 20000 iterations. Threads: each
 code's default (sealeak's scipy.fft uses all cores; the tamaas and muGrid wheels run on one).
 
-The peers are not in sealeak's extras (tamaas is AGPL, ContactMechanics pulls MPI-aware stacks);
+The peers are not in sealeak's extras (tamaas is AGPL-3.0; ContactMechanics brings some 40 packages);
 install them in a separate virtual environment together with sealeak's runtime dependencies and
 run this script with that environment's Python (sealeak itself is imported from ../src):
 
-    python3 -m venv /work/venv-peers
-    /work/venv-peers/bin/pip install numpy scipy tamaas==2.9.0 ContactMechanics==1.8.3
-    /work/venv-peers/bin/pip install "pint>=0.23" "tqdm>=4.66" "pyamg>=5.1"
-    /work/venv-peers/bin/python benchmarks/bench_peers.py 256
+    python3 -m venv .venv-peers
+    .venv-peers/bin/pip install numpy scipy tamaas==2.9.0 ContactMechanics==1.8.3
+    .venv-peers/bin/pip install "pint>=0.23" "tqdm>=4.66" "pyamg>=5.1"
+    .venv-peers/bin/python benchmarks/bench_peers.py 256
 
 (matplotlib comes with SurfaceTopography, a ContactMechanics dependency.) With sealeak's own
 environment the peers are reported as skipped and only the sealeak rows are printed.

@@ -54,6 +54,7 @@ from scipy import fft as sfft
 
 from ..errors import ConvergenceError, InputError
 from ..synthesis import wavevector_grid
+from ._linalg import dot
 from ._memory import require_memory
 
 FloatArray = NDArray[np.float64]
@@ -247,9 +248,9 @@ def solve_contact(
         # --- convergence measure on the current iterate
         np.minimum(g, 0.0, out=tmp)  # interpenetration (zero where contact: taken by gm)
         tmp *= ~mask
-        r_gap = math.sqrt((float(np.dot(gm.ravel(), gm.ravel()))
-                           + float(np.dot(tmp.ravel(), tmp.ravel()))) / ncell) / h_rms
-        r_comp = float(np.dot(p.ravel(), np.abs(gm).ravel())) / (ncell * p0 * h_rms)
+        r_gap = math.sqrt((dot(gm, gm)
+                           + dot(tmp, tmp)) / ncell) / h_rms
+        r_comp = dot(p, np.abs(gm)) / (ncell * p0 * h_rms)
         residual = max(r_gap, r_comp)
         if residual <= tol:
             if fresh:
@@ -270,7 +271,7 @@ def solve_contact(
             z *= mask
         else:
             z = gm
-        G = float(np.dot(gm.ravel(), z.ravel()))
+        G = dot(gm, z)
         beta = delta * G / g_old
         t *= beta
         t += z  # t = g + beta t on the contact set
@@ -279,14 +280,14 @@ def solve_contact(
         r = convolve(t)  # K t (its mean over the contact set is removed in the sums below)
         np.multiply(r, mask, out=tmp)
         rbar = float(tmp.sum()) / nc
-        denom = float(np.dot(tmp.ravel(), t.ravel())) - rbar * float(t.sum())
+        denom = dot(tmp, t) - rbar * float(t.sum())
         if denom <= 0.0:  # lost conjugacy (round-off): restart along steepest descent
             t[...] = z
             r = convolve(t)
             np.multiply(r, mask, out=tmp)
             rbar = float(tmp.sum()) / nc
-            denom = float(np.dot(tmp.ravel(), t.ravel())) - rbar * float(t.sum())
-        tau = float(np.dot(gm.ravel(), t.ravel())) / denom
+            denom = dot(tmp, t) - rbar * float(t.sum())
+        tau = dot(gm, t) / denom
         t_tau = tau * t
         p -= t_tau
         clipped = bool((p < 0).any())

@@ -58,6 +58,7 @@ from scipy import sparse
 from scipy.sparse import linalg as spla
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError
+from ._linalg import dot
 from ._memory import require_memory
 from ._percolation import spanning_mask
 
@@ -245,7 +246,7 @@ class _Flux:
     base: FloatArray  # φ of the current total solution at those cells
 
     def __call__(self, x_inlet: FloatArray) -> float:
-        return float(np.dot(self.weights, 1.0 - self.base - x_inlet))
+        return dot(self.weights, 1.0 - self.base - x_inlet)
 
 
 class _DirectSolver:
@@ -332,7 +333,7 @@ class _AmgSolver:
         r = bs.copy()
         z = self._vcycle(r)
         pdir = z.copy()
-        rz = float(np.dot(r, z))
+        rz = dot(r, z)
         work = np.empty_like(r)
         sq_in = sq[flux.cells]
         it = 0
@@ -349,11 +350,11 @@ class _AmgSolver:
                     f"after {it} CG iterations, needed {l1_tol:.1e}")
             it += 1
             Ap = self.As @ pdir
-            alpha = rz / float(np.dot(pdir, Ap))
+            alpha = rz / dot(pdir, Ap)
             x += alpha * pdir
             r -= alpha * Ap
             z = self._vcycle(r)
-            rz_new = float(np.dot(r, z))
+            rz_new = dot(r, z)
             pdir *= rz_new / rz
             pdir += z
             rz = rz_new
