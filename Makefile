@@ -18,7 +18,7 @@ install: $(STAMP)
 demo: $(STAMP)
 	@mkdir -p out
 	$(VENV)/bin/sealeak predict --example reference-experiment \
-		--json out/results.json --csv out/results.csv --plots out --force
+		--table out/table.txt --json out/results.json --csv out/results.csv --plots out --force
 
 test: $(STAMP)
 	$(PY) -m pytest -q

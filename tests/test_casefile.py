@@ -135,7 +135,8 @@ INVALID = [
     ("gamma zero", edit("alpha = 0.2", "alpha = 0.2\ngamma = 0"), {}, "theory.gamma = 0"),
     ("alpha negative", edit("alpha = 0.2", "alpha = -0.2"), {}, "theory.alpha = -0.2"),
     ("text for a number", edit("hurst = 0.8", 'hurst = "high"'), {}, "surface.hurst = 'high'"),
-    ("table missing file", edit('model = "self-affine"', 'model = "table"\nfile = "none.csv"'), {},
+    ("table missing file", edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
+                                'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "none.csv"'), {},
      "none.csv: file not found"),
     ("table with NaN", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, nan\n1e5, 1e-24\n"}, "C is nan"),
     ("table unsorted", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e5, 1e-21\n1e4, 1e-24\n"},
@@ -144,6 +145,11 @@ INVALID = [
     ("table wrong unit", None, {"psd.csv": "q (m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n"}, "not a wavevector"),
     ("table empty", None, {"psd.csv": ""}, "no numeric rows"),
     ("empty case file", "", {}, "is empty"),
+    ("self-affine key with a table", None, {"psd.csv": PSD_OK}, "surface.h_rms = '1 mm': not used by model = 'table'"),
+    ("table key with self-affine", edit('model = "self-affine"', 'model = "self-affine"\nfile = "psd.csv"'), {},
+     "surface.file = 'psd.csv': not used by model = 'self-affine'"),
+    ("missing field says so", edit("hurst = 0.8\n", ""), {}, "surface.hurst is required"),
+    ("output folder in the way", BASE, {"out.json/keep": "x"}, "out.json is a folder"),
 ]
 
 TABLE_CASE = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
@@ -154,9 +160,12 @@ TABLE_CASE = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_
 def test_invalid_case_files_give_clear_errors(tmp_path, capsys, name, text, files, expected):
     assert len(INVALID) >= 15
     for fname, content in files.items():
+        (tmp_path / fname).parent.mkdir(exist_ok=True)
         (tmp_path / fname).write_text(content)
     case = tmp_path / "case.toml"
-    case.write_text(TABLE_CASE if text is None else text)
+    table_case = TABLE_CASE.replace('file = "psd.csv"', 'file = "psd.csv"\nh_rms = "1 mm"') \
+        if name == "self-affine key with a table" else TABLE_CASE
+    case.write_text(table_case if text is None else text)
     out_json = tmp_path / "out.json"
     code = main(["predict", str(case), "--json", str(out_json)])
     err = capsys.readouterr().err
@@ -164,7 +173,7 @@ def test_invalid_case_files_give_clear_errors(tmp_path, capsys, name, text, file
     assert expected in err, err
     assert err.startswith("sealeak: error:")
     assert "Traceback" not in err
-    assert not out_json.exists()
+    assert not out_json.is_file()
     assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".part")] == []
 
 
@@ -172,3 +181,10 @@ def test_valid_table_case_runs(tmp_path):
     (tmp_path / "psd.csv").write_text(PSD_OK)
     (tmp_path / "case.toml").write_text(TABLE_CASE)
     assert main(["predict", str(tmp_path / "case.toml"), "-q"]) == 0
+
+
+def test_case_file_with_byte_order_mark_reads(tmp_path):
+    p = tmp_path / "bom.toml"
+    p.write_bytes(b"\xef\xbb\xbf" + BASE.encode())
+    (case,) = load_cases(p)
+    assert case.title == "test case"

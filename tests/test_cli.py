@@ -125,3 +125,57 @@ def test_usage_errors_exit_nonzero(capsys):
     assert e.value.code == 2
     assert main(["predict", "/no/such/case.toml"]) == 2
     assert "case file not found" in capsys.readouterr().err
+
+
+def test_output_that_is_a_folder_is_refused_even_with_force(case_file, tmp_path, capsys):
+    folder = tmp_path / "adir"
+    folder.mkdir()
+    assert main(["predict", str(case_file), "--json", str(folder), "--force", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "is a folder" in err and str(folder) in err and "Traceback" not in err
+    assert folder.is_dir() and not any(folder.iterdir())
+
+
+def test_two_outputs_with_one_name_are_refused(case_file, tmp_path, capsys):
+    out = tmp_path / "x.json"
+    assert main(["predict", str(case_file), "--json", str(out), "--csv", str(out), "-q"]) == 2
+    assert "same file" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_unwritable_output_is_a_one_line_error(case_file, tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    # a folder that cannot be created: its parent is a file
+    assert main(["predict", str(case_file), "--json", str(blocker / "sub" / "r.json"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error:") and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_write_failure_names_the_file(tmp_path, monkeypatch):
+    import os
+
+    from sealeak._io import OutputWriteError, write_text
+
+    def refuse(src, dst):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(os, "replace", refuse)
+    with pytest.raises(OutputWriteError, match="cannot write .*r.txt: Permission denied"):
+        write_text(tmp_path / "r.txt", "data")
+    assert list(tmp_path.iterdir()) == []  # the temporary file is gone too
+
+
+def test_predict_writes_the_table_it_prints(case_file, tmp_path, capsys):
+    out = tmp_path / "table.txt"
+    assert main(["predict", str(case_file), "--table", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert out.read_text() == printed and "Q (m³/s)" in printed
+
+
+def test_vanishing_squeeze_pressure_is_refused(case_file, tmp_path, capsys):
+    text = case_file.read_text().replace('["30 kPa", "60 kPa", "1 GPa"]', '["1e-9 Pa", "60 kPa"]')
+    tiny = tmp_path / "tiny.toml"
+    tiny.write_text(text)
+    assert main(["predict", str(tiny)]) == 2
+    assert "squeeze_pressure = 1e-09: so small" in capsys.readouterr().err

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from sealeak import InputError, PowerSpectrum
+from sealeak import FileFormatError, InputError, PowerSpectrum
 from sealeak.roughness import area_ratio_from_slope
 from tests.reference import band_integral, self_affine
 
@@ -117,3 +117,30 @@ def test_invalid_model_parameters(kwargs, field):
 def test_spectrum_is_immutable(spec):
     with pytest.raises(ValueError):
         spec.C[0] = 1.0
+
+
+def test_self_affine_takes_wavelengths_or_wavevectors():
+    a = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=9.1e3, q_cutoff=2 * np.pi / 20e-6, q_lowest=2 * np.pi / 5e-3,
+                                  h_rms=44e-6)
+    b = PowerSpectrum.self_affine(hurst=0.8, rolloff_wavelength=2 * np.pi / 9.1e3, cutoff_wavelength=20e-6,
+                                  lowest_wavelength=5e-3, h_rms=44e-6)
+    assert np.allclose(a.q, b.q, rtol=1e-14) and np.allclose(a.C, b.C, rtol=1e-12)
+    with pytest.raises(InputError, match="not both"):
+        PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, rolloff_wavelength=1e-3, q_cutoff=1e6, h_rms=1e-6)
+    with pytest.raises(InputError, match="surface.cutoff_wavevector is required"):
+        PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, h_rms=1e-6)
+
+
+def test_spectrum_from_table_file(tmp_path):
+    path = tmp_path / "psd.txt"
+    # units in the header, space separated: q in 1/um, C in um^4
+    path.write_text("# measured\nq (1/um) C (um^4)\n0.001 1e6\n0.01 1e3\n0.1 1\n")
+    sp = PowerSpectrum.from_table(path)
+    assert np.allclose(sp.q, [1e3, 1e4, 1e5], rtol=1e-12)
+    assert np.allclose(sp.C, [1e-18, 1e-21, 1e-24], rtol=1e-12)
+    assert sp(np.sqrt(1e3 * 1e4)) == pytest.approx(np.sqrt(1e-18 * 1e-21), rel=1e-12)  # log-log interpolation
+    assert "psd.txt" in sp.label
+    bad = tmp_path / "bad.txt"
+    bad.write_text("q (1/m), C (m^4)\n1e3, 1e-18\n1e3, 1e-20\n")
+    with pytest.raises(FileFormatError, match="line 3: q = 1000 1/m is not above"):
+        PowerSpectrum.from_table(bad)

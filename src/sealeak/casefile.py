@@ -58,7 +58,6 @@ from .errors import FileFormatError, InputError, SealeakError
 from .fluid import Fluid
 from .roughness import PowerSpectrum
 from .seal import Seal
-from .tables import read_spectrum_table
 from .units import parse_quantity
 
 __all__ = ["load_cases", "load_case", "parse_cases", "example_names", "example_text", "example_path",
@@ -78,6 +77,15 @@ _SECTIONS: dict[str, set[str]] = {
     "study": {"vary", "values", "labels"},
     "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},
     "simulation": {"grid", "realizations", "seed"},
+}
+#: Keys of [surface] that each surface model reads (besides model and label): a key another model
+#: reads is an error, not silently ignored (e.g. h_rms with model = "table").
+_SURFACE_KEYS: dict[str, set[str]] = {
+    "self-affine": {"h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength", "cutoff_wavevector",
+                    "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength"},
+    "table": {"file"},
+    "topography": {"file", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic", "channel",
+                   "bins_per_decade"},
 }
 _TOP_LEVEL = {"title", "description"}
 _REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")
@@ -258,12 +266,8 @@ def _table(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str
     path = Path(name)
     if not path.is_absolute():
         path = case_dir / path
-    q, c = read_spectrum_table(path)
-    try:
-        spec = PowerSpectrum.from_arrays(q, c, label=sec.raw("label", "") or f"table {path.name}")
-    except InputError as exc:
-        raise FileFormatError(path, str(exc)) from None
-    return spec, f"tabulated spectrum from {path.name} ({q.size} points, log-log interpolation)"
+    spec = PowerSpectrum.from_table(path, label=sec.raw("label", ""))
+    return spec, f"tabulated spectrum from {path.name} ({spec.q.size} points, log-log interpolation)"
 
 
 def _topography(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
@@ -368,6 +372,12 @@ def _build(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") ->
     }
     if model_name not in builders:
         raise InputError("surface.model", model_name, f"allowed: {', '.join(repr(k) for k in builders)}")
+    if model_name in _SURFACE_KEYS:
+        allowed = _SURFACE_KEYS[model_name] | {"model", "label"}
+        for key in surf.data:
+            if key not in allowed:
+                raise InputError(surf.field(key), surf.raw(key),
+                                 f"not used by model = {model_name!r}; its keys: {', '.join(sorted(allowed))}")
     spectrum, note = builders[model_name](surf, case_dir, q0)
     if not q0 < spectrum.q_max:
         raise InputError("theory.lowest_wavevector (q0)", q0,
@@ -479,7 +489,7 @@ def load_cases(path: str | Path) -> list[Case]:
     if p.is_dir():
         raise FileFormatError(p, "is a folder, not a case file")
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise FileFormatError(p, "is not UTF-8 text") from None
     if not text.strip():

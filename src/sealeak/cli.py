@@ -45,7 +45,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     from .case import predict, predict_effective_medium
     from .output import prediction_csv, prediction_json, prediction_table
 
-    outputs = [p for p in (args.json, args.csv) if p]
+    outputs = [p for p in (args.table, args.json, args.csv) if p]
     if args.plots:
         from .plotting import PREDICTION_FIGURE_NAMES
 
@@ -56,8 +56,12 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     effective = [predict_effective_medium(c) if c.model != "critical-junction" else None for c in cases]
     if all(em is None for em in effective):
         effective = None
+    table = prediction_table(cases, results, effective)
     if not args.quiet:
-        sys.stdout.write(prediction_table(cases, results, effective))
+        sys.stdout.write(table)
+    if args.table:
+        write_text(args.table, table)
+        _say(args, f"wrote {args.table}")
     if args.json:
         write_text(args.json, prediction_json(cases, results, effective))
         _say(args, f"wrote {args.json}")
@@ -107,6 +111,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("predict", help="critical-junction leak rate for a case file")
     _add_case_args(p)
+    p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON")
     p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
     p.add_argument("--plots", metavar="DIR", help="write the figures (PNG) into DIR")
@@ -137,11 +142,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SealeakError as exc:
         print(f"sealeak: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
+    except BrokenPipeError:  # output piped into a program that stopped reading (e.g. head)
+        return 0
+    except OSError as exc:  # the file system refused (permissions, a folder in the way, disk full)
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"sealeak: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("sealeak: interrupted; no partial output files were left", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except BrokenPipeError:
-        return 0
 
 
 if __name__ == "__main__":  # pragma: no cover

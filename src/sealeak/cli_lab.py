@@ -273,6 +273,10 @@ def _cmd_rig(args: argparse.Namespace) -> int:
                   f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}"]
         for dpi, qi in zip(analysis.interval_pressure_difference, analysis.interval_leak_rate):
             lines.append(f"{dpi / 1e3:10.4g} {qi:12.4e} {qi * 6e7:11.4g}")
+        rising = int(np.count_nonzero(analysis.interval_leak_rate < 0))
+        if rising:
+            lines.append(f"note: the level rises in {rising} of {analysis.interval_leak_rate.size} intervals "
+                         "(reading noise?): those intervals show a negative Q")
         lines.append(f"exponential fit of ln H(t): K = {analysis.conductance:.4g} ± {analysis.conductance_std:.2g} "
                      f"m³/(s·Pa), rms residual {analysis.rms_log_residual:.2g} decades")
         for name, k in pred.conductance.items():

@@ -159,14 +159,12 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 def _spectrum_for_synthesis(args: argparse.Namespace):
     from .casefile import example_path, load_cases
     from .roughness import PowerSpectrum
-    from .tables import read_spectrum_table
 
     given = [x for x in (args.case, args.example, args.psd) if x]
     if len(given) != 1:
         raise SealeakError("give exactly one source of C(q): a case file, --example NAME or --psd TABLE.csv")
     if args.psd:
-        q, c = read_spectrum_table(args.psd)
-        return PowerSpectrum.from_arrays(q, c, label=Path(args.psd).name), None
+        return PowerSpectrum.from_table(args.psd, label=Path(args.psd).name), None
     cases = load_cases(example_path(args.example) if args.example else args.case)
     return cases[0].spectrum, cases[0].seal.width
 

@@ -48,7 +48,10 @@ class InputError(SealeakError, ValueError):
         self.field = field
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{field} = {_show(value)}: {allowed}")
+        if value is None:  # a missing field: "surface.hurst is required", not "= None"
+            super().__init__(f"{field} {allowed}" if allowed.startswith("is ") else f"{field}: {allowed}")
+        else:
+            super().__init__(f"{field} = {_show(value)}: {allowed}")
 
 
 class UnitError(InputError):

@@ -61,7 +61,8 @@ class ScaleFit:
 def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -> ScaleFit:
     """Closed-form least squares of ln(measured) = ln α + ln(predicted); excluded points explained.
 
-    A point is excluded when the prediction is missing/zero (no leak channel) or the measurement is 0.
+    A point is excluded when the prediction is missing (NaN: no leak channel) or zero (no pressure
+    difference), or the measurement is 0.
     """
     q = np.asarray(measured, dtype=float).ravel()
     p = np.asarray(predicted, dtype=float).ravel()
@@ -71,7 +72,8 @@ def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -
     no_model = ~(np.isfinite(p) & (p > 0))
     zero = (q <= 0) & ~no_model
     for i in np.flatnonzero(no_model):
-        excluded.append((int(i), "the model predicts no leak channel there (the non-contact area does not percolate)"))
+        excluded.append((int(i), "the model predicts no leak channel there (the non-contact area does not percolate)"
+                         if not np.isfinite(p[i]) else "the model predicts no flow there (zero pressure difference)"))
     for i in np.flatnonzero(zero):
         excluded.append((int(i), "the measured leak rate is zero (no logarithm; a fit in log Q cannot use it)"))
     used = ~no_model & ~zero

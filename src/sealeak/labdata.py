@@ -79,7 +79,8 @@ def leak_rate_factor(unit: str, reference_pressure: float = ATMOSPHERE, field_na
 @dataclass(frozen=True)
 class LeakData:
     """Measured leak rates in SI: squeeze_pressure, pressure_difference (Pa; NaN where the file has no
-    such column), leak_rate (m³/s); ``columns`` maps each found column to its header text."""
+    such column or the row's cell is empty: the case's ΔP applies), leak_rate (m³/s); ``columns`` maps
+    each found column to its header text."""
 
     path: str
     squeeze_pressure: FloatArray
@@ -100,7 +101,7 @@ def _canonical(name: str) -> str | None:
     return None
 
 
-def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...]):
+def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may_be_empty: tuple[str, ...] = ()):
     table = read_unit_table(path, min_columns=1)
     if not table.has_header:
         raise FileFormatError(path, "the first row must name every column with its unit, e.g. "
@@ -119,9 +120,14 @@ def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...]):
         raise FileFormatError(path, f"missing column{'s' if len(missing) > 1 else ''} {', '.join(missing)} "
                                     f"(found: {', '.join(table.names)})")
     bad = ~np.isfinite(table.data)
+    for canon in may_be_empty:  # missing values allowed here (NaN: the caller supplies a default)
+        if canon in found:
+            bad[:, found[canon]] = np.isinf(table.data[:, found[canon]])
     if bad.any():
         r, c = np.argwhere(bad)[0]
-        raise FileFormatError(path, f"data row {r + 1}, column '{table.names[c]}': {table.data[r, c]} is not a finite number")
+        what = ("is empty or NaN (not a finite number)" if np.isnan(table.data[r, c])
+                else f"{table.data[r, c]} is not a finite number")
+        raise FileFormatError(path, f"line {table.line_of(int(r))}, column '{table.names[c]}': {what}")
     return table, found
 
 
@@ -147,7 +153,7 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     """
     p = Path(path)
     optional = tuple(c for c in ("squeeze_pressure", "leak_rate", "pressure_difference") if c not in required)
-    table, found = _columns(p, required, optional)
+    table, found = _columns(p, required, optional, may_be_empty=("pressure_difference",))
     n = table.data.shape[0]
     out: dict[str, FloatArray] = {}
     for canon in ("squeeze_pressure", "pressure_difference"):
@@ -164,13 +170,19 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     q = table.data[:, i] * fq
     if (q < 0).any():
         r = int(np.argmax(q < 0))
-        raise FileFormatError(p, f"data row {r + 1}: leak rate {table.data[r, i]:g} {table.units[i]} is negative")
+        raise FileFormatError(p, f"line {table.line_of(r)}: leak rate {table.data[r, i]:g} {table.units[i]} is negative")
     if "squeeze_pressure" in found and (out["squeeze_pressure"] <= 0).any():
         r = int(np.argmax(out["squeeze_pressure"] <= 0))
-        raise FileFormatError(p, f"data row {r + 1}: squeeze pressure must be > 0")
-    if "pressure_difference" in found and (out["pressure_difference"] < 0).any():
-        r = int(np.argmax(out["pressure_difference"] < 0))
-        raise FileFormatError(p, f"data row {r + 1}: pressure difference must be >= 0")
+        raise FileFormatError(p, f"line {table.line_of(r)}: squeeze pressure must be > 0")
+    dp = out["pressure_difference"]
+    if "pressure_difference" in found and (dp < 0).any():
+        r = int(np.argmax(dp < 0))
+        raise FileFormatError(p, f"line {table.line_of(r)}: pressure difference must be >= 0")
+    if "pressure_difference" in found and ((dp == 0) & (q > 0)).any():
+        r = int(np.argmax((dp == 0) & (q > 0)))
+        raise FileFormatError(p, f"line {table.line_of(r)}: a leak rate of {table.data[r, i]:g} {table.units[i]} at "
+                                 "zero pressure difference: no pressure drives a flow (check the row; leave the cell "
+                                 "empty to use the case's pressure difference)")
     columns = {c: f"{table.names[j]} ({table.units[j]})" for c, j in found.items()}
     return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure)
 

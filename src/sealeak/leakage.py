@@ -140,6 +140,12 @@ def critical_junction(
     u_c = np.full_like(p0, np.nan)
     if percolates.any():
         u_c[percolates] = contact.u1(zeta_c[percolates], p0[percolates])
+    bad = percolates & ~(np.isfinite(u_c) & (u_c > 0))
+    if bad.any():  # ζc so close to 1 that A'(ζc) underflows: u1 = ū + ū' A/A' is not computable
+        i = int(np.argmax(bad))
+        raise InputError("squeeze_pressure", float(p0[i]),
+                         f"so small that the critical magnification ζc - 1 = {zeta_c[i] - 1:.3g} is lost in "
+                         "round-off and u_c = u1(ζc) cannot be computed; give a larger squeeze pressure (Pa)")
     zeta_c = np.where(percolates, zeta_c, np.nan)
     lam_c = 2.0 * np.pi / (zeta_c * contact.q0)
     q = np.where(percolates, poiseuille_leak_rate(u_c, dp, viscosity, aspect_ratio, alpha), np.nan)

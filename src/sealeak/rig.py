@@ -198,11 +198,11 @@ def leak_rate_from_readings(rig: RigSetup, time: ArrayLike, height: ArrayLike, s
         raise FileFormatError(source, "readings must be finite numbers")
     if (h <= 0).any():
         i = int(np.argmax(h <= 0))
-        raise FileFormatError(source, f"data row {i + 1}: height = {h[i]:.6g} m (must be > 0)")
+        raise FileFormatError(source, f"reading {i + 1}: height = {h[i]:.6g} m (must be > 0)")
     dt = np.diff(t)
     if (dt <= 0).any():
         i = int(np.argmax(dt <= 0)) + 1
-        raise FileFormatError(source, f"data row {i + 1}: time {t[i]:.6g} s is not after the previous reading "
+        raise FileFormatError(source, f"reading {i + 1}: time {t[i]:.6g} s is not after the previous reading "
                                       f"({t[i - 1]:.6g} s); times must increase")
     area = rig.cylinder_area
     q = -area * np.diff(h) / dt
@@ -220,6 +220,10 @@ def leak_rate_from_readings(rig: RigSetup, time: ArrayLike, height: ArrayLike, s
             slope_std = float("nan")
     k = -slope * area / (rig.density * rig.gravity)
     k_std = slope_std * area / (rig.density * rig.gravity)
+    if not k > 0:
+        raise FileFormatError(source, f"the water level does not fall over the readings (H = {h[0]:.6g} m at "
+                                      f"t = {t[0]:.6g} s, {h[-1]:.6g} m at t = {t[-1]:.6g} s; fitted K = Q/ΔP = "
+                                      f"{k:.3g} m³/(s·Pa)): no leak rate can be read from them (check the columns)")
     rms = float(np.sqrt(np.mean(resid**2)) / np.log(10.0))
     return ReadingsAnalysis(time=t, height=h, interval_pressure_difference=dp, interval_leak_rate=q,
                             conductance=float(k), conductance_std=float(k_std), rms_log_residual=rms)

@@ -16,6 +16,7 @@ downstream needs quadrature over C itself.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Iterable
 
 import numpy as np
@@ -84,7 +85,7 @@ class PowerSpectrum:
         if q.size != C.size:
             raise InputError("spectrum", f"{q.size} q values and {C.size} C values", "q and C need the same length")
         if q.size < 2:
-            raise InputError("spectrum.q", q.size, "at least two points are needed")
+            raise InputError("spectrum.q", f"{q.size} point(s)", "at least two points are needed")
         bad = ~np.isfinite(q)
         if bad.any():
             i = int(np.argmax(bad))
@@ -119,12 +120,15 @@ class PowerSpectrum:
         cls,
         *,
         hurst: float,
-        q_rolloff: float,
-        q_cutoff: float,
+        q_rolloff: float | None = None,
+        q_cutoff: float | None = None,
         q_lowest: float | None = None,
         h_rms: float | None = None,
         C0: float | None = None,
         label: str = "",
+        rolloff_wavelength: float | None = None,
+        cutoff_wavelength: float | None = None,
+        lowest_wavelength: float | None = None,
     ) -> "PowerSpectrum":
         """Self-affine spectrum with roll-off (THEORY.md section 1)::
 
@@ -134,8 +138,12 @@ class PowerSpectrum:
 
         Exactly one of ``h_rms`` (m) and ``C0`` (m⁴) fixes the amplitude (h_rms is that of the band
         [q_lowest, q_cutoff]). ``q_lowest`` defaults to ``q_rolloff`` (no plateau); above q_rolloff the
-        band starts on the power law. All wavevectors in 1/m.
+        band starts on the power law. All wavevectors in 1/m. Each wavevector may be given as a
+        wavelength instead (``rolloff_wavelength`` etc., in m; q = 2π/λ), not both.
         """
+        q_rolloff = _wavevector_or_wavelength("rolloff", q_rolloff, rolloff_wavelength, required=True)
+        q_cutoff = _wavevector_or_wavelength("cutoff", q_cutoff, cutoff_wavelength, required=True)
+        q_lowest = _wavevector_or_wavelength("lowest", q_lowest, lowest_wavelength, required=False)
         _check_positive("surface.hurst", hurst, open_upper=1.0)
         _check_positive("surface.rolloff_wavevector", q_rolloff)
         _check_positive("surface.cutoff_wavevector", q_cutoff)
@@ -171,6 +179,23 @@ class PowerSpectrum:
     def from_arrays(cls, q: ArrayLike, C: ArrayLike, label: str = "") -> "PowerSpectrum":
         """Spectrum from tabulated values (q in 1/m, C in m⁴), validated."""
         return cls(np.asarray(q, dtype=float), np.asarray(C, dtype=float), label=label)
+
+    @classmethod
+    def from_table(cls, path: str | Path, label: str = "") -> "PowerSpectrum":
+        """Spectrum from a two-column text table q, C (:func:`sealeak.tables.read_spectrum_table`).
+
+        q in 1/m and C in m⁴ unless a header row names other units, e.g. ``q (1/um), C (um^4)``.
+        Problems (missing file, NaN, unsorted q, wrong units) raise :class:`FileFormatError`
+        naming the file and line.
+        """
+        from .errors import FileFormatError
+        from .tables import read_spectrum_table
+
+        q, C = read_spectrum_table(path)
+        try:
+            return cls.from_arrays(q, C, label=label or f"table {Path(path).name}")
+        except InputError as exc:
+            raise FileFormatError(path, str(exc)) from None
 
     # ------------------------------------------------------------------ evaluation
     @property
@@ -304,3 +329,15 @@ def _check_positive(name: str, value: float | None, open_upper: float | None = N
         raise InputError(name, value, "must be a finite number > 0")
     if open_upper is not None and not v < open_upper:
         raise InputError(name, value, f"must be < {open_upper:g}")
+
+
+def _wavevector_or_wavelength(stem: str, q: float | None, wavelength: float | None, *, required: bool) -> float | None:
+    """q (1/m) from either the wavevector or the wavelength (q = 2π/λ); exactly one when required."""
+    if q is not None and wavelength is not None:
+        raise InputError(f"surface.{stem}_wavevector", q, f"give either {stem}_wavevector or {stem}_wavelength, not both")
+    if wavelength is not None:
+        _check_positive(f"surface.{stem}_wavelength", wavelength)
+        return 2.0 * np.pi / wavelength
+    if q is None and required:
+        raise InputError(f"surface.{stem}_wavevector", None, f"is required (or give {stem}_wavelength)")
+    return q

@@ -8,8 +8,11 @@ columns, each with its unit in parentheses or brackets, e.g.::
     1.0e3, 2.1e-17
     ...
 
-Columns are separated by commas, semicolons, tabs or spaces. Without a header the caller's default
-units apply. Every problem raises :class:`FileFormatError` naming the file, the line and the problem.
+Columns are separated by commas, semicolons, tabs or spaces (a space-separated header reads
+``q (1/m) C (m^4)``: a unit in brackets belongs to the name before it). In a comma, semicolon or
+tab separated file an empty cell is a missing value (NaN); the caller decides whether a column may
+have any. Without a header the caller's default units apply. Every problem raises
+:class:`FileFormatError` naming the file, the line and the problem.
 """
 
 from __future__ import annotations
@@ -37,13 +40,37 @@ class UnitTable:
     units: tuple[str, ...]
     data: NDArray[np.float64]  # (rows, columns)
     has_header: bool
+    lines: tuple[int, ...] = ()  # line number in the file of each data row
+
+    def line_of(self, row: int) -> int:
+        """Line number in the file of data row ``row`` (0-based)."""
+        return self.lines[row] if self.lines else row + 1
+
+
+_SEPARATOR = re.compile(r"[,;\t]")
+_SPACED_HEADER_CELL = re.compile(r"[^\s(\[]+(?:\s*[\(\[][^\)\]]*[\)\]])?")
 
 
 def _split(line: str) -> list[str]:
     line = line.strip()
-    if re.search(r"[,;\t]", line):
-        return [c.strip() for c in re.split(r"[,;\t]", line)]
+    if _SEPARATOR.search(line):
+        return [c.strip() for c in _SEPARATOR.split(line)]
     return line.split()
+
+
+def _split_header(line: str) -> list[str]:
+    """Header cells; with spaces as separators, 'name (unit)' stays one cell."""
+    line = line.strip()
+    if _SEPARATOR.search(line):
+        return [c.strip() for c in _SEPARATOR.split(line)]
+    return _SPACED_HEADER_CELL.findall(line)
+
+
+def _number(cell: str, delimited: bool) -> float:
+    """A cell's value; an empty cell of a delimited row is a missing value (NaN)."""
+    if delimited and cell == "":
+        return float("nan")
+    return float(cell)
 
 
 def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
@@ -60,19 +87,22 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
     names: tuple[str, ...] = ()
     units: tuple[str, ...] = ()
     rows: list[list[float]] = []
+    lines: list[int] = []
     header = False
     for lineno, raw in enumerate(text.splitlines(), start=1):
         line = raw.strip()
         if not line or line.startswith("#"):
             continue
         cells = _split(line)
+        delimited = bool(_SEPARATOR.search(line))
         try:
-            values = [float(c) for c in cells]
+            values = [_number(c, delimited) for c in cells]
         except ValueError:
             if rows or header:
                 bad = next(c for c in cells if not _is_float(c))
                 raise FileFormatError(p, f"line {lineno}: {bad!r} is not a number") from None
             header = True
+            cells = _split_header(line)
             parsed = [_HEADER_CELL.match(c) for c in cells]
             names = tuple((m.group(1) if m else c).strip() for m, c in zip(parsed, cells))
             units = tuple(((m.group(2) or "") if m else "").strip() for m in parsed)
@@ -82,6 +112,7 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
         if rows and len(values) != len(rows[0]):
             raise FileFormatError(p, f"line {lineno}: {len(values)} values, the rows above have {len(rows[0])}")
         rows.append(values)
+        lines.append(lineno)
     if not rows:
         raise FileFormatError(p, "no numeric rows (empty file or header only)")
     data = np.asarray(rows, dtype=float)
@@ -90,10 +121,12 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
     if not names:
         names = tuple(f"column {i + 1}" for i in range(data.shape[1]))
         units = ("",) * data.shape[1]
-    return UnitTable(str(p), names, units, data, header)
+    return UnitTable(str(p), names, units, data, header, tuple(lines))
 
 
 def _is_float(text: str) -> bool:
+    if text == "":
+        return True  # a missing value, not a word
     try:
         float(text)
     except ValueError:
@@ -122,13 +155,15 @@ def read_spectrum_table(path: str | Path) -> tuple[NDArray[np.float64], NDArray[
     for name, col in (("q", q), ("C", c)):
         bad = ~np.isfinite(col)
         if bad.any():
-            raise FileFormatError(path, f"data row {int(np.argmax(bad)) + 1}: {name} is {col[bad][0]} (NaN or inf not allowed)")
+            raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: {name} is {col[bad][0]} "
+                                        "(missing, NaN or inf: not allowed)")
         bad = col <= 0
         if bad.any():
-            raise FileFormatError(path, f"data row {int(np.argmax(bad)) + 1}: {name} = {col[bad][0]:.6g} (must be > 0)")
+            raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: {name} = {col[bad][0]:.6g} "
+                                        "(must be > 0)")
     steps = np.diff(q)
     if (steps <= 0).any():
-        i = int(np.argmax(steps <= 0)) + 2
-        raise FileFormatError(path, f"data row {i}: q = {q[i - 1]:.6g} 1/m is not above the previous row's "
-                                    f"{q[i - 2]:.6g} 1/m (q must be strictly increasing)")
+        i = int(np.argmax(steps <= 0)) + 1
+        raise FileFormatError(path, f"line {table.line_of(i)}: q = {q[i]:.6g} 1/m is not above the previous row's "
+                                    f"{q[i - 1]:.6g} 1/m (q must be strictly increasing)")
     return q, c
