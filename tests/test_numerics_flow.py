@@ -91,6 +91,16 @@ def test_direct_and_amg_agree_near_threshold(hard_field) -> None:
     assert d.flux < 0.1 * res.mean_gap**3 * DP / (12 * ETA)
 
 
+def test_amg_is_deterministic(hard_field) -> None:
+    """The AMG set-up uses no random numbers: the same field gives the same digits, whatever the RNG state."""
+    res, L = hard_field
+    np.random.seed(1)
+    a = solve_flow(res.gap, L, ETA, DP, contact=res.contact, method="amg")
+    np.random.seed(2)
+    b = solve_flow(res.gap, L, ETA, DP, contact=res.contact, method="amg")
+    assert a.flux == b.flux and a.iterations == b.iterations and a.residual == b.residual
+
+
 def test_contact_tolerance_barely_changes_the_leak_rate(hard_field) -> None:
     res, L = hard_field
     tight, _ = _near_threshold_contact(tol=1e-9)
