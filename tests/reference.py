@@ -75,3 +75,17 @@ class PerssonReference:
         du = deriv(lambda z: self.ubar(z, p0))
         da = deriv(lambda z: self.area(z, p0))
         return self.ubar(zeta, p0) + du * self.area(zeta, p0) / da
+
+
+def loglog_table(q_nodes, c_nodes):
+    """C(q) of a table, interpolated linearly in log C against log q (zero outside), written out directly."""
+    lq = np.log(np.asarray(q_nodes, dtype=float))
+    lc = np.log(np.asarray(c_nodes, dtype=float))
+
+    def C(q):
+        x = np.log(q)
+        if x < lq[0] or x > lq[-1]:
+            return 0.0
+        return float(np.exp(np.interp(x, lq, lc)))
+
+    return C

@@ -188,3 +188,34 @@ def test_case_file_with_byte_order_mark_reads(tmp_path):
     p.write_bytes(b"\xef\xbb\xbf" + BASE.encode())
     (case,) = load_cases(p)
     assert case.title == "test case"
+
+
+def test_hrms_study_has_the_parameters_of_the_study():
+    cases = load_cases(example_path("hrms-study"))
+    assert [c.spectrum.h_rms for c in cases] == pytest.approx([1e-6, 2e-6, 4e-6, 6e-6], rel=1e-12)
+    for c in cases:
+        assert c.youngs_modulus == 10e6 and c.poisson_ratio == 0.5
+        assert c.e_star == pytest.approx(10e6 / 0.75)
+        assert c.q0 == pytest.approx(1e4) and c.spectrum.q_min == pytest.approx(1e4)
+        assert c.spectrum.q_max == pytest.approx(7.8e9)
+        # H = 0.8: C ∝ q^-2(1+H) = q^-3.6 above q_r = q0 (no plateau)
+        assert c.spectrum.exponents == pytest.approx([-3.6])
+        assert c.pressure_difference == 1e4 and c.fluid.viscosity == pytest.approx(1e-3)
+        assert c.seal.aspect_ratio == pytest.approx(1.0)
+
+
+def test_square_side_defaults_to_the_seal_width_and_can_be_overridden():
+    rect = edit('shape = "ring"\ninner_diameter = "3 cm"\nouter_diameter = "4 cm"',
+                'shape = "rectangle"\nwidth = "2 mm"\nlength = "5 cm"')
+    (c,) = parse_cases(rect)
+    assert c.seal.width == pytest.approx(2e-3) and c.seal.aspect_ratio == pytest.approx(25.0)
+    assert c.q0 == pytest.approx(2 * np.pi / 2e-3) and c.square_side == pytest.approx(2e-3)
+    (d,) = parse_cases(edit("alpha = 0.2", 'alpha = 0.2\nsquare_side = "1 mm"', rect))
+    assert d.q0 == pytest.approx(2 * np.pi / 1e-3) and d.square_side == pytest.approx(1e-3)
+    (e,) = parse_cases(edit("alpha = 0.2", 'alpha = 0.2\nlowest_wavevector = "5e3 1/m"', rect))
+    assert e.q0 == pytest.approx(5e3)
+    # λc = L/ζc with the overridden L; the aspect ratio stays the seal's Ly/Lx
+    from sealeak.case import predict
+
+    r = predict(d)
+    assert np.allclose(r.critical_wavelength, 1e-3 / r.critical_magnification, rtol=1e-12)

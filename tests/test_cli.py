@@ -179,3 +179,21 @@ def test_vanishing_squeeze_pressure_is_refused(case_file, tmp_path, capsys):
     tiny.write_text(text)
     assert main(["predict", str(tiny)]) == 2
     assert "squeeze_pressure = 1e-09: so small" in capsys.readouterr().err
+
+
+def test_study_table_shows_each_variants_own_settings(case_file, tmp_path, capsys):
+    text = case_file.read_text() + '\n[study]\nvary = "rubber.youngs_modulus"\nvalues = ["2.3 MPa", "5 MPa"]\n'
+    study = tmp_path / "study.toml"
+    study.write_text(text)
+    assert main(["predict", str(study)]) == 0
+    out = capsys.readouterr().out
+    assert "rubber    E = 2.3 MPa" in out and "rubber    E = 5 MPa" in out
+    assert out.count("seal      ring") == 1  # the same seal is described once
+
+
+def test_table_length_units_follow_the_values(capsys):
+    assert main(["predict", "--example", "hrms-study"]) == 0
+    out = capsys.readouterr().out
+    assert "u_c (nm)" in out  # gaps of a few nm to a few tens of nm
+    assert main(["predict", "--example", "reference-experiment"]) == 0
+    assert "u_c (µm)" in capsys.readouterr().out

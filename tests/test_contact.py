@@ -4,7 +4,7 @@ from scipy import special
 
 from sealeak import InputError, PowerSpectrum
 from sealeak.contact import PerssonContact, contact_modulus
-from tests.reference import PerssonReference, self_affine
+from tests.reference import PerssonReference, loglog_table, self_affine
 
 E_STAR = contact_modulus(2.3e6, 0.5)
 Q0 = 2 * np.pi / 5e-3
@@ -96,10 +96,11 @@ def test_tabulated_spectrum_against_nested_quadrature(gamma):
     s = smooth_table_spectrum()
     q0 = 1.5e3
     c = PerssonContact(s, E_STAR, q0, gamma)
-    ref = PerssonReference(s, s.q_min, s.q_max, s.q, E_STAR, q0, gamma)
-    zeta, p0 = 6.0, 4e4
-    assert c.mean_gap(zeta, p0) == pytest.approx(ref.ubar(zeta, p0), rel=1e-5)
-    assert c.u1(zeta, p0) == pytest.approx(ref.u1(zeta, p0), rel=1e-5)
+    # the reference interpolates the raw table itself (log-log), not through PowerSpectrum
+    ref = PerssonReference(loglog_table(s.q, s.C), s.q_min, s.q_max, s.q, E_STAR, q0, gamma)
+    for zeta, p0 in ((1.0, 3e4), (6.0, 4e4), (0.5 * c.zeta_max, 1.2e5)):
+        assert c.mean_gap(zeta, p0) == pytest.approx(ref.ubar(zeta, p0), rel=1e-5)
+    assert c.u1(6.0, 4e4) == pytest.approx(ref.u1(6.0, 4e4), rel=1e-5)
 
 
 @pytest.mark.parametrize("gamma", [1.0, 0.42])
@@ -112,15 +113,25 @@ def test_quadrature_refinement_changes_nothing(model, gamma):
         assert np.allclose(coarse.u1(z[1:], p0), fine.u1(z[1:], p0), rtol=1e-7, atol=0)
 
 
-def test_q_grid_refinement_changes_nothing(model):
-    """The same C(q) on a 40x denser node grid gives the same results."""
+@pytest.mark.parametrize("gamma", [1.0, 0.42])
+@pytest.mark.parametrize("which", ["model", "table"])
+def test_q_grid_refinement_changes_nothing(model, gamma, which):
+    """The same C(q) on a 40x denser node grid gives the same results, end to end (ζc, u_c, λc, Q, A(ζ1))."""
+    from sealeak.leakage import critical_junction
+
+    spectrum = model if which == "model" else smooth_table_spectrum()
+    q0 = Q0 if which == "model" else 1.5e3
     p0 = np.geomspace(2e4, 2e5, 9)
-    a = PerssonContact(model, E_STAR, Q0, 0.42)
-    b = PerssonContact(model.refined(40), E_STAR, Q0, 0.42)
-    za, _ = a.zeta_at_area(0.4, p0)
-    zb, _ = b.zeta_at_area(0.4, p0)
-    assert np.allclose(za, zb, rtol=1e-10)
-    assert np.allclose(a.u1(za, p0), b.u1(zb, p0), rtol=1e-7)
+    out = []
+    for s in (spectrum, spectrum.refined(40)):
+        c = PerssonContact(s, E_STAR, q0, gamma)
+        out.append(critical_junction(c, squeeze_pressure=p0, pressure_difference=1e4, viscosity=1e-3,
+                                     aspect_ratio=22.0, alpha=0.2))
+    a, b = out
+    assert a.percolates.all() and b.percolates.all()
+    for name in ("critical_magnification", "critical_gap", "critical_wavelength", "leak_rate",
+                 "contact_area_at_cutoff"):
+        assert np.allclose(getattr(a, name), getattr(b, name), rtol=1e-5, atol=0), name
 
 
 def test_sampled_table_converges_to_the_model(model):

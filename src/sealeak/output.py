@@ -156,6 +156,40 @@ def _fmt(x: float, fmt: str) -> str:
     return format(x, fmt)
 
 
+def _setting_lines(case: Case, em: Any) -> dict[str, list[str]]:
+    """Text lines describing the rubber, seal, fluid and theory of a case (for the table header)."""
+    seal = case.seal
+    geom = (f"ring Di = {seal.inner_diameter * 1e3:.4g} mm, Do = {seal.outer_diameter * 1e3:.4g} mm"
+            if seal.shape == "ring" else "rectangle")
+    theory = [f"theory    critical junction, α = {case.alpha:g}, p_c = {case.percolation_threshold:g} "
+              f"(A/A0 = {1 - case.percolation_threshold:.3g} at ζc), γ = {case.gamma:g}, "
+              f"q0 = {case.q0:.4g} 1/m ({case.q0_note})"]
+    if em is not None:
+        theory.append("          effective medium: 2D Bruggeman over P(u), σ(u) = u³/(12η), no fit factor "
+                      "(stops percolating at A(ζ1)/A0 = 0.5)")
+    return {
+        "rubber": [f"rubber    E = {case.youngs_modulus / 1e6:.4g} MPa, ν = {case.poisson_ratio:g}, "
+                   f"E* = {case.e_star / 1e6:.4g} MPa"],
+        "seal": [f"seal      {geom}: Lx = {seal.width * 1e3:.4g} mm, Ly = {seal.length * 1e3:.4g} mm, "
+                 f"Ly/Lx = {seal.aspect_ratio:.4g}"],
+        "fluid": [f"fluid     η = {case.fluid.viscosity * 1e3:.4g} mPa·s, ΔP = {case.pressure_difference / 1e3:.4g} kPa"],
+        "theory": theory,
+    }
+
+
+def _length_unit(values: Any) -> tuple[float, str]:
+    """(scale, name) of the length unit that shows ``values`` (m) with few leading zeros: mm, µm or nm."""
+    v = np.abs(np.asarray(values, dtype=float))
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size == 0:
+        return 1e-6, "µm"
+    if v.max() < 1e-6:
+        return 1e-9, "nm"
+    if v.min() >= 1e-2:
+        return 1e-3, "mm"
+    return 1e-6, "µm"
+
+
 def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionResult],
                      effective: Sequence[Any] | None = None) -> str:
     """A plain-text report: the case, then one table row per squeeze pressure.
@@ -167,6 +201,7 @@ def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionRe
     first = cases[0]
     lines.append(first.title)
     lines.append("=" * min(len(first.title), 100))
+    first_blocks = _setting_lines(first, _effective(effective, len(cases))[0])
     for case, res, em in zip(cases, results, _effective(effective, len(cases))):
         s = case.spectrum
         if case.label or case is first:
@@ -176,27 +211,17 @@ def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionRe
             lines.append(f"surface   {case.spectrum_note}")
             lines.append(f"          h_rms = {s.h_rms * 1e6:.4g} µm, slope_rms = {s.slope_rms:.4g}, "
                          f"A_true/A0 = {s.area_ratio:.4g}, q = {s.q_min:.4g} .. {s.q_max:.4g} 1/m")
-            if case is first:
-                lines.append(f"rubber    E = {case.youngs_modulus / 1e6:.4g} MPa, ν = {case.poisson_ratio:g}, "
-                             f"E* = {case.e_star / 1e6:.4g} MPa")
-                seal = case.seal
-                geom = (f"ring Di = {seal.inner_diameter * 1e3:.4g} mm, Do = {seal.outer_diameter * 1e3:.4g} mm"
-                        if seal.shape == "ring" else "rectangle")
-                lines.append(f"seal      {geom}: Lx = {seal.width * 1e3:.4g} mm, Ly = {seal.length * 1e3:.4g} mm, "
-                             f"Ly/Lx = {seal.aspect_ratio:.4g}")
-                lines.append(f"fluid     η = {case.fluid.viscosity * 1e3:.4g} mPa·s, ΔP = "
-                             f"{case.pressure_difference / 1e3:.4g} kPa")
-                lines.append(f"theory    critical junction, α = {case.alpha:g}, p_c = {case.percolation_threshold:g} "
-                             f"(A/A0 = {1 - case.percolation_threshold:.3g} at ζc), γ = {case.gamma:g}, "
-                             f"q0 = {case.q0:.4g} 1/m ({case.q0_note})")
-                if em is not None:
-                    lines.append("          effective medium: 2D Bruggeman over P(u), σ(u) = u³/(12η), no fit factor "
-                                 "(stops percolating at A(ζ1)/A0 = 0.5)")
+            # every setting for the first case; for the other variants, the settings that differ
+            for key, block in _setting_lines(case, em).items():
+                if case is first or block != first_blocks.get(key):
+                    lines.extend(block)
         cj = case.model != "effective-medium" or em is None
         if cj:
             lines.append("")
             both = em is not None
-            lines.append(f"{'P0 (kPa)':>10} {'ζc':>9} {'λc (µm)':>10} {'u_c (µm)':>10} "
+            lam_scale, lam_unit = _length_unit(res.critical_wavelength)
+            gap_scale, gap_unit = _length_unit(res.critical_gap)
+            lines.append(f"{'P0 (kPa)':>10} {'ζc':>9} {f'λc ({lam_unit})':>10} {f'u_c ({gap_unit})':>10} "
                          + (f"{'Q_CJ (m³/s)':>12} {'Q_EM (m³/s)':>12} {'Q_CJ (ml/min)':>14} {'Q_EM (ml/min)':>14}"
                             if both else f"{'Q (m³/s)':>11} {'Q (ml/min)':>11}")
                          + f" {'A(ζ1)/A0':>9}")
@@ -206,20 +231,22 @@ def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionRe
                      f"{_fmt(res.leak_rate[i], '11.3e')} {_fmt(res.leak_rate[i] * 6e7, '11.4g')}")
                 lines.append(
                     f"{res.squeeze_pressure[i] / 1e3:10.4g} {_fmt(res.critical_magnification[i], '9.4g')} "
-                    f"{_fmt(res.critical_wavelength[i] * 1e6, '10.4g')} {_fmt(res.critical_gap[i] * 1e6, '10.4g')} "
+                    f"{_fmt(res.critical_wavelength[i] / lam_scale, '10.4g')} {_fmt(res.critical_gap[i] / gap_scale, '10.4g')} "
                     f"{q} {res.contact_area_at_cutoff[i]:9.3f}")
             for m in res.messages:
                 lines.append("note: " + m)
         if em is not None:
             lines.append("")
             lines.append("effective medium (2D Bruggeman):")
-            lines.append(f"{'P0 (kPa)':>10} {'A(ζ1)/A0':>9} {'ū(1) (µm)':>10} {'<u>_P (µm)':>11} {'u_e (µm)':>10} "
+            u_scale, u_unit = _length_unit(np.concatenate([em.mean_gap, em.gap_distribution_mean]))
+            lines.append(f"{'P0 (kPa)':>10} {'A(ζ1)/A0':>9} {f'ū(1) ({u_unit})':>10} {f'<u>_P ({u_unit})':>11} "
+                         f"{f'u_e ({u_unit})':>10} "
                          f"{'σ_eff (m³/Pa/s)':>16} {'Q_EM (m³/s)':>12} {'Q_EM (ml/min)':>14}")
             for i in range(len(em)):
                 lines.append(
                     f"{em.squeeze_pressure[i] / 1e3:10.4g} {em.contact_area_at_cutoff[i]:9.3f} "
-                    f"{_fmt(em.mean_gap[i] * 1e6, '10.4g')} {_fmt(em.gap_distribution_mean[i] * 1e6, '11.4g')} "
-                    f"{_fmt(em.effective_gap[i] * 1e6 if em.percolates[i] else np.nan, '10.4g')} "
+                    f"{_fmt(em.mean_gap[i] / u_scale, '10.4g')} {_fmt(em.gap_distribution_mean[i] / u_scale, '11.4g')} "
+                    f"{_fmt(em.effective_gap[i] / u_scale if em.percolates[i] else np.nan, '10.4g')} "
                     f"{_fmt(em.effective_conductivity[i] if em.percolates[i] else np.nan, '16.4e')} "
                     f"{_fmt(em.leak_rate[i], '12.3e')} {_fmt(em.leak_rate[i] * 6e7, '14.4g')}")
             lines.append("          <u>_P: mean of the gap distribution P(u) (>= ū(1): the folded Gaussians add to it); "
