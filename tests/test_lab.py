@@ -171,6 +171,23 @@ def test_at_pressure_option(tmp_path, case):
     a1 = json.loads(out1.read_text())["critical_junction"]["alpha"]
     a2 = json.loads(out2.read_text())["critical_junction"]["alpha"]
     assert a2 == pytest.approx(a1 / 2, rel=1e-12)
+    assert a.throughput and not read_leak_data_volume(tmp_path).throughput
+
+
+def read_leak_data_volume(tmp_path):
+    data = tmp_path / "v.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 0.5\n")
+    return read_leak_data(data)
+
+
+def test_fit_output_states_the_conversion_pressure_and_large_pressure_differences(tmp_path, capsys):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s), pressure_difference (kPa)\n30, 0.5, 10\n"
+                    "60, 0.1, 40\n")
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--at-pressure", "2 atm"]) == 0
+    out = capsys.readouterr().out
+    assert "converted to volume flows at 202.65 kPa" in out
+    assert "row 2: ΔP = 40000 Pa is not small against P0 = 60000 Pa" in out
 
 
 # ---------------------------------------------------------------------- rig

@@ -84,6 +84,8 @@ def _fmt(x: float, spec: str = ".4g") -> str:
 
 # ---------------------------------------------------------------------- fit
 def _cmd_fit(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ._io import check_outputs, write_text
 
     names = ("linearity.png",) if args.linearity else ("fit.png",)
@@ -101,9 +103,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if not any(f.fitted for f in fits.values()):
         reasons = "; ".join(f"row {i + 1}: {r}" for i, r in fits["effective_medium"].excluded[:3])
         raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
-    lines = [f"{case.title}", f"fit of {len(data)} measured leak rates from {data.path} "
-             f"(columns: {', '.join(data.columns.values())})",
-             "least squares in log Q: Q_measured = α × Q_model(α = 1)", ""]
+    lines = [f"{case.title}", f"fit of {len(data)} measured leak rate{'s' if len(data) != 1 else ''} from "
+             f"{data.path} (columns: {', '.join(data.columns.values())})"]
+    if data.throughput:
+        lines.append(f"leak rates in {data.columns['leak_rate']} are pV throughputs: converted to volume flows at "
+                     f"{reference / 1e3:.6g} kPa (--at-pressure)")
+    lines += ["least squares in log Q: Q_measured = α × Q_model(α = 1)", ""]
     lines.append(f"{'model':<20} {'α':>10} {'± std':>10} {'rms (decades)':>14} {'points':>7}")
     for name, f in fits.items():
         lines.append(f"{name.replace('_', ' '):<20} {_fmt(f.alpha):>10} {_fmt(f.alpha_std, '.2g'):>10} "
@@ -115,6 +120,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                             f"excluded: {reason}")
     if not any(f.n_used > 1 for f in fits.values()):
         messages.append("with one usable point α has no standard error")
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    large = dp_used > 0.5 * data.squeeze_pressure
+    if large.any():
+        i = int(np.argmax(large))
+        messages.append(f"row {i + 1}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = {data.squeeze_pressure[i]:.6g} "
+                        f"Pa ({int(large.sum())} row(s) like it): both theories assume P0 >> ΔP")
     lines += ["note: " + m for m in messages]
     if not args.quiet:
         print("\n".join(lines))

@@ -46,7 +46,7 @@ def figure_fit(case, data, fits) -> Figure:
     note = f"ΔP = {ref_dp / 1e3:.3g} kPa" + ("" if same else " (measurements scaled to it, Q ∝ ΔP)")
     excluded = sum(len(f.excluded) for f in fits.values())
     _subtitle(ax, note + (f"; {excluded} point exclusions (see the text output)" if excluded else ""))
-    ax.legend()
+    ax.legend(loc="lower left", fontsize=8)  # Q falls with P0: the lower left corner is empty
     return fig
 
 

@@ -88,6 +88,7 @@ class LeakData:
     leak_rate: FloatArray
     columns: dict[str, str] = field(default_factory=dict)
     reference_pressure: float = ATMOSPHERE
+    throughput: bool = False  # the leak rates were pV throughputs, converted at reference_pressure
 
     def __len__(self) -> int:
         return int(self.leak_rate.size)
@@ -168,6 +169,7 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     except UnitError as exc:
         raise FileFormatError(p, str(exc)) from None
     q = table.data[:, i] * fq
+    throughput = fq != leak_rate_factor(table.units[i], 2.0 * reference_pressure, f"column '{table.names[i]}' unit")
     if (q < 0).any():
         r = int(np.argmax(q < 0))
         raise FileFormatError(p, f"line {table.line_of(r)}: leak rate {table.data[r, i]:g} {table.units[i]} is negative")
@@ -184,7 +186,8 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
                                  "zero pressure difference: no pressure drives a flow (check the row; leave the cell "
                                  "empty to use the case's pressure difference)")
     columns = {c: f"{table.names[j]} ({table.units[j]})" for c, j in found.items()}
-    return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure)
+    return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure,
+                    throughput)
 
 
 def read_rig_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:

@@ -265,10 +265,16 @@ def figure_critical_magnification(cases, results) -> Figure:
     return fig
 
 
-def figure_pressure_difference(cases, results) -> Figure:
-    """Q against ΔP at a fixed squeeze pressure (paper Fig. 5: linear through the origin)."""
+def figure_pressure_difference(cases, results, effective=None) -> Figure:
+    """Q against ΔP at a fixed squeeze pressure (paper Fig. 5: linear through the origin).
+
+    With effective-medium results for a case (model "both"), its Bruggeman leak rate is drawn dashed.
+    """
+    from .case import predict_effective_medium
+
     fig, ax = _fig("Leak rate against fluid pressure difference")
-    for case, res in zip(cases, results):
+    ems = list(effective) if effective is not None else [None] * len(cases)
+    for case, res, em in zip(cases, results, ems):
         ok = res.squeeze_pressure[res.percolates]
         if ok.size == 0:
             continue
@@ -276,7 +282,11 @@ def figure_pressure_difference(cases, results) -> Figure:
         dp = np.linspace(0.0, 2.0 * max(case.pressure_difference, 1.0), 21)
         q = predict(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
         scale, unit = pressure_axis(np.array([p0]))
-        ax.plot(dp / 1e3, q, "-", label=(f"{case.label}, " if case.label else "") + f"P0 = {p0 / scale:.3g} {unit}")
+        label = (f"{case.label}, " if case.label else "") + f"P0 = {p0 / scale:.3g} {unit}"
+        line, = ax.plot(dp / 1e3, q, "-", label=("critical junction, " if em is not None else "") + label)
+        if em is not None:
+            q_em = predict_effective_medium(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
+            ax.plot(dp / 1e3, q_em, "--", color=line.get_color(), label="effective medium, " + label)
     ax.set_xlabel("pressure difference ΔP = P_a - P_b (kPa)")
     ax.set_ylabel("leak rate Q (m³/s)")
     ax.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
@@ -299,7 +309,7 @@ def prediction_figures(cases: Sequence[Case], results: Sequence[CriticalJunction
         "leak_rate_log.png": figure_leak_rate(cases, results, log=True, effective=effective),
         "critical_junction.png": figure_critical_junction(cases, results),
         "critical_magnification.png": figure_critical_magnification(cases, results),
-        "leak_rate_vs_pressure_difference.png": figure_pressure_difference(cases, results),
+        "leak_rate_vs_pressure_difference.png": figure_pressure_difference(cases, results, effective),
     }
 
 

@@ -129,7 +129,10 @@ def unit_factor(field: str, unit: str, dimension: str) -> float:
         if dimension == "dimensionless":
             return 1.0
         raise UnitError(field, unit, f"needs a unit of {dimension.replace('_', ' ')}")
-    return parse_quantity(field, f"1 {unit}", dimension)
+    try:
+        return parse_quantity(field, f"1 {unit}", dimension)
+    except UnitError as exc:  # name the unit as written, not the "1 <unit>" parsed here
+        raise UnitError(field, unit, exc.allowed) from None
 
 
 _DISPLAY = {
