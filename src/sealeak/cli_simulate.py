@@ -65,7 +65,7 @@ def simulation_table(case, res) -> str:
     if np.isfinite(res.percolation_threshold):
         lines.append("")
         lines.append(f"the non-contact area stops percolating at A/A0 = {res.percolation_threshold:.3f} ± "
-                     f"{res.percolation_threshold_std:.3f} (critical-junction theory assumes 1 - p_c = "
+                     f"{res.percolation_threshold_std:.2g} (critical-junction theory assumes 1 - p_c = "
                      f"{1 - case.percolation_threshold:.3f})")
     for n in res.notes:
         lines.append("note: " + n)
