@@ -10,7 +10,17 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from sealeak.errors import FileFormatError, InputError, SealeakError, UnitError
-from sealeak.topography import LineScans, Topography, length_unit_factor, read_topography
+from sealeak.topography import (
+    LineScans,
+    MissingUnitsError,
+    Topography,
+    cli_option_names,
+    length_unit_factor,
+    read_topography,
+    spectrum_1d,
+    spectrum_2d,
+    write_height_map,
+)
 
 SAMPLES = Path(__file__).parents[2] / "shared" / "topography-samples"
 needs_samples = pytest.mark.skipif(not SAMPLES.is_dir(), reason="shared topography samples not present")
@@ -163,10 +173,17 @@ def test_missing_and_unknown_files(tmp_path):
     p.write_bytes(b"\x00\x01garbage" * 51)
     with pytest.raises(FileFormatError, match="junk.sur"):
         read_topography(p)
-    # 450 bytes = 2·15² pass as an SRTM .hgt height file, which has no unit: still a clear error
+    # 450 bytes = 2·15² would pass as an SRTM .hgt elevation tile, which is recognised by its size
+    # alone: accepted only for files named .hgt; a .sur gets the SUR reader's own reason
+    pytest.importorskip("SurfaceTopography")
     p.write_bytes(b"\x00\x01garbage" * 50)
-    with pytest.raises(SealeakError, match="junk.sur.*hgt.*height_unit"):
+    with pytest.raises(FileFormatError, match=r"junk\.sur: cannot be read as Digital Surf SUR") as err:
         read_topography(p)
+    assert "hgt" not in str(err.value).lower()
+    hgt = tmp_path / "tile.hgt"
+    hgt.write_bytes(p.read_bytes())
+    with pytest.raises(MissingUnitsError, match=r"tile\.hgt.*hgt.*height_unit.*size"):
+        read_topography(hgt)
 
 
 def test_instrument_file_without_extra(tmp_path, monkeypatch):
@@ -203,3 +220,118 @@ def test_fuzz_text_reader_raises_only_sealeak_errors(tmp_path, body):
         return
     assert isinstance(out, (Topography, LineScans))
     assert np.all(np.isfinite(out.heights) | np.isnan(out.heights))
+
+
+# ---------------------------------------------------------------------------- truncated instrument files
+# Cuts: a few header bytes, half the file, and a size of 2n² bytes (what SRTM .hgt tiles have).
+_TRUNCATED = [(name, cut) for name in ("opd-1.opd", "plu-1.plu", "x3p-2.x3p", "sur-2.sur", "di-1.di",
+                                       "al3d-1.al3d", "metropro-1.dat", "mi-1.mi", "frt-2.frt", "tmd-1.tmd")
+              for cut in ("header", "half", "2n2")]
+
+
+def _cut(size: int, how: str) -> int:
+    if how == "header":
+        return 2000
+    if how == "half":
+        return size // 2
+    n = int(np.sqrt(size / 4))  # 2n² bytes, about half the file
+    return 2 * n * n
+
+
+@needs_samples
+@pytest.mark.parametrize("name,how", _TRUNCATED, ids=[f"{n}-{c}" for n, c in _TRUNCATED])
+def test_truncated_instrument_files_give_one_clear_error(tmp_path, capfd, name, how):
+    pytest.importorskip("SurfaceTopography")
+    data = (SAMPLES / name).read_bytes()
+    p = tmp_path / f"cut-{name}"
+    p.write_bytes(data[:_cut(len(data), how)])
+    capfd.readouterr()
+    try:
+        t = read_topography(p, height_unit="um", size="1 mm")
+    except SealeakError as exc:
+        assert f"cut-{name}" in str(exc)
+        assert not isinstance(exc, MissingUnitsError)  # never mistaken for a unit-less format (e.g. .hgt)
+    else:
+        # a cut after the height block can be complete: then it must be the same data as the original
+        full = read_topography(SAMPLES / name)
+        assert t.heights.shape == full.heights.shape
+        np.testing.assert_array_equal(t.heights, full.heights)
+    out, err = capfd.readouterr()  # file-descriptor level: catches foreign libraries' logging too
+    assert out == "" and err == ""
+
+
+@needs_samples
+def test_dektak_tip_radius_sets_the_end_of_the_reliable_range():
+    ST = pytest.importorskip("SurfaceTopography")
+    s = read_topography(SAMPLES / "dektak-1.csv")
+    # independent: SurfaceTopography's own cutoff (file unit µm) from the tip radius in the file
+    cutoff = ST.open_topography(str(SAMPLES / "dektak-1.csv")).topography().short_reliability_cutoff() * UM
+    assert s.resolution == pytest.approx(cutoff, rel=1e-12)
+    assert 4 * s.pixel_size < cutoff  # the tip, not the pixels, limits this scan
+    b = spectrum_1d(s)
+    assert b.q_reliable == pytest.approx((3 * 2 * np.pi / s.length, 2 * np.pi / cutoff))
+    assert np.all(b.q[b.reliable] <= 2 * np.pi / cutoff) and np.any(b.q[~b.reliable] > 2 * np.pi / cutoff)
+    # a resolution given explicitly wins; finer than 4 pixels, the pixel limit applies
+    assert spectrum_1d(s, resolution=10 * UM).q_reliable[1] == pytest.approx(2 * np.pi / (10 * UM))
+    assert spectrum_1d(s, resolution=0.1 * UM).q_reliable[1] == pytest.approx(2 * np.pi / (4 * s.pixel_size))
+
+
+def test_reliable_range_start_and_end_on_a_map():
+    rng = np.random.default_rng(5)
+    t = Topography(rng.standard_normal((200, 100)) * 1e-7, (200 * UM, 100 * UM))  # 1 µm pixels
+    for kwargs, (lo, hi) in [
+        ({}, (3 * 2 * np.pi / (100 * UM), 2 * np.pi / (4 * UM))),  # default: 3·2π/(shorter side), 4 pixels
+        ({"low_cut": 2, "resolution": 10 * UM}, (2 * 2 * np.pi / (100 * UM), 2 * np.pi / (10 * UM))),
+        ({"resolution_pixels": 2, "resolution": 0.5 * UM}, (3 * 2 * np.pi / (100 * UM), np.pi / UM)),
+    ]:
+        b = spectrum_2d(t, **kwargs)
+        assert b.q_reliable == pytest.approx((lo, hi))
+        inside = (b.q >= lo) & (b.q <= hi)
+        np.testing.assert_array_equal(b.reliable, inside)
+        assert inside.any() and not inside.all()
+
+
+# ---------------------------------------------------------------------------- units stated by native files
+def test_text_header_states_size_and_units(tmp_path):
+    p = tmp_path / "m.txt"
+    p.write_text("# size: 1 mm, 0.5 mm\n# height_unit: nm\n1 2 3 4\n5 6 7 8\n9 10 11 12\n")
+    t = read_topography(p)
+    assert t.size == pytest.approx((1e-3, 0.5e-3))
+    assert t.nb_grid_pts == (4, 3)  # rows are y
+    assert t.heights[2, 1] == pytest.approx(7 * NM)
+    # what the file states wins over the options, and the notes say so
+    t2 = read_topography(p, size="3 mm", height_unit="um")
+    assert t2.size == t.size and any("ignored" in n for n in t2.notes)
+    p.write_text("# size: 1 kg\n1 2 3 4\n5 6 7 8\n")
+    with pytest.raises(FileFormatError, match=r"m\.txt: line 1: size"):
+        read_topography(p, height_unit="um")
+
+
+def test_npz_and_npy_sidecar(tmp_path):
+    h = np.random.default_rng(0).standard_normal((6, 4)) * 1e-6
+    np.savez(tmp_path / "a.npz", heights=h, size=np.array([6e-6, 4e-6]), height_unit=np.array("m"))
+    t = read_topography(tmp_path / "a.npz")
+    np.testing.assert_array_equal(t.heights, h)
+    assert t.size == pytest.approx((6e-6, 4e-6)) and not t.periodic
+    write_height_map(tmp_path / "b.npy", h, (3e-6, 2e-6), periodic=True)
+    t = read_topography(tmp_path / "b.npy")
+    np.testing.assert_array_equal(t.heights, h)
+    assert t.size == pytest.approx((3e-6, 2e-6)) and t.periodic
+    np.save(tmp_path / "b.npy", h.T)  # the map replaced, the sidecar left behind
+    with pytest.raises(FileFormatError, match=r"b\.npy\.json.*another file"):
+        read_topography(tmp_path / "b.npy")
+
+
+def test_missing_units_named_once_for_api_and_cli(tmp_path):
+    p = tmp_path / "m.txt"
+    p.write_text("1 2 3 4\n5 6 7 8\n")
+    with pytest.raises(MissingUnitsError) as err:
+        read_topography(p)
+    msg = str(err.value)
+    assert "m.txt" in msg and "height_unit='um'" in msg and "size=" in msg and "pixel_size=" in msg
+    assert "--" not in msg
+    with cli_option_names(), pytest.raises(MissingUnitsError) as err:
+        read_topography(p)
+    msg = str(err.value)
+    assert "--height-unit um" in msg and "--size" in msg and "--pixel-size" in msg
+    assert "height_unit" not in msg and "pixel_size" not in msg

@@ -67,7 +67,7 @@ _SECTIONS: dict[str, set[str]] = {
     "surface": {"model", "h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength",
                 "cutoff_wavevector", "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength",
                 "file", "label", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic",
-                "channel", "bins_per_decade"},
+                "channel", "bins_per_decade", "low_cut", "resolution", "resolution_pixels"},
     "rubber": {"youngs_modulus", "poisson_ratio", "name"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
     "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height"},
@@ -85,7 +85,7 @@ _SURFACE_KEYS: dict[str, set[str]] = {
                     "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength"},
     "table": {"file"},
     "topography": {"file", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic", "channel",
-                   "bins_per_decade"},
+                   "bins_per_decade", "low_cut", "resolution", "resolution_pixels"},
 }
 _TOP_LEVEL = {"title", "description"}
 _REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")
@@ -302,7 +302,10 @@ def _topography(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum
         raise InputError(sec.field("periodic"), periodic, "must be true or false")
     an = analyze(paths, size=lengths("size"), pixel_size=lengths("pixel_size"), height_unit=sec.raw("height_unit"),
                  lateral_unit=sec.raw("lateral_unit"), periodic=periodic, channel=sec.raw("channel"),
-                 bins_per_decade=sec.number("bins_per_decade", 10.0, low=0.0))
+                 bins_per_decade=sec.number("bins_per_decade", 10.0, low=0.0),
+                 low_cut=sec.number("low_cut", 3.0, low=0.0),
+                 resolution_pixels=sec.number("resolution_pixels", 4.0, low=2.0, low_open=False),
+                 resolution=sec.quantity("resolution", "length") if sec.has("resolution") else None)
     spec = an.spectrum
     note = (f"measured topography ({', '.join(p.name for p in paths)}): C(q) over q = {spec.q_min:.4g} .. "
             f"{spec.q_max:.4g} 1/m")

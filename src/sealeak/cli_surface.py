@@ -40,6 +40,20 @@ def unit_options(args: argparse.Namespace) -> dict[str, Any]:
                 channel=args.channel)
 
 
+def range_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The reliable-range keyword arguments of :func:`sealeak.topography.analyze` from CLI options."""
+    from .units import parse_quantity
+
+    out: dict[str, Any] = dict(bins_per_decade=args.bins_per_decade, low_cut=args.low_cut,
+                               resolution_pixels=args.resolution_pixels)
+    if args.resolution is not None:
+        value = parse_quantity("--resolution", args.resolution, "length")
+        if not value > 0:
+            raise InputError("--resolution", args.resolution, "must be a length > 0, e.g. '2 um'")
+        out["resolution"] = value
+    return out
+
+
 def _stat_rows(stats) -> list[tuple[str, str, float | None, float | None]]:
     return [
         ("h_rms", "µm", stats.h_rms, stats.spectrum_h_rms),
@@ -58,13 +72,23 @@ def _fmt(v: float | None, unit: str) -> str:
     return "—" if v is None or not np.isfinite(v) else f"{v * _SCALE[unit]:.4g}"
 
 
+def _source_size(surface) -> list[float]:
+    return list(surface.size) if hasattr(surface, "size") else [surface.length]
+
+
 def _analysis_text(an) -> str:
     lines = []
     for src in an.sources:
         s = src.surface
         lines.append(f"source  {src.label}")
         shape = "x".join(str(n) for n in np.shape(s.heights))
-        lines.append(f"        {type(s).__name__} {shape} points")
+        extent = " x ".join(f"{v * 1e6:.4g}" for v in _source_size(s))
+        lines.append(f"        {type(s).__name__} {shape} points, {extent} µm")
+        if src.spectrum_problem is None:
+            lo, hi = src.spectrum.q_reliable
+            lines.append(f"        reliable range q = {lo:.4g} .. {hi:.4g} 1/m")
+        elif len(an.sources) > 1:
+            lines.append(f"        no C(q): {src.spectrum_problem}")
     lines.append("")
     header = "statistics of the single measurement" if len(an.sources) == 1 else "statistics of each measurement"
     lines.append(header)
@@ -77,20 +101,31 @@ def _analysis_text(an) -> str:
             lines.append(f"  [{src.label}]")
             for name, unit, a, _ in _stat_rows(src.statistics):
                 lines.append(f"  {name:15s} {unit:6s} {_fmt(a, unit):>13s}")
-        lines.append("  [stitched C(q)]")
-        for name, unit, _, b in _stat_rows(an.statistics):
-            if b is not None:
-                lines.append(f"  {name:15s} {unit:6s} {_fmt(b, unit):>13s}")
-    sp = an.spectrum
+        if an.has_spectrum:
+            lines.append("  [stitched C(q)]")
+            for name, unit, _, b in _stat_rows(an.statistics):
+                if b is not None:
+                    lines.append(f"  {name:15s} {unit:6s} {_fmt(b, unit):>13s}")
+            lines.append(f"  (JSON statistics: {an.statistics.method})")
     lines.append("")
-    lines.append(f"C(q): {sp.q.size} points, reliable range q = {sp.q_min:.4g} .. {sp.q_max:.4g} 1/m "
-                 f"(λ = {2 * np.pi / sp.q_max * 1e6:.4g} .. {2 * np.pi / sp.q_min * 1e6:.4g} µm)")
+    if an.has_spectrum:
+        sp = an.spectrum
+        lines.append(f"C(q): {sp.q.size} points, reliable range q = {sp.q_min:.4g} .. {sp.q_max:.4g} 1/m "
+                     f"(λ = {2 * np.pi / sp.q_max * 1e6:.4g} .. {2 * np.pi / sp.q_min * 1e6:.4g} µm)")
+    elif len(an.sources) > 1:
+        lines.append("C(q): none: no measurement gives a reliable C(q) (reasons above)")
+    else:
+        lines.append(f"C(q): none: {an.spectrum_problem}")
     if an.fit is not None:
         f = an.fit
         qr = (f"q_r = {f.q_rolloff:.4g} ± {f.q_rolloff_err:.2g} 1/m" if f.rolloff_resolved
               else "no roll-off resolved")
-        lines.append(f"self-affine fit: H = {f.hurst:.3f} ± {f.hurst_err:.3f}, {qr}, "
-                     f"h_rms = {f.h_rms * 1e6:.4g} ± {f.h_rms_err * 1e6:.2g} µm, reduced χ² = {f.chi2_red:.3g}")
+        herr = f"± {f.hurst_err:.3f}" if np.isfinite(f.hurst_err) else "(at the bound of 0 < H < 1)"
+        herr_h = f" ± {f.h_rms_err * 1e6:.2g}" if np.isfinite(f.h_rms_err) else ""
+        lines.append(f"self-affine fit: H = {f.hurst:.3f} {herr}, {qr}, "
+                     f"h_rms = {f.h_rms * 1e6:.4g}{herr_h} µm, reduced χ² = {f.chi2_red:.3g}")
+        if f.warning:
+            lines.append(f"  warning: {f.warning}")
     if an.notes:
         lines.append("")
         lines.append("what was done:")
@@ -104,26 +139,39 @@ def _json_value(x):
     return json_value(x)
 
 
+_STAT_KEYS = ("h_rms", "slope_rms", "curvature_rms", "area_ratio", "skewness", "kurtosis")
+_SPECTRAL_KEYS = ("spectrum_h_rms", "spectrum_slope_rms", "spectrum_curvature_rms", "spectrum_area_ratio")
+
+
 def _analysis_json(an) -> str:
     st = an.statistics
-    stats = {k: _json_value(getattr(st, k)) for k in (
-        "h_rms", "slope_rms", "curvature_rms", "area_ratio", "skewness", "kurtosis",
-        "spectrum_h_rms", "spectrum_slope_rms", "spectrum_curvature_rms", "spectrum_area_ratio")}
+    stats = {k: _json_value(getattr(st, k)) for k in _STAT_KEYS + _SPECTRAL_KEYS}
+    stats["method"] = st.method
     doc: dict[str, Any] = {
         "units": {"h_rms": "m", "slope_rms": "1", "curvature_rms": "1/m", "area_ratio": "1", "skewness": "1",
-                  "kurtosis": "1", "q": "1/m", "C": "m^4"},
+                  "kurtosis": "1", "q": "1/m", "C": "m^4", "size": "m", "reliable_range": "1/m"},
         "statistics": stats,
-        "psd": {"q": an.spectrum.q.tolist(), "C": an.spectrum.C.tolist()},
-        "sources": [{"label": s.label, "statistics": {k: _json_value(getattr(s.statistics, k)) for k in (
-            "h_rms", "slope_rms", "curvature_rms", "area_ratio", "skewness", "kurtosis")},
+        "psd": ({"q": an.spectrum.q.tolist(), "C": an.spectrum.C.tolist()} if an.has_spectrum else None),
+        "sources": [{
+            "label": s.label,
+            "kind": "map" if hasattr(s.surface, "size") else "line scans",
+            "grid": list(np.shape(s.surface.heights)),
+            "size": _source_size(s.surface),
+            "periodic": bool(s.surface.periodic),
+            "reliable_range": list((s.spectrum or s.profile_spectrum).q_reliable),
+            "spectrum_problem": s.spectrum_problem,
+            "statistics": {**{k: _json_value(getattr(s.statistics, k)) for k in _STAT_KEYS + _SPECTRAL_KEYS},
+                           "method": s.statistics.method},
             "notes": list(s.notes)} for s in an.sources],
         "notes": list(an.notes),
     }
+    if not an.has_spectrum:
+        doc["psd_problem"] = an.spectrum_problem
     if an.fit is not None:
         f = an.fit
         doc["fit"] = {k: _json_value(getattr(f, k)) for k in (
             "hurst", "hurst_err", "q_rolloff", "q_rolloff_err", "rolloff_resolved", "C0", "C0_err",
-            "h_rms", "h_rms_err", "chi2_red")}
+            "h_rms", "h_rms_err", "chi2_red", "hurst_in_range", "hurst_wanted", "warning")}
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
@@ -136,15 +184,22 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     from ._io import atomic_write, check_outputs, write_text
     from .topography import analyze, plot_spectra
 
+    from .topography import cli_option_names
+
     check_outputs([p for p in (args.psd_out, args.plot, args.json) if p], args.force)
-    an = analyze(args.files, **unit_options(args), bins_per_decade=args.bins_per_decade)
+    with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments
+        an = analyze(args.files, **unit_options(args), **range_options(args))
     sys.stdout.write(_analysis_text(an))
-    if args.psd_out:
-        write_text(args.psd_out, _psd_csv(an.spectrum))
-        print(f"wrote {args.psd_out}", file=sys.stderr)
+    sys.stdout.flush()
     if args.json:
         write_text(args.json, _analysis_json(an))
         print(f"wrote {args.json}", file=sys.stderr)
+    if not an.has_spectrum and (args.psd_out or args.plot):
+        wanted = " and ".join(o for o, v in (("--psd-out", args.psd_out), ("--plot", args.plot)) if v)
+        raise SealeakError(f"{wanted}: no C(q) to write: {an.spectrum_problem}")
+    if args.psd_out:
+        write_text(args.psd_out, _psd_csv(an.spectrum))
+        print(f"wrote {args.psd_out}", file=sys.stderr)
     if args.plot:
         import matplotlib.pyplot as plt
 
@@ -170,14 +225,24 @@ def _spectrum_for_synthesis(args: argparse.Namespace):
 
 
 def _cmd_synthesize(args: argparse.Namespace) -> int:
-    from ._io import atomic_write, check_outputs
-    from .synthesis import synthesize
+    from ._io import check_outputs
+    from .numerics._memory import require_memory
+    from .synthesis import synthesis_memory_bytes, synthesize
+    from .topography import write_height_map
+    from .topography._writers import HEIGHT_MAP_SUFFIXES, height_map_outputs
     from .units import parse_quantity
 
     out = Path(args.output)
-    if out.suffix not in (".npy", ".txt", ".csv"):
-        raise InputError("--output", str(out), "must end in .npy, .txt or .csv")
-    check_outputs([out], args.force)
+    if out.suffix.lower() not in HEIGHT_MAP_SUFFIXES:
+        raise InputError("--output", str(out), f"must end in {', '.join(HEIGHT_MAP_SUFFIXES)}")
+    if args.grid < 4 or args.grid % 2:
+        raise InputError("--grid", args.grid, "must be an even number of points per side, >= 4")
+    if args.seed < 0:
+        raise InputError("--seed", args.seed, "must be a non-negative integer (0, 1, 2, ...)")
+    n = args.grid
+    # refuse before any work: the synthesis peak, then the map kept while the file is written
+    require_memory(synthesis_memory_bytes(n), f"--grid {n}: synthesizing a {n}x{n} map")
+    check_outputs(height_map_outputs(out), args.force)
     spectrum, width = _spectrum_for_synthesis(args)
     if args.size:
         size = parse_quantity("--size", args.size, "length")
@@ -187,22 +252,22 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
         raise InputError("--size", None, "is required with --psd (side of the square map, e.g. '5 mm')")
     if size <= 0:
         raise InputError("--size", args.size, "must be > 0")
-    q_nyquist = np.pi * args.grid / size
-    h = synthesize(spectrum, args.grid, size, seed=args.seed, amplitudes=args.amplitudes)
-    with atomic_write(out) as tmp:
-        if out.suffix == ".npy":
-            with open(tmp, "wb") as fh:
-                np.save(fh, h)
-        else:
-            header = (f"sealeak synthesized surface: {args.grid} x {args.grid} points, size {size:.10g} m x "
-                      f"{size:.10g} m, heights in m, periodic, seed {args.seed}")
-            np.savetxt(tmp, h, fmt="%.10e", header=header, delimiter=" " if out.suffix == ".txt" else ",")
-    print(f"wrote {out}: {args.grid} x {args.grid} heights (m), side {size:.6g} m, periodic; "
-          f"h_rms = {h.std() * 1e6:.4g} µm (spectrum: {spectrum.h_rms * 1e6:.4g} µm)", file=sys.stderr)
+    q_nyquist = np.pi * n / size
+    h = synthesize(spectrum, n, size, seed=args.seed, amplitudes=args.amplitudes)
+    source = f"--psd {Path(args.psd).name}" if args.psd else (f"--example {args.example}" if args.example
+                                                               else f"case {Path(args.case).name}")
+    written = write_height_map(out, h, (size, size), periodic=True, comments=[
+        f"synthesized by sealeak surface synthesize: C(q) of {source}, seed {args.seed}, {args.amplitudes} amplitudes"])
+    h_rms = float(np.linalg.norm(h.ravel())) / n  # the map has mean zero; no full-size temporary
+    also = f" (+ {written[1].name}: size and units)" if len(written) > 1 else ""
+    print(f"wrote {out}{also}: {n} x {n} heights (m), side {size:.6g} m, periodic; "
+          f"h_rms = {h_rms * 1e6:.4g} µm (spectrum: {spectrum.h_rms * 1e6:.4g} µm)", file=sys.stderr)
     if spectrum.q_max > q_nyquist:
         print(f"note: the grid resolves q up to {q_nyquist:.4g} 1/m; C(q) above that (to {spectrum.q_max:.4g} 1/m) "
               "is left out of the map", file=sys.stderr)
-    print(f"analyze it with: sealeak surface analyze {out} --size '{size:.6g} m' --height-unit m --periodic",
+    if out.suffix.lower() in (".txt", ".csv") and n * n * 25 > 512 * 2**20:
+        print("note: text maps larger than 512 MiB are refused by the reader; use .npz or .npy", file=sys.stderr)
+    print(f"analyze it with: sealeak surface analyze {out} (the file states its size, unit and periodicity)",
           file=sys.stderr)
     return 0
 
@@ -226,6 +291,13 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("files", nargs="+", metavar="FILE", help="height maps or line scans (instrument or text files)")
     _add_unit_args(p)
     p.add_argument("--bins-per-decade", type=float, default=10.0, help="log-spaced q bins per decade (default 10)")
+    p.add_argument("--low-cut", type=float, default=3.0, metavar="N",
+                   help="the reliable range starts at q = N·2π/L, L the shorter side (default 3)")
+    p.add_argument("--resolution", metavar="LEN",
+                   help="shortest reliable wavelength (lateral resolution of the instrument), e.g. '2 um'; "
+                        "default: what the file states (e.g. a stylus tip radius), if anything")
+    p.add_argument("--resolution-pixels", type=float, default=4.0, metavar="N",
+                   help="the reliable range never extends to wavelengths below N pixels (default 4; 2 = Nyquist)")
     p.add_argument("--psd-out", metavar="FILE.csv", help="write C(q) as a two-column table (q in 1/m, C in m^4)")
     p.add_argument("--plot", metavar="FILE.png", help="draw C(q) of each source and the stitched result")
     p.add_argument("--json", metavar="FILE", help="write statistics and C(q) as JSON")
@@ -240,5 +312,8 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0); the same seed gives the same map")
     p.add_argument("--amplitudes", choices=("gaussian", "phases"), default="gaussian",
                    help="Gaussian random amplitudes, or exact amplitudes with random phases")
-    p.add_argument("-o", "--output", required=True, help="output file: .npy, or .txt/.csv (matrix of heights in m)")
+    p.add_argument("-o", "--output", required=True,
+                   help="output file: .npz (heights and size), .npy (+ NAME.npy.json with the size) or .txt/.csv "
+                        "(one row per y, heights in m, size in the header); `surface analyze` reads each back "
+                        "without unit options")
     p.set_defaults(func=_cmd_synthesize)

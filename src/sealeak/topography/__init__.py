@@ -16,6 +16,10 @@ Typical use::
     result.fit               # SelfAffineFit (H, q_r, C0 with standard errors)
     plot_spectra(result, "spectra.png")
 
+Height maps are written with their size by :func:`write_height_map` (``.npz``, ``.npy`` with a
+``.npy.json`` sidecar, or text with ``# size:`` header lines), which :func:`read_topography`
+reads back without unit options.
+
 Pipeline pieces: :func:`read_topography` → :func:`prepare` → :func:`spectrum_2d` /
 :func:`spectrum_1d` (+ :func:`spectrum_2d_from_1d`) → :func:`stitch` → :func:`fit_self_affine`,
 and :func:`surface_statistics`.
@@ -38,7 +42,8 @@ from ._spectrum import (
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import plot_spectra, stitch
 from ._types import LineScans, Topography
-from ._units import length_unit_factor, parse_length
+from ._units import MissingUnitsError, cli_option_names, length_unit_factor, parse_length
+from ._writers import write_height_map
 
 __all__ = [
     "Topography",
@@ -66,4 +71,7 @@ __all__ = [
     "analyze",
     "length_unit_factor",
     "parse_length",
+    "write_height_map",
+    "MissingUnitsError",
+    "cli_option_names",
 ]

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Sequence, Union
+
+import numpy as np
 
 from ..errors import InputError, SealeakError
 from ..roughness import PowerSpectrum
@@ -23,14 +25,25 @@ Source = Union[str, Path, Topography, LineScans]
 
 @dataclass(frozen=True, eq=False)
 class SourceAnalysis:
-    """One measurement: its data, 2D binned spectrum, profile spectrum (line scans), statistics, notes."""
+    """One measurement: its data, 2D binned spectrum, profile spectrum (line scans), statistics, notes.
+
+    ``spectrum_problem`` says why, when the measurement is too small for a reliable C(q): then it
+    does not enter the combined C(q) (its height statistics are still given), and ``spectrum`` holds
+    its bins, none of them reliable (None for line scans that could not be converted to 2D).
+    """
 
     label: str
     surface: Topography | LineScans
-    spectrum: BinnedSpectrum  # 2D C(q), m⁴
+    spectrum: BinnedSpectrum | None  # 2D C(q), m⁴
     profile_spectrum: BinnedSpectrum | None  # 1D C1D(q), m³ (line scans only)
     statistics: SurfaceStatistics
     notes: tuple[str, ...]
+    spectrum_problem: str | None = None
+
+    @property
+    def name(self) -> str:
+        """The file name (without folder and channel) or the label."""
+        return Path(self.label.split(" [")[0]).name if self.label else self.label
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,26 +53,53 @@ class Analysis:
     Attributes
     ----------
     spectrum:
-        The combined C(q) (m⁴) over the reliable ranges of all sources, a PowerSpectrum.
+        The combined C(q) (m⁴) over the reliable ranges of all sources, a PowerSpectrum. Reading it
+        raises :class:`~sealeak.errors.InputError` (naming the files and the reason) when no source
+        gives a reliable C(q); ``has_spectrum`` tells beforehand.
     binned:
-        The same as raw binned data (mode counts per bin).
+        The same as raw binned data (mode counts per bin), or None.
     sources:
         Per-file results (:class:`SourceAnalysis`), in input order.
     statistics:
-        With one source, its statistics (heights and spectrum); with several, the values from the
-        combined C(q) only (per-source height statistics are in ``sources``).
+        With one source, its statistics (heights and spectrum). With several: h_rms, slope_rms,
+        curvature_rms and area_ratio from the combined C(q) (the heights of no single measurement
+        span its whole band), skewness and kurtosis from the measurement that reaches the longest
+        wavelengths (they carry the height distribution); ``statistics.method`` says so.
+        Each source's own height statistics are in ``sources``.
     fit:
         Self-affine fit to ``binned`` (None if not requested or impossible; see ``notes``).
     notes:
         What was done, source by source, then for the combination.
+    spectrum_problem:
+        Why there is no combined C(q), or None.
     """
 
-    spectrum: PowerSpectrum
-    binned: BinnedSpectrum
+    spectrum_or_none: PowerSpectrum | None
+    binned: BinnedSpectrum | None
     sources: tuple[SourceAnalysis, ...]
     statistics: SurfaceStatistics
     fit: SelfAffineFit | None
     notes: tuple[str, ...] = field(default=())
+    spectrum_problem: str | None = None
+
+    @property
+    def has_spectrum(self) -> bool:
+        return self.spectrum_or_none is not None
+
+    @property
+    def spectrum(self) -> PowerSpectrum:
+        if self.spectrum_or_none is None:
+            names = ", ".join(s.name for s in self.sources)
+            raise InputError("file" if len(self.sources) == 1 else "files", names,
+                             f"no reliable C(q): {self.spectrum_problem}")
+        return self.spectrum_or_none
+
+
+def _longest(source: SourceAnalysis) -> tuple[float, int]:
+    """Sort key: the measurement that reaches the longest wavelengths (its shorter side), then the most points."""
+    s = source.surface
+    side = min(s.size) if isinstance(s, Topography) else s.length
+    return (side, int(np.isfinite(s.heights).sum()))
 
 
 def analyze(
@@ -76,6 +116,7 @@ def analyze(
     bins_per_decade: float = 10.0,
     low_cut: float = 3.0,
     resolution_pixels: float = 4.0,
+    resolution: float | None = None,
     fit: bool = True,
 ) -> Analysis:
     """Analyze one or more measurements of a surface.
@@ -85,6 +126,11 @@ def analyze(
     (:func:`spectrum_2d`; line scans via :func:`spectrum_1d` and the inverse Abel transform for an
     isotropic surface), and its statistics computed. The reliable bins of all sources are stitched
     (:func:`stitch`) into one PowerSpectrum, to which the self-affine model is fitted.
+
+    Reliable range of each source: q from ``low_cut``·2π/L up to the shortest reliable wavelength,
+    the larger of ``resolution_pixels`` pixels and the lateral resolution: ``resolution`` (m) when
+    given, else what the file states (e.g. a stylus tip radius), else none. A source too small for
+    any reliable bin keeps its height statistics; its ``spectrum_problem`` says why.
     """
     items: list[Source] = [paths] if isinstance(paths, (str, Path, Topography, LineScans)) else list(paths)
     if not items:
@@ -96,35 +142,88 @@ def analyze(
         else:
             surface = read_topography(item, pixel_size=pixel_size, size=size, height_unit=height_unit,
                                       lateral_unit=lateral_unit, periodic=periodic, channel=channel)
+        label = surface.source or f"source {len(sources) + 1}"
         prepared = prepare(surface, detrend=detrend, window=window)
-        opts = dict(bins_per_decade=bins_per_decade, low_cut=low_cut, resolution_pixels=resolution_pixels)
+        opts = dict(bins_per_decade=bins_per_decade, low_cut=low_cut, resolution_pixels=resolution_pixels,
+                    resolution=resolution)
         profile = None
+        binned: BinnedSpectrum | None = None
+        problem: str | None = None
+        spec: PowerSpectrum | None = None
+        notes = list(surface.notes)
         if isinstance(surface, Topography):
             binned = spectrum_2d(prepared, **opts)
+            problem = binned.problem()
+            notes += binned.notes
         else:
             profile = spectrum_1d(prepared, **opts)
-            binned = spectrum_2d_from_1d(profile)
-        try:
-            spec: PowerSpectrum | None = binned.to_power_spectrum()
-        except InputError:
-            spec = None
+            notes += profile.notes
+            problem = profile.problem(need=3)
+            if problem is None:
+                binned = spectrum_2d_from_1d(profile)
+                notes = list(surface.notes) + list(binned.notes)
+                problem = binned.problem()
+        if problem is None and binned is not None:
+            spec = binned.to_power_spectrum()
+        else:
+            problem = f"{_describe(surface)}: {problem}"
         stats = surface_statistics(prepare(surface, detrend=detrend, window="none"), spec)
-        label = surface.source or f"source {len(sources) + 1}"
-        notes = tuple(surface.notes) + tuple(binned.notes)
-        sources.append(SourceAnalysis(label, surface, binned, profile, stats, notes))
-    combined = stitch([s.spectrum for s in sources], label="combined" if len(sources) > 1 else sources[0].label)
-    spectrum = combined.to_power_spectrum()
-    notes = [f"{Path(s.label.split(' [')[0]).name}: {n}" for s in sources for n in s.notes]
-    if len(sources) > 1:
-        notes += list(combined.notes)
-        statistics = SurfaceStatistics.from_spectrum(spectrum, method="from the combined C(q)")
+        raw = float(np.nanstd(surface.heights))
+        if stats.h_rms is not None and raw > 0 and stats.h_rms < 1e-9 * raw:
+            # nothing left after detrending but round-off: its distribution says nothing
+            notes.append(f"the detrended heights vanish to round-off (rms {stats.h_rms:.3g} m of {raw:.3g} m before): "
+                         "the measurement is a plane; skewness and kurtosis undefined")
+            stats = replace(stats, skewness=None, kurtosis=None)
+        sources.append(SourceAnalysis(label, surface, binned, profile, stats, tuple(notes), problem))
+
+    notes = [f"{s.name}: {n}" for s in sources for n in s.notes]
+    usable = [s for s in sources if s.spectrum_problem is None]
+    combined: BinnedSpectrum | None = None
+    spectrum: PowerSpectrum | None = None
+    problem = None
+    if usable:
+        combined = stitch([s.spectrum for s in usable],  # type: ignore[misc]
+                          label="combined" if len(sources) > 1 else sources[0].label)
+        spectrum = combined.to_power_spectrum()
+        if len(sources) > 1:
+            notes += list(combined.notes)
+            if len(usable) < len(sources):
+                notes.append("left out of C(q): " + ", ".join(s.name for s in sources if s.spectrum_problem))
     else:
+        problem = "; ".join(f"{s.name}: {s.spectrum_problem}" for s in sources)
+    if len(sources) == 1:
         statistics = sources[0].statistics
+    else:
+        statistics = _combined_statistics(sources, spectrum)
     fitted = None
-    if fit:
+    if fit and combined is not None:
         try:
             fitted = fit_self_affine(combined)
             notes.append(f"fitted {fitted!r}")
+            if fitted.warning:
+                notes.append(f"self-affine fit: {fitted.warning}")
         except SealeakError as exc:
             notes.append(f"self-affine fit not possible: {exc}")
-    return Analysis(spectrum, combined, tuple(sources), statistics, fitted, tuple(notes))
+    return Analysis(spectrum, combined, tuple(sources), statistics, fitted, tuple(notes), problem)
+
+
+def _describe(surface: Topography | LineScans) -> str:
+    if isinstance(surface, Topography):
+        nx, ny = surface.nb_grid_pts
+        return f"{nx}×{ny} map of {surface.size[0]:.4g} m × {surface.size[1]:.4g} m"
+    return f"{surface.nb_scans} profile(s) of {surface.nb_points} points over {surface.length:.4g} m"
+
+
+def _combined_statistics(sources: Sequence[SourceAnalysis], spectrum: PowerSpectrum | None) -> SurfaceStatistics:
+    """Statistics of the surface several measurements describe together (see :class:`Analysis`)."""
+    largest = max(sources, key=_longest)
+    own = largest.statistics
+    if spectrum is None:
+        return replace(own, method=f"no combined C(q): all values from the heights of {largest.name}, the "
+                                   f"measurement of the largest area ({own.method})")
+    return replace(
+        SurfaceStatistics.from_spectrum(spectrum), skewness=own.skewness, kurtosis=own.kurtosis,
+        method=(f"h_rms, slope_rms, curvature_rms and area_ratio from the combined C(q) over "
+                f"q = {spectrum.q_min:.4g}..{spectrum.q_max:.4g} 1/m; skewness and kurtosis from the heights of "
+                f"{largest.name}, the measurement that reaches the longest wavelengths"),
+    )

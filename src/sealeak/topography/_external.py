@@ -2,68 +2,178 @@
 
 SurfaceTopography (ContactEngineering, MIT licence) knows dozens of instrument formats; sealeak
 uses only its readers, never its spectra (which follow another convention, see THEORY.md §1).
-Its exceptions are turned into :class:`~sealeak.errors.FileFormatError` here, at the boundary.
+Its exceptions are turned into :class:`~sealeak.errors.FileFormatError` here, at the boundary, and
+its (and its dependencies') warnings and log output are kept from the user's terminal: a damaged
+file gives one clear message, not megabytes of a foreign library's debugging output.
+
+Format detection by content alone can mistake a damaged file for another format; SRTM ``.hgt``
+elevation tiles in particular are recognised by their size alone (2n² bytes), so that reader is
+accepted only for files named ``.hgt``. When detection fails, the reader the file's suffix names
+is asked directly, for its own explanation (e.g. "probably truncated").
 """
 
 from __future__ import annotations
 
+import logging
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 import numpy as np
 
 from ..errors import FileFormatError, InputError, UnitError
-from ._readers import INSTALL_HINT, Surface, ignored_notes, lateral_size, need_height_unit, resample_nonuniform
+from ._readers import INSTALL_HINT, Surface, ignored_notes, lateral_size, require_units, resample_nonuniform
 from ._types import LineScans, Topography
-from ._units import length_unit_factor
+from ._units import length_unit_factor, option_name
 
 __all__ = ["read_external"]
+
+# packages SurfaceTopography uses to read files; their loggers are silenced while it reads
+_FOREIGN_LOGGERS = ("SurfaceTopography", "igor2", "NuMPI", "muFFT", "netCDF4", "h5py", "PIL", "tifffile",
+                    "openpyxl", "xarray", "zarr")
+_CONTENT_ONLY_FORMATS = {"hgt": ".hgt"}  # readers that recognise a file by its size: only with their suffix
+
+
+@contextmanager
+def _quiet() -> Iterator[None]:
+    """Silence warnings and the log output of the foreign packages for the duration of a read."""
+    loggers = [logging.getLogger(name) for name in _FOREIGN_LOGGERS]
+    saved = [(lg.level, lg.disabled) for lg in loggers]
+    try:
+        for lg in loggers:
+            lg.setLevel(logging.CRITICAL + 1)
+            lg.disabled = True
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            yield
+    finally:
+        for lg, (level, disabled) in zip(loggers, saved):
+            lg.setLevel(level)
+            lg.disabled = disabled
+
+
+def _suffix_readers(path: Path) -> list[Any]:
+    try:
+        from SurfaceTopography.IO import readers
+    except ImportError:  # pragma: no cover - checked by the caller
+        return []
+    suffix = path.suffix.lower().lstrip(".")
+    out = []
+    for r in readers:
+        try:
+            if suffix and suffix in [e.lower() for e in r.file_extensions()]:
+                out.append(r)
+        except Exception:
+            continue
+    return out
+
+
+def _format_name(reader_class: Any) -> str:
+    try:
+        return str(reader_class.name())
+    except Exception:
+        return type(reader_class).__name__ if not isinstance(reader_class, type) else reader_class.__name__
+
+
+def _open(path: Path) -> Any:
+    """SurfaceTopography's reader for ``path`` or a FileFormatError with the most specific reason."""
+    from SurfaceTopography import open_topography
+
+    problem = None
+    with _quiet():
+        try:
+            reader = open_topography(str(path))
+        except Exception as exc:  # foreign library: many exception types for unknown or damaged files
+            reader, problem = None, _why(exc)
+        if reader is not None:
+            fmt = _reader_format(reader)
+            wanted = _CONTENT_ONLY_FORMATS.get(fmt)
+            if wanted is None or path.suffix.lower() == wanted:
+                return reader
+            _close(reader)
+            problem = f"its content matches only the {fmt!r} format, which needs the suffix {wanted}"
+        # ask the reader(s) the suffix names for their own explanation
+        reasons = []
+        for r in _suffix_readers(path):
+            if r.format() in _CONTENT_ONLY_FORMATS:
+                continue
+            try:
+                reader = open_topography(str(path), format=r.format())
+            except Exception as exc:
+                reasons.append(f"as {_format_name(r)}: {_why(exc, with_type=False)}")
+                continue
+            return reader
+    if reasons:
+        text = "; ".join(reasons)
+        hint = "" if any(w in text.lower() for w in ("truncated", "damaged", "corrupt")) else \
+            " (the file may be truncated or damaged)"
+        raise FileFormatError(path, f"cannot be read {text}{hint}")
+    raise FileFormatError(path, f"not a recognised topography file ({problem})")
+
+
+def _reader_format(reader: Any) -> str:
+    try:
+        return str(reader.format())
+    except Exception:
+        return type(reader).__name__
+
+
+def _close(reader: Any) -> None:
+    close = getattr(reader, "close", None)
+    if close is not None:
+        try:
+            close()
+        except Exception:
+            pass
 
 
 def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, lateral_unit: str | None,
                   periodic: bool, channel: int | str | None) -> Surface:
     try:
-        from SurfaceTopography import open_topography
+        with _quiet():  # its MPI layer warns on import when mpi4py is absent
+            import SurfaceTopography  # noqa: F401
     except ImportError:
         raise FileFormatError(path, f"reading this format needs SurfaceTopography: {INSTALL_HINT}") from None
+    reader = _open(path)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            reader = open_topography(str(path))
-    except Exception as exc:  # foreign library: many exception types for unknown or damaged files
-        raise FileFormatError(path, f"not a recognised topography file ({_why(exc)})") from None
+        return _read(path, reader, pixel_size=pixel_size, size=size, height_unit=height_unit,
+                     lateral_unit=lateral_unit, periodic=periodic, channel=channel)
+    finally:
+        _close(reader)
+
+
+def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: str | None, lateral_unit: str | None,
+          periodic: bool, channel: int | str | None) -> Surface:
     channels = list(reader.channels)
     if not channels:
-        raise FileFormatError(path, "the file holds no data channels")
+        raise FileFormatError(path, "the file holds no data channels (it may be truncated or damaged)")
     index = _channel_index(path, reader, channels, channel)
     ch = channels[index]
     notes = [f"read {path.name} with SurfaceTopography ({type(reader).__name__}), channel {index} {ch.name!r}"]
     unit = ch.unit
     if unit is not None and not isinstance(unit, str):
-        raise UnitError("channel", channel, f"{path}: channel {index} {ch.name!r} does not hold heights "
-                                            f"(unit {unit!r}); choose a height channel: {_list(channels)}")
+        raise UnitError(option_name("channel"), channel, f"{path}: channel {index} {ch.name!r} does not hold heights "
+                                                         f"(unit {unit!r}); choose a height channel: {_list(channels)}")
     file_sizes = ch.physical_sizes
+    is_profile = len(tuple(ch.nb_grid_pts)) == 1
+    # everything the user must give, in one message
+    require_units(path, height=unit is None and height_unit is None,
+                  size=file_sizes is None and pixel_size is None and size is None,
+                  lateral=file_sizes is not None and unit is None and lateral_unit is None,
+                  how=f" (read by SurfaceTopography as {_reader_name(reader)}{', a line scan' if is_profile else ''})")
     kwargs: dict[str, Any] = {"channel_index": index, "periodic": False}
     if file_sizes is None:
         kwargs["physical_sizes"] = tuple(float(n) for n in ch.nb_grid_pts)  # placeholder: replaced below
     if unit is None:
         kwargs["unit"] = "m"  # placeholder: SurfaceTopography wants one; the user's units are applied below
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with _quiet():
             topo = reader.topography(**kwargs)
-        heights = topo.heights()
-        positions = None if topo.is_uniform else topo.positions()
+            heights = topo.heights()
+            positions = None if topo.is_uniform else topo.positions()
     except Exception as exc:
         raise FileFormatError(path, f"channel {index} cannot be read ({_why(exc)})") from None
-    finally:
-        close = getattr(reader, "close", None)
-        if close is not None:
-            try:
-                close()
-            except Exception:
-                pass
     h = np.ma.filled(np.ma.asarray(heights, dtype=float), np.nan)
     if h.size == 0:
         raise FileFormatError(path, "channel holds no data points")
@@ -75,7 +185,7 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
         notes.append(f"{int(np.isnan(h).sum())} of {h.size} points undefined in the file")
 
     if unit is None:
-        hf = need_height_unit(path, height_unit, f" (read by SurfaceTopography as {_reader_name(reader)})")
+        hf = length_unit_factor(height_unit, option_name("height_unit"))  # type: ignore[arg-type]
         notes.append(f"heights in {height_unit} (given by the user; the file states no unit)")
     else:
         hf = length_unit_factor(unit, f"{path.name} unit")
@@ -86,10 +196,7 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
         notes.append("lateral size given by the user (the file states none)")
     else:
         if unit is None:
-            if lateral_unit is None:
-                raise UnitError("lateral_unit", None, f"{path} states its lateral size without a unit; "
-                                                      f"pass lateral_unit (e.g. lateral_unit='um')")
-            lf = length_unit_factor(lateral_unit, "lateral_unit")
+            lf = length_unit_factor(lateral_unit, option_name("lateral_unit"))  # type: ignore[arg-type]
         else:
             lf = hf
             notes += ignored_notes(pixel_size=pixel_size, size=size, lateral_unit=lateral_unit)
@@ -99,6 +206,7 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
     if isinstance(instrument, dict) and instrument.get("name"):
         notes.append(f"instrument: {instrument['name']}")
     source = f"{path} [channel {index}: {ch.name}]" if len(channels) > 1 else str(path)
+    resolution = _resolution(topo, hf if unit is not None else None, notes)  # ST states it in the file unit
     try:
         if h.ndim == 1:
             if positions is not None:
@@ -111,13 +219,49 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
                 h, length, note = resample_nonuniform(x, h)
                 if note:
                     notes.append(note)
-                return LineScans(h * hf, length * lf_x, periodic=periodic, source=source, notes=tuple(notes))
-            return LineScans(h * hf, sizes[0], periodic=periodic, source=source, notes=tuple(notes))
+                return LineScans(h * hf, length * lf_x, periodic=periodic, source=source, notes=tuple(notes),
+                                 resolution=resolution)
+            return LineScans(h * hf, sizes[0], periodic=periodic, source=source, notes=tuple(notes),
+                             resolution=resolution)
         if h.ndim != 2:
             raise FileFormatError(path, f"{h.ndim}D data; expected a map or a line scan")
-        return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=source, notes=tuple(notes))
+        return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=source, notes=tuple(notes),
+                          resolution=resolution)
     except InputError as exc:
         raise FileFormatError(path, str(exc)) from None
+
+
+def _resolution(topo: Any, lateral_factor: float | None, notes: list[str]) -> float | None:
+    """Shortest reliable wavelength (m) the file's instrument parameters give (tip radius, resolution)."""
+    if lateral_factor is None:
+        return None
+    try:
+        with _quiet():
+            cutoff = topo.short_reliability_cutoff()
+    except Exception as exc:
+        notes.append(f"the instrument's reliability cutoff could not be evaluated ({_why(exc)})")
+        return None
+    if cutoff is None:
+        return None
+    value = float(cutoff) * lateral_factor
+    if not (np.isfinite(value) and value > 0):
+        return None
+    params = {}
+    try:
+        params = (topo.info.get("instrument", {}) or {}).get("parameters", {}) or {}
+    except Exception:
+        pass
+    why = ("tip radius " + _quantity(params["tip_radius"]) if "tip_radius" in params
+           else "resolution " + _quantity(params["resolution"]) if "resolution" in params else "instrument")
+    notes.append(f"shortest reliable wavelength {value:.4g} m from the file's {why}")
+    return value
+
+
+def _quantity(d: Any) -> str:
+    try:
+        return f"{d['value']} {d['unit']}"
+    except Exception:
+        return str(d)
 
 
 def _channel_index(path: Path, reader: Any, channels: list, channel: int | str | None) -> int:
@@ -135,7 +279,7 @@ def _channel_index(path: Path, reader: Any, channels: list, channel: int | str |
                 return i
         if channel.isdigit() and int(channel) < len(channels):
             return int(channel)
-    raise InputError("channel", channel, f"{path} has channels {_list(channels)}")
+    raise InputError(option_name("channel"), channel, f"{path} has channels {_list(channels)}")
 
 
 def _reader_name(reader: Any) -> str:
@@ -147,6 +291,12 @@ def _list(channels: list) -> str:
     return ", ".join(f"{i}: {ch.name!r}" for i, ch in enumerate(channels))
 
 
-def _why(exc: Exception) -> str:
-    text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    return f"{type(exc).__name__}: {text[:200]}" if text else type(exc).__name__
+def _why(exc: Exception, with_type: bool = True) -> str:
+    lines = [ln.strip() for ln in str(exc).strip().splitlines() if ln.strip()]
+    text = lines[0] if lines else ""
+    if text.endswith(":") and len(lines) > 1:  # "tried XReader:" followed by the reason
+        text = f"{text} {lines[1]}"
+    text = "".join(c if c.isprintable() else "?" for c in text[:200])
+    if not with_type:
+        return text or type(exc).__name__
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__

@@ -12,10 +12,19 @@ come from the covariance (JᵀJ)⁻¹ scaled by the reduced χ² (as scipy's cur
 absolute_sigma=False does), so systematic misfit widens them. When no plateau is resolved
 (q_r at or below the lowest bin), the pure power law (H, C at the lowest bin) is fitted instead and
 q_r is reported as not resolved.
+
+H is restricted to the model's 0 <= H <= 1. When the data want a value outside (a spectrum
+steeper than q⁻⁴ or flatter than q⁻², by more than two standard errors), the fit stays at the
+bound, ``hurst_in_range`` is False, ``hurst_wanted`` holds the unconstrained value and ``warning``
+says so. A spectrum that shows no
+power-law decay at all over the fitted range (white noise, a flat C(q)) cannot determine H: that
+raises :class:`~sealeak.errors.InputError` with the reason. A roll-off that would reach the top of
+the range is clipped to it. No RuntimeWarning escapes: undefined standard errors are NaN.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,6 +64,12 @@ class SelfAffineFit:
         Covariance of (H, ln q_r, ln C0) (only the first and last for a pure power law).
     spectrum:
         The fitted model as a :class:`~sealeak.roughness.PowerSpectrum` over ``q_range``.
+    hurst_in_range:
+        False when the data want H outside 0 < H < 1 (then ``hurst`` is the bound, ``hurst_err`` NaN).
+    hurst_wanted:
+        The unconstrained best H (equal to ``hurst`` when in range).
+    warning:
+        A sentence for the user when the fit is questionable (H at a bound), else None.
     """
 
     hurst: float
@@ -70,6 +85,9 @@ class SelfAffineFit:
     chi2_red: float
     covariance: FloatArray
     spectrum: PowerSpectrum
+    hurst_in_range: bool = True
+    hurst_wanted: float = float("nan")
+    warning: str | None = None
 
     def __repr__(self) -> str:
         qr = (f"{self.q_rolloff:.4g} ± {self.q_rolloff_err:.2g} 1/m" if self.rolloff_resolved
@@ -83,7 +101,15 @@ def _model(p: FloatArray, lq: FloatArray) -> FloatArray:
     return lC0 - 2.0 * (1.0 + H) * np.maximum(lq - lqr, 0.0)
 
 
+def _sd(variance: float) -> float:
+    """√variance, NaN when the variance is undefined or negative (ill-conditioned covariance)."""
+    v = float(variance)
+    return float(np.sqrt(v)) if np.isfinite(v) and v >= 0 else float("nan")
+
+
 def _spectrum(H: float, qr: float, C0: float, q0: float, q1: float) -> PowerSpectrum:
+    if qr >= q1:  # roll-off at or beyond the top of the range: the plateau spans it (clipped)
+        return PowerSpectrum.from_arrays(np.array([q0, q1]), np.array([C0, C0]), label=f"self-affine fit, H = {H:.3f}")
     if qr > q0:
         nodes = np.array([q0, qr, q1])
         C = np.array([C0, C0, C0 * (q1 / qr) ** (-2.0 * (1.0 + H))])
@@ -122,54 +148,100 @@ def fit_self_affine(
         raise InputError("spectrum", f"{q.size} bins", "at least 4 bins in the fitted range")
     lq, lC = np.log(q), np.log(C)
 
-    # start: straight line through the upper half for H, plateau at the lowest bins
-    half = lq >= np.median(lq)
-    slope = np.polyfit(lq[half], lC[half], 1)[0]
-    H0 = float(np.clip(-slope / 2.0 - 1.0, 0.05, 0.95))
+    lo_q, hi_q = lq[0], lq[-1]
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")  # scipy's optimiser warnings are reflected in the result checks
+        # start: straight line through the upper half for H, plateau at the lowest bins
+        half = lq >= np.median(lq)
+        slope = np.polyfit(lq[half], lC[half], 1)[0]
+        H0 = float(np.clip(-slope / 2.0 - 1.0, 0.05, 0.95)) if np.isfinite(slope) else 0.5
+        return _fit(q, lq, lC, sigma, H0, lo_q, hi_q, rolloff)
 
+
+_H_LO, _H_HI = 0.0, 1.0
+_AT_BOUND = 1e-4
+_MIN_POWER_LAW_BINS = 3
+
+
+def _fit(q: FloatArray, lq: FloatArray, lC: FloatArray, sigma: FloatArray, H0: float, lo_q: float, hi_q: float,
+         rolloff: bool | None) -> SelfAffineFit:
     def residuals(p: FloatArray) -> FloatArray:
         return (lC - _model(p, lq)) / sigma
 
-    def fit(p0: FloatArray, lower: list[float], upper: list[float]):  # type: ignore[no-untyped-def]
-        res = least_squares(residuals, p0, bounds=(lower, upper), x_scale="jac", method="trf")
-        if not res.success:
+    def residuals_pl(p: FloatArray) -> FloatArray:
+        return (lC - (p[1] - 2.0 * (1.0 + p[0]) * (lq - lo_q))) / sigma
+
+    def solve(fun, p0: FloatArray, lower: list[float], upper: list[float]):  # type: ignore[no-untyped-def]
+        res = least_squares(fun, p0, bounds=(lower, upper), x_scale="jac", method="trf")
+        if not res.success or not np.all(np.isfinite(res.x)):
             raise ConvergenceError(f"self-affine fit did not converge: {res.message}")
         return res
 
-    lo_q, hi_q = lq[0], lq[-1]
-    try_rolloff = rolloff is not False
+    def power_law(h_lo: float, h_hi: float):  # type: ignore[no-untyped-def]
+        return solve(residuals_pl, np.array([float(np.clip(H0, h_lo + 0.05, h_hi - 0.05)), lC[0]]),
+                     [h_lo, lC.min() - 50.0], [h_hi, lC.max() + 50.0])
+
+    band = f"q = {q[0]:.4g}..{q[-1]:.4g} 1/m"
+    resolved = False
     res = None
-    if try_rolloff:
-        starts = [lo_q + f * (hi_q - lo_q) for f in (0.1, 0.3, 0.5)]
+    if rolloff is not False:
         best = None
-        for s in starts:
+        for f in (0.1, 0.3, 0.5):
+            s = lo_q + f * (hi_q - lo_q)
             p0 = np.array([H0, s, float(np.max(lC[lq <= s + 1e-12])) if (lq <= s).any() else lC[0]])
-            r = fit(p0, [-0.99, lo_q - 1.0, lC.min() - 20.0], [2.0, hi_q, lC.max() + 20.0])
+            r = solve(residuals, p0, [_H_LO, lo_q - 1.0, lC.min() - 20.0], [_H_HI, hi_q, lC.max() + 20.0])
             if best is None or r.cost < best.cost:
                 best = r
         res = best
         resolved = bool(res.x[1] > lo_q + 1e-6) or rolloff is True
-    if not try_rolloff or not resolved:
-        def residuals_pl(p: FloatArray) -> FloatArray:
-            return (lC - (p[1] - 2.0 * (1.0 + p[0]) * (lq - lo_q))) / sigma
-
-        res = least_squares(residuals_pl, np.array([H0, lC[0]]), x_scale="jac")
-        if not res.success:
-            raise ConvergenceError(f"power-law fit did not converge: {res.message}")
-        resolved = False
+        above = int(np.sum(lq > res.x[1] + 1e-9))
+        if resolved and above < _MIN_POWER_LAW_BINS:
+            # the best plateau reaches (nearly) the top of the range: no power law to determine H from
+            slope, slope_err = _loglog_slope(lq, lC, sigma)
+            raise InputError("spectrum", band,
+                             f"C(q) shows no power-law decay: the fitted plateau reaches q = {np.exp(res.x[1]):.4g} "
+                             f"1/m with {above} bin(s) above it (log-log slope over the range {slope:.2f} ± "
+                             f"{slope_err:.2f}; a self-affine surface has -2(1+H), between -2 and -4). H cannot be "
+                             f"determined: white noise or a measurement dominated by noise?")
+    if not resolved:
+        res = power_law(_H_LO, _H_HI)
         params = np.array([res.x[0], lo_q, res.x[1]])
-        J = res.jac
         idx = [0, 2]
     else:
-        params = res.x
-        J = res.jac
+        params = np.array(res.x)
         idx = [0, 1, 2]
+    H = float(params[0])
+    in_range, wanted, warning = True, H, None
+    if H <= _H_LO + _AT_BOUND or H >= _H_HI - _AT_BOUND:
+        free = power_law(-3.0, 5.0) if not resolved else solve(
+            residuals, params, [-3.0, lo_q - 1.0, lC.min() - 20.0], [5.0, hi_q, lC.max() + 20.0])
+        wanted = float(free.x[0])
+        sd = _h_sigma(free, q.size)
+        margin = max(2.0 * sd, _AT_BOUND) if np.isfinite(sd) else _AT_BOUND  # within 2σ: consistent with it
+        if not (_H_LO - margin < wanted < _H_HI + margin):
+            in_range = False
+            bound = _H_LO if H <= 0.5 else _H_HI
+            params[0] = bound  # held exactly at the bound
+            warning = (f"the data want H = {wanted:.2f} (C ∝ q^{-2 * (1 + wanted):.2f}), outside the self-affine "
+                       f"model's 0 < H < 1; the fit is held at H = {bound:g} and does not describe this C(q) "
+                       f"(check the detrending, the reliable range and the instrument's noise floor)")
+            tail = lq > params[1] + 1e-9 if resolved else np.ones(lq.size, dtype=bool)
+            slope, _ = _loglog_slope(lq[tail], lC[tail], sigma[tail])
+            if slope > -1.0:
+                where = f" above the roll-off {np.exp(params[1]):.4g} 1/m" if resolved else ""
+                raise InputError("spectrum", band,
+                                 f"C(q) hardly decreases{where} (log-log slope {slope:.2f}; a self-affine surface "
+                                 f"has -2(1+H), between -2 and -4): H cannot be determined: white noise or a "
+                                 f"measurement dominated by noise?")
+    J = res.jac
     dof = max(q.size - len(idx), 1)
     chi2_red = float(2.0 * res.cost / dof)
     try:
         cov_small = np.linalg.inv(J.T @ J) * max(chi2_red, 1e-300)
     except np.linalg.LinAlgError:
         cov_small = np.full((len(idx), len(idx)), np.nan)
+    if not in_range:  # a parameter held at its bound has no standard error; the others are conditional on it
+        cov_small[0, :] = cov_small[:, 0] = np.nan
     cov = np.full((3, 3), np.nan)
     cov[np.ix_(idx, idx)] = cov_small
     H, lqr, lC0 = (float(v) for v in params)
@@ -185,12 +257,35 @@ def fit_self_affine(
         step[i] = 1e-6 * max(1.0, abs(params[i]))
         grad[i] = (hrms(params + step) - hrms(params - step)) / (2.0 * step[i])
     g = grad[idx]
-    h_err = float(np.sqrt(max(g @ cov_small @ g, 0.0)))
+    ok = np.isfinite(cov_small).all(axis=0)
+    h_var = float(g[ok] @ cov_small[np.ix_(ok, ok)] @ g[ok]) if ok.any() else float("nan")
     return SelfAffineFit(
-        hurst=H, hurst_err=float(np.sqrt(cov[0, 0])),
-        q_rolloff=qr, q_rolloff_err=float(qr * np.sqrt(cov[1, 1])) if resolved else float("nan"),
+        hurst=H, hurst_err=_sd(cov[0, 0]),
+        q_rolloff=qr, q_rolloff_err=float(qr * _sd(cov[1, 1])) if resolved else float("nan"),
         rolloff_resolved=resolved,
-        C0=C0, C0_err=float(C0 * np.sqrt(cov[2, 2])),
-        h_rms=spec.h_rms, h_rms_err=h_err, q_range=(float(q[0]), float(q[-1])),
+        C0=C0, C0_err=float(C0 * _sd(cov[2, 2])),
+        h_rms=spec.h_rms, h_rms_err=_sd(h_var), q_range=(float(q[0]), float(q[-1])),
         chi2_red=chi2_red, covariance=cov, spectrum=spec,
+        hurst_in_range=in_range, hurst_wanted=wanted, warning=warning,
     )
+
+
+def _h_sigma(res, n: int) -> float:  # type: ignore[no-untyped-def]
+    """Standard error of H (first parameter) of a least-squares result, scaled by the reduced χ²."""
+    J = res.jac
+    chi2 = 2.0 * res.cost / max(n - J.shape[1], 1)
+    try:
+        return _sd(np.linalg.inv(J.T @ J)[0, 0] * chi2)
+    except np.linalg.LinAlgError:
+        return float("nan")
+
+
+def _loglog_slope(lq: FloatArray, lC: FloatArray, sigma: FloatArray) -> tuple[float, float]:
+    """Weighted straight-line slope of log C against log q, with its standard error."""
+    w = 1.0 / sigma**2
+    x0 = np.sum(w * lq) / np.sum(w)
+    sxx = np.sum(w * (lq - x0) ** 2)
+    slope = float(np.sum(w * (lq - x0) * lC) / sxx)
+    resid = lC - (np.sum(w * lC) / np.sum(w) + slope * (lq - x0))
+    chi2 = float(np.sum(w * resid**2) / max(lq.size - 2, 1))
+    return slope, _sd(max(chi2, 1.0) / sxx)

@@ -166,9 +166,11 @@ def prepare(surface: Surface, *, detrend: Detrend = "auto", window: Window = "au
         notes.append(f"filled {nmiss} undefined points ({100.0 * nmiss / h.size:.2g} %) by "
                      f"{'harmonic' if is_map else 'linear'} interpolation")
     if isinstance(surface, Topography):
-        prepared: Surface = Topography(h, surface.size, periodic=periodic, source=surface.source, notes=surface.notes)
+        prepared: Surface = Topography(h, surface.size, periodic=periodic, source=surface.source, notes=surface.notes,
+                                       resolution=surface.resolution)
     else:
-        prepared = LineScans(h, surface.length, periodic=periodic, source=surface.source, notes=surface.notes)
+        prepared = LineScans(h, surface.length, periodic=periodic, source=surface.source, notes=surface.notes,
+                             resolution=surface.resolution)
     if window == "hann":
         if is_map:
             w = np.outer(hann_window(h.shape[0]), hann_window(h.shape[1]))

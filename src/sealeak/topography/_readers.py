@@ -1,26 +1,33 @@
 """read_topography: instrument files (through SurfaceTopography) and plain formats (native).
 
-Native formats: plain numeric text (see :mod:`._text`) and NumPy ``.npy`` (a 2D height matrix
-[x, y] or a 1D profile). These carry no units: the caller must give them (``height_unit`` and the
-lateral scale: ``pixel_size`` or ``size`` for matrices and profiles, ``lateral_unit`` for x/y
-columns). Everything else goes to SurfaceTopography (optional extra ``sealeak[formats]``), which
-reads the physical size and unit from the file's metadata.
+Native formats: plain numeric text (see :mod:`._text`), NumPy ``.npy`` (a 2D height matrix [x, y]
+or a 1D profile) and ``.npz`` (array ``heights``, optionally ``size`` in m, ``height_unit``,
+``periodic``). Units and size come from the file where it states them: header comments of text
+files (``# size: 1 mm``, ``# height_unit: um``, see :mod:`._text`), the arrays of a ``.npz``, or a
+sidecar ``NAME.npy.json`` next to a ``.npy`` (``{"size": [sx, sy], "height_unit": "m",
+"periodic": true, "shape": [nx, ny]}``), as ``sealeak surface synthesize`` writes them.
+Otherwise the caller must give them (``height_unit`` and the lateral scale: ``pixel_size`` or
+``size`` for matrices and profiles, ``lateral_unit`` for x/y columns); one error names all that
+is missing. Everything else goes to SurfaceTopography (optional extra ``sealeak[formats]``),
+which reads the physical size and unit from the file's metadata.
 """
 
 from __future__ import annotations
 
+import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence, Union
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import FileFormatError, InputError, UnitError
+from ..errors import FileFormatError, InputError
 from ._text import NotPlainText, RawTable, looks_binary, parse_text
 from ._types import LineScans, Topography
-from ._units import length_unit_factor, parse_length
+from ._units import MissingUnitsError, length_unit_factor, option_name, parse_length
 
-__all__ = ["read_topography", "Surface", "LengthLike"]
+__all__ = ["read_topography", "Surface", "LengthLike", "sidecar_path"]
 
 Surface = Union[Topography, LineScans]
 LengthLike = Union[float, str]
@@ -44,8 +51,9 @@ def read_topography(
     Parameters
     ----------
     path:
-        The file. ``.npy`` and plain numeric text are read natively; instrument formats (Alicona,
-        Bruker/Veeco, Zygo, Sensofar, Digital Surf, x3p, Dektak csv, ...) through SurfaceTopography.
+        The file. ``.npy``, ``.npz`` and plain numeric text are read natively; instrument formats
+        (Alicona, Bruker/Veeco, Zygo, Sensofar, Digital Surf, x3p, Dektak csv, ...) through
+        SurfaceTopography.
     pixel_size, size:
         Lateral scale for files without one (matrix text, ``.npy``): pixel size or total size, a
         number in m or a string with unit (``"0.5 um"``), or a pair for (x, y). Give one, not both.
@@ -58,9 +66,12 @@ def read_topography(
     channel:
         Channel index or name for multi-channel instrument files (default: the file's default channel).
 
-    Values the file states itself win; a user value the file overrides is recorded in ``notes``.
-    Missing units are never guessed: a :class:`~sealeak.errors.UnitError` names the file and the
-    option to pass. Unreadable files raise :class:`~sealeak.errors.FileFormatError`.
+    Values the file states itself win (instrument metadata, text header lines, ``.npz`` arrays, a
+    ``.npy.json`` sidecar); a user value the file overrides is recorded in ``notes``. Missing units
+    are never guessed: one :class:`~sealeak.topography.MissingUnitsError` (a
+    :class:`~sealeak.errors.UnitError`) names the file and every option to pass (keyword arguments,
+    or command-line flags inside :func:`~sealeak.topography.cli_option_names`). Unreadable files
+    raise :class:`~sealeak.errors.FileFormatError`.
 
     Returns heights in m: a map h[x, y] with size (sx, sy), or line scans with their length. Profiles
     with non-uniform x are linearly interpolated onto a uniform grid of as many points (noted).
@@ -79,6 +90,8 @@ def read_topography(
         raise FileFormatError(p, "empty file (0 bytes)")
     if p.suffix.lower() == ".npy":
         return _read_npy(p, pixel_size=pixel_size, size=size, height_unit=height_unit, periodic=periodic)
+    if p.suffix.lower() == ".npz":
+        return _read_npz(p, pixel_size=pixel_size, size=size, height_unit=height_unit, periodic=periodic)
     if p.suffix.lower() in TEXT_SUFFIXES and not looks_binary(data):
         full = p.read_bytes()
         try:
@@ -121,35 +134,136 @@ def _pair(value: Any, field: str) -> tuple[float, float]:
     return (v, v)
 
 
-def need_height_unit(path: Path, height_unit: str | None, how: str = "") -> float:
-    if height_unit is None:
-        raise UnitError("height_unit", None, f"{path}{how} stores no height unit; pass height_unit "
-                                             f"(e.g. height_unit='um'; CLI: --height-unit um)")
-    return length_unit_factor(height_unit, "height_unit")
+def require_units(path: Path, *, height: bool = False, size: bool = False, lateral: bool = False,
+                  how: str = "") -> None:
+    """Raise one :class:`MissingUnitsError` naming every missing unit option (none missing: return)."""
+    missing, what = [], []
+    if height:
+        missing.append("height_unit")
+        what.append("height unit")
+    if lateral:
+        missing.append("lateral_unit")
+        what.append("unit of its x, y positions")
+    if size:
+        missing.append("size")
+        what.append("lateral size")
+    if missing:
+        raise MissingUnitsError(f"{path}{how}", missing, what)
 
 
 def lateral_size(path: Path, shape: tuple[int, ...], pixel_size: Any, size: Any) -> tuple[float, ...]:
     """Physical size (m) per axis from the user's ``pixel_size`` or ``size`` for a file without one."""
-    if pixel_size is None and size is None:
-        raise UnitError("size", None, f"{path} stores no lateral size; pass size (whole scan, e.g. "
-                                      f"size='100 um') or pixel_size (e.g. pixel_size='0.5 um')")
+    require_units(path, size=pixel_size is None and size is None)
     if pixel_size is not None and size is not None:
-        raise InputError("pixel_size/size", (pixel_size, size), "give one of pixel_size and size, not both")
+        raise InputError(f"{option_name('pixel_size')}/{option_name('size')}", (pixel_size, size),
+                         f"give one of {option_name('pixel_size')} and {option_name('size')}, not both")
     if len(shape) == 1:
         if isinstance(pixel_size if size is None else size, (list, tuple)):
-            raise InputError("size" if pixel_size is None else "pixel_size", pixel_size if size is None else size,
+            key = "size" if pixel_size is None else "pixel_size"
+            raise InputError(option_name(key), pixel_size if size is None else size,
                              f"{path} is a line scan: give one length")
         if size is not None:
-            return (parse_length(size, "size"),)
-        return (parse_length(pixel_size, "pixel_size") * shape[0],)
+            return (parse_length(size, option_name("size")),)
+        return (parse_length(pixel_size, option_name("pixel_size")) * shape[0],)
     if size is not None:
-        return _pair(size, "size")
-    dx, dy = _pair(pixel_size, "pixel_size")
+        return _pair(size, option_name("size"))
+    dx, dy = _pair(pixel_size, option_name("pixel_size"))
     return (dx * shape[0], dy * shape[1])
 
 
 def ignored_notes(**given: Any) -> list[str]:
-    return [f"{k}={v!r} ignored: the file states it" for k, v in given.items() if v is not None]
+    return [f"{option_name(k)} {v!r} ignored: the file states it" for k, v in given.items() if v is not None]
+
+
+# ---------------------------------------------------------------------------- units stated by native files
+@dataclass
+class _Stated:
+    """Units and size a native file states (header comments, .npz arrays, .npy sidecar)."""
+
+    origin: str = ""
+    size: Any = None
+    pixel_size: Any = None
+    height_unit: str | None = None
+    lateral_unit: str | None = None
+    periodic: bool | None = None
+
+
+def _lengths_text(value: str) -> Any:
+    parts = [v.strip() for v in value.split(",") if v.strip()]
+    if not 1 <= len(parts) <= 2:
+        raise ValueError("one length or two separated by a comma, e.g. '1 mm, 0.5 mm'")
+    return parts[0] if len(parts) == 1 else (parts[0], parts[1])
+
+
+def _bool_text(value: Any) -> bool:
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    text = str(value).strip().lower()
+    if text in ("true", "yes", "1"):
+        return True
+    if text in ("false", "no", "0"):
+        return False
+    raise ValueError("true or false")
+
+
+def _stated(path: Path, origin: str, items: dict[str, tuple[str, Any]]) -> _Stated:
+    """Validate stated values; ``items``: key -> (where, value). Problems name the file and where."""
+    out = _Stated(origin=origin)
+    for key, (where, value) in items.items():
+        try:
+            if key in ("size", "pixel_size"):
+                v = _lengths_text(value) if isinstance(value, str) else value
+                if isinstance(v, (list, tuple, np.ndarray)):
+                    v = tuple(np.asarray(v).ravel().tolist()) if not isinstance(v, tuple) else v
+                    if not 1 <= len(v) <= 2:
+                        raise ValueError("one length or two (x, y)")
+                    v = tuple(parse_length(x, key) for x in v)
+                    v = v[0] if len(v) == 1 else v
+                else:
+                    v = parse_length(v, key)
+                setattr(out, key, v)
+            elif key in ("height_unit", "lateral_unit"):
+                if not isinstance(value, str):
+                    raise ValueError("a unit name such as 'um'")
+                length_unit_factor(value, key)
+                setattr(out, key, value.strip())
+            elif key == "periodic":
+                out.periodic = _bool_text(value)
+        except (ValueError, InputError) as exc:
+            raise FileFormatError(path, f"{where}: {key} = {value!r} cannot be used ({exc})") from None
+    if out.size is not None and out.pixel_size is not None:
+        raise FileFormatError(path, f"{origin} states both size and pixel_size; keep one")
+    return out
+
+
+def _merge(stated: _Stated, *, pixel_size: Any, size: Any, height_unit: str | None, lateral_unit: str | None,
+           periodic: bool) -> tuple[Any, Any, str | None, str | None, bool, list[str]]:
+    """The user's options with what the file states taking precedence (noted)."""
+    notes: list[str] = []
+    said = [k for k in ("size", "pixel_size", "height_unit", "lateral_unit", "periodic")
+            if getattr(stated, k) is not None]
+    if said:
+        notes.append(f"{', '.join(said)} from {stated.origin}")
+    if stated.size is not None or stated.pixel_size is not None:
+        notes += ignored_notes(size=size, pixel_size=pixel_size)
+        size, pixel_size = stated.size, stated.pixel_size
+    if stated.height_unit is not None:
+        notes += ignored_notes(height_unit=height_unit)
+        height_unit = stated.height_unit
+    if stated.lateral_unit is not None:
+        notes += ignored_notes(lateral_unit=lateral_unit)
+        lateral_unit = stated.lateral_unit
+    if stated.periodic is not None:
+        if periodic and not stated.periodic:
+            notes.append(f"{option_name('periodic')} ignored: the file states the map is not periodic")
+        periodic = stated.periodic
+    return pixel_size, size, height_unit, lateral_unit, periodic, notes
+
+
+def sidecar_path(path: str | Path) -> Path:
+    """``map.npy`` -> ``map.npy.json``: the units and size of a ``.npy`` height map."""
+    p = Path(path)
+    return p.with_name(p.name + ".json")
 
 
 def resample_nonuniform(x: NDArray[np.float64], h: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, str | None]:
@@ -179,14 +293,18 @@ def resample_nonuniform(x: NDArray[np.float64], h: NDArray[np.float64]) -> tuple
 def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_unit: str | None,
               lateral_unit: str | None, periodic: bool) -> Surface:
     notes = [f"read {path.name} as plain text ({raw.kind} layout)"]
+    if raw.meta:
+        stated = _stated(path, "the file's header", {k: (f"line {n}", v) for k, (n, v) in raw.meta.items()})
+        pixel_size, size, height_unit, lateral_unit, periodic, more = _merge(
+            stated, pixel_size=pixel_size, size=size, height_unit=height_unit, lateral_unit=lateral_unit,
+            periodic=periodic)
+        notes += more
     if raw.kind in ("xh", "xyz"):
-        if lateral_unit is None:
-            raise UnitError("lateral_unit", None, f"{path} holds x{' y' if raw.kind == 'xyz' else ''} positions "
-                                                  f"without a unit; pass lateral_unit (e.g. lateral_unit='um')")
-        hf = need_height_unit(path, height_unit)
-        lf = length_unit_factor(lateral_unit, "lateral_unit")
-        notes += [f"x, y in {lateral_unit}, heights in {height_unit} (given by the user)"]
-        notes += [f"{k}={v!r} ignored: the positions give the lateral scale"
+        require_units(path, height=height_unit is None, lateral=lateral_unit is None)
+        hf = length_unit_factor(height_unit, option_name("height_unit"))  # type: ignore[arg-type]
+        lf = length_unit_factor(lateral_unit, option_name("lateral_unit"))  # type: ignore[arg-type]
+        notes += [f"x, y in {lateral_unit}, heights in {height_unit}"]
+        notes += [f"{option_name(k)} {v!r} ignored: the positions give the lateral scale"
                   for k, v in (("pixel_size", pixel_size), ("size", size)) if v is not None]
         if raw.kind == "xh":
             h, length, note = resample_nonuniform(raw.x, raw.heights)  # type: ignore[arg-type]
@@ -208,9 +326,10 @@ def _from_matrix(path: Path, h: NDArray[np.float64], notes: list[str], *, pixel_
         raise FileFormatError(path, "contains infinite heights")
     if np.isnan(h).all():
         raise FileFormatError(path, "all heights are undefined (NaN)")
-    hf = need_height_unit(path, height_unit)
+    require_units(path, height=height_unit is None, size=pixel_size is None and size is None)
+    hf = length_unit_factor(height_unit, option_name("height_unit"))  # type: ignore[arg-type]
     sizes = lateral_size(path, h.shape, pixel_size, size)
-    notes.append(f"heights in {height_unit}, size {' × '.join(f'{s:.6g}' for s in sizes)} m (given by the user)")
+    notes.append(f"heights in {height_unit}, size {' × '.join(f'{s:.6g}' for s in sizes)} m")
     try:
         if h.ndim == 1:
             return LineScans(h * hf, sizes[0], periodic=periodic, source=str(path), notes=tuple(notes))
@@ -219,13 +338,9 @@ def _from_matrix(path: Path, h: NDArray[np.float64], notes: list[str], *, pixel_
         raise FileFormatError(path, str(exc)) from None
 
 
-def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:
-    try:
-        a = np.load(path, allow_pickle=False)
-    except Exception as exc:  # numpy raises ValueError/OSError/EOFError/... for damaged files
-        raise FileFormatError(path, f"not a readable .npy file ({type(exc).__name__}: {exc})") from None
+def _check_array(path: Path, a: Any, what: str) -> NDArray[np.float64]:
     if not isinstance(a, np.ndarray) or a.dtype.kind not in "iuf":
-        raise FileFormatError(path, f".npy holds {getattr(a, 'dtype', type(a))}, not real numbers")
+        raise FileFormatError(path, f"{what} holds {getattr(a, 'dtype', type(a))}, not real numbers")
     a = np.asarray(a, dtype=float)
     if a.ndim == 1 and a.size < 4:
         raise FileFormatError(path, f"only {a.size} heights; a profile needs at least 4")
@@ -233,6 +348,63 @@ def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None
         raise FileFormatError(path, f"array of shape {a.shape}; a map needs at least 2×2 points")
     if a.ndim not in (1, 2):
         raise FileFormatError(path, f"array of shape {a.shape}; expected a 2D height map [x, y] or a 1D profile")
-    return _from_matrix(path, a, [f"read {path.name} as .npy array {a.shape}"], pixel_size=pixel_size, size=size,
-                        height_unit=height_unit, periodic=periodic)
+    return a
 
+
+def _read_sidecar(path: Path, shape: tuple[int, ...]) -> _Stated | None:
+    side = sidecar_path(path)
+    if not side.is_file():
+        return None
+    try:
+        doc = json.loads(side.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise FileFormatError(side, f"not a readable JSON description of {path.name} ({exc})") from None
+    if not isinstance(doc, dict):
+        raise FileFormatError(side, f"expected a JSON object describing {path.name}")
+    if "shape" in doc and list(doc["shape"]) != list(shape):
+        raise FileFormatError(side, f"describes a map of shape {doc['shape']} but {path.name} holds {list(shape)}; "
+                                    f"it belongs to another file: delete or fix it")
+    keys = ("size", "pixel_size", "height_unit", "periodic")
+    return _stated(side, side.name, {k: (side.name, doc[k]) for k in keys if k in doc})
+
+
+def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:
+    try:
+        a = np.load(path, allow_pickle=False)
+    except Exception as exc:  # numpy raises ValueError/OSError/EOFError/... for damaged files
+        raise FileFormatError(path, f"not a readable .npy file ({type(exc).__name__}: {exc})") from None
+    a = _check_array(path, a, ".npy")
+    notes = [f"read {path.name} as .npy array {a.shape}"]
+    stated = _read_sidecar(path, a.shape)
+    if stated is not None:
+        pixel_size, size, height_unit, _, periodic, more = _merge(
+            stated, pixel_size=pixel_size, size=size, height_unit=height_unit, lateral_unit=None, periodic=periodic)
+        notes += more
+    return _from_matrix(path, a, notes, pixel_size=pixel_size, size=size, height_unit=height_unit, periodic=periodic)
+
+
+def _read_npz(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+    except Exception as exc:  # zipfile.BadZipFile, ValueError, OSError, EOFError, ...
+        raise FileFormatError(path, f"not a readable .npz file ({type(exc).__name__}: {exc})") from None
+    if "heights" in arrays:
+        a = arrays["heights"]
+    elif len(arrays) == 1:
+        a = next(iter(arrays.values()))
+    else:
+        raise FileFormatError(path, f".npz holds arrays {sorted(arrays)}; the height map must be named 'heights'")
+    a = _check_array(path, a, ".npz array 'heights'")
+    items: dict[str, tuple[str, Any]] = {}
+    for key in ("size", "pixel_size", "height_unit", "periodic"):
+        if key in arrays:
+            v = arrays[key]
+            items[key] = (f"array {key!r}", v.item() if v.ndim == 0 else v)
+    notes = [f"read {path.name} as .npz array 'heights' {a.shape}"]
+    if items:
+        stated = _stated(path, f"the arrays of {path.name}", items)
+        pixel_size, size, height_unit, _, periodic, more = _merge(
+            stated, pixel_size=pixel_size, size=size, height_unit=height_unit, lateral_unit=None, periodic=periodic)
+        notes += more
+    return _from_matrix(path, a, notes, pixel_size=pixel_size, size=size, height_unit=height_unit, periodic=periodic)

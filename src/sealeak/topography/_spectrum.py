@@ -15,9 +15,12 @@ Each bin reports the number of Fourier modes it averages (± q counted separatel
 √(q_min q_max) over the modes it holds (the geometric bin centre for well-filled bins, which is
 where a steep power law takes its bin-average value to within a fraction of a percent).
 
-Reliable range: q ≥ low_cut · 2π/L (L the shorter side; the lowest bins hold few modes and, for
-non-periodic data, the window's leakage) and q ≤ 2π/(resolution_pixels · Δx) (finer detail is
-beyond the instrument's lateral resolution). Both are options.
+Reliable range (bins whose centre lies in it): q ≥ low_cut · 2π/L (L the shorter side; the lowest
+bins hold few modes and, for non-periodic data, the window's leakage) and
+q ≤ min(2π/(resolution_pixels · Δx), 2π/resolution): detail finer than a few pixels or than the
+instrument's lateral resolution is not reliable. ``resolution`` (shortest reliable wavelength, m)
+defaults to what the file states (:attr:`Topography.resolution`, e.g. the tip-radius limit of a
+stylus scan); all three are options.
 
 1D → 2D for isotropic surfaces (inverse Abel transform)::
 
@@ -43,6 +46,7 @@ from ..errors import InputError
 from ..roughness import PowerSpectrum
 from ._preprocess import Detrend, Prepared, Window, prepare
 from ._types import LineScans, Topography
+from ._units import option_name
 
 __all__ = [
     "BinnedSpectrum",
@@ -92,16 +96,34 @@ class BinnedSpectrum:
     label: str = ""
     notes: tuple[str, ...] = field(default=())
 
+    @property
+    def nb_reliable(self) -> int:
+        """Reliable bins with a positive, finite C."""
+        return int((self.reliable & (self.C > 0) & np.isfinite(self.C)).sum())
+
+    def problem(self, need: int = 2) -> str | None:
+        """Why fewer than ``need`` reliable bins are left (a sentence without the file name), or None."""
+        n = self.nb_reliable
+        if n >= need:
+            return None
+        lo, hi = self.q_reliable
+        if not lo < hi:
+            return (f"too small for a reliable C(q): its reliable range would start at q = {lo:.4g} 1/m "
+                    f"({option_name('low_cut')} times 2π/L) but ends at {hi:.4g} 1/m (the shortest reliable "
+                    f"wavelength); measure a larger area or with more points")
+        return (f"its C(q) has {n} bin(s) in the reliable range q = {lo:.4g}..{hi:.4g} 1/m, at least {need} are "
+                f"needed; measure a larger area or with more points, or relax {option_name('low_cut')} / "
+                f"{option_name('resolution_pixels')}")
+
     def to_power_spectrum(self, label: str | None = None) -> PowerSpectrum:
         """The reliable, positive bins as a :class:`~sealeak.roughness.PowerSpectrum` (2D only)."""
         if self.dim != 2:
             raise InputError("spectrum.dim", self.dim, "a 1D profile spectrum must be converted to 2D first "
                                                        "(spectrum_2d_from_1d)")
+        why = self.problem()
+        if why is not None:
+            raise InputError("spectrum", self.label or "the measurement", why)
         keep = self.reliable & (self.C > 0) & np.isfinite(self.C)
-        if keep.sum() < 2:
-            raise InputError(f"spectrum of {self.label or 'the measurement'}", f"{int(keep.sum())} reliable bins",
-                             "at least two reliable bins are needed; measure a larger area or "
-                             "relax low_cut / resolution_pixels")
         return PowerSpectrum.from_arrays(self.q[keep], self.C[keep], label=self.label if label is None else label)
 
 
@@ -129,14 +151,32 @@ def _bin(q: FloatArray, C: FloatArray, w: FloatArray, bins_per_decade: float
             10.0 ** (idx / bins_per_decade), 10.0 ** ((idx + 1) / bins_per_decade))
 
 
-def _check_options(bins_per_decade: float, low_cut: float, resolution_pixels: float) -> None:
+def _check_options(bins_per_decade: float, low_cut: float, resolution_pixels: float,
+                   resolution: float | None = None) -> None:
     if not (np.isfinite(bins_per_decade) and 1 <= bins_per_decade <= 200):
-        raise InputError("bins_per_decade", bins_per_decade, "a number between 1 and 200")
+        raise InputError(option_name("bins_per_decade"), bins_per_decade, "a number between 1 and 200")
     if not (np.isfinite(low_cut) and low_cut >= 1):
-        raise InputError("low_cut", low_cut, "a number >= 1 (the reliable range starts at low_cut · 2π/L)")
+        raise InputError(option_name("low_cut"), low_cut,
+                         "a number >= 1 (the reliable range starts at low_cut · 2π/L)")
     if not (np.isfinite(resolution_pixels) and resolution_pixels >= 2):
-        raise InputError("resolution_pixels", resolution_pixels,
+        raise InputError(option_name("resolution_pixels"), resolution_pixels,
                          "a number >= 2 (2 = Nyquist; the reliable range ends at 2π/(resolution_pixels · Δx))")
+    if resolution is not None and not (np.isfinite(resolution) and resolution > 0):
+        raise InputError(option_name("resolution"), resolution, "a length > 0 (the shortest reliable wavelength, m)")
+
+
+def _upper_limit(pixel: float, resolution_pixels: float, resolution: float | None, stated: float | None
+                 ) -> tuple[float, str]:
+    """Upper end of the reliable range (1/m) and a note on what sets it."""
+    q_pix = 2.0 * np.pi / (resolution_pixels * pixel)
+    res, origin = (resolution, "given") if resolution is not None else (stated, "stated by the file")
+    if res is None:
+        return q_pix, f"wavelengths >= {resolution_pixels:g} pixels"
+    q_res = 2.0 * np.pi / res
+    if q_res < q_pix:
+        return q_res, f"wavelengths >= the lateral resolution {res:.4g} m ({origin})"
+    return q_pix, (f"wavelengths >= {resolution_pixels:g} pixels, which is coarser than the lateral resolution "
+                   f"{res:.4g} m ({origin})")
 
 
 # ---------------------------------------------------------------------------- 2D
@@ -171,13 +211,15 @@ def spectrum_2d(
     bins_per_decade: float = 10.0,
     low_cut: float = 3.0,
     resolution_pixels: float = 4.0,
+    resolution: float | None = None,
 ) -> BinnedSpectrum:
     """Radially averaged 2D C(q) (m⁴) of a map in Persson's convention, in log bins.
 
     Modes up to the smaller Nyquist wavevector π·min(1/Δx, 1/Δy) are binned (complete annuli).
     ``topography`` may be already prepared (then ``detrend``/``window`` are ignored).
+    ``resolution``: shortest reliable wavelength in m (default: the map's own ``resolution``).
     """
-    _check_options(bins_per_decade, low_cut, resolution_pixels)
+    _check_options(bins_per_decade, low_cut, resolution_pixels, resolution)
     prepared = topography if isinstance(topography, Prepared) else prepare(topography, detrend=detrend, window=window)
     surf = prepared.surface
     if not isinstance(surf, Topography):
@@ -190,13 +232,13 @@ def spectrum_2d(
     if not use.any():
         raise InputError("topography", surf.nb_grid_pts, "too few points for a spectrum")
     qc, Cb, modes, lo, hi = _bin(q[use], C[use], weight[use], bins_per_decade)
-    q_rel = (low_cut * 2.0 * np.pi / min(surf.size), 2.0 * np.pi / (resolution_pixels * max(dx, dy)))
+    q_hi, why = _upper_limit(max(dx, dy), resolution_pixels, resolution, surf.resolution)
+    q_rel = (low_cut * 2.0 * np.pi / min(surf.size), q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
     notes = list(prepared.notes) + [
         f"2D spectrum: {surf.nb_grid_pts[0]}×{surf.nb_grid_pts[1]} map, radial average in "
         f"{bins_per_decade:g} bins per decade up to the Nyquist wavevector {q_nyq:.4g} 1/m",
-        f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, "
-        f"wavelengths >= {resolution_pixels:g} pixels)",
+        f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
     return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 2, label=surf.source, notes=tuple(notes))
 
@@ -210,9 +252,13 @@ def spectrum_1d(
     bins_per_decade: float = 10.0,
     low_cut: float = 3.0,
     resolution_pixels: float = 4.0,
+    resolution: float | None = None,
 ) -> BinnedSpectrum:
-    """Profile spectrum C1D(q) (m³), averaged over all profiles, in log bins (h_rms² = 2∫C1D dq)."""
-    _check_options(bins_per_decade, low_cut, resolution_pixels)
+    """Profile spectrum C1D(q) (m³), averaged over all profiles, in log bins (h_rms² = 2∫C1D dq).
+
+    ``resolution``: shortest reliable wavelength in m (default: the scans' own ``resolution``).
+    """
+    _check_options(bins_per_decade, low_cut, resolution_pixels, resolution)
     prepared = scans if isinstance(scans, Prepared) else prepare(scans, detrend=detrend, window=window)
     surf = prepared.surface
     if not isinstance(surf, LineScans):
@@ -225,12 +271,12 @@ def spectrum_1d(
     if n % 2 == 0:
         weight[-1] = surf.nb_scans
     qc, Cb, modes, lo, hi = _bin(q[1:], C[1:], weight[1:], bins_per_decade)
-    q_rel = (low_cut * 2.0 * np.pi / L, 2.0 * np.pi / (resolution_pixels * surf.pixel_size))
+    q_hi, why = _upper_limit(surf.pixel_size, resolution_pixels, resolution, surf.resolution)
+    q_rel = (low_cut * 2.0 * np.pi / L, q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
     notes = list(prepared.notes) + [
         f"1D spectrum: {surf.nb_scans} profile(s) of {n} points, averaged, {bins_per_decade:g} bins per decade",
-        f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, "
-        f"wavelengths >= {resolution_pixels:g} pixels)",
+        f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
     return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 1, label=surf.source, notes=tuple(notes))
 
@@ -345,9 +391,9 @@ def spectrum_2d_from_1d(binned: BinnedSpectrum, *, tail: Literal["power-law", "n
     if binned.dim != 1:
         raise InputError("spectrum.dim", binned.dim, "a 1D profile spectrum")
     keep = binned.reliable & (binned.C > 0)
-    if keep.sum() < 3:
-        raise InputError(f"profile spectrum of {binned.label or 'the scan'}", f"{int(keep.sum())} reliable bins",
-                         "at least three reliable bins are needed for the 1D → 2D conversion")
+    why = binned.problem(need=3)
+    if why is not None:
+        raise InputError("profile spectrum", binned.label or "the scan", f"{why} (for the 1D → 2D conversion)")
     q, c = binned.q[keep], binned.C[keep]
     try:
         C2 = abel_inverse(q, c, tail=tail)

@@ -52,7 +52,9 @@ def stitch(spectra: Sequence[BinnedSpectrum], *, label: str = "stitched") -> Bin
         n.append(np.maximum(b.modes[keep], 1).astype(float))
     k = np.concatenate(keys)
     if k.size < 2:
-        raise InputError("spectra", f"{k.size} reliable bins", "at least two reliable bins in all")
+        names = ", ".join(Path(b.label.split(" [")[0]).name or "unnamed" for b in spectra)
+        raise InputError("spectra", names, f"{k.size} reliable bin(s) in all, at least two are needed "
+                                           f"(each measurement: {', '.join(str(b.nb_reliable) for b in spectra)})")
     lc, lq, w = np.concatenate(logC), np.concatenate(logq), np.concatenate(n)
     uk, inv = np.unique(k, return_inverse=True)
     wsum = np.bincount(inv, weights=w)
@@ -69,38 +71,58 @@ def stitch(spectra: Sequence[BinnedSpectrum], *, label: str = "stitched") -> Bin
                           (float(q[0]), float(q[-1])), 2, label=label, notes=tuple(notes))
 
 
+def _wavelength_um(x):  # type: ignore[no-untyped-def]
+    """q (1/m) <-> wavelength (µm): λ = 2π/q (its own inverse up to the unit factor)."""
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore"):
+        return np.where(x > 0, 2.0 * np.pi * 1e6 / np.where(x > 0, x, 1.0), np.inf)
+
+
 def plot_spectra(analysis: "Analysis | Sequence[BinnedSpectrum]", path: str | Path | None = None,
                  *, title: str | None = None) -> "Figure":
-    """Log-log figure of each source's binned C(q) (reliable bins filled, others faint), the stitched
-    result and the fitted model, axes "q (1/m)" and "C(q) (m⁴)". Saved to ``path`` when given.
+    """Log-log figure of each source's binned C(q) (reliable bins filled, others faint, with a legend
+    entry), the stitched result and the fitted model; axes "wavevector q (1/m)" and "power spectrum
+    C(q) (m⁴)", wavelength (µm) on the top axis. Saved to ``path`` when given.
     """
     from matplotlib.figure import Figure
 
     from ._analysis import Analysis
 
     if isinstance(analysis, Analysis):
-        sources = [s.spectrum for s in analysis.sources]
-        result = analysis.spectrum
+        sources = [s.spectrum for s in analysis.sources if s.spectrum is not None]
+        result = analysis.spectrum_or_none
         fit = analysis.fit
+        several = len(analysis.sources) > 1
     else:
         sources, result, fit = list(analysis), None, None
+        several = len(sources) > 1
+    if not sources:
+        raise InputError("spectra", [], "nothing to plot: no measurement gives a C(q)")
     fig = Figure(figsize=(6.4, 4.8), layout="constrained")
     ax = fig.add_subplot()
+    any_unreliable = False
     for i, b in enumerate(sources):
         color = f"C{i % 10}"
         name = Path(b.label.split(" [")[0]).name if b.label else f"source {i + 1}"
         rel = b.reliable
         ax.loglog(b.q[rel], b.C[rel], "o", ms=3.5, color=color, label=name)
         if (~rel).any():
-            ax.loglog(b.q[~rel], b.C[~rel], "o", ms=3, color=color, alpha=0.25, mfc="none")
+            any_unreliable = True
+            ax.loglog(b.q[~rel], b.C[~rel], "o", ms=3, color=color, alpha=0.35, mfc="none")
+    if any_unreliable:  # one legend entry for the faint points of every source
+        ax.plot([], [], "o", ms=3, color="0.35", alpha=0.6, mfc="none",
+                label="outside the reliable range (not used)")
     if result is not None:
         qs, Cs = result.sample(400)
-        ax.loglog(qs, Cs, "-", color="k", lw=1.5, label="combined")
+        ax.loglog(qs, Cs, "-", color="k", lw=1.5, label="combined C(q)" if several else "C(q), reliable range")
     if fit is not None:
         qs, Cs = fit.spectrum.sample(200)
-        ax.loglog(qs, Cs, "--", color="0.4", lw=1.2, label=f"self-affine fit, H = {fit.hurst:.2f}")
-    ax.set_xlabel("q (1/m)")
-    ax.set_ylabel("C(q) (m⁴)")
+        flag = "" if fit.hurst_in_range else " (H at its bound)"
+        ax.loglog(qs, Cs, "--", color="0.4", lw=1.2, label=f"self-affine fit, H = {fit.hurst:.2f}{flag}")
+    ax.set_xlabel("wavevector q (1/m)")
+    ax.set_ylabel("power spectrum C(q) (m⁴)")
+    top = ax.secondary_xaxis("top", functions=(_wavelength_um, _wavelength_um))
+    top.set_xlabel("wavelength 2π/q (µm)")
     if title:
         ax.set_title(title)
     ax.grid(True, which="major", alpha=0.3)

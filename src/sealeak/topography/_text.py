@@ -9,6 +9,11 @@ separators: whitespace, ``,`` or ``;``):
 * 4 or more columns: a matrix of heights, file row = y, column = x (SurfaceTopography's layout:
   the map is the transpose of the file's table).
 
+Comment lines of the form ``# key: value`` (or ``key = value``) state units and size; the reader
+understands ``size`` (``# size: 1 mm, 0.5 mm``; one length for a square map), ``pixel_size``,
+``height_unit``, ``lateral_unit`` and ``periodic`` (true/false). ``sealeak surface synthesize``
+writes them, and users may add them to their own files instead of passing the options.
+
 This module only parses; units are applied by :mod:`._readers`. Every failure is a
 :class:`~sealeak.errors.FileFormatError` naming the file and the line.
 """
@@ -16,7 +21,7 @@ This module only parses; units are applied by :mod:`._readers`. Every failure is
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +36,8 @@ class NotPlainText(FileFormatError):
     """The file has non-numeric lines: maybe an instrument export (tried next with SurfaceTopography)."""
 
 _SPLIT = re.compile(r"[,;\s]+")
+_HEADER = re.compile(r"^(?:#|%|//)\s*(size|pixel[ _]size|height[ _]unit|lateral[ _]unit|periodic)\s*[:=]\s*(.*?)\s*$",
+                     re.IGNORECASE)
 _COMMENT = ("#", "%", "//")
 MAX_TEXT_BYTES = 512 * 2**20
 
@@ -43,6 +50,7 @@ class RawTable:
     heights: NDArray[np.float64]  # matrix: [x, y]; xyz: [x, y]; xh/h: 1D
     x: NDArray[np.float64] | None = None  # xh: positions; xyz: unique x
     y: NDArray[np.float64] | None = None  # xyz: unique y
+    meta: dict[str, tuple[int, str]] = field(default_factory=dict)  # header key -> (line number, value)
 
 
 def looks_binary(data: bytes) -> bool:
@@ -64,13 +72,20 @@ def _decode(path: Path, data: bytes) -> str:
         return data.decode("latin-1")
 
 
-def _table(path: Path, text: str) -> NDArray[np.float64]:
+def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None) -> NDArray[np.float64]:
     rows: list[list[float]] = []
     width = None
     first_line = 0
     for lineno, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
         if not stripped or stripped.startswith(_COMMENT):
+            m = _HEADER.match(stripped) if meta is not None else None
+            if m:
+                key = m.group(1).lower().replace(" ", "_")
+                if key in meta:
+                    raise FileFormatError(path, f"line {lineno}: header {key!r} given twice (first on line "
+                                                f"{meta[key][0]})")
+                meta[key] = (lineno, m.group(2))
             continue
         tokens = [t for t in _SPLIT.split(stripped) if t]
         if not tokens:
@@ -109,7 +124,12 @@ def parse_text(path: Path, data: bytes) -> RawTable:
     if len(data) > MAX_TEXT_BYTES:
         raise FileFormatError(path, f"text file of {len(data) / 2**20:.0f} MiB is larger than the "
                                     f"{MAX_TEXT_BYTES / 2**20:.0f} MiB the text reader accepts; save it as .npy")
-    table = _table(path, _decode(path, data))
+    meta: dict[str, tuple[int, str]] = {}
+    table = _table(path, _decode(path, data), meta)
+    return replace(_layout(path, table), meta=meta)
+
+
+def _layout(path: Path, table: NDArray[np.float64]) -> RawTable:
     nrows, ncols = table.shape
     if ncols == 1 or nrows == 1:
         h = table.ravel()

@@ -20,6 +20,15 @@ def _freeze(a: FloatArray) -> FloatArray:
     return a
 
 
+def _resolution(value: float | None, name: str) -> float | None:
+    if value is None:
+        return None
+    v = float(value)
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(name, value, "a finite length > 0 (m), or None")
+    return v
+
+
 @dataclass(frozen=True, eq=False)
 class Topography:
     """A 2D height map on a uniform grid.
@@ -38,6 +47,10 @@ class Topography:
         Where the data came from (file path and channel, or free text).
     notes:
         What was done on reading (unit conversions, interpolation), in order.
+    resolution:
+        Shortest reliable wavelength in m stated by the instrument file (lateral resolution, or the
+        tip-radius limit of a stylus/AFM scan), or None. The reliable range of the spectrum ends at
+        q = 2π/resolution (or earlier, at the pixel limit).
     """
 
     heights: FloatArray
@@ -45,6 +58,7 @@ class Topography:
     periodic: bool = False
     source: str = ""
     notes: tuple[str, ...] = field(default=())
+    resolution: float | None = None
 
     def __post_init__(self) -> None:
         h = _freeze(self.heights)
@@ -61,6 +75,7 @@ class Topography:
         object.__setattr__(self, "heights", h)
         object.__setattr__(self, "size", (sx, sy))
         object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "resolution", _resolution(self.resolution, "topography.resolution"))
 
     @property
     def nb_grid_pts(self) -> tuple[int, int]:
@@ -93,7 +108,7 @@ class LineScans:
         h[k, i] in m for scan k at x_i = i·length/n. NaN marks missing points.
     length:
         Physical length in m (= n × pixel size).
-    periodic, source, notes:
+    periodic, source, notes, resolution:
         As for :class:`Topography`.
 
     Non-uniformly sampled profiles are interpolated onto a uniform grid on reading (and a note says so).
@@ -104,6 +119,7 @@ class LineScans:
     periodic: bool = False
     source: str = ""
     notes: tuple[str, ...] = field(default=())
+    resolution: float | None = None
 
     def __post_init__(self) -> None:
         h = _freeze(self.heights)
@@ -121,6 +137,7 @@ class LineScans:
         object.__setattr__(self, "heights", h)
         object.__setattr__(self, "length", length)
         object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "resolution", _resolution(self.resolution, "line_scans.resolution"))
 
     @classmethod
     def from_topography(cls, topography: Topography, axis: int = 0) -> "LineScans":
@@ -130,7 +147,7 @@ class LineScans:
         h = topography.heights.T if axis == 0 else topography.heights
         return cls(h, topography.size[axis], periodic=topography.periodic,
                    source=f"{topography.source} ({'x' if axis == 0 else 'y'} profiles)",
-                   notes=topography.notes)
+                   notes=topography.notes, resolution=topography.resolution)
 
     @property
     def nb_points(self) -> int:

@@ -6,14 +6,17 @@ Inside sealeak every length is a float in metres; this module turns user or file
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+from contextvars import ContextVar
 from functools import lru_cache
-from typing import Any
+from typing import Any, Iterator
 
 import numpy as np
 
 from ..errors import UnitError
 
-__all__ = ["length_unit_factor", "parse_length"]
+__all__ = ["length_unit_factor", "parse_length", "cli_option_names", "option_name", "option_example",
+           "MissingUnitsError"]
 
 
 def _registry() -> Any:
@@ -68,3 +71,74 @@ def parse_length(value: Any, field: str) -> float:
     if not np.isfinite(v) or v <= 0:
         raise UnitError(field, value, "a positive length like '0.5 um' or a number in m")
     return v
+
+
+# ---------------------------------------------------------------------------- option names in messages
+# Messages name the option the user can act on: the keyword argument of the Python API by default,
+# the command-line flag inside ``with cli_option_names():`` (set by sealeak's CLI around its calls).
+_CLI_FLAGS = {
+    "size": "--size",
+    "pixel_size": "--pixel-size",
+    "height_unit": "--height-unit",
+    "lateral_unit": "--lateral-unit",
+    "periodic": "--periodic",
+    "channel": "--channel",
+    "bins_per_decade": "--bins-per-decade",
+    "low_cut": "--low-cut",
+    "resolution": "--resolution",
+    "resolution_pixels": "--resolution-pixels",
+}
+_STYLE: ContextVar[str] = ContextVar("sealeak_topography_option_style", default="api")
+
+
+@contextmanager
+def cli_option_names() -> Iterator[None]:
+    """Within this block, messages name command-line flags (``--height-unit um``) instead of keyword
+    arguments (``height_unit='um'``)."""
+    token = _STYLE.set("cli")
+    try:
+        yield
+    finally:
+        _STYLE.reset(token)
+
+
+def option_name(name: str) -> str:
+    """``"height_unit"`` or, inside :func:`cli_option_names`, ``"--height-unit"``."""
+    return _CLI_FLAGS.get(name, name) if _STYLE.get() == "cli" else name
+
+
+def option_example(name: str, value: str) -> str:
+    """``height_unit='um'`` or, on the command line, ``--height-unit um`` (quoted when it has a space)."""
+    if _STYLE.get() == "cli":
+        shown = f"'{value}'" if " " in value else value
+        return f"{_CLI_FLAGS.get(name, name)} {shown}"
+    return f"{name}={value!r}"
+
+
+class MissingUnitsError(UnitError):
+    """A file lacks units the user must give; one message names every missing option.
+
+    ``missing`` lists the API names (``"height_unit"``, ``"size"`` (or ``pixel_size``),
+    ``"lateral_unit"``); ``field`` is the first of them.
+    """
+
+    def __init__(self, path: Any, missing: list[str], what: list[str]) -> None:
+        hints = []
+        for key in missing:
+            if key == "height_unit":
+                hints.append(f"{option_name('height_unit')} (e.g. {option_example('height_unit', 'um')})")
+            elif key == "size":
+                pair = ("--size '1 mm, 0.5 mm'" if _STYLE.get() == "cli" else "size=('1 mm', '0.5 mm')")
+                hints.append(f"{option_name('size')} (whole map, e.g. {option_example('size', '100 um')}, or "
+                             f"{pair} for x and y) or "
+                             f"{option_name('pixel_size')} (e.g. {option_example('pixel_size', '0.5 um')})")
+            elif key == "lateral_unit":
+                hints.append(f"{option_name('lateral_unit')} (unit of the x, y columns, "
+                             f"e.g. {option_example('lateral_unit', 'um')})")
+            else:  # pragma: no cover - programming error
+                raise ValueError(key)
+        super().__init__(missing[0], None, "")
+        self.path = str(path)
+        self.missing = tuple(missing)
+        text = what[0] if len(what) == 1 else ", no ".join(what[:-1]) + " and no " + what[-1]
+        self.args = (f"{path} states no {text}; pass {'; and '.join(hints)}",)
