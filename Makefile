@@ -5,7 +5,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.sealeak-installed
 EXTRAS ?= test,formats
 
-.PHONY: demo test install bench clean
+.PHONY: demo test install bench bench-peers clean
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -25,6 +25,11 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	@for f in benchmarks/bench_*.py; do echo "== $$f"; $(PY) $$f || exit 1; done
+
+# the contact benchmark against tamaas and ContactMechanics (the optional `bench` extra)
+bench-peers: $(STAMP)
+	$(PY) -m pip install --quiet -e '.[$(EXTRAS),bench]'
+	$(PY) benchmarks/bench_peers.py 256 512 1024
 
 clean:
 	rm -rf $(VENV) out build src/*.egg-info .pytest_cache

@@ -32,17 +32,14 @@ ContactMechanics pentol = 1e-8 h_rms (rms and max penetration), forcetol = 1e-8 
 tensile pixel force) and thermotol = 1e-8. The peers get at most 20000 iterations. Threads: each
 code's default (sealeak's scipy.fft uses all cores; the tamaas and muGrid wheels run on one).
 
-The peers are not in sealeak's extras (tamaas is AGPL-3.0; ContactMechanics brings some 40 packages);
-install them in a separate virtual environment together with sealeak's runtime dependencies and
-run this script with that environment's Python (sealeak itself is imported from ../src):
+The peers are sealeak's optional `bench` extra (tamaas is AGPL-3.0 and ContactMechanics brings its
+own dependencies, so they are never installed by default): `make bench-peers` installs the extra
+into .venv and runs this script at 256², 512² and 1024²; by hand:
 
-    python3 -m venv .venv-peers
-    .venv-peers/bin/pip install numpy scipy tamaas==2.9.0 ContactMechanics==1.8.3
-    .venv-peers/bin/pip install "pint>=0.23" "tqdm>=4.66" "pyamg>=5.1"
-    .venv-peers/bin/python benchmarks/bench_peers.py 256
+    .venv/bin/pip install -e '.[bench]'
+    .venv/bin/python benchmarks/bench_peers.py 1024
 
-(matplotlib comes with SurfaceTopography, a ContactMechanics dependency.) With sealeak's own
-environment the peers are reported as skipped and only the sealeak rows are printed.
+Without them the peers are reported as skipped and only the sealeak rows are printed.
 """
 
 from __future__ import annotations

@@ -173,8 +173,9 @@ def _assemble(cx: FloatArray, cy: FloatArray, sf: FloatArray, fluid: NDArray[np.
     """
     n0, n1 = fluid.shape
     m = int(np.count_nonzero(fluid))
-    idx = np.full(fluid.shape, -1, dtype=np.int64)
-    idx[fluid] = np.arange(m, dtype=np.int64)
+    itype = np.int32 if 5 * m < np.iinfo(np.int32).max else np.int64  # what scipy would convert to
+    idx = np.full(fluid.shape, -1, dtype=itype)
+    idx[fluid] = np.arange(m, dtype=itype)
     zrow = np.zeros((1, n1))
     c_up = np.concatenate([zrow, cx])[fluid]  # face to (i-1, j)
     c_down = np.concatenate([cx, zrow])[fluid]  # face to (i+1, j)
@@ -185,13 +186,16 @@ def _assemble(cx: FloatArray, cy: FloatArray, sf: FloatArray, fluid: NDArray[np.
     b_in[idx[0, fluid[0, :]]] = 2.0 * sf[0, fluid[0, :]]
     b_out[idx[-1, fluid[-1, :]]] += 2.0 * sf[-1, fluid[-1, :]]
     diag = c_up + c_down + c_left + c_right + b_in + b_out
-    vals = np.stack([-c_up, -c_left, diag, -c_right, -c_down], axis=1)
-    cols = np.stack([np.roll(idx, 1, axis=0)[fluid], np.roll(idx, 1, axis=1)[fluid], idx[fluid],
-                     np.roll(idx, -1, axis=1)[fluid], np.roll(idx, -1, axis=0)[fluid]], axis=1)
+    vals = np.empty((m, 5))
+    for k, v in enumerate((c_up, c_left, diag, c_right, c_down)):
+        np.negative(v, out=vals[:, k]) if k != 2 else np.copyto(vals[:, k], v)
+    cols = np.empty((m, 5), dtype=itype)
+    for k, (shift, axis) in enumerate(((1, 0), (1, 1), (0, 0), (-1, 1), (-1, 0))):
+        cols[:, k] = (np.roll(idx, shift, axis=axis) if shift else idx)[fluid]
     keep = vals != 0.0
     keep[:, 2] = True
-    indptr = np.zeros(m + 1, dtype=np.int64)
-    np.cumsum(keep.sum(axis=1), out=indptr[1:])
+    indptr = np.zeros(m + 1, dtype=itype)
+    np.cumsum(np.count_nonzero(keep, axis=1), out=indptr[1:])
     A = sparse.csr_matrix((vals[keep], cols[keep], indptr), shape=(m, m))
     if n1 == 2:  # the neighbours j-1 and j+1 are the same cell: sum them
         A.sum_duplicates()
@@ -257,6 +261,16 @@ class _DirectSolver:
         return self.lu.solve(rhs), 0  # tolerances: the caller's refinement loop checks
 
 
+def _upper(A: sparse.csr_matrix) -> sparse.csr_matrix:
+    """Strictly upper triangle of a CSR matrix, by one mask over its entries (no COO round trip)."""
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n), np.diff(A.indptr))
+    keep = A.indices > rows
+    indptr = np.zeros(n + 1, dtype=A.indptr.dtype)
+    np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
+    return sparse.csr_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
+
+
 class _AmgSolver:
     """CG on D^-1/2 A D^-1/2 preconditioned by a smoothed-aggregation V-cycle (module docstring).
 
@@ -273,7 +287,8 @@ class _AmgSolver:
       R = Pᵀ, A_c = R (A P);
     * coarsening stops at <= 500 unknowns, solved with the pseudo-inverse (pinvh);
     * V(1,1) cycle: one forward Gauss–Seidel sweep before, one backward sweep after the coarse
-      correction (a symmetric preconditioner, as CG needs).
+      correction (a symmetric preconditioner, as CG needs); the residual after the forward sweep
+      from x = 0 is -U x (U the strictly upper triangle of A), half the work of b - A x.
 
     Measured on 2048² contact gap fields (10 % and 25 % contact): 17 and 23 CG iterations, against
     21–25 and 33 with pyamg's ``smoothed_aggregation_solver`` at the same θ (Jacobi prolongation
@@ -295,7 +310,8 @@ class _AmgSolver:
         Dm = sparse.diags(1.0 / self.sq)
         As = (Dm @ A @ Dm).tocsr()  # unit diagonal
         self.As = As
-        self.levels: list[tuple[sparse.csr_matrix, sparse.csr_matrix, sparse.csr_matrix]] = []
+        # per level: A, its strictly upper triangle U (for the residual after a forward sweep), P, R
+        self.levels: list[tuple[sparse.csr_matrix, ...]] = []
         level_a, cand = As, self.sq.copy()
         while level_a.shape[0] > self.MAX_COARSE and len(self.levels) < self.MAX_LEVELS - 1:
             strength = classical_strength_of_connection(level_a, theta=self.THETA)
@@ -307,12 +323,13 @@ class _AmgSolver:
             cols = agg.indices
             norm = np.sqrt(np.bincount(cols, weights=cand[rows] ** 2, minlength=nc))
             T = sparse.csr_matrix((cand[rows] / norm[cols], (rows, cols)), shape=(n, nc))
-            weight = self.OMEGA / (abs(level_a) @ np.ones(n))
+            row_of = np.repeat(np.arange(n), np.diff(level_a.indptr))
+            weight = self.OMEGA / np.bincount(row_of, weights=np.abs(level_a.data), minlength=n)
             P = (T - sparse.diags(weight) @ (level_a @ T)).tocsr()
             R = P.T.tocsr()
             coarse = (R @ (level_a @ P)).tocsr()
             coarse.sum_duplicates()
-            self.levels.append((level_a, P, R))
+            self.levels.append((level_a, _upper(level_a), P, R))
             level_a, cand = coarse, norm
         self.coarse_inverse = pinvh(level_a.toarray())
         self.max_iter = max_iter
@@ -323,10 +340,11 @@ class _AmgSolver:
 
         if lvl == len(self.levels):
             return self.coarse_inverse @ b
-        A, P, R = self.levels[lvl]
+        A, U, P, R = self.levels[lvl]
         x = np.zeros_like(b)
         gauss_seidel(A, x, b, sweep="forward")
-        x += P @ self._vcycle(R @ (b - A @ x), lvl + 1)
+        # a forward sweep from x = 0 solves (D + L) x = b exactly, so b - A x = -U x (half a matvec)
+        x += P @ self._vcycle(-(R @ (U @ x)), lvl + 1)
         gauss_seidel(A, x, b, sweep="backward")
         return x
 
