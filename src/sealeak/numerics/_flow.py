@@ -187,8 +187,8 @@ def _assemble(cx: FloatArray, cy: FloatArray, sf: FloatArray, fluid: NDArray[np.
     b_out[idx[-1, fluid[-1, :]]] += 2.0 * sf[-1, fluid[-1, :]]
     diag = c_up + c_down + c_left + c_right + b_in + b_out
     vals = np.empty((m, 5))
-    for k, v in enumerate((c_up, c_left, diag, c_right, c_down)):
-        np.negative(v, out=vals[:, k]) if k != 2 else np.copyto(vals[:, k], v)
+    for k, v in enumerate((-c_up, -c_left, diag, -c_right, -c_down)):
+        vals[:, k] = v
     cols = np.empty((m, 5), dtype=itype)
     for k, (shift, axis) in enumerate(((1, 0), (1, 1), (0, 0), (-1, 1), (-1, 0))):
         cols[:, k] = (np.roll(idx, shift, axis=axis) if shift else idx)[fluid]
