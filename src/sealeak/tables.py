@@ -108,7 +108,10 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
             units = tuple(((m.group(2) or "") if m else "").strip() for m in parsed)
             continue
         if names and len(values) != len(names):
-            raise FileFormatError(p, f"line {lineno}: {len(values)} values, but the header names {len(names)} columns")
+            hint = (" (decimal commas? write 1.5, not 1,5)" if re.search(r"\d,\d", line) and len(values) > len(names)
+                    else "")
+            raise FileFormatError(p, f"line {lineno}: {len(values)} values, but the header names {len(names)} "
+                                     f"columns{hint}")
         if rows and len(values) != len(rows[0]):
             raise FileFormatError(p, f"line {lineno}: {len(values)} values, the rows above have {len(rows[0])}")
         rows.append(values)
