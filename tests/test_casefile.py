@@ -108,6 +108,8 @@ def test_reference_experiment_stand_in():
 
 
 PSD_OK = "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n1e5, 1e-24\n"
+TABLE_CASE = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
+                  'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "psd.csv"')
 
 # (case text, files to create, text the error must contain)
 INVALID = [
@@ -145,15 +147,14 @@ INVALID = [
     ("table wrong unit", None, {"psd.csv": "q (m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n"}, "not a wavevector"),
     ("table empty", None, {"psd.csv": ""}, "no numeric rows"),
     ("empty case file", "", {}, "is empty"),
-    ("self-affine key with a table", None, {"psd.csv": PSD_OK}, "surface.h_rms = '1 mm': not used by model = 'table'"),
+    ("self-affine key with a table", TABLE_CASE.replace('file = "psd.csv"', 'file = "psd.csv"\nh_rms = "1 mm"'),
+     {"psd.csv": PSD_OK}, "surface.h_rms = '1 mm': not used by model = 'table'"),
     ("table key with self-affine", edit('model = "self-affine"', 'model = "self-affine"\nfile = "psd.csv"'), {},
      "surface.file = 'psd.csv': not used by model = 'self-affine'"),
     ("missing field says so", edit("hurst = 0.8\n", ""), {}, "surface.hurst is required"),
     ("output folder in the way", BASE, {"out.json/keep": "x"}, "out.json is a folder"),
 ]
 
-TABLE_CASE = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
-                  'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "psd.csv"')
 
 
 @pytest.mark.parametrize("name, text, files, expected", INVALID, ids=[i[0] for i in INVALID])
@@ -163,9 +164,7 @@ def test_invalid_case_files_give_clear_errors(tmp_path, capsys, name, text, file
         (tmp_path / fname).parent.mkdir(exist_ok=True)
         (tmp_path / fname).write_text(content)
     case = tmp_path / "case.toml"
-    table_case = TABLE_CASE.replace('file = "psd.csv"', 'file = "psd.csv"\nh_rms = "1 mm"') \
-        if name == "self-affine key with a table" else TABLE_CASE
-    case.write_text(table_case if text is None else text)
+    case.write_text(TABLE_CASE if text is None else text)
     out_json = tmp_path / "out.json"
     code = main(["predict", str(case), "--json", str(out_json)])
     err = capsys.readouterr().err

@@ -97,7 +97,7 @@ def test_non_percolating_points_are_excluded_with_a_message(case, tmp_path, caps
                     "30, 200, 10\n60, 70, 10\n100, 20, 5\n1e6, 0.01, 10\n")
     assert main(["fit", str(example_path("reference-experiment")), "--data", str(data)]) == 0
     out = capsys.readouterr().out
-    assert "row 4" in out and "excluded" in out and "does not percolate" in out
+    assert "line 5" in out and "excluded" in out and "does not percolate" in out  # data row 4, after the header
     fits = fit_models(case, [3e4, 6e4, 1e5, 1e9], [1e4, 1e4, 5e3, np.nan], [1, 1, 1, 1])
     assert fits["critical_junction"].n_used == 3
     assert [i for i, _ in fits["critical_junction"].excluded] == [3]
@@ -139,6 +139,11 @@ def test_linearity_cli(tmp_path, capsys):
     assert doc["slope"] == pytest.approx(7.2e-6 / 60 / 1e3, rel=1e-3)
     assert abs(doc["intercept"]) < 3 * doc["intercept_std"]
     assert doc["alpha_from_slope"] > 0 and (tmp_path / "linearity.png").exists()
+    # in the linearity test ΔP is the abscissa: an empty cell is an error, not "the case's ΔP"
+    gap = tmp_path / "gap.csv"
+    gap.write_text("pressure_difference (kPa), leak_rate (ml/min)\n2, 14\n, 29\n6, 43\n")
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(gap), "--linearity"]) == 2
+    assert "line 3, column 'pressure_difference': is empty" in capsys.readouterr().err
 
 
 # ---------------------------------------------------------------------- units
@@ -187,7 +192,7 @@ def test_fit_output_states_the_conversion_pressure_and_large_pressure_difference
     assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--at-pressure", "2 atm"]) == 0
     out = capsys.readouterr().out
     assert "converted to volume flows at 202.65 kPa" in out
-    assert "row 2: ΔP = 40000 Pa is not small against P0 = 60000 Pa" in out
+    assert "line 3: ΔP = 40000 Pa is not small against P0 = 60000 Pa" in out
 
 
 # ---------------------------------------------------------------------- rig
@@ -376,3 +381,15 @@ def test_readings_of_a_rising_level_are_refused(case, tmp_path, capsys):
     assert main(["rig", "--example", "reference-experiment", "--readings", str(bad)]) == 2
     err = capsys.readouterr().err
     assert str(bad) in err and "does not fall" in err
+
+
+def test_trailing_separators_make_no_column(tmp_path):
+    data = tmp_path / "excel.csv"
+    data.write_text("squeeze_pressure (kPa);leak_rate (ml/min);\n30;100;\n60;30;\n")
+    d = read_leak_data(data)
+    assert np.allclose(d.squeeze_pressure, [3e4, 6e4]) and np.allclose(d.leak_rate, [100e-6 / 60, 30e-6 / 60])
+    three = tmp_path / "three.csv"
+    three.write_text("squeeze_pressure (kPa),leak_rate (ml/min)\n30,100,5\n")
+    with pytest.raises(FileFormatError) as err:
+        read_leak_data(three)
+    assert "3 values, but the header names 2 columns" in str(err.value) and "decimal" not in str(err.value)

@@ -15,11 +15,10 @@ L = 1e-3
 MODEL = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e5, q_cutoff=1e7, q_lowest=1e4, h_rms=1e-6)
 
 
-@pytest.mark.parametrize("amplitudes", ["gaussian", "phases"])
-def test_memory_estimate_bounds_the_measured_peak(amplitudes):
+@pytest.mark.parametrize("amplitudes, n", [("gaussian", 1024), ("phases", 1024), ("gaussian", 2048)])
+def test_memory_estimate_bounds_the_measured_peak(amplitudes, n):
     # independent measurement: tracemalloc sees every NumPy/SciPy array allocation
     synthesize(MODEL, 16, L, seed=0)  # imports and caches outside the measurement
-    n = 1024
     tracemalloc.start()
     try:
         tracemalloc.reset_peak()
@@ -71,3 +70,14 @@ def test_same_seed_same_surface_and_exact_amplitudes():
     inside = (q >= 1e4) & (q <= 1e7) & (np.abs(k[:, None]) < nyq) & (np.abs(k[None, :]) < nyq)
     expected = 128**4 * MODEL(q[inside]) * (2 * np.pi / L) ** 2
     np.testing.assert_allclose(np.abs(F[inside]) ** 2, expected, rtol=1e-9)
+
+
+def test_text_maps_too_thin_to_read_back_are_refused(tmp_path):
+    from sealeak.errors import InputError
+    from sealeak.topography import read_topography, write_height_map
+
+    with pytest.raises(InputError, match="at least 4 x 2 points; write .npz instead"):
+        write_height_map(tmp_path / "thin.txt", np.zeros((3, 8)), (1e-3, 1e-3))
+    write_height_map(tmp_path / "ok.txt", np.arange(8.0).reshape(4, 2), (1e-3, 5e-4))
+    t = read_topography(tmp_path / "ok.txt")
+    assert t.heights.shape == (4, 2) and t.size == pytest.approx((1e-3, 5e-4))

@@ -320,6 +320,14 @@ def test_npz_and_npy_sidecar(tmp_path):
     np.save(tmp_path / "b.npy", h.T)  # the map replaced, the sidecar left behind
     with pytest.raises(FileFormatError, match=r"b\.npy\.json.*another file"):
         read_topography(tmp_path / "b.npy")
+    np.save(tmp_path / "b.npy", h)
+    (tmp_path / "b.npy.json").write_text('{"shape": 8, "size": [1e-6, 1e-6]}')
+    with pytest.raises(FileFormatError, match=r"b\.npy\.json: shape = 8: a list of whole numbers"):
+        read_topography(tmp_path / "b.npy")
+    (tmp_path / "b.npy.json").write_text('{"size": "a lot"}')
+    with pytest.raises(FileFormatError) as err:
+        read_topography(tmp_path / "b.npy")
+    assert str(err.value).count("b.npy.json") == 1 and "sidecar: size = 'a lot'" in str(err.value)
 
 
 def test_missing_units_named_once_for_api_and_cli(tmp_path):

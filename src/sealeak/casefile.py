@@ -272,7 +272,7 @@ def _table(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str
 
 def _topography(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
     """``model = "topography"``: C(q) from measured height maps / line scans (stitched if several)."""
-    from .topography import analyze
+    from .topography import analyze, case_option_names
 
     files = sec.raw("files", sec.raw("file"))
     if sec.has("file") and sec.has("files"):
@@ -300,13 +300,21 @@ def _topography(sec: _Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum
     periodic = sec.raw("periodic", False)
     if not isinstance(periodic, bool):
         raise InputError(sec.field("periodic"), periodic, "must be true or false")
-    an = analyze(paths, size=lengths("size"), pixel_size=lengths("pixel_size"), height_unit=sec.raw("height_unit"),
-                 lateral_unit=sec.raw("lateral_unit"), periodic=periodic, channel=sec.raw("channel"),
-                 bins_per_decade=sec.number("bins_per_decade", 10.0, low=0.0),
-                 low_cut=sec.number("low_cut", 3.0, low=0.0),
-                 resolution_pixels=sec.number("resolution_pixels", 4.0, low=2.0, low_open=False),
-                 resolution=sec.quantity("resolution", "length") if sec.has("resolution") else None)
-    spec = an.spectrum
+    with case_option_names():  # the topography module's messages name surface.<key>
+        an = analyze(paths, size=lengths("size"), pixel_size=lengths("pixel_size"),
+                     height_unit=sec.raw("height_unit"), lateral_unit=sec.raw("lateral_unit"), periodic=periodic,
+                     channel=sec.raw("channel"),
+                     bins_per_decade=sec.number("bins_per_decade", 10.0, low=1.0, high=200.0, low_open=False,
+                                                high_open=False),
+                     low_cut=sec.number("low_cut", 3.0, low=1.0, low_open=False),
+                     resolution_pixels=sec.number("resolution_pixels", 4.0, low=2.0, low_open=False),
+                     resolution=sec.quantity("resolution", "length") if sec.has("resolution") else None)
+        spec = an.spectrum
+    label = sec.raw("label", "")
+    if not isinstance(label, str):
+        raise InputError(sec.field("label"), label, "must be text")
+    if label:
+        spec = PowerSpectrum.from_arrays(spec.q, spec.C, label=label)
     note = (f"measured topography ({', '.join(p.name for p in paths)}): C(q) over q = {spec.q_min:.4g} .. "
             f"{spec.q_max:.4g} 1/m")
     if spec.q_min > q0 * 1.0001:

@@ -101,7 +101,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     data = read_leak_data(args.data, reference_pressure=reference)
     fits = fit_models(case, data.squeeze_pressure, data.pressure_difference, data.leak_rate)
     if not any(f.fitted for f in fits.values()):
-        reasons = "; ".join(f"row {i + 1}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
         raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
     lines = [f"{case.title}", f"fit of {len(data)} measured leak rate{'s' if len(data) != 1 else ''} from "
              f"{data.path} (columns: {', '.join(data.columns.values())})"]
@@ -116,7 +116,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     messages = []
     for name, f in fits.items():
         for i, reason in f.excluded:
-            messages.append(f"{name.replace('_', ' ')}: row {i + 1} (P0 = {data.squeeze_pressure[i]:.6g} Pa) "
+            messages.append(f"{name.replace('_', ' ')}: line {data.line_of(i)} (P0 = {data.squeeze_pressure[i]:.6g} Pa) "
                             f"excluded: {reason}")
     if not any(f.n_used > 1 for f in fits.values()):
         messages.append("with one usable point α has no standard error")
@@ -124,7 +124,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     large = dp_used > 0.5 * data.squeeze_pressure
     if large.any():
         i = int(np.argmax(large))
-        messages.append(f"row {i + 1}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = {data.squeeze_pressure[i]:.6g} "
+        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = {data.squeeze_pressure[i]:.6g} "
                         f"Pa ({int(large.sum())} row(s) like it): both theories assume P0 >> ΔP")
     lines += ["note: " + m for m in messages]
     if not args.quiet:
@@ -138,7 +138,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             doc[name] = {"alpha": json_value(f.alpha), "alpha_std": json_value(f.alpha_std),
                          "log10_alpha_std": json_value(f.log10_alpha_std),
                          "rms_log10_residual": json_value(f.rms_log10_residual), "points_used": f.n_used,
-                         "excluded_rows": [i + 1 for i, _ in f.excluded]}
+                         "excluded_rows": [i + 1 for i, _ in f.excluded],
+                         "excluded_lines": [data.line_of(i) for i, _ in f.excluded]}
         write_text(args.json, json.dumps(doc, indent=2, ensure_ascii=False) + "\n")
         _say(args, f"wrote {args.json}")
     if args.plots:

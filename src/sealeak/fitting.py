@@ -126,6 +126,8 @@ def fit_line(x: ArrayLike, y: ArrayLike) -> LinearFit:
     n = xa.size
     if n < 2 or xa.size != ya.size:
         raise InputError("linearity data", n, "needs at least two (ΔP, Q) points")
+    if not (np.isfinite(xa).all() and np.isfinite(ya).all()):
+        raise InputError("linearity data", "NaN or inf", "every (ΔP, Q) point must be finite")
     xm, ym = xa.mean(), ya.mean()
     sxx = float(np.sum((xa - xm) ** 2))
     if sxx == 0:

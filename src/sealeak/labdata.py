@@ -89,6 +89,11 @@ class LeakData:
     columns: dict[str, str] = field(default_factory=dict)
     reference_pressure: float = ATMOSPHERE
     throughput: bool = False  # the leak rates were pV throughputs, converted at reference_pressure
+    lines: tuple[int, ...] = ()  # line number in the file of each data row
+
+    def line_of(self, row: int) -> int:
+        """Line number in the file of data row ``row`` (0-based)."""
+        return self.lines[row] if self.lines else row + 1
 
     def __len__(self) -> int:
         return int(self.leak_rate.size)
@@ -154,7 +159,9 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     """
     p = Path(path)
     optional = tuple(c for c in ("squeeze_pressure", "leak_rate", "pressure_difference") if c not in required)
-    table, found = _columns(p, required, optional, may_be_empty=("pressure_difference",))
+    # an empty ΔP cell means "the case's ΔP", unless ΔP is a required column (the linearity test's x)
+    empty_ok = ("pressure_difference",) if "pressure_difference" not in required else ()
+    table, found = _columns(p, required, optional, may_be_empty=empty_ok)
     n = table.data.shape[0]
     out: dict[str, FloatArray] = {}
     for canon in ("squeeze_pressure", "pressure_difference"):
@@ -187,7 +194,7 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
                                  "empty to use the case's pressure difference)")
     columns = {c: f"{table.names[j]} ({table.units[j]})" for c, j in found.items()}
     return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure,
-                    throughput)
+                    throughput, table.lines)
 
 
 def read_rig_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:

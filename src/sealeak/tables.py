@@ -51,18 +51,24 @@ _SEPARATOR = re.compile(r"[,;\t]")
 _SPACED_HEADER_CELL = re.compile(r"[^\s(\[]+(?:\s*[\(\[][^\)\]]*[\)\]])?")
 
 
-def _split(line: str) -> list[str]:
+def _split(line: str, width: int | None = None) -> list[str]:
+    """Cells of a data line. ``width``: the number of columns so far (header or first row); one
+    trailing separator beyond it (as spreadsheet exports write, ``1;2;``) makes no extra column."""
     line = line.strip()
-    if _SEPARATOR.search(line):
-        return [c.strip() for c in _SEPARATOR.split(line)]
-    return line.split()
+    if not _SEPARATOR.search(line):
+        return line.split()
+    cells = [c.strip() for c in _SEPARATOR.split(line)]
+    if cells[-1] == "" and len(cells) > 1 and (width is None or len(cells) == width + 1):
+        cells.pop()
+    return cells
 
 
 def _split_header(line: str) -> list[str]:
     """Header cells; with spaces as separators, 'name (unit)' stays one cell."""
     line = line.strip()
     if _SEPARATOR.search(line):
-        return [c.strip() for c in _SEPARATOR.split(line)]
+        cells = [c.strip() for c in _SEPARATOR.split(line)]
+        return cells[:-1] if len(cells) > 1 and cells[-1] == "" else cells
     return _SPACED_HEADER_CELL.findall(line)
 
 
@@ -93,7 +99,7 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
         line = raw.strip()
         if not line or line.startswith("#"):
             continue
-        cells = _split(line)
+        cells = _split(line, len(names) if names else (len(rows[0]) if rows else None))
         delimited = bool(_SEPARATOR.search(line))
         try:
             values = [_number(c, delimited) for c in cells]
@@ -108,8 +114,8 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
             units = tuple(((m.group(2) or "") if m else "").strip() for m in parsed)
             continue
         if names and len(values) != len(names):
-            hint = (" (decimal commas? write 1.5, not 1,5)" if re.search(r"\d,\d", line) and len(values) > len(names)
-                    else "")
+            decimal_commas = re.search(r"[;\t]", line) and re.search(r"\d,\d", line)
+            hint = " (decimal commas? write 1.5, not 1,5)" if decimal_commas and len(values) > len(names) else ""
             raise FileFormatError(p, f"line {lineno}: {len(values)} values, but the header names {len(names)} "
                                      f"columns{hint}")
         if rows and len(values) != len(rows[0]):

@@ -331,13 +331,18 @@ class _AmgSolver:
             coarse.sum_duplicates()
             self.levels.append((level_a, _upper(level_a), P, R))
             level_a, cand = coarse, norm
+        if level_a.shape[0] > 20 * self.MAX_COARSE:  # a dense coarse solve would not fit: say so
+            raise ConvergenceError(f"flow solver (amg): coarsening stalled at {level_a.shape[0]} unknowns "
+                                   f"after {len(self.levels)} levels; use method='direct'")
         self.coarse_inverse = pinvh(level_a.toarray())
         self.max_iter = max_iter
+        from pyamg.relaxation.relaxation import gauss_seidel
+
+        self._gauss_seidel = gauss_seidel
 
     def _vcycle(self, b: FloatArray, lvl: int = 0) -> FloatArray:
         """One V-cycle for A_lvl x = b from x = 0 (the preconditioner M⁻¹ b)."""
-        from pyamg.relaxation.relaxation import gauss_seidel
-
+        gauss_seidel = self._gauss_seidel
         if lvl == len(self.levels):
             return self.coarse_inverse @ b
         A, U, P, R = self.levels[lvl]

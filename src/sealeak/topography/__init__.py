@@ -42,7 +42,7 @@ from ._spectrum import (
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import plot_spectra, stitch
 from ._types import LineScans, Topography
-from ._units import MissingUnitsError, cli_option_names, length_unit_factor, parse_length
+from ._units import MissingUnitsError, case_option_names, cli_option_names, length_unit_factor, parse_length
 from ._writers import write_height_map
 
 __all__ = [
@@ -74,4 +74,5 @@ __all__ = [
     "write_height_map",
     "MissingUnitsError",
     "cli_option_names",
+    "case_option_names",
 ]

@@ -13,6 +13,7 @@ from ..roughness import PowerSpectrum
 from ._fit import SelfAffineFit, fit_self_affine
 from ._preprocess import Detrend, Window, prepare
 from ._readers import LengthLike, read_topography
+from ._units import option_name
 from ._spectrum import BinnedSpectrum, spectrum_1d, spectrum_2d, spectrum_2d_from_1d
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import stitch
@@ -90,7 +91,7 @@ class Analysis:
     def spectrum(self) -> PowerSpectrum:
         if self.spectrum_or_none is None:
             names = ", ".join(s.name for s in self.sources)
-            raise InputError("file" if len(self.sources) == 1 else "files", names,
+            raise InputError(option_name("file" if len(self.sources) == 1 else "files"), names,
                              f"no reliable C(q): {self.spectrum_problem}")
         return self.spectrum_or_none
 

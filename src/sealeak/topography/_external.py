@@ -96,10 +96,11 @@ def _open(path: Path) -> Any:
         # ask the reader(s) the suffix names for their own explanation
         reasons = []
         for r in _suffix_readers(path):
-            if r.format() in _CONTENT_ONLY_FORMATS:
+            fmt_r = _reader_format(r)
+            if fmt_r in _CONTENT_ONLY_FORMATS:
                 continue
             try:
-                reader = open_topography(str(path), format=r.format())
+                reader = open_topography(str(path), format=fmt_r)
             except Exception as exc:
                 reasons.append(f"as {_format_name(r)}: {_why(exc, with_type=False)}")
                 continue

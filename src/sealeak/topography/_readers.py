@@ -361,11 +361,15 @@ def _read_sidecar(path: Path, shape: tuple[int, ...]) -> _Stated | None:
         raise FileFormatError(side, f"not a readable JSON description of {path.name} ({exc})") from None
     if not isinstance(doc, dict):
         raise FileFormatError(side, f"expected a JSON object describing {path.name}")
-    if "shape" in doc and list(doc["shape"]) != list(shape):
-        raise FileFormatError(side, f"describes a map of shape {doc['shape']} but {path.name} holds {list(shape)}; "
-                                    f"it belongs to another file: delete or fix it")
+    if "shape" in doc:
+        stated_shape = doc["shape"]
+        if not (isinstance(stated_shape, list) and all(isinstance(k, int) for k in stated_shape)):
+            raise FileFormatError(side, f"shape = {stated_shape!r}: a list of whole numbers such as {list(shape)}")
+        if stated_shape != list(shape):
+            raise FileFormatError(side, f"describes a map of shape {stated_shape} but {path.name} holds "
+                                        f"{list(shape)}; it belongs to another file: delete or fix it")
     keys = ("size", "pixel_size", "height_unit", "periodic")
-    return _stated(side, side.name, {k: (side.name, doc[k]) for k in keys if k in doc})
+    return _stated(side, side.name, {k: ("sidecar", doc[k]) for k in keys if k in doc})
 
 
 def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:

@@ -102,16 +102,34 @@ def cli_option_names() -> Iterator[None]:
         _STYLE.reset(token)
 
 
+@contextmanager
+def case_option_names() -> Iterator[None]:
+    """Within this block, messages name case-file keys (``surface.height_unit = "um"``)."""
+    token = _STYLE.set("case")
+    try:
+        yield
+    finally:
+        _STYLE.reset(token)
+
+
 def option_name(name: str) -> str:
-    """``"height_unit"`` or, inside :func:`cli_option_names`, ``"--height-unit"``."""
-    return _CLI_FLAGS.get(name, name) if _STYLE.get() == "cli" else name
+    """``"height_unit"``; inside :func:`cli_option_names` ``"--height-unit"``; inside
+    :func:`case_option_names` ``"surface.height_unit"``."""
+    style = _STYLE.get()
+    if style == "cli":
+        return _CLI_FLAGS.get(name, name)
+    return f"surface.{name}" if style == "case" else name
 
 
 def option_example(name: str, value: str) -> str:
-    """``height_unit='um'`` or, on the command line, ``--height-unit um`` (quoted when it has a space)."""
-    if _STYLE.get() == "cli":
+    """``height_unit='um'``; on the command line ``--height-unit um`` (quoted when it has a space);
+    in a case file ``surface.height_unit = "um"``."""
+    style = _STYLE.get()
+    if style == "cli":
         shown = f"'{value}'" if " " in value else value
         return f"{_CLI_FLAGS.get(name, name)} {shown}"
+    if style == "case":
+        return f'surface.{name} = "{value}"'
     return f"{name}={value!r}"
 
 

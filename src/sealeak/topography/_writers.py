@@ -67,6 +67,9 @@ def write_height_map(path: str | Path, heights: NDArray[np.float64], size: tuple
             Path(tmp).write_text(json.dumps(doc, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
     else:
         nx, ny = h.shape
+        if nx < 4 or ny < 2:  # fewer columns read back as x h / x y h columns or a line scan
+            raise InputError("heights", f"a {nx} x {ny} map",
+                             f"too small for a text height map ({p.name}): at least 4 x 2 points; write .npz instead")
         header = [f"height map: {nx} x {ny} points; one row per y, one column per x; heights in m",
                   *comments,
                   f"size: {sx:.17g} m, {sy:.17g} m",
