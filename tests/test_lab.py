@@ -364,17 +364,6 @@ def test_rows_with_an_empty_pressure_difference_use_the_case_value_through_the_c
     assert json.loads(out.read_text())["critical_junction"]["alpha"] == pytest.approx(expected, rel=1e-12)
 
 
-def test_space_separated_files_with_unit_headers(tmp_path):
-    data = tmp_path / "m.txt"
-    data.write_text("squeeze_pressure (kPa) leak_rate (ml/min)\n30 100\n60 30\n")
-    d = read_leak_data(data)
-    assert np.allclose(d.squeeze_pressure, [3e4, 6e4]) and np.allclose(d.leak_rate, [100e-6 / 60, 30e-6 / 60])
-    one = tmp_path / "one.txt"
-    one.write_text("squeeze_pressure (kPa)\n30\n60\n")
-    with pytest.raises(FileFormatError, match="missing column leak_rate"):
-        read_leak_data(one)
-
-
 def test_readings_of_a_rising_level_are_refused(case, tmp_path, capsys):
     bad = tmp_path / "r.csv"
     bad.write_text("time (min), height (cm)\n0, 90\n5, 95\n10, 100\n")
@@ -383,13 +372,24 @@ def test_readings_of_a_rising_level_are_refused(case, tmp_path, capsys):
     assert str(bad) in err and "does not fall" in err
 
 
-def test_trailing_separators_make_no_column(tmp_path):
-    data = tmp_path / "excel.csv"
-    data.write_text("squeeze_pressure (kPa);leak_rate (ml/min);\n30;100;\n60;30;\n")
+@pytest.mark.parametrize("text", [
+    "squeeze_pressure (kPa) leak_rate (ml/min)\n30 100\n60 30\n",  # spaces: 'name (unit)' is one cell
+    "squeeze_pressure (kPa);leak_rate (ml/min);\n30;100;\n60;30;\n",  # spreadsheet export: trailing ';'
+])
+def test_file_layouts_read_the_same(tmp_path, text):
+    data = tmp_path / "m.txt"
+    data.write_text(text)
     d = read_leak_data(data)
     assert np.allclose(d.squeeze_pressure, [3e4, 6e4]) and np.allclose(d.leak_rate, [100e-6 / 60, 30e-6 / 60])
-    three = tmp_path / "three.csv"
-    three.write_text("squeeze_pressure (kPa),leak_rate (ml/min)\n30,100,5\n")
+
+
+@pytest.mark.parametrize("text, problem", [
+    ("squeeze_pressure (kPa)\n30\n60\n", "missing column leak_rate"),
+    ("squeeze_pressure (kPa),leak_rate (ml/min)\n30,100,5\n", "3 values, but the header names 2 columns"),
+])
+def test_file_layout_errors(tmp_path, text, problem):
+    data = tmp_path / "m.txt"
+    data.write_text(text)
     with pytest.raises(FileFormatError) as err:
-        read_leak_data(three)
-    assert "3 values, but the header names 2 columns" in str(err.value) and "decimal" not in str(err.value)
+        read_leak_data(data)
+    assert problem in str(err.value) and "decimal" not in str(err.value)
