@@ -177,7 +177,7 @@ def _setting_lines(case: Case, em: Any) -> dict[str, list[str]]:
     }
 
 
-def _length_unit(values: Any) -> tuple[float, str]:
+def length_unit(values: Any) -> tuple[float, str]:
     """(scale, name) of the length unit that shows ``values`` (m) with few leading zeros: mm, µm or nm."""
     v = np.abs(np.asarray(values, dtype=float))
     v = v[np.isfinite(v) & (v > 0)]
@@ -219,8 +219,8 @@ def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionRe
         if cj:
             lines.append("")
             both = em is not None
-            lam_scale, lam_unit = _length_unit(res.critical_wavelength)
-            gap_scale, gap_unit = _length_unit(res.critical_gap)
+            lam_scale, lam_unit = length_unit(res.critical_wavelength)
+            gap_scale, gap_unit = length_unit(res.critical_gap)
             lines.append(f"{'P0 (kPa)':>10} {'ζc':>9} {f'λc ({lam_unit})':>10} {f'u_c ({gap_unit})':>10} "
                          + (f"{'Q_CJ (m³/s)':>12} {'Q_EM (m³/s)':>12} {'Q_CJ (ml/min)':>14} {'Q_EM (ml/min)':>14}"
                             if both else f"{'Q (m³/s)':>11} {'Q (ml/min)':>11}")
@@ -238,7 +238,7 @@ def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionRe
         if em is not None:
             lines.append("")
             lines.append("effective medium (2D Bruggeman):")
-            u_scale, u_unit = _length_unit(np.concatenate([em.mean_gap, em.gap_distribution_mean]))
+            u_scale, u_unit = length_unit(np.concatenate([em.mean_gap, em.gap_distribution_mean]))
             lines.append(f"{'P0 (kPa)':>10} {'A(ζ1)/A0':>9} {f'ū(1) ({u_unit})':>10} {f'<u>_P ({u_unit})':>11} "
                          f"{f'u_e ({u_unit})':>10} "
                          f"{'σ_eff (m³/Pa/s)':>16} {'Q_EM (m³/s)':>12} {'Q_EM (ml/min)':>14}")

@@ -239,21 +239,28 @@ def figure_gap_distribution(cases: Sequence[Case], results: Sequence[CriticalJun
 
 def figure_critical_junction(cases, results) -> Figure:
     """u_c (solid) and λc (dashed) against P0 (the critical pore size, paper Fig. 8)."""
+    from .output import length_unit
+
     fig, ax = _fig("Critical constriction against squeeze pressure")
     scale, unit = pressure_axis(np.concatenate([r.squeeze_pressure for r in results]))
+    # one length unit for both curves, chosen by the smaller quantity (the gap)
+    lscale, lunit = length_unit(np.concatenate([r.critical_gap for r in results]))
     for case, res in zip(cases, results):
         suffix = f", {case.label}" if case.label else ""
-        line, = ax.semilogy(res.squeeze_pressure / scale, res.critical_gap * 1e6, label="height u_c" + suffix)
-        ax.semilogy(res.squeeze_pressure / scale, res.critical_wavelength * 1e6, ls="--",
+        line, = ax.semilogy(res.squeeze_pressure / scale, res.critical_gap / lscale, label="height u_c" + suffix)
+        ax.semilogy(res.squeeze_pressure / scale, res.critical_wavelength / lscale, ls="--",
                     color=line.get_color(), label="width λc = L/ζc" + suffix)
     ax.set_xlabel(f"squeeze pressure P0 ({unit})")
-    ax.set_ylabel("critical pore size (µm)")
+    ax.set_ylabel(f"critical pore size ({lunit})")
     if len(results) == 1:
         ok = results[0].percolates
         if ok.any():
             ratio = np.median(results[0].critical_wavelength[ok] / results[0].critical_gap[ok])
             _subtitle(ax, f"median λc/u_c = {ratio:.3g}")
-    ax.legend(ncol=2 if len(cases) > 2 else 1)
+    if len(cases) > 2:  # a study: the curves fill the axes, the legend goes below them
+        ax.legend(ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=8)
+    else:
+        ax.legend()
     return fig
 
 
