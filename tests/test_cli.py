@@ -197,3 +197,12 @@ def test_table_length_units_follow_the_values(capsys):
     assert "u_c (nm)" in out  # gaps of a few nm to a few tens of nm
     assert main(["predict", "--example", "reference-experiment"]) == 0
     assert "u_c (µm)" in capsys.readouterr().out
+
+
+def test_length_unit_choice():
+    from sealeak.units import length_unit
+
+    assert length_unit([3e-9, 4e-7]) == (1e-9, "nm")  # all below 1 µm
+    assert length_unit([2e-2, 0.5]) == (1e-3, "mm")  # all at least 1 cm
+    assert length_unit([3e-9, 2e-6, np.nan, 0.0]) == (1e-6, "µm")  # mixed: µm; NaN and zero ignored
+    assert length_unit([np.nan]) == (1e-6, "µm")

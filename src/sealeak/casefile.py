@@ -63,11 +63,17 @@ from .units import parse_quantity
 __all__ = ["load_cases", "load_case", "parse_cases", "example_names", "example_text", "example_path",
            "register_surface_model"]
 
+#: Keys of [surface] that each surface model reads (besides model and label): a key another model
+#: reads is an error, not silently ignored (e.g. h_rms with model = "table").
+_SURFACE_KEYS: dict[str, set[str]] = {
+    "self-affine": {"h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength", "cutoff_wavevector",
+                    "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength"},
+    "table": {"file"},
+    "topography": {"file", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic", "channel",
+                   "bins_per_decade", "low_cut", "resolution", "resolution_pixels"},
+}
 _SECTIONS: dict[str, set[str]] = {
-    "surface": {"model", "h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength",
-                "cutoff_wavevector", "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength",
-                "file", "label", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic",
-                "channel", "bins_per_decade", "low_cut", "resolution", "resolution_pixels"},
+    "surface": {"model", "label"}.union(*_SURFACE_KEYS.values()),
     "rubber": {"youngs_modulus", "poisson_ratio", "name"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
     "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height"},
@@ -77,15 +83,6 @@ _SECTIONS: dict[str, set[str]] = {
     "study": {"vary", "values", "labels"},
     "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},
     "simulation": {"grid", "realizations", "seed"},
-}
-#: Keys of [surface] that each surface model reads (besides model and label): a key another model
-#: reads is an error, not silently ignored (e.g. h_rms with model = "table").
-_SURFACE_KEYS: dict[str, set[str]] = {
-    "self-affine": {"h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength", "cutoff_wavevector",
-                    "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength"},
-    "table": {"file"},
-    "topography": {"file", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic", "channel",
-                   "bins_per_decade", "low_cut", "resolution", "resolution_pixels"},
 }
 _TOP_LEVEL = {"title", "description"}
 _REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")

@@ -96,6 +96,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         return _fit_linearity(args, case, reference)
     from .fitting import fit_models
     from .labdata import read_leak_data
+    from .leakage import pressure_difference_not_small
     from .output import json_value
 
     data = read_leak_data(args.data, reference_pressure=reference)
@@ -121,7 +122,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if not any(f.n_used > 1 for f in fits.values()):
         messages.append("with one usable point α has no standard error")
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
-    large = dp_used > 0.5 * data.squeeze_pressure
+    large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
     if large.any():
         i = int(np.argmax(large))
         messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = {data.squeeze_pressure[i]:.6g} "

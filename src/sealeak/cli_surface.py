@@ -182,9 +182,7 @@ def _psd_csv(spectrum) -> str:
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
     from ._io import atomic_write, check_outputs, write_text
-    from .topography import analyze, plot_spectra
-
-    from .topography import cli_option_names
+    from .topography import analyze, cli_option_names, plot_spectra
 
     check_outputs([p for p in (args.psd_out, args.plot, args.json) if p], args.force)
     with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments

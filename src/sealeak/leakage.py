@@ -27,7 +27,15 @@ from numpy.typing import ArrayLike, NDArray
 from .contact import PerssonContact
 from .errors import InputError
 
-__all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate"]
+__all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
+
+#: ΔP/P0 above which the assumption P0 >> ΔP (the fluid pressure does not alter the contact) is flagged.
+LARGE_PRESSURE_RATIO = 0.5
+
+
+def pressure_difference_not_small(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> NDArray[np.bool_]:
+    """Where ΔP > LARGE_PRESSURE_RATIO · P0: the theories' assumption P0 >> ΔP is doubtful (Pa, Pa)."""
+    return np.asarray(pressure_difference, dtype=float) > LARGE_PRESSURE_RATIO * np.asarray(squeeze_pressure, dtype=float)
 
 FloatArray = NDArray[np.float64]
 
@@ -157,8 +165,9 @@ def critical_junction(
             f"above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
             "within the resolved roughness; the theory predicts no leak channel (no leak-rate number)."
         )
-    if (dp > 0.5 * p0).any():
-        i = int(np.argmax(dp > 0.5 * p0))
+    large = pressure_difference_not_small(p0, dp)
+    if large.any():
+        i = int(np.argmax(large))
         messages.append(
             f"ΔP = {dp[i]:.6g} Pa is not small against P0 = {p0[i]:.6g} Pa: the theory neglects the fluid "
             "pressure's effect on the contact (it assumes P0 >> ΔP)."

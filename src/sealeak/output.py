@@ -13,6 +13,7 @@ import numpy as np
 from . import __version__
 from .case import Case
 from .leakage import CriticalJunctionResult
+from .units import length_unit
 
 __all__ = ["RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "result_records", "prediction_json", "prediction_csv", "prediction_table",
            "case_summary", "json_value"]
@@ -175,19 +176,6 @@ def _setting_lines(case: Case, em: Any) -> dict[str, list[str]]:
         "fluid": [f"fluid     η = {case.fluid.viscosity * 1e3:.4g} mPa·s, ΔP = {case.pressure_difference / 1e3:.4g} kPa"],
         "theory": theory,
     }
-
-
-def length_unit(values: Any) -> tuple[float, str]:
-    """(scale, name) of the length unit that shows ``values`` (m) with few leading zeros: mm, µm or nm."""
-    v = np.abs(np.asarray(values, dtype=float))
-    v = v[np.isfinite(v) & (v > 0)]
-    if v.size == 0:
-        return 1e-6, "µm"
-    if v.max() < 1e-6:
-        return 1e-9, "nm"
-    if v.min() >= 1e-2:
-        return 1e-3, "mm"
-    return 1e-6, "µm"
 
 
 def prediction_table(cases: Sequence[Case], results: Sequence[CriticalJunctionResult],

@@ -20,6 +20,7 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from .case import Case, predict  # noqa: E402
 from .leakage import CriticalJunctionResult  # noqa: E402
+from .units import length_unit  # noqa: E402
 
 __all__ = ["prediction_figures", "figure_gap_distribution", "representative_pressures", "pressure_axis"]
 
@@ -239,8 +240,6 @@ def figure_gap_distribution(cases: Sequence[Case], results: Sequence[CriticalJun
 
 def figure_critical_junction(cases, results) -> Figure:
     """u_c (solid) and λc (dashed) against P0 (the critical pore size, paper Fig. 8)."""
-    from .output import length_unit
-
     fig, ax = _fig("Critical constriction against squeeze pressure")
     scale, unit = pressure_axis(np.concatenate([r.squeeze_pressure for r in results]))
     # one length unit for both curves, chosen by the smaller quantity (the gap)

@@ -248,6 +248,7 @@ def rig_prediction(case) -> RigPrediction:
     """
     from .case import predict, predict_effective_medium
     from .errors import InputError as _InputError
+    from .leakage import pressure_difference_not_small
 
     rig = case.rig
     if rig is None:
@@ -270,7 +271,7 @@ def rig_prediction(case) -> RigPrediction:
         if k == 0:
             messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
         columns[name] = water_column(rig, lambda dp, k=k: k * np.asarray(dp, dtype=float))
-    if rig.pressure_difference(rig.initial_height) > 0.5 * p0:
+    if pressure_difference_not_small(p0, rig.pressure_difference(rig.initial_height)):
         messages.append(f"ΔP = ρgH0 = {rig.pressure_difference(rig.initial_height):.4g} Pa is not small against "
                         f"P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
     return RigPrediction(p0, conductance, columns, tuple(messages))

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
-from .errors import InputError
+from .errors import FileFormatError, InputError
 
 __all__ = ["PowerSpectrum", "area_ratio_from_slope"]
 
@@ -188,8 +188,7 @@ class PowerSpectrum:
         Problems (missing file, NaN, unsorted q, wrong units) raise :class:`FileFormatError`
         naming the file and line.
         """
-        from .errors import FileFormatError
-        from .tables import read_spectrum_table
+        from .tables import read_spectrum_table  # an edge module: imported only when a file is read
 
         q, C = read_spectrum_table(path)
         try:

@@ -66,10 +66,7 @@ def _split(line: str, width: int | None = None) -> list[str]:
 def _split_header(line: str) -> list[str]:
     """Header cells; with spaces as separators, 'name (unit)' stays one cell."""
     line = line.strip()
-    if _SEPARATOR.search(line):
-        cells = [c.strip() for c in _SEPARATOR.split(line)]
-        return cells[:-1] if len(cells) > 1 and cells[-1] == "" else cells
-    return _SPACED_HEADER_CELL.findall(line)
+    return _split(line) if _SEPARATOR.search(line) else _SPACED_HEADER_CELL.findall(line)
 
 
 def _number(cell: str, delimited: bool) -> float:

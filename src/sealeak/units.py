@@ -13,9 +13,11 @@ import math
 from functools import lru_cache
 from typing import Any
 
+import numpy as np
+
 from .errors import UnitError
 
-__all__ = ["registry", "parse_quantity", "to_si", "format_quantity", "SI_UNITS", "DIMENSIONS"]
+__all__ = ["registry", "parse_quantity", "to_si", "format_quantity", "length_unit", "SI_UNITS", "DIMENSIONS"]
 
 #: SI unit of each physical dimension the project uses (the unit strings JSON output declares).
 SI_UNITS = {
@@ -140,6 +142,18 @@ _DISPLAY = {
     "pressure": [(1.0, "Pa"), (1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa")],
     "volume_flow": [(1e-9 / 60, "µl/min"), (1e-6 / 60, "ml/min"), (1e-3 / 60, "l/min")],
 }
+
+
+def length_unit(values: Any) -> tuple[float, str]:
+    """(scale, name) of one length unit for a whole column or axis of ``values`` (m): nm when all
+    are below 1 µm, mm when all are at least 1 cm, else µm (NaN and zeros ignored)."""
+    v = np.abs(np.asarray(values, dtype=float))
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size and v.max() < 1e-6:
+        return 1e-9, "nm"
+    if v.size and v.min() >= 1e-2:
+        return 1e-3, "mm"
+    return 1e-6, "µm"
 
 
 def format_quantity(value: float, dimension: str, digits: int = 4) -> str:

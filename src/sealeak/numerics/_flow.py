@@ -261,10 +261,15 @@ class _DirectSolver:
         return self.lu.solve(rhs), 0  # tolerances: the caller's refinement loop checks
 
 
-def _upper(A: sparse.csr_matrix) -> sparse.csr_matrix:
-    """Strictly upper triangle of a CSR matrix, by one mask over its entries (no COO round trip)."""
+def _row_of_entries(M: sparse.csr_matrix) -> NDArray[np.intp]:
+    """Row index of every stored entry of a CSR matrix."""
+    return np.repeat(np.arange(M.shape[0]), np.diff(M.indptr))
+
+
+def _upper(A: sparse.csr_matrix, rows: NDArray[np.intp]) -> sparse.csr_matrix:
+    """Strictly upper triangle of a CSR matrix (``rows``: :func:`_row_of_entries`), by one mask over
+    its entries (no COO round trip)."""
     n = A.shape[0]
-    rows = np.repeat(np.arange(n), np.diff(A.indptr))
     keep = A.indices > rows
     indptr = np.zeros(n + 1, dtype=A.indptr.dtype)
     np.cumsum(np.bincount(rows[keep], minlength=n), out=indptr[1:])
@@ -302,6 +307,7 @@ class _AmgSolver:
 
     def __init__(self, A: sparse.csr_matrix, max_iter: int) -> None:
         from pyamg.aggregation import standard_aggregation  # lazily: only this back-end needs pyamg
+        from pyamg.relaxation.relaxation import gauss_seidel
         from pyamg.strength import classical_strength_of_connection
         from scipy.linalg import pinvh
 
@@ -319,25 +325,23 @@ class _AmgSolver:
             n, nc = agg.shape
             if nc == 0 or nc >= n:  # nothing left to coarsen
                 break
-            rows = np.repeat(np.arange(n), np.diff(agg.indptr))
+            rows = _row_of_entries(agg)
             cols = agg.indices
             norm = np.sqrt(np.bincount(cols, weights=cand[rows] ** 2, minlength=nc))
             T = sparse.csr_matrix((cand[rows] / norm[cols], (rows, cols)), shape=(n, nc))
-            row_of = np.repeat(np.arange(n), np.diff(level_a.indptr))
+            row_of = _row_of_entries(level_a)
             weight = self.OMEGA / np.bincount(row_of, weights=np.abs(level_a.data), minlength=n)
             P = (T - sparse.diags(weight) @ (level_a @ T)).tocsr()
             R = P.T.tocsr()
             coarse = (R @ (level_a @ P)).tocsr()
             coarse.sum_duplicates()
-            self.levels.append((level_a, _upper(level_a), P, R))
+            self.levels.append((level_a, _upper(level_a, row_of), P, R))
             level_a, cand = coarse, norm
         if level_a.shape[0] > 20 * self.MAX_COARSE:  # a dense coarse solve would not fit: say so
             raise ConvergenceError(f"flow solver (amg): coarsening stalled at {level_a.shape[0]} unknowns "
                                    f"after {len(self.levels)} levels; use method='direct'")
         self.coarse_inverse = pinvh(level_a.toarray())
         self.max_iter = max_iter
-        from pyamg.relaxation.relaxation import gauss_seidel
-
         self._gauss_seidel = gauss_seidel
 
     def _vcycle(self, b: FloatArray, lvl: int = 0) -> FloatArray:
