@@ -1,7 +1,7 @@
 """Independent reference implementations for the tests (adaptive quadrature, no shared code paths).
 
 Nothing here uses sealeak's closed forms, its K(y) table or its panel quadrature: integrals are
-computed with scipy.integrate.quad directly from the THEORY.md definitions.
+computed with scipy.integrate.quad directly from the definitions in docs/theory.md.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ def inner_pressure_integral(s, p, gamma):
 
 
 class PerssonReference:
-    """ū(ζ) and u1(ζ) by nested adaptive quadrature, straight from THEORY.md section 2."""
+    """ū(ζ) and u1(ζ) by nested adaptive quadrature, straight from docs/theory.md § 2."""
 
     def __init__(self, C, q_min, q_max, kinks, e_star, q0, gamma):
         self.C, self.q_min, self.q_max, self.kinks = C, q_min, q_max, tuple(kinks)

@@ -1,4 +1,4 @@
-"""Numerically exact route to the leak rate (THEORY.md section 5).
+"""Numerically exact route to the leak rate (docs/theory.md §6).
 
 Small public API over private modules:
 
@@ -10,6 +10,7 @@ Small public API over private modules:
                 solution checked);
 * percolation:  :func:`label_clusters`, :func:`spans`, :func:`spanning_mask`,
                 :func:`percolation_threshold`, :class:`ThresholdResult`;
+* synthesis:    :func:`synthesize` random periodic surfaces with a given C(q), :func:`wavevector_grid`;
 * resources:    :func:`check_memory` refuses a grid that does not fit in memory.
 
 Arrays are indexed [x, y] with flow along x (axis 0) and periodicity along y (axis 1); all
@@ -20,12 +21,17 @@ from __future__ import annotations
 
 from typing import Literal
 
+from ..errors import InputError
 from ._contact import ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
 from ._flow import FlowResult, flow_memory_bytes, solve_flow
 from ._memory import available_memory_bytes, require_memory
 from ._percolation import ThresholdResult, label_clusters, percolation_threshold, spanning_mask, spans
+from .synthesis import synthesis_memory_bytes, synthesize, wavevector_grid
 
 __all__ = [
+    "synthesize",
+    "synthesis_memory_bytes",
+    "wavevector_grid",
     "ContactResult",
     "FlowResult",
     "ThresholdResult",
@@ -40,6 +46,7 @@ __all__ = [
     "flow_memory_bytes",
     "check_memory",
     "available_memory_bytes",
+    "require_memory",
 ]
 
 
@@ -48,8 +55,6 @@ def check_memory(n: int, kind: Literal["contact", "flow"], *, available: float |
 
     ``available`` defaults to the memory the OS reports available. Returns the estimate.
     """
-    from ..errors import InputError
-
     if kind == "contact":
         need = contact_memory_bytes(n)
     elif kind == "flow":

@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import fft as sfft
 
 from ..errors import ConvergenceError, InputError
-from ..synthesis import wavevector_grid
+from .synthesis import wavevector_grid
 from ._linalg import dot
 from ._memory import require_memory
 

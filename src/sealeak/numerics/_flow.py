@@ -54,7 +54,11 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from pyamg.aggregation import standard_aggregation
+from pyamg.relaxation.relaxation import gauss_seidel
+from pyamg.strength import classical_strength_of_connection
 from scipy import sparse
+from scipy.linalg import pinvh
 from scipy.sparse import linalg as spla
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError
@@ -306,11 +310,6 @@ class _AmgSolver:
     MAX_LEVELS = 16
 
     def __init__(self, A: sparse.csr_matrix, max_iter: int) -> None:
-        from pyamg.aggregation import standard_aggregation  # lazily: only this back-end needs pyamg
-        from pyamg.relaxation.relaxation import gauss_seidel
-        from pyamg.strength import classical_strength_of_connection
-        from scipy.linalg import pinvh
-
         d = A.diagonal()
         self.sq = np.sqrt(d)
         Dm = sparse.diags(1.0 / self.sq)

@@ -1,6 +1,6 @@
 """Measured surfaces: instrument files → height maps / line scans → C(q), statistics, fits.
 
-Everything is in SI units (m, 1/m, m⁴) and Persson's convention for C(q) (THEORY.md §1)::
+Everything is in SI units (m, 1/m, m⁴) and Persson's convention for C(q) (docs/theory.md §1)::
 
     C(q) = 1/(2π)² ∫ d²x <h(x)h(0)> e^(-iq·x),   h_rms² = 2π ∫ q C(q) dq
 
@@ -9,7 +9,8 @@ to read instrument files, never for spectra.)
 
 Typical use::
 
-    from sealeak.topography import analyze, plot_spectra
+    from sealeak.topography import analyze
+    from sealeak.render import plot_spectra
     result = analyze(["wide.plu", "afm.di"])
     result.spectrum          # PowerSpectrum over the union of reliable ranges
     result.statistics        # SurfaceStatistics
@@ -40,10 +41,10 @@ from ._spectrum import (
     spectrum_2d_from_1d,
 )
 from ._statistics import SurfaceStatistics, surface_statistics
-from ._stitch import plot_spectra, stitch
+from ._stitch import stitch
 from ._types import LineScans, Topography
 from ._units import MissingUnitsError, case_option_names, cli_option_names, length_unit_factor, parse_length
-from ._writers import write_height_map
+from ._writers import HEIGHT_MAP_SUFFIXES, height_map_outputs, write_height_map
 
 __all__ = [
     "Topography",
@@ -61,7 +62,6 @@ __all__ = [
     "abel_inverse",
     "abel_forward",
     "stitch",
-    "plot_spectra",
     "SurfaceStatistics",
     "surface_statistics",
     "SelfAffineFit",
@@ -72,6 +72,8 @@ __all__ = [
     "length_unit_factor",
     "parse_length",
     "write_height_map",
+    "height_map_outputs",
+    "HEIGHT_MAP_SUFFIXES",
     "MissingUnitsError",
     "cli_option_names",
     "case_option_names",

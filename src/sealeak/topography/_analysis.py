@@ -9,7 +9,7 @@ from typing import Any, Sequence, Union
 import numpy as np
 
 from ..errors import InputError, SealeakError
-from ..roughness import PowerSpectrum
+from ..physics.spectrum import PowerSpectrum
 from ._fit import SelfAffineFit, fit_self_affine
 from ._preprocess import Detrend, Window, prepare
 from ._readers import LengthLike, read_topography

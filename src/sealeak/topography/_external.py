@@ -23,7 +23,7 @@ from typing import Any, Iterator
 import numpy as np
 
 from ..errors import FileFormatError, InputError, UnitError
-from ._readers import INSTALL_HINT, Surface, ignored_notes, lateral_size, require_units, resample_nonuniform
+from ._common import INSTALL_HINT, Surface, ignored_notes, lateral_size, require_units, resample_nonuniform
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, option_name
 

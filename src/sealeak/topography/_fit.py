@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from ..errors import ConvergenceError, InputError
-from ..roughness import PowerSpectrum
+from ..physics.spectrum import PowerSpectrum
 from ._spectrum import BinnedSpectrum
 
 __all__ = ["SelfAffineFit", "fit_self_affine"]

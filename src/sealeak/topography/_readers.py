@@ -14,26 +14,26 @@ which reads the physical size and unit from the file's metadata.
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence, Union
+from typing import Any, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError
+from ._common import INSTALL_HINT, LengthLike, Surface, ignored_notes, lateral_size, require_units, resample_nonuniform
+from ._external import read_external
 from ._text import NotPlainText, RawTable, looks_binary, parse_text
 from ._types import LineScans, Topography
-from ._units import MissingUnitsError, length_unit_factor, option_name, parse_length
+from ._units import length_unit_factor, option_name, parse_length
 
 __all__ = ["read_topography", "Surface", "LengthLike", "sidecar_path"]
 
-Surface = Union[Topography, LineScans]
-LengthLike = Union[float, str]
 
 TEXT_SUFFIXES = {".txt", ".csv", ".asc", ".xyz", ".dat", ".tsv", ""}
-INSTALL_HINT = "pip install 'sealeak[formats]'"
 
 
 def read_topography(
@@ -100,8 +100,6 @@ def read_topography(
             if not _have_surfacetopography():
                 raise FileFormatError(p, f"{native_error.problem}; if this is an instrument export "
                                          f"(e.g. Dektak csv), install the reader extra: {INSTALL_HINT}") from None
-            from ._external import read_external
-
             try:
                 return read_external(p, pixel_size=pixel_size, size=size, height_unit=height_unit,
                                      lateral_unit=lateral_unit, periodic=periodic, channel=channel)
@@ -112,70 +110,14 @@ def read_topography(
     if not _have_surfacetopography():
         raise FileFormatError(p, f"{p.suffix or 'this'} files are instrument formats read through "
                                  f"SurfaceTopography, which is not installed: {INSTALL_HINT}")
-    from ._external import read_external
-
     return read_external(p, pixel_size=pixel_size, size=size, height_unit=height_unit,
                          lateral_unit=lateral_unit, periodic=periodic, channel=channel)
 
 
 def _have_surfacetopography() -> bool:
-    import importlib.util
-
     return importlib.util.find_spec("SurfaceTopography") is not None
 
 
-# ---------------------------------------------------------------------------- unit helpers
-def _pair(value: Any, field: str) -> tuple[float, float]:
-    if isinstance(value, (list, tuple)):
-        if len(value) != 2:
-            raise InputError(field, value, "one length or a pair (x, y)")
-        return (parse_length(value[0], f"{field}[0]"), parse_length(value[1], f"{field}[1]"))
-    v = parse_length(value, field)
-    return (v, v)
-
-
-def require_units(path: Path, *, height: bool = False, size: bool = False, lateral: bool = False,
-                  how: str = "") -> None:
-    """Raise one :class:`MissingUnitsError` naming every missing unit option (none missing: return)."""
-    missing, what = [], []
-    if height:
-        missing.append("height_unit")
-        what.append("height unit")
-    if lateral:
-        missing.append("lateral_unit")
-        what.append("unit of its x, y positions")
-    if size:
-        missing.append("size")
-        what.append("lateral size")
-    if missing:
-        raise MissingUnitsError(f"{path}{how}", missing, what)
-
-
-def lateral_size(path: Path, shape: tuple[int, ...], pixel_size: Any, size: Any) -> tuple[float, ...]:
-    """Physical size (m) per axis from the user's ``pixel_size`` or ``size`` for a file without one."""
-    require_units(path, size=pixel_size is None and size is None)
-    if pixel_size is not None and size is not None:
-        raise InputError(f"{option_name('pixel_size')}/{option_name('size')}", (pixel_size, size),
-                         f"give one of {option_name('pixel_size')} and {option_name('size')}, not both")
-    if len(shape) == 1:
-        if isinstance(pixel_size if size is None else size, (list, tuple)):
-            key = "size" if pixel_size is None else "pixel_size"
-            raise InputError(option_name(key), pixel_size if size is None else size,
-                             f"{path} is a line scan: give one length")
-        if size is not None:
-            return (parse_length(size, option_name("size")),)
-        return (parse_length(pixel_size, option_name("pixel_size")) * shape[0],)
-    if size is not None:
-        return _pair(size, option_name("size"))
-    dx, dy = _pair(pixel_size, option_name("pixel_size"))
-    return (dx * shape[0], dy * shape[1])
-
-
-def ignored_notes(**given: Any) -> list[str]:
-    return [f"{option_name(k)} {v!r} ignored: the file states it" for k, v in given.items() if v is not None]
-
-
-# ---------------------------------------------------------------------------- units stated by native files
 @dataclass
 class _Stated:
     """Units and size a native file states (header comments, .npz arrays, .npy sidecar)."""
@@ -266,30 +208,6 @@ def sidecar_path(path: str | Path) -> Path:
     return p.with_name(p.name + ".json")
 
 
-def resample_nonuniform(x: NDArray[np.float64], h: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, str | None]:
-    """Heights on a uniform grid of as many points over [x0, x_last]; (h, length, note or None).
-
-    Uniform within 0.1 % counts as uniform. The grid's pixel is (x_last - x0)/(n - 1) and its length
-    n times that (the FFT period convention).
-    """
-    good = np.isfinite(h)
-    x, h = x[good], h[good]
-    n = x.size
-    span = float(x[-1] - x[0])
-    if not span > 0:
-        raise InputError("x positions", span, "must span a positive length")
-    d = np.diff(x)
-    dx = span / (n - 1)
-    note = None
-    if np.abs(d - dx).max() > 1e-3 * dx or not good.all():
-        h = np.interp(x[0] + dx * np.arange(n), x, h)
-        note = (f"non-uniform x (spacing {d.min():.4g}..{d.max():.4g} in file units"
-                f"{', ' + str(int((~good).sum())) + ' undefined heights dropped' if not good.all() else ''}): "
-                f"linearly interpolated onto {n} uniform points")
-    return h, dx * n, note
-
-
-# ---------------------------------------------------------------------------- native formats
 def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_unit: str | None,
               lateral_unit: str | None, periodic: bool) -> Surface:
     notes = [f"read {path.name} as plain text ({raw.kind} layout)"]

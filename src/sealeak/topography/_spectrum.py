@@ -43,7 +43,7 @@ from scipy import special
 from scipy import fft as sfft
 
 from ..errors import InputError
-from ..roughness import PowerSpectrum
+from ..physics.spectrum import PowerSpectrum
 from ._preprocess import Detrend, Prepared, Window, prepare
 from ._types import LineScans, Topography
 from ._units import option_name

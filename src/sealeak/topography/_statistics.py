@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import fft as sfft
 
-from ..roughness import PowerSpectrum, area_ratio_from_slope
+from ..physics.spectrum import PowerSpectrum, area_ratio_from_slope
 from ._preprocess import Detrend, Prepared, prepare
 from ._types import LineScans, Topography
 

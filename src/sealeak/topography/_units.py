@@ -12,24 +12,18 @@ from functools import lru_cache
 from typing import Any, Iterator
 
 import numpy as np
+import pint
 
 from ..errors import UnitError
+from ..io.units import registry
 
 __all__ = ["length_unit_factor", "parse_length", "cli_option_names", "option_name", "option_example",
            "MissingUnitsError"]
 
 
-def _registry() -> Any:
-    from ..units import registry
-
-    return registry()
-
-
 @lru_cache(maxsize=64)
 def _factor(text: str) -> float:
-    import pint
-
-    ureg = _registry()
+    ureg = registry()
     try:
         quantity = ureg.Quantity(text) if any(c.isspace() or c.isdigit() for c in text) else ureg.Quantity(1.0, text)
         value = float(quantity.to("m").magnitude)

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..io.files import atomic_write
 from ._readers import sidecar_path
 
 __all__ = ["write_height_map", "HEIGHT_MAP_SUFFIXES", "height_map_outputs"]
@@ -42,8 +43,6 @@ def write_height_map(path: str | Path, heights: NDArray[np.float64], size: tuple
     ``comments``: extra lines (provenance) for the header of text files and the sidecar of .npy.
     Each file is written atomically (a temporary file renamed into place).
     """
-    from .._io import atomic_write
-
     outputs = height_map_outputs(path)
     p = outputs[0]
     h = np.asarray(heights, dtype=float)

@@ -1,0 +1,56 @@
+"""Cases: the case model, the case-file schema and its builders, and running a case.
+
+* :mod:`~sealeak.cases.model`: :class:`Case`, one seal case in SI units;
+* :mod:`~sealeak.cases.schema`: every section and key of a case file, typed getters that validate;
+* :mod:`~sealeak.cases.builders`: sections → spectrum, seal, fluid, rig, ... (errors name ``section.key``);
+* :mod:`~sealeak.cases.loader`: :func:`load_cases`, :func:`read_case_file`, the bundled examples;
+* :mod:`~sealeak.cases.run`: :func:`run_case` → :class:`CaseResult`, the one way every front end
+  runs a case, plus :func:`conductance`, :func:`fit_models`, :func:`linearity`, :func:`rig_prediction`;
+* :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α.
+"""
+
+from .builders import register_surface_model
+from .loader import (
+    CaseFile,
+    example_names,
+    example_path,
+    example_text,
+    load_case,
+    load_cases,
+    parse_case_file,
+    parse_cases,
+    read_case_file,
+)
+from .model import MODELS, Case
+from .run import (
+    EFFECTIVE_MEDIUM_UNITS,
+    RESULT_UNITS,
+    CaseResult,
+    CurveSet,
+    FitResult,
+    PressureDifferenceSweep,
+    LinearityCheck,
+    PredictionCurves,
+    RigPrediction,
+    conductance,
+    fit_models,
+    linearity,
+    predict,
+    predict_effective_medium,
+    prediction_curves,
+    rig_prediction,
+    representative_pressures,
+    rig_readings,
+    run_case,
+    run_fit,
+)
+from .simulation import SimulationResult, simulate
+
+__all__ = [
+    "Case", "MODELS", "CaseFile", "read_case_file", "parse_case_file", "load_cases", "load_case", "parse_cases",
+    "example_names", "example_text", "example_path", "register_surface_model",
+    "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "RESULT_UNITS",
+    "EFFECTIVE_MEDIUM_UNITS", "fit_models", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction",
+    "rig_readings", "PredictionCurves", "prediction_curves", "FitResult", "run_fit", "CurveSet",
+    "PressureDifferenceSweep", "representative_pressures", "SimulationResult", "simulate",
+]

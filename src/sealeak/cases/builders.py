@@ -1,0 +1,314 @@
+"""Builders: validated case-file sections → the SI objects of a :class:`~sealeak.cases.model.Case`.
+
+Each builder reads one section through :class:`~sealeak.cases.schema.Section` (so every message
+names ``section.key``) and returns physics objects in SI units: the surface models (a self-affine
+model, a table, measured topography files), the seal, the squeeze pressures, the rig and the
+simulation defaults. Errors raised by the physics constructors with their own parameter names are
+re-labelled here with the case-file key (:func:`relabel`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..errors import InputError, UnitError
+from ..io.units import parse_quantity, registry
+from ..lab.rig import RigSetup
+from ..physics.contact import contact_modulus
+from ..physics.fluid import Fluid
+from ..physics.seal import STANDARD_GRAVITY, Seal
+from ..physics.spectrum import PowerSpectrum
+from ..topography import analyze, case_option_names
+from .model import Case
+from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section
+
+__all__ = ["build_case", "register_surface_model", "SurfaceBuilder"]
+
+#: A ``[surface] model = ...`` builder: (section, case folder, q0) -> (spectrum, description, kind).
+SurfaceBuilder = Callable[[Section, Path, float], tuple[PowerSpectrum, str]]
+
+#: Extra surface models registered with :func:`register_surface_model`.
+_SURFACE_MODELS: dict[str, SurfaceBuilder] = {}
+
+
+def register_surface_model(name: str, builder: SurfaceBuilder) -> None:
+    """Register a ``[surface] model = name`` builder (the measured-topography model is one)."""
+    _SURFACE_MODELS[name] = builder
+
+
+def _wavevector(sec: Section, stem: str, required: bool = True) -> float | None:
+    got = sec.one_of((f"{stem}_wavevector", f"{stem}_wavelength"), ("wavevector", "length"), required)
+    if got is None:
+        return None
+    key, value = got
+    return value if key.endswith("wavevector") else 2.0 * np.pi / value
+
+
+def _seal(sec: Section) -> Seal:
+    shape = sec.choice("shape", ("ring", "rectangle"))
+    if shape == "ring":
+        for k in ("width", "length"):
+            if sec.has(k):
+                raise InputError(sec.field(k), sec.raw(k), "a ring seal takes inner_diameter and outer_diameter")
+        di = sec.quantity("inner_diameter", "length")
+        do = sec.quantity("outer_diameter", "length")
+        return Seal.ring(di, do)
+    for k in ("inner_diameter", "outer_diameter"):
+        if sec.has(k):
+            raise InputError(sec.field(k), sec.raw(k), "a rectangular seal takes width (along the flow) and length")
+    return Seal.rectangle(sec.quantity("width", "length"), sec.quantity("length", "length"))
+
+
+def _squeeze(sec: Section) -> np.ndarray:
+    key = "squeeze_pressure"
+    value = sec.raw(key)
+    field = sec.field(key)
+    if value is None:
+        raise InputError(field, None, "is required: a list such as [\"20 kPa\", \"60 kPa\"] or "
+                                      "{start = \"10 kPa\", stop = \"100 kPa\", num = 20, spacing = \"log\"}")
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+        values = [value]
+    elif isinstance(value, list):
+        values = value
+    elif isinstance(value, dict):
+        unknown = set(value) - {"start", "stop", "num", "spacing"}
+        if unknown:
+            raise InputError(f"{field}.{sorted(unknown)[0]}", value[sorted(unknown)[0]],
+                             "unknown key; a range takes start, stop, num, spacing")
+        sub = Section.__new__(Section)
+        sub.name, sub.data = field, value
+        start = sub.quantity("start", "pressure")
+        stop = sub.quantity("stop", "pressure")
+        num = value.get("num", 20)
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
+            raise InputError(f"{field}.num", num, "must be a whole number from 1 to 100000")
+        spacing = value.get("spacing", "log")
+        if spacing not in ("log", "linear"):
+            raise InputError(f"{field}.spacing", spacing, "allowed: 'log', 'linear'")
+        if not stop > start:
+            raise InputError(f"{field}.stop", value["stop"], f"must exceed start ({value['start']})")
+        return np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
+    else:
+        raise InputError(field, value, "must be a list of pressures or a {start, stop, num} range")
+    if not values:
+        raise InputError(field, [], "is empty: give at least one squeeze pressure")
+    out = np.array([parse_quantity(f"{field}[{i}]", v, "pressure") for i, v in enumerate(values)])
+    bad = out <= 0
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError(f"{field}[{i}]", values[i], "must be > 0")
+    return out
+
+
+def _self_affine(sec: Section, q0: float) -> tuple[PowerSpectrum, str]:
+    amp = sec.one_of(("h_rms", "C0"), ("length", "psd"))
+    assert amp is not None
+    hurst = sec.number("hurst", low=0.0, high=1.0)
+    q_r = _wavevector(sec, "rolloff")
+    q_1 = _wavevector(sec, "cutoff")
+    q_l = _wavevector(sec, "lowest", required=False)
+    q_l = q0 if q_l is None else q_l
+    kwargs = {"h_rms": amp[1]} if amp[0] == "h_rms" else {"C0": amp[1]}
+    label = sec.raw("label", "")
+    if not isinstance(label, str):
+        raise InputError(sec.field("label"), label, "must be text")
+    assert q_r is not None and q_1 is not None
+    spec = PowerSpectrum.self_affine(hurst=hurst, q_rolloff=q_r, q_cutoff=q_1, q_lowest=q_l, label=label, **kwargs)
+    note = label or f"self-affine model: H = {hurst:g}, q_r = {q_r:.4g} 1/m, q1 = {q_1:.4g} 1/m"
+    return spec, note
+
+
+def _table(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
+    name = sec.raw("file")
+    if not isinstance(name, str) or not name:
+        raise InputError(sec.field("file"), name, "is required for model = 'table': the path of a q, C table")
+    path = Path(name)
+    if not path.is_absolute():
+        path = case_dir / path
+    spec = PowerSpectrum.from_table(path, label=sec.raw("label", ""))
+    return spec, f"tabulated spectrum from {path.name} ({spec.q.size} points, log-log interpolation)"
+
+
+def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
+    """``model = "topography"``: C(q) from measured height maps / line scans (stitched if several)."""
+    files = sec.raw("files", sec.raw("file"))
+    if sec.has("file") and sec.has("files"):
+        raise InputError(sec.field("files"), files, "give either file or files, not both")
+    names = [files] if isinstance(files, str) else files
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
+        raise InputError(sec.field("file"), files, "is required for model = 'topography': a file name or a list")
+    paths = [Path(n) if Path(n).is_absolute() else case_dir / n for n in names]
+
+    def lengths(key: str) -> float | tuple[float, float] | None:
+        if not sec.has(key):
+            return None
+        raw = sec.raw(key)
+        items = raw if isinstance(raw, list) else [raw]
+        if not 1 <= len(items) <= 2:
+            raise InputError(sec.field(key), raw, "one length or a list of two")
+        vals = [parse_quantity(f"{sec.field(key)}", v, "length") for v in items]
+        if min(vals) <= 0:
+            raise InputError(sec.field(key), raw, "must be > 0")
+        return vals[0] if len(vals) == 1 else (vals[0], vals[1])
+
+    for key in ("height_unit", "lateral_unit"):
+        if sec.has(key) and not isinstance(sec.raw(key), str):
+            raise InputError(sec.field(key), sec.raw(key), "must be a unit name such as 'um'")
+    periodic = sec.raw("periodic", False)
+    if not isinstance(periodic, bool):
+        raise InputError(sec.field("periodic"), periodic, "must be true or false")
+    with case_option_names():  # the topography module's messages name surface.<key>
+        an = analyze(paths, size=lengths("size"), pixel_size=lengths("pixel_size"),
+                     height_unit=sec.raw("height_unit"), lateral_unit=sec.raw("lateral_unit"), periodic=periodic,
+                     channel=sec.raw("channel"),
+                     bins_per_decade=sec.number("bins_per_decade", 10.0, low=1.0, high=200.0, low_open=False,
+                                                high_open=False),
+                     low_cut=sec.number("low_cut", 3.0, low=1.0, low_open=False),
+                     resolution_pixels=sec.number("resolution_pixels", 4.0, low=2.0, low_open=False),
+                     resolution=sec.quantity("resolution", "length") if sec.has("resolution") else None)
+        spec = an.spectrum
+    label = sec.raw("label", "")
+    if not isinstance(label, str):
+        raise InputError(sec.field("label"), label, "must be text")
+    if label:
+        spec = PowerSpectrum.from_arrays(spec.q, spec.C, label=label)
+    note = (f"measured topography ({', '.join(p.name for p in paths)}): C(q) over q = {spec.q_min:.4g} .. "
+            f"{spec.q_max:.4g} 1/m")
+    if spec.q_min > q0 * 1.0001:
+        note += (f"; the measurement starts at q = {spec.q_min:.4g} 1/m > q0 = {q0:.4g} 1/m, so roughness at "
+                 "longer wavelengths is missing (taken as zero)")
+    return spec, note
+
+
+register_surface_model("topography", _topography)
+
+
+def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
+    """One :class:`Case` from a parsed case file (TOML document without its ``[study]``)."""
+    for key in doc:
+        if key not in SECTIONS and key not in TOP_LEVEL:
+            raise InputError(key, doc[key], f"unknown section or key; allowed sections: "
+                                            f"{', '.join(sorted(SECTIONS))}")
+    for name in REQUIRED:
+        if name not in doc:
+            raise InputError(name, None, f"section [{name}] is missing")
+    title = doc.get("title", Path(source).stem if source else "case")
+    if not isinstance(title, str):
+        raise InputError("title", title, "must be text")
+    rubber = Section("rubber", doc["rubber"])
+    youngs = rubber.quantity("youngs_modulus", "pressure")
+    nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
+    sub = doc.get("substrate")
+    if sub is not None:
+        s = Section("substrate", sub)
+        e_star = contact_modulus(youngs, nu, s.quantity("youngs_modulus", "pressure"),
+                                 s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False))
+    else:
+        e_star = contact_modulus(youngs, nu)
+    seal = _seal(Section("seal", doc["seal"]))
+    fsec = Section("fluid", doc["fluid"])
+    density = fsec.quantity("density", "density", default=-1.0)
+    fluid = Fluid(fsec.quantity("viscosity", "viscosity"), None if density < 0 else density,
+                  str(fsec.raw("name", "")))
+    cond = Section("conditions", doc["conditions"])
+    p0 = _squeeze(cond)
+    dp = cond.quantity("pressure_difference", "pressure", positive=False)
+    if dp < 0:
+        raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"), "must be >= 0")
+    theory = Section("theory", doc.get("theory", {}))
+    alpha = theory.number("alpha", 1.0, low=0.0)
+    pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
+    gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
+    model = theory.choice("model", ("critical-junction", "effective-medium", "both"), "critical-junction")
+    if theory.has("lowest_wavevector") and theory.has("square_side"):
+        raise InputError("theory.lowest_wavevector", theory.raw("lowest_wavevector"),
+                         "give either lowest_wavevector or square_side, not both")
+    if theory.has("lowest_wavevector"):
+        q0 = theory.quantity("lowest_wavevector", "wavevector")
+        q0_note = "q0 set in the case file"
+    elif theory.has("square_side"):
+        q0 = 2.0 * np.pi / theory.quantity("square_side", "length")
+        q0_note = "q0 = 2π/L with L set in the case file"
+    else:
+        q0 = 2.0 * np.pi / seal.width
+        q0_note = "q0 = 2π/Lx (seal width)"
+    surf = Section("surface", doc["surface"])
+    model_name = surf.raw("model")
+    builders: dict[str, Callable[..., tuple[PowerSpectrum, str]]] = {
+        "self-affine": lambda s, d, q: _self_affine(s, q),
+        "table": _table,
+        **_SURFACE_MODELS,
+    }
+    if model_name not in builders:
+        raise InputError("surface.model", model_name, f"allowed: {', '.join(repr(k) for k in builders)}")
+    if model_name in SURFACE_KEYS:
+        allowed = SURFACE_KEYS[model_name] | {"model", "label"}
+        for key in surf.data:
+            if key not in allowed:
+                raise InputError(surf.field(key), surf.raw(key),
+                                 f"not used by model = {model_name!r}; its keys: {', '.join(sorted(allowed))}")
+    spectrum, note = builders[model_name](surf, case_dir, q0)
+    if not q0 < spectrum.q_max:
+        raise InputError("theory.lowest_wavevector (q0)", q0,
+                         f"q0 = 2π/L must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
+    rig = _rig(Section("rig", doc["rig"]), fluid) if "rig" in doc else None
+    simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
+    return Case(
+        title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
+        e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
+        percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
+        simulation=simulation, source=source, surface_model=str(model_name),
+    )
+
+
+def _rig(sec: Section, fluid: Fluid) -> RigSetup:
+    """The [rig] section: the water-column rig of the reference experiment (:class:`~sealeak.lab.rig.RigSetup`)."""
+    gravity = STANDARD_GRAVITY
+    if sec.has("gravity"):
+        raw = sec.raw("gravity")
+        allowed = "an acceleration with its unit, e.g. '9.81 m/s^2'"
+        try:
+            qty = registry().Quantity(str(raw).replace("^", "**")) if isinstance(raw, str) else None
+            gravity = float(qty.to("m/s**2").magnitude) if qty is not None else float("nan")
+        except Exception:
+            raise UnitError(sec.field("gravity"), raw, allowed) from None
+        if not (np.isfinite(gravity) and gravity > 0):
+            raise UnitError(sec.field("gravity"), raw, allowed)
+    if not sec.has("load"):
+        raise InputError(sec.field("load"), None, "is required: the mass (e.g. '3.4 kg') or force (e.g. '33 N') on the ring")
+    try:
+        mass = sec.quantity("load", "mass")
+        load, note = mass * gravity, f"load {mass:g} kg × g"
+    except UnitError:
+        try:
+            load, note = sec.quantity("load", "force"), "load given as a force"
+        except UnitError:
+            raise UnitError(sec.field("load"), sec.raw("load"),
+                            "a mass (e.g. '3.4 kg') or a force (e.g. '33 N') with its unit") from None
+    if sec.has("density"):
+        density = sec.quantity("density", "density")
+    elif fluid.density is not None:
+        density = fluid.density
+    else:
+        raise InputError(sec.field("density"), None, "is required (or give [fluid] density): the rig needs ρ for ΔP = ρ g H")
+    final = sec.quantity("final_height", "length") if sec.has("final_height") else None
+    duration = sec.quantity("duration", "time") if sec.has("duration") else None
+    return RigSetup(cylinder_diameter=sec.quantity("cylinder_diameter", "length"),
+                    initial_height=sec.quantity("initial_height", "length"), load=load, density=density,
+                    final_height=final, gravity=gravity, duration=duration, load_note=note)
+
+
+def _simulation(sec: Section) -> dict[str, int]:
+    """The [simulation] section: defaults of ``sealeak simulate`` (its options override them)."""
+    out: dict[str, int] = {}
+    for key, low, allowed in (("grid", 8, "an even integer >= 8 (grid points per side)"),
+                              ("realizations", 1, "an integer >= 1"), ("seed", 0, "an integer >= 0")):
+        if sec.has(key):
+            v = sec.raw(key)
+            if isinstance(v, bool) or not isinstance(v, int) or v < low or (key == "grid" and v % 2):
+                raise InputError(sec.field(key), v, f"must be {allowed}")
+            out[key] = v
+    return out

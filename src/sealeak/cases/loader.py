@@ -1,0 +1,162 @@
+"""Case files: TOML with quantities in any units, read into :class:`~sealeak.case.Case` objects.
+
+Format (``docs/case-files.md`` lists every key)::
+
+    title = "PDMS ring on sandpaper"
+
+    [surface]
+    model = "self-affine"              # or "table" with file = "psd.csv"
+    h_rms = "44 um"                    # or C0 = "... m^4"
+    hurst = 0.8
+    rolloff_wavevector = "9.1e3 1/m"   # or rolloff_wavelength = "0.69 mm"
+    cutoff_wavevector = "3.14e5 1/m"   # q1; or cutoff_wavelength = "20 um"
+    # lowest_wavevector = "..."        # where C(q) starts (or lowest_wavelength); default: q0
+
+    [rubber]
+    youngs_modulus = "2.3 MPa"
+    poisson_ratio = 0.5
+
+    [seal]
+    shape = "ring"                     # or "rectangle" with width (Lx, along the flow) and length (Ly)
+    inner_diameter = "3 cm"
+    outer_diameter = "4 cm"
+
+    [fluid]
+    viscosity = "1 mPa*s"
+
+    [conditions]
+    squeeze_pressure = ["20 kPa", "60 kPa"]   # or {start = "...", stop = "...", num = 50, spacing = "log"}
+    pressure_difference = "10 kPa"
+
+    [theory]
+    alpha = 0.2
+    percolation_threshold = 0.6
+    gamma = 1.0
+    # lowest_wavevector = "..."        # override q0 = 2π/Lx (or square_side = "...")
+
+    [study]                            # optional: one case per value of one key
+    vary = "surface.h_rms"
+    values = ["1 um", "2 um", "4 um"]
+
+Every unknown section or key, missing field, wrong unit or out-of-range value raises a
+:class:`~sealeak.errors.SealeakError` naming the field (``section.key``) and the value.
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from ..errors import FileFormatError, InputError, SealeakError
+from .builders import build_case
+from .model import Case
+from .schema import SECTIONS, Section
+
+__all__ = ["CaseFile", "read_case_file", "parse_case_file", "load_cases", "load_case", "parse_cases",
+           "example_names", "example_text", "example_path"]
+
+@dataclass(frozen=True)
+class CaseFile:
+    """A case file as read: its cases (one, or one per value of a ``[study]``), and the TOML
+    document as the user wrote it (quantities with their units; for the report's inputs table)."""
+
+    cases: list[Case]
+    inputs: dict[str, Any]
+    source: str
+
+
+def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
+    """Read TOML text into a :class:`CaseFile` (relative file names are relative to ``case_dir``)."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise FileFormatError(source, f"malformed TOML: {exc}") from None
+    case_dir = Path(case_dir)
+    inputs = copy.deepcopy(doc)
+    study = doc.pop("study", None)
+    if study is None:
+        return CaseFile([build_case(doc, case_dir, source)], inputs, source)
+    sec = Section("study", study)
+    vary = sec.raw("vary")
+    if not isinstance(vary, str) or vary.count(".") != 1:
+        raise InputError("study.vary", vary, "must name one key as 'section.key', e.g. 'surface.h_rms'")
+    section, key = vary.split(".")
+    if section not in SECTIONS or section == "study" or key not in SECTIONS[section]:
+        raise InputError("study.vary", vary, "names no known case-file key")
+    values = sec.raw("values")
+    if not isinstance(values, list) or not values:
+        raise InputError("study.values", values, "must be a non-empty list of values for " + vary)
+    labels = sec.raw("labels", [f"{key} = {v}" for v in values])
+    if not isinstance(labels, list) or len(labels) != len(values):
+        raise InputError("study.labels", labels, f"must be a list of {len(values)} names")
+    cases = []
+    for value, label in zip(values, labels):
+        variant = copy.deepcopy(doc)
+        variant.setdefault(section, {})[key] = value
+        try:
+            cases.append(build_case(variant, case_dir, source, label=str(label)))
+        except InputError as exc:
+            raise InputError(f"{exc.field} (study value {value!r})", exc.value, exc.allowed) from None
+    return CaseFile(cases, inputs, source)
+
+
+def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:
+    """Cases from TOML text (one, or one per value of a ``[study]``)."""
+    return parse_case_file(text, case_dir, source).cases
+
+
+def read_case_file(path: str | Path) -> CaseFile:
+    """Read a case file into a :class:`CaseFile` (its cases and its inputs as written)."""
+    p = Path(path)
+    if not p.exists():
+        raise FileFormatError(p, "case file not found")
+    if p.is_dir():
+        raise FileFormatError(p, "is a folder, not a case file")
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise FileFormatError(p, "is not UTF-8 text") from None
+    if not text.strip():
+        raise FileFormatError(p, "is empty")
+    return parse_case_file(text, p.parent, str(p))
+
+
+def load_cases(path: str | Path) -> list[Case]:
+    """Read a case file; a ``[study]`` gives one case per value."""
+    return read_case_file(path).cases
+
+
+def load_case(path: str | Path) -> Case:
+    """Read a case file that defines exactly one case."""
+    cases = load_cases(path)
+    if len(cases) != 1:
+        raise SealeakError(f"{path}: defines a study of {len(cases)} cases; use load_cases")
+    return cases[0]
+
+
+# ---------------------------------------------------------------------- bundled examples
+def _examples_dir() -> Any:
+    return resources.files("sealeak") / "examples"
+
+
+def example_names() -> list[str]:
+    """Names of the bundled example cases."""
+    return sorted(p.name[:-5] for p in _examples_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def example_text(name: str) -> str:
+    """The TOML text of a bundled example."""
+    if name not in example_names():
+        raise InputError("example", name, f"allowed: {', '.join(example_names())}")
+    return (_examples_dir() / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def example_path(name: str) -> Path:
+    """File-system path of a bundled example (for reading it as a case)."""
+    if name not in example_names():
+        raise InputError("example", name, f"allowed: {', '.join(example_names())}")
+    return Path(str(_examples_dir() / f"{name}.toml"))

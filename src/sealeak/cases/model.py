@@ -1,0 +1,87 @@
+"""A seal case: everything one prediction needs, as plain SI floats and physics objects.
+
+The case-file loader (:mod:`sealeak.cases.loader`) builds :class:`Case` objects from TOML with
+units; :mod:`sealeak.cases.run` runs them. A ``Case`` holds no raw TOML: what the user wrote is
+kept by the loader (:class:`~sealeak.cases.loader.CaseFile`) for the report.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..lab.rig import RigSetup
+from ..physics.contact import PerssonContact
+from ..physics.fluid import Fluid
+from ..physics.seal import Seal
+from ..physics.spectrum import PowerSpectrum
+
+__all__ = ["Case", "MODELS"]
+
+#: The leak-rate theories a case may ask for (``theory.model``).
+MODELS = ("critical-junction", "effective-medium", "both")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One seal case (SI units).
+
+    Attributes:
+        title: the case's title (``title``).
+        spectrum: the roughness power spectrum C(q) (docs/theory.md §1).
+        spectrum_note: one line describing where the spectrum comes from.
+        youngs_modulus: E of the rubber (Pa); poisson_ratio: ν (1).
+        e_star: the contact modulus E* (Pa), combining rubber and substrate (docs/theory.md §2).
+        seal: the nominal contact Lx × Ly; fluid: the fluid's viscosity (and density).
+        squeeze_pressure: the nominal squeeze pressures P0 (Pa), one prediction each.
+        pressure_difference: ΔP = P_a − P_b across the seal (Pa).
+        alpha: the critical junction's shape factor α (1); percolation_threshold: p_c (1);
+            gamma: γ of the separation bracket (1) (docs/theory.md §2–3).
+        q0: 2π/L with L the side of the squares the nominal contact is divided into (1/m);
+            q0_note says where it came from.
+        model: the leak-rate theory asked for, one of :data:`MODELS`.
+        surface_model: the ``[surface] model`` the spectrum was built from ("self-affine",
+            "table", "topography", or a registered model).
+        rig: the water-column rig of the ``[rig]`` section, or None.
+        simulation: ``[simulation]`` defaults given in the file (grid, realizations, seed).
+        label: the variant's name within a parameter study ('' otherwise).
+        source: the case file's path ('' for text).
+    """
+
+    title: str
+    spectrum: PowerSpectrum
+    spectrum_note: str
+    youngs_modulus: float
+    poisson_ratio: float
+    e_star: float
+    seal: Seal
+    fluid: Fluid
+    squeeze_pressure: NDArray[np.float64]
+    pressure_difference: float
+    alpha: float = 1.0
+    percolation_threshold: float = 0.6
+    gamma: float = 1.0
+    q0: float = 0.0
+    q0_note: str = ""
+    model: str = "critical-junction"
+    surface_model: str = "self-affine"
+    rig: RigSetup | None = None
+    simulation: dict[str, int] = field(default_factory=dict)
+    label: str = ""
+    source: str = ""
+
+    @property
+    def square_side(self) -> float:
+        """L = 2π/q0 in m."""
+        return 2.0 * np.pi / self.q0
+
+    @property
+    def spectrum_is_model(self) -> bool:
+        """True when C(q) is an analytic model rather than a measurement or a table."""
+        return self.surface_model == "self-affine"
+
+    def contact(self) -> PerssonContact:
+        """Persson contact mechanics of this case's interface (docs/theory.md §2)."""
+        return PerssonContact(self.spectrum, self.e_star, self.q0, self.gamma)

@@ -1,0 +1,553 @@
+"""Running a case: the one place where a front end asks for numbers.
+
+:func:`run_case` takes a :class:`~sealeak.cases.model.Case` and returns a :class:`CaseResult` that
+holds everything the command line, the report, the figures and the JSON/CSV files show: both
+theories' predictions, the spectrum statistics, the notes, and the SI unit of every field.
+Front ends (``sealeak.render``, ``sealeak.cli``) format it; they compute nothing themselves.
+
+The other entry points of this layer:
+
+* :func:`predict`, :func:`predict_effective_medium`: one theory at the case's (or given) pressures;
+* :func:`conductance`: K = Q/ΔP of a model at squeeze pressures (both theories are linear in ΔP,
+  docs/theory.md §3 and §5), used by the rig, the linearity check and the fit;
+* :func:`fit_models`, :func:`linearity`, :func:`rig_prediction`, :func:`rig_readings`: the
+  laboratory workflows (docs/theory.md §4 and §8) applied to a case;
+* :func:`prediction_curves`: the curves the prediction figures draw (A(ζ), ū(ζ), u1(ζ), P(u),
+  Q(ΔP)), computed here so that the figures only draw.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
+from typing import Any, Iterator, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError, SealeakError
+from ..lab.data import LeakData
+from ..lab.fitting import LinearFit, ScaleFit, fit_line, fit_scale
+from ..lab.rig import ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
+from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
+from ..physics.effective_medium import EffectiveMediumResult, effective_medium
+from ..physics.gaps import GapDistribution, gap_distribution
+from .model import Case
+
+__all__ = [
+    "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "Model",
+    "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "MODEL_NAMES",
+    "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction", "rig_readings",
+    "PredictionCurves", "CurveSet", "PressureDifferenceSweep", "prediction_curves", "representative_pressures",
+    "CASE_KEYS", "case_keys",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: A leak-rate model: the critical-junction theory (docs/theory.md §3) or the effective medium (§5).
+Model = Literal["critical-junction", "effective-medium"]
+
+#: How front ends name the models.
+MODEL_NAMES: dict[str, str] = {"critical-junction": "critical junction", "effective-medium": "effective medium"}
+
+#: SI unit of every field of a critical-junction result record (JSON ``units``, CSV headers).
+RESULT_UNITS: dict[str, str] = {
+    "squeeze_pressure": "Pa",
+    "pressure_difference": "Pa",
+    "percolates": "1",
+    "critical_magnification": "1",
+    "critical_gap": "m",
+    "critical_wavelength": "m",
+    "leak_rate": "m^3/s",
+    "contact_area_at_cutoff": "1",
+}
+
+#: SI unit of the effective-medium fields (added to a record when the case asks for that model).
+EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
+    "percolates_effective_medium": "1",
+    "effective_conductivity": "m^3/(Pa*s)",
+    "effective_gap": "m",
+    "leak_rate_effective_medium": "m^3/s",
+    "mean_gap": "m",
+    "gap_distribution_mean": "m",
+}
+_EM_ATTR = {"percolates_effective_medium": "percolates", "effective_conductivity": "effective_conductivity",
+            "effective_gap": "effective_gap", "leak_rate_effective_medium": "leak_rate", "mean_gap": "mean_gap",
+            "gap_distribution_mean": "gap_distribution_mean"}
+
+#: Physics parameter names → the case-file key a user wrote them as (for error messages).
+CASE_KEYS: dict[str, str] = {
+    "squeeze_pressure": "conditions.squeeze_pressure",
+    "pressure_difference": "conditions.pressure_difference",
+    "viscosity": "fluid.viscosity",
+    "density": "fluid.density",
+    "alpha": "theory.alpha",
+    "percolation_threshold": "theory.percolation_threshold",
+    "gamma": "theory.gamma",
+    "q0": "theory.lowest_wavevector (q0)",
+    "hurst": "surface.hurst",
+    "h_rms": "surface.h_rms",
+    "C0": "surface.C0",
+    "q_rolloff": "surface.rolloff_wavevector",
+    "q_cutoff": "surface.cutoff_wavevector",
+    "q_lowest": "surface.lowest_wavevector",
+    "inner_diameter": "seal.inner_diameter",
+    "outer_diameter": "seal.outer_diameter",
+    "width": "seal.width",
+    "length": "seal.length",
+    "cylinder_diameter": "rig.cylinder_diameter",
+    "initial_height": "rig.initial_height",
+    "final_height": "rig.final_height",
+    "load": "rig.load",
+    "gravity": "rig.gravity",
+    "duration": "rig.duration",
+}
+
+
+@contextmanager
+def case_keys(keys: dict[str, str] | None = None) -> Iterator[None]:
+    """Re-label an :class:`~sealeak.errors.InputError` raised by the physics with the case-file key.
+
+    Physics functions name their own parameters (``squeeze_pressure[2]``); a user of a case file
+    wants ``conditions.squeeze_pressure[2]``. Fields that are not physics parameter names pass
+    unchanged.
+    """
+    mapping = CASE_KEYS if keys is None else keys
+    try:
+        yield
+    except InputError as exc:
+        name, bracket, index = exc.field.partition("[")
+        if name in mapping:
+            raise type(exc)(mapping[name] + bracket + index, exc.value, exc.allowed) from None
+        raise
+
+
+# ---------------------------------------------------------------------- the theories for a case
+def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
+            pressure_difference: ArrayLike | None = None) -> CriticalJunctionResult:
+    """Critical-junction leak rate of ``case`` at its squeeze pressures (or the ones given), in SI units.
+
+    Lorenz & Persson (2009) eq. 2 (docs/theory.md §3).
+    """
+    with case_keys():
+        return critical_junction(
+            case.contact(),
+            squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
+            pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
+            viscosity=case.fluid.viscosity,
+            aspect_ratio=case.seal.aspect_ratio,
+            alpha=case.alpha,
+            percolation_threshold=case.percolation_threshold,
+        )
+
+
+def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = None,
+                             pressure_difference: ArrayLike | None = None) -> EffectiveMediumResult:
+    """Bruggeman effective-medium leak rate of ``case`` (docs/theory.md §5), in SI units."""
+    with case_keys():
+        return effective_medium(
+            case.contact(),
+            squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
+            pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
+            viscosity=case.fluid.viscosity,
+            aspect_ratio=case.seal.aspect_ratio,
+        )
+
+
+def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critical-junction") -> FloatArray:
+    """K = Q/ΔP of the seal (m³/(Pa·s)) at each squeeze pressure P0 (Pa), for one model.
+
+    Both theories are linear in ΔP at fixed P0, so K is the leak rate at ΔP = 1 Pa: for the
+    critical junction K = α (Ly/Lx) u_c³/(12η) (Lorenz & Persson (2009) eq. 2), for the effective
+    medium K = (Ly/Lx) σ_eff (docs/theory.md §5). K = 0 where the model predicts no leak channel.
+    """
+    p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
+    if model == "critical-junction":
+        res = predict(case, squeeze_pressure=p0, pressure_difference=1.0)
+        return np.where(res.percolates, res.leak_rate, 0.0)
+    if model == "effective-medium":
+        em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
+        return np.where(em.percolates, em.leak_rate, 0.0)
+    raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
+
+
+# ---------------------------------------------------------------------- one result for every front end
+@dataclass(frozen=True)
+class CaseResult:
+    """Everything a front end shows for one case (SI units throughout).
+
+    Attributes:
+        case: the case that was run.
+        critical_junction: the critical-junction prediction at the case's squeeze pressures
+            (always computed: it is the reference paper's theory).
+        effective_medium: the effective-medium prediction, when ``case.model`` asks for it.
+        rig: the virtual water-column rig, when the case has a ``[rig]`` section.
+        messages: the notes of both theories (and the rig), each prefixed with its theory.
+    """
+
+    case: Case
+    critical_junction: CriticalJunctionResult
+    effective_medium: EffectiveMediumResult | None = None
+    rig: RigPrediction | None = None
+    messages: tuple[str, ...] = ()
+
+    @property
+    def shows_critical_junction(self) -> bool:
+        """Whether front ends show the critical-junction numbers (not for model = "effective-medium")."""
+        return self.case.model != "effective-medium" or self.effective_medium is None
+
+    @property
+    def units(self) -> dict[str, str]:
+        """SI unit of every field of :meth:`records`."""
+        return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
+
+    @property
+    def statistics(self) -> dict[str, float]:
+        """The spectrum's statistics (docs/theory.md §1): h_rms (m), slope_rms (1), curvature_rms
+        (1/m), area_ratio A_true/A0 (1), q_min and q_max (1/m), and q0 (1/m)."""
+        s = self.case.spectrum
+        return {"h_rms": s.h_rms, "slope_rms": s.slope_rms, "curvature_rms": s.curvature_rms,
+                "area_ratio": s.area_ratio, "q_min": s.q_min, "q_max": s.q_max, "q0": self.case.q0}
+
+    def records(self) -> list[dict[str, Any]]:
+        """One dict per squeeze pressure with the fields of :attr:`units` (SI values; NaN kept)."""
+        res, em = self.critical_junction, self.effective_medium
+        out = []
+        for i in range(len(res)):
+            rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
+            for key in RESULT_UNITS:
+                rec[key] = getattr(res, key)[i]
+            if em is not None:
+                for key, attr in _EM_ATTR.items():
+                    rec[key] = getattr(em, attr)[i]
+            out.append(rec)
+        return out
+
+
+def run_case(case: Case) -> CaseResult:
+    """Run a case: both theories as ``case.model`` asks, the rig if it has one, all notes collected."""
+    res = predict(case)
+    em = predict_effective_medium(case) if case.model != "critical-junction" else None
+    rig = rig_prediction(case) if case.rig is not None else None
+    messages = list(res.messages)
+    if em is not None:
+        messages += ["effective medium: " + m for m in em.messages]
+    return CaseResult(case, res, em, rig, tuple(messages))
+
+
+# ---------------------------------------------------------------------- fit and linearity
+def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: ArrayLike,
+               leak_rate: ArrayLike) -> dict[str, ScaleFit]:
+    """α of the critical-junction and of the effective-medium model for measured (P0, ΔP, Q) (SI).
+
+    Rows without a pressure difference (NaN) use the case's. Least squares in ln Q
+    (docs/theory.md §8); keys "critical_junction" and "effective_medium".
+    """
+    p0 = np.asarray(squeeze_pressure, dtype=float)
+    dp = np.asarray(pressure_difference, dtype=float)
+    dp = np.where(np.isfinite(dp), dp, case.pressure_difference)
+    q = np.asarray(leak_rate, dtype=float)
+    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=dp).leak_rate
+    em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp).leak_rate
+    return {"critical_junction": fit_scale(q, cj, "critical_junction"),
+            "effective_medium": fit_scale(q, em, "effective_medium")}
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """α of both models fitted to measured leak rates, with what the fit figure draws (SI units).
+
+    Attributes:
+        case, data: the case and the measured (P0, ΔP, Q) rows.
+        fits: the :class:`~sealeak.lab.fitting.ScaleFit` of "critical_junction" and "effective_medium".
+        reference_pressure_difference: ΔP of the figure (the data's, if all rows share one; else the case's).
+        same_pressure_difference: whether all rows share one ΔP.
+        measured: the measured Q scaled to the reference ΔP (Q ∝ ΔP), m³/s.
+        grid: squeeze pressures of the model curves (Pa); curves: each model at α = 1 on it (m³/s).
+        messages: excluded rows, a single usable point, ΔP not small against P0.
+    """
+
+    case: Case
+    data: LeakData
+    fits: dict[str, ScaleFit]
+    reference_pressure_difference: float
+    same_pressure_difference: bool
+    measured: FloatArray
+    grid: FloatArray
+    curves: dict[str, FloatArray]
+    messages: tuple[str, ...]
+
+
+def run_fit(case: Case, data: LeakData) -> FitResult:
+    """Fit α of both models to measured leak rates (docs/theory.md §8); raises if no row can be used."""
+    fits = fit_models(case, data.squeeze_pressure, data.pressure_difference, data.leak_rate)
+    if not any(f.fitted for f in fits.values()):
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+    messages = []
+    for name, f in fits.items():
+        for i, reason in f.excluded:
+            messages.append(f"{name.replace('_', ' ')}: line {data.line_of(i)} (P0 = {data.squeeze_pressure[i]:.6g} Pa) "
+                            f"excluded: {reason}")
+    if not any(f.n_used > 1 for f in fits.values()):
+        messages.append("with one usable point α has no standard error")
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
+    if large.any():
+        i = int(np.argmax(large))
+        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = "
+                        f"{data.squeeze_pressure[i]:.6g} Pa ({int(large.sum())} row(s) like it): both theories "
+                        "assume P0 >> ΔP")
+    p0 = data.squeeze_pressure
+    same = bool(np.allclose(dp_used, dp_used[0]))
+    ref_dp = float(dp_used[0]) if same else case.pressure_difference
+    measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))
+    grid = np.geomspace(p0.min(), p0.max(), 40) if p0.max() > p0.min() else np.array([p0.min()])
+    curves = {
+        "critical_junction": predict(replace(case, alpha=1.0), squeeze_pressure=grid,
+                                     pressure_difference=ref_dp).leak_rate,
+        "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
+    }
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages))
+
+
+@dataclass(frozen=True)
+class LinearityCheck:
+    """Q against ΔP at one squeeze pressure: the straight-line fit and the models' slopes.
+
+    Attributes:
+        line: the least-squares line Q = slope ΔP + intercept (docs/theory.md §8).
+        squeeze_pressure: P0 of the data (Pa), or None when unknown (then no model slopes).
+        squeeze_pressure_source: where P0 came from (an option, the data file, the case, the rig).
+        model_slopes: K = Q/ΔP (m³/(Pa·s)) of each model that percolates at P0, by display name.
+        alpha_from_slope: the measured slope over the critical junction's slope at α = 1.
+        messages: notes (a model without a leak channel, no P0 known).
+    """
+
+    line: LinearFit
+    squeeze_pressure: float | None
+    squeeze_pressure_source: str
+    model_slopes: dict[str, float]
+    alpha_from_slope: float | None
+    messages: tuple[str, ...]
+
+    @property
+    def intercept_z(self) -> float:
+        """|intercept| in standard errors (NaN when the error is unknown)."""
+        ln = self.line
+        return abs(ln.intercept / ln.intercept_std) if ln.intercept_std > 0 else float("nan")
+
+
+def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
+              squeeze_pressure: float | None = None, squeeze_pressure_source: str = "") -> LinearityCheck:
+    """Fit Q = slope ΔP + intercept and compare the slope with both models at P0 (docs/theory.md §8).
+
+    ``squeeze_pressure`` None: the case's single P0, else its ``[rig]`` load, else none.
+    """
+    line = fit_line(pressure_difference, leak_rate)
+    p0, source = squeeze_pressure, squeeze_pressure_source
+    if p0 is None and case.squeeze_pressure.size == 1:
+        p0, source = float(case.squeeze_pressure[0]), "the case file"
+    elif p0 is None and case.rig is not None:
+        p0, source = case.rig.squeeze_pressure(case.seal), "the [rig] load"
+    slopes: dict[str, float] = {}
+    messages: list[str] = []
+    alpha_from_slope = None
+    if p0 is not None:
+        cj = predict(case, squeeze_pressure=np.array([p0]), pressure_difference=1.0)
+        if cj.percolates[0]:
+            slopes[f"critical junction (α = {case.alpha:g})"] = float(cj.leak_rate[0])
+            unit_slope = float(cj.leak_rate[0]) / case.alpha
+            alpha_from_slope = line.slope / unit_slope if unit_slope else None
+        else:
+            messages.extend(cj.messages)
+        em = predict_effective_medium(case, squeeze_pressure=np.array([p0]), pressure_difference=1.0)
+        if em.percolates[0]:
+            slopes["effective medium (Bruggeman)"] = float(em.leak_rate[0])
+        else:
+            messages.extend(em.messages)
+    else:
+        messages.append("no squeeze pressure known (give --squeeze-pressure): no comparison with the models")
+    return LinearityCheck(line, p0, source, slopes, alpha_from_slope, tuple(messages))
+
+
+# ---------------------------------------------------------------------- the virtual rig
+@dataclass(frozen=True)
+class RigPrediction:
+    """The rig simulated for a case (docs/theory.md §4).
+
+    Attributes:
+        squeeze_pressure: P0 from the load (Pa).
+        conductance: K = Q/ΔP of each model the case asks for (m³/(s·Pa); 0: no leak), by display name.
+        columns: the water column H(t) of each model.
+        time_constant: τ = A_cyl/(K ρ g) of each model (s; inf without leak).
+        drain_time: closed-form time to fall to the final height, each model (s).
+        messages: notes (no leak, ΔP not small against P0).
+    """
+
+    squeeze_pressure: float
+    conductance: dict[str, float]
+    columns: dict[str, WaterColumn]
+    time_constant: dict[str, float] = field(default_factory=dict)
+    drain_time: dict[str, float] = field(default_factory=dict)
+    messages: tuple[str, ...] = ()
+
+
+def rig_prediction(case: Case) -> RigPrediction:
+    """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model``.
+
+    Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP with K from :func:`conductance`;
+    the ODE is still solved in general (:func:`~sealeak.lab.rig.water_column`) and the closed-form
+    exponential gives the same curve.
+    """
+    rig = case.rig
+    if rig is None:
+        raise InputError("rig", None, "the case file has no [rig] section (cylinder_diameter, initial_height, load, ...)")
+    p0 = rig.squeeze_pressure(case.seal)
+    models: list[tuple[str, Model]] = []
+    if case.model in ("critical-junction", "both"):
+        models.append((f"critical junction (α = {case.alpha:g})", "critical-junction"))
+    if case.model in ("effective-medium", "both"):
+        models.append(("effective medium (Bruggeman)", "effective-medium"))
+    k_of: dict[str, float] = {}
+    messages: list[str] = []
+    for name, model in models:
+        k_of[name] = float(conductance(case, [p0], model)[0])
+        if model == "critical-junction":
+            messages.extend(predict(case, squeeze_pressure=np.array([p0]), pressure_difference=1.0).messages)
+        else:
+            messages.extend(predict_effective_medium(case, squeeze_pressure=np.array([p0]),
+                                                     pressure_difference=1.0).messages)
+    columns, tau, t_final = {}, {}, {}
+    area = rig.cylinder_area
+    for name, k in k_of.items():
+        if k == 0:
+            messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
+        columns[name] = water_column(rig, lambda dp, k=k: k * np.asarray(dp, dtype=float))
+        tau[name] = area / (k * rig.density * rig.gravity) if k > 0 else float("inf")
+        t_final[name] = drain_time(rig, k, columns[name].final_height)
+    dp0 = float(rig.pressure_difference(rig.initial_height))
+    if pressure_difference_not_small(p0, dp0):
+        messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
+    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages))
+
+
+def rig_readings(case: Case, time: ArrayLike, height: ArrayLike, source: str = "readings") -> ReadingsAnalysis:
+    """The leak rate read from measured (t, H) readings of the case's rig (docs/theory.md §4)."""
+    if case.rig is None:
+        raise InputError("rig", None, "the case file has no [rig] section")
+    return leak_rate_from_readings(case.rig, time, height, source=source)
+
+
+# ---------------------------------------------------------------------- curves of the prediction figures
+def representative_pressures(result: CriticalJunctionResult, count: int = 4) -> FloatArray:
+    """A few percolating squeeze pressures spread over the sweep (log-spaced indices), Pa."""
+    p = result.squeeze_pressure[result.percolates]
+    if p.size == 0:
+        p = result.squeeze_pressure
+    if p.size <= count:
+        return p
+    idx = np.unique(np.round(np.linspace(0, p.size - 1, count)).astype(int))
+    return p[idx]
+
+
+@dataclass(frozen=True)
+class CurveSet:
+    """Curves of one case at one squeeze pressure, against magnification ζ and gap u (SI units).
+
+    ``zeta``: ζ from 1 to q1/q0; ``area``: A(ζ)/A0; ``zeta_c``, ``percolates``: the critical
+    magnification (NaN if none); ``mean_gap``: ū(ζ) on ``zeta[:-1]``; ``u1``: u1(ζ) on ``zeta[1:-1]``;
+    ``u1_c``: u1(ζc); ``distribution``: P(u) at this pressure (docs/theory.md §2, §5).
+    """
+
+    case: Case
+    squeeze_pressure: float
+    label: str
+    zeta: FloatArray
+    area: FloatArray
+    zeta_c: float
+    percolates: bool
+    mean_gap: FloatArray
+    u1: FloatArray
+    u1_c: float
+    distribution: GapDistribution
+
+
+@dataclass(frozen=True)
+class PressureDifferenceSweep:
+    """Q against ΔP at one squeeze pressure (Pa, m³/s); ``effective_medium`` None unless asked for."""
+
+    case: Case
+    squeeze_pressure: float
+    pressure_difference: FloatArray
+    critical_junction: FloatArray
+    effective_medium: FloatArray | None
+
+
+@dataclass(frozen=True)
+class PredictionCurves:
+    """What the prediction figures draw besides the per-pressure results.
+
+    ``spectra``: (q, C(q)) of each case (1/m, m⁴); ``sets``: :class:`CurveSet` at a few pressures
+    (one case: up to four pressures; a study: one per variant); ``gap``: gaps u (m) on a log grid
+    spanning every set's distribution, and ``gap_density``: u·P(u) of each set on it (the
+    probability per unit ln u); ``pressure_difference``: one :class:`PressureDifferenceSweep` per
+    case that has a leak channel.
+    """
+
+    spectra: list[tuple[FloatArray, FloatArray]]
+    sets: list[CurveSet]
+    gap: FloatArray
+    gap_density: list[FloatArray]
+    pressure_difference: list[PressureDifferenceSweep]
+
+
+def _pressure_label(p: float, reference: FloatArray) -> str:
+    scale, unit = (1e6, "MPa") if np.nanmax(reference) > 2e6 else (1e3, "kPa")
+    return f"P0 = {p / scale:.3g} {unit}"
+
+
+def _curve_set(case: Case, p0: float, label: str) -> CurveSet:
+    contact = case.contact()
+    z = np.geomspace(1.0, case.spectrum.q_max / case.q0, 200)
+    area = contact.area(z, p0)
+    zc, ok = contact.zeta_at_area(1 - case.percolation_threshold, p0)
+    ubar = contact.mean_gap(z[:-1], p0)
+    u1 = contact.u1(z[1:-1], p0)  # u1 -> inf as ζ -> 1 (A'(1) = 0)
+    u1_c = float(contact.u1(zc, p0)) if ok else float("nan")
+    dist = gap_distribution(contact, [p0])
+    return CurveSet(case, float(p0), label, z, area, float(zc), bool(ok), ubar, u1, u1_c, dist)
+
+
+def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
+    """Compute the curves of the prediction figures for the cases of one run (docs/theory.md §2–§5)."""
+    spectra = [r.case.spectrum.sample(400) for r in results]
+    sets: list[CurveSet] = []
+    if len(results) == 1:
+        res = results[0].critical_junction
+        for p in representative_pressures(res):
+            sets.append(_curve_set(results[0].case, float(p), _pressure_label(p, res.squeeze_pressure)))
+    else:
+        for r in results:
+            rep = representative_pressures(r.critical_junction, 3)
+            p = float(rep[1 if rep.size > 1 else 0])
+            sets.append(_curve_set(r.case, p, f"{r.case.label}, "
+                                   + _pressure_label(p, r.critical_junction.squeeze_pressure)))
+    dists = [cs.distribution for cs in sets]
+    lo = 1e-3 * min(float(d.mean_gap[0]) for d in dists)
+    hi = 10.0 * max(max(float(d.mean[0]), float(d.mean_gap[0])) for d in dists)
+    u = np.geomspace(lo, hi, 600)
+    density = [u * d.density(u)[0] for d in dists]
+    sweeps = []
+    for r in results:
+        res, case = r.critical_junction, r.case
+        ok = res.squeeze_pressure[res.percolates]
+        if ok.size == 0:
+            continue
+        p0 = float(ok[np.argmin(np.abs(np.log(ok / np.sqrt(ok[0] * ok[-1]))))])
+        dp = np.linspace(0.0, 2.0 * max(case.pressure_difference, 1.0), 21)
+        q = predict(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
+        q_em = (predict_effective_medium(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
+                if r.effective_medium is not None else None)
+        sweeps.append(PressureDifferenceSweep(case, p0, dp, q, q_em))
+    return PredictionCurves(spectra, sets, u, density, sweeps)

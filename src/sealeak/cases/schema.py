@@ -1,0 +1,118 @@
+"""The case-file schema: which sections and keys exist, and typed getters that validate values.
+
+Every key a case file may hold is listed here (:data:`SECTIONS`, :data:`SURFACE_KEYS`); the
+builders (:mod:`sealeak.cases.builders`) read values only through :class:`Section`, whose errors
+name the field as ``section.key`` and its value. The full reference is ``docs/case-files.md``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..io.units import parse_quantity
+
+__all__ = ["SECTIONS", "SURFACE_KEYS", "TOP_LEVEL", "REQUIRED", "Section"]
+
+#: Keys of [surface] that each surface model reads (besides model and label): a key another model
+#: reads is an error, not silently ignored (e.g. h_rms with model = "table").
+SURFACE_KEYS: dict[str, set[str]] = {
+    "self-affine": {"h_rms", "C0", "hurst", "rolloff_wavevector", "rolloff_wavelength", "cutoff_wavevector",
+                    "cutoff_wavelength", "lowest_wavevector", "lowest_wavelength"},
+    "table": {"file"},
+    "topography": {"file", "files", "pixel_size", "size", "height_unit", "lateral_unit", "periodic", "channel",
+                   "bins_per_decade", "low_cut", "resolution", "resolution_pixels"},
+}
+SECTIONS: dict[str, set[str]] = {
+    "surface": {"model", "label"}.union(*SURFACE_KEYS.values()),
+    "rubber": {"youngs_modulus", "poisson_ratio", "name"},
+    "substrate": {"youngs_modulus", "poisson_ratio", "name"},
+    "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height"},
+    "fluid": {"viscosity", "density", "name"},
+    "conditions": {"squeeze_pressure", "pressure_difference"},
+    "theory": {"alpha", "percolation_threshold", "gamma", "lowest_wavevector", "square_side", "model"},
+    "study": {"vary", "values", "labels"},
+    "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},
+    "simulation": {"grid", "realizations", "seed"},
+}
+TOP_LEVEL = {"title", "description"}
+REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")
+
+class Section:
+    """One TOML table, with typed getters whose errors name ``section.key``."""
+
+    def __init__(self, name: str, data: Any) -> None:
+        if not isinstance(data, dict):
+            raise InputError(name, data, "must be a TOML table ([" + name + "])")
+        self.name = name
+        self.data = data
+        allowed = SECTIONS[name]
+        for key in data:
+            if key not in allowed:
+                raise InputError(f"{name}.{key}", data[key],
+                                 f"unknown key in [{name}]; allowed keys: {', '.join(sorted(allowed))}")
+
+    def field(self, key: str) -> str:
+        return f"{self.name}.{key}"
+
+    def has(self, key: str) -> bool:
+        return key in self.data
+
+    def raw(self, key: str, default: Any = None) -> Any:
+        return self.data.get(key, default)
+
+    def quantity(self, key: str, dimension: str, default: Any = None, *, positive: bool = True) -> float:
+        if key not in self.data:
+            if default is None:
+                raise InputError(self.field(key), None, f"is required: give a {dimension.replace('_', ' ')} with its unit")
+            return default
+        value = parse_quantity(self.field(key), self.data[key], dimension)
+        if positive and not value > 0:
+            raise InputError(self.field(key), self.data[key], "must be > 0")
+        return value
+
+    def number(self, key: str, default: float | None = None, *, low: float | None = None, high: float | None = None,
+               low_open: bool = True, high_open: bool = True) -> float:
+        if key not in self.data:
+            if default is None:
+                raise InputError(self.field(key), None, "is required")
+            return default
+        value = self.data[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            if isinstance(value, str):
+                value = parse_quantity(self.field(key), value, "dimensionless")
+            else:
+                raise InputError(self.field(key), value, "must be a number")
+        value = float(value)
+        rng = (("(" if low_open else "[") + (f"{low:g}" if low is not None else "-inf") + ", "
+               + (f"{high:g}" if high is not None else "inf") + (")" if high_open else "]"))
+        ok = np.isfinite(value)
+        if low is not None:
+            ok &= value > low if low_open else value >= low
+        if high is not None:
+            ok &= value < high if high_open else value <= high
+        if not ok:
+            raise InputError(self.field(key), value, f"must lie in {rng}")
+        return value
+
+    def choice(self, key: str, options: tuple[str, ...], default: str | None = None) -> str:
+        value = self.data.get(key, default)
+        if value is None:
+            raise InputError(self.field(key), None, f"is required; allowed: {', '.join(options)}")
+        if value not in options:
+            raise InputError(self.field(key), value, f"allowed: {', '.join(repr(o) for o in options)}")
+        return value
+
+    def one_of(self, keys: tuple[str, str], dims: tuple[str, str], required: bool = True) -> tuple[str, float] | None:
+        present = [k for k in keys if k in self.data]
+        if len(present) > 1:
+            raise InputError(self.field(keys[0]), {k: self.data[k] for k in present},
+                             f"give either {keys[0]} or {keys[1]}, not both")
+        if not present:
+            if required:
+                raise InputError(self.field(keys[0]), None, f"is required (or give {self.field(keys[1])})")
+            return None
+        k = present[0]
+        return k, self.quantity(k, dims[keys.index(k)])

@@ -1,0 +1,119 @@
+"""The ``sealeak`` command line: a thin layer over :mod:`sealeak.cases` and :mod:`sealeak.render`.
+
+User mistakes (bad case files, units, existing outputs) are SealeakError: the CLI prints
+``sealeak: error: <message>`` to stderr and exits with status 2, without a traceback.
+Figures are written with matplotlib's non-interactive Agg backend, which :func:`main` selects for
+the command line only (``import sealeak`` never touches the backend).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Sequence
+
+from .._version import __version__
+from ..errors import SealeakError
+from . import lab, simulate, surface
+from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, load_case_file, say
+
+__all__ = ["main", "build_parser"]
+
+
+def _cmd_predict(args: argparse.Namespace) -> int:
+    from ..cases import run_case
+    from ..io.files import check_outputs, write_text
+    from ..render import PREDICTION_FIGURE_NAMES, prediction_csv, prediction_figures, prediction_json
+    from ..render import prediction_table, save_figures
+
+    outputs = [p for p in (args.table, args.json, args.csv) if p]
+    if args.plots:
+        outputs += [str(Path(args.plots) / n) for n in PREDICTION_FIGURE_NAMES]
+    check_outputs(outputs, args.force)
+    results = [run_case(c) for c in load_case_file(args).cases]
+    table = prediction_table(results)
+    if not args.quiet:
+        sys.stdout.write(table)
+    if args.table:
+        write_text(args.table, table)
+        say(args, f"wrote {args.table}")
+    if args.json:
+        write_text(args.json, prediction_json(results))
+        say(args, f"wrote {args.json}")
+    if args.csv:
+        write_text(args.csv, prediction_csv(results))
+        say(args, f"wrote {args.csv}")
+    if args.plots:
+        written = save_figures(prediction_figures(results), args.plots)
+        say(args, f"wrote {len(written)} figures to {args.plots}/")
+    return 0
+
+
+def _cmd_examples(args: argparse.Namespace) -> int:
+    from ..cases import example_names, example_text
+
+    if args.name:
+        sys.stdout.write(example_text(args.name))
+        return 0
+    print("Bundled example cases (print one with `sealeak examples NAME`, run it with "
+          "`sealeak predict --example NAME`):")
+    for name in example_names():
+        first = next((ln for ln in example_text(name).splitlines() if ln.startswith("title")), "")
+        title = first.split("=", 1)[1].strip().strip('"') if "=" in first else ""
+        print(f"  {name:24s} {title}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every sub-command (``docs/cli.md`` documents each option)."""
+    parser = Parser(prog="sealeak", description="Leak rate of rubber seals from surface roughness "
+                    "(Persson contact mechanics + percolation + Poiseuille flow).")
+    parser.add_argument("--version", action="version", version=f"sealeak {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
+
+    p = sub.add_parser("predict", help="critical-junction leak rate for a case file")
+    add_case_args(p)
+    p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
+    p.add_argument("--json", metavar="FILE", help="write the results as JSON")
+    p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
+    p.add_argument("--plots", metavar="DIR", help="write the figures (PNG) into DIR")
+    p.set_defaults(func=_cmd_predict)
+
+    p = sub.add_parser("examples", help="list the bundled example cases, or print one")
+    p.add_argument("name", nargs="?", help="example to print")
+    p.set_defaults(func=_cmd_examples)
+
+    for module in (surface, simulate, lab):
+        module.register(sub, add_case_args)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0, 2 for a user error, 130 when interrupted)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return EXIT_USER_ERROR
+    import matplotlib  # lazily: only commands that draw need it, and --help stays fast
+
+    matplotlib.use("Agg")  # the command line draws into files: a non-interactive backend, chosen here only
+    try:
+        return int(args.func(args) or 0)
+    except SealeakError as exc:
+        print(f"sealeak: error: {exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except BrokenPipeError:  # output piped into a program that stopped reading (e.g. head)
+        return 0
+    except OSError as exc:  # the file system refused (permissions, a folder in the way, disk full)
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"sealeak: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except KeyboardInterrupt:
+        print("sealeak: interrupted; no partial output files were left", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,92 @@
+"""What every sub-command shares: the parser class, case loading, output checks, messages.
+
+The sub-command modules import this module, never :mod:`sealeak.cli` itself (no import cycle).
+Heavy imports (the case layer, rendering, matplotlib) stay inside the command functions so that
+``sealeak --help`` stays fast: these are the project's only deliberate function-level imports.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Iterable
+
+from ..errors import InputError, SealeakError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..cases import Case, CaseFile
+
+__all__ = ["Parser", "EXIT_USER_ERROR", "EXIT_INTERRUPTED", "add_case_args", "load_case_file", "load",
+           "one_case", "say", "outputs", "positive_pressure"]
+
+EXIT_USER_ERROR = 2
+EXIT_INTERRUPTED = 130
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with the project's error convention: usage + one line, exit status 2, no traceback."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        """Print the usage and ``sealeak: error: message``; exit with status 2."""
+        self.print_usage(sys.stderr)
+        print(f"sealeak: error: {message}", file=sys.stderr)
+        raise SystemExit(EXIT_USER_ERROR)
+
+
+def add_case_args(p: argparse.ArgumentParser) -> None:
+    """The options of every command that reads a case: CASE, --example, --force, --quiet."""
+    p.add_argument("case", nargs="?", help="case file (TOML)")
+    p.add_argument("--example", metavar="NAME", help="use a bundled example case instead of a file")
+    p.add_argument("--force", action="store_true", help="overwrite existing output files")
+    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
+
+
+def load_case_file(args: argparse.Namespace) -> CaseFile:
+    """The case file named by ``args.case`` or ``--example`` (exactly one of them)."""
+    from ..cases import example_path, read_case_file
+
+    if args.example and args.case:
+        raise SealeakError("give a case file or --example NAME, not both")
+    if args.example:
+        return read_case_file(example_path(args.example))
+    if not args.case:
+        raise SealeakError("give a case file (CASE.toml) or --example NAME; `sealeak examples` lists the examples")
+    return read_case_file(args.case)
+
+
+def load(args: argparse.Namespace) -> list[Case]:
+    """The cases of the case file named by the arguments (one, or one per study value)."""
+    return load_case_file(args).cases
+
+
+def one_case(args: argparse.Namespace) -> Case:
+    """The single case of a command that takes no ``[study]``."""
+    cases = load(args)
+    if len(cases) != 1:
+        raise SealeakError(f"this command takes a case with one variant; the case file defines a study of {len(cases)}")
+    return cases[0]
+
+
+def say(args: argparse.Namespace, text: str) -> None:
+    """A progress line on stderr, unless ``--quiet``."""
+    if not getattr(args, "quiet", False):
+        print(text, file=sys.stderr)
+
+
+def outputs(args: argparse.Namespace, figure_names: Iterable[str]) -> list[str]:
+    """The files a command will write: ``--json`` and the figures in ``--plots``."""
+    out = [args.json] if getattr(args, "json", None) else []
+    if getattr(args, "plots", None):
+        out += [str(Path(args.plots) / n) for n in figure_names]
+    return out
+
+
+def positive_pressure(field: str, text: str) -> float:
+    """A pressure option such as ``--at-pressure "1 atm"`` in Pa (> 0)."""
+    from ..io.units import parse_quantity
+
+    value = parse_quantity(field, text, "pressure")
+    if not value > 0:
+        raise InputError(field, text, "must be > 0")
+    return value

@@ -1,0 +1,149 @@
+"""Sub-commands ``fit``, ``rig`` and ``report``.
+
+Thin layers over :mod:`sealeak.cases` (which runs the fit, the linearity check and the rig) and
+:mod:`sealeak.render` (which formats them); heavy imports stay inside the command functions so
+``sealeak --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from ..errors import InputError, SealeakError
+from ._common import load_case_file, one_case, outputs, positive_pressure, say
+
+__all__ = ["register"]
+
+
+def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.ArgumentParser], None]) -> None:
+    """Add ``fit``, ``rig`` and ``report`` to the sub-command parsers."""
+    p = sub.add_parser("fit", help="fit α to measured leak rates (or check linearity in ΔP)")
+    add_case_args(p)
+    p.add_argument("--data", metavar="FILE", required=True,
+                   help="measured data: header with units, e.g. 'squeeze_pressure (kPa), leak_rate (ml/min)'")
+    p.add_argument("--at-pressure", metavar="PRESSURE", default="1 atm",
+                   help="pressure at which leak-test throughputs (mbar*l/s, Pa*m^3/s) become volume flows "
+                        "(default: 1 atm, ambient)")
+    p.add_argument("--linearity", action="store_true",
+                   help="check Q linear in ΔP at fixed P0 (columns pressure_difference, leak_rate)")
+    p.add_argument("--squeeze-pressure", metavar="PRESSURE",
+                   help="P0 of a linearity data set (default: its squeeze_pressure column, the case's single P0, "
+                        "or the [rig] load)")
+    p.add_argument("--json", metavar="FILE", help="write the fit as JSON")
+    p.add_argument("--plots", metavar="DIR", help="write the figure (fit.png or linearity.png) into DIR")
+    p.set_defaults(func=_cmd_fit)
+
+    p = sub.add_parser("rig", help="virtual water-column rig: level against time, or leak rate from readings")
+    add_case_args(p)
+    p.add_argument("--readings", metavar="FILE", help="measured (time, height) readings, e.g. 'time (min), height (cm)'")
+    p.add_argument("--json", metavar="FILE", help="write the results as JSON")
+    p.add_argument("--plots", metavar="DIR", help="write rig.png (and readings.png) into DIR")
+    p.set_defaults(func=_cmd_rig)
+
+    p = sub.add_parser("report", help="write one self-contained HTML report of a case")
+    add_case_args(p)
+    p.add_argument("-o", "--output", metavar="REPORT.html", required=True, help="the HTML file to write")
+    p.set_defaults(func=_cmd_report)
+
+
+# ---------------------------------------------------------------------- fit
+def _cmd_fit(args: argparse.Namespace) -> int:
+    from ..cases import run_fit
+    from ..io.files import check_outputs, write_text
+    from ..lab import read_leak_data
+    from ..render import figure_fit, fit_json, fit_text, save_figures
+
+    names = ("linearity.png",) if args.linearity else ("fit.png",)
+    check_outputs(outputs(args, names), args.force)
+    reference = positive_pressure("--at-pressure", args.at_pressure)
+    case = one_case(args)
+    if args.linearity:
+        return _fit_linearity(args, case, reference)
+    data = read_leak_data(args.data, reference_pressure=reference)
+    result = run_fit(case, data)
+    if not args.quiet:
+        print(fit_text(result), end="")
+    if args.json:
+        write_text(args.json, fit_json(result))
+        say(args, f"wrote {args.json}")
+    if args.plots:
+        save_figures({"fit.png": figure_fit(result)}, args.plots)
+        say(args, f"wrote {Path(args.plots) / 'fit.png'}")
+    return 0
+
+
+def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # type: ignore[no-untyped-def]
+    from ..cases import linearity
+    from ..io.files import write_text
+    from ..lab import read_leak_data
+    from ..render import figure_linearity, linearity_json, linearity_text, save_figures
+
+    data = read_leak_data(args.data, reference_pressure=reference, required=("pressure_difference", "leak_rate"))
+    if len(data) < 3:
+        raise SealeakError(f"{data.path}: a linearity check needs at least 3 rows, found {len(data)}")
+    p0, source = None, ""
+    if args.squeeze_pressure:
+        p0, source = positive_pressure("--squeeze-pressure", args.squeeze_pressure), "--squeeze-pressure"
+    elif np.isfinite(data.squeeze_pressure).all():
+        if not np.allclose(data.squeeze_pressure, data.squeeze_pressure[0], rtol=1e-6):
+            raise SealeakError(f"{data.path}: a linearity check is at one squeeze pressure; the file has several")
+        p0, source = float(data.squeeze_pressure[0]), "the data file"
+    check = linearity(case, data.pressure_difference, data.leak_rate, p0, source)
+    if not args.quiet:
+        print(linearity_text(case, data, check), end="")
+    if args.json:
+        write_text(args.json, linearity_json(case, data, check))
+        say(args, f"wrote {args.json}")
+    if args.plots:
+        save_figures({"linearity.png": figure_linearity(data.pressure_difference, data.leak_rate, check)}, args.plots)
+        say(args, f"wrote {Path(args.plots) / 'linearity.png'}")
+    return 0
+
+
+# ---------------------------------------------------------------------- rig
+def _cmd_rig(args: argparse.Namespace) -> int:
+    from ..cases import rig_prediction, rig_readings
+    from ..io.files import check_outputs, write_text
+    from ..lab import read_rig_readings
+    from ..render import figure_readings, figure_rig, rig_json, rig_text, save_figures
+
+    names = ("rig.png", "readings.png") if args.readings else ("rig.png",)
+    check_outputs(outputs(args, names), args.force)
+    case = one_case(args)
+    if case.rig is None:
+        raise InputError("rig", None, f"{case.source or 'the case'} has no [rig] section: give cylinder_diameter, "
+                                      "initial_height, load (kg or N) and optionally final_height, density")
+    pred = rig_prediction(case)
+    analysis = None
+    if args.readings:
+        t, h = read_rig_readings(args.readings)
+        analysis = rig_readings(case, t, h, source=args.readings)
+    if not args.quiet:
+        print(rig_text(case, pred, analysis, args.readings or ""), end="")
+    if args.json:
+        write_text(args.json, rig_json(case, pred, analysis))
+        say(args, f"wrote {args.json}")
+    if args.plots:
+        figs = {"rig.png": figure_rig(case.rig, pred.columns, pred.squeeze_pressure)}
+        if analysis is not None:
+            figs["readings.png"] = figure_readings(analysis, pred.conductance)
+        save_figures(figs, args.plots)
+        say(args, f"wrote {len(figs)} figure(s) to {args.plots}/")
+    return 0
+
+
+# ---------------------------------------------------------------------- report
+def _cmd_report(args: argparse.Namespace) -> int:
+    from ..cases import run_case
+    from ..io.files import check_outputs, write_text
+    from ..render import html_report
+
+    check_outputs([args.output], args.force)
+    case_file = load_case_file(args)
+    write_text(args.output, html_report([run_case(c) for c in case_file.cases], case_file.inputs))
+    say(args, f"wrote {args.output}")
+    return 0

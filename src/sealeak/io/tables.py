@@ -1,0 +1,174 @@
+"""Numeric text tables whose header names each column with its unit (an edge module).
+
+Format: optional comment lines starting with '#', then optionally one header row naming the
+columns, each with its unit in parentheses or brackets, e.g.::
+
+    # sandpaper spectrum
+    q (1/m), C (m^4)
+    1.0e3, 2.1e-17
+    ...
+
+Columns are separated by commas, semicolons, tabs or spaces (a space-separated header reads
+``q (1/m) C (m^4)``: a unit in brackets belongs to the name before it). In a comma, semicolon or
+tab separated file an empty cell is a missing value (NaN); the caller decides whether a column may
+have any. Without a header the caller's default units apply. Every problem raises
+:class:`FileFormatError` naming the file, the line and the problem.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import FileFormatError, UnitError
+from .units import unit_factor
+
+__all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
+
+_HEADER_CELL = re.compile(r"^\s*([^\(\)\[\]]*?)\s*(?:[\(\[]\s*(.*?)\s*[\)\]])?\s*$")
+
+
+@dataclass(frozen=True)
+class UnitTable:
+    """Columns of a table: ``names`` and ``units`` as written (unit '' if none) and the numbers."""
+
+    path: str
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    data: NDArray[np.float64]  # (rows, columns)
+    has_header: bool
+    lines: tuple[int, ...] = ()  # line number in the file of each data row
+
+    def line_of(self, row: int) -> int:
+        """Line number in the file of data row ``row`` (0-based)."""
+        return self.lines[row] if self.lines else row + 1
+
+
+_SEPARATOR = re.compile(r"[,;\t]")
+_SPACED_HEADER_CELL = re.compile(r"[^\s(\[]+(?:\s*[\(\[][^\)\]]*[\)\]])?")
+
+
+def _split(line: str, width: int | None = None) -> list[str]:
+    """Cells of a data line. ``width``: the number of columns so far (header or first row); one
+    trailing separator beyond it (as spreadsheet exports write, ``1;2;``) makes no extra column."""
+    line = line.strip()
+    if not _SEPARATOR.search(line):
+        return line.split()
+    cells = [c.strip() for c in _SEPARATOR.split(line)]
+    if cells[-1] == "" and len(cells) > 1 and (width is None or len(cells) == width + 1):
+        cells.pop()
+    return cells
+
+
+def _split_header(line: str) -> list[str]:
+    """Header cells; with spaces as separators, 'name (unit)' stays one cell."""
+    line = line.strip()
+    return _split(line) if _SEPARATOR.search(line) else _SPACED_HEADER_CELL.findall(line)
+
+
+def _number(cell: str, delimited: bool) -> float:
+    """A cell's value; an empty cell of a delimited row is a missing value (NaN)."""
+    if delimited and cell == "":
+        return float("nan")
+    return float(cell)
+
+
+def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
+    """Read a numeric table with an optional unit header (see the module docstring)."""
+    p = Path(path)
+    if not p.exists():
+        raise FileFormatError(p, "file not found")
+    if p.is_dir():
+        raise FileFormatError(p, "is a folder, not a file")
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise FileFormatError(p, "is not a UTF-8 text table") from None
+    names: tuple[str, ...] = ()
+    units: tuple[str, ...] = ()
+    rows: list[list[float]] = []
+    lines: list[int] = []
+    header = False
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        cells = _split(line, len(names) if names else (len(rows[0]) if rows else None))
+        delimited = bool(_SEPARATOR.search(line))
+        try:
+            values = [_number(c, delimited) for c in cells]
+        except ValueError:
+            if rows or header:
+                bad = next(c for c in cells if not _is_float(c))
+                raise FileFormatError(p, f"line {lineno}: {bad!r} is not a number") from None
+            header = True
+            cells = _split_header(line)
+            parsed = [_HEADER_CELL.match(c) for c in cells]
+            names = tuple((m.group(1) if m else c).strip() for m, c in zip(parsed, cells))
+            units = tuple(((m.group(2) or "") if m else "").strip() for m in parsed)
+            continue
+        if names and len(values) != len(names):
+            decimal_commas = re.search(r"[;\t]", line) and re.search(r"\d,\d", line)
+            hint = " (decimal commas? write 1.5, not 1,5)" if decimal_commas and len(values) > len(names) else ""
+            raise FileFormatError(p, f"line {lineno}: {len(values)} values, but the header names {len(names)} "
+                                     f"columns{hint}")
+        if rows and len(values) != len(rows[0]):
+            raise FileFormatError(p, f"line {lineno}: {len(values)} values, the rows above have {len(rows[0])}")
+        rows.append(values)
+        lines.append(lineno)
+    if not rows:
+        raise FileFormatError(p, "no numeric rows (empty file or header only)")
+    data = np.asarray(rows, dtype=float)
+    if data.shape[1] < min_columns:
+        raise FileFormatError(p, f"needs at least {min_columns} columns, found {data.shape[1]}")
+    if not names:
+        names = tuple(f"column {i + 1}" for i in range(data.shape[1]))
+        units = ("",) * data.shape[1]
+    return UnitTable(str(p), names, units, data, header, tuple(lines))
+
+
+def _is_float(text: str) -> bool:
+    if text == "":
+        return True  # a missing value, not a word
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def read_spectrum_table(path: str | Path) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Read a two-column power-spectrum table: q (default 1/m) and C (default m⁴).
+
+    Units come from a header row such as ``q (1/um), C (um^4)``. Rows are checked: no NaN or inf,
+    q strictly increasing and positive, C positive. Returns (q in 1/m, C in m⁴).
+    """
+    table = read_unit_table(path)
+    if table.data.shape[1] != 2:
+        raise FileFormatError(path, f"a spectrum table has two columns (q, C); found {table.data.shape[1]}")
+    try:
+        fq = unit_factor(f"{path}: column '{table.names[0]}' unit", table.units[0] or "1/m", "wavevector")
+        fc = unit_factor(f"{path}: column '{table.names[1]}' unit", table.units[1] or "m^4", "psd")
+    except UnitError as exc:
+        raise FileFormatError(path, str(exc)) from None
+    q = table.data[:, 0] * fq
+    c = table.data[:, 1] * fc
+    for name, col in (("q", q), ("C", c)):
+        bad = ~np.isfinite(col)
+        if bad.any():
+            raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: {name} is {col[bad][0]} "
+                                        "(missing, NaN or inf: not allowed)")
+        bad = col <= 0
+        if bad.any():
+            raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: {name} = {col[bad][0]:.6g} "
+                                        "(must be > 0)")
+    steps = np.diff(q)
+    if (steps <= 0).any():
+        i = int(np.argmax(steps <= 0)) + 1
+        raise FileFormatError(path, f"line {table.line_of(i)}: q = {q[i]:.6g} 1/m is not above the previous row's "
+                                    f"{q[i - 1]:.6g} 1/m (q must be strictly increasing)")
+    return q, c

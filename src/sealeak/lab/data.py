@@ -1,0 +1,205 @@
+"""Measured data files: leak rates against squeeze pressure / pressure difference, rig readings (an edge module).
+
+A data file is a numeric table (comma, semicolon, tab or space separated; '#' comments) whose
+first row names every column with its unit in parentheses or brackets, e.g.::
+
+    squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)
+    20, 380, 10
+    ...
+
+Column names (case-insensitive; spaces and hyphens count as underscores; aliases in brackets):
+squeeze_pressure [p0, squeezing_pressure, contact_pressure, nominal_pressure],
+leak_rate [q, leakage, leak], pressure_difference [dp, delta_p, Δp, pressure_drop],
+time [t], height [h, level, water_height]. Units: any pint knows, for the leak rate either a
+volume flow (ml/min, l/h, m^3/s, ...) or a leak-test pV throughput (mbar*l/s, Pa*m^3/s, ...).
+
+Leak-test units. A throughput in mbar·l/s or Pa·m³/s is pressure × volume per time: the volume
+flow is throughput / p, at the pressure p the volume is measured at. That pressure is stated by the
+user (``sealeak fit --at-pressure "1 atm"``); the default is 1 atm = 101325 Pa (ambient). E.g.
+1 mbar·l/s = 0.1 Pa·m³/s = 0.1/101325 m³/s = 9.869e-7 m³/s at 1 atm.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import FileFormatError, UnitError
+from ..io.tables import read_unit_table
+from ..io.units import _normalise, registry, unit_factor
+
+__all__ = ["ATMOSPHERE", "leak_rate_factor", "LeakData", "read_leak_data", "read_rig_readings"]
+
+FloatArray = NDArray[np.float64]
+
+#: Default pressure at which leak-test throughputs (mbar·l/s, Pa·m³/s) are converted to volume flows.
+ATMOSPHERE = 101325.0
+
+_ALIASES = {
+    "squeeze_pressure": {"squeeze_pressure", "p0", "squeezing_pressure", "contact_pressure", "nominal_pressure"},
+    "leak_rate": {"leak_rate", "q", "leakage", "leak"},
+    "pressure_difference": {"pressure_difference", "dp", "delta_p", "δp", "pressure_drop"},
+    "time": {"time", "t"},
+    "height": {"height", "h", "level", "water_height"},
+}
+_DIMENSION = {"squeeze_pressure": "pressure", "pressure_difference": "pressure", "time": "time", "height": "length"}
+
+
+def leak_rate_factor(unit: str, reference_pressure: float = ATMOSPHERE, field_name: str = "leak_rate unit") -> float:
+    """Factor converting numbers in ``unit`` to a volume flow in m³/s.
+
+    Volume flows convert directly; pV throughputs (pressure × volume / time, e.g. mbar*l/s, Pa*m^3/s)
+    are divided by ``reference_pressure`` (Pa), the pressure at which the volume is counted.
+    """
+
+    text = (unit or "").strip()
+    allowed = ("a volume flow (e.g. 'ml/min', 'm^3/s') or a leak-test throughput (e.g. 'mbar*l/s', "
+               "'Pa*m^3/s')")
+    if not text:
+        raise UnitError(field_name, unit, f"missing: give {allowed}")
+    if not (np.isfinite(reference_pressure) and reference_pressure > 0):
+        raise UnitError("reference pressure (--at-pressure)", reference_pressure, "must be a pressure > 0")
+    ureg = registry()
+    try:
+        q = ureg.Quantity(1.0, _normalise(text).replace("^", "**"))
+    except Exception as exc:  # pint raises many kinds
+        raise UnitError(field_name, unit, f"unknown unit ({str(exc).splitlines()[0][:80]}); give {allowed}") from None
+    flow = ureg.Quantity(1.0, "m**3/s")
+    throughput = ureg.Quantity(1.0, "Pa*m**3/s")
+    if q.dimensionality == flow.dimensionality:
+        return float(q.to("m**3/s").magnitude)
+    if q.dimensionality == throughput.dimensionality:
+        return float(q.to("Pa*m**3/s").magnitude) / reference_pressure
+    raise UnitError(field_name, unit, f"is neither a volume flow nor a pV throughput; give {allowed}")
+
+
+@dataclass(frozen=True)
+class LeakData:
+    """Measured leak rates in SI: squeeze_pressure, pressure_difference (Pa; NaN where the file has no
+    such column or the row's cell is empty: the case's ΔP applies), leak_rate (m³/s); ``columns`` maps
+    each found column to its header text."""
+
+    path: str
+    squeeze_pressure: FloatArray
+    pressure_difference: FloatArray
+    leak_rate: FloatArray
+    columns: dict[str, str] = field(default_factory=dict)
+    reference_pressure: float = ATMOSPHERE
+    throughput: bool = False  # the leak rates were pV throughputs, converted at reference_pressure
+    lines: tuple[int, ...] = ()  # line number in the file of each data row
+
+    def line_of(self, row: int) -> int:
+        """Line number in the file of data row ``row`` (0-based)."""
+        return self.lines[row] if self.lines else row + 1
+
+    def __len__(self) -> int:
+        return int(self.leak_rate.size)
+
+
+def _canonical(name: str) -> str | None:
+    key = name.strip().lower().replace(" ", "_").replace("-", "_")
+    for canon, names in _ALIASES.items():
+        if key in names:
+            return canon
+    return None
+
+
+def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may_be_empty: tuple[str, ...] = ()):
+    table = read_unit_table(path, min_columns=1)
+    if not table.has_header:
+        raise FileFormatError(path, "the first row must name every column with its unit, e.g. "
+                                    "'squeeze_pressure (kPa), leak_rate (ml/min)'")
+    found: dict[str, int] = {}
+    for i, name in enumerate(table.names):
+        canon = _canonical(name)
+        if canon is None or canon not in wanted + optional:
+            raise FileFormatError(path, f"column {i + 1} '{name}' is not one of the columns this file takes: "
+                                        f"{', '.join(wanted + optional)}")
+        if canon in found:
+            raise FileFormatError(path, f"column {i + 1} '{name}' repeats column {found[canon] + 1} ({canon})")
+        found[canon] = i
+    missing = [w for w in wanted if w not in found]
+    if missing:
+        raise FileFormatError(path, f"missing column{'s' if len(missing) > 1 else ''} {', '.join(missing)} "
+                                    f"(found: {', '.join(table.names)})")
+    bad = ~np.isfinite(table.data)
+    for canon in may_be_empty:  # missing values allowed here (NaN: the caller supplies a default)
+        if canon in found:
+            bad[:, found[canon]] = np.isinf(table.data[:, found[canon]])
+    if bad.any():
+        r, c = np.argwhere(bad)[0]
+        what = ("is empty or NaN (not a finite number)" if np.isnan(table.data[r, c])
+                else f"{table.data[r, c]} is not a finite number")
+        raise FileFormatError(path, f"line {table.line_of(int(r))}, column '{table.names[c]}': {what}")
+    return table, found
+
+
+def _factor(path: Path, table, i: int, dimension: str) -> float:
+    unit = table.units[i]
+    if not unit:
+        raise FileFormatError(path, f"column '{table.names[i]}' has no unit: write it in parentheses, "
+                                    f"e.g. '{table.names[i]} (kPa)'")
+
+    try:
+        return unit_factor(f"column '{table.names[i]}' unit", unit, dimension)
+    except UnitError as exc:
+        raise FileFormatError(path, str(exc)) from None
+
+
+def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
+                   required: tuple[str, ...] = ("squeeze_pressure", "leak_rate")) -> LeakData:
+    """Read measured leak rates (see the module docstring). Every problem is a FileFormatError naming the file.
+
+    ``required``: the columns the file must have (the others of squeeze_pressure, leak_rate,
+    pressure_difference are optional). Leak rates must be >= 0, pressures > 0 (ΔP >= 0).
+    """
+    p = Path(path)
+    optional = tuple(c for c in ("squeeze_pressure", "leak_rate", "pressure_difference") if c not in required)
+    # an empty ΔP cell means "the case's ΔP", unless ΔP is a required column (the linearity test's x)
+    empty_ok = ("pressure_difference",) if "pressure_difference" not in required else ()
+    table, found = _columns(p, required, optional, may_be_empty=empty_ok)
+    n = table.data.shape[0]
+    out: dict[str, FloatArray] = {}
+    for canon in ("squeeze_pressure", "pressure_difference"):
+        if canon in found:
+            i = found[canon]
+            out[canon] = table.data[:, i] * _factor(p, table, i, "pressure")
+        else:
+            out[canon] = np.full(n, np.nan)
+    i = found["leak_rate"]
+    try:
+        fq = leak_rate_factor(table.units[i], reference_pressure, f"column '{table.names[i]}' unit")
+    except UnitError as exc:
+        raise FileFormatError(p, str(exc)) from None
+    q = table.data[:, i] * fq
+    throughput = fq != leak_rate_factor(table.units[i], 2.0 * reference_pressure, f"column '{table.names[i]}' unit")
+    if (q < 0).any():
+        r = int(np.argmax(q < 0))
+        raise FileFormatError(p, f"line {table.line_of(r)}: leak rate {table.data[r, i]:g} {table.units[i]} is negative")
+    if "squeeze_pressure" in found and (out["squeeze_pressure"] <= 0).any():
+        r = int(np.argmax(out["squeeze_pressure"] <= 0))
+        raise FileFormatError(p, f"line {table.line_of(r)}: squeeze pressure must be > 0")
+    dp = out["pressure_difference"]
+    if "pressure_difference" in found and (dp < 0).any():
+        r = int(np.argmax(dp < 0))
+        raise FileFormatError(p, f"line {table.line_of(r)}: pressure difference must be >= 0")
+    if "pressure_difference" in found and ((dp == 0) & (q > 0)).any():
+        r = int(np.argmax((dp == 0) & (q > 0)))
+        raise FileFormatError(p, f"line {table.line_of(r)}: a leak rate of {table.data[r, i]:g} {table.units[i]} at "
+                                 "zero pressure difference: no pressure drives a flow (check the row; leave the cell "
+                                 "empty to use the case's pressure difference)")
+    columns = {c: f"{table.names[j]} ({table.units[j]})" for c, j in found.items()}
+    return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure,
+                    throughput, table.lines)
+
+
+def read_rig_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
+    """Rig readings: columns time and height with units (e.g. 'time (min), height (cm)'); returns (s, m)."""
+    p = Path(path)
+    table, found = _columns(p, ("time", "height"), ())
+    t = table.data[:, found["time"]] * _factor(p, table, found["time"], "time")
+    h = table.data[:, found["height"]] * _factor(p, table, found["height"], "length")
+    return t, h

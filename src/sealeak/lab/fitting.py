@@ -1,0 +1,129 @@
+"""Fitting the theory to measured leak rates.
+
+Scale fit (``sealeak fit``; applied to a case by :func:`sealeak.cases.fit_models`). Both theories predict Q_i = α q_i with q_i the prediction at α = 1 for
+the i-th measurement (its P0 and ΔP): for the critical-junction theory α is its shape factor, for the
+effective-medium theory a factor that multiplies its prediction (1 without a fit). With
+multiplicative (log-normal) scatter, least squares in ln Q has the closed form::
+
+    r_i = ln Q_i - ln q_i,   ln α = mean(r),   se(ln α) = std(r, ddof=1)/√n,   α_std = α se(ln α)
+
+(α_std by the delta method; the interval α exp(±se) is the asymmetric version). The rms residual is
+reported in decades: √(mean((r_i - ln α)²))/ln 10. Points the model cannot use are excluded with a
+message, never silently: where the model predicts no leak channel (the non-contact area does not
+percolate at that P0) and where the measured leak rate is zero (no logarithm).
+
+Linearity check (``sealeak fit --linearity``, the reference paper's first test): ordinary least
+squares Q = slope ΔP + intercept with the textbook standard errors (s² = RSS/(n - 2)); a linear law
+through the origin has an intercept consistent with zero.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError
+
+__all__ = ["ScaleFit", "fit_scale", "LinearFit", "fit_line", "MODELS"]
+
+FloatArray = NDArray[np.float64]
+
+MODELS = ("critical_junction", "effective_medium")
+
+
+@dataclass(frozen=True)
+class ScaleFit:
+    """α fitted by least squares in log Q.
+
+    alpha, alpha_std: the factor and its standard error (NaN with one point); log10_alpha_std: the
+    standard error of log10 α; rms_log10_residual: rms residual in decades. used: mask of the
+    points in the fit; prediction: the model at α = 1 for every point (m³/s, NaN where it has none);
+    excluded: (index, reason) of every point left out.
+    """
+
+    model: str
+    alpha: float
+    alpha_std: float
+    log10_alpha_std: float
+    rms_log10_residual: float
+    n_used: int
+    used: NDArray[np.bool_]
+    prediction: FloatArray
+    excluded: tuple[tuple[int, str], ...] = field(default=())
+
+    @property
+    def fitted(self) -> bool:
+        return self.n_used > 0 and np.isfinite(self.alpha)
+
+
+def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -> ScaleFit:
+    """Closed-form least squares of ln(measured) = ln α + ln(predicted); excluded points explained.
+
+    A point is excluded when the prediction is missing (NaN: no leak channel) or zero (no pressure
+    difference), or the measurement is 0.
+    """
+    q = np.asarray(measured, dtype=float).ravel()
+    p = np.asarray(predicted, dtype=float).ravel()
+    if q.shape != p.shape:
+        raise InputError("fit", (q.size, p.size), "one prediction per measurement")
+    excluded = []
+    no_model = ~(np.isfinite(p) & (p > 0))
+    zero = (q <= 0) & ~no_model
+    for i in np.flatnonzero(no_model):
+        excluded.append((int(i), "the model predicts no leak channel there (the non-contact area does not percolate)"
+                         if not np.isfinite(p[i]) else "the model predicts no flow there (zero pressure difference)"))
+    for i in np.flatnonzero(zero):
+        excluded.append((int(i), "the measured leak rate is zero (no logarithm; a fit in log Q cannot use it)"))
+    used = ~no_model & ~zero
+    n = int(used.sum())
+    if n == 0:
+        return ScaleFit(model, np.nan, np.nan, np.nan, np.nan, 0, used, p, tuple(sorted(excluded)))
+    r = np.log(q[used]) - np.log(p[used])
+    ln_alpha = float(np.mean(r))
+    se = float(np.std(r, ddof=1) / np.sqrt(n)) if n > 1 else np.nan
+    alpha = float(np.exp(ln_alpha))
+    rms = float(np.sqrt(np.mean((r - ln_alpha) ** 2)) / np.log(10.0))
+    return ScaleFit(model, alpha, alpha * se, se / np.log(10.0), rms, n, used, p, tuple(sorted(excluded)))
+
+
+@dataclass(frozen=True)
+class LinearFit:
+    """Q = slope x + intercept by ordinary least squares, with standard errors and the rms residual."""
+
+    slope: float
+    slope_std: float
+    intercept: float
+    intercept_std: float
+    rms_residual: float
+    r_squared: float
+    n: int
+
+
+def fit_line(x: ArrayLike, y: ArrayLike) -> LinearFit:
+    """Ordinary least squares y = slope x + intercept (needs >= 3 points with distinct x for the errors)."""
+    xa = np.asarray(x, dtype=float).ravel()
+    ya = np.asarray(y, dtype=float).ravel()
+    n = xa.size
+    if n < 2 or xa.size != ya.size:
+        raise InputError("linearity data", n, "needs at least two (ΔP, Q) points")
+    if not (np.isfinite(xa).all() and np.isfinite(ya).all()):
+        raise InputError("linearity data", "NaN or inf", "every (ΔP, Q) point must be finite")
+    xm, ym = xa.mean(), ya.mean()
+    sxx = float(np.sum((xa - xm) ** 2))
+    if sxx == 0:
+        raise InputError("pressure_difference", float(xa[0]), "all rows have the same ΔP: a line needs different values")
+    slope = float(np.sum((xa - xm) * (ya - ym)) / sxx)
+    intercept = float(ym - slope * xm)
+    resid = ya - (intercept + slope * xa)
+    rss = float(np.sum(resid**2))
+    if n > 2:
+        s2 = rss / (n - 2)
+        slope_std = float(np.sqrt(s2 / sxx))
+        intercept_std = float(np.sqrt(s2 * (1.0 / n + xm**2 / sxx)))
+    else:
+        slope_std = intercept_std = float("nan")
+    syy = float(np.sum((ya - ym) ** 2))
+    r2 = 1.0 - rss / syy if syy > 0 else 1.0
+    return LinearFit(slope, slope_std, intercept, intercept_std, float(np.sqrt(rss / n)), r2, n)

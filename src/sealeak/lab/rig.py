@@ -1,0 +1,226 @@
+"""Virtual water-column rig: the reference paper's apparatus (docs/theory.md §4).
+
+A glass cylinder of inner diameter D_cyl stands on the rubber ring, which is pressed onto the rough
+substrate by a load m (or force F = m g) on the top of the cylinder. The cylinder holds a fluid
+column of height H; the fluid leaks out through the ring/substrate interface. Then
+
+    P0  = F / (π (D_o² - D_i²)/4)              (nominal squeeze pressure on the ring, Seal.squeeze_pressure_from_load)
+    ΔP  = ρ g H(t)                              (hydrostatic pressure at the seal; outside: ambient)
+    A_cyl dH/dt = -Q(ρ g H),   A_cyl = π D_cyl²/4
+
+For a leak rate linear in ΔP, Q = K ΔP (both theories at fixed P0: K = α (Ly/Lx) u_c³/(12η) or
+(Ly/Lx) σ_eff), the level falls exponentially: H(t) = H0 exp(-t/τ), τ = A_cyl/(K ρ g), and it takes
+t = τ ln(H0/H1) to fall from H0 to H1. :func:`water_column` solves the ODE in general
+(scipy.integrate.solve_ivp, Radau, tight tolerances) so a pressure-dependent Q(ΔP) works as well.
+
+The inverse (:func:`leak_rate_from_readings`): from readings (t_i, H_i) the leak rate between
+consecutive readings is Q = -A_cyl ΔH/Δt at ΔP = ρ g (H_i + H_{i+1})/2, and a straight-line fit of
+ln H against t gives the conductance K = -A_cyl/(ρ g) d ln H/dt with its standard error.
+The load of the fluid itself is not added to P0 (the cylinder stands on the ring; the paper's load
+is what presses the cylinder down).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.integrate import solve_ivp
+
+from ..errors import ConvergenceError, FileFormatError, InputError
+from ..physics.seal import STANDARD_GRAVITY, Seal
+
+__all__ = ["RigSetup", "WaterColumn", "water_column", "exponential_height", "drain_time",
+           "ReadingsAnalysis", "leak_rate_from_readings"]
+
+FloatArray = NDArray[np.float64]
+
+
+def _positive(name: str, value: float) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, value, "must be a number") from None
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(name, value, "must be finite and > 0")
+    return v
+
+
+@dataclass(frozen=True)
+class RigSetup:
+    """The water-column rig (SI units).
+
+    cylinder_diameter: inner diameter of the cylinder (m); initial_height, final_height: fluid
+    column at the start and the level whose time of arrival is reported (m); load: force pressing
+    the ring (N; a mass m in the case file becomes m g); density: ρ of the fluid (kg/m³);
+    gravity: g (m/s²); duration: time span of the simulated curve (s; None: until final_height
+    is reached, or 5 time constants).
+    """
+
+    cylinder_diameter: float
+    initial_height: float
+    load: float
+    density: float
+    final_height: float | None = None
+    gravity: float = STANDARD_GRAVITY
+    duration: float | None = None
+    load_note: str = ""
+
+    def __post_init__(self) -> None:
+        _positive("rig.cylinder_diameter", self.cylinder_diameter)
+        _positive("rig.initial_height", self.initial_height)
+        _positive("rig.load", self.load)
+        _positive("rig.density", self.density)
+        _positive("rig.gravity", self.gravity)
+        if self.final_height is not None:
+            _positive("rig.final_height", self.final_height)
+            if not self.final_height < self.initial_height:
+                raise InputError("rig.final_height", self.final_height,
+                                 f"must be below the initial height {self.initial_height:.6g} m")
+        if self.duration is not None:
+            _positive("rig.duration", self.duration)
+
+    @property
+    def cylinder_area(self) -> float:
+        """A_cyl = π D_cyl²/4 in m²."""
+        return 0.25 * np.pi * self.cylinder_diameter**2
+
+    def squeeze_pressure(self, seal: Seal) -> float:
+        """P0 = F / (Lx Ly) (for a ring: F / (π (D_o² - D_i²)/4)) in Pa."""
+        return seal.squeeze_pressure_from_load(self.load)
+
+    def pressure_difference(self, height: ArrayLike) -> FloatArray:
+        """ΔP = ρ g H in Pa."""
+        return self.density * self.gravity * np.asarray(height, dtype=float)
+
+
+def exponential_height(rig: RigSetup, conductance: float, t: ArrayLike) -> FloatArray:
+    """H(t) = H0 exp(-K ρ g t / A_cyl) for a linear leak Q = K ΔP (K in m³/(s·Pa))."""
+    k = conductance * rig.density * rig.gravity / rig.cylinder_area
+    return rig.initial_height * np.exp(-k * np.asarray(t, dtype=float))
+
+
+def drain_time(rig: RigSetup, conductance: float, final_height: float) -> float:
+    """Time (s) for the level to fall from H0 to ``final_height`` with Q = K ΔP (inf for K = 0)."""
+    if conductance <= 0:
+        return float("inf")
+    return rig.cylinder_area / (conductance * rig.density * rig.gravity) * np.log(rig.initial_height / final_height)
+
+
+@dataclass(frozen=True)
+class WaterColumn:
+    """Solution of A_cyl dH/dt = -Q(ρ g H): times (s), heights (m), leak rates (m³/s) and the time the
+    level reached ``final_height`` (NaN if it did not within the simulated span)."""
+
+    time: FloatArray
+    height: FloatArray
+    leak_rate: FloatArray
+    final_height: float
+    time_to_final: float
+
+
+def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *, t_end: float | None = None,
+                 t_eval: ArrayLike | None = None, rtol: float = 1e-12, atol: float | None = None) -> WaterColumn:
+    """Integrate A_cyl dH/dt = -Q(ρ g H) from H0 with ``leak_rate(ΔP)`` (m³/s) by solve_ivp (Radau).
+
+    The time of arrival at ``rig.final_height`` is located by an event. ``t_end`` defaults to
+    ``rig.duration``, or 1.5× the arrival time estimated from the initial leak rate (capped).
+    """
+    area = rig.cylinder_area
+    h1 = rig.final_height if rig.final_height is not None else 0.5 * rig.initial_height
+    q0 = float(np.asarray(leak_rate(np.array([rig.pressure_difference(rig.initial_height)])))[0])
+    if not np.isfinite(q0) or q0 < 0:
+        raise InputError("leak rate at the initial height", q0, "must be finite and >= 0 (m^3/s)")
+    if t_end is None and t_eval is not None:
+        t_end = float(np.max(t_eval))
+    if t_end is None:
+        t_end = rig.duration
+    if t_end is None:
+        if q0 == 0:
+            t_end = 3600.0
+        else:  # linear estimate: τ = A H0/Q0; go to the final level and a bit beyond
+            tau = area * rig.initial_height / q0
+            t_end = tau * max(1.5 * np.log(rig.initial_height / h1), 1.0)
+    if atol is None:
+        atol = 1e-14 * rig.initial_height
+
+    def rhs(t, y):
+        return [-float(np.asarray(leak_rate(np.array([rig.pressure_difference(max(y[0], 0.0))])))[0]) / area]
+
+    def reach(t, y):
+        return y[0] - h1
+
+    reach.terminal = False
+    reach.direction = -1
+    if t_eval is None:
+        t_eval = np.linspace(0.0, t_end, 401)
+    sol = solve_ivp(rhs, (0.0, float(t_end)), [rig.initial_height], method="Radau", t_eval=np.asarray(t_eval, float),
+                    events=reach, rtol=rtol, atol=atol)
+    if not sol.success:
+        raise ConvergenceError(f"water column: the ODE solver failed ({sol.message})")
+    hits = sol.t_events[0]
+    t_final = float(hits[0]) if hits.size else float("nan")
+    heights = sol.y[0]
+    q = np.asarray(leak_rate(rig.pressure_difference(heights)), dtype=float)
+    return WaterColumn(time=sol.t, height=heights, leak_rate=q, final_height=h1, time_to_final=t_final)
+
+
+@dataclass(frozen=True)
+class ReadingsAnalysis:
+    """Leak rate from (time, height) readings of the rig.
+
+    interval_pressure_difference, interval_leak_rate: ΔP at the mid-height and Q = -A ΔH/Δt of each
+    interval between consecutive readings (Pa, m³/s). conductance, conductance_std: K of the
+    exponential fit of ln H against t (m³/(s·Pa)) and its standard error (NaN with two readings).
+    """
+
+    time: FloatArray
+    height: FloatArray
+    interval_pressure_difference: FloatArray
+    interval_leak_rate: FloatArray
+    conductance: float
+    conductance_std: float
+    rms_log_residual: float
+
+
+def leak_rate_from_readings(rig: RigSetup, time: ArrayLike, height: ArrayLike, source: str = "readings") -> ReadingsAnalysis:
+    """Leak rate against ΔP from (t, H) readings (see the module docstring)."""
+    t = np.asarray(time, dtype=float)
+    h = np.asarray(height, dtype=float)
+    if t.size < 2:
+        raise FileFormatError(source, f"needs at least two readings, found {t.size}")
+    if not (np.isfinite(t).all() and np.isfinite(h).all()):
+        raise FileFormatError(source, "readings must be finite numbers")
+    if (h <= 0).any():
+        i = int(np.argmax(h <= 0))
+        raise FileFormatError(source, f"reading {i + 1}: height = {h[i]:.6g} m (must be > 0)")
+    dt = np.diff(t)
+    if (dt <= 0).any():
+        i = int(np.argmax(dt <= 0)) + 1
+        raise FileFormatError(source, f"reading {i + 1}: time {t[i]:.6g} s is not after the previous reading "
+                                      f"({t[i - 1]:.6g} s); times must increase")
+    area = rig.cylinder_area
+    q = -area * np.diff(h) / dt
+    dp = rig.pressure_difference(0.5 * (h[1:] + h[:-1]))
+    y = np.log(h)
+    if t.size >= 2:
+        tm = t.mean()
+        sxx = np.sum((t - tm) ** 2)
+        slope = np.sum((t - tm) * (y - y.mean())) / sxx
+        resid = y - (y.mean() + slope * (t - tm))
+        if t.size > 2:
+            s2 = np.sum(resid**2) / (t.size - 2)
+            slope_std = np.sqrt(s2 / sxx)
+        else:
+            slope_std = float("nan")
+    k = -slope * area / (rig.density * rig.gravity)
+    k_std = slope_std * area / (rig.density * rig.gravity)
+    if not k > 0:
+        raise FileFormatError(source, f"the water level does not fall over the readings (H = {h[0]:.6g} m at "
+                                      f"t = {t[0]:.6g} s, {h[-1]:.6g} m at t = {t[-1]:.6g} s; fitted K = Q/ΔP = "
+                                      f"{k:.3g} m³/(s·Pa)): no leak rate can be read from them (check the columns)")
+    rms = float(np.sqrt(np.mean(resid**2)) / np.log(10.0))
+    return ReadingsAnalysis(time=t, height=h, interval_pressure_difference=dp, interval_leak_rate=q,
+                            conductance=float(k), conductance_std=float(k_std), rms_log_residual=rms)

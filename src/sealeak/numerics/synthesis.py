@@ -1,0 +1,138 @@
+"""Periodic random rough surfaces with a prescribed power spectrum C(q).
+
+For a periodic N×N map of side L the Fourier amplitudes h_q of h(x) = Σ_q h_q exp(i q·x) satisfy
+<|h_q|²> = C(q) (2π/L)² (Persson's convention, THEORY.md section 1), so that
+h_rms² = Σ_q C(q) (2π/L)² ≈ ∫ d²q C(q). With NumPy's unnormalised FFT, fft2(h)(q) = N² h_q.
+
+Two kinds of randomness:
+
+* ``"gaussian"`` (default): h is a Gaussian random field: the FFT of real white noise, filtered by
+  √C(q). The spectrum of one realisation scatters around C(q) (exponentially distributed |h_q|²).
+* ``"phases"``: fixed amplitudes |h_q| = √(C(q)) 2π/L with random phases (Hermitian symmetry kept by
+  taking the phases from the FFT of real white noise). The discrete spectrum equals C(q) exactly
+  except at the Nyquist and zero modes, which must be real.
+
+Work is O(N² log N) with float64 arrays of N² and (N/2+1)N complex values; no mode loop.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import fft as sfft
+
+from ..errors import InputError
+from ..physics.spectrum import PowerSpectrum
+from ._memory import require_memory
+
+__all__ = ["synthesize", "wavevector_grid", "synthesis_memory_bytes"]
+
+Amplitudes = Literal["gaussian", "phases"]
+
+
+def wavevector_grid(n: int, size: float, *, half: bool = True) -> NDArray[np.float64]:
+    """|q| (1/m) on the FFT grid of an n×n periodic map of side ``size`` (m).
+
+    ``half=True`` gives the (n, n//2+1) layout of ``scipy.fft.rfft2``; otherwise the full (n, n) one.
+    """
+    k = 2.0 * np.pi * sfft.fftfreq(n, d=size / n)
+    ky = 2.0 * np.pi * sfft.rfftfreq(n, d=size / n) if half else k
+    return np.sqrt(k[:, None] ** 2 + ky[None, :] ** 2)
+
+
+_BLOCK_ELEMENTS = 1 << 16  # wavevectors per block when filtering (bounds the temporaries)
+_BLOCK_TEMPORARIES = 12  # float64 block-sized temporaries alive at once (C(q) evaluation, amplitudes, phases)
+
+
+def synthesis_memory_bytes(n: int) -> int:
+    """Peak memory of :func:`synthesize` for an n×n map, in bytes.
+
+    The peak is two full arrays at once: the real white noise (8 n² bytes) with its half-plane
+    spectrum (16 n (n/2+1) bytes) during the forward FFT, and that spectrum with the real output
+    map during the inverse FFT. The filter works on blocks of rows, so its temporaries are bounded
+    (at most ``_BLOCK_TEMPORARIES`` float64 blocks of ``_BLOCK_ELEMENTS`` values).
+    """
+    n = int(n)
+    half = 16 * n * (n // 2 + 1)
+    block = 8 * _BLOCK_TEMPORARIES * min(_BLOCK_ELEMENTS, n * (n // 2 + 1))
+    return int(1.05 * (8 * n * n + half + block))  # 5 %: the FFT library's own work space
+
+
+def _check_seed(seed: object) -> None:
+    if isinstance(seed, (bool, np.bool_)):
+        raise InputError("seed", seed, "a non-negative integer (or a numpy Generator)")
+    if isinstance(seed, (int, np.integer)) and seed < 0:
+        raise InputError("seed", int(seed), "must be a non-negative integer (0, 1, 2, ...)")
+
+
+def synthesize(
+    spectrum: PowerSpectrum,
+    n: int,
+    size: float,
+    *,
+    seed: int | np.random.Generator | None,
+    amplitudes: Amplitudes = "gaussian",
+    workers: int = -1,
+    memory_limit: float | None = None,
+) -> NDArray[np.float64]:
+    """A periodic random height map (m) of n×n points and side ``size`` (m) with spectrum C(q).
+
+    Parameters
+    ----------
+    spectrum:
+        C(q) in Persson's convention; modes outside its band get zero amplitude.
+    n:
+        Grid points per side (even, >= 4).
+    size:
+        Side of the square map in m; the lowest non-zero mode is 2π/size.
+    seed:
+        Seed (a non-negative integer) or NumPy Generator; the same seed gives the same surface
+        (``None`` only on purpose).
+    amplitudes:
+        ``"gaussian"`` or ``"phases"`` (see the module docstring).
+    workers:
+        Threads for scipy.fft (-1: all cores).
+    memory_limit:
+        Bytes the job may use; default: the memory the OS reports as available. A job whose
+        peak (:func:`synthesis_memory_bytes`) exceeds it is refused with ResourceError before
+        anything is allocated.
+
+    Returns
+    -------
+    Heights h[i, j] at x_i = i·size/n, y_j = j·size/n, float64, mean zero.
+    """
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 4 or n % 2:
+        raise InputError("grid", n, "must be an even integer >= 4")
+    if not (np.isfinite(size) and size > 0):
+        raise InputError("size", size, "must be a finite length > 0 (m)")
+    if amplitudes not in ("gaussian", "phases"):
+        raise InputError("amplitudes", amplitudes, "allowed: 'gaussian', 'phases'")
+    _check_seed(seed)
+    n = int(n)
+    require_memory(synthesis_memory_bytes(n), f"synthesizing a {n}x{n} map", memory_limit)
+    try:
+        rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    except (TypeError, ValueError) as exc:
+        raise InputError("seed", seed, f"a non-negative integer or a numpy Generator ({exc})") from None
+    noise = rng.standard_normal((n, n))
+    spec = sfft.rfft2(noise, workers=workers)  # <|spec|²> = n²
+    del noise
+    k = 2.0 * np.pi * sfft.fftfreq(n, d=size / n)
+    ky2 = (2.0 * np.pi * sfft.rfftfreq(n, d=size / n)) ** 2
+    scale = (2.0 * np.pi / size) * n  # n² |h_q| / n
+    rows = max(1, _BLOCK_ELEMENTS // ky2.size)
+    for r0 in range(0, n, rows):  # blocks of rows: vectorised, temporaries bounded
+        blk = spec[r0:r0 + rows]
+        q = np.sqrt(k[r0:r0 + rows, None] ** 2 + ky2[None, :])
+        amp = np.sqrt(spectrum(q)) * scale
+        if amplitudes == "gaussian":
+            blk *= amp
+        else:
+            mag = np.abs(blk)
+            np.divide(blk, mag, out=blk, where=mag > 0)
+            blk *= amp * n
+    spec[0, 0] = 0.0
+    h = sfft.irfft2(spec, s=(n, n), workers=workers)
+    return np.ascontiguousarray(h, dtype=np.float64)

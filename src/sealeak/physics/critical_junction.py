@@ -1,0 +1,181 @@
+"""Leak rate by the critical-junction theory (Lorenz & Persson, EPL 86 (2009) 44006).
+
+The nominal contact Lx × Ly is divided into N = Ly/Lx squares of side L (= Lx by default),
+q0 = 2π/L. As the magnification ζ grows the apparent contact area A(ζ)/A0 falls; the non-contact
+area first percolates at the critical magnification ζc where (site percolation)
+
+    A(ζc)/A0 = 1 - p_c                                 (p_c ≈ 0.6, so A/A0 = 0.4 by default)
+
+i.e. G(ζc) = (P0/(2 erfinv(1 - p_c)))², solved in closed form. The critical constriction has
+lateral size λc = L/ζc = 2π/(ζc q0) and height u_c = u1(ζc) (:meth:`PerssonContact.u1`). Poiseuille
+flow through it, times the N squares in parallel, gives the leak rate (paper eq. (2))
+
+    Q = α (Ly/Lx) u_c³ ΔP / (12 η)                      [m³/s]
+
+If A(ζ1)/A0 > 1 - p_c at the roughness cut-off ζ1 = q1/q0, the non-contact area never percolates
+within the resolved roughness: the theory predicts no leak channel and no number is returned
+(``percolates`` is False, ``leak_rate`` NaN, and a message says why).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .contact import PerssonContact
+from ..errors import InputError
+
+__all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
+
+#: ΔP/P0 above which the assumption P0 >> ΔP (the fluid pressure does not alter the contact) is flagged.
+LARGE_PRESSURE_RATIO = 0.5
+
+
+def pressure_difference_not_small(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> NDArray[np.bool_]:
+    """Where ΔP > LARGE_PRESSURE_RATIO · P0: the theories' assumption P0 >> ΔP is doubtful (Pa, Pa)."""
+    return np.asarray(pressure_difference, dtype=float) > LARGE_PRESSURE_RATIO * np.asarray(squeeze_pressure, dtype=float)
+
+FloatArray = NDArray[np.float64]
+
+
+def poiseuille_leak_rate(gap: ArrayLike, pressure_difference: ArrayLike, viscosity: float,
+                         aspect_ratio: float, alpha: float = 1.0) -> FloatArray:
+    """Q = α (Ly/Lx) g³ ΔP/(12 η) in m³/s (paper eq. (2))."""
+    return alpha * aspect_ratio * np.asarray(gap, dtype=float) ** 3 * np.asarray(pressure_difference) / (12.0 * viscosity)
+
+
+@dataclass(frozen=True)
+class CriticalJunctionResult:
+    """Critical-junction prediction over a sweep of squeeze pressures (arrays of equal length, SI units).
+
+    Attributes
+    ----------
+    squeeze_pressure: P0 (Pa).
+    pressure_difference: ΔP = P_a - P_b (Pa).
+    percolates: whether the non-contact area percolates within the resolved roughness.
+    critical_magnification: ζc (NaN where it does not percolate).
+    critical_gap: u_c = u1(ζc) (m).
+    critical_wavelength: λc = L/ζc (m).
+    leak_rate: Q (m³/s), NaN where it does not percolate.
+    contact_area_at_cutoff: A(ζ1)/A0 at the roughness cut-off.
+    messages: human-readable notes (one per non-percolating pressure, assumption warnings).
+    """
+
+    squeeze_pressure: FloatArray
+    pressure_difference: FloatArray
+    percolates: NDArray[np.bool_]
+    critical_magnification: FloatArray
+    critical_gap: FloatArray
+    critical_wavelength: FloatArray
+    leak_rate: FloatArray
+    contact_area_at_cutoff: FloatArray
+    alpha: float
+    percolation_threshold: float
+    gamma: float
+    q0: float
+    aspect_ratio: float
+    viscosity: float
+    messages: tuple[str, ...] = field(default=())
+
+    def __len__(self) -> int:
+        return int(self.squeeze_pressure.size)
+
+
+def _pressures(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Validated P0 (> 0) and ΔP (>= 0) broadcast against each other (fresh float arrays, Pa)."""
+    p0 = _positive_array("conditions.squeeze_pressure", squeeze_pressure)
+    dp = _positive_array("conditions.pressure_difference", pressure_difference, allow_zero=True)
+    try:
+        p0, dp = np.broadcast_arrays(p0, dp)
+    except ValueError:
+        raise InputError("conditions.pressure_difference", dp.tolist(),
+                         f"give one value or one per squeeze pressure ({p0.size})") from None
+    return p0.astype(float).copy(), dp.astype(float).copy()
+
+
+def _positive_array(name: str, value: ArrayLike, allow_zero: bool = False) -> FloatArray:
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    if arr.size == 0:
+        raise InputError(name, [], "needs at least one value")
+    bad = ~np.isfinite(arr) | ((arr < 0) if allow_zero else (arr <= 0))
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError(name if arr.size == 1 else f"{name}[{i}]", float(arr[i]),
+                         "must be finite and " + (">= 0" if allow_zero else "> 0"))
+    return arr
+
+
+def critical_junction(
+    contact: PerssonContact,
+    *,
+    squeeze_pressure: ArrayLike,
+    pressure_difference: ArrayLike,
+    viscosity: float,
+    aspect_ratio: float,
+    alpha: float = 1.0,
+    percolation_threshold: float = 0.6,
+) -> CriticalJunctionResult:
+    """Critical-junction leak rate for every squeeze pressure (vectorised; no loop over pressures).
+
+    Parameters
+    ----------
+    contact:
+        Persson contact mechanics of the interface (spectrum, E*, q0 = 2π/L, γ).
+    squeeze_pressure:
+        Nominal squeeze pressures P0 in Pa (scalar or 1-D array).
+    pressure_difference:
+        ΔP in Pa, scalar or broadcastable against ``squeeze_pressure``.
+    viscosity:
+        η in Pa·s.
+    aspect_ratio:
+        Ly/Lx (number of squares of side L across the seal).
+    alpha:
+        Shape factor α of the critical constriction (paper: of order one; fitted 0.2).
+    percolation_threshold:
+        Site-percolation threshold p_c in (0, 1); the junction percolates at A/A0 = 1 - p_c.
+    """
+    p0, dp = _pressures(squeeze_pressure, pressure_difference)
+    for name, v in (("fluid.viscosity", viscosity), ("seal aspect ratio Ly/Lx", aspect_ratio), ("theory.alpha", alpha)):
+        if not (np.isfinite(v) and v > 0):
+            raise InputError(name, v, "must be finite and > 0")
+    if not (0.0 < percolation_threshold < 1.0):
+        raise InputError("theory.percolation_threshold", percolation_threshold, "must lie in (0, 1)")
+
+    zeta_c, percolates = contact.zeta_at_area(1.0 - percolation_threshold, p0)
+    area_cut = contact.area(contact.zeta_max, p0)
+    u_c = np.full_like(p0, np.nan)
+    if percolates.any():
+        u_c[percolates] = contact.u1(zeta_c[percolates], p0[percolates])
+    bad = percolates & ~(np.isfinite(u_c) & (u_c > 0))
+    if bad.any():  # ζc so close to 1 that A'(ζc) underflows: u1 = ū + ū' A/A' is not computable
+        i = int(np.argmax(bad))
+        raise InputError("squeeze_pressure", float(p0[i]),
+                         f"so small that the critical magnification ζc - 1 = {zeta_c[i] - 1:.3g} is lost in "
+                         "round-off and u_c = u1(ζc) cannot be computed; give a larger squeeze pressure (Pa)")
+    zeta_c = np.where(percolates, zeta_c, np.nan)
+    lam_c = 2.0 * np.pi / (zeta_c * contact.q0)
+    q = np.where(percolates, poiseuille_leak_rate(u_c, dp, viscosity, aspect_ratio, alpha), np.nan)
+
+    messages = []
+    for i in np.flatnonzero(~percolates):
+        messages.append(
+            f"P0 = {p0[i]:.6g} Pa: the contact area at the roughness cut-off is A/A0 = {area_cut[i]:.3f}, "
+            f"above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
+            "within the resolved roughness; the theory predicts no leak channel (no leak-rate number)."
+        )
+    large = pressure_difference_not_small(p0, dp)
+    if large.any():
+        i = int(np.argmax(large))
+        messages.append(
+            f"ΔP = {dp[i]:.6g} Pa is not small against P0 = {p0[i]:.6g} Pa: the theory neglects the fluid "
+            "pressure's effect on the contact (it assumes P0 >> ΔP)."
+        )
+    return CriticalJunctionResult(
+        squeeze_pressure=p0, pressure_difference=dp, percolates=percolates,
+        critical_magnification=zeta_c, critical_gap=u_c, critical_wavelength=lam_c, leak_rate=q,
+        contact_area_at_cutoff=area_cut, alpha=float(alpha),
+        percolation_threshold=float(percolation_threshold), gamma=contact.gamma, q0=contact.q0,
+        aspect_ratio=float(aspect_ratio), viscosity=float(viscosity), messages=tuple(messages),
+    )

@@ -1,0 +1,159 @@
+"""Text and JSON renderings of the laboratory workflows: the α fit, the linearity check, the rig.
+
+Each function takes the result object of :mod:`sealeak.cases.run` (SI units) and returns the text
+``sealeak fit`` / ``sealeak rig`` print or the JSON document they write.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..cases import Case, FitResult, LinearityCheck, RigPrediction
+from ..lab.data import LeakData
+from ..lab.rig import ReadingsAnalysis
+from .records import json_document, json_value
+from .text import fmt
+
+__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json"]
+
+
+def fit_text(result: FitResult) -> str:
+    """The table ``sealeak fit`` prints: α ± std, rms residual and points used per model, then notes."""
+    case, data, fits = result.case, result.data, result.fits
+    reference = data.reference_pressure
+    lines = [f"{case.title}", f"fit of {len(data)} measured leak rate{'s' if len(data) != 1 else ''} from "
+             f"{data.path} (columns: {', '.join(data.columns.values())})"]
+    if data.throughput:
+        lines.append(f"leak rates in {data.columns['leak_rate']} are pV throughputs: converted to volume flows at "
+                     f"{reference / 1e3:.6g} kPa (--at-pressure)")
+    lines += ["least squares in log Q: Q_measured = α × Q_model(α = 1)", ""]
+    lines.append(f"{'model':<20} {'α':>10} {'± std':>10} {'rms (decades)':>14} {'points':>7}")
+    for name, f in fits.items():
+        lines.append(f"{name.replace('_', ' '):<20} {fmt(f.alpha):>10} {fmt(f.alpha_std, '.2g'):>10} "
+                     f"{fmt(f.rms_log10_residual, '.3g'):>14} {f.n_used:>7}")
+    lines += ["note: " + m for m in result.messages]
+    return "\n".join(lines) + "\n"
+
+
+def fit_json(result: FitResult) -> str:
+    """The ``sealeak fit --json`` document (α, its standard error and the excluded rows per model)."""
+    data = result.data
+    doc: dict[str, Any] = {"case": result.case.title, "data": data.path, "reference_pressure": data.reference_pressure,
+                           "units": {"alpha": "1", "alpha_std": "1", "rms_log10_residual": "decades (log10)",
+                                     "reference_pressure": "Pa"},
+                           "messages": list(result.messages)}
+    for name, f in result.fits.items():
+        doc[name] = {"alpha": json_value(f.alpha), "alpha_std": json_value(f.alpha_std),
+                     "log10_alpha_std": json_value(f.log10_alpha_std),
+                     "rms_log10_residual": json_value(f.rms_log10_residual), "points_used": f.n_used,
+                     "excluded_rows": [i + 1 for i, _ in f.excluded],
+                     "excluded_lines": [data.line_of(i) for i, _ in f.excluded]}
+    return json_document(doc)
+
+
+def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
+    """What ``sealeak fit --linearity`` prints: the line, its intercept against zero, the models' slopes."""
+    line, p0, z = check.line, check.squeeze_pressure, check.intercept_z
+    lines = [case.title, f"linearity of Q in ΔP: {len(data)} points from {data.path}", "",
+             f"slope      {line.slope:.4g} ± {line.slope_std:.2g} m³/(s·Pa)",
+             f"intercept  {line.intercept:.4g} ± {line.intercept_std:.2g} m³/s  "
+             f"({fmt(z, '.2g')} standard errors from 0{'; consistent with a line through the origin' if z < 2 else ''})",
+             f"R²         {line.r_squared:.5f}, rms residual {line.rms_residual:.3g} m³/s"]
+    if p0 is not None:
+        lines.append(f"P0         {p0 / 1e3:.4g} kPa (from {check.squeeze_pressure_source})")
+        for name, k in check.model_slopes.items():
+            lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa)")
+        if check.alpha_from_slope is not None:
+            lines.append(f"           α implied by the measured slope: {check.alpha_from_slope:.3g}")
+    lines += ["note: " + m for m in check.messages]
+    return "\n".join(lines) + "\n"
+
+
+def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
+    """The ``sealeak fit --linearity --json`` document."""
+    line, p0 = check.line, check.squeeze_pressure
+    doc = {"case": case.title, "data": data.path,
+           "linearity": {"slope": json_value(line.slope), "slope_std": json_value(line.slope_std),
+                         "intercept": json_value(line.intercept), "intercept_std": json_value(line.intercept_std),
+                         "r_squared": json_value(line.r_squared), "points": line.n,
+                         "squeeze_pressure": json_value(p0) if p0 is not None else None,
+                         "model_slopes": {k: json_value(v) for k, v in check.model_slopes.items()},
+                         "alpha_from_slope": (json_value(check.alpha_from_slope)
+                                              if check.alpha_from_slope is not None else None)},
+           "units": {"slope": "m^3/(s*Pa)", "slope_std": "m^3/(s*Pa)", "intercept": "m^3/s",
+                     "intercept_std": "m^3/s", "squeeze_pressure": "Pa", "model_slopes": "m^3/(s*Pa)"},
+           "messages": list(check.messages)}
+    return json_document(doc)
+
+
+def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None = None,
+             readings_source: str = "") -> str:
+    """What ``sealeak rig`` prints: load and cylinder, then K, Q at H0, τ and the drain time per model."""
+    rig = case.rig
+    assert rig is not None
+    area = rig.cylinder_area
+    dp0 = float(rig.pressure_difference(rig.initial_height))
+    lines = [case.title, "virtual water-column rig (Lorenz & Persson, EPL 86 (2009) 44006)", "",
+             f"load        {rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
+             f"{case.seal.nominal_area * 1e4:.4g} cm² seal",
+             f"cylinder    D = {rig.cylinder_diameter * 100:.4g} cm, A = {area * 1e4:.4g} cm², "
+             f"H0 = {rig.initial_height * 100:.4g} cm (ΔP0 = {dp0 / 1e3:.4g} kPa), "
+             f"ρ = {rig.density:g} kg/m³, g = {rig.gravity:g} m/s²", ""]
+    h1 = _final_height(pred)
+    lines.append(f"{'model':<32} {'K = Q/ΔP (m³/(s·Pa))':>22} {'Q at H0 (ml/min)':>17} {'τ (min)':>10} "
+                 f"{'t to H = ' + format(h1 * 100, '.3g') + ' cm (min)':>26}")
+    for name, k in pred.conductance.items():
+        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(k * dp0 * 6e7, '17.4g')} "
+                     f"{fmt(pred.time_constant[name] / 60, '10.4g')} {fmt(pred.drain_time[name] / 60, '26.4g')}")
+    lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
+    if readings is not None:
+        t = readings.time
+        lines += ["", f"readings from {readings_source}: {t.size} points over {t[-1] - t[0]:.4g} s", "",
+                  f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}"]
+        for dpi, qi in zip(readings.interval_pressure_difference, readings.interval_leak_rate):
+            lines.append(f"{dpi / 1e3:10.4g} {qi:12.4e} {qi * 6e7:11.4g}")
+        rising = int(np.count_nonzero(readings.interval_leak_rate < 0))
+        if rising:
+            lines.append(f"note: the level rises in {rising} of {readings.interval_leak_rate.size} intervals "
+                         "(reading noise?): those intervals show a negative Q")
+        lines.append(f"exponential fit of ln H(t): K = {readings.conductance:.4g} ± {readings.conductance_std:.2g} "
+                     f"m³/(s·Pa), rms residual {readings.rms_log_residual:.2g} decades")
+        for name, k in pred.conductance.items():
+            if k > 0 and name.startswith("critical"):
+                lines.append(f"α implied by the readings: {case.alpha * readings.conductance / k:.3g} "
+                             f"(case α = {case.alpha:g})")
+    lines += ["note: " + m for m in pred.messages]
+    return "\n".join(lines) + "\n"
+
+
+def _final_height(pred: RigPrediction) -> float:
+    return next(iter(pred.columns.values())).final_height if pred.columns else float("nan")
+
+
+def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None = None) -> str:
+    """The ``sealeak rig --json`` document: per model K, τ, drain times and H(t) every 10th point."""
+    rig = case.rig
+    assert rig is not None
+    models = {}
+    for name, k in pred.conductance.items():
+        col = pred.columns[name]
+        models[name] = {"conductance": json_value(k), "time_constant": json_value(pred.time_constant[name]),
+                        "time_to_final_height": json_value(pred.drain_time[name]),
+                        "time_to_final_height_ode": json_value(col.time_to_final),
+                        "time": [json_value(x) for x in col.time[::10]],
+                        "height": [json_value(x) for x in col.height[::10]]}
+    doc: dict[str, Any] = {
+        "case": case.title, "squeeze_pressure": pred.squeeze_pressure, "load": rig.load,
+        "final_height": json_value(_final_height(pred)), "models": models,
+        "units": {"squeeze_pressure": "Pa", "load": "N", "final_height": "m", "conductance": "m^3/(s*Pa)",
+                  "time_constant": "s", "time_to_final_height": "s", "time": "s", "height": "m",
+                  "interval_pressure_difference": "Pa", "interval_leak_rate": "m^3/s"},
+        "messages": list(pred.messages)}
+    if readings is not None:
+        doc["readings"] = {"interval_pressure_difference": [json_value(x) for x in readings.interval_pressure_difference],
+                           "interval_leak_rate": [json_value(x) for x in readings.interval_leak_rate],
+                           "conductance": json_value(readings.conductance),
+                           "conductance_std": json_value(readings.conductance_std)}
+    return json_document(doc)

@@ -1,0 +1,106 @@
+"""JSON and CSV renderings of case results (an edge module: SI in, SI out, units declared).
+
+Every document declares the SI unit of each field (``units``); NaN and infinities become ``null``
+in JSON and empty cells in CSV.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from .._version import __version__
+from ..cases import Case, CaseResult
+
+__all__ = ["json_value", "json_document", "case_summary", "prediction_json", "prediction_csv"]
+
+
+def json_value(x: Any) -> Any:
+    """A JSON-safe value: NaN and inf become None, NumPy scalars plain Python."""
+    if isinstance(x, (np.bool_, bool)):
+        return bool(x)
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return None if not math.isfinite(float(x)) else float(x)
+    return x
+
+
+def json_document(doc: dict[str, Any]) -> str:
+    """``doc`` as indented UTF-8 JSON text with a final newline (every JSON file sealeak writes)."""
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def case_summary(case: Case) -> dict[str, Any]:
+    """The case's main inputs and derived quantities, SI units (for JSON and reports)."""
+    s = case.spectrum
+    return {
+        "title": case.title,
+        "variant": case.label or None,
+        "source": case.source,
+        "spectrum": {"description": case.spectrum_note, "label": s.label, "h_rms": s.h_rms,
+                     "slope_rms": s.slope_rms, "curvature_rms": s.curvature_rms, "area_ratio": s.area_ratio,
+                     "q_min": s.q_min, "q_max": s.q_max},
+        "youngs_modulus": case.youngs_modulus, "poisson_ratio": case.poisson_ratio,
+        "contact_modulus": case.e_star,
+        "seal": {"shape": case.seal.shape, "width": case.seal.width, "length": case.seal.length,
+                 "aspect_ratio": case.seal.aspect_ratio, "nominal_area": case.seal.nominal_area},
+        "viscosity": case.fluid.viscosity,
+        "pressure_difference": case.pressure_difference,
+        "alpha": case.alpha, "percolation_threshold": case.percolation_threshold, "gamma": case.gamma,
+        "q0": case.q0, "q0_note": case.q0_note, "model": case.model,
+    }
+
+
+def _units(results: Sequence[CaseResult]) -> dict[str, str]:
+    units: dict[str, str] = {}
+    for r in results:
+        units |= r.units
+    return units
+
+
+def prediction_json(results: Sequence[CaseResult]) -> str:
+    """The ``predict --json`` document: ``units``, ``results`` (one object per pressure), cases, messages.
+
+    Effective-medium fields (``leak_rate_effective_medium`` etc.) join each results object of a
+    case that asks for that model.
+    """
+    records: list[dict[str, Any]] = []
+    messages: list[str] = []
+    for r in results:
+        records.extend({k: json_value(v) for k, v in rec.items()} for rec in r.records())
+        messages.extend((f"{r.case.label}: " if r.case.label else "") + m for m in r.messages)
+    theory = "critical junction (Lorenz & Persson, EPL 86 (2009) 44006)"
+    if any(r.effective_medium is not None for r in results):
+        theory += "; effective medium (2D Bruggeman over Persson's gap distribution P(u))"
+    doc = {
+        "sealeak_version": __version__,
+        "theory": theory,
+        "units": _units(results),
+        "results": records,
+        "cases": [case_summary(r.case) for r in results],
+        "messages": messages,
+    }
+    return json_document(doc)
+
+
+def prediction_csv(results: Sequence[CaseResult]) -> str:
+    """CSV with a header naming each column and its unit, e.g. ``leak_rate (m^3/s)``."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    study = any(r.case.label for r in results)
+    units = _units(results)
+    writer.writerow((["variant"] if study else []) + [f"{k} ({u})" for k, u in units.items()])
+    for r in results:
+        for raw in r.records():
+            rec = {k: json_value(v) for k, v in raw.items()}
+            row = ([rec["variant"]] if study else []) + [
+                "" if rec.get(k) is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else f"{rec[k]:.10g}")
+                for k in units]
+            writer.writerow(row)
+    return buf.getvalue()

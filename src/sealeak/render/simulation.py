@@ -1,0 +1,137 @@
+"""Renderings of the numerically exact route (``sealeak simulate``): table, JSON and figures."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
+
+from ..cases import Case, SimulationResult
+from ..numerics import spanning_mask
+from .figures import pressure_axis
+from .records import case_summary, json_document, json_value
+
+__all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES"]
+
+
+def _axes(figsize: tuple[float, float]) -> tuple[Figure, Axes]:
+    fig = Figure(figsize=figsize, dpi=150)
+    return fig, fig.add_subplot()
+
+
+SIMULATION_UNITS = {
+    "squeeze_pressure": "Pa", "relative_contact_area": "1", "relative_contact_area_std": "1",
+    "relative_contact_area_theory": "1", "mean_gap": "m", "mean_gap_std": "m", "percolating_fraction": "1",
+    "leak_rate": "m^3/s", "leak_rate_std": "m^3/s", "leak_rate_critical_junction": "m^3/s", "alpha": "1",
+    "alpha_std": "1", "percolation_threshold": "1", "percolation_threshold_std": "1", "pressure_difference": "Pa",
+    "size": "m",
+}
+SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png")
+
+
+def simulation_json(case: Case, res: SimulationResult) -> str:
+    """The ``sealeak simulate --json`` document: per-pressure results, threshold, settings, case."""
+    keys = [k for k in SIMULATION_UNITS if k not in ("percolation_threshold", "percolation_threshold_std",
+                                          "pressure_difference", "size")]
+    rows = [{k: json_value(getattr(res, k)[i]) for k in keys} | {"pressure_difference": res.pressure_difference}
+            for i in range(res.squeeze_pressure.size)]
+    doc: dict[str, Any] = {
+        "units": SIMULATION_UNITS,
+        "results": rows,
+        "percolation_threshold": json_value(res.percolation_threshold),
+        "percolation_threshold_std": json_value(res.percolation_threshold_std),
+        "settings": {"grid": res.grid, "realizations": res.realizations, "seed": res.seed, "size": res.size,
+                     "spectrum_cut_wavevector": res.q_cut, "spectrum": res.spectrum_note},
+        "leak_rate_critical_junction_note": "critical-junction prediction with alpha = 1 for the same spectrum; "
+                                            "alpha = leak_rate / leak_rate_critical_junction",
+        "case": case_summary(case),
+        "notes": list(res.notes),
+    }
+    return json_document(doc)
+
+
+def simulation_table(case: Case, res: SimulationResult) -> str:
+    """The table ``sealeak simulate`` prints: numerical against critical-junction leak rate and α."""
+    lines = [f"{case.title}: numerically exact leak rate",
+             f"grid {res.grid}x{res.grid} on a square of side {res.size * 1e3:.4g} mm, {res.realizations} "
+             f"realisation(s), seed {res.seed}; {res.spectrum_note}", ""]
+    lines.append(f"{'P0 (kPa)':>9} {'A/A0 sim':>9} {'A/A0 th':>8} {'ū (µm)':>9} {'perc':>5} "
+                 f"{'Q sim (m³/s)':>13} {'± std':>9} {'Q cj α=1':>10} {'α':>7} {'± std':>7}")
+
+    def f(x, fmt):
+        return "—".rjust(int(fmt.split(".")[0])) if not np.isfinite(x) else format(x, fmt)
+
+    for i in range(res.squeeze_pressure.size):
+        lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {res.relative_contact_area[i]:9.3f} "
+                     f"{res.relative_contact_area_theory[i]:8.3f} {res.mean_gap[i] * 1e6:9.4g} "
+                     f"{res.percolating_fraction[i]:5.2f} {f(res.leak_rate[i], '13.3e')} {f(res.leak_rate_std[i], '9.2e')} "
+                     f"{f(res.leak_rate_critical_junction[i], '10.3e')} {f(res.alpha[i], '7.3f')} "
+                     f"{f(res.alpha_std[i], '7.3f')}")
+    if np.isfinite(res.percolation_threshold):
+        lines.append("")
+        lines.append(f"the non-contact area stops percolating at A/A0 = {res.percolation_threshold:.3f} ± "
+                     f"{res.percolation_threshold_std:.2g} (critical-junction theory assumes 1 - p_c = "
+                     f"{1 - case.percolation_threshold:.3f})")
+    for n in res.notes:
+        lines.append("note: " + n)
+    return "\n".join(lines) + "\n"
+
+
+def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
+    """The figures of ``sealeak simulate --plots``: leak rate, α and a contact map, by file name."""
+    figs = {}
+    scale, unit = pressure_axis(res.squeeze_pressure)
+    p = res.squeeze_pressure / scale
+    fig, ax = _axes((6.4, 4.4))
+    ok = res.leak_rate > 0
+    std = np.nan_to_num(res.leak_rate_std[ok])
+    lower = np.minimum(std, 0.9 * res.leak_rate[ok])  # keep the bar above zero on the log axis
+    ax.errorbar(p[ok], res.leak_rate[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
+                label=f"numerical (BEM + Reynolds), {res.realizations} realisation(s)")
+    ax.plot(p, res.leak_rate_critical_junction, "-", label="critical junction, α = 1")
+    if case.alpha != 1.0:
+        ax.plot(p, case.alpha * res.leak_rate_critical_junction, "--", label=f"critical junction, α = {case.alpha:g}")
+    ax.set_yscale("log")
+    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
+    ax.set_ylabel("leak rate Q (m³/s)")
+    ax.set_title(f"Numerical against critical-junction leak rate\n{res.grid}² grid, ΔP = "
+                 f"{res.pressure_difference / 1e3:.3g} kPa, Ly/Lx = {case.seal.aspect_ratio:.3g}", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    figs["simulate_leak_rate.png"] = fig
+
+    fig, ax = _axes((6.4, 4.4))
+    ok = np.isfinite(res.alpha)
+    ax.errorbar(p[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3, label="α = Q_num / Q_cj(α=1)")
+    ax.axhline(case.alpha, color="k", ls="--", lw=0.8, label=f"case α = {case.alpha:g}")
+    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
+    ax.set_ylabel("α (1)")
+    ax.set_title("The factor α of the critical-junction theory, computed", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    figs["simulate_alpha.png"] = fig
+
+    fig, ax = _axes((5.6, 5.2))
+    if res.contact_maps:
+        idx = sorted(res.contact_maps)
+        perc_idx = [i for i in idx if res.per_realization["percolates"][0, i]]
+        pick = perc_idx[-1] if perc_idx else idx[len(idx) // 2]
+        contact = res.contact_maps[pick]
+        channel = spanning_mask(~contact)
+        img = np.where(contact, 0, np.where(channel, 2, 1))
+        cmap = ListedColormap(["#202020", "#d8d8d8", "#1f77b4"])
+        # img is indexed [x, y]; transpose so x runs horizontally (flow left to right)
+        ax.imshow(img.T, cmap=cmap, vmin=0, vmax=2, extent=(0, res.size * 1e3, 0, res.size * 1e3), origin="lower",
+                  interpolation="nearest")
+        ax.set_xlabel("x (mm), flow from inlet x = 0 to outlet →")
+        ax.set_ylabel("y, periodic (mm)")
+        ax.set_title(f"Contact map, realisation 0, P0 = {res.squeeze_pressure[pick] / scale:.3g} {unit}\n"
+                     f"black: contact ({contact.mean():.1%}); blue: channels spanning inlet to outlet; "
+                     f"grey: trapped fluid", fontsize=8)
+    figs["contact_map.png"] = fig
+    return figs
+
+

@@ -1,0 +1,101 @@
+"""Helpers shared by the native readers and the SurfaceTopography bridge (private).
+
+The unit options a file without units needs (:func:`require_units`, :func:`lateral_size`), the
+notes for options a file overrides, and resampling of non-uniform line scans.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Union
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+from ._types import LineScans, Topography
+from ._units import MissingUnitsError, option_name, parse_length
+
+__all__ = ["Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
+           "resample_nonuniform"]
+
+Surface = Union[Topography, LineScans]
+LengthLike = Union[float, str]
+INSTALL_HINT = "pip install 'sealeak[formats]'"
+
+
+# ---------------------------------------------------------------------------- unit helpers
+def _pair(value: Any, field: str) -> tuple[float, float]:
+    if isinstance(value, (list, tuple)):
+        if len(value) != 2:
+            raise InputError(field, value, "one length or a pair (x, y)")
+        return (parse_length(value[0], f"{field}[0]"), parse_length(value[1], f"{field}[1]"))
+    v = parse_length(value, field)
+    return (v, v)
+
+
+def require_units(path: Path, *, height: bool = False, size: bool = False, lateral: bool = False,
+                  how: str = "") -> None:
+    """Raise one :class:`MissingUnitsError` naming every missing unit option (none missing: return)."""
+    missing, what = [], []
+    if height:
+        missing.append("height_unit")
+        what.append("height unit")
+    if lateral:
+        missing.append("lateral_unit")
+        what.append("unit of its x, y positions")
+    if size:
+        missing.append("size")
+        what.append("lateral size")
+    if missing:
+        raise MissingUnitsError(f"{path}{how}", missing, what)
+
+
+def lateral_size(path: Path, shape: tuple[int, ...], pixel_size: Any, size: Any) -> tuple[float, ...]:
+    """Physical size (m) per axis from the user's ``pixel_size`` or ``size`` for a file without one."""
+    require_units(path, size=pixel_size is None and size is None)
+    if pixel_size is not None and size is not None:
+        raise InputError(f"{option_name('pixel_size')}/{option_name('size')}", (pixel_size, size),
+                         f"give one of {option_name('pixel_size')} and {option_name('size')}, not both")
+    if len(shape) == 1:
+        if isinstance(pixel_size if size is None else size, (list, tuple)):
+            key = "size" if pixel_size is None else "pixel_size"
+            raise InputError(option_name(key), pixel_size if size is None else size,
+                             f"{path} is a line scan: give one length")
+        if size is not None:
+            return (parse_length(size, option_name("size")),)
+        return (parse_length(pixel_size, option_name("pixel_size")) * shape[0],)
+    if size is not None:
+        return _pair(size, option_name("size"))
+    dx, dy = _pair(pixel_size, option_name("pixel_size"))
+    return (dx * shape[0], dy * shape[1])
+
+
+def ignored_notes(**given: Any) -> list[str]:
+    """Notes for the unit options a file overrides because it states them itself."""
+    return [f"{option_name(k)} {v!r} ignored: the file states it" for k, v in given.items() if v is not None]
+
+
+def resample_nonuniform(x: NDArray[np.float64], h: NDArray[np.float64]) -> tuple[NDArray[np.float64], float, str | None]:
+    """Heights on a uniform grid of as many points over [x0, x_last]; (h, length, note or None).
+
+    Uniform within 0.1 % counts as uniform. The grid's pixel is (x_last - x0)/(n - 1) and its length
+    n times that (the FFT period convention).
+    """
+    good = np.isfinite(h)
+    x, h = x[good], h[good]
+    n = x.size
+    span = float(x[-1] - x[0])
+    if not span > 0:
+        raise InputError("x positions", span, "must span a positive length")
+    d = np.diff(x)
+    dx = span / (n - 1)
+    note = None
+    if np.abs(d - dx).max() > 1e-3 * dx or not good.all():
+        h = np.interp(x[0] + dx * np.arange(n), x, h)
+        note = (f"non-uniform x (spacing {d.min():.4g}..{d.max():.4g} in file units"
+                f"{', ' + str(int((~good).sum())) + ' undefined heights dropped' if not good.all() else ''}): "
+                f"linearly interpolated onto {n} uniform points")
+    return h, dx * n, note
+
+

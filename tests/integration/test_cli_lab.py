@@ -1,0 +1,259 @@
+"""Fitting α, leak-test units, the virtual rig, the HTML report and bad data files (docs/theory.md § 4)."""
+
+import json
+from dataclasses import replace
+from html.parser import HTMLParser
+
+import numpy as np
+import pytest
+
+from sealeak import FileFormatError
+from sealeak.cases import predict, predict_effective_medium
+from sealeak.cases import example_path, load_cases
+from sealeak.cli import main
+from sealeak.cases import fit_models
+from sealeak.lab.data import read_leak_data
+from sealeak.cases import rig_prediction
+from sealeak.lab.rig import exponential_height
+
+G = 9.80665
+
+
+@pytest.fixture(scope="module")
+def case():
+    return load_cases(example_path("reference-experiment"))[0]
+
+
+@pytest.fixture(scope="module")
+def sweep(case):
+    """Unit-α predictions of both models over P0 = 20..400 kPa (Q spans at least three decades in both)."""
+    p0 = np.geomspace(2e4, 4e5, 16)
+    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0).leak_rate
+    em = predict_effective_medium(case, squeeze_pressure=p0).leak_rate
+    return p0, cj, em
+
+
+def test_fit_through_data_file_and_cli(case, sweep, tmp_path):
+    p0, cj, em = sweep
+    rng = np.random.default_rng(3)
+    q = 0.35 * cj * np.exp(0.2 * rng.standard_normal(cj.size))
+    data = tmp_path / "measured.csv"
+    rows = "\n".join(f"{p / 1e3:.10g}, {x * 6e7:.10g}" for p, x in zip(p0, q))
+    data.write_text("# synthetic\nsqueeze_pressure (kPa), leak_rate (ml/min)\n" + rows + "\n")
+    d = read_leak_data(data)
+    assert np.allclose(d.leak_rate, q, rtol=1e-9) and np.isnan(d.pressure_difference).all()
+    fits = fit_models(case, d.squeeze_pressure, d.pressure_difference, d.leak_rate)
+    assert abs(fits["critical_junction"].alpha - 0.35) < 3 * fits["critical_junction"].alpha_std
+    out = tmp_path / "fit.json"
+    figs = tmp_path / "figs"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out),
+                 "--plots", str(figs), "-q"]) == 0
+    doc = json.loads(out.read_text())
+    for name in ("critical_junction", "effective_medium"):
+        assert set(doc[name]) >= {"alpha", "alpha_std", "rms_log10_residual"}
+    assert doc["critical_junction"]["alpha"] == pytest.approx(fits["critical_junction"].alpha, rel=1e-9)
+    # the effective-medium factor: the data are 0.35 × CJ(α=1), so it is 0.35 × CJ/EM on average
+    assert doc["effective_medium"]["alpha"] == pytest.approx(fits["effective_medium"].alpha, rel=1e-9)
+    assert (figs / "fit.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_non_percolating_points_are_excluded_with_a_message(case, tmp_path, capsys):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n"
+                    "30, 200, 10\n60, 70, 10\n100, 20, 5\n1e6, 0.01, 10\n")
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data)]) == 0
+    out = capsys.readouterr().out
+    assert "line 5" in out and "excluded" in out and "does not percolate" in out  # data row 4, after the header
+    fits = fit_models(case, [3e4, 6e4, 1e5, 1e9], [1e4, 1e4, 5e3, np.nan], [1, 1, 1, 1])
+    assert fits["critical_junction"].n_used == 3
+    assert [i for i, _ in fits["critical_junction"].excluded] == [3]
+
+
+def test_linearity_cli(tmp_path, capsys):
+    data = tmp_path / "dp.csv"
+    dp = np.array([2, 4, 6, 8, 10.0])
+    data.write_text("pressure_difference (kPa), leak_rate (ml/min)\n" + "\n".join(f"{a}, {7.2 * a + 0.01 * (-1) ** i}"
+                                                                                   for i, a in enumerate(dp)) + "\n")
+    out = tmp_path / "lin.json"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--linearity",
+                 "--json", str(out), "--plots", str(tmp_path)]) == 0
+    text = capsys.readouterr().out
+    assert "slope" in text and "intercept" in text and "[rig] load" in text
+    doc = json.loads(out.read_text())["linearity"]
+    assert doc["slope"] == pytest.approx(7.2e-6 / 60 / 1e3, rel=1e-3)
+    assert abs(doc["intercept"]) < 3 * doc["intercept_std"]
+    assert doc["alpha_from_slope"] > 0 and (tmp_path / "linearity.png").exists()
+    # in the linearity test ΔP is the abscissa: an empty cell is an error, not "the case's ΔP"
+    gap = tmp_path / "gap.csv"
+    gap.write_text("pressure_difference (kPa), leak_rate (ml/min)\n2, 14\n, 29\n6, 43\n")
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(gap), "--linearity"]) == 2
+    assert "line 3, column 'pressure_difference': is empty" in capsys.readouterr().err
+
+
+def test_at_pressure_option(tmp_path, case):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s)\n30, 0.5\n60, 0.1\n")
+    a = read_leak_data(data)
+    b = read_leak_data(data, reference_pressure=2 * 101325)
+    assert a.leak_rate[0] == pytest.approx(0.5 * 0.1 / 101325, rel=1e-14)
+    assert np.allclose(b.leak_rate, a.leak_rate / 2, rtol=1e-14)
+    out1, out2 = tmp_path / "a.json", tmp_path / "b.json"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out1), "-q"]) == 0
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out2), "-q",
+                 "--at-pressure", "2 atm"]) == 0
+    a1 = json.loads(out1.read_text())["critical_junction"]["alpha"]
+    a2 = json.loads(out2.read_text())["critical_junction"]["alpha"]
+    assert a2 == pytest.approx(a1 / 2, rel=1e-12)
+    assert a.throughput and not read_leak_data_volume(tmp_path).throughput
+
+
+def read_leak_data_volume(tmp_path):
+    data = tmp_path / "v.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 0.5\n")
+    return read_leak_data(data)
+
+
+def test_fit_output_states_the_conversion_pressure_and_large_pressure_differences(tmp_path, capsys):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s), pressure_difference (kPa)\n30, 0.5, 10\n"
+                    "60, 0.1, 40\n")
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--at-pressure", "2 atm"]) == 0
+    out = capsys.readouterr().out
+    assert "converted to volume flows at 202.65 kPa" in out
+    assert "line 3: ΔP = 40000 Pa is not small against P0 = 60000 Pa" in out
+
+
+def test_rig_cli(tmp_path, capsys):
+    readings = tmp_path / "readings.csv"
+    case = load_cases(example_path("reference-experiment"))[0]
+    pred = rig_prediction(case)
+    k = next(iter(pred.conductance.values()))
+    t = np.linspace(0, 10, 11)  # minutes
+    h = exponential_height(case.rig, 1.3 * k, t * 60) * 100  # cm
+    readings.write_text("time (min), height (cm)\n" + "\n".join(f"{a:.6g}, {b:.10g}" for a, b in zip(t, h)) + "\n")
+    out = tmp_path / "rig.json"
+    assert main(["rig", "--example", "reference-experiment", "--readings", str(readings), "--json", str(out),
+                 "--plots", str(tmp_path / "f")]) == 0
+    text = capsys.readouterr().out
+    assert "P0 = 60.65 kPa" in text and "α implied by the readings: 0.26" in text
+    doc = json.loads(out.read_text())
+    assert doc["readings"]["conductance"] == pytest.approx(1.3 * k, rel=1e-6)
+    assert (tmp_path / "f" / "rig.png").exists() and (tmp_path / "f" / "readings.png").exists()
+
+
+# ---------------------------------------------------------------------- report
+class _Checker(HTMLParser):
+    VOID = {"meta", "img", "br", "hr", "link", "input"}
+
+    def __init__(self):
+        super().__init__()
+        self.stack, self.errors, self.imgs, self.ids, self.links = [], [], [], [], []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "img":
+            self.imgs.append(a.get("src", ""))
+        if tag in ("link", "script") and (a.get("href") or a.get("src")):
+            self.links.append(a.get("href") or a.get("src"))
+        if "id" in a:
+            self.ids.append(a["id"])
+        if tag not in self.VOID:
+            self.stack.append(tag)
+
+    def handle_endtag(self, tag):
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"unbalanced </{tag}> (open: {self.stack[-3:]})")
+        else:
+            self.stack.pop()
+
+
+def test_report_is_valid_self_contained_html(tmp_path):
+    from sealeak.render import PREDICTION_FIGURE_NAMES
+
+    text = example_path("reference-experiment").read_text().replace("[theory]", '[theory]\nmodel = "both"')
+    cf = tmp_path / "both.toml"
+    cf.write_text(text)
+    out = tmp_path / "r.html"
+    assert main(["report", str(cf), "-o", str(out), "-q"]) == 0
+    html = out.read_text()
+    p = _Checker()
+    p.feed(html)
+    p.close()
+    assert not p.errors and p.stack == []
+    assert html.startswith("<!DOCTYPE html>")
+    for name in PREDICTION_FIGURE_NAMES + ("rig.png",):
+        assert f"fig-{name}" in p.ids
+    assert all(src.startswith("data:image/png;base64,") for src in p.imgs)
+    assert len(p.imgs) == len(PREDICTION_FIGURE_NAMES) + 1
+    assert not p.links and "http://" not in html and "https://" not in html
+    # the input table with units as written, and the assumptions
+    for s in ("[surface] h_rms", "44 um", "[rubber] youngs_modulus", "2.3 MPa", "[rig] load", "3.4 kg"):
+        assert s in html
+    for s in ("p_c = 0.6", "γ = 1", "α = 0.2", "model (not a measurement)", "Q effective medium"):
+        assert s in html
+    assert main(["report", str(cf), "-o", str(out), "-q"]) == 2  # no overwrite without --force
+
+
+# ---------------------------------------------------------------------- bad data files
+@pytest.mark.parametrize("content, problem", [
+    ("squeeze_pressure (kPa), pressure_difference (kPa)\n30, 10\n60, 10\n", "missing column leak_rate"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, abc\n", "'abc' is not a number"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, -2\n", "negative"),
+    ("squeeze_pressure (kPa), leak_rate (furlong/fortnight)\n30, 1.0\n60, 2\n", "leak_rate"),
+    ("squeeze_pressure (kPa), leak_rate (bogusunit)\n30, 1.0\n60, 2\n", "unknown unit"),
+    ("squeeze_pressure, leak_rate (ml/min)\n30, 1.0\n60, 2\n", "has no unit"),
+    ("30, 1.0\n60, 2\n", "first row must name every column"),
+    ("squeeze_pressure (kg), leak_rate (ml/min)\n30, 1.0\n60, 2\n", "not a pressure"),
+    ("temperature (K), leak_rate (ml/min)\n30, 1.0\n", "'temperature' is not one of the columns"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, nan\n", "not a finite number"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60,\n", "line 3, column 'leak_rate': is empty"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n30, 1.0, 10\n60, 2.0, 0\n",
+     "line 3: a leak rate of 2 ml/min at zero pressure difference"),
+    ("", "no numeric rows"),
+    ("squeeze_pressure (kPa); leak_rate (ml/min)\n30; 1,5\n60; 2,5\n", "decimal commas?"),
+])
+def test_bad_data_files_through_the_cli(tmp_path, capsys, content, problem):
+    data = tmp_path / "bad.csv"
+    data.write_text(content)
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error: ") and "Traceback" not in err
+    assert str(data) in err and problem in err
+
+
+def test_bad_readings_and_missing_files(tmp_path, capsys):
+    bad = tmp_path / "r.csv"
+    bad.write_text("time (min), height (cm)\n0, 100\n0, 90\n")
+    assert main(["rig", "--example", "reference-experiment", "--readings", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "times must increase" in err
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(tmp_path / "none.csv")]) == 2
+    assert "file not found" in capsys.readouterr().err
+    assert main(["rig", "--example", "hrms-study"]) == 2
+    assert "study" in capsys.readouterr().err
+    with pytest.raises(FileFormatError):
+        read_leak_data(tmp_path / "none.csv")
+
+
+def test_rows_with_an_empty_pressure_difference_use_the_case_value_through_the_cli(case, tmp_path):
+    data = tmp_path / "m.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n"
+                    "30, 100, 20\n60, 30,\n")
+    d = read_leak_data(data)
+    assert d.pressure_difference[0] == pytest.approx(2e4) and np.isnan(d.pressure_difference[1])
+    out = tmp_path / "fit.json"
+    assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out), "-q"]) == 0
+    # closed form: α = geometric mean of Q_measured / Q_model(α = 1), ΔP = 20 kPa and the case's 10 kPa
+    q_model = [predict(replace(case, alpha=1.0), squeeze_pressure=np.array([p]), pressure_difference=dp).leak_rate[0]
+               for p, dp in ((3e4, 2e4), (6e4, case.pressure_difference))]
+    q_meas = np.array([100, 30]) * 1e-6 / 60
+    expected = float(np.exp(np.mean(np.log(q_meas / np.array(q_model)))))
+    assert json.loads(out.read_text())["critical_junction"]["alpha"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_readings_of_a_rising_level_are_refused(case, tmp_path, capsys):
+    bad = tmp_path / "r.csv"
+    bad.write_text("time (min), height (cm)\n0, 90\n5, 95\n10, 100\n")
+    assert main(["rig", "--example", "reference-experiment", "--readings", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "does not fall" in err

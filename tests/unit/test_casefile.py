@@ -1,0 +1,193 @@
+"""Case files: units, examples, studies, and the catalogue of invalid inputs."""
+
+import numpy as np
+import pytest
+
+from sealeak.cases import example_names, example_path, example_text, load_cases, parse_cases
+
+BASE = """
+title = "test case"
+[surface]
+model = "self-affine"
+h_rms = "44 um"
+hurst = 0.8
+rolloff_wavevector = "9.1e3 1/m"
+cutoff_wavelength = "20 um"
+[rubber]
+youngs_modulus = "2.3 MPa"
+poisson_ratio = 0.5
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+[fluid]
+viscosity = "1 mPa*s"
+[conditions]
+squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]
+pressure_difference = "10 kPa"
+[theory]
+alpha = 0.2
+"""
+
+
+def edit(old, new, text=BASE):
+    assert old in text, old
+    return text.replace(old, new)
+
+
+def test_base_case_reads_in_si():
+    (case,) = parse_cases(BASE)
+    assert case.spectrum.h_rms == pytest.approx(44e-6, rel=1e-12)
+    assert case.spectrum.q_max == pytest.approx(2 * np.pi / 20e-6)
+    assert case.e_star == pytest.approx(2.3e6 / 0.75)
+    assert case.q0 == pytest.approx(2 * np.pi / 5e-3)
+    assert case.spectrum.q_min == pytest.approx(case.q0)  # lowest_wavevector defaults to q0
+    assert np.allclose(case.squeeze_pressure, [2e4, 6e4, 1e5])
+    assert case.alpha == 0.2 and case.percolation_threshold == 0.6 and case.gamma == 1.0
+
+
+def test_units_are_interchangeable():
+    (a,) = parse_cases(BASE)
+    (b,) = parse_cases(edit('h_rms = "44 um"', 'h_rms = "0.044 mm"', edit(
+        'rolloff_wavevector = "9.1e3 1/m"', f'rolloff_wavelength = "{2 * np.pi / 9.1e3 * 1e3:.17g} mm"', edit(
+            'youngs_modulus = "2.3 MPa"', 'youngs_modulus = "2300 kPa"', edit(
+                'viscosity = "1 mPa*s"', 'viscosity = "1 cP"')))))
+    assert b.spectrum.h_rms == pytest.approx(a.spectrum.h_rms, rel=1e-12)
+    assert np.allclose(b.spectrum.q, a.spectrum.q, rtol=1e-12)
+    assert b.e_star == pytest.approx(a.e_star) and b.fluid.viscosity == pytest.approx(1e-3)
+    (c,) = parse_cases(edit('h_rms = "44 um"', 'h_rms = "44 µm"'))
+    assert c.spectrum.h_rms == pytest.approx(44e-6)
+
+
+def test_pressure_range_and_rectangle():
+    text = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
+                'squeeze_pressure = {start = "10 kPa", stop = "1 MPa", num = 3, spacing = "log"}')
+    text = edit('shape = "ring"\ninner_diameter = "3 cm"\nouter_diameter = "4 cm"',
+                'shape = "rectangle"\nwidth = "2 mm"\nlength = "5 cm"', text)
+    (case,) = parse_cases(text)
+    assert np.allclose(case.squeeze_pressure, [1e4, 1e5, 1e6])
+    assert case.seal.aspect_ratio == pytest.approx(25.0)
+
+
+def test_table_spectrum_with_units_in_header(tmp_path):
+    q = np.geomspace(1e3, 3e5, 20)
+    c = 1e-18 * (q / 1e3) ** -3.6
+    (tmp_path / "psd.csv").write_text("q (1/um), C (um^4)\n" + "".join(
+        f"{a * 1e-6:.17g}, {b * 1e24:.17g}\n" for a, b in zip(q, c)))
+    text = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
+                'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "psd.csv"')
+    (tmp_path / "case.toml").write_text(text)
+    (case,) = load_cases(tmp_path / "case.toml")
+    assert np.allclose(case.spectrum.q, q, rtol=1e-12)
+    assert np.allclose(case.spectrum.C, c, rtol=1e-12)
+
+
+def test_study_expands_into_variants():
+    text = BASE + '\n[study]\nvary = "surface.h_rms"\nvalues = ["10 um", "20 um"]\n'
+    cases = parse_cases(text)
+    assert [c.spectrum.h_rms for c in cases] == pytest.approx([1e-5, 2e-5])
+    assert cases[0].label == "h_rms = 10 um"
+
+
+@pytest.mark.parametrize("name", example_names())
+def test_bundled_examples_load_and_print(name):
+    assert len(example_names()) >= 3
+    cases = load_cases(example_path(name))
+    assert cases and all(c.title for c in cases)
+    assert parse_cases(example_text(name))[0].spectrum.h_rms == pytest.approx(cases[0].spectrum.h_rms)
+
+
+def test_reference_experiment_stand_in():
+    (case,) = load_cases(example_path("reference-experiment"))
+    assert case.spectrum.h_rms == pytest.approx(44e-6)
+    assert case.spectrum.q_max == pytest.approx(2 * np.pi / 20e-6)
+    assert case.spectrum.area_ratio == pytest.approx(1.4, abs=0.05)
+    assert "stand-in" in case.spectrum_note.lower() or "stand-in" in case.title.lower()
+    assert case.seal.aspect_ratio == pytest.approx(np.pi * 7 / 1)
+
+
+PSD_OK = "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n1e5, 1e-24\n"
+TABLE_CASE = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
+                  'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "psd.csv"')
+
+# (case text, files to create, text the error must contain)
+INVALID = [
+    ("missing section", BASE.replace("[fluid]\nviscosity = \"1 mPa*s\"\n", ""), {}, "fluid"),
+    ("missing field", edit('youngs_modulus = "2.3 MPa"\n', ""), {}, "rubber.youngs_modulus"),
+    ("negative modulus", edit('"2.3 MPa"', '"-2.3 MPa"'), {}, "rubber.youngs_modulus = '-2.3 MPa'"),
+    ("poisson above 0.5", edit("poisson_ratio = 0.5", "poisson_ratio = 0.51"), {}, "rubber.poisson_ratio = 0.51"),
+    ("unknown unit", edit('"44 um"', '"44 furlongs_per_fortnight"'), {}, "surface.h_rms"),
+    ("length for a pressure", edit('pressure_difference = "10 kPa"', 'pressure_difference = "10 mm"'), {},
+     "conditions.pressure_difference = '10 mm'"),
+    ("bare number for a length", edit('h_rms = "44 um"', "h_rms = 44"), {}, "surface.h_rms = 44"),
+    ("p_c outside (0,1)", edit("alpha = 0.2", "alpha = 0.2\npercolation_threshold = 1.2"), {},
+     "theory.percolation_threshold = 1.2"),
+    ("p_c zero", edit("alpha = 0.2", "alpha = 0.2\npercolation_threshold = 0"), {}, "theory.percolation_threshold"),
+    ("empty squeeze list", edit('["20 kPa", "60 kPa", "0.1 MPa"]', "[]"), {}, "conditions.squeeze_pressure"),
+    ("negative squeeze", edit('"60 kPa"', '"-60 kPa"'), {}, "conditions.squeeze_pressure[1]"),
+    ("malformed toml", BASE + "\n[rubber\n", {}, "malformed TOML"),
+    ("hurst out of range", edit("hurst = 0.8", "hurst = 1.5"), {}, "surface.hurst = 1.5"),
+    ("cutoff below rolloff", edit('cutoff_wavelength = "20 um"', 'cutoff_wavelength = "2 mm"'), {},
+     "surface.cutoff_wavevector"),
+    ("unknown key", edit("alpha = 0.2", "alpha = 0.2\nalfa = 0.3"), {}, "theory.alfa"),
+    ("unknown model", edit('model = "self-affine"', 'model = "fractal"'), {}, "surface.model = 'fractal'"),
+    ("both h_rms and C0", edit('h_rms = "44 um"', 'h_rms = "44 um"\nC0 = "1e-18 m^4"'), {}, "surface.h_rms"),
+    ("ring inverted", edit('outer_diameter = "4 cm"', 'outer_diameter = "2 cm"'), {}, "seal.outer_diameter"),
+    ("gamma zero", edit("alpha = 0.2", "alpha = 0.2\ngamma = 0"), {}, "theory.gamma = 0"),
+    ("alpha negative", edit("alpha = 0.2", "alpha = -0.2"), {}, "theory.alpha = -0.2"),
+    ("text for a number", edit("hurst = 0.8", 'hurst = "high"'), {}, "surface.hurst = 'high'"),
+    ("table missing file", edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
+                                'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "none.csv"'), {},
+     "none.csv: file not found"),
+    ("table with NaN", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, nan\n1e5, 1e-24\n"}, "C is nan"),
+    ("table unsorted", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e5, 1e-21\n1e4, 1e-24\n"},
+     "q must be strictly increasing"),
+    ("table text cell", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, abc\n"}, "'abc' is not a number"),
+    ("table wrong unit", None, {"psd.csv": "q (m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n"}, "not a wavevector"),
+    ("table empty", None, {"psd.csv": ""}, "no numeric rows"),
+    ("empty case file", "", {}, "is empty"),
+    ("self-affine key with a table", TABLE_CASE.replace('file = "psd.csv"', 'file = "psd.csv"\nh_rms = "1 mm"'),
+     {"psd.csv": PSD_OK}, "surface.h_rms = '1 mm': not used by model = 'table'"),
+    ("table key with self-affine", edit('model = "self-affine"', 'model = "self-affine"\nfile = "psd.csv"'), {},
+     "surface.file = 'psd.csv': not used by model = 'self-affine'"),
+    ("missing field says so", edit("hurst = 0.8\n", ""), {}, "surface.hurst is required"),
+    ("output folder in the way", BASE, {"out.json/keep": "x"}, "out.json is a folder"),
+]
+
+
+def test_case_file_with_byte_order_mark_reads(tmp_path):
+    p = tmp_path / "bom.toml"
+    p.write_bytes(b"\xef\xbb\xbf" + BASE.encode())
+    (case,) = load_cases(p)
+    assert case.title == "test case"
+
+
+def test_hrms_study_has_the_parameters_of_the_study():
+    cases = load_cases(example_path("hrms-study"))
+    assert [c.spectrum.h_rms for c in cases] == pytest.approx([1e-6, 2e-6, 4e-6, 6e-6], rel=1e-12)
+    for c in cases:
+        assert c.youngs_modulus == 10e6 and c.poisson_ratio == 0.5
+        assert c.e_star == pytest.approx(10e6 / 0.75)
+        assert c.q0 == pytest.approx(1e4) and c.spectrum.q_min == pytest.approx(1e4)
+        assert c.spectrum.q_max == pytest.approx(7.8e9)
+        # H = 0.8: C ∝ q^-2(1+H) = q^-3.6 above q_r = q0 (no plateau)
+        assert c.spectrum.exponents == pytest.approx([-3.6])
+        assert c.pressure_difference == 1e4 and c.fluid.viscosity == pytest.approx(1e-3)
+        assert c.seal.aspect_ratio == pytest.approx(1.0)
+
+
+def test_square_side_defaults_to_the_seal_width_and_can_be_overridden():
+    rect = edit('shape = "ring"\ninner_diameter = "3 cm"\nouter_diameter = "4 cm"',
+                'shape = "rectangle"\nwidth = "2 mm"\nlength = "5 cm"')
+    (c,) = parse_cases(rect)
+    assert c.seal.width == pytest.approx(2e-3) and c.seal.aspect_ratio == pytest.approx(25.0)
+    assert c.q0 == pytest.approx(2 * np.pi / 2e-3) and c.square_side == pytest.approx(2e-3)
+    (d,) = parse_cases(edit("alpha = 0.2", 'alpha = 0.2\nsquare_side = "1 mm"', rect))
+    assert d.q0 == pytest.approx(2 * np.pi / 1e-3) and d.square_side == pytest.approx(1e-3)
+    (e,) = parse_cases(edit("alpha = 0.2", 'alpha = 0.2\nlowest_wavevector = "5e3 1/m"', rect))
+    assert e.q0 == pytest.approx(5e3)
+    # λc = L/ζc with the overridden L; the aspect ratio stays the seal's Ly/Lx
+    from sealeak.cases import predict
+
+    r = predict(d)
+    assert np.allclose(r.critical_wavelength, 1e-3 / r.critical_magnification, rtol=1e-12)

@@ -1,0 +1,180 @@
+"""Gap distribution P(u) and the Bruggeman effective-medium leak rate (docs/theory.md § 5)."""
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from sealeak import PowerSpectrum
+from sealeak.cases import example_names, example_path, load_cases
+from sealeak.physics.contact import PerssonContact, contact_modulus
+from sealeak.physics.effective_medium import (bruggeman_conductivity, bruggeman_residual, discretise,
+                                      effective_medium)
+from sealeak.physics.gaps import gap_distribution
+
+E_STAR = contact_modulus(2.3e6, 0.5)
+Q0 = 2 * np.pi / 5e-3
+ETA = 1e-3
+
+
+@pytest.fixture(scope="module")
+def contact():
+    s = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=9.1e3, q_cutoff=2 * np.pi / 20e-6, q_lowest=Q0, h_rms=44e-6)
+    return PerssonContact(s, E_STAR, Q0, gamma=1.0)
+
+
+@pytest.fixture(scope="module")
+def dist(contact):
+    return gap_distribution(contact, [2e4, 6e4, 2.5e5])
+
+
+def reference_density(contact, p0, u, n_panels=1600, order=10):
+    """P(u) by brute force in ln ζ (the formula as written: -A'(ζ) dζ weight), independent of the b-variable.
+
+    Uniform panels in ln ζ plus a geometric grading towards ln ζ1 (h(ζ) -> 0 there).
+    """
+    top = np.log(contact.zeta_max)
+    edges = np.union1d(np.linspace(0.0, top, n_panels + 1), top - top * 0.5 ** np.arange(1, 45))
+    x, w = np.polynomial.legendre.leggauss(order)
+    half = 0.5 * np.diff(edges)
+    s = (0.5 * (edges[:-1] + edges[1:]))[:, None] + half[:, None] * x
+    ws = (half[:, None] * w).ravel()
+    zeta = np.exp(s.ravel())
+    da = -contact.area_derivative(zeta, p0) * zeta  # -A'(ζ) dζ/d ln ζ
+    keep = da > 1e-300
+    zeta, da, ws = zeta[keep], da[keep], ws[keep]
+    u1 = contact.u1(zeta, p0)
+    spec = contact.spectrum
+    h = np.sqrt(2 * np.pi * spec.moment(1, zeta * contact.q0, spec.q_max))
+    ok = h > 0
+    zeta, da, ws, u1, h = zeta[ok], da[ok], ws[ok], u1[ok], h[ok]
+    uu = np.asarray(u)[:, None]
+    u1 = np.minimum(u1, 1.0)  # (ζ -> 1: u1 grows without bound while its weight vanishes)
+    g = (np.exp(-(uu - u1) ** 2 / (2 * h**2)) + np.exp(-(uu + u1) ** 2 / (2 * h**2))) / np.sqrt(2 * np.pi * h**2)
+    return g @ (ws * da)
+
+
+def test_distribution_integrates_to_one(contact, dist):
+    assert np.allclose(dist.total_weight, 1.0, atol=1e-14)
+    for i in range(len(dist)):
+        f = lambda lnu: np.exp(lnu) * dist.density([np.exp(lnu)])[i, 0]
+        lo, hi = np.log(1e-13), np.log(5e-2)
+        pts = np.linspace(lo, hi, 40)
+        cont = sum(integrate.quad(f, a, b, epsabs=1e-13, epsrel=1e-11, limit=200)[0] for a, b in zip(pts[:-1], pts[1:]))
+        # continuous part below 1e-13 m and above 5 cm, by the mixture's CDF (a few 1e-13 at most)
+        outside = dist.cdf([1e-13])[i, 0] - dist.contact_fraction[i] + (1 - dist.cdf([5e-2])[i, 0])
+        assert outside < 1e-6
+        assert cont + dist.contact_fraction[i] + outside == pytest.approx(1.0, abs=1e-9)
+
+
+def test_density_against_brute_force_quadrature(contact, dist):
+    for i, p0 in enumerate(dist.squeeze_pressure):
+        u = np.array([0.0, 1e-3, 0.2, 0.6, 1.0, 1.5, 2.5, 5.0]) * dist.mean_gap[i]
+        ref = reference_density(contact, p0, u)
+        got = dist.density(u)[i]
+        assert np.allclose(got, ref, rtol=1e-6, atol=1e-9 * ref.max())
+
+
+def test_mean_is_ubar_plus_folding(contact, dist):
+    # ∫(-A') u1 dζ = ū(1) exactly (u1 = ū + ū'A/A'): a check of the quadrature and of u1
+    identity = np.sum(dist.weights * dist.centres, axis=1) + dist.unresolved_mean
+    assert np.allclose(identity, dist.mean_gap, rtol=1e-7)
+    assert np.allclose(dist.mean_gap, contact.mean_gap(1.0, dist.squeeze_pressure), rtol=1e-14)
+    # folding only adds: the mean of P(u) is at or above ū(1)
+    assert np.all(dist.mean >= dist.mean_gap)
+
+
+# mean of P(u) / ū(1) for the bundled cases at the lowest, middle and highest squeeze pressure
+# (computed with this code; pinned so a change of the quadrature or of u1 shows up)
+PINNED = {
+    ("reference-experiment", ""): (1.00498, 1.03305, 1.2072),
+    ("hrms-study", "h_rms = 1 µm"): (1.56532, 3.30675, None),
+    ("hrms-study", "h_rms = 2 µm"): (1.24238, 2.90046, 9.67409),
+    ("hrms-study", "h_rms = 4 µm"): (1.09097, 2.34528, 4.60904),
+    ("hrms-study", "h_rms = 6 µm"): (1.04961, 1.98886, 3.71547),
+    ("hurst-study", "H = 0.6"): (1.15917, 1.37845, 2.11799),
+    ("hurst-study", "H = 0.7"): (1.33965, 1.97801, 5.80455),
+    ("hurst-study", "H = 0.8"): (1.56532, 3.30675, None),
+    ("hurst-study", "H = 0.9"): (1.80715, 6.60491, None),
+}
+
+
+@pytest.mark.parametrize("name, label", sorted(PINNED))
+def test_mean_against_ubar_for_bundled_cases(name, label):
+    case = next(c for c in load_cases(example_path(name)) if c.label == label)
+    p = case.squeeze_pressure[[0, len(case.squeeze_pressure) // 2, -1]]
+    d = gap_distribution(case.contact(), p)
+    for ratio, want, area in zip(d.mean / d.mean_gap, PINNED[(name, label)], d.contact_fraction):
+        if want is None:  # (nearly) full contact: ū(1) is vanishingly small, the ratio meaningless
+            assert area > 0.99
+        else:
+            assert ratio == pytest.approx(want, rel=2e-5)
+
+
+def test_pinned_table_covers_every_bundled_example():
+    assert {n for n, _ in PINNED} == set(example_names())
+
+
+def test_bruggeman_solved_to_1e10(contact):
+    p0 = np.geomspace(2e4, 3e5, 7)
+    r = effective_medium(contact, squeeze_pressure=p0, pressure_difference=1e4, viscosity=ETA, aspect_ratio=7.0)
+    assert r.percolates.all()
+    gaps, weights = discretise(r.distribution)
+    # the equation written out directly, on the discretised distribution the solver used
+    res = bruggeman_residual(gaps, weights, r.contact_area_at_cutoff, ETA, r.effective_conductivity)
+    assert np.max(np.abs(res)) < 1e-10
+    # ... and on the continuous mixture P(u) itself (independent of the discretisation)
+    d = r.distribution
+    for i in (0, 3, 6):
+        sig = r.effective_conductivity[i]
+        f = lambda lnu: np.exp(lnu) * d.density([np.exp(lnu)])[i, 0] * 2 * sig / (sig + np.exp(lnu) ** 3 / (12 * ETA))
+        pts = np.linspace(np.log(1e-13), np.log(5e-2), 40)
+        cont = sum(integrate.quad(f, a, b, epsabs=1e-14, epsrel=1e-12, limit=200)[0] for a, b in zip(pts[:-1], pts[1:]))
+        # the mass below 1e-13 m conducts like contact (σ(1e-13 m) is nothing against σ_eff)
+        low = 2 * (d.cdf([1e-13])[i, 0])
+        assert abs(1 - (cont + low)) < 1e-9
+    assert np.allclose(r.leak_rate, 7.0 * r.effective_conductivity * 1e4, rtol=1e-15)
+
+
+def test_conductivity_falls_with_squeeze_pressure(contact):
+    p0 = np.geomspace(1e4, 1e6, 25)
+    r = effective_medium(contact, squeeze_pressure=p0, pressure_difference=1e4, viscosity=ETA, aspect_ratio=1.0)
+    s = r.effective_conductivity
+    ok = r.percolates
+    assert ok[:10].all()
+    assert np.all(np.diff(s[ok]) < 0)
+    assert np.all(s[~ok] == 0)
+    # it stops exactly where A(ζ1)/A0 reaches 1/2
+    assert np.all(ok == (r.contact_area_at_cutoff < 0.5))
+
+
+@pytest.mark.parametrize("a", [0.0, 0.1, 0.3, 0.45, 0.499])
+def test_single_gap_value(a):
+    u = 3e-6
+    sigma, res = bruggeman_conductivity([[u]], [[1 - a]], [a], ETA)
+    assert sigma[0] == pytest.approx(u**3 / (12 * ETA) * (1 - 2 * a), rel=1e-11)
+    assert abs(res[0]) < 1e-12
+
+
+@pytest.mark.parametrize("a", [0.5, 0.7, 1.0])
+def test_single_gap_value_beyond_threshold(a):
+    sigma, res = bruggeman_conductivity([[3e-6]], [[1 - a]], [a], ETA)
+    assert sigma[0] == 0.0 and np.isnan(res[0])
+
+
+def test_two_phase_closed_form():
+    # 2D Bruggeman, fractions p and 1-p of σ1, σ2: p(σ1-σ)/(σ1+σ) + (1-p)(σ2-σ)/(σ2+σ) = 0 is the quadratic
+    # σ² - (2p-1)(σ1-σ2) σ - σ1σ2 = 0; at p = 1/2 σ_eff = √(σ1σ2)
+    u1, u2 = 1e-6, 4e-6
+    s1, s2 = u1**3 / (12 * ETA), u2**3 / (12 * ETA)
+    for p in (0.5, 0.3, 0.8):
+        b = (2 * p - 1) * (s1 - s2)
+        want = 0.5 * (b + np.sqrt(b * b + 4 * s1 * s2))
+        got, _ = bruggeman_conductivity([[u1, u2]], [[p, 1 - p]], [0.0], ETA)
+        assert got[0] == pytest.approx(want, rel=1e-11)
+
+
+def test_no_number_beyond_bruggeman_threshold(contact):
+    r = effective_medium(contact, squeeze_pressure=[5e4, 5e7], pressure_difference=1e4, viscosity=ETA, aspect_ratio=1.0)
+    assert r.percolates.tolist() == [True, False]
+    assert np.isnan(r.leak_rate[1]) and r.effective_conductivity[1] == 0
+    assert any("0.5" in m and "no flow" in m for m in r.messages)
