@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 from scipy.special import erfinv
-
 from sealeak.roughness import PowerSpectrum
 from sealeak.synthesis import synthesize
 

@@ -22,7 +22,6 @@ FRACTIONS = (0.1, 0.4)
 
 def one(n: int, fraction: float) -> dict:
     from _common import E_STAR, SIZE, pressure_for, surface
-
     from sealeak.numerics import contact_memory_bytes, solve_contact
 
     h, sp = surface(n)

@@ -26,7 +26,6 @@ FRACTIONS = (0.1, 0.25, 0.3, 0.4)  # 0.3: near the percolation threshold, the ha
 
 def one(n: int, fraction: float, method: str) -> dict:
     from _common import E_STAR, SIZE, pressure_for, surface
-
     from sealeak.numerics import flow_memory_bytes, solve_contact, solve_flow
 
     h, sp = surface(n)

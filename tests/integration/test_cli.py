@@ -4,8 +4,7 @@ import json
 import numpy as np
 import pytest
 
-from sealeak.cases import predict
-from sealeak.cases import example_path, load_cases
+from sealeak.cases import example_path, load_cases, predict
 from sealeak.cli import main
 from sealeak.render import PREDICTION_FIGURE_NAMES
 

@@ -8,12 +8,9 @@ import numpy as np
 import pytest
 
 from sealeak import FileFormatError
-from sealeak.cases import predict, predict_effective_medium
-from sealeak.cases import example_path, load_cases
+from sealeak.cases import example_path, fit_models, load_cases, predict, predict_effective_medium, rig_prediction
 from sealeak.cli import main
-from sealeak.cases import fit_models
 from sealeak.lab.data import read_leak_data
-from sealeak.cases import rig_prediction
 from sealeak.lab.rig import exponential_height
 
 G = 9.80665

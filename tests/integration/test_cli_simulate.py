@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from sealeak.cases import example_path, load_cases
-from sealeak.cli import main
 from sealeak.cases.simulation import simulate
+from sealeak.cli import main
 
 
 @pytest.fixture(scope="module")

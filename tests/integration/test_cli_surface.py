@@ -189,8 +189,8 @@ def test_analyze_asks_for_all_missing_units_with_cli_flags(tmp_path, capsys):
 
 
 def test_analyze_two_files_json_statistics_are_filled(tmp_path):
-    from sealeak.physics.spectrum import PowerSpectrum
     from sealeak.numerics.synthesis import synthesize
+    from sealeak.physics.spectrum import PowerSpectrum
 
     model = PowerSpectrum.self_affine(hurst=0.7, q_rolloff=10**4.5, q_cutoff=10**6.5, q_lowest=10**3.5, h_rms=1e-6)
     np.save(tmp_path / "coarse.npy", synthesize(model, 256, 5e-3, seed=1))

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from sealeak.cases import example_names, example_path, example_text, load_cases, parse_cases
+from sealeak.errors import InputError
 
 BASE = """
 title = "test case"
@@ -191,3 +192,29 @@ def test_square_side_defaults_to_the_seal_width_and_can_be_overridden():
 
     r = predict(d)
     assert np.allclose(r.critical_wavelength, 1e-3 / r.critical_magnification, rtol=1e-12)
+
+
+@pytest.mark.parametrize("change, kw, field, both", [
+    (dict(gamma=1.5), {}, "theory.gamma", True),
+    (dict(percolation_threshold=1.0), {}, "theory.percolation_threshold", False),
+    ({}, dict(pressure_difference=-5.0), "conditions.pressure_difference", True),
+    ({}, dict(squeeze_pressure=[1e4, -1.0]), "conditions.squeeze_pressure[1]", True),
+])
+def test_physics_errors_name_the_case_file_key(change, kw, field, both):
+    """The physics names its own parameters; running a case re-labels them with the case-file key."""
+    from dataclasses import replace
+
+    from sealeak.cases import predict, predict_effective_medium
+
+    case = replace(load_cases(example_path("reference-experiment"))[0], **change)
+    for run in (predict, predict_effective_medium) if both else (predict,):
+        with pytest.raises(InputError) as err:
+            run(case, **kw)
+        assert err.value.field == field
+
+
+def test_seal_errors_name_the_case_file_key(tmp_path):
+    text = example_text("reference-experiment").replace('outer_diameter = "4 cm"', 'outer_diameter = "2 cm"')
+    with pytest.raises(InputError) as err:
+        parse_cases(text, tmp_path)
+    assert err.value.field == "seal.outer_diameter"

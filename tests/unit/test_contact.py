@@ -162,13 +162,13 @@ def test_broadcasting_over_zeta_and_pressure(model):
 
 
 @pytest.mark.parametrize("kwargs, field", [
-    (dict(gamma=0.0), "theory.gamma"),
-    (dict(gamma=1.5), "theory.gamma"),
+    (dict(gamma=0.0), "gamma"),
+    (dict(gamma=1.5), "gamma"),
     (dict(q0=1e9), "q0"),
     (dict(e_star=-1.0), "E*"),
 ])
 def test_invalid_parameters(model, kwargs, field):
     args = dict(spectrum=model, e_star=E_STAR, q0=Q0)
     args.update(kwargs)
-    with pytest.raises(InputError, match=field.replace("*", r"\*")):
+    with pytest.raises(InputError, match=field.replace("*", r"\*")):  # the physics names its own parameters
         PerssonContact(**args)

@@ -7,8 +7,7 @@ from scipy import integrate
 from sealeak import PowerSpectrum
 from sealeak.cases import example_names, example_path, load_cases
 from sealeak.physics.contact import PerssonContact, contact_modulus
-from sealeak.physics.effective_medium import (bruggeman_conductivity, bruggeman_residual, discretise,
-                                      effective_medium)
+from sealeak.physics.effective_medium import bruggeman_conductivity, bruggeman_residual, discretise, effective_medium
 from sealeak.physics.gaps import gap_distribution
 
 E_STAR = contact_modulus(2.3e6, 0.5)

@@ -7,11 +7,9 @@ import numpy as np
 import pytest
 
 from sealeak import FileFormatError, UnitError
-from sealeak.cases import predict, predict_effective_medium
-from sealeak.cases import example_path, load_cases
-from sealeak.cases import fit_models
-from sealeak.lab.fitting import fit_line, fit_scale
+from sealeak.cases import example_path, fit_models, load_cases, predict, predict_effective_medium
 from sealeak.lab.data import leak_rate_factor, read_leak_data
+from sealeak.lab.fitting import fit_line, fit_scale
 from sealeak.lab.rig import RigSetup, drain_time, exponential_height, leak_rate_from_readings, water_column
 from sealeak.physics.seal import Seal
 

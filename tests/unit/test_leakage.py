@@ -78,12 +78,12 @@ def test_ring_geometry():
 
 
 @pytest.mark.parametrize("kw, field", [
-    (dict(squeeze_pressure=[]), "conditions.squeeze_pressure"),
-    (dict(squeeze_pressure=[1e4, -1.0]), "conditions.squeeze_pressure[1]"),
-    (dict(pressure_difference=-5.0), "conditions.pressure_difference"),
-    (dict(viscosity=0.0), "fluid.viscosity"),
-    (dict(alpha=np.nan), "theory.alpha"),
-    (dict(percolation_threshold=1.0), "theory.percolation_threshold"),
+    (dict(squeeze_pressure=[]), "squeeze_pressure"),
+    (dict(squeeze_pressure=[1e4, -1.0]), "squeeze_pressure[1]"),
+    (dict(pressure_difference=-5.0), "pressure_difference"),
+    (dict(viscosity=0.0), "viscosity"),
+    (dict(alpha=np.nan), "alpha"),
+    (dict(percolation_threshold=1.0), "percolation_threshold"),
 ])
 def test_invalid_arguments(contact, kw, field):
     with pytest.raises(InputError) as err:

@@ -10,8 +10,8 @@ from scipy import optimize
 
 from sealeak.errors import ConvergenceError, InputError, ResourceError
 from sealeak.numerics import check_memory, contact_memory_bytes, solve_contact, solve_contact_sweep
-from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.numerics.synthesis import synthesize
+from sealeak.physics.spectrum import PowerSpectrum
 
 
 def test_hertz_sphere_on_flat() -> None:

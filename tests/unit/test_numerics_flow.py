@@ -10,8 +10,8 @@ from scipy.special import erfinv
 
 from sealeak.errors import ConvergenceError, InputError, ResourceError, SolutionCheckError
 from sealeak.numerics import check_memory, solve_contact, solve_flow
-from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.numerics.synthesis import synthesize
+from sealeak.physics.spectrum import PowerSpectrum
 
 ETA, DP = 1.0e-3, 1.0e4
 

@@ -10,8 +10,8 @@ import pytest
 
 from sealeak.errors import InputError
 from sealeak.numerics import label_clusters, percolation_threshold, solve_contact, spanning_mask, spans
-from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.numerics.synthesis import synthesize
+from sealeak.physics.spectrum import PowerSpectrum
 
 P_C_SQUARE = 0.592746  # site percolation, square lattice (Newman & Ziff, PRL 85 (2000) 4104)
 

@@ -101,10 +101,10 @@ def test_invalid_spectra_name_the_field(q, C, field):
 
 
 @pytest.mark.parametrize("kwargs, field", [
-    (dict(hurst=1.2), "surface.hurst"),
-    (dict(hurst=0.0), "surface.hurst"),
-    (dict(q_cutoff=5e3), "surface.cutoff_wavevector"),
-    (dict(h_rms=-1e-6), "surface.h_rms"),
+    (dict(hurst=1.2), "hurst"),
+    (dict(hurst=0.0), "hurst"),
+    (dict(q_cutoff=5e3), "q_cutoff"),
+    (dict(h_rms=-1e-6), "h_rms"),
 ])
 def test_invalid_model_parameters(kwargs, field):
     base = dict(hurst=0.8, q_rolloff=1e4, q_cutoff=1e6, h_rms=1e-6)
@@ -127,7 +127,7 @@ def test_self_affine_takes_wavelengths_or_wavevectors():
     assert np.allclose(a.q, b.q, rtol=1e-14) and np.allclose(a.C, b.C, rtol=1e-12)
     with pytest.raises(InputError, match="not both"):
         PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, rolloff_wavelength=1e-3, q_cutoff=1e6, h_rms=1e-6)
-    with pytest.raises(InputError, match="surface.cutoff_wavevector is required"):
+    with pytest.raises(InputError, match="q_cutoff is required"):
         PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, h_rms=1e-6)
 
 

@@ -7,10 +7,9 @@ import numpy as np
 import pytest
 
 from sealeak import ResourceError
-from sealeak.cases import predict
-from sealeak.cases import example_path, load_cases
-from sealeak.cli import main
+from sealeak.cases import example_path, load_cases, predict
 from sealeak.cases.simulation import resolved_spectrum_cut, simulate
+from sealeak.cli import main
 
 
 @pytest.fixture(scope="module")

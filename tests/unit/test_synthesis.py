@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from sealeak.errors import InputError, ResourceError
-from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.numerics.synthesis import synthesis_memory_bytes, synthesize
+from sealeak.physics.spectrum import PowerSpectrum
 
 L = 1e-3
 MODEL = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e5, q_cutoff=1e7, q_lowest=1e4, h_rms=1e-6)

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-
 import numpy as np
 import pytest
 
 from sealeak.errors import InputError
-from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.numerics.synthesis import synthesize
+from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.render import plot_spectra
 from sealeak.topography import (
     LineScans,

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
-from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.numerics.synthesis import synthesize, wavevector_grid
+from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.topography import (
     LineScans,
     Topography,

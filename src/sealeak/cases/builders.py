@@ -9,8 +9,9 @@ re-labelled here with the case-file key (:func:`relabel`).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -23,7 +24,7 @@ from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
 from .model import Case
-from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section
+from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 
 __all__ = ["build_case", "register_surface_model", "SurfaceBuilder"]
 
@@ -187,7 +188,12 @@ register_surface_model("topography", _topography)
 
 
 def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
-    """One :class:`Case` from a parsed case file (TOML document without its ``[study]``)."""
+    """One :class:`Case` from a parsed case file (TOML document without its ``[study]``).
+
+    Errors the physics constructors raise with their own parameter names (``outer_diameter``)
+    come out with the case-file key (``seal.outer_diameter``): each constructor is called inside
+    :func:`~sealeak.cases.schema.case_keys`.
+    """
     for key in doc:
         if key not in SECTIONS and key not in TOP_LEVEL:
             raise InputError(key, doc[key], f"unknown section or key; allowed sections: "
@@ -204,15 +210,21 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     sub = doc.get("substrate")
     if sub is not None:
         s = Section("substrate", sub)
-        e_star = contact_modulus(youngs, nu, s.quantity("youngs_modulus", "pressure"),
-                                 s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False))
+        e2 = s.quantity("youngs_modulus", "pressure")
+        nu2 = s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False)
+        with case_keys():
+            e_star = contact_modulus(youngs, nu, e2, nu2)
     else:
-        e_star = contact_modulus(youngs, nu)
-    seal = _seal(Section("seal", doc["seal"]))
+        with case_keys():
+            e_star = contact_modulus(youngs, nu)
+    seal_section = Section("seal", doc["seal"])
+    with case_keys():
+        seal = _seal(seal_section)
     fsec = Section("fluid", doc["fluid"])
     density = fsec.quantity("density", "density", default=-1.0)
-    fluid = Fluid(fsec.quantity("viscosity", "viscosity"), None if density < 0 else density,
-                  str(fsec.raw("name", "")))
+    viscosity = fsec.quantity("viscosity", "viscosity")
+    with case_keys():
+        fluid = Fluid(viscosity, None if density < 0 else density, str(fsec.raw("name", "")))
     cond = Section("conditions", doc["conditions"])
     p0 = _squeeze(cond)
     dp = cond.quantity("pressure_difference", "pressure", positive=False)
@@ -250,11 +262,12 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
             if key not in allowed:
                 raise InputError(surf.field(key), surf.raw(key),
                                  f"not used by model = {model_name!r}; its keys: {', '.join(sorted(allowed))}")
-    spectrum, note = builders[model_name](surf, case_dir, q0)
+    with case_keys():
+        spectrum, note = builders[model_name](surf, case_dir, q0)
     if not q0 < spectrum.q_max:
         raise InputError("theory.lowest_wavevector (q0)", q0,
                          f"q0 = 2π/L must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
-    rig = _rig(Section("rig", doc["rig"]), fluid) if "rig" in doc else None
+    rig = _rig(Section("rig", doc["rig"]), fluid) if "rig" in doc else None  # RigSetup under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
@@ -296,9 +309,11 @@ def _rig(sec: Section, fluid: Fluid) -> RigSetup:
         raise InputError(sec.field("density"), None, "is required (or give [fluid] density): the rig needs ρ for ΔP = ρ g H")
     final = sec.quantity("final_height", "length") if sec.has("final_height") else None
     duration = sec.quantity("duration", "time") if sec.has("duration") else None
-    return RigSetup(cylinder_diameter=sec.quantity("cylinder_diameter", "length"),
-                    initial_height=sec.quantity("initial_height", "length"), load=load, density=density,
-                    final_height=final, gravity=gravity, duration=duration, load_note=note)
+    diameter = sec.quantity("cylinder_diameter", "length")
+    height = sec.quantity("initial_height", "length")
+    with case_keys():
+        return RigSetup(cylinder_diameter=diameter, initial_height=height, load=load, density=density,
+                        final_height=final, gravity=gravity, duration=duration, load_note=note)
 
 
 def _simulation(sec: Section) -> dict[str, int]:

@@ -1,4 +1,4 @@
-"""Case files: TOML with quantities in any units, read into :class:`~sealeak.case.Case` objects.
+"""Case files: TOML with quantities in any units, read into :class:`~sealeak.cases.model.Case` objects.
 
 Format (``docs/case-files.md`` lists every key)::
 

@@ -28,26 +28,48 @@ MODELS = ("critical-junction", "effective-medium", "both")
 class Case:
     """One seal case (SI units).
 
-    Attributes:
-        title: the case's title (``title``).
-        spectrum: the roughness power spectrum C(q) (docs/theory.md §1).
-        spectrum_note: one line describing where the spectrum comes from.
-        youngs_modulus: E of the rubber (Pa); poisson_ratio: ν (1).
-        e_star: the contact modulus E* (Pa), combining rubber and substrate (docs/theory.md §2).
-        seal: the nominal contact Lx × Ly; fluid: the fluid's viscosity (and density).
-        squeeze_pressure: the nominal squeeze pressures P0 (Pa), one prediction each.
-        pressure_difference: ΔP = P_a − P_b across the seal (Pa).
-        alpha: the critical junction's shape factor α (1); percolation_threshold: p_c (1);
-            gamma: γ of the separation bracket (1) (docs/theory.md §2–3).
-        q0: 2π/L with L the side of the squares the nominal contact is divided into (1/m);
-            q0_note says where it came from.
-        model: the leak-rate theory asked for, one of :data:`MODELS`.
-        surface_model: the ``[surface] model`` the spectrum was built from ("self-affine",
-            "table", "topography", or a registered model).
-        rig: the water-column rig of the ``[rig]`` section, or None.
-        simulation: ``[simulation]`` defaults given in the file (grid, realizations, seed).
-        label: the variant's name within a parameter study ('' otherwise).
-        source: the case file's path ('' for text).
+    Attributes
+    ----------
+    title
+        The case's title (``title``).
+    spectrum
+        The roughness power spectrum C(q) (m⁴ against 1/m; docs/theory.md §1).
+    spectrum_note
+        One line describing where the spectrum comes from.
+    youngs_modulus, poisson_ratio
+        E of the rubber (Pa) and its Poisson ratio ν (1).
+    e_star
+        The contact modulus E* (Pa), combining rubber and substrate (docs/theory.md §2.1).
+    seal
+        The nominal contact Lx × Ly (m).
+    fluid
+        The fluid's viscosity (Pa·s) and density (kg/m³).
+    squeeze_pressure
+        The nominal squeeze pressures P0 (Pa), one prediction each.
+    pressure_difference
+        ΔP = P_a − P_b across the seal (Pa).
+    alpha
+        The critical junction's shape factor α (1; docs/theory.md §3.5).
+    percolation_threshold
+        p_c (1; docs/theory.md §3.2).
+    gamma
+        γ of the separation bracket (1; docs/theory.md §2.7).
+    q0, q0_note
+        q0 = 2π/L (1/m) with L the side of the squares the nominal contact is divided into
+        (docs/theory.md §2.2), and where it came from.
+    model
+        The leak-rate theory asked for, one of :data:`MODELS`.
+    surface_model
+        The ``[surface] model`` the spectrum was built from ("self-affine", "table",
+        "topography", or a registered model).
+    rig
+        The water-column rig of the ``[rig]`` section, or None.
+    simulation
+        ``[simulation]`` defaults given in the file (grid, realizations, seed).
+    label
+        The variant's name within a parameter study ('' otherwise).
+    source
+        The case file's path ('' for text).
     """
 
     title: str

@@ -18,9 +18,9 @@ The other entry points of this layer:
 
 from __future__ import annotations
 
-from contextlib import contextmanager
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
-from typing import Any, Iterator, Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -33,13 +33,13 @@ from ..physics.critical_junction import CriticalJunctionResult, critical_junctio
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.gaps import GapDistribution, gap_distribution
 from .model import Case
+from .schema import case_keys
 
 __all__ = [
     "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "Model",
     "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "MODEL_NAMES",
     "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction", "rig_readings",
     "PredictionCurves", "CurveSet", "PressureDifferenceSweep", "prediction_curves", "representative_pressures",
-    "CASE_KEYS", "case_keys",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -75,53 +75,6 @@ _EM_ATTR = {"percolates_effective_medium": "percolates", "effective_conductivity
             "effective_gap": "effective_gap", "leak_rate_effective_medium": "leak_rate", "mean_gap": "mean_gap",
             "gap_distribution_mean": "gap_distribution_mean"}
 
-#: Physics parameter names → the case-file key a user wrote them as (for error messages).
-CASE_KEYS: dict[str, str] = {
-    "squeeze_pressure": "conditions.squeeze_pressure",
-    "pressure_difference": "conditions.pressure_difference",
-    "viscosity": "fluid.viscosity",
-    "density": "fluid.density",
-    "alpha": "theory.alpha",
-    "percolation_threshold": "theory.percolation_threshold",
-    "gamma": "theory.gamma",
-    "q0": "theory.lowest_wavevector (q0)",
-    "hurst": "surface.hurst",
-    "h_rms": "surface.h_rms",
-    "C0": "surface.C0",
-    "q_rolloff": "surface.rolloff_wavevector",
-    "q_cutoff": "surface.cutoff_wavevector",
-    "q_lowest": "surface.lowest_wavevector",
-    "inner_diameter": "seal.inner_diameter",
-    "outer_diameter": "seal.outer_diameter",
-    "width": "seal.width",
-    "length": "seal.length",
-    "cylinder_diameter": "rig.cylinder_diameter",
-    "initial_height": "rig.initial_height",
-    "final_height": "rig.final_height",
-    "load": "rig.load",
-    "gravity": "rig.gravity",
-    "duration": "rig.duration",
-}
-
-
-@contextmanager
-def case_keys(keys: dict[str, str] | None = None) -> Iterator[None]:
-    """Re-label an :class:`~sealeak.errors.InputError` raised by the physics with the case-file key.
-
-    Physics functions name their own parameters (``squeeze_pressure[2]``); a user of a case file
-    wants ``conditions.squeeze_pressure[2]``. Fields that are not physics parameter names pass
-    unchanged.
-    """
-    mapping = CASE_KEYS if keys is None else keys
-    try:
-        yield
-    except InputError as exc:
-        name, bracket, index = exc.field.partition("[")
-        if name in mapping:
-            raise type(exc)(mapping[name] + bracket + index, exc.value, exc.allowed) from None
-        raise
-
-
 # ---------------------------------------------------------------------- the theories for a case
 def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
             pressure_difference: ArrayLike | None = None) -> CriticalJunctionResult:
@@ -143,7 +96,7 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
 
 def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = None,
                              pressure_difference: ArrayLike | None = None) -> EffectiveMediumResult:
-    """Bruggeman effective-medium leak rate of ``case`` (docs/theory.md §5), in SI units."""
+    """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3)."""
     with case_keys():
         return effective_medium(
             case.contact(),
@@ -176,13 +129,19 @@ def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critica
 class CaseResult:
     """Everything a front end shows for one case (SI units throughout).
 
-    Attributes:
-        case: the case that was run.
-        critical_junction: the critical-junction prediction at the case's squeeze pressures
-            (always computed: it is the reference paper's theory).
-        effective_medium: the effective-medium prediction, when ``case.model`` asks for it.
-        rig: the virtual water-column rig, when the case has a ``[rig]`` section.
-        messages: the notes of both theories (and the rig), each prefixed with its theory.
+    Attributes
+    ----------
+    case
+        The case that was run.
+    critical_junction
+        The critical-junction prediction at the case's squeeze pressures (always computed: it is
+        the reference paper's theory; Lorenz & Persson (2009) eq. 2, docs/theory.md §3).
+    effective_medium
+        The effective-medium prediction (docs/theory.md §5), when ``case.model`` asks for it.
+    rig
+        The virtual water-column rig (docs/theory.md §4), when the case has a ``[rig]`` section.
+    messages
+        The notes of both theories (and the rig), each prefixed with its theory.
     """
 
     case: Case
@@ -257,14 +216,25 @@ def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: Arr
 class FitResult:
     """α of both models fitted to measured leak rates, with what the fit figure draws (SI units).
 
-    Attributes:
-        case, data: the case and the measured (P0, ΔP, Q) rows.
-        fits: the :class:`~sealeak.lab.fitting.ScaleFit` of "critical_junction" and "effective_medium".
-        reference_pressure_difference: ΔP of the figure (the data's, if all rows share one; else the case's).
-        same_pressure_difference: whether all rows share one ΔP.
-        measured: the measured Q scaled to the reference ΔP (Q ∝ ΔP), m³/s.
-        grid: squeeze pressures of the model curves (Pa); curves: each model at α = 1 on it (m³/s).
-        messages: excluded rows, a single usable point, ΔP not small against P0.
+    Attributes
+    ----------
+    case, data
+        The case and the measured (P0, ΔP, Q) rows.
+    fits
+        The :class:`~sealeak.lab.fitting.ScaleFit` of "critical_junction" and "effective_medium"
+        (docs/theory.md §8.1).
+    reference_pressure_difference
+        ΔP of the figure (Pa; the data's, if all rows share one; else the case's).
+    same_pressure_difference
+        Whether all rows share one ΔP.
+    measured
+        The measured Q scaled to the reference ΔP (Q ∝ ΔP), m³/s.
+    grid
+        Squeeze pressures of the model curves (Pa).
+    curves
+        Each model at α = 1 on ``grid`` (m³/s).
+    messages
+        Excluded rows, a single usable point, ΔP not small against P0.
     """
 
     case: Case
@@ -315,13 +285,20 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
 class LinearityCheck:
     """Q against ΔP at one squeeze pressure: the straight-line fit and the models' slopes.
 
-    Attributes:
-        line: the least-squares line Q = slope ΔP + intercept (docs/theory.md §8).
-        squeeze_pressure: P0 of the data (Pa), or None when unknown (then no model slopes).
-        squeeze_pressure_source: where P0 came from (an option, the data file, the case, the rig).
-        model_slopes: K = Q/ΔP (m³/(Pa·s)) of each model that percolates at P0, by display name.
-        alpha_from_slope: the measured slope over the critical junction's slope at α = 1.
-        messages: notes (a model without a leak channel, no P0 known).
+    Attributes
+    ----------
+    line
+        The least-squares line Q = slope ΔP + intercept (docs/theory.md §8.2).
+    squeeze_pressure
+        P0 of the data (Pa), or None when unknown (then no model slopes).
+    squeeze_pressure_source
+        Where P0 came from (an option, the data file, the case, the rig).
+    model_slopes
+        K = Q/ΔP (m³/(Pa·s)) of each model that percolates at P0, by display name.
+    alpha_from_slope
+        The measured slope over the critical junction's slope at α = 1.
+    messages
+        Notes (a model without a leak channel, no P0 known).
     """
 
     line: LinearFit
@@ -376,13 +353,20 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
 class RigPrediction:
     """The rig simulated for a case (docs/theory.md §4).
 
-    Attributes:
-        squeeze_pressure: P0 from the load (Pa).
-        conductance: K = Q/ΔP of each model the case asks for (m³/(s·Pa); 0: no leak), by display name.
-        columns: the water column H(t) of each model.
-        time_constant: τ = A_cyl/(K ρ g) of each model (s; inf without leak).
-        drain_time: closed-form time to fall to the final height, each model (s).
-        messages: notes (no leak, ΔP not small against P0).
+    Attributes
+    ----------
+    squeeze_pressure
+        P0 from the load (Pa).
+    conductance
+        K = Q/ΔP of each model the case asks for (m³/(s·Pa); 0: no leak), by display name.
+    columns
+        The water column H(t) of each model.
+    time_constant
+        τ = A_cyl/(K ρ g) of each model (s; inf without leak).
+    drain_time
+        Closed-form time to fall to the final height, each model (s).
+    messages
+        Notes (no leak, ΔP not small against P0).
     """
 
     squeeze_pressure: float
@@ -394,7 +378,7 @@ class RigPrediction:
 
 
 def rig_prediction(case: Case) -> RigPrediction:
-    """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model``.
+    """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model`` (docs/theory.md §4.2).
 
     Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP with K from :func:`conductance`;
     the ODE is still solved in general (:func:`~sealeak.lab.rig.water_column`) and the closed-form
@@ -455,9 +439,28 @@ def representative_pressures(result: CriticalJunctionResult, count: int = 4) -> 
 class CurveSet:
     """Curves of one case at one squeeze pressure, against magnification ζ and gap u (SI units).
 
-    ``zeta``: ζ from 1 to q1/q0; ``area``: A(ζ)/A0; ``zeta_c``, ``percolates``: the critical
-    magnification (NaN if none); ``mean_gap``: ū(ζ) on ``zeta[:-1]``; ``u1``: u1(ζ) on ``zeta[1:-1]``;
-    ``u1_c``: u1(ζc); ``distribution``: P(u) at this pressure (docs/theory.md §2, §5).
+    Attributes
+    ----------
+    case
+        The case.
+    squeeze_pressure
+        P0 (Pa).
+    label
+        Legend label of the set.
+    zeta
+        ζ from 1 to q1/q0.
+    area
+        A(ζ)/A0 on ``zeta`` (docs/theory.md §2.4).
+    zeta_c, percolates
+        The critical magnification (NaN if none) and whether it exists (docs/theory.md §3.3).
+    mean_gap
+        ū(ζ) on ``zeta[:-1]`` (m; docs/theory.md §2.7).
+    u1
+        u1(ζ) on ``zeta[1:-1]`` (m; docs/theory.md §2.10).
+    u1_c
+        u1(ζc) (m).
+    distribution
+        P(u) at this pressure (docs/theory.md §5.1).
     """
 
     case: Case
@@ -488,11 +491,18 @@ class PressureDifferenceSweep:
 class PredictionCurves:
     """What the prediction figures draw besides the per-pressure results.
 
-    ``spectra``: (q, C(q)) of each case (1/m, m⁴); ``sets``: :class:`CurveSet` at a few pressures
-    (one case: up to four pressures; a study: one per variant); ``gap``: gaps u (m) on a log grid
-    spanning every set's distribution, and ``gap_density``: u·P(u) of each set on it (the
-    probability per unit ln u); ``pressure_difference``: one :class:`PressureDifferenceSweep` per
-    case that has a leak channel.
+    Attributes
+    ----------
+    spectra
+        (q, C(q)) of each case (1/m, m⁴).
+    sets
+        :class:`CurveSet` at a few pressures (one case: up to four pressures; a study: one per variant).
+    gap
+        Gaps u (m) on a log grid spanning every set's distribution.
+    gap_density
+        u·P(u) of each set on ``gap`` (the probability per unit ln u, dimensionless).
+    pressure_difference
+        One :class:`PressureDifferenceSweep` per case that has a leak channel.
     """
 
     spectra: list[tuple[FloatArray, FloatArray]]

@@ -7,6 +7,8 @@ name the field as ``section.key`` and its value. The full reference is ``docs/ca
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -14,7 +16,7 @@ import numpy as np
 from ..errors import InputError
 from ..io.units import parse_quantity
 
-__all__ = ["SECTIONS", "SURFACE_KEYS", "TOP_LEVEL", "REQUIRED", "Section"]
+__all__ = ["SECTIONS", "SURFACE_KEYS", "TOP_LEVEL", "REQUIRED", "Section", "CASE_KEYS", "case_keys"]
 
 #: Keys of [surface] that each surface model reads (besides model and label): a key another model
 #: reads is an error, not silently ignored (e.g. h_rms with model = "table").
@@ -41,7 +43,7 @@ TOP_LEVEL = {"title", "description"}
 REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")
 
 class Section:
-    """One TOML table, with typed getters whose errors name ``section.key``."""
+    """One TOML table, with typed getters whose errors name ``section.key`` and the value."""
 
     def __init__(self, name: str, data: Any) -> None:
         if not isinstance(data, dict):
@@ -55,15 +57,19 @@ class Section:
                                  f"unknown key in [{name}]; allowed keys: {', '.join(sorted(allowed))}")
 
     def field(self, key: str) -> str:
+        """The key as the user sees it: ``section.key``."""
         return f"{self.name}.{key}"
 
     def has(self, key: str) -> bool:
+        """Whether the section gives ``key``."""
         return key in self.data
 
     def raw(self, key: str, default: Any = None) -> Any:
+        """The value as written (no validation), or ``default``."""
         return self.data.get(key, default)
 
     def quantity(self, key: str, dimension: str, default: Any = None, *, positive: bool = True) -> float:
+        """A quantity with its unit (e.g. ``"44 um"``) in SI; required unless ``default`` is given; > 0 if ``positive``."""
         if key not in self.data:
             if default is None:
                 raise InputError(self.field(key), None, f"is required: give a {dimension.replace('_', ' ')} with its unit")
@@ -75,6 +81,7 @@ class Section:
 
     def number(self, key: str, default: float | None = None, *, low: float | None = None, high: float | None = None,
                low_open: bool = True, high_open: bool = True) -> float:
+        """A plain number within (low, high) (bounds open or closed as asked); required unless ``default``."""
         if key not in self.data:
             if default is None:
                 raise InputError(self.field(key), None, "is required")
@@ -98,6 +105,7 @@ class Section:
         return value
 
     def choice(self, key: str, options: tuple[str, ...], default: str | None = None) -> str:
+        """One of ``options``; required unless ``default`` is given."""
         value = self.data.get(key, default)
         if value is None:
             raise InputError(self.field(key), None, f"is required; allowed: {', '.join(options)}")
@@ -106,6 +114,7 @@ class Section:
         return value
 
     def one_of(self, keys: tuple[str, str], dims: tuple[str, str], required: bool = True) -> tuple[str, float] | None:
+        """Exactly one of two alternative keys (e.g. h_rms or C0): (key given, its SI value), or None."""
         present = [k for k in keys if k in self.data]
         if len(present) > 1:
             raise InputError(self.field(keys[0]), {k: self.data[k] for k in present},
@@ -116,3 +125,58 @@ class Section:
             return None
         k = present[0]
         return k, self.quantity(k, dims[keys.index(k)])
+
+
+#: Physics parameter names → the case-file key a user wrote them as (for error messages).
+CASE_KEYS: dict[str, str] = {
+    "squeeze_pressure": "conditions.squeeze_pressure",
+    "pressure_difference": "conditions.pressure_difference",
+    "viscosity": "fluid.viscosity",
+    "density": "fluid.density",
+    "alpha": "theory.alpha",
+    "percolation_threshold": "theory.percolation_threshold",
+    "gamma": "theory.gamma",
+    "aspect_ratio": "seal (Ly/Lx)",
+    "youngs_modulus": "rubber.youngs_modulus",
+    "poisson_ratio": "rubber.poisson_ratio",
+    "youngs_modulus_2": "substrate.youngs_modulus",
+    "poisson_ratio_2": "substrate.poisson_ratio",
+    "rolloff_wavelength": "surface.rolloff_wavelength",
+    "cutoff_wavelength": "surface.cutoff_wavelength",
+    "lowest_wavelength": "surface.lowest_wavelength",
+    "q0": "theory.lowest_wavevector (q0)",
+    "hurst": "surface.hurst",
+    "h_rms": "surface.h_rms",
+    "C0": "surface.C0",
+    "q_rolloff": "surface.rolloff_wavevector",
+    "q_cutoff": "surface.cutoff_wavevector",
+    "q_lowest": "surface.lowest_wavevector",
+    "inner_diameter": "seal.inner_diameter",
+    "outer_diameter": "seal.outer_diameter",
+    "width": "seal.width",
+    "length": "seal.length",
+    "cylinder_diameter": "rig.cylinder_diameter",
+    "initial_height": "rig.initial_height",
+    "final_height": "rig.final_height",
+    "load": "rig.load",
+    "gravity": "rig.gravity",
+    "duration": "rig.duration",
+}
+
+
+@contextmanager
+def case_keys(keys: dict[str, str] | None = None) -> Iterator[None]:
+    """Re-label an :class:`~sealeak.errors.InputError` raised by the physics with the case-file key.
+
+    Physics functions name their own parameters (``squeeze_pressure[2]``); a user of a case file
+    wants ``conditions.squeeze_pressure[2]``. Fields that are not physics parameter names pass
+    unchanged.
+    """
+    mapping = CASE_KEYS if keys is None else keys
+    try:
+        yield
+    except InputError as exc:
+        name, bracket, index = exc.field.partition("[")
+        if name in mapping:
+            raise type(exc)(mapping[name] + bracket + index, exc.value, exc.allowed) from None
+        raise

@@ -21,9 +21,9 @@ critical-junction theory it is compared with uses the same cut spectrum.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -107,6 +107,9 @@ def simulate(
     memory_limit: float | None = None,
 ) -> SimulationResult:
     """Numerically exact leak rate and α for ``case`` at its squeeze pressures.
+
+    α = Q_num/Q_cj(α = 1) = Q_sq/(u_c³ ΔP/(12η)) per percolating realisation; leak rates in m³/s
+    (docs/theory.md §6.5; Q_cj: Lorenz & Persson (2009) eq. 2).
 
     Parameters
     ----------

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 from .._version import __version__
 from ..errors import SealeakError
@@ -24,8 +24,14 @@ __all__ = ["main", "build_parser"]
 def _cmd_predict(args: argparse.Namespace) -> int:
     from ..cases import run_case
     from ..io.files import check_outputs, write_text
-    from ..render import PREDICTION_FIGURE_NAMES, prediction_csv, prediction_figures, prediction_json
-    from ..render import prediction_table, save_figures
+    from ..render import (
+        PREDICTION_FIGURE_NAMES,
+        prediction_csv,
+        prediction_figures,
+        prediction_json,
+        prediction_table,
+        save_figures,
+    )
 
     outputs = [p for p in (args.table, args.json, args.csv) if p]
     if args.plots:

@@ -8,8 +8,8 @@ Thin layers over :mod:`sealeak.cases` (which runs the fit, the linearity check a
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 

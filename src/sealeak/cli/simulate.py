@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from ..errors import SealeakError
 from ._common import load, outputs
@@ -18,8 +18,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
     from ..cases import simulate
     from ..io.files import check_outputs, write_text
-    from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json
-    from ..render import simulation_table
+    from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
 
     check_outputs(outputs(args, SIMULATION_FIGURE_NAMES), args.force)
     if args.fields and Path(args.fields).exists() and any(Path(args.fields).glob("r*-p*.npz")) and not args.force:

@@ -11,7 +11,7 @@ Column names (case-insensitive; spaces and hyphens count as underscores; aliases
 squeeze_pressure [p0, squeezing_pressure, contact_pressure, nominal_pressure],
 leak_rate [q, leakage, leak], pressure_difference [dp, delta_p, Δp, pressure_drop],
 time [t], height [h, level, water_height]. Units: any pint knows, for the leak rate either a
-volume flow (ml/min, l/h, m^3/s, ...) or a leak-test pV throughput (mbar*l/s, Pa*m^3/s, ...).
+volume flow (``ml/min``, ``l/h``, ``m^3/s``, ...) or a leak-test pV throughput (``mbar*l/s``, ``Pa*m^3/s``, ...).
 
 Leak-test units. A throughput in mbar·l/s or Pa·m³/s is pressure × volume per time: the volume
 flow is throughput / p, at the pressure p the volume is measured at. That pressure is stated by the
@@ -51,7 +51,7 @@ _DIMENSION = {"squeeze_pressure": "pressure", "pressure_difference": "pressure",
 def leak_rate_factor(unit: str, reference_pressure: float = ATMOSPHERE, field_name: str = "leak_rate unit") -> float:
     """Factor converting numbers in ``unit`` to a volume flow in m³/s.
 
-    Volume flows convert directly; pV throughputs (pressure × volume / time, e.g. mbar*l/s, Pa*m^3/s)
+    Volume flows convert directly; pV throughputs (pressure × volume / time, e.g. ``mbar*l/s``, ``Pa*m^3/s``)
     are divided by ``reference_pressure`` (Pa), the pressure at which the volume is counted.
     """
 

@@ -1,9 +1,9 @@
-"""Fitting the theory to measured leak rates.
+"""Fitting the theory to measured leak rates (docs/theory.md §8).
 
 Scale fit (``sealeak fit``; applied to a case by :func:`sealeak.cases.fit_models`). Both theories predict Q_i = α q_i with q_i the prediction at α = 1 for
 the i-th measurement (its P0 and ΔP): for the critical-junction theory α is its shape factor, for the
 effective-medium theory a factor that multiplies its prediction (1 without a fit). With
-multiplicative (log-normal) scatter, least squares in ln Q has the closed form::
+multiplicative (log-normal) scatter, least squares in ln Q has the closed form (§8.1)::
 
     r_i = ln Q_i - ln q_i,   ln α = mean(r),   se(ln α) = std(r, ddof=1)/√n,   α_std = α se(ln α)
 
@@ -12,7 +12,7 @@ reported in decades: √(mean((r_i - ln α)²))/ln 10. Points the model cannot u
 message, never silently: where the model predicts no leak channel (the non-contact area does not
 percolate at that P0) and where the measured leak rate is zero (no logarithm).
 
-Linearity check (``sealeak fit --linearity``, the reference paper's first test): ordinary least
+Linearity check (``sealeak fit --linearity``, the reference paper's first test; §8.2): ordinary least
 squares Q = slope ΔP + intercept with the textbook standard errors (s² = RSS/(n - 2)); a linear law
 through the origin has an intercept consistent with zero.
 """
@@ -35,12 +35,26 @@ MODELS = ("critical_junction", "effective_medium")
 
 @dataclass(frozen=True)
 class ScaleFit:
-    """α fitted by least squares in log Q.
+    """α fitted by least squares in log Q (docs/theory.md §8.1).
 
-    alpha, alpha_std: the factor and its standard error (NaN with one point); log10_alpha_std: the
-    standard error of log10 α; rms_log10_residual: rms residual in decades. used: mask of the
-    points in the fit; prediction: the model at α = 1 for every point (m³/s, NaN where it has none);
-    excluded: (index, reason) of every point left out.
+    Attributes
+    ----------
+    model
+        Name of the model the prediction comes from.
+    alpha, alpha_std
+        The factor (dimensionless) and its standard error α·se(ln α) (NaN with one point).
+    log10_alpha_std
+        The standard error of log10 α.
+    rms_log10_residual
+        Rms residual in decades.
+    n_used
+        Number of points in the fit.
+    used
+        Mask of the points in the fit.
+    prediction
+        The model at α = 1 for every point (m³/s, NaN where it has none).
+    excluded
+        (index, reason) of every point left out.
     """
 
     model: str
@@ -55,6 +69,7 @@ class ScaleFit:
 
     @property
     def fitted(self) -> bool:
+        """Whether α could be fitted (at least one usable point)."""
         return self.n_used > 0 and np.isfinite(self.alpha)
 
 
@@ -62,7 +77,8 @@ def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -
     """Closed-form least squares of ln(measured) = ln α + ln(predicted); excluded points explained.
 
     A point is excluded when the prediction is missing (NaN: no leak channel) or zero (no pressure
-    difference), or the measurement is 0.
+    difference), or the measurement is 0. ln α = mean(ln Q_i - ln q_i), se(ln α) = std(ddof=1)/√n
+    (docs/theory.md §8.1). Both arrays in m³/s (any common unit: α is a ratio).
     """
     q = np.asarray(measured, dtype=float).ravel()
     p = np.asarray(predicted, dtype=float).ravel()
@@ -90,7 +106,10 @@ def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -
 
 @dataclass(frozen=True)
 class LinearFit:
-    """Q = slope x + intercept by ordinary least squares, with standard errors and the rms residual."""
+    """Q = slope x + intercept by ordinary least squares, with standard errors and the rms residual (docs/theory.md §8.2).
+
+    For x = ΔP in Pa and Q in m³/s the slope is in m³/(Pa·s) and the intercept in m³/s.
+    """
 
     slope: float
     slope_std: float
@@ -102,7 +121,10 @@ class LinearFit:
 
 
 def fit_line(x: ArrayLike, y: ArrayLike) -> LinearFit:
-    """Ordinary least squares y = slope x + intercept (needs >= 3 points with distinct x for the errors)."""
+    """Ordinary least squares y = slope x + intercept (needs >= 3 points with distinct x for the errors).
+
+    se(slope) = √(s²/S_xx), se(intercept) = √(s² (1/n + x̄²/S_xx)), s² = RSS/(n - 2) (docs/theory.md §8.2).
+    """
     xa = np.asarray(x, dtype=float).ravel()
     ya = np.asarray(y, dtype=float).ravel()
     n = xa.size

@@ -22,8 +22,8 @@ is what presses the cylinder down).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -50,13 +50,27 @@ def _positive(name: str, value: float) -> float:
 
 @dataclass(frozen=True)
 class RigSetup:
-    """The water-column rig (SI units).
+    """The water-column rig (SI units; docs/theory.md §4.2).
 
-    cylinder_diameter: inner diameter of the cylinder (m); initial_height, final_height: fluid
-    column at the start and the level whose time of arrival is reported (m); load: force pressing
-    the ring (N; a mass m in the case file becomes m g); density: ρ of the fluid (kg/m³);
-    gravity: g (m/s²); duration: time span of the simulated curve (s; None: until final_height
-    is reached, or 5 time constants).
+    Attributes
+    ----------
+    cylinder_diameter
+        Inner diameter D_cyl of the cylinder (m).
+    initial_height
+        Fluid column H0 at the start (m).
+    load
+        Force F pressing the ring (N; a mass m in the case file becomes m g).
+    density
+        ρ of the fluid (kg/m³).
+    final_height
+        The level whose time of arrival is reported (m; None: H0/2 in :func:`water_column`).
+    gravity
+        g (m/s²).
+    duration
+        Time span of the simulated curve (s; None: 1.5× the arrival time at the final height
+        estimated from the initial leak rate, at least one time constant, see :func:`water_column`).
+    load_note
+        How the load was given (e.g. a mass converted with g), for reports.
     """
 
     cylinder_diameter: float
@@ -69,22 +83,22 @@ class RigSetup:
     load_note: str = ""
 
     def __post_init__(self) -> None:
-        _positive("rig.cylinder_diameter", self.cylinder_diameter)
-        _positive("rig.initial_height", self.initial_height)
-        _positive("rig.load", self.load)
-        _positive("rig.density", self.density)
-        _positive("rig.gravity", self.gravity)
+        _positive("cylinder_diameter", self.cylinder_diameter)
+        _positive("initial_height", self.initial_height)
+        _positive("load", self.load)
+        _positive("density", self.density)
+        _positive("gravity", self.gravity)
         if self.final_height is not None:
-            _positive("rig.final_height", self.final_height)
+            _positive("final_height", self.final_height)
             if not self.final_height < self.initial_height:
-                raise InputError("rig.final_height", self.final_height,
+                raise InputError("final_height", self.final_height,
                                  f"must be below the initial height {self.initial_height:.6g} m")
         if self.duration is not None:
-            _positive("rig.duration", self.duration)
+            _positive("duration", self.duration)
 
     @property
     def cylinder_area(self) -> float:
-        """A_cyl = π D_cyl²/4 in m²."""
+        """A_cyl = π D_cyl²/4 in m² (docs/theory.md §4.2)."""
         return 0.25 * np.pi * self.cylinder_diameter**2
 
     def squeeze_pressure(self, seal: Seal) -> float:
@@ -97,13 +111,16 @@ class RigSetup:
 
 
 def exponential_height(rig: RigSetup, conductance: float, t: ArrayLike) -> FloatArray:
-    """H(t) = H0 exp(-K ρ g t / A_cyl) for a linear leak Q = K ΔP (K in m³/(s·Pa))."""
+    """H(t) = H0 exp(-K ρ g t / A_cyl) in m for a linear leak Q = K ΔP (K in m³/(s·Pa), t in s; docs/theory.md §4.2)."""
     k = conductance * rig.density * rig.gravity / rig.cylinder_area
     return rig.initial_height * np.exp(-k * np.asarray(t, dtype=float))
 
 
 def drain_time(rig: RigSetup, conductance: float, final_height: float) -> float:
-    """Time (s) for the level to fall from H0 to ``final_height`` with Q = K ΔP (inf for K = 0)."""
+    """Time (s) for the level to fall from H0 to ``final_height`` with Q = K ΔP (inf for K = 0).
+
+    t = τ ln(H0/H1), τ = A_cyl/(K ρ g) (docs/theory.md §4.2); K in m³/(s·Pa), heights in m.
+    """
     if conductance <= 0:
         return float("inf")
     return rig.cylinder_area / (conductance * rig.density * rig.gravity) * np.log(rig.initial_height / final_height)
@@ -111,8 +128,21 @@ def drain_time(rig: RigSetup, conductance: float, final_height: float) -> float:
 
 @dataclass(frozen=True)
 class WaterColumn:
-    """Solution of A_cyl dH/dt = -Q(ρ g H): times (s), heights (m), leak rates (m³/s) and the time the
-    level reached ``final_height`` (NaN if it did not within the simulated span)."""
+    """Solution of A_cyl dH/dt = -Q(ρ g H) (docs/theory.md §4.2).
+
+    Attributes
+    ----------
+    time
+        Times t (s).
+    height
+        Fluid level H(t) (m).
+    leak_rate
+        Q(ρ g H(t)) (m³/s).
+    final_height
+        The level whose time of arrival is reported (m).
+    time_to_final
+        The time the level reached ``final_height`` (s; NaN if it did not within the simulated span).
+    """
 
     time: FloatArray
     height: FloatArray
@@ -125,8 +155,10 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
                  t_eval: ArrayLike | None = None, rtol: float = 1e-12, atol: float | None = None) -> WaterColumn:
     """Integrate A_cyl dH/dt = -Q(ρ g H) from H0 with ``leak_rate(ΔP)`` (m³/s) by solve_ivp (Radau).
 
-    The time of arrival at ``rig.final_height`` is located by an event. ``t_end`` defaults to
-    ``rig.duration``, or 1.5× the arrival time estimated from the initial leak rate (capped).
+    The time of arrival at ``rig.final_height`` (H0/2 if None) is located by an event. ``t_end`` (s)
+    defaults to the last of ``t_eval``, else ``rig.duration``, else 1.5× the arrival time estimated
+    from the initial leak rate with τ = A_cyl H0/Q(ρgH0) (at least τ; 3600 s when that leak rate is 0).
+    docs/theory.md §4.2.
     """
     area = rig.cylinder_area
     h1 = rig.final_height if rig.final_height is not None else 0.5 * rig.initial_height
@@ -169,11 +201,20 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
 
 @dataclass(frozen=True)
 class ReadingsAnalysis:
-    """Leak rate from (time, height) readings of the rig.
+    """Leak rate from (time, height) readings of the rig (docs/theory.md §4.3).
 
-    interval_pressure_difference, interval_leak_rate: ΔP at the mid-height and Q = -A ΔH/Δt of each
-    interval between consecutive readings (Pa, m³/s). conductance, conductance_std: K of the
-    exponential fit of ln H against t (m³/(s·Pa)) and its standard error (NaN with two readings).
+    Attributes
+    ----------
+    time, height
+        The readings t_i (s) and H_i (m).
+    interval_pressure_difference, interval_leak_rate
+        ΔP = ρ g (H_i + H_(i+1))/2 at the mid-height and Q = -A_cyl ΔH/Δt of each interval between
+        consecutive readings (Pa, m³/s).
+    conductance, conductance_std
+        K = -A_cyl b/(ρ g) from the straight-line fit ln H = a + b t (m³/(s·Pa)) and its standard
+        error (NaN with two readings).
+    rms_log_residual
+        Rms residual of the fit of ln H, in decades.
     """
 
     time: FloatArray
@@ -186,7 +227,7 @@ class ReadingsAnalysis:
 
 
 def leak_rate_from_readings(rig: RigSetup, time: ArrayLike, height: ArrayLike, source: str = "readings") -> ReadingsAnalysis:
-    """Leak rate against ΔP from (t, H) readings (see the module docstring)."""
+    """Leak rate against ΔP from (t, H) readings in s and m (see the module docstring; docs/theory.md §4.3)."""
     t = np.asarray(time, dtype=float)
     h = np.asarray(height, dtype=float)
     if t.size < 2:

@@ -1,6 +1,6 @@
 """FFT boundary-element solver for frictionless, non-adhesive rough contact (periodic cell).
 
-Problem (THEORY.md section 5, step 2). A rigid periodic rough surface with heights h(x) (m) is
+Problem (docs/theory.md §6.2). A rigid periodic rough surface with heights h(x) (m) is
 pressed against a flat elastic half-space of contact modulus E* (Pa). The elastic surface
 displacement u (positive away from the rigid surface) is, per Fourier mode q ≠ 0,
 
@@ -45,17 +45,17 @@ remainders, which is why the contact set must be taken from ``pressure > 0``, ne
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import fft as sfft
 
 from ..errors import ConvergenceError, InputError
-from .synthesis import wavevector_grid
 from ._linalg import dot
 from ._memory import require_memory
+from .synthesis import wavevector_grid
 
 FloatArray = NDArray[np.float64]
 
@@ -155,6 +155,9 @@ def solve_contact(
     memory_limit: float | None = None,
 ) -> ContactResult:
     """Frictionless contact of a rigid periodic rough surface with an elastic half-space.
+
+    Solves u(q) = 2 p(q)/(E*|q|), g = u - h + c >= 0, p >= 0, g p = 0, mean(p) = P0 by Polonsky &
+    Keer's constrained conjugate gradient (Wear 231 (1999) 206), preconditioned (docs/theory.md §6.2).
 
     Parameters
     ----------

@@ -1,7 +1,7 @@
 """Steady Reynolds flow through the gap field of a periodic contact cell.
 
-Equation (thin film, incompressible Newtonian fluid, no-slip walls; Reynolds 1886; Patir & Cheng,
-J. Lubr. Technol. 100 (1978) 12):
+Equation (docs/theory.md §6.3; thin film, incompressible Newtonian fluid, no-slip walls; Reynolds 1886;
+Patir & Cheng, J. Lubr. Technol. 100 (1978) 12):
 
     ∇·( σ(x) ∇p ) = 0,     σ = g³ / (12 η)   [m³/(Pa·s)]
 
@@ -415,6 +415,9 @@ def solve_flow(
 ) -> FlowResult:
     """Leak flow through an N×N gap field from the inlet edge x = 0 to the outlet edge x = L.
 
+    Solves the Reynolds equation ∇·(σ ∇p) = 0, σ = g³/(12η), by finite volumes, with a rigorous
+    bound on the flux error (docs/theory.md §6.3; Patir & Cheng, J. Lubr. Technol. 100 (1978) 12).
+
     Parameters
     ----------
     gap:
@@ -442,7 +445,8 @@ def solve_flow(
 
     Returns
     -------
-    FlowResult; ``flux`` is Q = (conductance of the square) × ΔP in m³/s.
+    FlowResult
+        ``flux`` is Q = (conductance of the square) × ΔP in m³/s.
     """
     t0 = time.perf_counter()
     g = _validate(gap, size, viscosity, pressure_difference)

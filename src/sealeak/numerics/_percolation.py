@@ -1,7 +1,7 @@
 """Connectivity of the non-contact (fluid) area and its percolation threshold.
 
 Clusters are 4-connected (site percolation on the square lattice, threshold p_c = 0.592746 for
-the occupied fraction; Newman & Ziff, PRL 85 (2000) 4104). The cell is open along x (axis 0:
+the occupied fraction; Newman & Ziff, PRL 85 (2000) 4104; docs/theory.md §6.4). The cell is open along x (axis 0:
 inlet row x = 0, outlet row x = N-1) and periodic along y (axis 1): clusters that meet across the
 y = 0 / y = N-1 seam are merged.
 """
@@ -142,7 +142,8 @@ def percolation_threshold(
     InputError). The bracket is halved (geometric mean, pressures span decades) until
     (p_blocked - p_spanning) / p_blocked <= rel_tol; each contact solve is warm-started from the
     solution at the nearest lower pressure already computed. Fluid cells are those with zero
-    pressure (the contact mask is pressure > 0, never gap == 0).
+    pressure (the contact mask is pressure > 0, never gap == 0). Pressures in Pa, heights and
+    ``size`` in m, ``e_star`` in Pa (docs/theory.md §6.4).
     """
     for name, v in (("p_lo", p_lo), ("p_hi", p_hi)):
         if not (math.isfinite(v) and v > 0):

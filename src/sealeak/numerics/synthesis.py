@@ -1,7 +1,7 @@
 """Periodic random rough surfaces with a prescribed power spectrum C(q).
 
 For a periodic N×N map of side L the Fourier amplitudes h_q of h(x) = Σ_q h_q exp(i q·x) satisfy
-<|h_q|²> = C(q) (2π/L)² (Persson's convention, THEORY.md section 1), so that
+<|h_q|²> = C(q) (2π/L)² (Persson's convention, docs/theory.md §1.1; the method is §6.1), so that
 h_rms² = Σ_q C(q) (2π/L)² ≈ ∫ d²q C(q). With NumPy's unnormalised FFT, fft2(h)(q) = N² h_q.
 
 Two kinds of randomness:
@@ -79,6 +79,8 @@ def synthesize(
 ) -> NDArray[np.float64]:
     """A periodic random height map (m) of n×n points and side ``size`` (m) with spectrum C(q).
 
+    Fourier amplitudes with <|h_q|²> = C(q) (2π/size)² (docs/theory.md §6.1).
+
     Parameters
     ----------
     spectrum:
@@ -101,7 +103,8 @@ def synthesize(
 
     Returns
     -------
-    Heights h[i, j] at x_i = i·size/n, y_j = j·size/n, float64, mean zero.
+    ndarray
+        Heights h[i, j] in m at x_i = i·size/n, y_j = j·size/n, float64, mean zero.
     """
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 4 or n % 2:
         raise InputError("grid", n, "must be an even integer >= 4")

@@ -1,6 +1,6 @@
 """Special functions of the Persson-theory separation integral (private).
 
-The inner pressure integral of ū(ζ) (THEORY.md section 2) reduces, with y = s p, x = s p', to
+The inner pressure integral of ū(ζ) (docs/theory.md §2.7–§2.8) reduces, with y = s p, x = s p', to
 
     F(y) = ∫_y^∞ dx/x [γ + 3(1-γ) erf²(x)] e^(-x²) = γ E1(y²)/2 + 3(1-γ) K(y)
     K(y) = ∫_y^∞ erf²(x) e^(-x²)/x dx

@@ -2,8 +2,8 @@
 
 Rubber (contact modulus E* = E/(1-ν²)) squeezed with nominal pressure P0 against a rigid, randomly
 rough substrate with power spectrum C(q). Magnification ζ = q/q0, q0 = 2π/L. Equations from
-THEORY.md section 2 (Persson, J. Chem. Phys. 115 (2001) 3840; Yang & Persson, J. Phys.: Condens.
-Matter 20 (2008) 215214; Lorenz & Persson, EPL 86 (2009) 44006)::
+docs/theory.md §2.3–§2.10 (Persson, J. Chem. Phys. 115 (2001) 3840; Yang & Persson, J. Phys.: Condens.
+Matter 20 (2008) 215214; Lorenz & Persson, EPL 86 (2009) 44006, unnumbered)::
 
     G(ζ)    = (π/4) E*² ∫_{q0}^{ζq0} q³ C(q) dq
     A(ζ)/A0 = erf(P0 / (2√G(ζ)))
@@ -13,11 +13,11 @@ Matter 20 (2008) 215214; Lorenz & Persson, EPL 86 (2009) 44006)::
     u1(ζ)   = ū(ζ) + ū'(ζ) A(ζ)/A'(ζ)
 
 with F(y) = γ E1(y²)/2 + 3(1-γ) K(y) the closed form of the inner pressure integral (see
-:mod:`sealeak._kernels`); γ = 1 is the formula as printed in the reference paper.
+:mod:`sealeak.physics._kernels`, docs/theory.md §2.8); γ = 1 is the formula as printed in the reference paper.
 
-How the ζ-integrals are computed (exact to ~1e-9 relative, far below the 1e-5 asked for):
+How the ζ-integrals are computed (docs/theory.md §2.9; exact to ~1e-9 relative, far below the 1e-5 asked for):
 
-* Every band moment ∫ qⁿ C dq is a closed form, because :class:`~sealeak.roughness.PowerSpectrum` is
+* Every band moment ∫ qⁿ C dq is a closed form, because :class:`~sealeak.physics.spectrum.PowerSpectrum` is
   a piecewise power law; so G(ζ), A(ζ) and the critical magnification need no quadrature at all.
 * ū and ū' are integrated in the variable s = ln t, t(q) = ∫_{ζq0}^{q} q'³ C dq' (so w = (πt)^(-1/2)),
   which turns ū into ∫ ds √t F(y)/q(t), y = p/(E*√(πt)). q(t) is the closed-form inverse of the
@@ -28,7 +28,7 @@ How the ζ-integrals are computed (exact to ~1e-9 relative, far below the 1e-5 a
   roll-off q_r, become panel edges so each panel is smooth), at fixed values of y between 5 and
   0.75 (exp(-y²) is double-exponential in s, so its flank needs narrower panels) and into panels no wider than
   ``panel_width`` in s (default 2); each panel uses ``order``-point Gauss–Legendre (default 6:
-  ~1e-9 relative against a much finer rule, see tests/test_contact.py). Everything is one NumPy
+  ~1e-9 relative against a much finer rule, see tests/unit/test_contact.py). Everything is one NumPy
   expression over (evaluation points × panels × nodes): no Python loop over pressures or ζ.
 * ū'(ζ) is the analytic ζ-derivative under the integral (the boundary term at q = ζq0 vanishes):
   ū' = ∫ ds [ D (F(y) + y F'(y)) / (2 q √t) + p'(ζ) F'(y) / (√π E* q) ],  D = q0 (ζq0)³ C(ζq0).
@@ -43,8 +43,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
-from . import _kernels
 from ..errors import InputError
+from . import _kernels
 from .spectrum import PowerSpectrum
 
 __all__ = ["PerssonContact", "contact_modulus"]
@@ -67,13 +67,17 @@ def _gauss_tables(order: int) -> tuple[FloatArray, FloatArray]:
 
 def contact_modulus(youngs_modulus: float, poisson_ratio: float,
                     youngs_modulus_2: float | None = None, poisson_ratio_2: float = 0.0) -> float:
-    """E* in Pa: E/(1-ν²), or 1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 when the substrate is elastic too."""
-    _check_modulus("rubber.youngs_modulus", youngs_modulus)
-    _check_poisson("rubber.poisson_ratio", poisson_ratio)
+    """E* in Pa: E/(1-ν²), or 1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 when the substrate is elastic too.
+
+    Moduli in Pa, Poisson ratios in (-1, 0.5]; the substrate's ν defaults to 0. Johnson, *Contact
+    Mechanics* (1985); docs/theory.md §2.1.
+    """
+    _check_modulus("youngs_modulus", youngs_modulus)
+    _check_poisson("poisson_ratio", poisson_ratio)
     inv = (1.0 - poisson_ratio**2) / youngs_modulus
     if youngs_modulus_2 is not None:
-        _check_modulus("substrate.youngs_modulus", youngs_modulus_2)
-        _check_poisson("substrate.poisson_ratio", poisson_ratio_2)
+        _check_modulus("youngs_modulus_2", youngs_modulus_2)
+        _check_poisson("poisson_ratio_2", poisson_ratio_2)
         inv += (1.0 - poisson_ratio_2**2) / youngs_modulus_2
     return 1.0 / inv
 
@@ -92,6 +96,10 @@ def _check_poisson(name: str, value: float) -> None:
 class PerssonContact:
     """Persson contact mechanics of one rough interface.
 
+    All methods broadcast ζ against P0 (nominal squeeze pressure, Pa). Persson, J. Chem. Phys. 115
+    (2001) 3840 (G, A/A0); Yang & Persson, J. Phys.: Condens. Matter 20 (2008) 215214 (ū, u1);
+    docs/theory.md §2.
+
     Parameters
     ----------
     spectrum:
@@ -105,8 +113,6 @@ class PerssonContact:
         0.42: Yang & Persson's recommended value).
     panel_width, order:
         Quadrature controls of ū and ū' (panel width in ln t, Gauss–Legendre points per panel).
-
-    All methods broadcast ζ against P0 (nominal squeeze pressure, Pa).
     """
 
     spectrum: PowerSpectrum
@@ -119,12 +125,12 @@ class PerssonContact:
     def __post_init__(self) -> None:
         _check_modulus("contact modulus E*", self.e_star)
         if not (np.isfinite(self.q0) and self.q0 > 0):
-            raise InputError("theory.lowest_wavevector (q0)", self.q0, "must be a finite wavevector > 0 (1/m)")
+            raise InputError("q0", self.q0, "must be a finite wavevector > 0 (1/m)")
         if not self.q0 < self.spectrum.q_max:
-            raise InputError("theory.lowest_wavevector (q0)", self.q0,
+            raise InputError("q0", self.q0,
                              f"must be below the roughness cut-off q1 = {self.spectrum.q_max:.6g} 1/m")
         if not (0.0 < self.gamma <= 1.0):
-            raise InputError("theory.gamma", self.gamma, "must lie in (0, 1]")
+            raise InputError("gamma", self.gamma, "must lie in (0, 1]")
         if not (self.panel_width > 0 and self.order >= 2):
             raise InputError("quadrature", (self.panel_width, self.order), "panel_width > 0 and order >= 2")
 
@@ -138,17 +144,20 @@ class PerssonContact:
         return self.spectrum.cumulative_moment(3, q)
 
     def G(self, zeta: ArrayLike) -> FloatArray:
-        """G(ζ) = (π/4) E*² ∫_{q0}^{ζq0} q³C dq in Pa²."""
+        """G(ζ) = (π/4) E*² ∫_{q0}^{ζq0} q³C dq in Pa² (Persson (2001); docs/theory.md §2.3)."""
         z = np.asarray(zeta, dtype=float)
         return 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - self._m3(self.q0))
 
     def dG_dzeta(self, zeta: ArrayLike) -> FloatArray:
-        """dG/dζ = (π/4) E*² q0 (ζq0)³ C(ζq0) in Pa²."""
+        """dG/dζ = (π/4) E*² q0 (ζq0)³ C(ζq0) in Pa² (docs/theory.md §2.3)."""
         q = np.asarray(zeta, dtype=float) * self.q0
         return 0.25 * np.pi * self.e_star**2 * self.q0 * q**3 * self.spectrum(q)
 
     def area(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """Relative apparent contact area A(ζ)/A0 = erf(P0/(2√G(ζ)))."""
+        """Relative apparent contact area A(ζ)/A0 = erf(P0/(2√G(ζ))) (dimensionless; P0 in Pa).
+
+        Persson, J. Chem. Phys. 115 (2001) 3840; Lorenz & Persson (2009), unnumbered; docs/theory.md §2.4.
+        """
         g = self.G(zeta)
         p0 = np.asarray(squeeze_pressure, dtype=float)
         with np.errstate(divide="ignore"):
@@ -156,7 +165,7 @@ class PerssonContact:
         return special.erf(x)  # G = 0 (ζ = 1): x = inf, A/A0 = 1
 
     def area_derivative(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """d(A/A0)/dζ = (2/√π) e^(-x²) dx/dζ with x = P0/(2√G), dx/dζ = -x G'/(2G); <= 0."""
+        """d(A/A0)/dζ = (2/√π) e^(-x²) dx/dζ with x = P0/(2√G), dx/dζ = -x G'/(2G); <= 0 (docs/theory.md §2.4)."""
         g = self.G(zeta)
         gp = self.dG_dzeta(zeta)
         p0 = np.asarray(squeeze_pressure, dtype=float)
@@ -166,7 +175,7 @@ class PerssonContact:
         return np.where(g > 0, out, 0.0)  # at ζ = 1 every derivative of erf(∞) vanishes
 
     def mean_pressure(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """p(ζ) = P0 A0/A(ζ) in Pa, the mean pressure in the apparent contact."""
+        """p(ζ) = P0 A0/A(ζ) in Pa, the mean pressure in the apparent contact (Lorenz & Persson (2009), unnumbered; docs/theory.md §2.5)."""
         return np.asarray(squeeze_pressure, dtype=float) / self.area(zeta, squeeze_pressure)
 
     def zeta_at_area(self, relative_area: float, squeeze_pressure: ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -174,7 +183,7 @@ class PerssonContact:
 
         G(ζ) = (P0/(2 erfinv(a)))² is inverted through the cumulative moment of q³C. Where that G
         exceeds G(ζ1) (the area never falls that low within the resolved roughness) the ζ returned
-        is ζ1 and the mask is False.
+        is ζ1 and the mask is False. ``relative_area`` a in (0, 1), P0 in Pa (docs/theory.md §3.3).
         """
         if not 0.0 < relative_area < 1.0:
             raise InputError("relative contact area", relative_area, "must lie in (0, 1)")
@@ -261,16 +270,22 @@ class PerssonContact:
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """ū(ζ) in m: mean separation in the apparent contact area seen at magnification ζ.
 
-        ū(ζ1) = 0; ū(1) is the mean separation of the whole interface.
+        ū(ζ) = √π ∫_{ζq0}^{q1} dq q² C(q) w(q,ζ) F(w(q,ζ) p(ζ)/E*) (Yang & Persson, J. Phys.: Condens.
+        Matter 20 (2008) 215214; docs/theory.md §2.7–§2.9). ū(ζ1) = 0; ū(1) is the mean separation of
+        the whole interface.
         """
         return self._integrals(zeta, squeeze_pressure, derivative=False)[0]
 
     def mean_gap_derivative(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """dū/dζ in m (negative)."""
+        """dū/dζ in m (negative), the ζ-derivative under the integral (docs/theory.md §2.9)."""
         return self._integrals(zeta, squeeze_pressure, derivative=True)[1]  # type: ignore[return-value]
 
     def u1(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """u1(ζ) = ū(ζ) + ū'(ζ) A(ζ)/A'(ζ) in m: separation at the patches that come into contact at ζ."""
+        """u1(ζ) = ū(ζ) + ū'(ζ) A(ζ)/A'(ζ) in m: separation at the patches where contact is lost at ζ.
+
+        Yang & Persson, J. Phys.: Condens. Matter 20 (2008) 215214; Lorenz & Persson (2009), unnumbered;
+        docs/theory.md §2.10.
+        """
         ubar, dubar = self._integrals(zeta, squeeze_pressure, derivative=True)
         a = self.area(zeta, squeeze_pressure)
         da = self.area_derivative(zeta, squeeze_pressure)

@@ -1,4 +1,4 @@
-"""Leak rate by the critical-junction theory (Lorenz & Persson, EPL 86 (2009) 44006).
+"""Leak rate by the critical-junction theory (Lorenz & Persson, EPL 86 (2009) 44006; docs/theory.md §3).
 
 The nominal contact Lx × Ly is divided into N = Ly/Lx squares of side L (= Lx by default),
 q0 = 2π/L. As the magnification ζ grows the apparent contact area A(ζ)/A0 falls; the non-contact
@@ -6,9 +6,9 @@ area first percolates at the critical magnification ζc where (site percolation)
 
     A(ζc)/A0 = 1 - p_c                                 (p_c ≈ 0.6, so A/A0 = 0.4 by default)
 
-i.e. G(ζc) = (P0/(2 erfinv(1 - p_c)))², solved in closed form. The critical constriction has
-lateral size λc = L/ζc = 2π/(ζc q0) and height u_c = u1(ζc) (:meth:`PerssonContact.u1`). Poiseuille
-flow through it, times the N squares in parallel, gives the leak rate (paper eq. (2))
+i.e. G(ζc) = (P0/(2 erfinv(1 - p_c)))², solved in closed form (§3.2–§3.3). The critical constriction has
+lateral size λc = L/ζc = 2π/(ζc q0) and height u_c = u1(ζc) (:meth:`PerssonContact.u1`, §3.4). Poiseuille
+flow through it, times the N squares in parallel, gives the leak rate (Lorenz & Persson (2009) eq. 2; §3.5)
 
     Q = α (Ly/Lx) u_c³ ΔP / (12 η)                      [m³/s]
 
@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .contact import PerssonContact
 from ..errors import InputError
+from .contact import PerssonContact
 
 __all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
 
@@ -34,7 +34,7 @@ LARGE_PRESSURE_RATIO = 0.5
 
 
 def pressure_difference_not_small(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> NDArray[np.bool_]:
-    """Where ΔP > LARGE_PRESSURE_RATIO · P0: the theories' assumption P0 >> ΔP is doubtful (Pa, Pa)."""
+    """Where ΔP > LARGE_PRESSURE_RATIO · P0: the theories' assumption P0 >> ΔP is doubtful (Pa, Pa; docs/theory.md §3.6)."""
     return np.asarray(pressure_difference, dtype=float) > LARGE_PRESSURE_RATIO * np.asarray(squeeze_pressure, dtype=float)
 
 FloatArray = NDArray[np.float64]
@@ -42,7 +42,10 @@ FloatArray = NDArray[np.float64]
 
 def poiseuille_leak_rate(gap: ArrayLike, pressure_difference: ArrayLike, viscosity: float,
                          aspect_ratio: float, alpha: float = 1.0) -> FloatArray:
-    """Q = α (Ly/Lx) g³ ΔP/(12 η) in m³/s (paper eq. (2))."""
+    """Q = α (Ly/Lx) g³ ΔP/(12 η) in m³/s (Lorenz & Persson (2009) eq. 2; docs/theory.md §3.5).
+
+    Gap g in m, ΔP in Pa, η in Pa·s; ``aspect_ratio`` Ly/Lx and ``alpha`` are dimensionless.
+    """
     return alpha * aspect_ratio * np.asarray(gap, dtype=float) ** 3 * np.asarray(pressure_difference) / (12.0 * viscosity)
 
 
@@ -52,15 +55,32 @@ class CriticalJunctionResult:
 
     Attributes
     ----------
-    squeeze_pressure: P0 (Pa).
-    pressure_difference: ΔP = P_a - P_b (Pa).
-    percolates: whether the non-contact area percolates within the resolved roughness.
-    critical_magnification: ζc (NaN where it does not percolate).
-    critical_gap: u_c = u1(ζc) (m).
-    critical_wavelength: λc = L/ζc (m).
-    leak_rate: Q (m³/s), NaN where it does not percolate.
-    contact_area_at_cutoff: A(ζ1)/A0 at the roughness cut-off.
-    messages: human-readable notes (one per non-percolating pressure, assumption warnings).
+    squeeze_pressure
+        P0 (Pa).
+    pressure_difference
+        ΔP = P_a - P_b (Pa).
+    percolates
+        Whether the non-contact area percolates within the resolved roughness.
+    critical_magnification
+        ζc (NaN where it does not percolate).
+    critical_gap
+        u_c = u1(ζc) (m).
+    critical_wavelength
+        λc = L/ζc (m).
+    leak_rate
+        Q = α (Ly/Lx) u_c³ ΔP/(12η) (m³/s; Lorenz & Persson (2009) eq. 2), NaN where it does not percolate.
+    contact_area_at_cutoff
+        A(ζ1)/A0 at the roughness cut-off.
+    alpha, percolation_threshold, gamma
+        The α, p_c and γ used (dimensionless).
+    q0
+        q0 = 2π/L (1/m).
+    aspect_ratio
+        Ly/Lx (dimensionless).
+    viscosity
+        η (Pa·s).
+    messages
+        Human-readable notes (one per non-percolating pressure, assumption warnings).
     """
 
     squeeze_pressure: FloatArray
@@ -85,12 +105,12 @@ class CriticalJunctionResult:
 
 def _pressures(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Validated P0 (> 0) and ΔP (>= 0) broadcast against each other (fresh float arrays, Pa)."""
-    p0 = _positive_array("conditions.squeeze_pressure", squeeze_pressure)
-    dp = _positive_array("conditions.pressure_difference", pressure_difference, allow_zero=True)
+    p0 = _positive_array("squeeze_pressure", squeeze_pressure)
+    dp = _positive_array("pressure_difference", pressure_difference, allow_zero=True)
     try:
         p0, dp = np.broadcast_arrays(p0, dp)
     except ValueError:
-        raise InputError("conditions.pressure_difference", dp.tolist(),
+        raise InputError("pressure_difference", dp.tolist(),
                          f"give one value or one per squeeze pressure ({p0.size})") from None
     return p0.astype(float).copy(), dp.astype(float).copy()
 
@@ -119,6 +139,9 @@ def critical_junction(
 ) -> CriticalJunctionResult:
     """Critical-junction leak rate for every squeeze pressure (vectorised; no loop over pressures).
 
+    ζc from A(ζc)/A0 = 1 - p_c, u_c = u1(ζc), λc = 2π/(ζc q0) and Q = α (Ly/Lx) u_c³ ΔP/(12η) in m³/s
+    (Lorenz & Persson (2009) eq. 2; docs/theory.md §3.2–§3.5).
+
     Parameters
     ----------
     contact:
@@ -137,11 +160,11 @@ def critical_junction(
         Site-percolation threshold p_c in (0, 1); the junction percolates at A/A0 = 1 - p_c.
     """
     p0, dp = _pressures(squeeze_pressure, pressure_difference)
-    for name, v in (("fluid.viscosity", viscosity), ("seal aspect ratio Ly/Lx", aspect_ratio), ("theory.alpha", alpha)):
+    for name, v in (("viscosity", viscosity), ("aspect_ratio", aspect_ratio), ("alpha", alpha)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(name, v, "must be finite and > 0")
     if not (0.0 < percolation_threshold < 1.0):
-        raise InputError("theory.percolation_threshold", percolation_threshold, "must lie in (0, 1)")
+        raise InputError("percolation_threshold", percolation_threshold, "must lie in (0, 1)")
 
     zeta_c, percolates = contact.zeta_at_area(1.0 - percolation_threshold, p0)
     area_cut = contact.area(contact.zeta_max, p0)

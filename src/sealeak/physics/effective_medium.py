@@ -1,13 +1,14 @@
 """Leak rate by effective-medium theory: 2D Bruggeman flow conductivity of the gap distribution P(u).
 
-THEORY.md section 5. Where the surfaces are apart by u the fluid flows as between parallel plates,
+docs/theory.md §5.2–§5.5 (Bruggeman, Ann. Phys. (Leipzig) 416 (1935) 636; Lorenz & Persson, Eur. Phys. J. E 31
+(2010) 159). Where the surfaces are apart by u the fluid flows as between parallel plates,
 with local conductivity σ(u) = u³/(12η) (flow per unit width per unit pressure gradient); where they
 touch, σ = 0. The isotropic 2D Bruggeman effective conductivity σ_eff of that random mixture solves::
 
     1/σ_eff = ∫ du P(u) 2/(σ_eff + σ(u))        (the δ(u) contact part contributes 2 A(ζ1)/(A0 σ_eff))
 
 and the leak rate of the seal (Ly/Lx squares in parallel) is Q = (Ly/Lx) σ_eff ΔP. No fit factor
-enters (α of the critical-junction theory has no counterpart here; :mod:`sealeak.fitting` can still
+enters (α of the critical-junction theory has no counterpart here; :mod:`sealeak.lab.fitting` can still
 fit a factor that multiplies this prediction).
 
 Percolation. Multiplying by σ_eff, the equation reads g(σ_eff) = 1 with
@@ -23,7 +24,7 @@ A single gap value u with contact fraction a gives σ_eff = σ(u)(1 - 2a) for a 
 
 How it is solved
 ----------------
-The continuous part of P(u) (a mixture of folded Gaussians, :mod:`sealeak.gaps`) is discretised on
+The continuous part of P(u) (a mixture of folded Gaussians, :mod:`sealeak.physics.gaps`) is discretised on
 Gauss–Legendre nodes in ln u, on panels between the 1e-10 and 1 - 1e-13 quantiles; each panel's
 weights are rescaled so the panel holds exactly its mass from the closed-form mixture CDF (so
 the discrete distribution integrates to one to rounding), the mass below (above) the range sits
@@ -40,9 +41,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import ConvergenceError, InputError
 from .contact import PerssonContact
 from .critical_junction import _pressures
-from ..errors import ConvergenceError, InputError
 from .gaps import GapDistribution, folded_normal_cdf, gap_distribution
 
 __all__ = ["EffectiveMediumResult", "effective_medium", "bruggeman_conductivity", "bruggeman_residual",
@@ -67,6 +68,8 @@ def bruggeman_conductivity(gaps: ArrayLike, weights: ArrayLike, contact_fraction
                            *, rtol: float = 1e-12, max_iter: int = 200) -> tuple[FloatArray, FloatArray]:
     """2D Bruggeman σ_eff (m³/(Pa·s)) of discrete gap distributions, one per row.
 
+    Solves 1/σ_eff = Σ_j W_j 2/(σ_eff + σ(u_j)) + 2c/σ_eff (docs/theory.md §5.3, §5.5).
+
     Parameters
     ----------
     gaps, weights:
@@ -76,8 +79,13 @@ def bruggeman_conductivity(gaps: ArrayLike, weights: ArrayLike, contact_fraction
     viscosity:
         η in Pa·s; σ(u) = u³/(12η).
 
-    Returns (σ_eff, relative residual 1 - g(σ_eff)) per row; σ_eff = 0 where the contact fraction
-    is >= 1/2 (no percolation in Bruggeman's theory), residual NaN there.
+    Returns
+    -------
+    sigma_eff : ndarray
+        σ_eff per row (m³/(Pa·s)); 0 where the contact fraction is >= 1/2 (no percolation in
+        Bruggeman's theory).
+    residual : ndarray
+        Relative residual 1 - g(σ_eff) per row; NaN where σ_eff = 0.
     """
     u = np.atleast_2d(np.asarray(gaps, dtype=float))
     w = np.atleast_2d(np.asarray(weights, dtype=float))
@@ -89,7 +97,7 @@ def bruggeman_conductivity(gaps: ArrayLike, weights: ArrayLike, contact_fraction
     if not (np.isfinite(w).all() and (w >= 0).all() and np.isfinite(c).all() and (c >= 0).all()):
         raise InputError("weights", w.tolist() if w.size < 10 else "...", "must be finite and >= 0")
     if not (np.isfinite(viscosity) and viscosity > 0):
-        raise InputError("fluid.viscosity", viscosity, "must be finite and > 0")
+        raise InputError("viscosity", viscosity, "must be finite and > 0")
     x = np.log(u)
     total = c + w.sum(axis=1)
     flows = (2.0 * c < total) & (w.sum(axis=1) > 0)
@@ -127,7 +135,10 @@ def bruggeman_conductivity(gaps: ArrayLike, weights: ArrayLike, contact_fraction
 
 def bruggeman_residual(gaps: ArrayLike, weights: ArrayLike, contact_fraction: ArrayLike, viscosity: float,
                        sigma: ArrayLike) -> FloatArray:
-    """σ_eff [1/σ_eff - Σ_j W_j 2/(σ_eff + σ(u_j)) - 2c/σ_eff] per row (0 at the solution), written out directly."""
+    """σ_eff [1/σ_eff - Σ_j W_j 2/(σ_eff + σ(u_j)) - 2c/σ_eff] per row (0 at the solution; dimensionless), written out directly.
+
+    The Bruggeman equation of docs/theory.md §5.3; gaps in m, η in Pa·s, σ_eff in m³/(Pa·s).
+    """
     u = np.atleast_2d(np.asarray(gaps, dtype=float))
     w = np.atleast_2d(np.asarray(weights, dtype=float))
     c = np.atleast_1d(np.asarray(contact_fraction, dtype=float))
@@ -151,7 +162,8 @@ def _quantile(dist: GapDistribution, level: FloatArray, lo: FloatArray, hi: Floa
 def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 8) -> tuple[FloatArray, FloatArray]:
     """The continuous part of P(u) as discrete (gaps, weights), shape (pressures, n), see the module docstring.
 
-    Rows whose continuous part is empty get a single node of weight 0.
+    Gaps in m, weights dimensionless (docs/theory.md §5.5). Rows whose continuous part is empty get a
+    single node of weight 0.
     """
     mass = dist.weights.sum(axis=1)
     scale = np.maximum(dist.mean, 1e-200)  # (rows in complete contact have no continuous part)
@@ -225,14 +237,32 @@ class EffectiveMediumResult:
 
     Attributes
     ----------
-    squeeze_pressure, pressure_difference: P0 and ΔP (Pa).
-    percolates: σ_eff > 0 (A(ζ1)/A0 < 1/2, Bruggeman's threshold).
-    effective_conductivity: σ_eff in m³/(Pa·s) (0 where it does not percolate).
-    effective_gap: u_e = (12 η σ_eff)^(1/3), the gap with the local conductivity σ_eff (m).
-    leak_rate: Q = (Ly/Lx) σ_eff ΔP in m³/s (NaN where it does not percolate).
-    contact_area_at_cutoff: A(ζ1)/A0, the δ(u) weight.
-    mean_gap: ū(1) (m); gap_distribution_mean: ∫ u P(u) du (m).
-    residual: relative residual 1 - g(σ_eff) of the solved Bruggeman equation.
+    squeeze_pressure, pressure_difference
+        P0 and ΔP (Pa).
+    percolates
+        σ_eff > 0 (A(ζ1)/A0 < 1/2, Bruggeman's threshold; docs/theory.md §5.4).
+    effective_conductivity
+        σ_eff in m³/(Pa·s) (0 where it does not percolate).
+    effective_gap
+        u_e = (12 η σ_eff)^(1/3), the gap with the local conductivity σ_eff (m).
+    leak_rate
+        Q = (Ly/Lx) σ_eff ΔP in m³/s (NaN where it does not percolate).
+    contact_area_at_cutoff
+        A(ζ1)/A0, the δ(u) weight.
+    mean_gap
+        ū(1) (m).
+    gap_distribution_mean
+        ∫ u P(u) du (m).
+    residual
+        Relative residual 1 - g(σ_eff) of the solved Bruggeman equation.
+    viscosity
+        η (Pa·s).
+    aspect_ratio
+        Ly/Lx (dimensionless).
+    distribution
+        The :class:`~sealeak.physics.gaps.GapDistribution` P(u) at the distinct squeeze pressures.
+    messages
+        Human-readable notes (one per non-percolating pressure).
     """
 
     squeeze_pressure: FloatArray
@@ -265,10 +295,26 @@ def effective_medium(
 ) -> EffectiveMediumResult:
     """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP at every squeeze pressure (vectorised).
 
-    ``distribution`` may pass a :class:`GapDistribution` already computed for these pressures.
+    Q in m³/s; σ_eff in m³/(Pa·s) solves 1/σ_eff = ∫ du P(u) 2/(σ_eff + σ(u)), σ(u) = u³/(12η)
+    (Bruggeman (1935); docs/theory.md §5.3). No leak rate (NaN) where A(ζ1)/A0 >= 1/2 (§5.4).
+
+    Parameters
+    ----------
+    contact
+        Persson contact mechanics of the interface.
+    squeeze_pressure
+        Nominal squeeze pressures P0 in Pa (scalar or 1-D array).
+    pressure_difference
+        ΔP in Pa, scalar or broadcastable against ``squeeze_pressure``.
+    viscosity
+        η in Pa·s.
+    aspect_ratio
+        Ly/Lx (number of squares of side L across the seal).
+    distribution
+        A :class:`GapDistribution` already computed for these pressures (else it is computed).
     """
     p0, dp = _pressures(squeeze_pressure, pressure_difference)
-    for name, v in (("fluid.viscosity", viscosity), ("seal aspect ratio Ly/Lx", aspect_ratio)):
+    for name, v in (("viscosity", viscosity), ("aspect_ratio", aspect_ratio)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(name, v, "must be finite and > 0")
     # one distribution per distinct pressure

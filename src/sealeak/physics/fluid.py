@@ -2,7 +2,7 @@
 
 Incompressible Newtonian fluid with viscosity η (Pa·s), laminar flow, no slip. Between parallel
 plates a distance g apart the flow per unit width is q = -σ ∇p with σ(g) = g³/(12 η)
-(THEORY.md sections 3 and 5).
+(plane Poiseuille flow; docs/theory.md §3.5 and §5.2).
 """
 
 from __future__ import annotations
@@ -27,12 +27,12 @@ class Fluid:
 
     def __post_init__(self) -> None:
         if not (isinstance(self.viscosity, (int, float)) and np.isfinite(self.viscosity) and self.viscosity > 0):
-            raise InputError("fluid.viscosity", self.viscosity, "must be a finite viscosity > 0 (Pa s)")
+            raise InputError("viscosity", self.viscosity, "must be a finite viscosity > 0 (Pa s)")
         if self.density is not None and not (np.isfinite(self.density) and self.density > 0):
-            raise InputError("fluid.density", self.density, "must be a finite density > 0 (kg/m^3)")
+            raise InputError("density", self.density, "must be a finite density > 0 (kg/m^3)")
 
 
 def gap_conductance(gap: ArrayLike, viscosity: float) -> NDArray[np.float64]:
-    """σ(g) = g³/(12 η) in m³/(Pa·s): flow per unit width per unit pressure gradient."""
+    """σ(g) = g³/(12 η) in m³/(Pa·s): flow per unit width per unit pressure gradient (gap g in m, η in Pa·s; docs/theory.md §5.2)."""
     g = np.asarray(gap, dtype=float)
     return g**3 / (12.0 * viscosity)

@@ -1,11 +1,11 @@
 """Distribution of interfacial separations P(u) from Persson contact mechanics.
 
-THEORY.md section 5 (Persson; Almqvist et al., J. Mech. Phys. Solids 59 (2011) 2355)::
+docs/theory.md §5.1 (Persson; Almqvist et al., J. Mech. Phys. Solids 59 (2011) 2355); u in m, P(u) in 1/m::
 
     P(u) = ∫_1^{ζ1} dζ [-A'(ζ)/A0] (2π h(ζ)²)^(-1/2) [e^(-(u-u1(ζ))²/(2h(ζ)²)) + e^(-(u+u1(ζ))²/(2h(ζ)²))]
            + (A(ζ1)/A0) δ(u),          h(ζ)² = 2π ∫_{ζq0}^{q1} q C(q) dq,   ζ1 = q1/q0
 
-Each magnification contributes the patches that come into contact there (weight -A'(ζ)dζ): their
+Each magnification contributes the patches that lose contact there (weight -A'(ζ)dζ): their
 separation is u1(ζ) (:meth:`PerssonContact.u1`), broadened by the roughness h(ζ) not yet resolved at
 ζ; the mirror Gaussian folds the part below u = 0 back onto u >= 0, so every component integrates
 to one over u >= 0 and P(u) integrates to 1 exactly.
@@ -49,8 +49,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
-from .contact import PerssonContact
 from ..errors import InputError, SolutionCheckError
+from .contact import PerssonContact
 
 __all__ = ["GapDistribution", "gap_distribution", "folded_normal_mean"]
 
@@ -88,13 +88,19 @@ class GapDistribution:
 
     Attributes
     ----------
-    squeeze_pressure: P0 (Pa).
-    contact_fraction: A(ζ1)/A0, the weight of δ(u) (surfaces in contact at the finest resolution).
-    weights, centres, widths, magnification: the components: weight -A'(ζ)dζ, centre u1(ζ) (m),
-        width h(ζ) (m) and ζ of every quadrature node.
-    unresolved_weight: weight of the components left out (b < ε: ζ so close to 1 that A = 1 - ε).
-    unresolved_mean: their (closed-form) contribution to the mean, m.
-    mean_gap: ū(1), the mean separation of Persson theory (m), for comparison with :attr:`mean`.
+    squeeze_pressure
+        P0 (Pa).
+    contact_fraction
+        A(ζ1)/A0, the weight of δ(u) (surfaces in contact at the finest resolution).
+    weights, centres, widths, magnification
+        The components: weight -A'(ζ)dζ/A0, centre u1(ζ) (m), width h(ζ) (m) and ζ of every
+        quadrature node.
+    unresolved_weight
+        Weight of the components left out (b < ε: ζ so close to 1 that A = 1 - ε).
+    unresolved_mean
+        Their (closed-form) contribution to the mean (m).
+    mean_gap
+        ū(1), the mean separation of Persson theory (m), for comparison with :attr:`mean`.
     """
 
     squeeze_pressure: FloatArray
@@ -171,6 +177,9 @@ def gap_distribution(
 ) -> GapDistribution:
     """P(u) of Persson theory at every squeeze pressure (see the module docstring for the method).
 
+    Almqvist et al., J. Mech. Phys. Solids 59 (2011) 2355; docs/theory.md §5.1. Separations u in m,
+    P(u) in 1/m.
+
     Parameters
     ----------
     contact:
@@ -185,7 +194,7 @@ def gap_distribution(
     """
     p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float)).ravel()
     if p0.size == 0 or not (np.isfinite(p0) & (p0 > 0)).all():
-        raise InputError("conditions.squeeze_pressure", p0.tolist(), "needs finite values > 0 (Pa)")
+        raise InputError("squeeze_pressure", p0.tolist(), "needs finite values > 0 (Pa)")
     if not (0.0 < unresolved < 1e-3):
         raise InputError("unresolved weight", unresolved, "must lie in (0, 1e-3)")
     for name, n in (("uniform_panels", uniform_panels), ("log_panels", log_panels),

@@ -4,7 +4,7 @@ The nominal contact is Lx × Ly with the flow along x (width Lx, from the high-p
 low-pressure side) and Ly the length of the band across the flow. The critical-junction theory
 divides it into N = Ly/Lx squares of side Lx (Lorenz & Persson, EPL 86 (2009) 44006, eq. (2)).
 
-Ring seal with inner and outer diameters Di < Do (THEORY.md section 3):
+Ring seal with inner and outer diameters Di < Do (docs/theory.md §3.1):
 Lx = (Do - Di)/2, Ly = π (Do + Di)/2, so Lx·Ly = π (Do² - Di²)/4 is the annulus area.
 """
 
@@ -42,24 +42,24 @@ class Seal:
     outer_diameter: float | None = None
 
     def __post_init__(self) -> None:
-        _length("seal.width", self.width)
-        _length("seal.length", self.length)
+        _length("width", self.width)
+        _length("length", self.length)
 
     @classmethod
-    def ring(cls, inner_diameter: float, outer_diameter: float) -> "Seal":
-        """Ring (O-ring footprint, gasket): Lx = (Do - Di)/2, Ly = π (Do + Di)/2."""
-        di = _length("seal.inner_diameter", inner_diameter)
-        do = _length("seal.outer_diameter", outer_diameter)
+    def ring(cls, inner_diameter: float, outer_diameter: float) -> Seal:
+        """Ring (O-ring footprint, gasket): Lx = (Do - Di)/2, Ly = π (Do + Di)/2 (diameters in m; docs/theory.md §3.1)."""
+        di = _length("inner_diameter", inner_diameter)
+        do = _length("outer_diameter", outer_diameter)
         if not di < do:
-            raise InputError("seal.outer_diameter", do,
+            raise InputError("outer_diameter", do,
                              f"must exceed the inner diameter {di:.6g} m")
         return cls(width=(do - di) / 2.0, length=np.pi * (do + di) / 2.0, shape="ring",
                    inner_diameter=di, outer_diameter=do)
 
     @classmethod
-    def rectangle(cls, width: float, length: float) -> "Seal":
+    def rectangle(cls, width: float, length: float) -> Seal:
         """Straight band of width Lx (along the flow) and length Ly (across it)."""
-        return cls(width=_length("seal.width", width), length=_length("seal.length", length))
+        return cls(width=_length("width", width), length=_length("length", length))
 
     @property
     def aspect_ratio(self) -> float:
@@ -72,7 +72,7 @@ class Seal:
         return self.width * self.length
 
     def squeeze_pressure_from_load(self, force: float) -> float:
-        """Nominal squeeze pressure P0 = F / (Lx Ly) in Pa for a normal force F in N."""
+        """Nominal squeeze pressure P0 = F / (Lx Ly) in Pa for a normal force F in N (docs/theory.md §3.1)."""
         if not (np.isfinite(force) and force > 0):
             raise InputError("load", force, "must be a finite force > 0 (N)")
         return force / self.nominal_area

@@ -1,6 +1,6 @@
 """Surface roughness power spectra C(q) in Persson's convention.
 
-Convention (THEORY.md section 1; Persson, J. Chem. Phys. 115 (2001) 3840)::
+Convention (docs/theory.md §1.1–§1.2; Persson, J. Chem. Phys. 115 (2001) 3840)::
 
     C(q) = 1/(2π)² ∫ d²x <h(x) h(0)> exp(-i q·x)       [m⁴], isotropic, q = |q| in 1/m
     h_rms²        = 2π ∫ q  C(q) dq
@@ -9,15 +9,15 @@ Convention (THEORY.md section 1; Persson, J. Chem. Phys. 115 (2001) 3840)::
 
 A :class:`PowerSpectrum` holds C at nodes q_0 < q_1 < ... < q_n and is a piecewise power law between
 them (log C linear in log q), zero outside [q_0, q_n]. That representation is exact for the
-self-affine model with roll-off, and every band moment ∫ qⁿ C dq is then a closed form, so nothing
-downstream needs quadrature over C itself.
+self-affine model with roll-off, and every band moment ∫ qⁿ C dq is then a closed form
+(docs/theory.md §1.3), so nothing downstream needs quadrature over C itself.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -48,7 +48,8 @@ def area_ratio_from_slope(slope_rms: float | FloatArray) -> float | FloatArray:
     """True over nominal surface area, A_true/A0 = <√(1+|∇h|²)>, for Gaussian isotropic slopes.
 
     |∇h|² is then exponentially distributed with mean m = slope_rms², which gives the closed form
-    ``1 + (√(π m)/2) erfcx(1/√m)`` (erfcx(x) = exp(x²) erfc(x)).
+    ``1 + (√(π m)/2) erfcx(1/√m)`` (erfcx(x) = exp(x²) erfc(x)); docs/theory.md §1.2. ``slope_rms``
+    is dimensionless; so is the ratio.
     """
     m = np.asarray(slope_rms, dtype=float) ** 2
     with np.errstate(divide="ignore"):
@@ -62,6 +63,9 @@ def area_ratio_from_slope(slope_rms: float | FloatArray) -> float | FloatArray:
 class PowerSpectrum:
     """Isotropic 2D roughness power spectrum C(q), piecewise power law between nodes.
 
+    Between nodes log C is linear in log q; C = 0 below ``q[0]`` and above ``q[-1]``
+    (docs/theory.md §1.3). Instances are immutable (their arrays are read-only).
+
     Parameters
     ----------
     q:
@@ -70,9 +74,6 @@ class PowerSpectrum:
         C at the nodes in m⁴, positive and finite.
     label:
         Free text describing where the spectrum comes from (shown in reports and figures).
-
-    Between nodes log C is linear in log q; C = 0 below ``q[0]`` and above ``q[-1]``.
-    Instances are immutable (their arrays are read-only).
     """
 
     q: FloatArray
@@ -130,8 +131,8 @@ class PowerSpectrum:
         rolloff_wavelength: float | None = None,
         cutoff_wavelength: float | None = None,
         lowest_wavelength: float | None = None,
-    ) -> "PowerSpectrum":
-        """Self-affine spectrum with roll-off (THEORY.md section 1)::
+    ) -> PowerSpectrum:
+        """Self-affine spectrum with roll-off (docs/theory.md §1.4; Persson et al., J. Phys.: Condens. Matter 17 (2005) R1)::
 
             C(q) = C0                          q_lowest <= q < q_rolloff
             C(q) = C0 (q/q_rolloff)^(-2(1+H))  q_rolloff <= q <= q_cutoff
@@ -145,20 +146,20 @@ class PowerSpectrum:
         q_rolloff = _wavevector_or_wavelength("rolloff", q_rolloff, rolloff_wavelength, required=True)
         q_cutoff = _wavevector_or_wavelength("cutoff", q_cutoff, cutoff_wavelength, required=True)
         q_lowest = _wavevector_or_wavelength("lowest", q_lowest, lowest_wavelength, required=False)
-        _check_positive("surface.hurst", hurst, open_upper=1.0)
-        _check_positive("surface.rolloff_wavevector", q_rolloff)
-        _check_positive("surface.cutoff_wavevector", q_cutoff)
+        _check_positive("hurst", hurst, open_upper=1.0)
+        _check_positive("q_rolloff", q_rolloff)
+        _check_positive("q_cutoff", q_cutoff)
         if q_lowest is None:
             q_lowest = q_rolloff
-        _check_positive("surface.lowest_wavevector", q_lowest)
+        _check_positive("q_lowest", q_lowest)
         if not q_rolloff < q_cutoff:
-            raise InputError("surface.cutoff_wavevector", q_cutoff,
+            raise InputError("q_cutoff", q_cutoff,
                              f"must exceed the roll-off wavevector {q_rolloff:.6g} 1/m")
         if not q_lowest < q_cutoff:
-            raise InputError("surface.lowest_wavevector", q_lowest,
+            raise InputError("q_lowest", q_lowest,
                              f"must be below the cut-off wavevector {q_cutoff:.6g} 1/m")
         if (h_rms is None) == (C0 is None):
-            raise InputError("surface", {"h_rms": h_rms, "C0": C0}, "give exactly one of h_rms and C0")
+            raise InputError("h_rms", {"h_rms": h_rms, "C0": C0}, "give exactly one of h_rms and C0")
         decay = -2.0 * (1.0 + hurst)
         if q_lowest < q_rolloff:
             nodes = np.array([q_lowest, q_rolloff, q_cutoff])
@@ -167,23 +168,23 @@ class PowerSpectrum:
             nodes = np.array([q_lowest, q_cutoff])
             shape = np.array([(q_lowest / q_rolloff) ** decay, (q_cutoff / q_rolloff) ** decay])
         if h_rms is not None:
-            _check_positive("surface.h_rms", h_rms)
+            _check_positive("h_rms", h_rms)
             unit = cls(nodes, shape)
             C0 = h_rms**2 / unit.h_rms**2
         else:
-            _check_positive("surface.C0", C0)
+            _check_positive("C0", C0)
         if not label:
             label = f"self-affine model, H = {hurst:g}"
         return cls(nodes, shape * C0, label=label)
 
     @classmethod
-    def from_arrays(cls, q: ArrayLike, C: ArrayLike, label: str = "") -> "PowerSpectrum":
+    def from_arrays(cls, q: ArrayLike, C: ArrayLike, label: str = "") -> PowerSpectrum:
         """Spectrum from tabulated values (q in 1/m, C in m⁴), validated."""
         return cls(np.asarray(q, dtype=float), np.asarray(C, dtype=float), label=label)
 
     @classmethod
-    def from_table(cls, path: str | Path, label: str = "") -> "PowerSpectrum":
-        """Spectrum from a two-column text table q, C (:func:`sealeak.tables.read_spectrum_table`).
+    def from_table(cls, path: str | Path, label: str = "") -> PowerSpectrum:
+        """Spectrum from a two-column text table q, C (:func:`sealeak.io.tables.read_spectrum_table`; docs/theory.md §1.5).
 
         q in 1/m and C in m⁴ unless a header row names other units, e.g. ``q (1/um), C (um^4)``.
         Problems (missing file, NaN, unsorted q, wrong units) raise :class:`FileFormatError`
@@ -239,7 +240,7 @@ class PowerSpectrum:
         return cum
 
     def cumulative_moment(self, n: float, q: ArrayLike) -> FloatArray:
-        """M_n(q) = ∫_{q_min}^{q} q'ⁿ C(q') dq', exact for the piecewise power law (vectorised over q)."""
+        """M_n(q) = ∫_{q_min}^{q} q'ⁿ C(q') dq' in m^(3-n), exact for the piecewise power law (docs/theory.md §1.3; vectorised over q)."""
         qa = np.asarray(q, dtype=float)
         qc = np.clip(qa, self.q[0], self.q[-1])
         k = np.clip(np.searchsorted(self.q, qc, side="right") - 1, 0, self.q.size - 2)
@@ -249,7 +250,7 @@ class PowerSpectrum:
         return cum[k] + self.C[k] * self.q[k] ** (n + 1.0) * x * _exprel(e * x)
 
     def inverse_cumulative_moment(self, n: float, m: ArrayLike) -> FloatArray:
-        """The q at which M_n(q) = m (inverse of :meth:`cumulative_moment`; m clipped to the band)."""
+        """The q (1/m) at which M_n(q) = m (closed-form inverse of :meth:`cumulative_moment`, docs/theory.md §1.3; m clipped to the band)."""
         cum = self._node_cumulative(n)
         ma = np.clip(np.asarray(m, dtype=float), 0.0, cum[-1])
         k = np.clip(np.searchsorted(cum, ma, side="right") - 1, 0, self.q.size - 2)
@@ -259,7 +260,7 @@ class PowerSpectrum:
         return np.minimum(self.q[k] * np.exp(x), self.q[-1])
 
     def moment(self, n: float, q_lo: ArrayLike | None = None, q_hi: ArrayLike | None = None) -> FloatArray | float:
-        """Band moment ∫_{q_lo}^{q_hi} qⁿ C(q) dq (defaults: the whole band). Vectorised."""
+        """Band moment ∫_{q_lo}^{q_hi} qⁿ C(q) dq in m^(3-n) (defaults: the whole band). Vectorised."""
         lo = self.q[0] if q_lo is None else q_lo
         hi = self.q[-1] if q_hi is None else q_hi
         out = self.cumulative_moment(n, hi) - self.cumulative_moment(n, lo)
@@ -268,7 +269,7 @@ class PowerSpectrum:
 
     @property
     def h_rms(self) -> float:
-        """Root-mean-square height in m: √(2π ∫ q C dq)."""
+        """Root-mean-square height in m: √(2π ∫ q C dq) (docs/theory.md §1.2)."""
         return float(np.sqrt(2.0 * np.pi * self.moment(1)))
 
     @property
@@ -287,7 +288,7 @@ class PowerSpectrum:
         return float(area_ratio_from_slope(self.slope_rms))
 
     # ------------------------------------------------------------------ derived spectra
-    def truncated(self, q_lo: float | None = None, q_hi: float | None = None) -> "PowerSpectrum":
+    def truncated(self, q_lo: float | None = None, q_hi: float | None = None) -> PowerSpectrum:
         """The same C(q) restricted to [q_lo, q_hi] (new nodes inserted at the cuts)."""
         lo = self.q_min if q_lo is None else max(float(q_lo), self.q_min)
         hi = self.q_max if q_hi is None else min(float(q_hi), self.q_max)
@@ -298,12 +299,12 @@ class PowerSpectrum:
         nodes = np.concatenate([[lo], inner, [hi]])
         return PowerSpectrum(nodes, self(nodes), label=self.label)
 
-    def scaled(self, factor: float) -> "PowerSpectrum":
+    def scaled(self, factor: float) -> PowerSpectrum:
         """C multiplied by ``factor`` (h_rms scales with √factor)."""
         _check_positive("spectrum scale factor", factor)
         return PowerSpectrum(self.q, self.C * factor, label=self.label)
 
-    def refined(self, points_per_segment: int) -> "PowerSpectrum":
+    def refined(self, points_per_segment: int) -> PowerSpectrum:
         """The same function with extra nodes on every segment (identical C; for convergence tests)."""
         if points_per_segment < 1:
             raise InputError("points_per_segment", points_per_segment, "must be >= 1")
@@ -332,10 +333,10 @@ def _check_positive(name: str, value: float | None, open_upper: float | None = N
 def _wavevector_or_wavelength(stem: str, q: float | None, wavelength: float | None, *, required: bool) -> float | None:
     """q (1/m) from either the wavevector or the wavelength (q = 2π/λ); exactly one when required."""
     if q is not None and wavelength is not None:
-        raise InputError(f"surface.{stem}_wavevector", q, f"give either {stem}_wavevector or {stem}_wavelength, not both")
+        raise InputError(f"q_{stem}", q, f"give either q_{stem} or {stem}_wavelength, not both")
     if wavelength is not None:
-        _check_positive(f"surface.{stem}_wavelength", wavelength)
+        _check_positive(f"{stem}_wavelength", wavelength)
         return 2.0 * np.pi / wavelength
     if q is None and required:
-        raise InputError(f"surface.{stem}_wavevector", None, f"is required (or give {stem}_wavelength)")
+        raise InputError(f"q_{stem}", None, f"is required (or give {stem}_wavelength)")
     return q

@@ -13,8 +13,8 @@ and ζc against P0 (Fig. 9); Q against ΔP (Fig. 5) and A(ζ), ū(ζ), u1(ζ) co
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Callable, Sequence
 
 import matplotlib as mpl
 import numpy as np
@@ -22,10 +22,10 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..cases import Case, CaseResult, PredictionCurves, prediction_curves
-from ..physics.critical_junction import CriticalJunctionResult
-from ..physics.effective_medium import EffectiveMediumResult
 from ..io.files import atomic_write
 from ..io.units import length_unit
+from ..physics.critical_junction import CriticalJunctionResult
+from ..physics.effective_medium import EffectiveMediumResult
 
 __all__ = ["prediction_figures", "save_figures", "pressure_axis", "PREDICTION_FIGURE_NAMES", "new_figure",
            "subtitle"]

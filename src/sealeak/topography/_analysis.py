@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Sequence, Union
 
 import numpy as np
 
@@ -13,15 +13,15 @@ from ..physics.spectrum import PowerSpectrum
 from ._fit import SelfAffineFit, fit_self_affine
 from ._preprocess import Detrend, Window, prepare
 from ._readers import LengthLike, read_topography
-from ._units import option_name
 from ._spectrum import BinnedSpectrum, spectrum_1d, spectrum_2d, spectrum_2d_from_1d
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import stitch
 from ._types import LineScans, Topography
+from ._units import option_name
 
 __all__ = ["Analysis", "SourceAnalysis", "analyze"]
 
-Source = Union[str, Path, Topography, LineScans]
+Source = str | Path | Topography | LineScans
 
 
 @dataclass(frozen=True, eq=False)

@@ -7,7 +7,7 @@ notes for options a file overrides, and resampling of non-uniform line scans.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Union
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -19,8 +19,8 @@ from ._units import MissingUnitsError, option_name, parse_length
 __all__ = ["Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
            "resample_nonuniform"]
 
-Surface = Union[Topography, LineScans]
-LengthLike = Union[float, str]
+Surface = Topography | LineScans
+LengthLike = float | str
 INSTALL_HINT = "pip install 'sealeak[formats]'"
 
 

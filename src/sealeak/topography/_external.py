@@ -1,7 +1,7 @@
 """Instrument formats through SurfaceTopography (optional extra ``sealeak[formats]``).
 
 SurfaceTopography (ContactEngineering, MIT licence) knows dozens of instrument formats; sealeak
-uses only its readers, never its spectra (which follow another convention, see THEORY.md §1).
+uses only its readers, never its spectra (which follow another convention, see docs/theory.md §1.6).
 Its exceptions are turned into :class:`~sealeak.errors.FileFormatError` here, at the boundary, and
 its (and its dependencies') warnings and log output are kept from the user's terminal: a damaged
 file gives one clear message, not megabytes of a foreign library's debugging output.
@@ -16,9 +16,10 @@ from __future__ import annotations
 
 import logging
 import warnings
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import numpy as np
 

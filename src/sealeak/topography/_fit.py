@@ -1,6 +1,6 @@
 """Least-squares fit of the self-affine model with roll-off to a measured C(q).
 
-Model (THEORY.md §1)::
+Model (docs/theory.md §1.4; the fit is §7.7)::
 
     C(q) = C0                       q < q_r
     C(q) = C0 (q/q_r)^(-2(1+H))     q >= q_r
@@ -63,7 +63,7 @@ class SelfAffineFit:
     covariance:
         Covariance of (H, ln q_r, ln C0) (only the first and last for a pure power law).
     spectrum:
-        The fitted model as a :class:`~sealeak.roughness.PowerSpectrum` over ``q_range``.
+        The fitted model as a :class:`~sealeak.physics.spectrum.PowerSpectrum` over ``q_range``.
     hurst_in_range:
         False when the data want H outside 0 < H < 1 (then ``hurst`` is the bound, ``hurst_err`` NaN).
     hurst_wanted:
@@ -128,7 +128,7 @@ def fit_self_affine(
     """Fit (H, q_r, C0) to a measured 2D C(q) (see the module docstring).
 
     ``data``: a :class:`BinnedSpectrum` (its reliable bins, weighted by mode counts) or a
-    :class:`~sealeak.roughness.PowerSpectrum` (its nodes, equal weights). ``rolloff``: True to
+    :class:`~sealeak.physics.spectrum.PowerSpectrum` (its nodes, equal weights). ``rolloff``: True to
     force a roll-off, False for a pure power law, None to decide from the data. ``q_range``
     restricts the fit (1/m).
     """

@@ -10,7 +10,7 @@ stationary h).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal, Union
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,7 +27,7 @@ Window = Literal["auto", "hann", "none"]
 DETRENDS = ("auto", "none", "mean", "plane", "curvature")
 WINDOWS = ("auto", "hann", "none")
 FloatArray = NDArray[np.float64]
-Surface = Union[Topography, LineScans]
+Surface = Topography | LineScans
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,9 +16,10 @@ from __future__ import annotations
 
 import importlib.util
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,6 +49,13 @@ def read_topography(
 ) -> Surface:
     """Read a measured surface: a :class:`Topography` (map) or :class:`LineScans` (profile).
 
+    Values the file states itself win (instrument metadata, text header lines, ``.npz`` arrays, a
+    ``.npy.json`` sidecar); a user value the file overrides is recorded in ``notes``. Missing units
+    are never guessed: one :class:`~sealeak.topography.MissingUnitsError` (a
+    :class:`~sealeak.errors.UnitError`) names the file and every option to pass (keyword arguments,
+    or command-line flags inside :func:`~sealeak.topography.cli_option_names`). Unreadable files
+    raise :class:`~sealeak.errors.FileFormatError`.
+
     Parameters
     ----------
     path:
@@ -66,15 +74,11 @@ def read_topography(
     channel:
         Channel index or name for multi-channel instrument files (default: the file's default channel).
 
-    Values the file states itself win (instrument metadata, text header lines, ``.npz`` arrays, a
-    ``.npy.json`` sidecar); a user value the file overrides is recorded in ``notes``. Missing units
-    are never guessed: one :class:`~sealeak.topography.MissingUnitsError` (a
-    :class:`~sealeak.errors.UnitError`) names the file and every option to pass (keyword arguments,
-    or command-line flags inside :func:`~sealeak.topography.cli_option_names`). Unreadable files
-    raise :class:`~sealeak.errors.FileFormatError`.
-
-    Returns heights in m: a map h[x, y] with size (sx, sy), or line scans with their length. Profiles
-    with non-uniform x are linearly interpolated onto a uniform grid of as many points (noted).
+    Returns
+    -------
+    Topography or LineScans
+        Heights in m: a map h[x, y] with size (sx, sy), or line scans with their length. Profiles
+        with non-uniform x are linearly interpolated onto a uniform grid of as many points (noted).
     """
     p = Path(path)
     if not p.exists():

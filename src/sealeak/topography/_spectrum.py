@@ -1,4 +1,4 @@
-"""Power spectra of measured surfaces in Persson's convention (THEORY.md section 1).
+"""Power spectra of measured surfaces in Persson's convention (docs/theory.md §1.1; method §7.2–§7.3).
 
 2D, from a map of nx × ny points and size sx × sy (NumPy's unnormalised FFT)::
 
@@ -39,8 +39,8 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import special
 from scipy import fft as sfft
+from scipy import special
 
 from ..errors import InputError
 from ..physics.spectrum import PowerSpectrum
@@ -116,7 +116,7 @@ class BinnedSpectrum:
                 f"{option_name('resolution_pixels')}")
 
     def to_power_spectrum(self, label: str | None = None) -> PowerSpectrum:
-        """The reliable, positive bins as a :class:`~sealeak.roughness.PowerSpectrum` (2D only)."""
+        """The reliable, positive bins as a :class:`~sealeak.physics.spectrum.PowerSpectrum` (2D only)."""
         if self.dim != 2:
             raise InputError("spectrum.dim", self.dim, "a 1D profile spectrum must be converted to 2D first "
                                                        "(spectrum_2d_from_1d)")

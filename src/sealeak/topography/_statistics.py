@@ -16,7 +16,7 @@ the same values as the periodic analysis of the surface the data were cut from. 
 profile values are converted for an isotropic surface: <|∇h|²> = 2<h'²>, <(∇²h)²> = (8/3)<h''²>,
 and the area ratio follows from the slope assuming Gaussian slopes.
 
-From C(q) (Persson, THEORY.md §1): h_rms² = 2π∫qC dq, slope_rms² = 2π∫q³C dq,
+From C(q) (Persson; docs/theory.md §1.2, §7.8): h_rms² = 2π∫qC dq, slope_rms² = 2π∫q³C dq,
 curvature_rms² = 2π∫q⁵C dq over the spectrum's band, area ratio for Gaussian slopes.
 """
 
@@ -72,7 +72,7 @@ class SurfaceStatistics:
     method: str = ""
 
     @classmethod
-    def from_spectrum(cls, spectrum: PowerSpectrum, method: str = "from C(q) only") -> "SurfaceStatistics":
+    def from_spectrum(cls, spectrum: PowerSpectrum, method: str = "from C(q) only") -> SurfaceStatistics:
         """Statistics of a surface known only by its C(q): h_rms, slope_rms, curvature_rms and area_ratio
         from the spectrum (also in the ``spectrum_*`` fields); skewness and kurtosis are not
         determined by C(q) (None)."""

@@ -11,7 +11,8 @@ and outside the overlaps simply the one measurement that covers the bin.
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 

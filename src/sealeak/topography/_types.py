@@ -102,6 +102,8 @@ class Topography:
 class LineScans:
     """One or more parallel 1D profiles on a common uniform grid.
 
+    Non-uniformly sampled profiles are interpolated onto a uniform grid on reading (and a note says so).
+
     Attributes
     ----------
     heights:
@@ -110,8 +112,6 @@ class LineScans:
         Physical length in m (= n × pixel size).
     periodic, source, notes, resolution:
         As for :class:`Topography`.
-
-    Non-uniformly sampled profiles are interpolated onto a uniform grid on reading (and a note says so).
     """
 
     heights: FloatArray
@@ -140,7 +140,7 @@ class LineScans:
         object.__setattr__(self, "resolution", _resolution(self.resolution, "line_scans.resolution"))
 
     @classmethod
-    def from_topography(cls, topography: Topography, axis: int = 0) -> "LineScans":
+    def from_topography(cls, topography: Topography, axis: int = 0) -> LineScans:
         """All rows (``axis=0``: profiles along x) or columns (``axis=1``: along y) of a map."""
         if axis not in (0, 1):
             raise InputError("axis", axis, "0 (profiles along x) or 1 (along y)")

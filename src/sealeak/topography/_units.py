@@ -6,10 +6,11 @@ Inside sealeak every length is a float in metres; this module turns user or file
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 from functools import lru_cache
-from typing import Any, Iterator
+from typing import Any
 
 import numpy as np
 import pint
