@@ -3,9 +3,9 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.sealeak-installed
-EXTRAS ?= test,formats
+EXTRAS ?= test,formats,dev,docs
 
-.PHONY: demo test install bench bench-peers clean
+.PHONY: demo test lint docs docs-check install bench bench-peers clean
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -20,8 +20,22 @@ demo: $(STAMP)
 	$(VENV)/bin/sealeak predict --example reference-experiment \
 		--table out/table.txt --json out/results.json --csv out/results.csv --plots out --force
 
-test: $(STAMP)
+# everything CI checks: lint, the layer contracts, types, the documentation site, the test suite
+test: lint docs-check
 	$(PY) -m pytest -q
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check src tests benchmarks
+	$(VENV)/bin/lint-imports
+	$(VENV)/bin/mypy
+
+# the site in strict mode (a broken link, a missing page or a docstring that does not parse fails)
+docs-check: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --quiet --site-dir build/docs-check
+
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --site-dir site
+	@echo "open site/index.html"
 
 bench: $(STAMP)
 	@for f in benchmarks/bench_*.py; do echo "== $$f"; $(PY) $$f || exit 1; done
@@ -32,4 +46,4 @@ bench-peers: $(STAMP)
 	$(PY) benchmarks/bench_peers.py 256 512 1024
 
 clean:
-	rm -rf $(VENV) out build src/*.egg-info .pytest_cache
+	rm -rf $(VENV) out build site src/*.egg-info .pytest_cache

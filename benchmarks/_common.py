@@ -6,8 +6,9 @@ import math
 
 import numpy as np
 from scipy.special import erfinv
-from sealeak.roughness import PowerSpectrum
-from sealeak.synthesis import synthesize
+
+from sealeak.numerics import synthesize
+from sealeak.physics import PowerSpectrum
 
 SIZE = 1e-3  # m
 E_STAR = 1e6  # Pa

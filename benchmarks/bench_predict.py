@@ -21,11 +21,14 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from scipy import special  # noqa: E402
 from scipy.integrate import quad  # noqa: E402
-from sealeak.case import predict  # noqa: E402
-from sealeak.casefile import example_path, load_case  # noqa: E402
-from sealeak.contact import PerssonContact  # noqa: E402
 
 from sealeak import PowerSpectrum  # noqa: E402
+from sealeak.cases import (  # noqa: E402
+    example_path,
+    load_case,
+    predict,  # noqa: E402
+)
+from sealeak.physics import PerssonContact  # noqa: E402
 
 
 def best_of(fn, repeat=7):

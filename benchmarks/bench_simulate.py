@@ -22,10 +22,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from sealeak.casefile import example_path, load_cases  # noqa: E402
-from sealeak.simulation import simulate  # noqa: E402
-
 from sealeak import numerics  # noqa: E402
+from sealeak.cases import (  # noqa: E402
+    example_path,
+    load_cases,
+    simulate,  # noqa: E402
+)
 
 
 def main() -> None:

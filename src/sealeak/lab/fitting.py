@@ -10,7 +10,8 @@ multiplicative (log-normal) scatter, least squares in ln Q has the closed form (
 (α_std by the delta method; the interval α exp(±se) is the asymmetric version). The rms residual is
 reported in decades: √(mean((r_i - ln α)²))/ln 10. Points the model cannot use are excluded with a
 message, never silently: where the model predicts no leak channel (the non-contact area does not
-percolate at that P0) and where the measured leak rate is zero (no logarithm).
+percolate at that P0), where it predicts no flow (ΔP = 0) and where the measured leak rate is zero
+(no logarithm).
 
 Linearity check (``sealeak fit --linearity``, the reference paper's first test; §8.2): ordinary least
 squares Q = slope ΔP + intercept with the textbook standard errors (s² = RSS/(n - 2)); a linear law

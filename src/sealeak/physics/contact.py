@@ -38,6 +38,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -178,7 +179,7 @@ class PerssonContact:
         """p(ζ) = P0 A0/A(ζ) in Pa, the mean pressure in the apparent contact (Lorenz & Persson (2009), unnumbered; docs/theory.md §2.5)."""
         return np.asarray(squeeze_pressure, dtype=float) / self.area(zeta, squeeze_pressure)
 
-    def zeta_at_area(self, relative_area: float, squeeze_pressure: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    def zeta_at_area(self, relative_area: float, squeeze_pressure: ArrayLike) -> tuple[FloatArray, NDArray[np.bool_]]:
         """ζ at which A(ζ)/A0 = relative_area, in closed form, and a mask of where it exists.
 
         G(ζ) = (P0/(2 erfinv(a)))² is inverted through the cumulative moment of q³C. Where that G
@@ -196,7 +197,7 @@ class PerssonContact:
         return np.where(exists, zeta, self.zeta_max), exists
 
     # ------------------------------------------------------------------ separation integrals
-    def _integrals(self, zeta: FloatArray, p0: FloatArray, derivative: bool) -> tuple[FloatArray, FloatArray | None]:
+    def _integrals(self, zeta: ArrayLike, p0: ArrayLike, derivative: bool) -> tuple[FloatArray, FloatArray | None]:
         spec = self.spectrum
         z, p0 = np.broadcast_arrays(np.asarray(zeta, dtype=float), np.asarray(p0, dtype=float))
         shape = z.shape
@@ -234,8 +235,8 @@ class PerssonContact:
         y = kappa[row] / sqrt_t
         fy = _kernels.f_function(y, self.gamma)
         n_pts = z.size
-        ubar = np.bincount(row, weights=w * sqrt_t * fy / q, minlength=n_pts)
-        ubar = np.where(active, ubar, 0.0).reshape(shape)
+        ubar_flat = np.bincount(row, weights=w * sqrt_t * fy / q, minlength=n_pts)
+        ubar = cast(FloatArray, np.where(active, ubar_flat, 0.0).reshape(shape))
         if not derivative:
             return ubar, None
         fpy = _kernels.f_derivative(y, self.gamma)
@@ -243,8 +244,8 @@ class PerssonContact:
         p_z = -p0 * self.area_derivative(z, p0) / area**2
         integrand = (d[row] * (fy + y * fpy) / (2.0 * q * sqrt_t)
                      + (p_z / (np.sqrt(np.pi) * self.e_star))[row] * fpy / q)
-        dubar = np.bincount(row, weights=w * integrand, minlength=n_pts)
-        dubar = np.where(active, dubar, 0.0).reshape(shape)
+        dubar_flat = np.bincount(row, weights=w * integrand, minlength=n_pts)
+        dubar = cast(FloatArray, np.where(active, dubar_flat, 0.0).reshape(shape))
         return ubar, dubar
 
     def _panel_nodes(self, edges: FloatArray) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:

@@ -182,9 +182,9 @@ def critical_junction(
     q = np.where(percolates, poiseuille_leak_rate(u_c, dp, viscosity, aspect_ratio, alpha), np.nan)
 
     messages = []
-    for i in np.flatnonzero(~percolates):
+    for k in np.flatnonzero(~percolates):
         messages.append(
-            f"P0 = {p0[i]:.6g} Pa: the contact area at the roughness cut-off is A/A0 = {area_cut[i]:.3f}, "
+            f"P0 = {p0[k]:.6g} Pa: the contact area at the roughness cut-off is A/A0 = {area_cut[k]:.3f}, "
             f"above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
             "within the resolved roughness; the theory predicts no leak channel (no leak-rate number)."
         )

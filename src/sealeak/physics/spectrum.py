@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -143,8 +144,8 @@ class PowerSpectrum:
         band starts on the power law. All wavevectors in 1/m. Each wavevector may be given as a
         wavelength instead (``rolloff_wavelength`` etc., in m; q = 2π/λ), not both.
         """
-        q_rolloff = _wavevector_or_wavelength("rolloff", q_rolloff, rolloff_wavelength, required=True)
-        q_cutoff = _wavevector_or_wavelength("cutoff", q_cutoff, cutoff_wavelength, required=True)
+        q_rolloff = cast(float, _wavevector_or_wavelength("rolloff", q_rolloff, rolloff_wavelength, required=True))
+        q_cutoff = cast(float, _wavevector_or_wavelength("cutoff", q_cutoff, cutoff_wavelength, required=True))
         q_lowest = _wavevector_or_wavelength("lowest", q_lowest, lowest_wavelength, required=False)
         _check_positive("hurst", hurst, open_upper=1.0)
         _check_positive("q_rolloff", q_rolloff)
