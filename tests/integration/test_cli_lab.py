@@ -8,26 +8,10 @@ import numpy as np
 import pytest
 
 from sealeak import FileFormatError
-from sealeak.cases import example_path, fit_models, load_cases, predict, predict_effective_medium, rig_prediction
+from sealeak.cases import example_path, fit_models, load_cases, predict, rig_prediction
 from sealeak.cli import main
 from sealeak.lab.data import read_leak_data
 from sealeak.lab.rig import exponential_height
-
-G = 9.80665
-
-
-@pytest.fixture(scope="module")
-def case():
-    return load_cases(example_path("reference-experiment"))[0]
-
-
-@pytest.fixture(scope="module")
-def sweep(case):
-    """Unit-α predictions of both models over P0 = 20..400 kPa (Q spans at least three decades in both)."""
-    p0 = np.geomspace(2e4, 4e5, 16)
-    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0).leak_rate
-    em = predict_effective_medium(case, squeeze_pressure=p0).leak_rate
-    return p0, cj, em
 
 
 def test_fit_through_data_file_and_cli(case, sweep, tmp_path):

@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 from sealeak.cases import example_path, load_cases
-from sealeak.cases.simulation import simulate
 from sealeak.cli import main
 
 
@@ -17,9 +16,6 @@ def case():
     return replace(c, squeeze_pressure=np.array([2e4, 8e4, 3e5]))
 
 
-@pytest.fixture(scope="module")
-def run(case):
-    return simulate(case, grid=64, realizations=3, seed=7, threshold=True)
 
 
 def test_simulation_section_gives_defaults_options_override(tmp_path):

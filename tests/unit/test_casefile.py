@@ -5,35 +5,7 @@ import pytest
 
 from sealeak.cases import example_names, example_path, example_text, load_cases, parse_cases
 from sealeak.errors import InputError
-
-BASE = """
-title = "test case"
-[surface]
-model = "self-affine"
-h_rms = "44 um"
-hurst = 0.8
-rolloff_wavevector = "9.1e3 1/m"
-cutoff_wavelength = "20 um"
-[rubber]
-youngs_modulus = "2.3 MPa"
-poisson_ratio = 0.5
-[seal]
-shape = "ring"
-inner_diameter = "3 cm"
-outer_diameter = "4 cm"
-[fluid]
-viscosity = "1 mPa*s"
-[conditions]
-squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]
-pressure_difference = "10 kPa"
-[theory]
-alpha = 0.2
-"""
-
-
-def edit(old, new, text=BASE):
-    assert old in text, old
-    return text.replace(old, new)
+from tests.casefiles import BASE, edit
 
 
 def test_base_case_reads_in_si():
@@ -107,53 +79,8 @@ def test_reference_experiment_stand_in():
     assert case.seal.aspect_ratio == pytest.approx(np.pi * 7 / 1)
 
 
-PSD_OK = "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n1e5, 1e-24\n"
-TABLE_CASE = edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
-                  'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "psd.csv"')
 
 # (case text, files to create, text the error must contain)
-INVALID = [
-    ("missing section", BASE.replace("[fluid]\nviscosity = \"1 mPa*s\"\n", ""), {}, "fluid"),
-    ("missing field", edit('youngs_modulus = "2.3 MPa"\n', ""), {}, "rubber.youngs_modulus"),
-    ("negative modulus", edit('"2.3 MPa"', '"-2.3 MPa"'), {}, "rubber.youngs_modulus = '-2.3 MPa'"),
-    ("poisson above 0.5", edit("poisson_ratio = 0.5", "poisson_ratio = 0.51"), {}, "rubber.poisson_ratio = 0.51"),
-    ("unknown unit", edit('"44 um"', '"44 furlongs_per_fortnight"'), {}, "surface.h_rms"),
-    ("length for a pressure", edit('pressure_difference = "10 kPa"', 'pressure_difference = "10 mm"'), {},
-     "conditions.pressure_difference = '10 mm'"),
-    ("bare number for a length", edit('h_rms = "44 um"', "h_rms = 44"), {}, "surface.h_rms = 44"),
-    ("p_c outside (0,1)", edit("alpha = 0.2", "alpha = 0.2\npercolation_threshold = 1.2"), {},
-     "theory.percolation_threshold = 1.2"),
-    ("p_c zero", edit("alpha = 0.2", "alpha = 0.2\npercolation_threshold = 0"), {}, "theory.percolation_threshold"),
-    ("empty squeeze list", edit('["20 kPa", "60 kPa", "0.1 MPa"]', "[]"), {}, "conditions.squeeze_pressure"),
-    ("negative squeeze", edit('"60 kPa"', '"-60 kPa"'), {}, "conditions.squeeze_pressure[1]"),
-    ("malformed toml", BASE + "\n[rubber\n", {}, "malformed TOML"),
-    ("hurst out of range", edit("hurst = 0.8", "hurst = 1.5"), {}, "surface.hurst = 1.5"),
-    ("cutoff below rolloff", edit('cutoff_wavelength = "20 um"', 'cutoff_wavelength = "2 mm"'), {},
-     "surface.cutoff_wavevector"),
-    ("unknown key", edit("alpha = 0.2", "alpha = 0.2\nalfa = 0.3"), {}, "theory.alfa"),
-    ("unknown model", edit('model = "self-affine"', 'model = "fractal"'), {}, "surface.model = 'fractal'"),
-    ("both h_rms and C0", edit('h_rms = "44 um"', 'h_rms = "44 um"\nC0 = "1e-18 m^4"'), {}, "surface.h_rms"),
-    ("ring inverted", edit('outer_diameter = "4 cm"', 'outer_diameter = "2 cm"'), {}, "seal.outer_diameter"),
-    ("gamma zero", edit("alpha = 0.2", "alpha = 0.2\ngamma = 0"), {}, "theory.gamma = 0"),
-    ("alpha negative", edit("alpha = 0.2", "alpha = -0.2"), {}, "theory.alpha = -0.2"),
-    ("text for a number", edit("hurst = 0.8", 'hurst = "high"'), {}, "surface.hurst = 'high'"),
-    ("table missing file", edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
-                                'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "none.csv"'), {},
-     "none.csv: file not found"),
-    ("table with NaN", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, nan\n1e5, 1e-24\n"}, "C is nan"),
-    ("table unsorted", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e5, 1e-21\n1e4, 1e-24\n"},
-     "q must be strictly increasing"),
-    ("table text cell", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, abc\n"}, "'abc' is not a number"),
-    ("table wrong unit", None, {"psd.csv": "q (m), C (m^4)\n1e3, 1e-18\n1e4, 1e-21\n"}, "not a wavevector"),
-    ("table empty", None, {"psd.csv": ""}, "no numeric rows"),
-    ("empty case file", "", {}, "is empty"),
-    ("self-affine key with a table", TABLE_CASE.replace('file = "psd.csv"', 'file = "psd.csv"\nh_rms = "1 mm"'),
-     {"psd.csv": PSD_OK}, "surface.h_rms = '1 mm': not used by model = 'table'"),
-    ("table key with self-affine", edit('model = "self-affine"', 'model = "self-affine"\nfile = "psd.csv"'), {},
-     "surface.file = 'psd.csv': not used by model = 'self-affine'"),
-    ("missing field says so", edit("hurst = 0.8\n", ""), {}, "surface.hurst is required"),
-    ("output folder in the way", BASE, {"out.json/keep": "x"}, "out.json is a folder"),
-]
 
 
 def test_case_file_with_byte_order_mark_reads(tmp_path):

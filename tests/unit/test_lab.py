@@ -1,13 +1,12 @@
 """Fitting α, leak-test units, the virtual rig, the HTML report and bad data files (docs/theory.md § 4)."""
 
 from dataclasses import replace
-from html.parser import HTMLParser
 
 import numpy as np
 import pytest
 
 from sealeak import FileFormatError, UnitError
-from sealeak.cases import example_path, fit_models, load_cases, predict, predict_effective_medium
+from sealeak.cases import fit_models, predict
 from sealeak.lab.data import leak_rate_factor, read_leak_data
 from sealeak.lab.fitting import fit_line, fit_scale
 from sealeak.lab.rig import RigSetup, drain_time, exponential_height, leak_rate_from_readings, water_column
@@ -16,18 +15,6 @@ from sealeak.physics.seal import Seal
 G = 9.80665
 
 
-@pytest.fixture(scope="module")
-def case():
-    return load_cases(example_path("reference-experiment"))[0]
-
-
-@pytest.fixture(scope="module")
-def sweep(case):
-    """Unit-α predictions of both models over P0 = 20..400 kPa (Q spans at least three decades in both)."""
-    p0 = np.geomspace(2e4, 4e5, 16)
-    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0).leak_rate
-    em = predict_effective_medium(case, squeeze_pressure=p0).leak_rate
-    return p0, cj, em
 
 
 # ---------------------------------------------------------------------- fitting
@@ -101,10 +88,6 @@ def test_leak_test_units_against_hand_computed_values():
             leak_rate_factor(bad)
 
 
-def read_leak_data_volume(tmp_path):
-    data = tmp_path / "v.csv"
-    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 0.5\n")
-    return read_leak_data(data)
 
 
 # ---------------------------------------------------------------------- rig
@@ -149,29 +132,6 @@ def test_readings_inverse(case):
 
 
 # ---------------------------------------------------------------------- report
-class _Checker(HTMLParser):
-    VOID = {"meta", "img", "br", "hr", "link", "input"}
-
-    def __init__(self):
-        super().__init__()
-        self.stack, self.errors, self.imgs, self.ids, self.links = [], [], [], [], []
-
-    def handle_starttag(self, tag, attrs):
-        a = dict(attrs)
-        if tag == "img":
-            self.imgs.append(a.get("src", ""))
-        if tag in ("link", "script") and (a.get("href") or a.get("src")):
-            self.links.append(a.get("href") or a.get("src"))
-        if "id" in a:
-            self.ids.append(a["id"])
-        if tag not in self.VOID:
-            self.stack.append(tag)
-
-    def handle_endtag(self, tag):
-        if not self.stack or self.stack[-1] != tag:
-            self.errors.append(f"unbalanced </{tag}> (open: {self.stack[-3:]})")
-        else:
-            self.stack.pop()
 
 
 @pytest.mark.parametrize("text", [
