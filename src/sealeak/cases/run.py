@@ -113,14 +113,25 @@ def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critica
     critical junction K = α (Ly/Lx) u_c³/(12η) (Lorenz & Persson (2009) eq. 2), for the effective
     medium K = (Ly/Lx) σ_eff (docs/theory.md §5). K = 0 where the model predicts no leak channel.
     """
+    return _conductance(case, squeeze_pressure, model)[0]
+
+
+def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple[FloatArray, tuple[str, ...]]:
+    """:func:`conductance` and the model's notes (why there is no leak channel, where there is none)."""
     p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
+    res: CriticalJunctionResult | EffectiveMediumResult
     if model == "critical-junction":
         res = predict(case, squeeze_pressure=p0, pressure_difference=1.0)
-        return np.where(res.percolates, res.leak_rate, 0.0)
-    if model == "effective-medium":
-        em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
-        return np.where(em.percolates, em.leak_rate, 0.0)
-    raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
+    elif model == "effective-medium":
+        res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
+    else:
+        raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
+    return np.where(res.percolates, res.leak_rate, 0.0), res.messages
+
+
+def _model_name(case: Case, model: Model) -> str:
+    """How the rig and the linearity check name a model (with α for the critical junction)."""
+    return f"critical junction (α = {case.alpha:g})" if model == "critical-junction" else "effective medium (Bruggeman)"
 
 
 # ---------------------------------------------------------------------- one result for every front end
@@ -159,14 +170,6 @@ class CaseResult:
         """SI unit of every field of :meth:`records`."""
         return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
 
-    @property
-    def statistics(self) -> dict[str, float]:
-        """The spectrum's statistics (docs/theory.md §1): h_rms (m), slope_rms (1), curvature_rms
-        (1/m), area_ratio A_true/A0 (1), q_min and q_max (1/m), and q0 (1/m)."""
-        s = self.case.spectrum
-        return {"h_rms": s.h_rms, "slope_rms": s.slope_rms, "curvature_rms": s.curvature_rms,
-                "area_ratio": s.area_ratio, "q_min": s.q_min, "q_max": s.q_max, "q0": self.case.q0}
-
     def records(self) -> list[dict[str, Any]]:
         """One dict per squeeze pressure with the fields of :attr:`units` (SI values; NaN kept)."""
         res, em = self.critical_junction, self.effective_medium
@@ -182,15 +185,19 @@ class CaseResult:
         return out
 
 
-def run_case(case: Case) -> CaseResult:
-    """Run a case: both theories as ``case.model`` asks, the rig if it has one, all notes collected."""
+def run_case(case: Case, *, rig: bool = False) -> CaseResult:
+    """Run a case: both theories as ``case.model`` asks, all notes collected.
+
+    ``rig``: also simulate the case's ``[rig]`` (if it has one); it takes an ODE solve per model
+    (~0.2 s), so only front ends that show the rig (the report) ask for it.
+    """
     res = predict(case)
     em = predict_effective_medium(case) if case.model != "critical-junction" else None
-    rig = rig_prediction(case) if case.rig is not None else None
+    rig_result = rig_prediction(case) if rig and case.rig is not None else None
     messages = list(res.messages)
     if em is not None:
         messages += ["effective medium: " + m for m in em.messages]
-    return CaseResult(case, res, em, rig, tuple(messages))
+    return CaseResult(case, res, em, rig_result, tuple(messages))
 
 
 # ---------------------------------------------------------------------- fit and linearity
@@ -330,18 +337,14 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     messages: list[str] = []
     alpha_from_slope = None
     if p0 is not None:
-        cj = predict(case, squeeze_pressure=np.array([p0]), pressure_difference=1.0)
-        if cj.percolates[0]:
-            slopes[f"critical junction (α = {case.alpha:g})"] = float(cj.leak_rate[0])
-            unit_slope = float(cj.leak_rate[0]) / case.alpha
-            alpha_from_slope = line.slope / unit_slope if unit_slope else None
-        else:
-            messages.extend(cj.messages)
-        em = predict_effective_medium(case, squeeze_pressure=np.array([p0]), pressure_difference=1.0)
-        if em.percolates[0]:
-            slopes["effective medium (Bruggeman)"] = float(em.leak_rate[0])
-        else:
-            messages.extend(em.messages)
+        for model in ("critical-junction", "effective-medium"):
+            k, notes = _conductance(case, [p0], model)
+            if k[0] > 0:
+                slopes[_model_name(case, model)] = float(k[0])
+                if model == "critical-junction":
+                    alpha_from_slope = line.slope / (float(k[0]) / case.alpha)
+            else:
+                messages.extend(notes)
     else:
         messages.append("no squeeze pressure known (give --squeeze-pressure): no comparison with the models")
     return LinearityCheck(line, p0, source, slopes, alpha_from_slope, tuple(messages))
@@ -387,20 +390,13 @@ def rig_prediction(case: Case) -> RigPrediction:
     if rig is None:
         raise InputError("rig", None, "the case file has no [rig] section (cylinder_diameter, initial_height, load, ...)")
     p0 = rig.squeeze_pressure(case.seal)
-    models: list[tuple[str, Model]] = []
-    if case.model in ("critical-junction", "both"):
-        models.append((f"critical junction (α = {case.alpha:g})", "critical-junction"))
-    if case.model in ("effective-medium", "both"):
-        models.append(("effective medium (Bruggeman)", "effective-medium"))
+    models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
     k_of: dict[str, float] = {}
     messages: list[str] = []
-    for name, model in models:
-        k_of[name] = float(conductance(case, [p0], model)[0])
-        if model == "critical-junction":
-            messages.extend(predict(case, squeeze_pressure=np.array([p0]), pressure_difference=1.0).messages)
-        else:
-            messages.extend(predict_effective_medium(case, squeeze_pressure=np.array([p0]),
-                                                     pressure_difference=1.0).messages)
+    for model in models:
+        k, notes = _conductance(case, [p0], model)
+        k_of[_model_name(case, model)] = float(k[0])
+        messages.extend(notes)
     columns, tau, t_final = {}, {}, {}
     area = rig.cylinder_area
     for name, k in k_of.items():
@@ -444,8 +440,6 @@ class CurveSet:
         The case.
     squeeze_pressure
         P0 (Pa).
-    label
-        Legend label of the set.
     zeta
         ζ from 1 to q1/q0.
     area
@@ -464,7 +458,6 @@ class CurveSet:
 
     case: Case
     squeeze_pressure: float
-    label: str
     zeta: FloatArray
     area: FloatArray
     zeta_c: float
@@ -511,12 +504,7 @@ class PredictionCurves:
     pressure_difference: list[PressureDifferenceSweep]
 
 
-def _pressure_label(p: float, reference: FloatArray) -> str:
-    scale, unit = (1e6, "MPa") if np.nanmax(reference) > 2e6 else (1e3, "kPa")
-    return f"P0 = {p / scale:.3g} {unit}"
-
-
-def _curve_set(case: Case, p0: float, label: str) -> CurveSet:
+def _curve_set(case: Case, p0: float) -> CurveSet:
     contact = case.contact()
     z = np.geomspace(1.0, case.spectrum.q_max / case.q0, 200)
     area = contact.area(z, p0)
@@ -525,7 +513,7 @@ def _curve_set(case: Case, p0: float, label: str) -> CurveSet:
     u1 = contact.u1(z[1:-1], p0)  # u1 -> inf as ζ -> 1 (A'(1) = 0)
     u1_c = float(contact.u1(zc, p0)) if ok else float("nan")
     dist = gap_distribution(contact, [p0])
-    return CurveSet(case, float(p0), label, z, area, float(zc), bool(ok), ubar, u1, u1_c, dist)
+    return CurveSet(case, float(p0), z, area, float(zc), bool(ok), ubar, u1, u1_c, dist)
 
 
 def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
@@ -534,14 +522,12 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
     sets: list[CurveSet] = []
     if len(results) == 1:
         res = results[0].critical_junction
-        for p in representative_pressures(res):
-            sets.append(_curve_set(results[0].case, float(p), _pressure_label(p, res.squeeze_pressure)))
+        sets = [_curve_set(results[0].case, float(p)) for p in representative_pressures(res)]
     else:
         for r in results:
             rep = representative_pressures(r.critical_junction, 3)
             p = float(rep[1 if rep.size > 1 else 0])
-            sets.append(_curve_set(r.case, p, f"{r.case.label}, "
-                                   + _pressure_label(p, r.critical_junction.squeeze_pressure)))
+            sets.append(_curve_set(r.case, p))
     dists = [cs.distribution for cs in sets]
     lo = 1e-3 * min(float(d.mean_gap[0]) for d in dists)
     hi = 10.0 * max(max(float(d.mean[0]), float(d.mean_gap[0])) for d in dists)

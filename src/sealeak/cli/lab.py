@@ -144,6 +144,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
     check_outputs([args.output], args.force)
     case_file = load_case_file(args)
-    write_text(args.output, html_report([run_case(c) for c in case_file.cases], case_file.inputs))
+    single = len(case_file.cases) == 1  # the report shows the rig of a single case
+    write_text(args.output, html_report([run_case(c, rig=single) for c in case_file.cases], case_file.inputs))
     say(args, f"wrote {args.output}")
     return 0

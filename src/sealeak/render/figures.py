@@ -21,7 +21,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..cases import Case, CaseResult, PredictionCurves, prediction_curves
+from ..cases import Case, CaseResult, CurveSet, PredictionCurves, prediction_curves
 from ..io.files import atomic_write
 from ..io.units import length_unit
 from ..physics.critical_junction import CriticalJunctionResult
@@ -37,6 +37,13 @@ _STYLE = {"figure.figsize": (6.4, 4.4), "figure.dpi": 150, "axes.grid": True, "g
 def pressure_axis(p: np.ndarray) -> tuple[float, str]:
     """(scale, unit) for showing pressures: kPa, or MPa when the largest exceeds 2 MPa."""
     return (1e6, "MPa") if np.nanmax(p) > 2e6 else (1e3, "kPa")
+
+
+def _set_label(cs: CurveSet, curves: PredictionCurves) -> str:
+    """Legend label of a curve set: its squeeze pressure (and, in a study, the variant's name)."""
+    scale, unit = pressure_axis(cs.case.squeeze_pressure)
+    label = f"P0 = {cs.squeeze_pressure / scale:.3g} {unit}"
+    return f"{cs.case.label}, {label}" if len(curves.spectra) > 1 else label
 
 
 def _label(case: Case, fallback: str = "") -> str:
@@ -81,7 +88,7 @@ def figure_contact_area(cases: Sequence[Case], curves: PredictionCurves) -> Figu
     """A(ζ)/A0 against ζ for a few squeeze pressures, with the percolation level 1 - p_c."""
     fig, ax = new_figure("Apparent relative contact area against magnification")
     for cs in curves.sets:
-        line, = ax.semilogx(cs.zeta, cs.area, label=cs.label)
+        line, = ax.semilogx(cs.zeta, cs.area, label=_set_label(cs, curves))
         if cs.percolates:
             ax.plot([cs.zeta_c], [1 - cs.case.percolation_threshold], "o", color=line.get_color(), ms=4)
     pc = cases[0].percolation_threshold
@@ -99,7 +106,7 @@ def figure_separation(cases: Sequence[Case], curves: PredictionCurves) -> Figure
     fig, ax = new_figure("Interfacial separation against magnification")
     top, bottom = 0.0, np.inf
     for cs in curves.sets:
-        label, z, ubar, u1 = cs.label, cs.zeta[:-1], cs.mean_gap, cs.u1
+        label, z, ubar, u1 = _set_label(cs, curves), cs.zeta[:-1], cs.mean_gap, cs.u1
         top = max(top, 3.0 * ubar[0])
         bottom = min(bottom, 1e-3 * ubar[0])
         shown = (ubar > 1e-6 * ubar[0])
@@ -196,7 +203,7 @@ def figure_gap_distribution(curves: PredictionCurves) -> Figure:
         d = cs.distribution
         top = max(top, float(y.max()))
         line, = ax.semilogx(u * 1e6, y,
-                            label=f"{cs.label}: δ(u) weight A(ζ1)/A0 = {d.contact_fraction[0]:.3g}")
+                            label=f"{_set_label(cs, curves)}: δ(u) weight A(ζ1)/A0 = {d.contact_fraction[0]:.3g}")
         ax.axvline(d.mean_gap[0] * 1e6, color=line.get_color(), ls=":", lw=1)
     ax.set_xlim(u[0] * 1e6, u[-1] * 1e6)
     ax.set_ylim(0, 1.45 * top)  # room for the legend

@@ -16,13 +16,13 @@ import io
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import numpy as np
 from matplotlib.figure import Figure
 
 from .._version import __version__
 from ..cases import CaseResult
 from .figures import prediction_figures
 from .lab_figures import figure_rig
+from .text import fmt
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
@@ -61,10 +61,6 @@ def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1) 
                                     for i, c in enumerate(row)) + "</tr>")
     out.append("</table>")
     return "\n".join(out)
-
-
-def _num(x: float, spec: str = ".4g") -> str:
-    return "—" if x is None or not np.isfinite(x) else format(x, spec)
 
 
 def _inputs(inputs: Mapping[str, Any]) -> str:
@@ -114,8 +110,8 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     for c in cases:
         s = c.spectrum
         measured = "model (not a measurement)" if c.spectrum_is_model else f"measurement ({c.surface_model})"
-        rows.append((c.label or "—", c.spectrum_note, measured, _num(s.h_rms * 1e6), _num(s.slope_rms),
-                     _num(s.curvature_rms), _num(s.area_ratio), _num(s.q_min), _num(s.q_max), _num(c.q0)))
+        rows.append((c.label or "—", c.spectrum_note, measured, fmt(s.h_rms * 1e6), fmt(s.slope_rms),
+                     fmt(s.curvature_rms), fmt(s.area_ratio), fmt(s.q_min), fmt(s.q_max), fmt(c.q0)))
     parts.append(_table(("variant", "spectrum", "kind", "h_rms (µm)", "slope_rms (1)", "curvature_rms (1/m)",
                          "A_true/A0 (1)", "q_min (1/m)", "q1 (1/m)", "q0 (1/m)"), rows, left=3))
 
@@ -150,13 +146,13 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
             header += ["ū(1) (µm)", "mean of P(u) (µm)", "σ_eff (m³/(Pa·s))", "Q effective medium (m³/s)"]
         rows = []
         for i in range(len(res)):
-            row = [_num(res.squeeze_pressure[i] / 1e3), _num(res.contact_area_at_cutoff[i], ".3f"),
-                   _num(res.critical_magnification[i]), _num(res.critical_wavelength[i] * 1e6),
-                   _num(res.critical_gap[i] * 1e6), _num(res.leak_rate[i], ".4e")]
+            row = [fmt(res.squeeze_pressure[i] / 1e3), fmt(res.contact_area_at_cutoff[i], ".3f"),
+                   fmt(res.critical_magnification[i]), fmt(res.critical_wavelength[i] * 1e6),
+                   fmt(res.critical_gap[i] * 1e6), fmt(res.leak_rate[i], ".4e")]
             if em is not None:
-                row += [_num(em.mean_gap[i] * 1e6), _num(em.gap_distribution_mean[i] * 1e6),
-                        _num(em.effective_conductivity[i], ".4e") if em.percolates[i] else "—",
-                        _num(em.leak_rate[i], ".4e")]
+                row += [fmt(em.mean_gap[i] * 1e6), fmt(em.gap_distribution_mean[i] * 1e6),
+                        fmt(em.effective_conductivity[i], ".4e") if em.percolates[i] else "—",
+                        fmt(em.leak_rate[i], ".4e")]
             rows.append(row)
         parts.append(_table(header, rows, left=0))
         notes = list(res.messages) + ([f"effective medium: {m}" for m in em.messages] if em is not None else [])
@@ -189,7 +185,7 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
         rows = []
         for name, k in pred.conductance.items():
             col = pred.columns[name]
-            rows.append((name, _num(k, ".4e"), _num(col.final_height * 100), _num(pred.drain_time[name] / 60)))
+            rows.append((name, fmt(k, ".4e"), fmt(col.final_height * 100), fmt(pred.drain_time[name] / 60)))
         parts.append(_table(("model", "K = Q/ΔP (m³/(s·Pa))", "final height (cm)", "time to final height (min)"), rows))
         parts.append(_figure("rig.png", figure_rig(rig, pred.columns, pred.squeeze_pressure), "water height against time"))
         for m in pred.messages:

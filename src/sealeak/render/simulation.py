@@ -13,6 +13,7 @@ from ..cases import Case, SimulationResult
 from ..numerics import spanning_mask
 from .figures import pressure_axis
 from .records import case_summary, json_document, json_value
+from .text import fmt
 
 __all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES"]
 
@@ -61,15 +62,12 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
     lines.append(f"{'P0 (kPa)':>9} {'A/A0 sim':>9} {'A/A0 th':>8} {'ū (µm)':>9} {'perc':>5} "
                  f"{'Q sim (m³/s)':>13} {'± std':>9} {'Q cj α=1':>10} {'α':>7} {'± std':>7}")
 
-    def f(x, fmt):
-        return "—".rjust(int(fmt.split(".")[0])) if not np.isfinite(x) else format(x, fmt)
-
     for i in range(res.squeeze_pressure.size):
         lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {res.relative_contact_area[i]:9.3f} "
                      f"{res.relative_contact_area_theory[i]:8.3f} {res.mean_gap[i] * 1e6:9.4g} "
-                     f"{res.percolating_fraction[i]:5.2f} {f(res.leak_rate[i], '13.3e')} {f(res.leak_rate_std[i], '9.2e')} "
-                     f"{f(res.leak_rate_critical_junction[i], '10.3e')} {f(res.alpha[i], '7.3f')} "
-                     f"{f(res.alpha_std[i], '7.3f')}")
+                     f"{res.percolating_fraction[i]:5.2f} {fmt(res.leak_rate[i], '13.3e')} {fmt(res.leak_rate_std[i], '9.2e')} "
+                     f"{fmt(res.leak_rate_critical_junction[i], '10.3e')} {fmt(res.alpha[i], '7.3f')} "
+                     f"{fmt(res.alpha_std[i], '7.3f')}")
     if np.isfinite(res.percolation_threshold):
         lines.append("")
         lines.append(f"the non-contact area stops percolating at A/A0 = {res.percolation_threshold:.3f} ± "
