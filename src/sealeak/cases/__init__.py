@@ -10,6 +10,7 @@
 """
 
 from .builders import register_surface_model
+from .curves import CurveSet, PredictionCurves, PressureDifferenceSweep, prediction_curves, representative_pressures
 from .loader import (
     CaseFile,
     example_names,
@@ -26,19 +27,14 @@ from .run import (
     EFFECTIVE_MEDIUM_UNITS,
     RESULT_UNITS,
     CaseResult,
-    CurveSet,
     FitResult,
     LinearityCheck,
-    PredictionCurves,
-    PressureDifferenceSweep,
     RigPrediction,
     conductance,
     fit_models,
     linearity,
     predict,
     predict_effective_medium,
-    prediction_curves,
-    representative_pressures,
     rig_prediction,
     rig_readings,
     run_case,
