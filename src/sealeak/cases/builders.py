@@ -50,6 +50,8 @@ def _wavevector(sec: Section, stem: str, required: bool = True) -> float | None:
 
 def _seal(sec: Section) -> Seal:
     shape = sec.choice("shape", ("ring", "rectangle"))
+    if sec.has("height"):  # the ring's cross-section height: described, not used by the theory
+        sec.quantity("height", "length")
     if shape == "ring":
         for k in ("width", "length"):
             if sec.has(k):
@@ -204,6 +206,13 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     title = doc.get("title", Path(source).stem if source else "case")
     if not isinstance(title, str):
         raise InputError("title", title, "must be text")
+    if not isinstance(doc.get("description", ""), str):
+        raise InputError("description", doc["description"], "must be text")
+    for section in ("rubber", "substrate", "surface"):
+        key = "label" if section == "surface" else "name"
+        value = doc.get(section, {}).get(key, "") if isinstance(doc.get(section), dict) else ""
+        if not isinstance(value, str):
+            raise InputError(f"{section}.{key}", value, "must be text")
     rubber = Section("rubber", doc["rubber"])
     youngs = rubber.quantity("youngs_modulus", "pressure")
     nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
@@ -223,13 +232,18 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     fsec = Section("fluid", doc["fluid"])
     density = fsec.quantity("density", "density", default=-1.0)
     viscosity = fsec.quantity("viscosity", "viscosity")
+    molecular = fsec.quantity("molecular_size", "length") if fsec.has("molecular_size") else None
+    fluid_name = fsec.raw("name", "")
+    if not isinstance(fluid_name, str):
+        raise InputError(fsec.field("name"), fluid_name, "must be text, e.g. \"water\"")
     with case_keys():
-        fluid = Fluid(viscosity, None if density < 0 else density, str(fsec.raw("name", "")))
+        fluid = Fluid(viscosity, None if density < 0 else density, fluid_name, molecular)
     cond = Section("conditions", doc["conditions"])
     p0 = _squeeze(cond)
     dp = cond.quantity("pressure_difference", "pressure", positive=False)
-    if dp < 0:
-        raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"), "must be >= 0")
+    if not dp > 0:
+        raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"),
+                         "must be > 0: with no pressure difference across the seal nothing leaks")
     theory = Section("theory", doc.get("theory", {}))
     alpha = theory.number("alpha", 1.0, low=0.0)
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
@@ -262,11 +276,17 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
             if key not in allowed:
                 raise InputError(surf.field(key), surf.raw(key),
                                  f"not used by model = {model_name!r}; its keys: {', '.join(sorted(allowed))}")
-    with case_keys():
-        spectrum, note = builders[model_name](surf, case_dir, q0)
+    q0_given = not surf.has("lowest_wavevector") and not surf.has("lowest_wavelength")
+    try:
+        with case_keys():
+            spectrum, note = builders[model_name](surf, case_dir, q0)
+    except InputError as exc:  # the spectrum starts at q0 unless the file says otherwise: blame q0's source
+        if q0_given and exc.field.startswith("surface.lowest_wave"):
+            raise _q0_error(seal_section, theory, seal, q0, exc.allowed) from None
+        raise
     if not q0 < spectrum.q_max:
-        raise InputError("theory.lowest_wavevector (q0)", q0,
-                         f"q0 = 2π/L must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
+        raise _q0_error(seal_section, theory, seal, q0,
+                        f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
     rig = _rig(Section("rig", doc["rig"]), fluid) if "rig" in doc else None  # RigSetup under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
@@ -275,6 +295,21 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
         simulation=simulation, source=source, surface_model=str(model_name),
     )
+
+
+def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why: str) -> InputError:
+    """q0 = 2π/L is out of range: name the key it came from (theory.*, else the seal's width)."""
+    problem = f"it sets q0 = 2π/L = {q0:.6g} 1/m, which {why.removeprefix('must be ')}" if why.startswith("must") else why
+    if theory.has("lowest_wavevector"):
+        return InputError(theory.field("lowest_wavevector"), theory.raw("lowest_wavevector"), why)
+    if theory.has("square_side"):
+        return InputError(theory.field("square_side"), theory.raw("square_side"), problem)
+    key = "outer_diameter" if seal.shape == "ring" else "width"
+    width = f"{seal.width:.4g} m"
+    return InputError(seal_section.field(key), seal_section.raw(key),
+                      f"the seal width Lx = {width} is too narrow for the roughness: q0 = 2π/Lx = {q0:.6g} 1/m should be "
+                      f"below the roughness cut-off ({why.removeprefix('must be ')}); check the seal's dimensions, or "
+                      "set theory.square_side")
 
 
 def _rig(sec: Section, fluid: Fluid) -> RigSetup:
@@ -319,7 +354,7 @@ def _rig(sec: Section, fluid: Fluid) -> RigSetup:
 def _simulation(sec: Section) -> dict[str, int]:
     """The [simulation] section: defaults of ``sealeak simulate`` (its options override them)."""
     out: dict[str, int] = {}
-    for key, low, allowed in (("grid", 8, "an even integer >= 8 (grid points per side)"),
+    for key, low, allowed in (("grid", 16, "an even integer >= 16 (grid points per side)"),
                               ("realizations", 1, "an integer >= 1"), ("seed", 0, "an integer >= 0")):
         if sec.has(key):
             v = sec.raw(key)

@@ -30,11 +30,12 @@ from ..lab.fitting import LinearFit, ScaleFit, fit_line, fit_scale
 from ..lab.rig import ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
+from ..physics.validity import assumption_warnings, continuum_verdict
 from .model import Case
 from .schema import case_keys
 
 __all__ = [
-    "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "Model",
+    "CaseResult", "run_case", "case_warnings", "predict", "predict_effective_medium", "conductance", "Model",
     "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "MODEL_NAMES",
     "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction", "rig_readings",
 ]
@@ -57,6 +58,8 @@ RESULT_UNITS: dict[str, str] = {
     "critical_wavelength": "m",
     "leak_rate": "m^3/s",
     "contact_area_at_cutoff": "1",
+    "valid": "1",
+    "validity": "",
 }
 
 #: SI unit of the effective-medium fields (added to a record when the case asks for that model).
@@ -67,6 +70,8 @@ EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
     "leak_rate_effective_medium": "m^3/s",
     "mean_gap": "m",
     "gap_distribution_mean": "m",
+    "valid_effective_medium": "1",
+    "validity_effective_medium": "",
 }
 _EM_ATTR = {"percolates_effective_medium": "percolates", "effective_conductivity": "effective_conductivity",
             "effective_gap": "effective_gap", "leak_rate_effective_medium": "leak_rate", "mean_gap": "mean_gap",
@@ -150,6 +155,15 @@ class CaseResult:
         The virtual water-column rig (docs/theory.md §4), when the case has a ``[rig]`` section.
     messages
         The notes of both theories (and the rig), each prefixed with its theory.
+    valid, validity
+        Verdict per squeeze pressure on the critical-junction result: False where the critical
+        gap u_c is below the fluid's molecular size (no continuum flow; docs/theory.md §9.1), and
+        the reason ('' where valid; a pressure without leak channel is valid: nothing flows).
+    valid_effective_medium, validity_effective_medium
+        The same for the effective medium's gap u_e (None when that model was not run).
+    warnings
+        Inputs far outside what the theory assumes, in plain words (docs/theory.md §9.2); the
+        numbers are computed all the same.
     """
 
     case: Case
@@ -157,6 +171,11 @@ class CaseResult:
     effective_medium: EffectiveMediumResult | None = None
     rig: RigPrediction | None = None
     messages: tuple[str, ...] = ()
+    valid: NDArray[np.bool_] = field(default_factory=lambda: np.ones(0, dtype=bool))
+    validity: tuple[str, ...] = ()
+    valid_effective_medium: NDArray[np.bool_] | None = None
+    validity_effective_medium: tuple[str, ...] | None = None
+    warnings: tuple[str, ...] = ()
 
     @property
     def shows_critical_junction(self) -> bool:
@@ -168,6 +187,13 @@ class CaseResult:
         """SI unit of every field of :meth:`records`."""
         return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
 
+    @property
+    def shown_valid(self) -> NDArray[np.bool_]:
+        """The verdict of the model front ends show (critical junction, or the effective medium alone)."""
+        if not self.shows_critical_junction and self.valid_effective_medium is not None:
+            return self.valid_effective_medium
+        return self.valid
+
     def records(self) -> list[dict[str, Any]]:
         """One dict per squeeze pressure with the fields of :attr:`units` (SI values; NaN kept)."""
         res, em = self.critical_junction, self.effective_medium
@@ -175,16 +201,18 @@ class CaseResult:
         for i in range(len(res)):
             rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
             for key in RESULT_UNITS:
-                rec[key] = getattr(res, key)[i]
-            if em is not None:
+                rec[key] = bool(self.valid[i]) if key == "valid" else self.validity[i] if key == "validity" else getattr(res, key)[i]
+            if em is not None and self.valid_effective_medium is not None and self.validity_effective_medium is not None:
                 for key, attr in _EM_ATTR.items():
                     rec[key] = getattr(em, attr)[i]
+                rec["valid_effective_medium"] = bool(self.valid_effective_medium[i])
+                rec["validity_effective_medium"] = self.validity_effective_medium[i]
             out.append(rec)
         return out
 
 
 def run_case(case: Case, *, rig: bool = False) -> CaseResult:
-    """Run a case: both theories as ``case.model`` asks, all notes collected.
+    """Run a case: both theories as ``case.model`` asks, all notes collected, every result judged.
 
     ``rig``: also simulate the case's ``[rig]`` (if it has one); it takes an ODE solve per model
     (~0.2 s), so only front ends that show the rig (the report) ask for it.
@@ -195,7 +223,24 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     messages = list(res.messages)
     if em is not None:
         messages += ["effective medium: " + m for m in em.messages]
-    return CaseResult(case, res, em, rig_result, tuple(messages))
+    d = case.fluid.molecular_length
+    valid, validity = continuum_verdict(res.critical_gap, d, "u_c", res.critical_wavelength, "λc")
+    valid_em = validity_em = None
+    if em is not None:
+        valid_em, validity_em = continuum_verdict(np.where(em.percolates, em.effective_gap, np.nan), d, "u_e",
+                                               case.seal.width, "Lx (seal width)")
+    return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
+                      tuple(case_warnings(case, res)))
+
+
+def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:
+    """Warnings about the case's inputs (docs/theory.md §9.2): slopes, sizes, cut-off, strain, full contact."""
+    spectrum = case.spectrum
+    return assumption_warnings(
+        slope_rms=spectrum.slope_rms, h_rms=spectrum.h_rms, seal_width=case.seal.width, cutoff_wavevector=spectrum.q_max,
+        squeeze_pressure=result.squeeze_pressure, youngs_modulus=case.youngs_modulus,
+        contact_area_at_cutoff=result.contact_area_at_cutoff,
+    )
 
 
 # ---------------------------------------------------------------------- fit and linearity

@@ -26,8 +26,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from .contact import PerssonContact
+from .validity import pressures_text
 
 __all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
+
+#: E* (Pa) above which a contact modulus is taken for a mistake rather than a material (diamond's E is 1.1e12 Pa).
+STIFFEST_MODULUS = 1.2e12
 
 #: ΔP/P0 above which the assumption P0 >> ΔP (the fluid pressure does not alter the contact) is flagged.
 LARGE_PRESSURE_RATIO = 0.5
@@ -174,17 +178,22 @@ def critical_junction(
     bad = percolates & ~(np.isfinite(u_c) & (u_c > 0))
     if bad.any():  # ζc so close to 1 that A'(ζc) underflows: u1 = ū + ū' A/A' is not computable
         i = int(np.argmax(bad))
-        raise InputError("squeeze_pressure", float(p0[i]),
-                         f"so small that the critical magnification ζc - 1 = {zeta_c[i] - 1:.3g} is lost in "
-                         "round-off and u_c = u1(ζc) cannot be computed; give a larger squeeze pressure (Pa)")
+        why = (f"P0/E* = {p0[i] / contact.e_star:.3g}: the surfaces barely touch, so the critical magnification "
+               f"ζc - 1 = {zeta_c[i] - 1:.3g} is lost in round-off and u_c = u1(ζc) cannot be computed")
+        if contact.e_star > STIFFEST_MODULUS:
+            raise InputError("e_star", contact.e_star, f"E* is stiffer than any solid (diamond: E ≈ 1.1e12 Pa); {why}; "
+                                                       "check the Young's modulus and its unit")
+        raise InputError("squeeze_pressure", float(p0[i]), f"{why}; give a larger squeeze pressure (Pa)")
     zeta_c = np.where(percolates, zeta_c, np.nan)
     lam_c = 2.0 * np.pi / (zeta_c * contact.q0)
     q = np.where(percolates, poiseuille_leak_rate(u_c, dp, viscosity, aspect_ratio, alpha), np.nan)
 
     messages = []
-    for k in np.flatnonzero(~percolates):
+    if not percolates.all():
+        a = area_cut[~percolates]
+        shown = f"{a[0]:.3f}" if a.size == 1 else f"{a.min():.3f} … {a.max():.3f}"
         messages.append(
-            f"P0 = {p0[k]:.6g} Pa: the contact area at the roughness cut-off is A/A0 = {area_cut[k]:.3f}, "
+            f"{pressures_text(p0, ~percolates)}: the contact area at the roughness cut-off is A/A0 = {shown}, "
             f"above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
             "within the resolved roughness; the theory predicts no leak channel (no leak-rate number)."
         )

@@ -45,6 +45,7 @@ from ..errors import ConvergenceError, InputError
 from .contact import PerssonContact
 from .critical_junction import _pressures
 from .gaps import GapDistribution, folded_normal_cdf, gap_distribution
+from .validity import pressures_text
 
 __all__ = ["EffectiveMediumResult", "effective_medium", "bruggeman_conductivity", "bruggeman_residual",
            "discretise", "BRUGGEMAN_THRESHOLD"]
@@ -331,9 +332,11 @@ def effective_medium(
     q = np.where(percolates, aspect_ratio * sigma * dp, np.nan)
     u_e = np.cbrt(12.0 * viscosity * sigma)
     messages = []
-    for i in np.flatnonzero(~percolates):
+    if not percolates.all():
+        a = area[~percolates]
+        shown = f"{a[0]:.3f}" if a.size == 1 else f"{a.min():.3f} … {a.max():.3f}"
         messages.append(
-            f"P0 = {p0[i]:.6g} Pa: the contact area at the roughness cut-off is A/A0 = {area[i]:.3f} >= 0.5, "
+            f"{pressures_text(p0, ~percolates)}: the contact area at the roughness cut-off is A/A0 = {shown} >= 0.5, "
             "the 2D Bruggeman percolation threshold: the effective-medium theory predicts no flow "
             "(no leak-rate number; numerically exact studies put the threshold near A/A0 = 0.42)."
         )

@@ -17,6 +17,7 @@ import numpy as np
 
 from .._version import __version__
 from ..cases import Case, CaseResult
+from .text import validity_notes
 
 __all__ = ["json_value", "json_document", "case_summary", "prediction_json", "prediction_csv"]
 
@@ -52,6 +53,8 @@ def case_summary(case: Case) -> dict[str, Any]:
         "seal": {"shape": case.seal.shape, "width": case.seal.width, "length": case.seal.length,
                  "aspect_ratio": case.seal.aspect_ratio, "nominal_area": case.seal.nominal_area},
         "viscosity": case.fluid.viscosity,
+        "fluid": {"name": case.fluid.name or None, "viscosity": case.fluid.viscosity, "density": case.fluid.density,
+                  "molecular_size": case.fluid.molecular_length, "molecular_size_note": case.fluid.molecular_length_note},
         "pressure_difference": case.pressure_difference,
         "alpha": case.alpha, "percolation_threshold": case.percolation_threshold, "gamma": case.gamma,
         "q0": case.q0, "q0_note": case.q0_note, "model": case.model,
@@ -73,9 +76,12 @@ def prediction_json(results: Sequence[CaseResult]) -> str:
     """
     records: list[dict[str, Any]] = []
     messages: list[str] = []
+    warnings: list[str] = []
     for r in results:
+        prefix = f"{r.case.label}: " if r.case.label else ""
         records.extend({k: json_value(v) for k, v in rec.items()} for rec in r.records())
-        messages.extend((f"{r.case.label}: " if r.case.label else "") + m for m in r.messages)
+        messages.extend(prefix + m for m in [*r.messages, *validity_notes(r)])
+        warnings.extend(prefix + w for w in r.warnings)
     theory = "critical junction (Lorenz & Persson, EPL 86 (2009) 44006)"
     if any(r.effective_medium is not None for r in results):
         theory += "; effective medium (2D Bruggeman over Persson's gap distribution P(u))"
@@ -85,6 +91,7 @@ def prediction_json(results: Sequence[CaseResult]) -> str:
         "units": _units(results),
         "results": records,
         "cases": [case_summary(r.case) for r in results],
+        "warnings": warnings,
         "messages": messages,
     }
     return json_document(doc)
@@ -96,12 +103,13 @@ def prediction_csv(results: Sequence[CaseResult]) -> str:
     writer = csv.writer(buf, lineterminator="\n")
     study = any(r.case.label for r in results)
     units = _units(results)
-    writer.writerow((["variant"] if study else []) + [f"{k} ({u})" for k, u in units.items()])
+    writer.writerow((["variant"] if study else []) + [f"{k} ({u})" if u else k for k, u in units.items()])
     for r in results:
         for raw in r.records():
             rec = {k: json_value(v) for k, v in raw.items()}
             row = ([rec["variant"]] if study else []) + [
-                "" if rec.get(k) is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else f"{rec[k]:.10g}")
+                "" if rec.get(k) is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else
+                                               rec[k] if isinstance(rec[k], str) else f"{rec[k]:.10g}")
                 for k in units]
             writer.writerow(row)
     return buf.getvalue()

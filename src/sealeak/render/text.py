@@ -9,8 +9,9 @@ import numpy as np
 from ..cases import Case, CaseResult
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
+from ..physics.validity import pressures_text
 
-__all__ = ["prediction_table", "fmt"]
+__all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt"]
 
 
 def fmt(x: float | None, spec: str = ".4g") -> str:
@@ -42,11 +43,108 @@ def _setting_lines(case: Case, em: EffectiveMediumResult | None) -> dict[str, li
     }
 
 
+def _cj_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
+    """(header, width, cells) of the critical-junction table (with Q_EM beside Q_CJ for model "both")."""
+    res, em = r.critical_junction, r.effective_medium
+    lam_scale, lam_unit = length_unit(res.critical_wavelength)
+    gap_scale, gap_unit = length_unit(res.critical_gap)
+    n = range(len(res))
+    cols = [
+        ("P0 (kPa)", 10, [f"{res.squeeze_pressure[i] / 1e3:.4g}" for i in n]),
+        ("ζc", 9, [fmt(res.critical_magnification[i], ".4g") for i in n]),
+        (f"λc ({lam_unit})", 10, [fmt(res.critical_wavelength[i] / lam_scale, ".4g") for i in n]),
+        (f"u_c ({gap_unit})", 10, [fmt(res.critical_gap[i] / gap_scale, ".4g") for i in n]),
+    ]
+    if em is not None:
+        cols += [("Q_CJ (m³/s)", 12, [fmt(res.leak_rate[i], ".3e") for i in n]),
+                 ("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
+                 ("Q_CJ (ml/min)", 14, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n]),
+                 ("Q_EM (ml/min)", 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n])]
+    else:
+        cols += [("Q (m³/s)", 11, [fmt(res.leak_rate[i], ".3e") for i in n]),
+                 ("Q (ml/min)", 11, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n])]
+    cols.append(("A(ζ1)/A0", 9, [f"{res.contact_area_at_cutoff[i]:.3f}" for i in n]))
+    valid_em = r.valid_effective_medium
+    cols.append(("valid", 6, [_verdict(bool(res.percolates[i]), bool(r.valid[i]))
+                              + ("" if valid_em is None or em is None else
+                                 "/" + _verdict(bool(em.percolates[i]), bool(valid_em[i]))) for i in n]))
+    return cols
+
+
+def _verdict(percolates: bool, valid: bool) -> str:
+    return "—" if not percolates else "yes" if valid else "NO"
+
+
+def _em_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
+    """(header, width, cells) of the effective-medium table."""
+    em = r.effective_medium
+    assert em is not None
+    u_scale, u_unit = length_unit(np.concatenate([em.mean_gap, em.gap_distribution_mean]))
+    n = range(len(em))
+    valid = r.valid_effective_medium if r.valid_effective_medium is not None else np.ones(len(em), bool)
+    return [
+        ("P0 (kPa)", 10, [f"{em.squeeze_pressure[i] / 1e3:.4g}" for i in n]),
+        ("A(ζ1)/A0", 9, [f"{em.contact_area_at_cutoff[i]:.3f}" for i in n]),
+        (f"ū(1) ({u_unit})", 10, [fmt(em.mean_gap[i] / u_scale, ".4g") for i in n]),
+        (f"<u>_P ({u_unit})", 11, [fmt(em.gap_distribution_mean[i] / u_scale, ".4g") for i in n]),
+        (f"u_e ({u_unit})", 10, [fmt(em.effective_gap[i] / u_scale if em.percolates[i] else np.nan, ".4g") for i in n]),
+        ("σ_eff (m³/Pa/s)", 16, [fmt(em.effective_conductivity[i] if em.percolates[i] else np.nan, ".4e") for i in n]),
+        ("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
+        ("Q_EM (ml/min)", 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n]),
+        ("valid", 6, [_verdict(bool(em.percolates[i]), bool(valid[i])) for i in n]),
+    ]
+
+
+def prediction_columns(result: CaseResult, table: str = "critical-junction") -> tuple[list[str], list[list[str]]]:
+    """The headers and cell strings of one table of ``sealeak predict`` (the report shows the same).
+
+    ``table``: "critical-junction" (the main table: P0, ζc, λc, u_c, Q in m³/s and ml/min, A(ζ1)/A0,
+    the validity verdict) or "effective-medium" (the second table of model "both"/"effective-medium").
+    A verdict is "yes", "NO" (outside the continuum theory, docs/theory.md §9.1) or "—" (no leak channel).
+    """
+    cols = _cj_columns(result) if table == "critical-junction" else _em_columns(result)
+    headers = [c[0] for c in cols]
+    rows = [[c[2][i] for c in cols] for i in range(len(cols[0][2]))]
+    return headers, rows
+
+
+def _table_lines(cols: list[tuple[str, int, list[str]]]) -> list[str]:
+    lines = [" ".join(h.rjust(w) for h, w, _ in cols)]
+    for i in range(len(cols[0][2])):
+        lines.append(" ".join(c[2][i].rjust(c[1]) for c in cols))
+    return lines
+
+
+def validity_notes(result: CaseResult) -> list[str]:
+    """One line per model and kind of invalid rows: which pressures, why, and where d comes from (docs/theory.md §9.1)."""
+    fluid = result.case.fluid
+    d = f"d = {fluid.molecular_length * 1e9:.3g} nm ({fluid.molecular_length_note}; fluid.molecular_size sets it)"
+    out = []
+    checks = [("critical junction", result.valid, result.critical_junction.squeeze_pressure, "u_c", result.validity)]
+    if (result.effective_medium is not None and result.valid_effective_medium is not None
+            and result.validity_effective_medium is not None):
+        checks.append(("effective medium", result.valid_effective_medium, result.effective_medium.squeeze_pressure, "u_e",
+                       result.validity_effective_medium))
+    for name, valid, p0, gap, reasons in checks:
+        small = np.array([bool(r) and "molecular" in r for r in reasons])
+        thick = ~valid & ~small
+        if small.any():
+            out.append(f"{name}, {pressures_text(p0, small)}: valid = NO: {gap} is below the molecular size of the "
+                       f"fluid, {d}; a continuum theory of flow says nothing about a channel narrower than a molecule, "
+                       "so Q there is the formula's value, not a prediction")
+        if thick.any():
+            out.append(f"{name}, {pressures_text(p0, thick)}: valid = NO: {gap} is as large as the channel's width, "
+                       "so the flow is not the thin-film (Poiseuille) flow the theory assumes; check the roughness "
+                       "amplitude and the seal's size")
+    return out
+
+
 def prediction_table(results: Sequence[CaseResult]) -> str:
     """A plain-text report: the case, then one table row per squeeze pressure.
 
     With effective-medium results (model "both") their leak rate stands next to the critical-junction
-    one, and a second table gives ū(1), the mean of P(u), u_e and σ_eff.
+    one, and a second table gives ū(1), the mean of P(u), u_e and σ_eff. Warnings about the inputs
+    come before the table, the notes and validity verdicts after it.
     """
     lines: list[str] = []
     first = results[0].case
@@ -67,41 +165,19 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
             for key, block in _setting_lines(case, em).items():
                 if case is first or block != first_blocks.get(key):
                     lines.extend(block)
+        lines.extend("warning: " + w for w in r.warnings)
         if r.shows_critical_junction:
             lines.append("")
-            both = em is not None
-            lam_scale, lam_unit = length_unit(res.critical_wavelength)
-            gap_scale, gap_unit = length_unit(res.critical_gap)
-            lines.append(f"{'P0 (kPa)':>10} {'ζc':>9} {f'λc ({lam_unit})':>10} {f'u_c ({gap_unit})':>10} "
-                         + (f"{'Q_CJ (m³/s)':>12} {'Q_EM (m³/s)':>12} {'Q_CJ (ml/min)':>14} {'Q_EM (ml/min)':>14}"
-                            if both else f"{'Q (m³/s)':>11} {'Q (ml/min)':>11}")
-                         + f" {'A(ζ1)/A0':>9}")
-            for i in range(len(res)):
-                q = (f"{fmt(res.leak_rate[i], '12.3e')} {fmt(em.leak_rate[i], '12.3e')} "
-                     f"{fmt(res.leak_rate[i] * 6e7, '14.4g')} {fmt(em.leak_rate[i] * 6e7, '14.4g')}" if both else
-                     f"{fmt(res.leak_rate[i], '11.3e')} {fmt(res.leak_rate[i] * 6e7, '11.4g')}")
-                lines.append(
-                    f"{res.squeeze_pressure[i] / 1e3:10.4g} {fmt(res.critical_magnification[i], '9.4g')} "
-                    f"{fmt(res.critical_wavelength[i] / lam_scale, '10.4g')} {fmt(res.critical_gap[i] / gap_scale, '10.4g')} "
-                    f"{q} {res.contact_area_at_cutoff[i]:9.3f}")
+            lines.extend(_table_lines(_cj_columns(r)))
             for m in res.messages:
                 lines.append("note: " + m)
         if em is not None:
             lines.append("")
             lines.append("effective medium (2D Bruggeman):")
-            u_scale, u_unit = length_unit(np.concatenate([em.mean_gap, em.gap_distribution_mean]))
-            lines.append(f"{'P0 (kPa)':>10} {'A(ζ1)/A0':>9} {f'ū(1) ({u_unit})':>10} {f'<u>_P ({u_unit})':>11} "
-                         f"{f'u_e ({u_unit})':>10} "
-                         f"{'σ_eff (m³/Pa/s)':>16} {'Q_EM (m³/s)':>12} {'Q_EM (ml/min)':>14}")
-            for i in range(len(em)):
-                lines.append(
-                    f"{em.squeeze_pressure[i] / 1e3:10.4g} {em.contact_area_at_cutoff[i]:9.3f} "
-                    f"{fmt(em.mean_gap[i] / u_scale, '10.4g')} {fmt(em.gap_distribution_mean[i] / u_scale, '11.4g')} "
-                    f"{fmt(em.effective_gap[i] / u_scale if em.percolates[i] else np.nan, '10.4g')} "
-                    f"{fmt(em.effective_conductivity[i] if em.percolates[i] else np.nan, '16.4e')} "
-                    f"{fmt(em.leak_rate[i], '12.3e')} {fmt(em.leak_rate[i] * 6e7, '14.4g')}")
+            lines.extend(_table_lines(_em_columns(r)))
             lines.append("          <u>_P: mean of the gap distribution P(u) (>= ū(1): the folded Gaussians add to it); "
                          "u_e: the gap whose u³/(12η) equals σ_eff")
             for m in em.messages:
                 lines.append("note: " + m)
+        lines.extend("note: " + m for m in validity_notes(r))
     return "\n".join(lines) + "\n"
