@@ -157,12 +157,12 @@ class CaseResult:
         The notes of both theories (and the rig), each prefixed with its theory.
     valid, validity
         Verdict per squeeze pressure on the critical-junction result: False where the critical
-        gap u_c is below the fluid's molecular size (no continuum flow; docs/theory.md §9.1), and
+        gap u_c is below the fluid's molecular size (no continuum flow; docs/theory.md §9.11), and
         the reason ('' where valid; a pressure without leak channel is valid: nothing flows).
     valid_effective_medium, validity_effective_medium
         The same for the effective medium's gap u_e (None when that model was not run).
     warnings
-        Inputs far outside what the theory assumes, in plain words (docs/theory.md §9.2); the
+        Inputs far outside what the theory assumes, in plain words (docs/theory.md §9.11); the
         numbers are computed all the same.
     """
 
@@ -234,7 +234,7 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
 
 
 def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:
-    """Warnings about the case's inputs (docs/theory.md §9.2): slopes, sizes, cut-off, strain, full contact."""
+    """Warnings about the case's inputs (docs/theory.md §9.11): slopes, sizes, cut-off, strain, full contact."""
     spectrum = case.spectrum
     return assumption_warnings(
         slope_rms=spectrum.slope_rms, h_rms=spectrum.h_rms, seal_width=case.seal.width, cutoff_wavevector=spectrum.q_max,

@@ -23,7 +23,7 @@ class Fluid:
     """A Newtonian fluid: ``viscosity`` η in Pa·s, optional ``density`` ρ in kg/m³.
 
     ``molecular_size`` d (m) is the narrowest gap the fluid can flow through as a continuum
-    (docs/theory.md §9.1); when not given it is looked up by ``name`` in
+    (docs/theory.md §9.11); when not given it is looked up by ``name`` in
     :data:`~sealeak.physics.validity.MOLECULAR_SIZES`, else
     :data:`~sealeak.physics.validity.DEFAULT_MOLECULAR_SIZE`.
     """

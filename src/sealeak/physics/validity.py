@@ -28,7 +28,7 @@ __all__ = [
 ]
 
 #: Molecular size d (m) of common fluids, by lower-case name: the kinetic (collision) diameter for
-#: small molecules, the cross-section of the chain for oils (docs/theory.md §9.1). Kinetic diameters
+#: small molecules, the cross-section of the chain for oils (docs/theory.md §9.11). Kinetic diameters
 #: as tabulated by Breck, *Zeolite Molecular Sieves* (Wiley, 1974), ch. 8 (water 0.265 nm, N2 0.364 nm,
 #: He 0.26 nm, H2 0.289 nm, O2 0.346 nm, CO2 0.33 nm, CH4 0.38 nm); an alkane chain is about 0.45 nm
 #: across; the larger molecules (glycerol, silicone oil) are rounded estimates.
@@ -79,7 +79,7 @@ def _nm(x: float) -> str:
 
 def continuum_verdict(gap: ArrayLike, molecular_size: float, name: str = "u_c", width: ArrayLike | None = None,
                       width_name: str = "λc") -> tuple[NDArray[np.bool_], tuple[str, ...]]:
-    """Whether each result's gap (m) is a channel the flow theory describes (docs/theory.md §9.1).
+    """Whether each result's gap (m) is a channel the flow theory describes (docs/theory.md §9.11).
 
     A result is outside the theory where ``gap`` < ``molecular_size`` d (no continuum flow through a
     gap narrower than a molecule), or, when ``width`` (m, the lateral size of the channel, e.g. λc)
@@ -126,7 +126,7 @@ def assumption_warnings(
     youngs_modulus: float,
     contact_area_at_cutoff: ArrayLike,
 ) -> list[str]:
-    """Plain-words warnings for inputs far outside what the contact mechanics assumes (docs/theory.md §9.2).
+    """Plain-words warnings for inputs far outside what the contact mechanics assumes (docs/theory.md §9.11).
 
     Parameters (SI): ``slope_rms`` (1), ``h_rms`` (m), ``seal_width`` Lx (m), ``cutoff_wavevector``
     q1 (1/m), ``squeeze_pressure`` P0 (Pa), ``youngs_modulus`` E of the rubber (Pa),

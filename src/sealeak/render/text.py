@@ -100,7 +100,7 @@ def prediction_columns(result: CaseResult, table: str = "critical-junction") -> 
 
     ``table``: "critical-junction" (the main table: P0, ζc, λc, u_c, Q in m³/s and ml/min, A(ζ1)/A0,
     the validity verdict) or "effective-medium" (the second table of model "both"/"effective-medium").
-    A verdict is "yes", "NO" (outside the continuum theory, docs/theory.md §9.1) or "—" (no leak channel).
+    A verdict is "yes", "NO" (outside the continuum theory, docs/theory.md §9.11) or "—" (no leak channel).
     """
     cols = _cj_columns(result) if table == "critical-junction" else _em_columns(result)
     headers = [c[0] for c in cols]
@@ -116,7 +116,7 @@ def _table_lines(cols: list[tuple[str, int, list[str]]]) -> list[str]:
 
 
 def validity_notes(result: CaseResult) -> list[str]:
-    """One line per model and kind of invalid rows: which pressures, why, and where d comes from (docs/theory.md §9.1)."""
+    """One line per model and kind of invalid rows: which pressures, why, and where d comes from (docs/theory.md §9.11)."""
     fluid = result.case.fluid
     d = f"d = {fluid.molecular_length * 1e9:.3g} nm ({fluid.molecular_length_note}; fluid.molecular_size sets it)"
     out = []

@@ -1,0 +1,104 @@
+"""Validity verdicts, input warnings and inputs at fault, as `sealeak predict` shows them (docs/theory.md §9.11)."""
+
+import csv
+import io
+import json
+
+import pytest
+
+from sealeak.cli import main
+from tests.casefiles import BASE, edit
+
+
+def _write(tmp_path, text, name="c.toml"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_hrms_study_flags_the_rows_below_one_molecule_in_table_json_and_csv(tmp_path, capsys):
+    js, cs = tmp_path / "o.json", tmp_path / "o.csv"
+    assert main(["predict", "--example", "hrms-study", "--json", str(js), "--csv", str(cs)]) == 0
+    out = capsys.readouterr().out
+    assert any(line.rstrip().endswith(" valid") for line in out.splitlines())  # the table's verdict column
+    assert "valid = NO" in out and "molecular size" in out
+    doc = json.loads(js.read_text())
+    d = doc["cases"][0]["fluid"]["molecular_size"]
+    flagged = [r for r in doc["results"] if r["valid"] is False]
+    assert flagged, "the study reaches sub-molecular gaps"
+    for r in doc["results"]:  # the verdict follows from the row's own gap and width
+        if r["critical_gap"] is None:
+            assert r["valid"] is True and r["validity"] == ""
+        else:
+            inside = d <= r["critical_gap"] <= r["critical_wavelength"]
+            assert r["valid"] is inside and (r["validity"] == "") is inside
+    rows = list(csv.DictReader(io.StringIO(cs.read_text())))
+    assert [row["valid (1)"] == "true" for row in rows] == [r["valid"] for r in doc["results"]]
+    assert all((row["validity"] == "") == (row["valid (1)"] == "true") for row in rows)
+    assert doc["warnings"], "P0 up to 10 MPa on E = 10 MPa rubber breaks linear elasticity"
+
+
+def test_fluid_name_and_molecular_size_set_the_limit(tmp_path, capsys):
+    water = _write(tmp_path, edit('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\nname = "water"'), "w.toml")
+    js = tmp_path / "w.json"
+    assert main(["predict", str(water), "-q", "--json", str(js)]) == 0
+    fluid = json.loads(js.read_text())["cases"][0]["fluid"]
+    assert fluid["molecular_size"] == pytest.approx(0.265e-9) and fluid["molecular_size_note"] == "water"
+    # near the percolation threshold u_c falls below any molecule: a larger molecule flags more rows
+    sweep = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
+                 'squeeze_pressure = { start = "0.1 MPa", stop = "0.9 MPa", num = 40, spacing = "log" }')
+    counts = []
+    for size in ("0.1 nm", "0.9 um"):
+        path = _write(tmp_path, edit('viscosity = "1 mPa*s"', f'viscosity = "1 mPa*s"\nmolecular_size = "{size}"', sweep), "s.toml")
+        js.unlink()
+        assert main(["predict", str(path), "-q", "--json", str(js)]) == 0
+        counts.append(sum(r["valid"] is False for r in json.loads(js.read_text())["results"]))
+    assert counts[0] < counts[1]
+
+
+@pytest.mark.parametrize(("old", "new", "words"), [
+    ('h_rms = "44 um"', 'h_rms = "1 km"', "larger than the seal width"),
+    ('cutoff_wavelength = "20 um"', 'cutoff_wavelength = "1e-15 m"', "below atomic size"),
+    ('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["20 kPa", "3 MPa"]', "linear elasticity"),
+    ('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["100 MPa"]', "full contact"),
+])
+def test_absurd_inputs_are_computed_and_warned_about(tmp_path, capsys, old, new, words):
+    path = _write(tmp_path, edit(old, new))
+    js = tmp_path / "o.json"
+    assert main(["predict", str(path), "--json", str(js)]) == 0
+    out = capsys.readouterr().out
+    assert any(line.startswith("warning: ") and words in line for line in out.splitlines())
+    assert any(words in w for w in json.loads(js.read_text())["warnings"])
+
+
+@pytest.mark.parametrize(("old", "new", "field"), [
+    ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "1e30 Pa"', "rubber.youngs_modulus"),
+    ('outer_diameter = "4 cm"', 'outer_diameter = "3.0000001 cm"', "seal.outer_diameter"),
+    ('pressure_difference = "10 kPa"', 'pressure_difference = "0 Pa"', "conditions.pressure_difference"),
+    ('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\nmolecular_size = "-1 nm"', "fluid.molecular_size"),
+    ('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\nmolecular_size = "1 m"', "fluid.molecular_size"),
+    ('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\nname = 3', "fluid.name"),
+    ('outer_diameter = "4 cm"', 'outer_diameter = "4 cm"\nheight = "tall"', "seal.height"),
+    ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "2.3 MPa"\nname = ["PDMS"]', "rubber.name"),
+])
+def test_the_input_at_fault_is_named(tmp_path, capsys, old, new, field):
+    path = _write(tmp_path, edit(old, new))
+    js = tmp_path / "o.json"
+    assert main(["predict", str(path), "--json", str(js)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"sealeak: error: {field}") and err.count("\n") == 1 and "Traceback" not in err
+    assert not js.exists()
+
+
+def test_no_channel_notes_are_grouped_into_one_line(tmp_path, capsys):
+    path = _write(tmp_path, edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
+                                 'squeeze_pressure = { start = "20 kPa", stop = "100 MPa", num = 30, spacing = "log" }'))
+    assert main(["predict", str(path)]) == 0
+    notes = [line for line in capsys.readouterr().out.splitlines() if "never percolates" in line]
+    assert len(notes) == 1 and " of 30 pressures)" in notes[0]
+
+
+def test_base_case_is_valid_everywhere(tmp_path, capsys):
+    assert main(["predict", str(_write(tmp_path, BASE))]) == 0
+    out = capsys.readouterr().out
+    assert "valid = NO" not in out and out.count(" yes") == 3
