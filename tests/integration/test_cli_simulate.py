@@ -1,21 +1,24 @@
 """The numerically exact pipeline: reproducibility, bookkeeping, spectrum cut, CLI output."""
 
 import json
+import signal
+import subprocess
+import sys
+import time
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from sealeak.cases import example_path, load_cases
+from sealeak.cases import example_path, load_cases, simulate
 from sealeak.cli import main
+from sealeak.render import simulation_json, simulation_table
 
 
 @pytest.fixture(scope="module")
 def case():
     (c,) = load_cases(example_path("reference-experiment"))
     return replace(c, squeeze_pressure=np.array([2e4, 8e4, 3e5]))
-
-
 
 
 def test_simulation_section_gives_defaults_options_override(tmp_path):
@@ -33,3 +36,141 @@ def test_simulation_section_gives_defaults_options_override(tmp_path):
     for bad in ("grid = 15", "grid = 2", "realizations = 0", 'seed = "x"'):
         (tmp_path / "bad.toml").write_text(text + f"\n[simulation]\n{bad}\n")
         assert main(["simulate", str(tmp_path / "bad.toml"), "-q"]) == 2
+
+
+# ---------------------------------------------------------------- percolation threshold
+def _with_pressures(case, pressures):
+    return replace(case, squeeze_pressure=np.array(pressures, dtype=float))
+
+
+def test_threshold_does_not_depend_on_the_listed_pressures(case):
+    """Each realisation's threshold is a property of its surface: the same whatever P0 the case lists."""
+    lists = ([2e4, 6e4, 1e5, 2e6], [2e4, 6e4, 1.5e5, 4e5], [3e5], [2e5, 2.5e5, 3.5e5, 5e5])
+    runs = [simulate(_with_pressures(case, ps), grid=64, realizations=2, seed=5) for ps in lists]
+    first = runs[0].per_realization["percolation_threshold"]
+    assert np.isfinite(first).all()
+    for run in runs[1:]:
+        assert np.array_equal(run.per_realization["percolation_threshold"], first)
+        assert run.percolation_threshold == runs[0].percolation_threshold
+    # and it agrees with the sweep: above the contact area of every pressure at which the fluid still
+    # spans, below that of every pressure at which it is blocked (same surface, same solver)
+    for run in runs:
+        per = run.per_realization
+        for r in range(2):
+            spanning, blocked = per["relative_contact_area"][r][per["percolates"][r]], per["relative_contact_area"][r][~per["percolates"][r]]
+            assert all(a < first[r] for a in spanning) and all(a > first[r] for a in blocked)
+
+
+# ---------------------------------------------------------------- spreads are standard deviations
+@pytest.mark.parametrize("realizations", [1, 3])
+def test_spreads_are_standard_deviations_and_labelled_so(case, realizations):
+    run = simulate(_with_pressures(case, [3e4, 1e5]), grid=32, realizations=realizations, seed=2)
+    per = run.per_realization
+    table = simulation_table(case, run)
+    if realizations == 1:
+        assert np.isnan(run.leak_rate_std).all() and np.isnan(run.percolation_threshold_std)
+        assert "one realisation" in table and "nan" not in table
+        return
+    assert np.allclose(run.leak_rate_std, np.std(per["leak_rate"], axis=0, ddof=1), rtol=1e-12)
+    assert np.allclose(run.relative_contact_area_std, np.std(per["relative_contact_area"], axis=0, ddof=1), rtol=1e-12)
+    assert run.percolation_threshold_std == pytest.approx(np.std(per["percolation_threshold"], ddof=1), rel=1e-12)
+    # the table prints these spreads (not sd/√R) and says what they are
+    assert f"{run.leak_rate_std[0]:9.2e}".strip() in table
+    assert "± sd" in table and "standard deviation over the 3 realisations" in table
+    assert f"sd {run.percolation_threshold_std:.2g}" in table
+    doc = json.loads(simulation_json(case, run))
+    assert doc["results"][0]["leak_rate_std"] == pytest.approx(run.leak_rate_std[0], rel=1e-12)
+    assert "standard deviations" in doc["spread_note"]
+
+
+# ---------------------------------------------------------------- a grid too coarse for the pressures
+@pytest.mark.parametrize("grid", [32, 40])
+def test_coarse_grid_names_the_grid_not_round_off(grid, tmp_path, capsys):
+    """On a coarse grid the theory's junction moves to the end of the resolved band at the higher
+    pressures (u_c → 0 there): the run completes, α is flagged where λc spans fewer than 8 cells and
+    missing where u_c vanishes, and the note names the grid as the input at fault."""
+    out = tmp_path / "s.json"
+    assert main(["simulate", "--example", "reference-experiment", "--grid", str(grid), "--realizations", "1",
+                 "--no-threshold", "--json", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "round-off" not in captured.out + captured.err
+    notes = [ln for ln in captured.out.splitlines() if ln.startswith(f"note: grid = {grid}:")]
+    assert len(notes) == 1 and "--grid" in notes[0] and "fewer than 8 cells" in notes[0]
+    rows = json.loads(out.read_text())["results"]
+    cells = np.array([np.nan if r["junction_cells"] is None else r["junction_cells"] for r in rows])
+    resolved = np.array([r["junction_resolved"] is True for r in rows])
+    assert all((r["junction_resolved"] is None) == (r["junction_cells"] is None) for r in rows)
+    q_cj = np.array([np.nan if r["leak_rate_critical_junction"] is None else r["leak_rate_critical_junction"] for r in rows])
+    # N/ζc falls with pressure (ζc grows); flagged are exactly the pressures below 8 cells, the highest ones
+    ok = np.isfinite(cells)
+    assert np.all(np.diff(cells[ok]) < 0)
+    assert np.array_equal(~resolved[ok], cells[ok] < 8)
+    assert resolved[0] and not resolved[ok][-1]
+    assert (q_cj[resolved] > 0).all()
+    table_rows = [ln for ln in captured.out.splitlines() if ln[:9].strip().replace(".", "").isdigit()]
+    assert sum("*" in ln for ln in table_rows) == sum(1 for r in rows if r["junction_resolved"] is False and r["alpha"] is not None)
+    if grid == 32:  # the junction reaches the very end of the band: u_c = 0, no Q_cj and no α
+        missing = ok & np.isnan(q_cj)
+        assert missing.any() and all(rows[i]["alpha"] is None for i in np.flatnonzero(missing))
+        assert "no critical-junction leak rate and no α" in notes[0]
+
+
+# ---------------------------------------------------------------- --fields that cannot be a folder
+@pytest.mark.parametrize("layout", ["file", "file/sub", "file/sub/deeper"])
+def test_fields_that_is_a_file_is_refused(layout, tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("keep me\n")
+    target = tmp_path / layout
+    js = tmp_path / "s.json"
+    assert main(["simulate", "--example", "reference-experiment", "--grid", "16", "--fields", str(target),
+                 "--json", str(js), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "--fields" in err and str(target) in err and "not a folder" in err
+    assert blocker.read_text() == "keep me\n" and not js.exists()
+
+
+# ---------------------------------------------------------------- Ctrl-C leaves no field files
+def _interrupt_after_first_field(args, folder, cwd):
+    """Run ``sealeak simulate`` in a subprocess and send SIGINT once its first field file exists."""
+    proc = subprocess.Popen([sys.executable, "-c", "import sys; from sealeak.cli import main; sys.exit(main())", *args], cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if any(folder.glob(".sealeak-fields-*/*.npz")):
+            break
+        time.sleep(0.02)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    return proc.returncode, err
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+@pytest.mark.parametrize("existing", [False, True])
+def test_interrupted_fields_leave_nothing(existing, tmp_path):
+    folder = tmp_path / "out" / "fields"
+    old = {}
+    if existing:  # an earlier run's field files, replaced with --force only when the new run completes
+        folder.mkdir(parents=True)
+        for name in ("r0-p0.npz", "r0-p1.npz"):
+            (folder / name).write_bytes(b"earlier run")
+            old[name] = b"earlier run"
+    args = ["simulate", "--example", "reference-experiment", "--grid", "64", "--realizations", "8",
+            "--no-threshold", "--fields", str(folder), "--force"]
+    rc, err = _interrupt_after_first_field(args, folder, tmp_path)
+    assert rc == 130
+    assert err.strip().splitlines()[-1] == "sealeak: interrupted; no partial output files were left"
+    if existing:
+        assert {p.name: p.read_bytes() for p in folder.iterdir()} == old
+    else:
+        assert not (tmp_path / "out").exists()
+
+
+def test_fields_written_complete_and_in_place(tmp_path):
+    folder = tmp_path / "a" / "fields"
+    assert main(["simulate", "--example", "reference-experiment", "--grid", "16", "--realizations", "2",
+                 "--no-threshold", "--fields", str(folder), "-q"]) == 0
+    (case,) = load_cases(example_path("reference-experiment"))
+    names = sorted(p.name for p in folder.iterdir())
+    assert names == sorted(f"r{r}-p{i}.npz" for r in range(2) for i in range(len(case.squeeze_pressure)))

@@ -21,23 +21,30 @@ critical-junction theory it is compared with uses the same cut spectrum.
 
 from __future__ import annotations
 
+import os
+import shutil
+import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy import special
 
 from .. import numerics
 from ..errors import InputError
-from ..io.files import atomic_write
+from ..io.files import OutputWriteError
 from ..numerics.synthesis import synthesize
 from .model import Case
 from .run import predict
 
-__all__ = ["SimulationResult", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH"]
+__all__ = ["SimulationResult", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS"]
 
 POINTS_PER_WAVELENGTH = 4
+#: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
+JUNCTION_CELLS = 8
 FloatArray = NDArray[np.float64]
 
 
@@ -54,6 +61,8 @@ class SimulationResult:
     ``leak_rate`` averages all realisations (a blocked one leaks 0); ``alpha`` averages the
     percolating ones only (NaN where none percolates). ``leak_rate_critical_junction`` is the
     critical-junction prediction with α = 1 for the same (possibly cut) spectrum.
+    ``junction_cells`` is N/ζc, the grid cells across the theory's critical wavelength λc (NaN where
+    there is no junction); below :data:`JUNCTION_CELLS` the α of that pressure is flagged.
     """
 
     squeeze_pressure: FloatArray
@@ -80,6 +89,7 @@ class SimulationResult:
     spectrum_note: str = ""
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)  # realisation 0
+    junction_cells: FloatArray = field(default_factory=lambda: np.empty(0))
 
 
 def _mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -161,8 +171,9 @@ def simulate(
     eta = case.fluid.viscosity
     aspect = case.seal.aspect_ratio
 
-    theory = predict(replace(sim_case, alpha=1.0), squeeze_pressure=pressures)
+    q_cj, junction_cells = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
     contact_theory = sim_case.contact().area(sim_case.spectrum.q_max / sim_case.q0, pressures)
+    p_anchor = _threshold_anchor(sim_case)
 
     n_p = pressures.size
     area = np.zeros((realizations, n_p))
@@ -171,32 +182,28 @@ def simulate(
     q_seal = np.zeros((realizations, n_p))
     thresholds = np.full(realizations, np.nan)
     contact_maps: dict[int, NDArray[np.bool_]] = {}
-    fields = Path(fields_dir) if fields_dir is not None else None
 
-    for r in range(realizations):
-        h = synthesize(spectrum, int(grid), size, seed=np.random.default_rng([int(seed), r]))
-        results = numerics.solve_contact_sweep(h, size, case.e_star, pressures, tol=contact_tol)
-        for i, res in enumerate(results):
-            flow = numerics.solve_flow(res.gap, size, eta, dp, contact=res.contact, method=flow_method)
-            area[r, i] = res.contact_area
-            gap[r, i] = res.mean_gap
-            perc[r, i] = flow.percolates
-            q_seal[r, i] = aspect * flow.flux
-            if r == 0:
-                contact_maps[i] = res.contact.copy()
-            if fields is not None:
-                with atomic_write(fields / f"r{r}-p{i}.npz") as tmp:
-                    with open(tmp, "wb") as fh:
-                        np.savez_compressed(fh, height=h, gap=res.gap, pressure=res.pressure, size=np.float64(size))
-            if progress is not None:
-                progress(1)
-        if threshold:
-            thresholds[r] = _threshold(numerics, h, size, case.e_star, pressures, perc[r], area[r], notes, r)
+    with _StagedFolder(fields_dir) as fields:
+        for r in range(realizations):
+            h = synthesize(spectrum, int(grid), size, seed=np.random.default_rng([int(seed), r]))
+            results = numerics.solve_contact_sweep(h, size, case.e_star, pressures, tol=contact_tol)
+            for i, res in enumerate(results):
+                flow = numerics.solve_flow(res.gap, size, eta, dp, contact=res.contact, method=flow_method)
+                area[r, i] = res.contact_area
+                gap[r, i] = res.mean_gap
+                perc[r, i] = flow.percolates
+                q_seal[r, i] = aspect * flow.flux
+                if r == 0:
+                    contact_maps[i] = res.contact.copy()
+                fields.write(f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(size))
+                if progress is not None:
+                    progress(1)
+            if threshold:
+                thresholds[r] = _threshold(h, size, case.e_star, p_anchor, contact_tol, notes, r)
 
     area_m, area_s = _mean_std(area)
     gap_m, gap_s = _mean_std(gap)
     q_m, q_s = _mean_std(q_seal)
-    q_cj = theory.leak_rate
     with np.errstate(invalid="ignore", divide="ignore"):
         alpha_r = np.where(perc & np.isfinite(q_cj)[None, :], q_seal / q_cj[None, :], np.nan)
     alpha_m, alpha_s = _mean_std(alpha_r)
@@ -212,34 +219,163 @@ def simulate(
         leak_rate_critical_junction=q_cj, alpha=alpha_m, alpha_std=alpha_s,
         percolation_threshold=float(thr_m[0]), percolation_threshold_std=float(thr_s[0]), grid=int(grid),
         realizations=int(realizations), seed=int(seed), size=size, q_cut=cut_at, notes=tuple(notes),
-        spectrum_note=spectrum_note, contact_maps=contact_maps,
+        spectrum_note=spectrum_note, contact_maps=contact_maps, junction_cells=junction_cells,
         per_realization={"relative_contact_area": area, "mean_gap": gap, "percolates": perc,
                          "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds},
     )
 
 
-def _threshold(numerics, h, size, e_star, pressures, perc, area, notes, r) -> float:
-    """Contact area where the fluid stops spanning, bracketed from the sweep (expanded if needed)."""
-    spanning = pressures[perc]
-    blocked = pressures[~perc]
-    p_lo = spanning.max() if spanning.size else pressures[0] / 4.0
-    later_blocked = blocked[blocked > p_lo]
-    p_hi = later_blocked.min() if later_blocked.size else None
-    # expand the bracket upwards (at most 6 steps of 3x) when the sweep never blocked
-    tries = 0
-    while p_hi is None and tries < 6:
-        candidate = p_lo * 3.0 ** (tries + 1)
-        res = numerics.solve_contact(h, size, e_star, candidate)
-        if not numerics.spans(~res.contact):
-            p_hi = candidate
-        tries += 1
-    if p_hi is None:
-        notes.append(f"realisation {r}: the fluid still spans at {p_lo * 3 ** 6:.4g} Pa; no threshold found")
+def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,
+                      notes: list[str]) -> tuple[FloatArray, FloatArray]:
+    """Critical-junction Q (α = 1, m³/s) of the (cut) spectrum, and the grid cells across each junction.
+
+    Returns ``(q_cj, cells)``: cells = N/ζc, the grid cells across the critical wavelength
+    λc = L/ζc (NaN where the theory has no junction). The critical gap u_c = u1(ζc) falls to zero as
+    ζc approaches the end of the spectrum ζ1 (u1(ζ1) = 0, docs/theory.md §2.10); on a coarse grid
+    the spectrum is cut at ζ1 = N/4, so at the higher pressures the junction can sit in the last
+    octave of the band (fewer than :data:`JUNCTION_CELLS` cells), where α reflects the grid more
+    than the seal (flagged, with a note naming the grid), or at its very end, where u_c vanishes
+    and neither Q_cj nor α exists (NaN, with the same note).
+    """
+    contact = case.contact()
+    zeta_c, percolates = contact.zeta_at_area(1.0 - case.percolation_threshold, pressures)
+    with np.errstate(all="ignore"):
+        u_c = np.where(percolates, contact.u1(np.where(percolates, zeta_c, 1.0), pressures), np.nan)
+    zeta_1 = contact.zeta_max
+    at_end = percolates & ~(np.isfinite(u_c) & (u_c > 0)) & (zeta_c - 1.0 > 0.5 * (zeta_1 - 1.0))
+    q_cj = np.full(pressures.size, np.nan)
+    keep = ~at_end
+    if keep.any():
+        q_cj[keep] = predict(replace(case, alpha=1.0), squeeze_pressure=pressures[keep]).leak_rate
+    cells = np.where(percolates, grid / zeta_c, np.nan)
+    coarse = percolates & (cells < JUNCTION_CELLS)
+    if coarse.any():
+        resolved = (f"resolves the spectrum only up to q = {cut_at:.4g} 1/m (ζ1 = {zeta_1:.4g})" if cut_at is not None
+                    else f"has {grid} cells across the square")
+        parts = []
+        if (coarse & ~at_end).any():
+            parts.append(f"at {_kpa(pressures[coarse & ~at_end])} the theory's critical junction "
+                         f"λc = L/ζc spans fewer than {JUNCTION_CELLS} cells: the grid resolves it poorly and little "
+                         "resolved roughness is left to hold the surfaces apart, so u_c falls steeply and α there "
+                         "(marked *) reflects the grid more than the seal")
+        if at_end.any():
+            parts.append(f"at {_kpa(pressures[at_end])} the junction sits at the very end of the band, where "
+                         "u_c vanishes: no critical-junction leak rate and no α")
+        notes.append(f"grid = {grid}: the {grid}x{grid} grid {resolved}; " + "; ".join(parts)
+                     + ". A finer grid (--grid, or grid in [simulation]) resolves the junction.")
+    return q_cj, cells
+
+
+def _kpa(p: FloatArray) -> str:
+    """Pressures for a note: all of a few, else the range ("P0 = 73 .. 234 kPa (19 pressures)")."""
+    if p.size <= 4:
+        return "P0 = " + ", ".join(f"{x / 1e3:.4g}" for x in p) + " kPa"
+    return f"P0 = {p.min() / 1e3:.4g} .. {p.max() / 1e3:.4g} kPa ({p.size} pressures)"
+
+
+def _threshold_anchor(case: Case) -> float:
+    """Where the threshold search starts (Pa): the P0 at which Persson's A(ζ1)/A0 = 1/2 on the (cut) spectrum.
+
+    A(ζ1)/A0 = erf(P0/(2√G(ζ1))) (docs/theory.md §2.4), so P0 = 2√G(ζ1) erf⁻¹(1/2). It depends on
+    the surface and the rubber only, never on the squeeze pressures listed in the case.
+    """
+    contact = case.contact()
+    return float(2.0 * np.sqrt(contact.G(contact.zeta_max)) * special.erfinv(0.5))
+
+
+#: Ladder of the threshold search: pressures p_anchor·2^k, k = 0, ±1, ... up to this many steps.
+THRESHOLD_LADDER_STEPS = 12
+#: Relative width of the final pressure bracket of the threshold bisection.
+THRESHOLD_REL_TOL = 1e-3
+
+
+def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: float, notes: list[str],
+               r: int) -> float:
+    """Relative contact area at which realisation ``r``'s non-contact area stops spanning inlet to outlet.
+
+    The bracket comes from a ladder p_anchor·2^k (k = 0, then up while the fluid spans or down while
+    it does not), the threshold from bisection to a relative pressure width of 1e-3
+    (:func:`sealeak.numerics.percolation_threshold`; docs/theory.md §6.4). Nothing depends on the
+    squeeze pressures listed in the case, so neither does the threshold.
+    """
+    def spanning(p: float) -> bool:
+        return numerics.spans(~numerics.solve_contact(h, size, e_star, p, tol=tol).contact)
+
+    first = spanning(p_anchor)
+    step = 1 if first else -1
+    for k in range(step, step * (THRESHOLD_LADDER_STEPS + 1), step):
+        if spanning(p_anchor * 2.0**k) != first:
+            break
+    else:
+        where = "still spans" if first else "does not span even"
+        notes.append(f"realisation {r}: the fluid {where} at P0 = {p_anchor * 2.0 ** (step * THRESHOLD_LADDER_STEPS):.4g} "
+                     "Pa; no percolation threshold found")
         return float("nan")
-    if not spanning.size:
-        res = numerics.solve_contact(h, size, e_star, p_lo)
-        if not numerics.spans(~res.contact):
-            notes.append(f"realisation {r}: the fluid does not span even at {p_lo:.4g} Pa; no threshold found")
-            return float("nan")
-    th = numerics.percolation_threshold(h, size, e_star, p_lo=float(p_lo), p_hi=float(p_hi), rel_tol=1e-2)
+    p_a, p_b = sorted((p_anchor * 2.0 ** (k - step), p_anchor * 2.0**k))
+    th = numerics.percolation_threshold(h, size, e_star, p_lo=p_a, p_hi=p_b, rel_tol=THRESHOLD_REL_TOL, tol=tol)
     return th.contact_area
+
+
+class _StagedFolder:
+    """Field files written into a hidden folder inside the target and moved in only when all are written.
+
+    An interrupted or failed run (Ctrl-C, an error) removes the staging folder, and the target
+    folder itself if this run created it, so no field file of an unfinished run is left behind.
+    ``folder=None`` writes nothing.
+    """
+
+    def __init__(self, folder: str | Path | None) -> None:
+        self.target = Path(folder) if folder is not None else None
+        self.created: list[Path] = []
+        self.stage: Path | None = None
+
+    def __enter__(self) -> _StagedFolder:
+        if self.target is None:
+            return self
+        if self.target.exists() and not self.target.is_dir():
+            raise InputError("fields_dir", str(self.target), "is a file, not a folder: give a folder for the field files")
+        missing = [d for d in (self.target, *self.target.parents) if not d.exists()]
+        try:
+            self.target.mkdir(parents=True, exist_ok=True)
+            self.created = missing
+            self.stage = Path(tempfile.mkdtemp(prefix=".sealeak-fields-", suffix=".part", dir=self.target))
+        except OSError as exc:
+            self._clean()
+            raise OutputWriteError(self.target, exc) from None
+        return self
+
+    def write(self, name: str, **arrays: Any) -> None:
+        if self.stage is None:
+            return
+        try:
+            with open(self.stage / name, "wb") as fh:
+                np.savez_compressed(fh, **arrays)
+        except OSError as exc:
+            raise OutputWriteError(self.target / name, exc) from None  # type: ignore[operator]
+
+    def __exit__(self, exc_type: object, exc: object, tb: object) -> None:
+        if self.stage is None:
+            return
+        if exc_type is None:
+            moved: list[Path] = []
+            try:
+                for part in sorted(self.stage.iterdir()):
+                    os.replace(part, self.target / part.name)  # type: ignore[operator]
+                    moved.append(self.target / part.name)  # type: ignore[operator]
+            except BaseException as err:
+                for m in moved:
+                    m.unlink(missing_ok=True)
+                self._clean()
+                if isinstance(err, OSError):
+                    raise OutputWriteError(self.target, err) from None  # type: ignore[arg-type]
+                raise
+        self._clean()
+
+    def _clean(self) -> None:
+        if self.stage is not None:
+            shutil.rmtree(self.stage, ignore_errors=True)
+        for d in self.created:  # innermost first; only folders this run made, and only if empty
+            try:
+                d.rmdir()
+            except OSError:
+                break

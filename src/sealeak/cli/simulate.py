@@ -7,7 +7,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from ..errors import SealeakError
+from ..errors import InputError, SealeakError
 from ._common import load, outputs
 
 __all__ = ["register"]
@@ -21,8 +21,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
 
     check_outputs(outputs(args, SIMULATION_FIGURE_NAMES), args.force)
-    if args.fields and Path(args.fields).exists() and any(Path(args.fields).glob("r*-p*.npz")) and not args.force:
-        raise SealeakError(f"{args.fields} already holds field files; pass --force to overwrite, or choose another folder")
+    if args.fields:
+        _check_fields_folder(Path(args.fields), args.force)
     cases = load(args)
     if len(cases) != 1:
         raise SealeakError("simulate takes a case without [study] (one surface)")
@@ -41,6 +41,17 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     if args.plots:
         save_figures(simulation_figures(case, res), args.plots)
     return 0
+
+
+def _check_fields_folder(folder: Path, force: bool) -> None:
+    """Refuse up front a ``--fields`` folder that cannot be one, or that holds field files without ``--force``."""
+    existing = next(d for d in (folder, *folder.parents, Path(".")) if d.exists())
+    if not existing.is_dir():
+        what = "is a file" if existing == folder else f"is inside {existing}, which is a file"
+        raise InputError("--fields", str(folder), f"{what}, not a folder: give a folder for the field files "
+                                                  "(it is created if missing)")
+    if existing == folder and any(folder.glob("r*-p*.npz")) and not force:
+        raise SealeakError(f"{folder} already holds field files; pass --force to overwrite, or choose another folder")
 
 
 def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.ArgumentParser], None]) -> None:
