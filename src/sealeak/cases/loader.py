@@ -57,7 +57,7 @@ from .model import Case
 from .schema import SECTIONS, Section
 
 __all__ = ["CaseFile", "read_case_file", "parse_case_file", "load_cases", "load_case", "parse_cases",
-           "example_names", "example_text", "example_path"]
+           "example_names", "example_text", "example_path", "example_data_names", "example_description"]
 
 @dataclass(frozen=True)
 class CaseFile:
@@ -144,19 +144,39 @@ def _examples_dir() -> Any:
 
 
 def example_names() -> list[str]:
-    """Names of the bundled example cases."""
+    """Names of the bundled example cases (``--example NAME``)."""
     return sorted(p.name[:-5] for p in _examples_dir().iterdir() if p.name.endswith(".toml"))
 
 
+def example_data_names() -> list[str]:
+    """File names of the bundled example data files (e.g. ``reference-measured.csv`` for ``sealeak fit``)."""
+    return sorted(p.name for p in _examples_dir().iterdir() if p.name.endswith(".csv"))
+
+
+def example_description(name: str) -> str:
+    """One line saying what a bundled example is: a case's ``title``, a data file's first comment line."""
+    text = example_text(name)
+    if name in example_data_names():
+        first = next((ln for ln in text.splitlines() if ln.startswith("#")), "# example data")
+        return first.lstrip("# ").rstrip(".")
+    title = next((ln for ln in text.splitlines() if ln.startswith("title")), "")
+    return title.split("=", 1)[1].strip().strip('"') if "=" in title else ""
+
+
 def example_text(name: str) -> str:
-    """The TOML text of a bundled example."""
+    """The text of a bundled example: a case (TOML) by name, or a data file by its file name."""
+    if name in example_data_names():
+        return (_examples_dir() / name).read_text(encoding="utf-8")
     if name not in example_names():
-        raise InputError("example", name, f"allowed: {', '.join(example_names())}")
+        raise InputError("example", name, f"allowed: {', '.join(example_names() + example_data_names())}")
     return (_examples_dir() / f"{name}.toml").read_text(encoding="utf-8")
 
 
 def example_path(name: str) -> Path:
-    """File-system path of a bundled example (for reading it as a case)."""
+    """File-system path of a bundled example case (for reading it as a case)."""
+    if name in example_data_names():
+        raise InputError("example", name, f"is a data file, not a case: print it with `sealeak examples {name}`; "
+                                          f"cases: {', '.join(example_names())}")
     if name not in example_names():
         raise InputError("example", name, f"allowed: {', '.join(example_names())}")
     return Path(str(_examples_dir() / f"{name}.toml"))
