@@ -218,10 +218,18 @@ def test_analyze_two_files_json_statistics_are_filled(tmp_path):
 
 
 @pytest.mark.skipif(not SAMPLES.is_dir(), reason="../shared/topography-samples not present")
-@pytest.mark.parametrize("name,extra", [("nc-1.nc", []), ("matrix-5.txt", ["--size", "10 um", "--height-unit", "um"])])
+def test_analyze_sample_that_is_a_plane_is_refused(tmp_path, capsys):
+    pytest.importorskip("SurfaceTopography")
+    js = tmp_path / "s.json"
+    assert main(["surface", "analyze", str(SAMPLES / "nc-1.nc"), "--json", str(js)]) == 2  # 5×10 points on a plane
+    out, err = capsys.readouterr()
+    _no_traceback(err)
+    assert "nc-1.nc" in err and "plane" in err and out == "" and not js.exists()
+
+
+@pytest.mark.skipif(not SAMPLES.is_dir(), reason="../shared/topography-samples not present")
+@pytest.mark.parametrize("name,extra", [("matrix-5.txt", ["--size", "10 um", "--height-unit", "um"])])
 def test_analyze_small_maps_give_statistics_and_the_reason(tmp_path, capsys, name, extra):
-    if name.endswith(".nc"):
-        pytest.importorskip("SurfaceTopography")
     js = tmp_path / "s.json"
     assert main(["surface", "analyze", str(SAMPLES / name), *extra, "--json", str(js)]) == 0
     out = capsys.readouterr().out

@@ -12,6 +12,7 @@ from sealeak.numerics.synthesis import synthesize
 from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.render import plot_spectra
 from sealeak.topography import (
+    BinnedSpectrum,
     LineScans,
     Topography,
     analyze,
@@ -265,3 +266,31 @@ def test_small_map_keeps_height_statistics_and_names_the_problem(tmp_path):
     assert both.has_spectrum and any("left out of C(q): tiny.txt" in n for n in both.notes)
     assert "too small" in both.sources[1].spectrum_problem and both.sources[0].spectrum_problem is None
     assert not both.sources[1].spectrum.reliable.any()
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("exponent,ripple,bound", [(-1.98, 0.2, 0.0), (-1.96, 0.4, 0.0), (-4.03, 0.4, 1.0)])
+def test_fit_at_a_bound_warns_also_when_the_data_allow_the_bound(exponent, ripple, bound):
+    # H just outside [0, 1] but within two standard errors of the bound (scatter of the bins): the
+    # fit stops at the bound, H is still "in range", and the fit says H is poorly determined
+    q = np.geomspace(1e4, 1e7, 31)
+    C = 1e-30 * (q / 1e4) ** exponent * np.exp(ripple * np.sin(3 * np.arange(q.size)))
+    f = fit_self_affine(PowerSpectrum.from_arrays(q, C), rolloff=False)
+    assert f.hurst == pytest.approx(bound, abs=1e-4) and f.hurst_in_range
+    assert len(f.warnings) == 1 and "bound" in f.warnings[0] and f.warning == f.warnings[0]
+
+
+@pytest.mark.filterwarnings("error")
+def test_fit_with_a_large_reduced_chi2_warns():
+    # binned C(q) with many modes per bin (small scatter) and a ±factor-2 ripple: far from one power law
+    q = np.geomspace(1e4, 1e6, 21)
+    C = 1e-30 * (q / 1e4) ** -3.0 * np.exp(0.7 * np.sin(np.arange(q.size)))
+    edges = np.sqrt(q[:-1] * q[1:])
+    lo, hi = np.concatenate([[q[0] / 1.1], edges]), np.concatenate([edges, [q[-1] * 1.1]])
+    b = BinnedSpectrum(q, C, np.full(q.size, 5000), lo, hi, np.ones(q.size, bool), (q[0], q[-1]), 2)
+    f = fit_self_affine(b)
+    assert f.chi2_red > 100 and 0 < f.hurst < 1
+    assert [w for w in f.warnings if "χ²" in w] and "compromise" in f.warning
+    # the same shape with the scatter of few modes per bin: no warning
+    few = fit_self_affine(BinnedSpectrum(q, C, np.full(q.size, 2), lo, hi, np.ones(q.size, bool), (q[0], q[-1]), 2))
+    assert few.chi2_red < 100 and not few.warnings

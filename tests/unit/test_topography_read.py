@@ -134,7 +134,8 @@ def test_npy_and_units(tmp_path):
     (b"# only a comment\n\n", "no numeric data"),
     (b"1 2 3 4\n5 6 7 8\n9 10\n", "line 3 has 2 values"),  # truncated
     (b"1 2 3 4\n5 six 7 8\n", "'six' is not a number"),
-    (b"1 2 3 4\n1 2 inf 4\n", "infinite"),
+    (b"0 1\ninf 2\n2 3\n3 4\n4 5\n", "positions must be finite"),  # inf heights are no-data markers, not x
+    (b"inf 1e300 -inf 1e999\n-1e38 3.4e38 1e300 inf\n", "all 8 heights are no-data markers"),
     (b"0 0 1\n0 1 2\n1 0 3\n", "do not fill"),
 ])
 def test_malformed_text_files(tmp_path, content, problem):

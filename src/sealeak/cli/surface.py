@@ -62,14 +62,14 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     check_outputs([p for p in (args.psd_out, args.plot, args.json) if p], args.force)
     with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments
         an = analyze(args.files, **unit_options(args), **range_options(args))
+    if not an.has_spectrum and (args.psd_out or args.plot):  # before any output: nothing is left behind
+        wanted = " and ".join(o for o, v in (("--psd-out", args.psd_out), ("--plot", args.plot)) if v)
+        raise SealeakError(f"{wanted}: no C(q) to write: {an.spectrum_problem}")
     sys.stdout.write(analysis_text(an))
     sys.stdout.flush()
     if args.json:
         write_text(args.json, analysis_json(an))
         print(f"wrote {args.json}", file=sys.stderr)
-    if not an.has_spectrum and (args.psd_out or args.plot):
-        wanted = " and ".join(o for o, v in (("--psd-out", args.psd_out), ("--plot", args.plot)) if v)
-        raise SealeakError(f"{wanted}: no C(q) to write: {an.spectrum_problem}")
     if args.psd_out:
         write_text(args.psd_out, spectrum_csv(an.spectrum))
         print(f"wrote {args.psd_out}", file=sys.stderr)

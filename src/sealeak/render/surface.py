@@ -49,6 +49,7 @@ def analysis_text(an: Analysis) -> str:
             lines.append(f"        reliable range q = {lo:.4g} .. {hi:.4g} 1/m")
         elif len(an.sources) > 1:
             lines.append(f"        no C(q): {src.spectrum_problem}")
+        lines.extend(f"        warning: {w}" for w in src.warnings)
     lines.append("")
     header = "statistics of the single measurement" if len(an.sources) == 1 else "statistics of each measurement"
     lines.append(header)
@@ -84,8 +85,7 @@ def analysis_text(an: Analysis) -> str:
         herr_h = f" ± {f.h_rms_err * 1e6:.2g}" if np.isfinite(f.h_rms_err) else ""
         lines.append(f"self-affine fit: H = {f.hurst:.3f} {herr}, {qr}, "
                      f"h_rms = {f.h_rms * 1e6:.4g}{herr_h} µm, reduced χ² = {f.chi2_red:.3g}")
-        if f.warning:
-            lines.append(f"  warning: {f.warning}")
+        lines.extend(f"  warning: {w}" for w in f.warnings)
     if an.notes:
         lines.append("")
         lines.append("what was done:")
@@ -98,7 +98,12 @@ _SPECTRAL_KEYS = ("spectrum_h_rms", "spectrum_slope_rms", "spectrum_curvature_rm
 
 
 def analysis_json(an: Analysis) -> str:
-    """The ``sealeak surface analyze --json`` document (statistics, C(q), sources, fit; SI units)."""
+    """The ``sealeak surface analyze --json`` document (statistics, C(q), sources, fit; SI units).
+
+    ``warnings`` (top level) lists everything the text output prints as a warning: each source's
+    data warnings (also in its own ``warnings``) and the fit's (also in ``fit.warnings``; ``fit.warning``
+    is the same joined into one text, or null).
+    """
     st = an.statistics
     stats = {k: json_value(getattr(st, k)) for k in _STAT_KEYS + _SPECTRAL_KEYS}
     stats["method"] = st.method
@@ -117,7 +122,9 @@ def analysis_json(an: Analysis) -> str:
             "spectrum_problem": s.spectrum_problem,
             "statistics": {**{k: json_value(getattr(s.statistics, k)) for k in _STAT_KEYS + _SPECTRAL_KEYS},
                            "method": s.statistics.method},
+            "warnings": list(s.warnings),
             "notes": list(s.notes)} for s in an.sources],
+        "warnings": list(an.warnings),
         "notes": list(an.notes),
     }
     if not an.has_spectrum:
@@ -127,6 +134,7 @@ def analysis_json(an: Analysis) -> str:
         doc["fit"] = {k: json_value(getattr(f, k)) for k in (
             "hurst", "hurst_err", "q_rolloff", "q_rolloff_err", "rolloff_resolved", "C0", "C0_err",
             "h_rms", "h_rms_err", "chi2_red", "hurst_in_range", "hurst_wanted", "warning")}
+        doc["fit"]["warnings"] = list(f.warnings)
     return json_document(doc)
 
 

@@ -8,12 +8,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, SealeakError
+from ..errors import FileFormatError, InputError, SealeakError
 from ..physics.spectrum import PowerSpectrum
 from ._fit import SelfAffineFit, fit_self_affine
-from ._preprocess import Detrend, Window, prepare
+from ._preprocess import Detrend, Prepared, Window, prepare
 from ._readers import LengthLike, read_topography
-from ._spectrum import BinnedSpectrum, spectrum_1d, spectrum_2d, spectrum_2d_from_1d
+from ._spectrum import BinnedSpectrum, length_text, spectrum_1d, spectrum_2d, spectrum_2d_from_1d
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import stitch
 from ._types import LineScans, Topography
@@ -46,6 +46,11 @@ class SourceAnalysis:
         """The file name (without folder and channel) or the label."""
         return Path(self.label.split(" [")[0]).name if self.label else self.label
 
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the user should know about this measurement's data (e.g. no-data markers found)."""
+        return self.surface.warnings
+
 
 @dataclass(frozen=True, eq=False)
 class Analysis:
@@ -73,6 +78,9 @@ class Analysis:
         What was done, source by source, then for the combination.
     spectrum_problem:
         Why there is no combined C(q), or None.
+    warnings:
+        What the user must know to trust the result, as sentences: each source's data warnings
+        (prefixed with its name) and the fit's (prefixed "self-affine fit:").
     """
 
     spectrum_or_none: PowerSpectrum | None
@@ -82,6 +90,7 @@ class Analysis:
     fit: SelfAffineFit | None
     notes: tuple[str, ...] = field(default=())
     spectrum_problem: str | None = None
+    warnings: tuple[str, ...] = field(default=())
 
     @property
     def has_spectrum(self) -> bool:
@@ -132,6 +141,9 @@ def analyze(
     the larger of ``resolution_pixels`` pixels and the lateral resolution: ``resolution`` (m) when
     given, else what the file states (e.g. a stylus tip radius), else none. A source too small for
     any reliable bin keeps its height statistics; its ``spectrum_problem`` says why.
+
+    A flat measurement (all heights equal, or nothing but round-off left after detrending) has no
+    roughness to analyze: :class:`~sealeak.errors.FileFormatError` naming it.
     """
     items: list[Source] = [paths] if isinstance(paths, (str, Path, Topography, LineScans)) else list(paths)
     if not items:
@@ -145,6 +157,12 @@ def analyze(
                                       lateral_unit=lateral_unit, periodic=periodic, channel=channel)
         label = surface.source or f"source {len(sources) + 1}"
         prepared = prepare(surface, detrend=detrend, window=window)
+        flat = _flatness(surface, prepared, detrend)
+        if flat is not None:
+            name = Path(label.split(" [")[0]).name if surface.source else label
+            channel = f" or channel ({option_name('channel')})" if " [channel" in label else ""
+            raise FileFormatError(name, f"{flat}: there is no roughness to analyze (no C(q), no height distribution); "
+                                        f"is it the right file{channel}?")
         opts = dict(bins_per_decade=bins_per_decade, low_cut=low_cut, resolution_pixels=resolution_pixels,
                     resolution=resolution)
         profile = None
@@ -169,16 +187,12 @@ def analyze(
         else:
             problem = f"{_describe(surface)}: {problem}"
         stats = surface_statistics(prepare(surface, detrend=detrend, window="none"), spec)
-        raw = float(np.nanstd(surface.heights))
-        if stats.h_rms is not None and raw > 0 and stats.h_rms < 1e-9 * raw:
-            # nothing left after detrending but round-off: its distribution says nothing
-            notes.append(f"the detrended heights vanish to round-off (rms {stats.h_rms:.3g} m of {raw:.3g} m before): "
-                         "the measurement is a plane; skewness and kurtosis undefined")
-            stats = replace(stats, skewness=None, kurtosis=None)
         sources.append(SourceAnalysis(label, surface, binned, profile, stats, tuple(notes), problem))
 
     notes = [f"{s.name}: {n}" for s in sources for n in s.notes]
     usable = [s for s in sources if s.spectrum_problem is None]
+    if not usable and resolution is not None:
+        _refuse_resolution(sources, resolution)
     combined: BinnedSpectrum | None = None
     spectrum: PowerSpectrum | None = None
     problem = None
@@ -196,23 +210,75 @@ def analyze(
         statistics = sources[0].statistics
     else:
         statistics = _combined_statistics(sources, spectrum)
+    warnings = [f"{s.name}: {w}" for s in sources for w in s.warnings]
     fitted = None
     if fit and combined is not None:
         try:
             fitted = fit_self_affine(combined)
             notes.append(f"fitted {fitted!r}")
-            if fitted.warning:
-                notes.append(f"self-affine fit: {fitted.warning}")
+            warnings += [f"self-affine fit: {w}" for w in fitted.warnings]
         except SealeakError as exc:
             notes.append(f"self-affine fit not possible: {exc}")
-    return Analysis(spectrum, combined, tuple(sources), statistics, fitted, tuple(notes), problem)
+    return Analysis(spectrum, combined, tuple(sources), statistics, fitted, tuple(notes), problem, tuple(warnings))
+
+
+#: Detrended heights whose rms is below this fraction of the largest height are round-off: a flat map.
+FLAT_RELATIVE = 1e-10
+_SHAPES = {0: ("a constant", "the mean"), 1: ("a plane", "the mean and tilt"), 2: ("a quadratic surface", "the mean, "
+                                                                                    "tilt and curvature")}
+
+
+def _flatness(surface: Topography | LineScans, prepared: Prepared, detrend: Detrend) -> str | None:
+    """Why a measurement is flat (a sentence without its name), or None when it has roughness.
+
+    Flat: all defined heights equal, or the detrended heights (less their mean) have an rms below
+    ``FLAT_RELATIVE`` times the largest height, i.e. nothing but round-off of the detrending is left.
+    """
+    raw = surface.heights[prepared.defined]
+    n = raw.size
+    if n and float(np.ptp(raw)) == 0.0:
+        which = "" if prepared.defined.all() else f" defined (of {prepared.defined.size})"
+        return f"all {n}{which} heights are equal ({length_text(float(raw[0]))})"
+    d = prepared.surface.heights[prepared.defined]
+    d = d - d.mean()
+    rms = float(np.sqrt(np.mean(d * d)))
+    scale = float(np.max(np.abs(raw)))
+    if rms > FLAT_RELATIVE * scale:
+        return None
+    order = {"none": 0, "mean": 0, "plane": 1, "curvature": 2}.get(detrend, 0 if surface.periodic else 1)
+    shape, removed = _SHAPES[order]
+    if isinstance(surface, LineScans):
+        shape = {"a plane": "a straight line", "a quadratic surface": "a parabola"}.get(shape, shape)
+        shape = f"{'each profile is' if surface.nb_scans > 1 else 'the profile is'} {shape}"
+    else:
+        shape = f"the map is {shape}"
+    return (f"{shape}: after removing {removed} only round-off is left (rms {rms:.2g} m of heights up to "
+            f"{scale:.3g} m)")
+
+
+def _refuse_resolution(sources: Sequence[SourceAnalysis], resolution: float) -> None:
+    """A resolution the user gave that leaves no source a reliable C(q) is the input to change: say so."""
+    spectra = []
+    for src in sources:
+        b = src.profile_spectrum if src.profile_spectrum is not None else src.spectrum
+        if b is None or b.basis is None or not b.basis.given_resolution_at_fault:
+            return  # something else (too few points) is at fault for this source: keep its own reason
+        if b.nb_reliable >= (3 if b.dim == 1 else 2):  # the 1D→2D conversion dropped bins
+            return
+        spectra.append((src, b))
+    src, b = max(spectra, key=lambda sb: sb[1].basis.side)  # type: ignore[union-attr]
+    lo, hi = b.q_reliable
+    reason = b.basis.resolution_reason(lo, hi, b.nb_reliable, 3 if b.dim == 1 else 2)  # type: ignore[union-attr]
+    if len(sources) > 1:
+        reason = f"leaves none of the {len(sources)} measurements a reliable C(q); the largest, {src.name}: {reason}"
+    raise InputError(option_name("resolution"), length_text(resolution), reason)
 
 
 def _describe(surface: Topography | LineScans) -> str:
     if isinstance(surface, Topography):
         nx, ny = surface.nb_grid_pts
-        return f"{nx}×{ny} map of {surface.size[0]:.4g} m × {surface.size[1]:.4g} m"
-    return f"{surface.nb_scans} profile(s) of {surface.nb_points} points over {surface.length:.4g} m"
+        return f"{nx}×{ny} map of {length_text(surface.size[0])} × {length_text(surface.size[1])}"
+    return f"{surface.nb_scans} profile(s) of {surface.nb_points} points over {length_text(surface.length)}"
 
 
 def _combined_statistics(sources: Sequence[SourceAnalysis], spectrum: PowerSpectrum | None) -> SurfaceStatistics:

@@ -12,12 +12,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InputError
-from ._types import LineScans, Topography
+from ..errors import FileFormatError, InputError
+from ._types import NO_DATA_MAGNITUDE, LineScans, Topography
 from ._units import MissingUnitsError, option_name, parse_length
 
 __all__ = ["Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
-           "resample_nonuniform"]
+           "resample_nonuniform", "mark_no_data"]
 
 Surface = Topography | LineScans
 LengthLike = float | str
@@ -99,3 +99,28 @@ def resample_nonuniform(x: NDArray[np.float64], h: NDArray[np.float64]) -> tuple
     return h, dx * n, note
 
 
+# ---------------------------------------------------------------------------- no-data markers
+def mark_no_data(path: Path | str, h: NDArray[np.float64]) -> tuple[NDArray[np.float64], str | None]:
+    """Heights in file units with no-data markers set to NaN, and a warning saying so (or None).
+
+    A marker is ±inf or a value of magnitude >= ``NO_DATA_MAGNITUDE`` (1e30): no height in any length
+    unit is that large; instruments write such values (1e300, -1e38, the float32 maximum 3.4e38)
+    where they measured nothing. Marked points count as undefined, like NaN: left out of the
+    statistics and filled by interpolation for C(q). All heights markers: FileFormatError.
+    """
+    h = np.asarray(h, dtype=float)
+    with np.errstate(invalid="ignore"):
+        bad = ~np.isnan(h) & ~(np.abs(h) < NO_DATA_MAGNITUDE)
+    n = int(bad.sum())
+    if n == 0:
+        return h, None
+    values = np.unique(h[bad])
+    shown = ", ".join(f"{v:.4g}" for v in values[:3]) + (f" and {values.size - 3} other values" if values.size > 3 else "")
+    if n == int((~np.isnan(h)).sum()):
+        raise FileFormatError(path, f"all {n} heights are no-data markers ({shown}): the file holds no measured point")
+    h = np.where(bad, np.nan, h)
+    share = 100.0 * n / h.size
+    return h, (f"{n} of {h.size} points ({share:.2g} %) hold values no height can have ({shown}; magnitude "
+               f">= {NO_DATA_MAGNITUDE:g} in any unit): the instrument's no-data marker; they are treated as undefined "
+               f"points (left out of the statistics, filled by interpolation for C(q)); export undefined points as "
+               f"NaN to read the file without this warning")

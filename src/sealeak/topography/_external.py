@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, InputError, UnitError
-from ._common import INSTALL_HINT, Surface, ignored_notes, lateral_size, require_units, resample_nonuniform
+from ._common import INSTALL_HINT, Surface, ignored_notes, lateral_size, mark_no_data, require_units, resample_nonuniform
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, option_name
 
@@ -179,12 +179,12 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
     h = np.ma.filled(np.ma.asarray(heights, dtype=float), np.nan)
     if h.size == 0:
         raise FileFormatError(path, "channel holds no data points")
-    if np.isinf(h).any():
-        raise FileFormatError(path, "channel holds infinite heights")
     if np.isnan(h).all():
         raise FileFormatError(path, "all heights are undefined")
     if np.isnan(h).any():
         notes.append(f"{int(np.isnan(h).sum())} of {h.size} points undefined in the file")
+    h, warning = mark_no_data(path, h)
+    warned = (warning,) if warning else ()
 
     if unit is None:
         hf = length_unit_factor(height_unit, option_name("height_unit"))  # type: ignore[arg-type]
@@ -222,13 +222,13 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
                 if note:
                     notes.append(note)
                 return LineScans(h * hf, length * lf_x, periodic=periodic, source=source, notes=tuple(notes),
-                                 resolution=resolution)
+                                 resolution=resolution, warnings=warned)
             return LineScans(h * hf, sizes[0], periodic=periodic, source=source, notes=tuple(notes),
-                             resolution=resolution)
+                             resolution=resolution, warnings=warned)
         if h.ndim != 2:
             raise FileFormatError(path, f"{h.ndim}D data; expected a map or a line scan")
         return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=source, notes=tuple(notes),
-                          resolution=resolution)
+                          resolution=resolution, warnings=warned)
     except InputError as exc:
         raise FileFormatError(path, str(exc)) from None
 

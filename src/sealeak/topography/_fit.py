@@ -15,8 +15,12 @@ q_r is reported as not resolved.
 
 H is restricted to the model's 0 <= H <= 1. When the data want a value outside (a spectrum
 steeper than q⁻⁴ or flatter than q⁻², by more than two standard errors), the fit stays at the
-bound, ``hurst_in_range`` is False, ``hurst_wanted`` holds the unconstrained value and ``warning``
-says so. A spectrum that shows no
+bound, ``hurst_in_range`` is False, ``hurst_wanted`` holds the unconstrained value and ``warnings``
+says so. Every fit that ends at a bound of H carries a warning, also when the unconstrained value is
+within two standard errors of it (a poorly determined H), and so does every fit whose reduced χ²
+exceeds ``CHI2_WARN`` = 100: the model then misses the bins by ten times their statistical scatter
+or more, and its parameters are a compromise (the standard errors, scaled by √χ², do not say that
+the model is wrong). A spectrum that shows no
 power-law decay at all over the fitted range (white noise, a flat C(q)) cannot determine H: that
 raises :class:`~sealeak.errors.InputError` with the reason. A roll-off that would reach the top of
 the range is clipped to it. No RuntimeWarning escapes: undefined standard errors are NaN.
@@ -35,7 +39,10 @@ from ..errors import ConvergenceError, InputError
 from ..physics.spectrum import PowerSpectrum
 from ._spectrum import BinnedSpectrum
 
-__all__ = ["SelfAffineFit", "fit_self_affine"]
+__all__ = ["SelfAffineFit", "fit_self_affine", "CHI2_WARN"]
+
+#: Reduced χ² above which a fit carries a warning (misfit of ten times the bins' scatter).
+CHI2_WARN = 100.0
 
 FloatArray = NDArray[np.float64]
 
@@ -68,8 +75,11 @@ class SelfAffineFit:
         False when the data want H outside 0 < H < 1 (then ``hurst`` is the bound, ``hurst_err`` NaN).
     hurst_wanted:
         The unconstrained best H (equal to ``hurst`` when in range).
+    warnings:
+        Sentences for the user when the fit is questionable: H at a bound of 0 <= H <= 1, reduced
+        χ² above ``CHI2_WARN`` (empty when the fit describes the data).
     warning:
-        A sentence for the user when the fit is questionable (H at a bound), else None.
+        The same joined into one text, or None.
     """
 
     hurst: float
@@ -87,7 +97,12 @@ class SelfAffineFit:
     spectrum: PowerSpectrum
     hurst_in_range: bool = True
     hurst_wanted: float = float("nan")
-    warning: str | None = None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def warning(self) -> str | None:
+        """The warnings as one text, or None."""
+        return "; ".join(self.warnings) if self.warnings else None
 
     def __repr__(self) -> str:
         qr = (f"{self.q_rolloff:.4g} ± {self.q_rolloff_err:.2g} 1/m" if self.rolloff_resolved
@@ -211,20 +226,26 @@ def _fit(q: FloatArray, lq: FloatArray, lC: FloatArray, sigma: FloatArray, H0: f
         params = np.array(res.x)
         idx = [0, 1, 2]
     H = float(params[0])
-    in_range, wanted, warning = True, H, None
+    in_range, wanted = True, H
+    warns: list[str] = []
     if H <= _H_LO + _AT_BOUND or H >= _H_HI - _AT_BOUND:
         free = power_law(-3.0, 5.0) if not resolved else solve(
             residuals, params, [-3.0, lo_q - 1.0, lC.min() - 20.0], [5.0, hi_q, lC.max() + 20.0])
         wanted = float(free.x[0])
         sd = _h_sigma(free, q.size)
         margin = max(2.0 * sd, _AT_BOUND) if np.isfinite(sd) else _AT_BOUND  # within 2σ: consistent with it
-        if not (_H_LO - margin < wanted < _H_HI + margin):
+        bound = _H_LO if H <= 0.5 else _H_HI
+        if _H_LO - margin < wanted < _H_HI + margin:
+            shown = f"{wanted:.3f} ± {sd:.3f}" if np.isfinite(sd) else f"{wanted:.3f}"
+            warns.append(f"H = {bound:g} lies at the bound of the self-affine model's 0 <= H <= 1 (without the bound "
+                         f"the fit gives H = {shown}): H is poorly determined by this C(q) (check the reliable "
+                         f"range and the instrument's noise floor)")
+        else:
             in_range = False
-            bound = _H_LO if H <= 0.5 else _H_HI
             params[0] = bound  # held exactly at the bound
-            warning = (f"the data want H = {wanted:.2f} (C ∝ q^{-2 * (1 + wanted):.2f}), outside the self-affine "
-                       f"model's 0 < H < 1; the fit is held at H = {bound:g} and does not describe this C(q) "
-                       f"(check the detrending, the reliable range and the instrument's noise floor)")
+            warns.append(f"the data want H = {wanted:.2f} (C ∝ q^{-2 * (1 + wanted):.2f}), outside the self-affine "
+                         f"model's 0 < H < 1; the fit is held at H = {bound:g} and does not describe this C(q) "
+                         f"(check the detrending, the reliable range and the instrument's noise floor)")
             tail = lq > params[1] + 1e-9 if resolved else np.ones(lq.size, dtype=bool)
             slope, _ = _loglog_slope(lq[tail], lC[tail], sigma[tail])
             if slope > -1.0:
@@ -236,6 +257,12 @@ def _fit(q: FloatArray, lq: FloatArray, lC: FloatArray, sigma: FloatArray, H0: f
     J = res.jac
     dof = max(q.size - len(idx), 1)
     chi2_red = float(2.0 * res.cost / dof)
+    if chi2_red > CHI2_WARN:
+        factor = float(np.exp(np.sqrt(np.mean((res.fun * sigma) ** 2))))  # rms of the log residuals
+        warns.append(f"reduced χ² = {chi2_red:.3g}: the model misses the bins by {np.sqrt(chi2_red):.2g} times their "
+                     f"statistical scatter (typically a factor {factor:.2g} in C): this C(q) is not one power law with "
+                     f"a roll-off over {band} (structure, a noise floor, or stitched measurements that disagree); "
+                     f"H, q_r and C0 are a compromise and their standard errors do not show it")
     try:
         cov_small = np.linalg.inv(J.T @ J) * max(chi2_red, 1e-300)
     except np.linalg.LinAlgError:
@@ -266,7 +293,7 @@ def _fit(q: FloatArray, lq: FloatArray, lC: FloatArray, sigma: FloatArray, H0: f
         C0=C0, C0_err=float(C0 * _sd(cov[2, 2])),
         h_rms=spec.h_rms, h_rms_err=_sd(h_var), q_range=(float(q[0]), float(q[-1])),
         chi2_red=chi2_red, covariance=cov, spectrum=spec,
-        hurst_in_range=in_range, hurst_wanted=wanted, warning=warning,
+        hurst_in_range=in_range, hurst_wanted=wanted, warnings=tuple(warns),
     )
 
 

@@ -167,10 +167,10 @@ def prepare(surface: Surface, *, detrend: Detrend = "auto", window: Window = "au
                      f"{'harmonic' if is_map else 'linear'} interpolation")
     if isinstance(surface, Topography):
         prepared: Surface = Topography(h, surface.size, periodic=periodic, source=surface.source, notes=surface.notes,
-                                       resolution=surface.resolution)
+                                       resolution=surface.resolution, warnings=surface.warnings)
     else:
         prepared = LineScans(h, surface.length, periodic=periodic, source=surface.source, notes=surface.notes,
-                             resolution=surface.resolution)
+                             resolution=surface.resolution, warnings=surface.warnings)
     if window == "hann":
         if is_map:
             w = np.outer(hann_window(h.shape[0]), hann_window(h.shape[1]))

@@ -25,7 +25,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError
-from ._common import INSTALL_HINT, LengthLike, Surface, ignored_notes, lateral_size, require_units, resample_nonuniform
+from ._common import (
+    INSTALL_HINT,
+    LengthLike,
+    Surface,
+    ignored_notes,
+    lateral_size,
+    mark_no_data,
+    require_units,
+    resample_nonuniform,
+)
 from ._external import read_external
 from ._text import NotPlainText, RawTable, looks_binary, parse_text
 from ._types import LineScans, Topography
@@ -79,6 +88,8 @@ def read_topography(
     Topography or LineScans
         Heights in m: a map h[x, y] with size (sx, sy), or line scans with their length. Profiles
         with non-uniform x are linearly interpolated onto a uniform grid of as many points (noted).
+        NaN marks undefined points; so do instruments' no-data markers (±inf, or values of magnitude
+        1e30 or more in the file's unit, such as 1e300 or -1e38), with a sentence in ``warnings``.
     """
     p = Path(path)
     if not p.exists():
@@ -228,34 +239,41 @@ def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_u
         notes += [f"x, y in {lateral_unit}, heights in {height_unit}"]
         notes += [f"{option_name(k)} {v!r} ignored: the positions give the lateral scale"
                   for k, v in (("pixel_size", pixel_size), ("size", size)) if v is not None]
+        heights, warning = mark_no_data(path, raw.heights)
+        warned = (warning,) if warning else ()
         if raw.kind == "xh":
-            h, length, note = resample_nonuniform(raw.x, raw.heights)  # type: ignore[arg-type]
+            if int(np.isfinite(heights).sum()) < 4:
+                raise FileFormatError(path, "x h columns: fewer than 4 defined heights")
+            h, length, note = resample_nonuniform(raw.x, heights)  # type: ignore[arg-type]
             if note:
                 notes.append(note)
-            return LineScans(h * hf, length * lf, periodic=periodic, source=str(path), notes=tuple(notes))
+            return LineScans(h * hf, length * lf, periodic=periodic, source=str(path), notes=tuple(notes),
+                             warnings=warned)
         dx = float(np.diff(raw.x).mean())  # type: ignore[arg-type]
         dy = float(np.diff(raw.y).mean())  # type: ignore[arg-type]
-        nx, ny = raw.heights.shape
-        return Topography(raw.heights * hf, (nx * dx * lf, ny * dy * lf), periodic=periodic,
-                          source=str(path), notes=tuple(notes))
+        nx, ny = heights.shape
+        return Topography(heights * hf, (nx * dx * lf, ny * dy * lf), periodic=periodic,
+                          source=str(path), notes=tuple(notes), warnings=warned)
     return _from_matrix(path, raw.heights, notes, pixel_size=pixel_size, size=size,
                         height_unit=height_unit, periodic=periodic)
 
 
 def _from_matrix(path: Path, h: NDArray[np.float64], notes: list[str], *, pixel_size: Any, size: Any,
                  height_unit: str | None, periodic: bool) -> Surface:
-    if np.isinf(h).any():
-        raise FileFormatError(path, "contains infinite heights")
     if np.isnan(h).all():
         raise FileFormatError(path, "all heights are undefined (NaN)")
+    h, warning = mark_no_data(path, h)
+    warned = (warning,) if warning else ()
     require_units(path, height=height_unit is None, size=pixel_size is None and size is None)
     hf = length_unit_factor(height_unit, option_name("height_unit"))  # type: ignore[arg-type]
     sizes = lateral_size(path, h.shape, pixel_size, size)
     notes.append(f"heights in {height_unit}, size {' × '.join(f'{s:.6g}' for s in sizes)} m")
     try:
         if h.ndim == 1:
-            return LineScans(h * hf, sizes[0], periodic=periodic, source=str(path), notes=tuple(notes))
-        return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=str(path), notes=tuple(notes))
+            return LineScans(h * hf, sizes[0], periodic=periodic, source=str(path), notes=tuple(notes),
+                             warnings=warned)
+        return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=str(path), notes=tuple(notes),
+                          warnings=warned)
     except InputError as exc:
         raise FileFormatError(path, str(exc)) from None
 

@@ -43,6 +43,7 @@ from scipy import fft as sfft
 from scipy import special
 
 from ..errors import InputError
+from ..io.units import format_quantity
 from ..physics.spectrum import PowerSpectrum
 from ._preprocess import Detrend, Prepared, Window, prepare
 from ._types import LineScans, Topography
@@ -50,6 +51,7 @@ from ._units import option_name
 
 __all__ = [
     "BinnedSpectrum",
+    "RangeBasis",
     "power_spectrum_map",
     "spectrum_2d",
     "spectrum_1d",
@@ -60,6 +62,78 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
+
+
+def length_text(value: float) -> str:
+    """A length in m as readable text with its unit (nm .. km), e.g. 2e-3 -> '2 mm'."""
+    if abs(value) >= 1e3:
+        return f"{value / 1e3:.4g} km"
+    return format_quantity(value, "length", 4)
+
+
+_length = length_text
+
+
+@dataclass(frozen=True)
+class RangeBasis:
+    """What sets the reliable range of one measurement's spectrum (for messages that name the cause).
+
+    ``side``: the length L in m (shorter side of a map, length of a profile); ``pixel``: the (larger)
+    pixel size in m; ``low_cut`` and ``resolution_pixels`` as given; ``resolution``: the lateral
+    resolution in m that was considered, ``origin`` where it came from ("given" or "stated by the
+    file"), ``by_resolution`` True when it (not the pixel limit) ends the range; ``kind``: "map"
+    or "profile".
+    """
+
+    side: float
+    pixel: float
+    low_cut: float
+    resolution_pixels: float
+    resolution: float | None
+    origin: str
+    by_resolution: bool
+    kind: str
+
+    @property
+    def given_resolution_at_fault(self) -> bool:
+        """True when a resolution the user gave ends the range (then it is the input to change)."""
+        return self.by_resolution and self.origin == "given"
+
+    def resolution_reason(self, lo: float, hi: float, n: int, need: int) -> str:
+        """Why a given resolution leaves too few bins, without naming the option (see :meth:`problem`)."""
+        longest = self.side / self.low_cut
+        what = "map's shorter side" if self.kind == "map" else "profile"
+        if lo >= hi:
+            size = (f"longer than the {what} ({_length(self.side)})" if self.resolution >= self.side else  # type: ignore[operator]
+                    f"too close to the {what} ({_length(self.side)})")
+            return (f"{size}: the reliable range would start at q = {lo:.4g} 1/m ({self.low_cut:g}·2π/L) and end at "
+                    f"{hi:.4g} 1/m (2π/resolution); give a resolution below L/{option_name('low_cut')} = "
+                    f"{_length(longest)}")
+        return (f"leaves {n} bin(s) in the reliable range q = {lo:.4g}..{hi:.4g} 1/m, at least {need} are needed; "
+                f"give a resolution well below L/{option_name('low_cut')} = {_length(longest)}")
+
+    def reason(self, lo: float, hi: float, n: int, need: int) -> str:
+        """Why fewer than ``need`` reliable bins are left, naming the input at fault (a sentence)."""
+        if self.given_resolution_at_fault:
+            return (f"{option_name('resolution')} = {_length(self.resolution)} "  # type: ignore[arg-type]
+                    f"{self.resolution_reason(lo, hi, n, need)}")
+        across = self.side / self.pixel
+        where = "across its shorter side" if self.kind == "map" else "along the profile"
+        if self.by_resolution:  # the file's own resolution: the instrument, not an option, limits the range
+            cause = (f"the lateral resolution the file states ({_length(self.resolution)}) "  # type: ignore[arg-type]
+                     f"against the measured length L = {_length(self.side)}")
+            fix = (f"measure a larger area (or give {option_name('resolution')} if the instrument resolves finer "
+                   f"detail than the file states)")
+        else:
+            cause = (f"only {across:.3g} pixels {where} (L = {_length(self.side)}, pixel {_length(self.pixel)}); the "
+                     f"reliable range spans wavelengths from {self.resolution_pixels:g} pixels "
+                     f"({option_name('resolution_pixels')}) to L/{self.low_cut:g} ({option_name('low_cut')})")
+            fix = (f"measure with more points (a finer pixel, or a larger area at this pixel size), or relax "
+                   f"{option_name('low_cut')} / {option_name('resolution_pixels')}")
+        if lo >= hi:
+            return f"too small for a reliable C(q): {cause}, which leaves no wavelength between them; {fix}"
+        return (f"its C(q) has {n} bin(s) in the reliable range q = {lo:.4g}..{hi:.4g} 1/m, at least {need} are "
+                f"needed ({cause}); {fix}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,6 +157,8 @@ class BinnedSpectrum:
         2 for C(q) of a surface, 1 for the profile spectrum C1D(q).
     label, notes:
         Source description and what was done.
+    basis:
+        What sets the reliable range (:class:`RangeBasis`), or None (stitched spectra).
     """
 
     q: FloatArray
@@ -95,6 +171,7 @@ class BinnedSpectrum:
     dim: int
     label: str = ""
     notes: tuple[str, ...] = field(default=())
+    basis: RangeBasis | None = None
 
     @property
     def nb_reliable(self) -> int:
@@ -107,13 +184,11 @@ class BinnedSpectrum:
         if n >= need:
             return None
         lo, hi = self.q_reliable
+        if self.basis is not None:
+            return self.basis.reason(lo, hi, n, need)
         if not lo < hi:
-            return (f"too small for a reliable C(q): its reliable range would start at q = {lo:.4g} 1/m "
-                    f"({option_name('low_cut')} times 2π/L) but ends at {hi:.4g} 1/m (the shortest reliable "
-                    f"wavelength); measure a larger area or with more points")
-        return (f"its C(q) has {n} bin(s) in the reliable range q = {lo:.4g}..{hi:.4g} 1/m, at least {need} are "
-                f"needed; measure a larger area or with more points, or relax {option_name('low_cut')} / "
-                f"{option_name('resolution_pixels')}")
+            return (f"no reliable C(q): the reliable range would start at q = {lo:.4g} 1/m but ends at {hi:.4g} 1/m")
+        return f"its C(q) has {n} bin(s) in the reliable range q = {lo:.4g}..{hi:.4g} 1/m, at least {need} are needed"
 
     def to_power_spectrum(self, label: str | None = None) -> PowerSpectrum:
         """The reliable, positive bins as a :class:`~sealeak.physics.spectrum.PowerSpectrum` (2D only)."""
@@ -165,18 +240,20 @@ def _check_options(bins_per_decade: float, low_cut: float, resolution_pixels: fl
         raise InputError(option_name("resolution"), resolution, "a length > 0 (the shortest reliable wavelength, m)")
 
 
-def _upper_limit(pixel: float, resolution_pixels: float, resolution: float | None, stated: float | None
-                 ) -> tuple[float, str]:
-    """Upper end of the reliable range (1/m) and a note on what sets it."""
+def _upper_limit(side: float, pixel: float, low_cut: float, resolution_pixels: float, resolution: float | None,
+                 stated: float | None, kind: str) -> tuple[float, str, RangeBasis]:
+    """Upper end of the reliable range (1/m), a note on what sets it, and the basis for messages."""
     q_pix = 2.0 * np.pi / (resolution_pixels * pixel)
     res, origin = (resolution, "given") if resolution is not None else (stated, "stated by the file")
     if res is None:
-        return q_pix, f"wavelengths >= {resolution_pixels:g} pixels"
+        return q_pix, f"wavelengths >= {resolution_pixels:g} pixels", RangeBasis(
+            side, pixel, low_cut, resolution_pixels, None, "", False, kind)
     q_res = 2.0 * np.pi / res
+    basis = RangeBasis(side, pixel, low_cut, resolution_pixels, res, origin, q_res < q_pix, kind)
     if q_res < q_pix:
-        return q_res, f"wavelengths >= the lateral resolution {res:.4g} m ({origin})"
+        return q_res, f"wavelengths >= the lateral resolution {res:.4g} m ({origin})", basis
     return q_pix, (f"wavelengths >= {resolution_pixels:g} pixels, which is coarser than the lateral resolution "
-                   f"{res:.4g} m ({origin})")
+                   f"{res:.4g} m ({origin})"), basis
 
 
 # ---------------------------------------------------------------------------- 2D
@@ -232,7 +309,8 @@ def spectrum_2d(
     if not use.any():
         raise InputError("topography", surf.nb_grid_pts, "too few points for a spectrum")
     qc, Cb, modes, lo, hi = _bin(q[use], C[use], weight[use], bins_per_decade)
-    q_hi, why = _upper_limit(max(dx, dy), resolution_pixels, resolution, surf.resolution)
+    q_hi, why, basis = _upper_limit(min(surf.size), max(dx, dy), low_cut, resolution_pixels, resolution,
+                                    surf.resolution, "map")
     q_rel = (low_cut * 2.0 * np.pi / min(surf.size), q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
     notes = list(prepared.notes) + [
@@ -240,7 +318,8 @@ def spectrum_2d(
         f"{bins_per_decade:g} bins per decade up to the Nyquist wavevector {q_nyq:.4g} 1/m",
         f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
-    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 2, label=surf.source, notes=tuple(notes))
+    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 2, label=surf.source, notes=tuple(notes),
+                          basis=basis)
 
 
 # ---------------------------------------------------------------------------- 1D
@@ -271,14 +350,16 @@ def spectrum_1d(
     if n % 2 == 0:
         weight[-1] = surf.nb_scans
     qc, Cb, modes, lo, hi = _bin(q[1:], C[1:], weight[1:], bins_per_decade)
-    q_hi, why = _upper_limit(surf.pixel_size, resolution_pixels, resolution, surf.resolution)
+    q_hi, why, basis = _upper_limit(L, surf.pixel_size, low_cut, resolution_pixels, resolution, surf.resolution,
+                                    "profile")
     q_rel = (low_cut * 2.0 * np.pi / L, q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
     notes = list(prepared.notes) + [
         f"1D spectrum: {surf.nb_scans} profile(s) of {n} points, averaged, {bins_per_decade:g} bins per decade",
         f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
-    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 1, label=surf.source, notes=tuple(notes))
+    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 1, label=surf.source, notes=tuple(notes),
+                          basis=basis)
 
 
 # ---------------------------------------------------------------------------- Abel transforms

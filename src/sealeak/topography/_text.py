@@ -104,11 +104,8 @@ def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None
         rows.append(values)
     if not rows:
         raise FileFormatError(path, "no numeric data (empty or only comments)")
-    table = np.asarray(rows, dtype=float)
-    if np.isinf(table).any():
-        r, c = np.argwhere(np.isinf(table))[0]
-        raise FileFormatError(path, f"value {r + 1} in column {c + 1} is infinite or overflows float64")
-    return table
+    # infinite heights (or numbers beyond float64) are no-data markers, dealt with when units are applied
+    return np.asarray(rows, dtype=float)
 
 
 def _is_float(token: str) -> bool:
@@ -147,8 +144,9 @@ def _layout(path: Path, table: NDArray[np.float64]) -> RawTable:
 
 def _xh(path: Path, table: NDArray[np.float64]) -> RawTable:
     x, h = table[:, 0], table[:, 1]
-    if np.isnan(x).any():
-        raise FileFormatError(path, f"x column: position on data row {int(np.argmax(np.isnan(x))) + 1} is NaN")
+    if not np.isfinite(x).all():
+        raise FileFormatError(path, f"x column: position on data row {int(np.argmax(~np.isfinite(x))) + 1} is "
+                                    f"{x[~np.isfinite(x)][0]} (positions must be finite numbers)")
     order = np.argsort(x, kind="stable")
     x, h = x[order], h[order]
     if (np.diff(x) <= 0).any():
@@ -160,8 +158,8 @@ def _xh(path: Path, table: NDArray[np.float64]) -> RawTable:
 
 
 def _xyz(path: Path, table: NDArray[np.float64]) -> RawTable:
-    if np.isnan(table[:, :2]).any():
-        raise FileFormatError(path, "x y h columns: some x or y positions are NaN")
+    if not np.isfinite(table[:, :2]).all():
+        raise FileFormatError(path, "x y h columns: some x or y positions are NaN or infinite")
     xs, ix = np.unique(table[:, 0], return_inverse=True)
     ys, iy = np.unique(table[:, 1], return_inverse=True)
     if xs.size < 2 or ys.size < 2:

@@ -9,15 +9,32 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 
-__all__ = ["Topography", "LineScans"]
+__all__ = ["Topography", "LineScans", "NO_DATA_MAGNITUDE"]
 
 FloatArray = NDArray[np.float64]
+
+#: Heights of this magnitude or more (in any length unit) are not heights but an instrument's
+#: no-data marker (1e300, -1e38, the float32 maximum 3.4e38, ...): the readers mark them undefined.
+NO_DATA_MAGNITUDE = 1e30
 
 
 def _freeze(a: FloatArray) -> FloatArray:
     a = np.array(a, dtype=float, copy=True)
     a.setflags(write=False)
     return a
+
+
+def _check_heights(h: FloatArray, field: str) -> None:
+    """Heights must be finite where defined (NaN marks missing points) and below no-data magnitude."""
+    if np.isnan(h).all():
+        raise InputError(field, "all NaN", "at least some heights must be defined")
+    with np.errstate(invalid="ignore"):
+        bad = ~np.isnan(h) & ~(np.abs(h) < NO_DATA_MAGNITUDE)
+    if bad.any():
+        example = h[bad].flat[0]
+        raise InputError(field, f"{int(bad.sum())} value(s) such as {example:.4g}",
+                         f"heights must be finite and below {NO_DATA_MAGNITUDE:g} m; values like these are "
+                         f"no-data markers: set them to NaN (NaN marks missing points)")
 
 
 def _resolution(value: float | None, name: str) -> float | None:
@@ -51,6 +68,9 @@ class Topography:
         Shortest reliable wavelength in m stated by the instrument file (lateral resolution, or the
         tip-radius limit of a stylus/AFM scan), or None. The reliable range of the spectrum ends at
         q = 2π/resolution (or earlier, at the pixel limit).
+    warnings:
+        What the user should know about the data, as sentences (e.g. no-data markers that were
+        marked undefined on reading); shown as warnings by ``sealeak surface analyze``.
     """
 
     heights: FloatArray
@@ -59,15 +79,13 @@ class Topography:
     source: str = ""
     notes: tuple[str, ...] = field(default=())
     resolution: float | None = None
+    warnings: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
         h = _freeze(self.heights)
         if h.ndim != 2 or min(h.shape) < 2:
             raise InputError("topography.heights", f"shape {h.shape}", "a 2D array with at least 2×2 points")
-        if np.isinf(h).any():
-            raise InputError("topography.heights", "inf", "heights must be finite (NaN marks missing points)")
-        if np.isnan(h).all():
-            raise InputError("topography.heights", "all NaN", "at least some heights must be defined")
+        _check_heights(h, "topography.heights")
         sx, sy = (float(v) for v in self.size)
         for name, v in (("size[0]", sx), ("size[1]", sy)):
             if not (np.isfinite(v) and v > 0):
@@ -75,6 +93,7 @@ class Topography:
         object.__setattr__(self, "heights", h)
         object.__setattr__(self, "size", (sx, sy))
         object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
         object.__setattr__(self, "resolution", _resolution(self.resolution, "topography.resolution"))
 
     @property
@@ -110,7 +129,7 @@ class LineScans:
         h[k, i] in m for scan k at x_i = i·length/n. NaN marks missing points.
     length:
         Physical length in m (= n × pixel size).
-    periodic, source, notes, resolution:
+    periodic, source, notes, resolution, warnings:
         As for :class:`Topography`.
     """
 
@@ -120,6 +139,7 @@ class LineScans:
     source: str = ""
     notes: tuple[str, ...] = field(default=())
     resolution: float | None = None
+    warnings: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
         h = _freeze(self.heights)
@@ -127,16 +147,14 @@ class LineScans:
             h = _freeze(h[None, :])
         if h.ndim != 2 or h.shape[1] < 4 or h.shape[0] < 1:
             raise InputError("line_scans.heights", f"shape {h.shape}", "1D profiles with at least 4 points")
-        if np.isinf(h).any():
-            raise InputError("line_scans.heights", "inf", "heights must be finite (NaN marks missing points)")
-        if np.isnan(h).all():
-            raise InputError("line_scans.heights", "all NaN", "at least some heights must be defined")
+        _check_heights(h, "line_scans.heights")
         length = float(self.length)
         if not (np.isfinite(length) and length > 0):
             raise InputError("line_scans.length", length, "a finite length > 0 (m)")
         object.__setattr__(self, "heights", h)
         object.__setattr__(self, "length", length)
         object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
         object.__setattr__(self, "resolution", _resolution(self.resolution, "line_scans.resolution"))
 
     @classmethod
@@ -147,7 +165,7 @@ class LineScans:
         h = topography.heights.T if axis == 0 else topography.heights
         return cls(h, topography.size[axis], periodic=topography.periodic,
                    source=f"{topography.source} ({'x' if axis == 0 else 'y'} profiles)",
-                   notes=topography.notes, resolution=topography.resolution)
+                   notes=topography.notes, resolution=topography.resolution, warnings=topography.warnings)
 
     @property
     def nb_points(self) -> int:
