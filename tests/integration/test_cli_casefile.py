@@ -27,7 +27,7 @@ INVALID = [
     ("malformed toml", BASE + "\n[rubber\n", {}, "malformed TOML"),
     ("hurst out of range", edit("hurst = 0.8", "hurst = 1.5"), {}, "surface.hurst = 1.5"),
     ("cutoff below rolloff", edit('cutoff_wavelength = "20 um"', 'cutoff_wavelength = "2 mm"'), {},
-     "surface.cutoff_wavevector"),
+     "surface.cutoff_wavelength = '2 mm'"),
     ("unknown key", edit("alpha = 0.2", "alpha = 0.2\nalfa = 0.3"), {}, "theory.alfa"),
     ("unknown model", edit('model = "self-affine"', 'model = "fractal"'), {}, "surface.model = 'fractal'"),
     ("both h_rms and C0", edit('h_rms = "44 um"', 'h_rms = "44 um"\nC0 = "1e-18 m^4"'), {}, "surface.h_rms"),

@@ -71,6 +71,14 @@ def test_absurd_inputs_are_computed_and_warned_about(tmp_path, capsys, old, new,
     assert any(words in w for w in json.loads(js.read_text())["warnings"])
 
 
+def test_a_spectrum_band_out_of_order_names_the_keys_the_file_has(tmp_path, capsys):
+    path = _write(tmp_path, edit('rolloff_wavevector = "9.1e3 1/m"', 'rolloff_wavevector = "1e9 1/m"'))
+    assert main(["predict", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error: surface.rolloff_wavevector") and "surface.cutoff_wavelength" in err
+    assert "cutoff_wavevector" not in err  # the file does not have that key
+
+
 @pytest.mark.parametrize(("old", "new", "field"), [
     ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "1e30 Pa"', "rubber.youngs_modulus"),
     ('outer_diameter = "4 cm"', 'outer_diameter = "3.0000001 cm"', "seal.outer_diameter"),

@@ -81,6 +81,7 @@ def test_ordinary_inputs_give_no_warning():
     ({"cutoff_wavevector": 2 * np.pi / 1e-15}, "below atomic size"),
     ({"squeeze_pressure": [1e5, 8e6]}, "linear elasticity"),
     ({"contact_area_at_cutoff": [1.0]}, "full contact"),
+    ({"alpha": 1e308}, "shape factor"),
 ])
 def test_each_assumption_broken_gives_one_warning_naming_it(change, words):
     out = assumption_warnings(**(_FINE | change))

@@ -48,6 +48,11 @@ def _wavevector(sec: Section, stem: str, required: bool = True) -> float | None:
     return value if key.endswith("wavevector") else 2.0 * np.pi / value
 
 
+def _written(sec: Section, stem: str) -> str:
+    """Which of ``stem_wavevector`` / ``stem_wavelength`` the section gives."""
+    return f"{stem}_wavevector" if sec.has(f"{stem}_wavevector") else f"{stem}_wavelength"
+
+
 def _seal(sec: Section) -> Seal:
     shape = sec.choice("shape", ("ring", "rectangle"))
     if sec.has("height"):  # the ring's cross-section height: described, not used by the theory
@@ -119,6 +124,16 @@ def _self_affine(sec: Section, q0: float) -> tuple[PowerSpectrum, str]:
     if not isinstance(label, str):
         raise InputError(sec.field("label"), label, "must be text")
     assert q_r is not None and q_1 is not None
+    if not q_r < q_1:  # name the keys as the file wrote them (wavevector or wavelength), both of the pair
+        r_key = _written(sec, "rolloff")
+        c_key = _written(sec, "cutoff")
+        raise InputError(sec.field(r_key), sec.raw(r_key),
+                         f"the roll-off (q_r = {q_r:.4g} 1/m) must lie at longer wavelengths than the cut-off "
+                         f"{sec.field(c_key)} = {sec.raw(c_key)!r} (q1 = {q_1:.4g} 1/m); check both")
+    if q_l is not None and not q_l < q_1 and (sec.has("lowest_wavevector") or sec.has("lowest_wavelength")):
+        l_key = _written(sec, "lowest")
+        raise InputError(sec.field(l_key), sec.raw(l_key),
+                         f"the lowest wavevector (q = {q_l:.4g} 1/m) must lie below the cut-off q1 = {q_1:.4g} 1/m")
     spec = PowerSpectrum.self_affine(hurst=hurst, q_rolloff=q_r, q_cutoff=q_1, q_lowest=q_l, label=label, **kwargs)
     note = label or f"self-affine model: H = {hurst:g}, q_r = {q_r:.4g} 1/m, q1 = {q_1:.4g} 1/m"
     return spec, note

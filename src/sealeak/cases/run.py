@@ -239,7 +239,7 @@ def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:
     return assumption_warnings(
         slope_rms=spectrum.slope_rms, h_rms=spectrum.h_rms, seal_width=case.seal.width, cutoff_wavevector=spectrum.q_max,
         squeeze_pressure=result.squeeze_pressure, youngs_modulus=case.youngs_modulus,
-        contact_area_at_cutoff=result.contact_area_at_cutoff,
+        contact_area_at_cutoff=result.contact_area_at_cutoff, alpha=case.alpha,
     )
 
 

@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..io.units import format_quantity
 
 __all__ = [
-    "MOLECULAR_SIZES", "DEFAULT_MOLECULAR_SIZE", "pressures_text", "ATOMIC_SIZE", "SLOPE_LIMIT", "STRAIN_LIMIT", "FULL_CONTACT",
+    "MOLECULAR_SIZES", "DEFAULT_MOLECULAR_SIZE", "pressures_text", "ATOMIC_SIZE", "SLOPE_LIMIT", "STRAIN_LIMIT", "ALPHA_RANGE", "FULL_CONTACT",
     "molecular_size", "continuum_verdict", "assumption_warnings",
 ]
 
@@ -60,6 +60,9 @@ SLOPE_LIMIT = 1.0
 
 #: P0/E above which the rubber's nominal strain is too large for linear elasticity.
 STRAIN_LIMIT = 0.5
+
+#: Range of the shape factor α beyond which it is taken for a mistake (it is of order one).
+ALPHA_RANGE = (0.01, 100.0)
 
 #: A(ζ1)/A0 at or above which the seal counts as in full contact.
 FULL_CONTACT = 0.99
@@ -125,12 +128,14 @@ def assumption_warnings(
     squeeze_pressure: ArrayLike,
     youngs_modulus: float,
     contact_area_at_cutoff: ArrayLike,
+    alpha: float = 1.0,
 ) -> list[str]:
     """Plain-words warnings for inputs far outside what the contact mechanics assumes (docs/theory.md §9.11).
 
     Parameters (SI): ``slope_rms`` (1), ``h_rms`` (m), ``seal_width`` Lx (m), ``cutoff_wavevector``
     q1 (1/m), ``squeeze_pressure`` P0 (Pa), ``youngs_modulus`` E of the rubber (Pa),
-    ``contact_area_at_cutoff`` A(ζ1)/A0 at each P0 (1). Each warning names the input, its value,
+    ``contact_area_at_cutoff`` A(ζ1)/A0 at each P0 (1), ``alpha`` the critical junction's shape
+    factor α (1; of order one, docs/theory.md §3.5). Each warning names the input, its value,
     the assumption it breaks and what to distrust; an empty list when nothing is out of reach.
     """
     out: list[str] = []
@@ -153,6 +158,9 @@ def assumption_warnings(
         out.append(f"at P0 >= {format_quantity(p, 'pressure', 3)} the squeeze pressure exceeds {STRAIN_LIMIT:g} E "
                    f"(E = {format_quantity(youngs_modulus, 'pressure', 3)}): "
                    "the rubber's strain is far beyond the linear elasticity the theory assumes")
+    if not ALPHA_RANGE[0] <= alpha <= ALPHA_RANGE[1]:
+        out.append(f"α = {alpha:.3g} is far from one: α is a shape factor of the critical constriction, of order one "
+                   "(fits to experiment give 0.2 to 1); a value outside 0.01 … 100 points to a mistake, and Q ∝ α")
     area = np.atleast_1d(np.asarray(contact_area_at_cutoff, dtype=float))
     full = area >= FULL_CONTACT
     if full.all():
