@@ -283,3 +283,61 @@ def test_fit_warnings_of_instrument_files_follow_one_rule(tmp_path, capsys, name
     pytest.importorskip("SurfaceTopography")
     doc, text = _fit_outputs(capsys, [str(SAMPLES / name)], tmp_path)
     _check_fit_warnings(doc, text)
+
+
+# ---------------------------------------------------------------------------- synthesize: a size with no content
+# reference-experiment: C(q) spans wavelengths 20 µm (cut-off) .. 5 mm
+@pytest.mark.parametrize("args,said", [
+    (["--size", "1 um"], "smaller than the shortest wavelength"),
+    (["--size", "15 um", "--grid", "256"], "smaller than the shortest wavelength"),
+    (["--size", "10 m", "--grid", "8"], "too coarse"),
+    (["--size", "10 cm", "--grid", "16"], "too coarse"),
+])
+@pytest.mark.parametrize("suffix", [".npy", ".txt"])
+def test_synthesize_refuses_a_map_that_would_be_flat(tmp_path, capsys, args, said, suffix):
+    out = tmp_path / f"s{suffix}"
+    out.write_text("keep me\n")
+    code = main(["surface", "synthesize", "--example", "reference-experiment", *args, "-o", str(out), "--force"])
+    _one_line_error(capsys.readouterr().err, "--size", said, "20 µm .. 5 mm")
+    assert code == 2 and out.read_text() == "keep me\n" and not (tmp_path / "s.npy.json").exists()
+
+
+def test_synthesize_from_a_table_refuses_a_map_that_would_be_flat(tmp_path, capsys):
+    psd = tmp_path / "c.csv"
+    psd.write_text("q (1/m), C (m^4)\n1e5, 1e-28\n1e6, 1e-31\n")  # wavelengths 6.3 µm .. 63 µm
+    assert main(["surface", "synthesize", "--psd", str(psd), "--size", "1 um", "--grid", "32",
+                 "-o", str(tmp_path / "s.npz")]) == 2
+    _one_line_error(capsys.readouterr().err, "--size", "6.283 µm .. 62.83 µm")
+    assert not (tmp_path / "s.npz").exists()
+
+
+def test_synthesize_warns_when_the_map_holds_little_of_the_roughness(tmp_path, capsys):
+    from sealeak.topography import read_topography
+
+    out = tmp_path / "patch.npz"
+    assert main(["surface", "synthesize", "--example", "reference-experiment", "--size", "100 um", "--grid", "64",
+                 "--amplitudes", "phases", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    warning = [ln for ln in err.splitlines() if ln.startswith("warning:")]
+    assert len(warning) == 1 and "longer than the map's side" in warning[0] and "--size" in warning[0]
+    # the share it states is the map's: h_rms² of the map over h_rms² of the spectrum (44 µm)
+    share = float(warning[0].split("only ")[1].split(" %")[0]) / 100
+    h = read_topography(out).heights
+    assert np.mean(h**2) / 44e-6**2 == pytest.approx(share, rel=0.05) and share < 0.1
+    # a map of the seal's width holds nearly all: no warning
+    assert main(["surface", "synthesize", "--example", "reference-experiment", "--grid", "64",
+                 "-o", str(tmp_path / "full.npz")]) == 0
+    assert "warning" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("size", [None, "100 um"])  # a plain run and one with a warning
+def test_synthesize_quiet_prints_nothing(tmp_path, capsys, size):
+    out = tmp_path / "s.npz"
+    extra = ["--size", size] if size else []
+    assert main(["surface", "synthesize", "--example", "reference-experiment", "--grid", "32", *extra, "-q",
+                 "-o", str(out)]) == 0
+    assert capsys.readouterr() == ("", "") and out.is_file()
+    # errors still speak
+    assert main(["surface", "synthesize", "--example", "reference-experiment", "--size", "1 um", "-q",
+                 "-o", str(tmp_path / "t.npz")]) == 2
+    _one_line_error(capsys.readouterr().err, "--size")

@@ -81,3 +81,34 @@ def test_text_maps_too_thin_to_read_back_are_refused(tmp_path):
     write_height_map(tmp_path / "ok.txt", np.arange(8.0).reshape(4, 2), (1e-3, 5e-4))
     t = read_topography(tmp_path / "ok.txt")
     assert t.heights.shape == (4, 2) and t.size == pytest.approx((1e-3, 5e-4))
+
+
+# ---------------------------------------------------------------------------- what a map of a given size holds
+def test_map_variance_is_the_mean_square_of_the_map():
+    from sealeak.numerics.synthesis import map_variance
+
+    for n, size in ((64, L), (128, L / 20), (32, 2 * L)):
+        h = synthesize(MODEL, n, size, seed=3, amplitudes="phases")  # exact amplitudes: no scatter
+        # the Nyquist modes (stored real) carry a little less than their share; < 1 % here
+        assert np.mean(h**2) == pytest.approx(map_variance(MODEL, n, size), rel=0.01)
+    # a map much larger than the longest wavelength and fine enough for the shortest holds all of C(q)
+    assert map_variance(MODEL, 2048, 20 * 2 * np.pi / 1e4) == pytest.approx(MODEL.h_rms**2, rel=0.02)
+
+
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("n,size,said", [
+    (64, 2 * np.pi / 1e7 / 2, "smaller than the shortest wavelength"),  # side half the shortest wavelength
+    (8, 100.0, "too coarse"),  # shortest wavelength on the map ~ 18 m, C(q) ends at 0.6 mm
+])
+def test_a_map_that_would_be_flat_is_refused(n, size, said):
+    from sealeak.numerics.synthesis import band_problem
+
+    assert said in band_problem(MODEL, n, size)
+    with pytest.raises(InputError, match=said):
+        synthesize(MODEL, n, size, seed=0)
+    assert band_problem(MODEL, 64, L) is None
+    # a narrow band between two wavevectors of the grid: no mode inside it either
+    narrow = PowerSpectrum.from_arrays([3.2 * 2 * np.pi / L, 3.5 * 2 * np.pi / L], [1e-30, 1e-30])  # |q| L/2π = √(i²+j²)
+    assert "no wavevector" in band_problem(narrow, 8, L)
+    with pytest.raises(InputError, match="flat"):
+        synthesize(narrow, 8, L, seed=0)

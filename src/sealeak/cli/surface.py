@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, SealeakError
+from ._common import say
 
 __all__ = ["register", "unit_options"]
 
@@ -94,11 +95,35 @@ def _spectrum_for_synthesis(args: argparse.Namespace):
     return cases[0].spectrum, cases[0].seal.width
 
 
+#: Below this share of the spectrum's h_rms² in the map, synthesize warns.
+CAPTURED_WARN = 0.1
+
+
+def _captured_warning(spectrum, n: int, size: float, size_flag: str) -> str | None:  # type: ignore[no-untyped-def]
+    """A warning when the map holds less than CAPTURED_WARN of the spectrum's h_rms², saying what is left out."""
+    from ..numerics.synthesis import map_variance
+    from ..topography import length_text
+
+    share = map_variance(spectrum, n, size) / spectrum.h_rms**2
+    if share >= CAPTURED_WARN:
+        return None
+    q_long, q_short = 2.0 * np.pi / size, np.pi * n / size
+    lost = []
+    if spectrum.q_min < q_long:
+        lost.append(f"the wavelengths longer than the map's side (a larger {size_flag} keeps them)")
+    if spectrum.q_max > q_short:
+        lost.append("the wavelengths shorter than two pixels (a larger --grid keeps them)")
+    return (f"warning: the map holds only {100 * share:.3g} % of the spectrum's h_rms² (C(q) spans wavelengths "
+            f"{length_text(2 * np.pi / spectrum.q_max)} .. {length_text(2 * np.pi / spectrum.q_min)}, the map "
+            f"{length_text(2 * size / n)} .. {length_text(size)}); left out: {' and '.join(lost)}")
+
+
 def _cmd_synthesize(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs
     from ..io.units import parse_quantity
     from ..numerics import require_memory, synthesis_memory_bytes, synthesize
-    from ..topography import HEIGHT_MAP_SUFFIXES, height_map_outputs, write_height_map
+    from ..numerics.synthesis import band_problem
+    from ..topography import HEIGHT_MAP_SUFFIXES, height_map_outputs, length_text, write_height_map
 
     out = Path(args.output)
     if out.suffix.lower() not in HEIGHT_MAP_SUFFIXES:
@@ -120,6 +145,11 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
         raise InputError("--size", None, "is required with --psd (side of the square map, e.g. '5 mm')")
     if size <= 0:
         raise InputError("--size", args.size, "must be > 0")
+    size_flag = "--size" if args.size else "--size (not given: the case's seal width)"
+    empty = band_problem(spectrum, n, size, size_name="--size", grid_name="--grid")
+    if empty is not None:  # the map would be flat: refused before anything is written
+        raise InputError(size_flag, args.size or length_text(size), empty)
+    warning = _captured_warning(spectrum, n, size, "--size")
     q_nyquist = np.pi * n / size
     h = synthesize(spectrum, n, size, seed=args.seed, amplitudes=args.amplitudes)
     source = f"--psd {Path(args.psd).name}" if args.psd else (f"--example {args.example}" if args.example
@@ -128,15 +158,16 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
         f"synthesized by sealeak surface synthesize: C(q) of {source}, seed {args.seed}, {args.amplitudes} amplitudes"])
     h_rms = float(np.linalg.norm(h.ravel())) / n  # the map has mean zero; no full-size temporary
     also = f" (+ {written[1].name}: size and units)" if len(written) > 1 else ""
-    print(f"wrote {out}{also}: {n} x {n} heights (m), side {size:.6g} m, periodic; "
-          f"h_rms = {h_rms * 1e6:.4g} µm (spectrum: {spectrum.h_rms * 1e6:.4g} µm)", file=sys.stderr)
+    say(args, f"wrote {out}{also}: {n} x {n} heights (m), side {size:.6g} m, periodic; "
+              f"h_rms = {h_rms * 1e6:.4g} µm (spectrum: {spectrum.h_rms * 1e6:.4g} µm)")
+    if warning:
+        say(args, warning)
     if spectrum.q_max > q_nyquist:
-        print(f"note: the grid resolves q up to {q_nyquist:.4g} 1/m; C(q) above that (to {spectrum.q_max:.4g} 1/m) "
-              "is left out of the map", file=sys.stderr)
+        say(args, f"note: the grid resolves q up to {q_nyquist:.4g} 1/m; C(q) above that (to {spectrum.q_max:.4g} 1/m) "
+                  "is left out of the map")
     if out.suffix.lower() in (".txt", ".csv") and n * n * 25 > 512 * 2**20:
-        print("note: text maps larger than 512 MiB are refused by the reader; use .npz or .npy", file=sys.stderr)
-    print(f"analyze it with: sealeak surface analyze {out} (the file states its size, unit and periodicity)",
-          file=sys.stderr)
+        say(args, "note: text maps larger than 512 MiB are refused by the reader; use .npz or .npy")
+    say(args, f"analyze it with: sealeak surface analyze {out} (the file states its size, unit and periodicity)")
     return 0
 
 

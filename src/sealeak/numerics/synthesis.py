@@ -13,6 +13,11 @@ Two kinds of randomness:
   except at the Nyquist and zero modes, which must be real.
 
 Work is O(N² log N) with float64 arrays of N² and (N/2+1)N complex values; no mode loop.
+
+A map holds the modes 2π/L ≤ |q| ≤ √2·πN/L (wavelengths from about two pixels to its side L) and
+nothing of C(q) outside them: :func:`map_variance` is the mean square height the map has on
+average, :func:`band_problem` says why a map would be flat (no mode of the grid inside the
+spectrum's band), which :func:`synthesize` refuses.
 """
 
 from __future__ import annotations
@@ -27,7 +32,7 @@ from ..errors import InputError
 from ..physics.spectrum import PowerSpectrum
 from ._memory import require_memory
 
-__all__ = ["synthesize", "wavevector_grid", "synthesis_memory_bytes"]
+__all__ = ["synthesize", "wavevector_grid", "synthesis_memory_bytes", "map_variance", "band_problem"]
 
 Amplitudes = Literal["gaussian", "phases"]
 
@@ -58,6 +63,55 @@ def synthesis_memory_bytes(n: int) -> int:
     half = 16 * n * (n // 2 + 1)
     block = 8 * _BLOCK_TEMPORARIES * min(_BLOCK_ELEMENTS, n * (n // 2 + 1))
     return int(1.05 * (8 * n * n + half + block))  # 5 %: the FFT library's own work space
+
+
+def map_variance(spectrum: PowerSpectrum, n: int, size: float) -> float:
+    """Expected mean square height (m²) of an n×n periodic map of side ``size`` (m) synthesized from C(q).
+
+    <h²> = Σ_q C(|q|) (2π/size)² over the grid's modes q ≠ 0 (docs/theory.md §6.1; exact for
+    ``"phases"`` amplitudes, the mean over realisations for ``"gaussian"``). Compare with
+    ``spectrum.h_rms**2`` for the share of the roughness the map captures. Evaluated in blocks of
+    rows (temporaries bounded as in :func:`synthesize`).
+    """
+    n = int(n)
+    k2 = (2.0 * np.pi * sfft.fftfreq(n, d=size / n)) ** 2
+    rows = max(1, _BLOCK_ELEMENTS // n)
+    total = 0.0
+    for r0 in range(0, n, rows):
+        q = np.sqrt(k2[r0:r0 + rows, None] + k2[None, :])
+        total += float(np.sum(spectrum(q)))  # C(0) = 0: the zero mode lies below every band
+    return total * (2.0 * np.pi / size) ** 2
+
+
+def _length(value: float) -> str:
+    """A length (m) as text with a readable unit."""
+    for factor, unit in ((1e3, "km"), (1.0, "m"), (1e-3, "mm"), (1e-6, "µm")):
+        if abs(value) >= factor * 0.9999:
+            return f"{value / factor:.4g} {unit}"
+    return f"{value / 1e-9:.4g} nm"
+
+
+def band_problem(spectrum: PowerSpectrum, n: int, size: float, *, size_name: str = "size",
+                 grid_name: str = "n") -> str | None:
+    """Why an n×n map of side ``size`` (m) would hold nothing of C(q), naming the input to change; or None.
+
+    The map holds wavevectors 2π/size ≤ |q| ≤ √2·πn/size on a grid of spacing 2π/size; C(q) is zero
+    outside [q_min, q_max]. ``size_name``/``grid_name``: how to name the two inputs (e.g. CLI flags).
+    """
+    if map_variance(spectrum, n, size) > 0.0:
+        return None
+    lam_short, lam_long = 2.0 * np.pi / spectrum.q_max, 2.0 * np.pi / spectrum.q_min
+    span = f"C(q) spans wavelengths {_length(lam_short)} .. {_length(lam_long)}"
+    if size < lam_short * (1 + 1e-12):
+        return (f"the map (side {_length(size)}) is smaller than the shortest wavelength of C(q): {span}, so the map "
+                f"would be flat; give a {size_name} above {_length(lam_short)}")
+    shortest = np.sqrt(2.0) * size / n  # the grid's corner mode, √2·πn/size
+    if shortest > lam_long * (1 - 1e-12):
+        return (f"the pixel ({_length(size / n)}) is too coarse: the shortest wavelength of the {n}×{n} map "
+                f"({_length(shortest)}) is longer than the longest of C(q): {span}, so the map would be flat; give a "
+                f"larger {grid_name} (above {int(np.ceil(np.sqrt(2.0) * size / lam_long))}) or a smaller {size_name}")
+    return (f"no wavevector of the {n}×{n} grid (spacing 2π/{_length(size)}) falls inside the band of C(q): {span}, so "
+            f"the map would be flat; give a larger {size_name} (a finer grid of wavevectors)")
 
 
 def _check_seed(seed: object) -> None:
@@ -101,6 +155,12 @@ def synthesize(
         peak (:func:`synthesis_memory_bytes`) exceeds it is refused with ResourceError before
         anything is allocated.
 
+    Raises
+    ------
+    InputError
+        When no mode of the map lies inside the band of C(q): the map would be flat
+        (:func:`band_problem` says why).
+
     Returns
     -------
     ndarray
@@ -126,10 +186,12 @@ def synthesize(
     ky2 = (2.0 * np.pi * sfft.rfftfreq(n, d=size / n)) ** 2
     scale = (2.0 * np.pi / size) * n  # n² |h_q| / n
     rows = max(1, _BLOCK_ELEMENTS // ky2.size)
+    content = False
     for r0 in range(0, n, rows):  # blocks of rows: vectorised, temporaries bounded
         blk = spec[r0:r0 + rows]
         q = np.sqrt(k[r0:r0 + rows, None] ** 2 + ky2[None, :])
         amp = np.sqrt(spectrum(q)) * scale
+        content = content or bool(amp.any())
         if amplitudes == "gaussian":
             blk *= amp
         else:
@@ -137,5 +199,8 @@ def synthesize(
             np.divide(blk, mag, out=blk, where=mag > 0)
             blk *= amp * n
     spec[0, 0] = 0.0
+    if not content:
+        del spec
+        raise InputError("size", size, band_problem(spectrum, n, size) or "no mode of the map lies in the band of C(q)")
     h = sfft.irfft2(spec, s=(n, n), workers=workers)
     return np.ascontiguousarray(h, dtype=np.float64)

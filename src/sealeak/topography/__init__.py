@@ -32,8 +32,10 @@ from ._preprocess import Prepared, hann_window, prepare
 from ._readers import read_topography
 from ._spectrum import (
     BinnedSpectrum,
+    RangeBasis,
     abel_forward,
     abel_inverse,
+    length_text,
     power_spectrum_map,
     spectrum_1d,
     spectrum_1d_from_2d,
@@ -54,6 +56,8 @@ __all__ = [
     "prepare",
     "hann_window",
     "BinnedSpectrum",
+    "RangeBasis",
+    "length_text",
     "power_spectrum_map",
     "spectrum_2d",
     "spectrum_1d",
