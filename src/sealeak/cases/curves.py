@@ -16,16 +16,29 @@ from ..physics.gaps import GapDistribution, gap_distribution
 from .model import Case
 from .run import CaseResult, predict, predict_effective_medium
 
-__all__ = ["PredictionCurves", "CurveSet", "PressureDifferenceSweep", "prediction_curves", "representative_pressures"]
+__all__ = ["PredictionCurves", "CurveSet", "PressureDifferenceSweep", "prediction_curves", "representative_pressures",
+           "FULL_CONTACT_GAP_WEIGHT"]
 
 FloatArray = NDArray[np.float64]
 
+#: A squeeze pressure counts as full contact (no gap distribution to draw) when the non-contact part
+#: of P(u), 1 - A(ζ1)/A0, carries less than this fraction of the nominal area.
+FULL_CONTACT_GAP_WEIGHT = 1e-9
 
-def representative_pressures(result: CriticalJunctionResult, count: int = 4) -> FloatArray:
-    """A few percolating squeeze pressures spread over the sweep (log-spaced indices), Pa."""
-    p = result.squeeze_pressure[result.percolates]
-    if p.size == 0:
-        p = result.squeeze_pressure
+
+def representative_pressures(result: CriticalJunctionResult, count: int = 4,
+                             valid: NDArray[np.bool_] | None = None) -> FloatArray:
+    """A few squeeze pressures spread over the sweep (log-spaced indices), Pa.
+
+    Chosen among the pressures with a leak channel that are within the theory's validity
+    (``valid``, e.g. :attr:`CaseResult.valid`); failing those, among the ones with a leak channel;
+    failing those, among all pressures.
+    """
+    p = result.squeeze_pressure
+    for keep in ((result.percolates & valid) if valid is not None else result.percolates, result.percolates):
+        if keep.any():
+            p = result.squeeze_pressure[keep]
+            break
     if p.size <= count:
         return p
     idx = np.unique(np.round(np.linspace(0, p.size - 1, count)).astype(int))
@@ -56,6 +69,9 @@ class CurveSet:
         u1(ζc) (m).
     distribution
         P(u) at this pressure (docs/theory.md §5.1).
+    valid
+        Whether the critical-junction prediction at this pressure is within the continuum theory
+        (:attr:`CaseResult.valid`, docs/theory.md §9.11).
     """
 
     case: Case
@@ -68,17 +84,30 @@ class CurveSet:
     u1: FloatArray
     u1_c: float
     distribution: GapDistribution
+    valid: bool = True
+
+    @property
+    def in_full_contact(self) -> bool:
+        """Whether the surfaces touch everywhere at this pressure (no separation to draw)."""
+        return bool(1.0 - self.distribution.contact_fraction[0] < FULL_CONTACT_GAP_WEIGHT
+                    or not self.distribution.mean_gap[0] > 0)
 
 
 @dataclass(frozen=True)
 class PressureDifferenceSweep:
-    """Q against ΔP at one squeeze pressure (Pa, m³/s); ``effective_medium`` None unless asked for."""
+    """Q against ΔP at one squeeze pressure (Pa, m³/s); ``effective_medium`` None unless asked for.
+
+    ``valid``, ``valid_effective_medium``: whether each prediction at this pressure is within the
+    continuum theory (docs/theory.md §9.11).
+    """
 
     case: Case
     squeeze_pressure: float
     pressure_difference: FloatArray
     critical_junction: FloatArray
     effective_medium: FloatArray | None
+    valid: bool = True
+    valid_effective_medium: bool = True
 
 
 @dataclass(frozen=True)
@@ -92,9 +121,9 @@ class PredictionCurves:
     sets
         :class:`CurveSet` at a few pressures (one case: up to four pressures; a study: one per variant).
     gap
-        Gaps u (m) on a log grid spanning every set's distribution.
+        Gaps u (m) on a log grid spanning every set's distribution (empty when every set is in full contact).
     gap_density
-        u·P(u) of each set on ``gap`` (the probability per unit ln u, dimensionless).
+        u·P(u) of each set on ``gap`` (the probability per unit ln u, dimensionless; zeros for a set in full contact).
     pressure_difference
         One :class:`PressureDifferenceSweep` per case that has a leak channel.
     """
@@ -106,7 +135,7 @@ class PredictionCurves:
     pressure_difference: list[PressureDifferenceSweep]
 
 
-def _curve_set(case: Case, p0: float) -> CurveSet:
+def _curve_set(case: Case, p0: float, valid: bool = True) -> CurveSet:
     contact = case.contact()
     z = np.geomspace(1.0, case.spectrum.q_max / case.q0, 200)
     area = contact.area(z, p0)
@@ -115,36 +144,54 @@ def _curve_set(case: Case, p0: float) -> CurveSet:
     u1 = contact.u1(z[1:-1], p0)  # u1 -> inf as ζ -> 1 (A'(1) = 0)
     u1_c = float(contact.u1(zc, p0)) if ok else float("nan")
     dist = gap_distribution(contact, [p0])
-    return CurveSet(case, float(p0), z, area, float(zc), bool(ok), ubar, u1, u1_c, dist)
+    return CurveSet(case, float(p0), z, area, float(zc), bool(ok), ubar, u1, u1_c, dist, valid)
+
+
+def _verdict_at(result: CaseResult, p0: float) -> bool:
+    """The critical-junction verdict of ``result`` at one of its squeeze pressures (True if not found)."""
+    hit = np.flatnonzero(result.critical_junction.squeeze_pressure == p0)
+    return bool(result.valid[hit[0]]) if hit.size and result.valid.size else True
 
 
 def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
-    """Compute the curves of the prediction figures for the cases of one run (docs/theory.md §2–§5)."""
+    """Compute the curves of the prediction figures for the cases of one run (docs/theory.md §2–§5).
+
+    Degenerate runs give empty parts rather than errors: no gap grid when every set is in full
+    contact, no ΔP sweep for a case without a leak channel at any of its pressures.
+    """
     spectra = [r.case.spectrum.sample(400) for r in results]
     sets: list[CurveSet] = []
-    if len(results) == 1:
-        res = results[0].critical_junction
-        sets = [_curve_set(results[0].case, float(p)) for p in representative_pressures(res)]
-    else:
-        for r in results:
-            rep = representative_pressures(r.critical_junction, 3)
-            p = float(rep[1 if rep.size > 1 else 0])
-            sets.append(_curve_set(r.case, p))
-    dists = [cs.distribution for cs in sets]
-    lo = 1e-3 * min(float(d.mean_gap[0]) for d in dists)
-    hi = 10.0 * max(max(float(d.mean[0]), float(d.mean_gap[0])) for d in dists)
-    u = np.geomspace(lo, hi, 600)
-    density = [u * d.density(u)[0] for d in dists]
+    for r in results:
+        valid = r.valid if r.valid.size else None
+        if len(results) == 1:
+            chosen = list(representative_pressures(r.critical_junction, valid=valid))
+        else:
+            rep = representative_pressures(r.critical_junction, 3, valid=valid)
+            chosen = [rep[1 if rep.size > 1 else 0]]
+        sets += [_curve_set(r.case, float(p), _verdict_at(r, float(p))) for p in chosen]
+    open_sets = [cs for cs in sets if not cs.in_full_contact]
+    u = np.zeros(0)
+    if open_sets:
+        lo = 1e-3 * min(float(cs.distribution.mean_gap[0]) for cs in open_sets)
+        hi = 10.0 * max(max(float(cs.distribution.mean[0]), float(cs.distribution.mean_gap[0])) for cs in open_sets)
+        u = np.geomspace(lo, hi, 600)
+    density = [np.zeros(u.size) if cs.in_full_contact else u * cs.distribution.density(u)[0] for cs in sets]
     sweeps = []
     for r in results:
         res, case = r.critical_junction, r.case
-        ok = res.squeeze_pressure[res.percolates]
+        valid = r.valid if r.valid.size else np.ones(len(res), dtype=bool)
+        leaks = res.percolates if r.effective_medium is None else res.percolates | r.effective_medium.percolates
+        keep = leaks & valid if (leaks & valid).any() else leaks
+        ok = res.squeeze_pressure[keep]
         if ok.size == 0:
             continue
         p0 = float(ok[np.argmin(np.abs(np.log(ok / np.sqrt(ok[0] * ok[-1]))))])
+        i = int(np.flatnonzero(res.squeeze_pressure == p0)[0])
         dp = np.linspace(0.0, 2.0 * max(case.pressure_difference, 1.0), 21)
         q = predict(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
         q_em = (predict_effective_medium(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
                 if r.effective_medium is not None else None)
-        sweeps.append(PressureDifferenceSweep(case, p0, dp, q, q_em))
+        valid_em = r.valid_effective_medium
+        sweeps.append(PressureDifferenceSweep(case, p0, dp, q, q_em, bool(valid[i]),
+                                              bool(valid_em[i]) if valid_em is not None and valid_em.size else True))
     return PredictionCurves(spectra, sets, u, density, sweeps)

@@ -30,6 +30,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
         prediction_figures,
         prediction_json,
         prediction_table,
+        render_figures,
         save_figures,
     )
 
@@ -38,20 +39,20 @@ def _cmd_predict(args: argparse.Namespace) -> int:
         outputs += [str(Path(args.plots) / n) for n in PREDICTION_FIGURE_NAMES]
     check_outputs(outputs, args.force)
     results = [run_case(c) for c in load_case_file(args).cases]
+    # render everything first, then write: a failure while rendering leaves no file behind
     table = prediction_table(results)
+    texts = {path: render(results) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv)) if path}
+    pngs = render_figures(prediction_figures(results)) if args.plots else {}
     if not args.quiet:
         sys.stdout.write(table)
     if args.table:
         write_text(args.table, table)
         say(args, f"wrote {args.table}")
-    if args.json:
-        write_text(args.json, prediction_json(results))
-        say(args, f"wrote {args.json}")
-    if args.csv:
-        write_text(args.csv, prediction_csv(results))
-        say(args, f"wrote {args.csv}")
+    for path, text in texts.items():
+        write_text(path, text)
+        say(args, f"wrote {path}")
     if args.plots:
-        written = save_figures(prediction_figures(results), args.plots)
+        written = save_figures(pngs, args.plots)
         say(args, f"wrote {len(written)} figures to {args.plots}/")
     return 0
 

@@ -13,7 +13,7 @@ importing sealeak leaves matplotlib's backend alone.
   text and JSON of the other commands; :mod:`~sealeak.render.report`: the HTML report.
 """
 
-from .figures import PREDICTION_FIGURE_NAMES, prediction_figures, save_figures
+from .figures import PREDICTION_FIGURE_NAMES, prediction_figures, render_figures, save_figures
 from .lab import fit_json, fit_text, linearity_json, linearity_text, rig_json, rig_text
 from .lab_figures import figure_fit, figure_linearity, figure_readings, figure_rig
 from .records import case_summary, json_document, json_value, prediction_csv, prediction_json
@@ -25,7 +25,7 @@ from .text import prediction_table
 
 __all__ = [
     "prediction_table", "prediction_json", "prediction_csv", "case_summary", "json_value", "json_document",
-    "prediction_figures", "save_figures", "PREDICTION_FIGURE_NAMES",
+    "prediction_figures", "render_figures", "save_figures", "PREDICTION_FIGURE_NAMES",
     "fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json",
     "figure_fit", "figure_linearity", "figure_rig", "figure_readings",
     "simulation_table", "simulation_json", "simulation_figures", "SIMULATION_FIGURE_NAMES",
