@@ -222,6 +222,7 @@ def test_a_resolution_coarser_than_the_map_in_a_case_file(tmp_path, capsys):
     (10, [], "only 10 pixels across"),  # too few points: more points, not a larger area at this pixel count
     (12, ["--low-cut", "4"], "only 12 pixels across"),
     (40, ["--resolution-pixels", "20"], "only 40 pixels across"),
+    (64, ["--bins-per-decade", "1"], "more --bins-per-decade (now 1"),  # bins wider than the range
 ])
 def test_a_map_with_too_few_points_names_the_points(tmp_path, capsys, n, extra, said):
     f = _write(tmp_path / "m.txt", _rough(n))

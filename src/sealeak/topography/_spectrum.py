@@ -82,7 +82,7 @@ class RangeBasis:
     pixel size in m; ``low_cut`` and ``resolution_pixels`` as given; ``resolution``: the lateral
     resolution in m that was considered, ``origin`` where it came from ("given" or "stated by the
     file"), ``by_resolution`` True when it (not the pixel limit) ends the range; ``kind``: "map"
-    or "profile".
+    or "profile"; ``bins_per_decade`` as given.
     """
 
     side: float
@@ -93,6 +93,7 @@ class RangeBasis:
     origin: str
     by_resolution: bool
     kind: str
+    bins_per_decade: float = 10.0
 
     @property
     def given_resolution_at_fault(self) -> bool:
@@ -132,6 +133,10 @@ class RangeBasis:
                    f"{option_name('low_cut')} / {option_name('resolution_pixels')}")
         if lo >= hi:
             return f"too small for a reliable C(q): {cause}, which leaves no wavelength between them; {fix}"
+        decades = float(np.log10(hi / lo))
+        if decades * self.bins_per_decade < need + 1:  # the bins are too wide for the range there is
+            fix += (f", or give more {option_name('bins_per_decade')} (now {self.bins_per_decade:g}; the range spans "
+                    f"{decades:.2g} decades)")
         return (f"its C(q) has {n} bin(s) in the reliable range q = {lo:.4g}..{hi:.4g} 1/m, at least {need} are "
                 f"needed ({cause}); {fix}")
 
@@ -241,15 +246,15 @@ def _check_options(bins_per_decade: float, low_cut: float, resolution_pixels: fl
 
 
 def _upper_limit(side: float, pixel: float, low_cut: float, resolution_pixels: float, resolution: float | None,
-                 stated: float | None, kind: str) -> tuple[float, str, RangeBasis]:
+                 stated: float | None, kind: str, bins_per_decade: float) -> tuple[float, str, RangeBasis]:
     """Upper end of the reliable range (1/m), a note on what sets it, and the basis for messages."""
     q_pix = 2.0 * np.pi / (resolution_pixels * pixel)
     res, origin = (resolution, "given") if resolution is not None else (stated, "stated by the file")
     if res is None:
         return q_pix, f"wavelengths >= {resolution_pixels:g} pixels", RangeBasis(
-            side, pixel, low_cut, resolution_pixels, None, "", False, kind)
+            side, pixel, low_cut, resolution_pixels, None, "", False, kind, bins_per_decade)
     q_res = 2.0 * np.pi / res
-    basis = RangeBasis(side, pixel, low_cut, resolution_pixels, res, origin, q_res < q_pix, kind)
+    basis = RangeBasis(side, pixel, low_cut, resolution_pixels, res, origin, q_res < q_pix, kind, bins_per_decade)
     if q_res < q_pix:
         return q_res, f"wavelengths >= the lateral resolution {res:.4g} m ({origin})", basis
     return q_pix, (f"wavelengths >= {resolution_pixels:g} pixels, which is coarser than the lateral resolution "
@@ -310,7 +315,7 @@ def spectrum_2d(
         raise InputError("topography", surf.nb_grid_pts, "too few points for a spectrum")
     qc, Cb, modes, lo, hi = _bin(q[use], C[use], weight[use], bins_per_decade)
     q_hi, why, basis = _upper_limit(min(surf.size), max(dx, dy), low_cut, resolution_pixels, resolution,
-                                    surf.resolution, "map")
+                                    surf.resolution, "map", bins_per_decade)
     q_rel = (low_cut * 2.0 * np.pi / min(surf.size), q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
     notes = list(prepared.notes) + [
@@ -351,7 +356,7 @@ def spectrum_1d(
         weight[-1] = surf.nb_scans
     qc, Cb, modes, lo, hi = _bin(q[1:], C[1:], weight[1:], bins_per_decade)
     q_hi, why, basis = _upper_limit(L, surf.pixel_size, low_cut, resolution_pixels, resolution, surf.resolution,
-                                    "profile")
+                                    "profile", bins_per_decade)
     q_rel = (low_cut * 2.0 * np.pi / L, q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
     notes = list(prepared.notes) + [
