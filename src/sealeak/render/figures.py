@@ -47,7 +47,8 @@ from ..physics.validity import pressures_text
 
 __all__ = ["prediction_figures", "save_figures", "render_figures", "pressure_axis", "PREDICTION_FIGURE_NAMES",
            "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
-           "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S"]
+           "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "pressure_x",
+           "figure_png"]
 
 _STYLE = {"figure.figsize": (6.4, 4.6), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
           "axes.titlesize": 10, "legend.fontsize": 8}
@@ -373,7 +374,7 @@ def _label(case: Case, fallback: str = "") -> str:
     return case.label or fallback
 
 
-def _pressure_x(ax: Axes, p0: np.ndarray) -> float:
+def pressure_x(ax: Axes, p0: np.ndarray) -> float:
     """Label the x axis with the squeeze pressure and span the whole sweep (log when it spans decades); returns the scale.
 
     The axis covers every pressure of the sweep, also those with nothing to draw (no leak channel).
@@ -575,7 +576,7 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     cases = [r.case for r in results]
     p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
     fig, ax = new_figure("Leak rate against squeeze pressure" + (" (log scale)" if log else ""))
-    scale = _pressure_x(ax, p_all)
+    scale = pressure_x(ax, p_all)
     series = _leak_series(results, scale)
     peaks = _series_peaks(series)
     logy = log or spans_decades(peaks, 1.0)  # a curve below a tenth of the largest would lie flat on zero
@@ -618,7 +619,7 @@ def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
     """u_c (solid) and λc (dashed) against P0 (the critical pore size, paper Fig. 8)."""
     fig, ax = new_figure("Critical constriction against squeeze pressure")
     p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
-    scale = _pressure_x(ax, p_all)
+    scale = pressure_x(ax, p_all)
     # one length unit for both curves, chosen by the smaller quantity (the valid gaps)
     gaps = np.concatenate([np.where(r.valid, r.critical_junction.critical_gap, np.nan) for r in results])
     lscale, lunit = length_unit(gaps)
@@ -661,7 +662,7 @@ def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
     """ζc against P0 (paper Fig. 9); log when ζc spans more than two decades."""
     fig, ax = new_figure("Critical magnification against squeeze pressure")
     p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
-    scale = _pressure_x(ax, p_all)
+    scale = pressure_x(ax, p_all)
     several = len(results) > 1
     series = [Series(r.critical_junction.squeeze_pressure / scale, r.critical_junction.critical_magnification, r.valid,
                      color(i), "-", r.case.label if several else None, r.validity) for i, r in enumerate(results)]

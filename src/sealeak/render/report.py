@@ -2,17 +2,19 @@
 
 The file has no external resources: styles are inline in a <style> element, figures are PNG
 embedded as base64 data URIs, so it opens in a browser without network access. Contents: the
-inputs as written in the case file (with their units), the spectrum and its statistics, the
-assumptions (p_c, γ, α, whether the spectrum is a model or a measurement, which theories), every
-prediction figure, the result tables (both theories when the case asks for them) and, when the case
-has a [rig], the virtual rig.
+inputs as written in the case file (with their units, the ``[study]`` section included), the
+spectrum and its statistics, the assumptions (p_c, γ, α, the fluid's molecular size, whether the
+spectrum is a model or a measurement, which theories), the warnings about the inputs, the result
+tables with the same columns and digits as ``sealeak predict`` (:func:`~sealeak.render.text.prediction_columns`,
+validity verdicts included), every prediction figure in a two-column grid with a caption saying
+what it shows and, when the case has a [rig], the virtual rig (K, Q and τ at the initial height,
+the time to the final height).
 """
 
 from __future__ import annotations
 
 import base64
 import html
-import io
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -20,25 +22,31 @@ from matplotlib.figure import Figure
 
 from .._version import __version__
 from ..cases import CaseResult
-from .figures import prediction_figures
+from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, prediction_figures
 from .lab_figures import figure_rig
-from .text import fmt
+from .text import fmt, prediction_columns, validity_notes
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
 _CSS = """
-body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 2em auto; max-width: 70em;
+body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 2em auto; max-width: 82em;
        color: #222; line-height: 1.45; padding: 0 1em; }
 h1 { font-size: 1.6em; border-bottom: 2px solid #446; padding-bottom: .2em; }
 h2 { font-size: 1.25em; margin-top: 1.8em; color: #335; }
+h3 { font-size: 1.05em; margin-top: 1.2em; }
 table { border-collapse: collapse; margin: .6em 0; font-size: .9em; }
-th, td { border: 1px solid #bbc; padding: .25em .6em; text-align: right; }
+th, td { border: 1px solid #bbc; padding: .25em .6em; text-align: right; font-variant-numeric: tabular-nums; }
 th { background: #eef; }
 td.k, th.k { text-align: left; }
-figure { display: inline-block; margin: .8em; vertical-align: top; }
-figure img { max-width: 38em; width: 100%; border: 1px solid #ddd; }
-figcaption { font-size: .85em; color: #555; }
-.note { background: #fff8e0; border-left: 4px solid #e0b000; padding: .4em .8em; margin: .4em 0; }
+tr.invalid td { color: #8a5a00; background: #fff8e0; }
+.wide { overflow-x: auto; }
+.figures { display: grid; grid-template-columns: repeat(auto-fill, minmax(30em, 1fr)); gap: 1.2em 1.6em; }
+figure { margin: 0; }
+figure img { width: 100%; height: auto; border: 1px solid #ddd; }
+figcaption { font-size: .88em; color: #444; margin-top: .3em; }
+.note { background: #f3f5fa; border-left: 4px solid #99a; padding: .4em .8em; margin: .4em 0; }
+.warning { background: #fff8e0; border-left: 4px solid #e0b000; padding: .4em .8em; margin: .4em 0; }
+.legend { font-size: .85em; color: #555; }
 """
 
 
@@ -48,18 +56,19 @@ def _e(x: Any) -> str:
 
 def figure_to_data_uri(fig: Figure) -> str:
     """A matplotlib figure as a ``data:image/png;base64,...`` URI."""
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", bbox_inches="tight")
-    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+    return "data:image/png;base64," + base64.b64encode(figure_png(fig)).decode("ascii")
 
 
-def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1) -> str:
-    out = ["<table>", "<tr>" + "".join(f"<th class=\"k\">{_e(h)}</th>" if i < left else f"<th>{_e(h)}</th>"
-                                      for i, h in enumerate(header)) + "</tr>"]
-    for row in rows:
-        out.append("<tr>" + "".join(f"<td class=\"k\">{_e(c)}</td>" if i < left else f"<td>{_e(c)}</td>"
-                                    for i, c in enumerate(row)) + "</tr>")
-    out.append("</table>")
+def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1,
+           row_classes: Sequence[str] | None = None) -> str:
+    out = ["<div class=\"wide\"><table>",
+           "<tr>" + "".join(f"<th class=\"k\">{_e(h)}</th>" if i < left else f"<th>{_e(h)}</th>"
+                            for i, h in enumerate(header)) + "</tr>"]
+    for n, row in enumerate(rows):
+        cls = f" class=\"{row_classes[n]}\"" if row_classes and row_classes[n] else ""
+        out.append(f"<tr{cls}>" + "".join(f"<td class=\"k\">{_e(c)}</td>" if i < left else f"<td>{_e(c)}</td>"
+                                         for i, c in enumerate(row)) + "</tr>")
+    out.append("</table></div>")
     return "\n".join(out)
 
 
@@ -80,9 +89,75 @@ def _compact(v: Any) -> str:
     return ", ".join(str(x) for x in v)
 
 
-def _figure(name: str, fig: Figure, caption: str) -> str:
+def _figure(name: str, number: int, fig: Figure, caption: str) -> str:
     return (f"<figure id=\"fig-{_e(name)}\"><img alt=\"{_e(caption)}\" src=\"{figure_to_data_uri(fig)}\">"
-            f"<figcaption>{_e(name)}: {_e(caption)}</figcaption></figure>")
+            f"<figcaption><b>Figure {number}.</b> {_e(caption)}</figcaption></figure>")
+
+
+#: What each prediction figure shows (the report's captions); the reference paper's figure where there is one.
+CAPTIONS = {
+    "spectrum.png": "Surface roughness power spectrum C(q) against wavevector q (log-log), the input of the contact "
+                    "mechanics; the dotted line marks the lowest wavevector q0 = 2π/L.",
+    "contact_area.png": "Relative contact area A(ζ)/A0 against magnification ζ = q/q0 at a few squeeze pressures: "
+                        "where a curve crosses A/A0 = 1 − p_c (dashed) is the critical magnification ζc (dots), "
+                        "the scale at which the open channels first cross the seal.",
+    "separation.png": "Mean interfacial separation ū(ζ) (solid) and the separation u1(ζ) of the patches that lose "
+                      "contact at ζ (dashed), at the same pressures; the dots are the critical gaps u_c = u1(ζc).",
+    "gap_distribution.png": "Distribution of interfacial separations P(u), drawn as u·P(u) on a log u axis (the "
+                            "probability per unit ln u); the part in contact (u = 0) is given in the legend, dotted "
+                            "lines mark the mean separation ū(1).",
+    "leak_rate.png": "Leak rate Q against squeeze pressure P0 (the reference paper's Fig. 6; log scale when the "
+                     "curves differ by decades), in m³/s on the left and ml/min on the right.",
+    "leak_rate_log.png": "Leak rate Q against squeeze pressure P0 on a log scale (the reference paper's Fig. 7), in "
+                         "m³/s on the left and ml/min on the right.",
+    "critical_junction.png": "The critical constriction against squeeze pressure: its height u_c (solid) and width "
+                             "λc = L/ζc (dashed), the reference paper's Fig. 8.",
+    "critical_magnification.png": "Critical magnification ζc against squeeze pressure (the reference paper's Fig. 9).",
+    "leak_rate_vs_pressure_difference.png": "Leak rate Q against the fluid pressure difference ΔP at one squeeze "
+                                            "pressure per case: a straight line through the origin (the reference "
+                                            "paper's Fig. 5).",
+}
+_HOLLOW = (" Hollow markers are results outside the theory's validity (see the valid column); they do not set "
+           "the axis limits.")
+_WITH_VERDICTS = {"leak_rate.png", "leak_rate_log.png", "critical_junction.png", "critical_magnification.png"}
+
+
+def _caption(name: str, any_invalid: bool) -> str:
+    return CAPTIONS.get(name, name) + (_HOLLOW if any_invalid and name in _WITH_VERDICTS else "")
+
+
+def _result_table(r: CaseResult, which: str) -> str:
+    header, rows = prediction_columns(r, which)
+    classes = ["invalid" if row[-1].strip().startswith("NO") or "/NO" in row[-1] else "" for row in rows]
+    return _table(header, rows, left=0, row_classes=classes)
+
+
+def _rig_section(result: CaseResult, number: int) -> list[str]:
+    case, pred = result.case, result.rig
+    rig = case.rig
+    if rig is None or pred is None:
+        return []
+    parts = ["<h2 id=\"rig\">Virtual water-column rig</h2>"]
+    dp0 = float(rig.pressure_difference(rig.initial_height))
+    parts.append(f"<p>Load {rig.load:.4g} N ({_e(rig.load_note)}) on the seal: P0 = {pred.squeeze_pressure / 1e3:.4g} kPa; "
+                 f"cylinder diameter {rig.cylinder_diameter * 100:.4g} cm, initial height H0 = {rig.initial_height * 100:.4g} cm "
+                 f"(ΔP = ρgH0 = {dp0 / 1e3:.4g} kPa), ρ = {rig.density:g} kg/m³, ΔP = ρgH. Both theories are linear in ΔP, so "
+                 "Q = K ΔP and the level falls exponentially with time constant τ = A_cyl/(K ρ g).</p>")
+    rows = []
+    for name, k in pred.conductance.items():
+        col = pred.columns[name]
+        q0 = float(col.leak_rate[0]) if len(col.leak_rate) else k * dp0
+        tau = pred.time_constant.get(name, float("nan"))
+        rows.append((name, fmt(k, ".4e"), fmt(q0, ".3e"), fmt(q0 * ML_PER_MIN_PER_M3_PER_S, ".4g"),
+                     fmt(tau / 60, ".4g"), fmt(col.final_height * 100), fmt(pred.drain_time.get(name, float("nan")) / 60)))
+    parts.append(_table(("model", "K = Q/ΔP (m³/(s·Pa))", "Q at H0 (m³/s)", "Q at H0 (ml/min)", "τ (min)",
+                         "final height (cm)", "time to final height (min)"), rows))
+    parts.append("<div class=\"figures\">" + _figure("rig.png", number, figure_rig(rig, pred.columns, pred.squeeze_pressure),
+                                                    "Water height H against time in the virtual rig, for each model the "
+                                                    "case asks for; dots: the final height reached.") + "</div>")
+    for m in pred.messages:
+        parts.append(f"<p class=\"note\">{_e(m)}</p>")
+    return parts
 
 
 def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str:
@@ -93,14 +168,15 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     """
     cases = [r.case for r in results]
     first = cases[0]
-    effective = [r.effective_medium for r in results]
-    any_em = any(em is not None for em in effective)
+    any_em = any(r.effective_medium is not None for r in results)
     parts: list[str] = ["<!DOCTYPE html>", "<html lang=\"en\">", "<head>", "<meta charset=\"utf-8\">",
+                        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">",
                         f"<title>{_e(first.title)} — sealeak report</title>", f"<style>{_CSS}</style>", "</head>",
                         "<body>", f"<h1>{_e(first.title)}</h1>",
                         f"<p>sealeak {_e(__version__)} — leak rate of a rubber seal from surface roughness "
                         "(Persson contact mechanics, percolation, Poiseuille flow; Lorenz &amp; Persson, "
-                        f"EPL 86 (2009) 44006). Case file: <code>{_e(first.source or '—')}</code>.</p>"]
+                        f"EPL 86 (2009) 44006). Case file: <code>{_e(first.source or '—')}</code>"
+                        + (f"; a study of {len(cases)} variants." if len(cases) > 1 else ".") + "</p>"]
 
     parts.append("<h2 id=\"inputs\">Inputs</h2>")
     parts.append(_inputs(inputs))
@@ -132,64 +208,52 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     parts.append(f"<li>q0 = 2π/L = {first.q0:.4g} 1/m ({_e(first.q0_note)}); incompressible Newtonian fluid, "
                  "laminar flow; P0 ≫ ΔP (the fluid pressure does not change the contact); rigid substrate "
                  "unless [substrate] is given.</li>")
+    fluid = first.fluid
+    parts.append(f"<li>Continuum flow: a result is valid only where the flow channel is wider than the fluid's molecular "
+                 f"size d = {fluid.molecular_length * 1e9:.3g} nm ({_e(fluid.molecular_length_note)}) and thin against "
+                 "its width (docs/theory.md §9.11); the tables' valid column gives the verdict.</li>")
     if any_em:
         parts.append("<li>Plain 2D Bruggeman stops percolating at A/A0 = 0.5; numerically exact studies find ≈ 0.42.</li>")
     parts.append("</ul>")
 
+    warned = [(r.case.label, w) for r in results for w in r.warnings]
+    if warned:
+        parts.append("<h2 id=\"warnings\">Warnings about the inputs</h2>")
+        parts.append("<p>The numbers below are computed all the same; these are the reasons to distrust them.</p>")
+        for label, w in warned:
+            parts.append(f"<p class=\"warning\">{_e(label + ': ' if label else '')}{_e(w)}</p>")
+
     parts.append("<h2 id=\"results\">Results</h2>")
+    parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
+                 "Q_EM: Q effective medium; valid: yes, NO (outside the theory's validity: the row's numbers are the "
+                 "formula's, not a prediction; highlighted) or — (no leak channel).</p>")
     for r in results:
         case, res, em = r.case, r.critical_junction, r.effective_medium
         if case.label:
             parts.append(f"<h3>{_e(case.label)}</h3>")
-        header = ["P0 (kPa)", "A(ζ1)/A0", "ζc", "λc (µm)", "u_c (µm)", "Q critical junction (m³/s)"]
+        if r.shows_critical_junction:
+            parts.append(_result_table(r, "critical-junction"))
         if em is not None:
-            header += ["ū(1) (µm)", "mean of P(u) (µm)", "σ_eff (m³/(Pa·s))", "Q effective medium (m³/s)"]
-        rows = []
-        for i in range(len(res)):
-            row = [fmt(res.squeeze_pressure[i] / 1e3), fmt(res.contact_area_at_cutoff[i], ".3f"),
-                   fmt(res.critical_magnification[i]), fmt(res.critical_wavelength[i] * 1e6),
-                   fmt(res.critical_gap[i] * 1e6), fmt(res.leak_rate[i], ".4e")]
-            if em is not None:
-                row += [fmt(em.mean_gap[i] * 1e6), fmt(em.gap_distribution_mean[i] * 1e6),
-                        fmt(em.effective_conductivity[i], ".4e") if em.percolates[i] else "—",
-                        fmt(em.leak_rate[i], ".4e")]
-            rows.append(row)
-        parts.append(_table(header, rows, left=0))
-        notes = list(res.messages) + ([f"effective medium: {m}" for m in em.messages] if em is not None else [])
+            parts.append("<p>Effective medium (2D Bruggeman): Q effective medium = (Ly/Lx) σ_eff ΔP; ū(1): mean "
+                         "separation, &lt;u&gt;_P: mean of P(u), u_e: the gap whose u³/(12η) equals σ_eff.</p>")
+            parts.append(_result_table(r, "effective-medium"))
+        notes = (list(res.messages) if r.shows_critical_junction else []) + (
+            [f"effective medium: {m}" for m in em.messages] if em is not None else [])
         for m in notes:
             parts.append(f"<p class=\"note\">{_e(m)}</p>")
+        for m in validity_notes(r):
+            parts.append(f"<p class=\"warning\">{_e(m)}</p>")
 
     parts.append("<h2 id=\"figures\">Figures</h2>")
-    captions = {
-        "spectrum.png": "surface roughness power spectrum C(q)",
-        "contact_area.png": "apparent relative contact area against magnification",
-        "separation.png": "mean separation ū(ζ) and u1(ζ)",
-        "gap_distribution.png": "distribution of interfacial separations P(u)",
-        "leak_rate.png": "leak rate against squeeze pressure",
-        "leak_rate_log.png": "leak rate against squeeze pressure, log scale",
-        "critical_junction.png": "critical constriction against squeeze pressure",
-        "critical_magnification.png": "critical magnification against squeeze pressure",
-        "leak_rate_vs_pressure_difference.png": "leak rate against pressure difference",
-    }
+    any_invalid = any((~r.shown_valid).any() for r in results)
+    parts.append("<div class=\"figures\">")
     figures = prediction_figures(results)
-    for name, fig in figures.items():
-        parts.append(_figure(name, fig, captions.get(name, name)))
+    for number, (name, fig) in enumerate(figures.items(), start=1):
+        parts.append(_figure(name, number, fig, _caption(name, any_invalid)))
+    parts.append("</div>")
 
-    pred = results[0].rig
-    if len(cases) == 1 and first.rig is not None and pred is not None:
-        rig = first.rig
-        parts.append("<h2 id=\"rig\">Virtual water-column rig</h2>")
-        parts.append(f"<p>Load {rig.load:.4g} N ({_e(rig.load_note)}) on the seal: P0 = {pred.squeeze_pressure / 1e3:.4g} kPa; "
-                     f"cylinder diameter {rig.cylinder_diameter * 100:.4g} cm, initial height {rig.initial_height * 100:.4g} cm, "
-                     f"ρ = {rig.density:g} kg/m³, ΔP = ρgH.</p>")
-        rows = []
-        for name, k in pred.conductance.items():
-            col = pred.columns[name]
-            rows.append((name, fmt(k, ".4e"), fmt(col.final_height * 100), fmt(pred.drain_time[name] / 60)))
-        parts.append(_table(("model", "K = Q/ΔP (m³/(s·Pa))", "final height (cm)", "time to final height (min)"), rows))
-        parts.append(_figure("rig.png", figure_rig(rig, pred.columns, pred.squeeze_pressure), "water height against time"))
-        for m in pred.messages:
-            parts.append(f"<p class=\"note\">{_e(m)}</p>")
+    if len(cases) == 1:
+        parts += _rig_section(results[0], len(figures) + 1)
 
     parts.append("</body>")
     parts.append("</html>")
