@@ -55,7 +55,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     from ..cases import run_fit
     from ..io.files import check_outputs, write_text
     from ..lab import read_leak_data
-    from ..render import figure_fit, fit_json, fit_text, save_figures
+    from ..render import figure_fit, fit_json, fit_text, render_figures, save_figures
 
     names = ("linearity.png",) if args.linearity else ("fit.png",)
     check_outputs(outputs(args, names), args.force)
@@ -65,13 +65,16 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         return _fit_linearity(args, case, reference)
     data = read_leak_data(args.data, reference_pressure=reference)
     result = run_fit(case, data)
+    # render everything first, then write: a failure while rendering leaves no file behind
+    text, doc = fit_text(result), fit_json(result) if args.json else ""
+    pngs = render_figures({"fit.png": figure_fit(result)}) if args.plots else {}
     if not args.quiet:
-        print(fit_text(result), end="")
+        print(text, end="")
     if args.json:
-        write_text(args.json, fit_json(result))
+        write_text(args.json, doc)
         say(args, f"wrote {args.json}")
     if args.plots:
-        save_figures({"fit.png": figure_fit(result)}, args.plots)
+        save_figures(pngs, args.plots)
         say(args, f"wrote {Path(args.plots) / 'fit.png'}")
     return 0
 
@@ -80,7 +83,7 @@ def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # 
     from ..cases import linearity
     from ..io.files import write_text
     from ..lab import read_leak_data
-    from ..render import figure_linearity, linearity_json, linearity_text, save_figures
+    from ..render import figure_linearity, linearity_json, linearity_text, render_figures, save_figures
 
     data = read_leak_data(args.data, reference_pressure=reference, required=("pressure_difference", "leak_rate"))
     if len(data) < 3:
@@ -93,13 +96,15 @@ def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # 
             raise SealeakError(f"{data.path}: a linearity check is at one squeeze pressure; the file has several")
         p0, source = float(data.squeeze_pressure[0]), "the data file"
     check = linearity(case, data.pressure_difference, data.leak_rate, p0, source)
+    text, doc = linearity_text(case, data, check), linearity_json(case, data, check) if args.json else ""
+    pngs = render_figures({"linearity.png": figure_linearity(data.pressure_difference, data.leak_rate, check)}) if args.plots else {}
     if not args.quiet:
-        print(linearity_text(case, data, check), end="")
+        print(text, end="")
     if args.json:
-        write_text(args.json, linearity_json(case, data, check))
+        write_text(args.json, doc)
         say(args, f"wrote {args.json}")
     if args.plots:
-        save_figures({"linearity.png": figure_linearity(data.pressure_difference, data.leak_rate, check)}, args.plots)
+        save_figures(pngs, args.plots)
         say(args, f"wrote {Path(args.plots) / 'linearity.png'}")
     return 0
 
@@ -109,7 +114,7 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     from ..cases import rig_prediction, rig_readings
     from ..io.files import check_outputs, write_text
     from ..lab import read_rig_readings
-    from ..render import figure_readings, figure_rig, rig_json, rig_text, save_figures
+    from ..render import figure_readings, figure_rig, render_figures, rig_json, rig_text, save_figures
 
     names = ("rig.png", "readings.png") if args.readings else ("rig.png",)
     check_outputs(outputs(args, names), args.force)
@@ -122,17 +127,21 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     if args.readings:
         t, h = read_rig_readings(args.readings)
         analysis = rig_readings(case, t, h, source=args.readings)
-    if not args.quiet:
-        print(rig_text(case, pred, analysis, args.readings or ""), end="")
-    if args.json:
-        write_text(args.json, rig_json(case, pred, analysis))
-        say(args, f"wrote {args.json}")
-    if args.plots:
+    text, doc = rig_text(case, pred, analysis, args.readings or ""), rig_json(case, pred, analysis) if args.json else ""
+    pngs = {}
+    if args.plots:  # rendered before anything is written: a failure leaves no file behind
         figs = {"rig.png": figure_rig(case.rig, pred.columns, pred.squeeze_pressure)}
         if analysis is not None:
             figs["readings.png"] = figure_readings(analysis, pred.conductance)
-        save_figures(figs, args.plots)
-        say(args, f"wrote {len(figs)} figure(s) to {args.plots}/")
+        pngs = render_figures(figs)
+    if not args.quiet:
+        print(text, end="")
+    if args.json:
+        write_text(args.json, doc)
+        say(args, f"wrote {args.json}")
+    if args.plots:
+        save_figures(pngs, args.plots)
+        say(args, f"wrote {len(pngs)} figure(s) to {args.plots}/")
     return 0
 
 
