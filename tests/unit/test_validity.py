@@ -2,10 +2,14 @@
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from sealeak.cases import parse_cases, run_case
 from sealeak.errors import InputError
+from sealeak.physics.contact import PerssonContact
+from sealeak.physics.critical_junction import critical_junction
 from sealeak.physics.fluid import Fluid
+from sealeak.physics.spectrum import PowerSpectrum
 from sealeak.physics.validity import (
     DEFAULT_MOLECULAR_SIZE,
     assumption_warnings,
@@ -130,3 +134,16 @@ def test_effective_medium_is_judged_by_its_own_gap():
     assert r.valid_effective_medium.all()
     rec = r.records()[0]
     assert rec["valid_effective_medium"] is True and rec["validity_effective_medium"] == ""
+
+
+def test_junction_at_the_end_of_the_band_gives_zero_gap_flagged_not_an_error():
+    """Just below the pressure at which A(ζ1)/A0 = 1 - p_c, ζc → ζ1 and u_c = u1(ζc) → u1(ζ1) = 0 (ū(ζ1) = 0)."""
+    c = PerssonContact(PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, q_cutoff=1e7, h_rms=1e-6), 1e7, 1e4)
+    p_end = brentq(lambda p: c.area(c.zeta_max, np.array([p]))[0] - 0.4, 1e3, 1e8, xtol=1e-14, rtol=1e-15)
+    p0 = p_end * np.array([0.5, 0.99, 1 - 1e-6, 1 - 1e-12])
+    r = critical_junction(c, squeeze_pressure=p0, pressure_difference=1e4, viscosity=1e-3, aspect_ratio=1.0)
+    assert r.percolates.all()
+    assert np.all(np.diff(r.critical_gap) <= 0) and r.critical_gap[-1] >= 0  # u_c falls to zero at the end
+    assert r.critical_gap[0] > 1e-9
+    valid, _ = continuum_verdict(r.critical_gap, 0.3e-9)
+    assert valid[0] and not valid[-1]

@@ -176,6 +176,11 @@ def critical_junction(
     if percolates.any():
         u_c[percolates] = contact.u1(zeta_c[percolates], p0[percolates])
     bad = percolates & ~(np.isfinite(u_c) & (u_c > 0))
+    # ζc at the end of the resolved band: u1(ζ1) = 0 exactly (the last roughness closes the junction);
+    # u_c = 0 and Q = 0 is the theory's limit there, and the validity verdict flags it (docs/theory.md §9.11)
+    at_end = bad & (zeta_c > np.sqrt(contact.zeta_max))
+    u_c[at_end] = 0.0
+    bad &= ~at_end
     if bad.any():  # ζc so close to 1 that A'(ζc) underflows: u1 = ū + ū' A/A' is not computable
         i = int(np.argmax(bad))
         why = (f"P0/E* = {p0[i] / contact.e_star:.3g}: the surfaces barely touch, so the critical magnification "

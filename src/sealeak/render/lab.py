@@ -20,7 +20,7 @@ __all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text
 
 
 def fit_text(result: FitResult) -> str:
-    """The table ``sealeak fit`` prints: α ± std, rms residual and points used per model, then notes."""
+    """The table ``sealeak fit`` prints: α ± its standard error, rms residual and points used per model, then notes."""
     case, data, fits = result.case, result.data, result.fits
     reference = data.reference_pressure
     lines = [f"{case.title}", f"fit of {len(data)} measured leak rate{'s' if len(data) != 1 else ''} from "
@@ -29,7 +29,7 @@ def fit_text(result: FitResult) -> str:
         lines.append(f"leak rates in {data.columns['leak_rate']} are pV throughputs: converted to volume flows at "
                      f"{reference / 1e3:.6g} kPa (--at-pressure)")
     lines += ["least squares in log Q: Q_measured = α × Q_model(α = 1)", ""]
-    lines.append(f"{'model':<20} {'α':>10} {'± std':>10} {'rms (decades)':>14} {'points':>7}")
+    lines.append(f"{'model':<20} {'α':>10} {'± se':>10} {'rms (decades)':>14} {'points':>7}")
     for name, f in fits.items():
         lines.append(f"{name.replace('_', ' '):<20} {fmt(f.alpha):>10} {fmt(f.alpha_std, '.2g'):>10} "
                      f"{fmt(f.rms_log10_residual, '.3g'):>14} {f.n_used:>7}")
