@@ -187,6 +187,11 @@ def test_markers_in_a_case_file_map_are_undefined_points(tmp_path, capsys):
                                         'size = "5 mm"\nheight_unit = "m"\n\n' + text[end:])
     assert main(["predict", str(tmp_path / "case.toml"), "-q"]) == 0
     assert "Traceback" not in capsys.readouterr().err
+    from sealeak.cases import load_cases
+
+    (case,) = load_cases(tmp_path / "case.toml")
+    # the marker is an undefined point: the spectrum is that of the 1 µm-rms map (band edges cut some)
+    assert 0.2e-6 < case.spectrum.h_rms < 1.01e-6
 
 
 # ---------------------------------------------------------------------------- the input at fault is named

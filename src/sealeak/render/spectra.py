@@ -4,7 +4,7 @@ How it reads: both axes logarithmic with a labelled tick at least every decade (
 an axis of two or three decades), the wavelength 2π/q on the top axis; the combined C(q) is drawn
 only where a measurement covers the band: across a gap between measurements (stitched files of
 different scales) the line is broken and the gap shaded (the PowerSpectrum used for predictions
-interpolates log-log across it, docs/theory.md §7.4); the legend sits below the axes, never on
+interpolates log-log across it, docs/theory.md §7.6); the legend sits below the axes, never on
 the data; a fit that carries warnings (H at a bound, reduced χ² above 100) says so in its label.
 """
 
