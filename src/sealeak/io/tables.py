@@ -13,6 +13,13 @@ Columns are separated by commas, semicolons, tabs or spaces (a space-separated h
 tab separated file an empty cell is a missing value (NaN); the caller decides whether a column may
 have any. Without a header the caller's default units apply. Every problem raises
 :class:`FileFormatError` naming the file, the line and the problem.
+
+Numbers are ASCII decimals (``2.3``, ``-1e-3``; ``nan``/``inf`` are read, for the caller to judge).
+A comma is never part of a number: in a semicolon or tab separated file a cell such as ``2,3``
+(a decimal comma) or ``1,000`` (a thousands separator) is refused, naming the file and line and
+saying how to write it; so is a space-separated line of such numbers (``2,3 1,5``). In a comma
+separated file the commas separate the columns; a row with more cells than the header names, whose
+cells are separated by ', ' but which has a ',' between two digits (``20,5, 380``), gets the same hint.
 """
 
 from __future__ import annotations
@@ -25,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
-from .units import unit_factor
+from .units import comma_advice, parse_number, unit_factor
 
 __all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
 
@@ -49,16 +56,36 @@ class UnitTable:
 
 
 _SEPARATOR = re.compile(r"[,;\t]")
+_STRONG_SEPARATOR = re.compile(r"[;\t]")
 _SPACED_HEADER_CELL = re.compile(r"[^\s(\[]+(?:\s*[\(\[][^\)\]]*[\)\]])?")
+_COMMA_NUMBER = re.compile(r"[+-]?[0-9]*[0-9],[0-9][0-9,]*(?:[eE][+-]?[0-9]+)?")
+
+
+class _CommaInNumber(ValueError):
+    """A cell that is a number written with a decimal comma or thousands separator."""
+
+
+def _separator(line: str) -> re.Pattern[str] | None:
+    """How a line's cells are separated: ';' or tab (then a ',' is inside a cell), else ',', else white space
+    (None). A space-separated line whose every cell is a number with a comma ('1,5 2,3') is decimal commas."""
+    if _STRONG_SEPARATOR.search(line):
+        return _STRONG_SEPARATOR
+    if "," in line:
+        tokens = line.split()
+        if len(tokens) > 1 and all(_COMMA_NUMBER.fullmatch(t) for t in tokens):
+            return None
+        return re.compile(",")
+    return None
 
 
 def _split(line: str, width: int | None = None) -> list[str]:
     """Cells of a data line. ``width``: the number of columns so far (header or first row); one
     trailing separator beyond it (as spreadsheet exports write, ``1;2;``) makes no extra column."""
     line = line.strip()
-    if not _SEPARATOR.search(line):
+    sep = _separator(line)
+    if sep is None:
         return line.split()
-    cells = [c.strip() for c in _SEPARATOR.split(line)]
+    cells = [c.strip() for c in sep.split(line)]
     if cells[-1] == "" and len(cells) > 1 and (width is None or len(cells) == width + 1):
         cells.pop()
     return cells
@@ -71,10 +98,16 @@ def _split_header(line: str) -> list[str]:
 
 
 def _number(cell: str, delimited: bool) -> float:
-    """A cell's value; an empty cell of a delimited row is a missing value (NaN)."""
+    """A cell's value; an empty cell of a delimited row is a missing value (NaN).
+
+    Numbers are read strictly (:func:`~sealeak.io.units.parse_number`: ASCII decimals, ``nan`` and
+    ``inf`` for the caller to judge); a number with a comma raises :class:`_CommaInNumber`.
+    """
     if delimited and cell == "":
         return float("nan")
-    return float(cell)
+    if _COMMA_NUMBER.fullmatch(cell):
+        raise _CommaInNumber(cell)
+    return parse_number(cell)
 
 
 def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
@@ -98,13 +131,14 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
         if not line or line.startswith("#"):
             continue
         cells = _split(line, len(names) if names else (len(rows[0]) if rows else None))
-        delimited = bool(_SEPARATOR.search(line))
+        delimited = _separator(line) is not None
         try:
             values = [_number(c, delimited) for c in cells]
-        except ValueError:
+        except _CommaInNumber as exc:
+            raise FileFormatError(p, f"line {lineno}: {str(exc)!r}: {comma_advice(str(exc))}") from None
+        except ValueError as exc:
             if rows or header:
-                bad = next(c for c in cells if not _is_float(c))
-                raise FileFormatError(p, f"line {lineno}: {bad!r} is not a number") from None
+                raise FileFormatError(p, f"line {lineno}: {exc}") from None
             header = True
             cells = _split_header(line)
             parsed = [_HEADER_CELL.match(c) for c in cells]
@@ -112,8 +146,10 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
             units = tuple(((m.group(2) or "") if m else "").strip() for m in parsed)
             continue
         if names and len(values) != len(names):
-            decimal_commas = re.search(r"[;\t]", line) and re.search(r"\d,\d", line)
-            hint = " (decimal commas? write 1.5, not 1,5)" if decimal_commas and len(values) > len(names) else ""
+            # commas followed by a space separate the cells; one glued between digits looks like a decimal comma
+            decimal_commas = ", " in line and re.search(r"[0-9],[0-9]", line) and len(values) > len(names)
+            hint = (" (if a ',' is a decimal comma: use a decimal point, write 1.5, not 1,5; ',' is not allowed in "
+                    "numbers)") if decimal_commas else ""
             raise FileFormatError(p, f"line {lineno}: {len(values)} values, but the header names {len(names)} "
                                      f"columns{hint}")
         if rows and len(values) != len(rows[0]):
@@ -129,16 +165,6 @@ def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
         names = tuple(f"column {i + 1}" for i in range(data.shape[1]))
         units = ("",) * data.shape[1]
     return UnitTable(str(p), names, units, data, header, tuple(lines))
-
-
-def _is_float(text: str) -> bool:
-    if text == "":
-        return True  # a missing value, not a word
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def read_spectrum_table(path: str | Path) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
