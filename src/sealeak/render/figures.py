@@ -25,11 +25,13 @@ How the figures read (the same rules for the laboratory figures, :mod:`sealeak.r
 
 from __future__ import annotations
 
+import functools
 import io
-from collections.abc import Sequence
+import textwrap
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ParamSpec
 
 import matplotlib as mpl
 import numpy as np
@@ -37,6 +39,7 @@ from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.axis import Axis
 from matplotlib.figure import Figure
+from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.legend import Legend
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator, ScalarFormatter
 
@@ -48,7 +51,12 @@ from ..physics.validity import pressures_text
 __all__ = ["prediction_figures", "save_figures", "render_figures", "pressure_axis", "PREDICTION_FIGURE_NAMES",
            "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "pressure_x",
-           "figure_png"]
+           "figure_png", "laid_out"]
+
+P = ParamSpec("P")
+
+#: Characters of a title line at 9 pt that fit the figure's 6.4 in width.
+_TITLE_CHARS = 92
 
 _STYLE = {"figure.figsize": (6.4, 4.6), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
           "axes.titlesize": 10, "legend.fontsize": 8}
@@ -184,10 +192,29 @@ def new_figure(title: str, figsize: tuple[float, float] | None = None) -> tuple[
     return fig, ax
 
 
+def laid_out(make: Callable[P, Figure]) -> Callable[P, Figure]:
+    """Decorate a figure function: lay the finished figure out once (constrained layout), then keep that layout.
+
+    Constrained layout fits labels, a second axis and a legend below the axes inside the figure, but
+    it costs two extra layout passes on every draw; the figures are finished when their function
+    returns, so the layout is computed once and frozen (later draws and savefig reuse it).
+    """
+    @functools.wraps(make)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> Figure:
+        fig = make(*args, **kwargs)
+        engine = fig.get_layout_engine()
+        if engine is not None and not isinstance(engine, PlaceHolderLayoutEngine):
+            engine.execute(fig)
+            fig.set_layout_engine("none")
+        return fig
+    return wrapper
+
+
 def subtitle(ax: Axes, text: str) -> None:
-    """Set the axes title to its heading plus ``text`` on the lines below."""
+    """Set the axes title to its heading plus ``text`` on the lines below (long lines wrapped to the figure's width)."""
     heading = getattr(ax, "_sealeak_heading", "")
-    ax.set_title(heading + ("\n" + text if text else ""), fontsize=9)
+    lines = [w for line in text.splitlines() for w in (textwrap.wrap(line, _TITLE_CHARS) or [""])] if text else []
+    ax.set_title("\n".join([heading, *lines]), fontsize=9)
 
 
 def say_nothing(ax: Axes, text: str) -> None:
@@ -242,7 +269,8 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
                  **kwargs: Any) -> Legend | None:
     """A legend inside the axes where it covers no data, else below the axes (as wide as the figure allows).
 
-    Call it last, once everything is drawn and the limits are final.
+    Call it last, once everything is drawn and the limits are final: it lays the figure out to see
+    where the data are (and, with the legend inside, keeps that layout; see :func:`laid_out`).
     """
     if handles is None or labels is None:
         handles, labels = ax.get_legend_handles_labels()
@@ -259,6 +287,8 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
     for loc in _INSIDE:
         leg = ax.legend(handles, labels, loc=loc, **kwargs)
         if not _covers(leg, points, texts):
+            if engine is not None:
+                fig.set_layout_engine("none")  # a legend inside the axes leaves the layout as it is: keep it
             return leg
         leg.remove()
     kwargs.pop("ncol", None)
@@ -397,6 +427,7 @@ def pressure_x(ax: Axes, p0: np.ndarray) -> float:
     return scale
 
 
+@laid_out
 def figure_spectrum(cases: Sequence[Case], curves: PredictionCurves) -> Figure:
     """C(q) against q, log-log, with q0 and the spectrum's nodes."""
     fig, ax = new_figure("Surface roughness power spectrum")
@@ -418,6 +449,7 @@ def figure_spectrum(cases: Sequence[Case], curves: PredictionCurves) -> Figure:
     return fig
 
 
+@laid_out
 def figure_contact_area(cases: Sequence[Case], curves: PredictionCurves) -> Figure:
     """A(ζ)/A0 against ζ for a few squeeze pressures, with the percolation level 1 - p_c."""
     fig, ax = new_figure("Apparent relative contact area against magnification")
@@ -438,6 +470,7 @@ def figure_contact_area(cases: Sequence[Case], curves: PredictionCurves) -> Figu
     return fig
 
 
+@laid_out
 def figure_separation(cases: Sequence[Case], curves: PredictionCurves) -> Figure:
     """ū(ζ) (solid) and u1(ζ) (dashed) against ζ for the same squeeze pressures."""
     fig, ax = new_figure("Interfacial separation against magnification")
@@ -483,6 +516,7 @@ def figure_separation(cases: Sequence[Case], curves: PredictionCurves) -> Figure
     return fig
 
 
+@laid_out
 def figure_gap_distribution(curves: PredictionCurves) -> Figure:
     """P(u) (continuous part) for a few squeeze pressures; the δ(u) weight A(ζ1)/A0 in the legend."""
     fig, ax = new_figure("Distribution of interfacial separations P(u)")
@@ -566,6 +600,7 @@ def _series_peaks(series: Sequence[Series]) -> list[float]:
     return peaks
 
 
+@laid_out
 def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     """Q against P0, linear (paper Fig. 6) or log (paper Fig. 7), with a second axis in ml/min.
 
@@ -615,6 +650,7 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     return fig
 
 
+@laid_out
 def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
     """u_c (solid) and λc (dashed) against P0 (the critical pore size, paper Fig. 8)."""
     fig, ax = new_figure("Critical constriction against squeeze pressure")
@@ -658,6 +694,7 @@ def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
     return fig
 
 
+@laid_out
 def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
     """ζc against P0 (paper Fig. 9); log when ζc spans more than two decades."""
     fig, ax = new_figure("Critical magnification against squeeze pressure")
@@ -682,6 +719,7 @@ def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
     return fig
 
 
+@laid_out
 def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     """Q against ΔP at a fixed squeeze pressure (paper Fig. 5: linear through the origin), with ml/min.
 

@@ -16,6 +16,7 @@ from ..lab.rig import ReadingsAnalysis, RigSetup, WaterColumn
 from .figures import (
     color,
     finish_axes,
+    laid_out,
     ml_per_min_axis,
     new_figure,
     place_legend,
@@ -30,6 +31,7 @@ __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings"]
 _NAMES = {"critical_junction": "critical junction", "effective_medium": "effective medium"}
 
 
+@laid_out
 def figure_fit(result: FitResult) -> Figure:
     """Measured Q against P0 (log scale) with both fitted models, and a second axis in ml/min."""
     fig, ax = new_figure("Measured leak rate and fitted theory")
@@ -83,6 +85,7 @@ def _model_lines(ax: Axes, x: np.ndarray, models: dict[str, np.ndarray], qscale:
     return hidden
 
 
+@laid_out
 def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Figure:
     """Measured Q against ΔP with the fitted straight line (and the models' lines through 0), with ml/min."""
     line, model_lines, p0 = check.line, check.model_slopes, check.squeeze_pressure
@@ -106,6 +109,7 @@ def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Fi
     return fig
 
 
+@laid_out
 def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float) -> Figure:
     """Water height against time for each model (WaterColumn solutions)."""
     fig, ax = new_figure("Virtual water-column rig: level against time")
@@ -130,6 +134,7 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float) -> Fig
     return fig
 
 
+@laid_out
 def figure_readings(analysis: ReadingsAnalysis, model_conductance: dict[str, float]) -> Figure:
     """Leak rate against ΔP from rig readings, with the exponential-fit conductance and the models (ml/min too)."""
     fig, ax = new_figure("Leak rate from the rig readings")
