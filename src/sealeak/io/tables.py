@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
+from .files import input_file
 from .units import comma_advice, parse_number, unit_factor
 
 __all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
@@ -112,15 +113,13 @@ def _number(cell: str, delimited: bool) -> float:
 
 def read_unit_table(path: str | Path, min_columns: int = 2) -> UnitTable:
     """Read a numeric table with an optional unit header (see the module docstring)."""
-    p = Path(path)
-    if not p.exists():
-        raise FileFormatError(p, "file not found")
-    if p.is_dir():
-        raise FileFormatError(p, "is a folder, not a file")
+    p = input_file(path)
     try:
         text = p.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:
         raise FileFormatError(p, "is not a UTF-8 text table") from None
+    except OSError as exc:
+        raise FileFormatError(p, f"cannot read it: {exc.strerror or exc}") from None
     names: tuple[str, ...] = ()
     units: tuple[str, ...] = ()
     rows: list[list[float]] = []
