@@ -149,9 +149,10 @@ def _plain_axis(axis: Axis) -> None:
 
 def finish_axes(ax: Axes) -> None:
     """Tick formats for both axes of ``ax``: :func:`log_axis` on log axes, plain numbers on linear ones."""
-    for axis, scale in ((ax.xaxis, ax.get_xscale()), (ax.yaxis, ax.get_yscale())):
+    limits = {"x": ax.get_xlim(), "y": ax.get_ylim()}  # settles pending autoscaling
+    for name, axis, scale in (("x", ax.xaxis, ax.get_xscale()), ("y", ax.yaxis, ax.get_yscale())):
         if scale == "log":
-            log_axis(axis)
+            log_axis(axis, *sorted(limits[name]))
         elif scale == "linear":
             _plain_axis(axis)
 
@@ -618,8 +619,8 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     shown_cj = any(r.shows_critical_junction for r in results)
     shown_em = any(r.effective_medium is not None for r in results)
     settings = _settings(cases[0]) if shown_cj else (
-        f"ΔP = {cases[0].pressure_difference / 1e3:.3g} kPa, η = {cases[0].fluid.viscosity * 1e3:.3g} mPa·s, "
-        f"Ly/Lx = {cases[0].seal.aspect_ratio:.3g}, γ = {cases[0].gamma:g}")
+        f"effective medium (2D Bruggeman, no fit factor): ΔP = {cases[0].pressure_difference / 1e3:.3g} kPa, "
+        f"η = {cases[0].fluid.viscosity * 1e3:.3g} mPa·s, Ly/Lx = {cases[0].seal.aspect_ratio:.3g}, γ = {cases[0].gamma:g}")
     if shown_em and shown_cj:
         settings += "\nsolid: critical junction; dashed: effective medium (no fit factor)"
     any_q = any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series)
@@ -762,7 +763,12 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     if not log:
         ax.set_xlim(left=0)
     ax.set_ylabel(f"leak rate Q ({qunit})")
-    notes = ["Q = α (Ly/Lx) u_c³ ΔP/(12η): linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
+    formulas = []
+    if any(sw.case.model != "effective-medium" or sw.effective_medium is None for sw in sweeps):
+        formulas.append("Q = α (Ly/Lx) u_c³ ΔP/(12η)")
+    if any(sw.effective_medium is not None for sw in sweeps):
+        formulas.append("Q = (Ly/Lx) σ_eff ΔP (effective medium)")
+    notes = [", ".join(formulas) + ": linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
     if log:
         notes.append("log-log: the cases' leak rates differ by decades (Q ∝ ΔP has slope one)")
     if not all(s.valid.all() for s in series):
