@@ -267,3 +267,14 @@ def test_data_inputs_that_are_not_regular_files_are_refused_not_read_forever(tmp
     else:
         assert main(argv) == 2
         one_line_error(capsys, path)
+
+
+@pytest.mark.parametrize("command", [["predict"], ["report", "-o", "{tmp}/r.html"], ["rig"], ["simulate", "--grid", "16"]])
+def test_a_case_that_is_a_fifo_is_refused_not_read_forever(tmp_path, command):
+    fifo = tmp_path / "case.toml"
+    os.mkfifo(fifo)
+    argv = [command[0], str(fifo), *(a.replace("{tmp}", str(tmp_path)) for a in command[1:])]
+    run = subprocess.run([sys.executable, "-c", CLI, *argv], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and run.stderr.count("\n") == 1 and str(fifo) in run.stderr, run.stderr
+    assert "named pipe" in run.stderr and "Traceback" not in run.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["case.toml"]

@@ -46,6 +46,7 @@ def add_case_args(p: argparse.ArgumentParser) -> None:
 def load_case_file(args: argparse.Namespace) -> CaseFile:
     """The case file named by ``args.case`` or ``--example`` (exactly one of them)."""
     from ..cases import example_path, read_case_file
+    from ..io.files import input_file
 
     if args.example and args.case:
         raise SealeakError("give a case file or --example NAME, not both")
@@ -53,7 +54,8 @@ def load_case_file(args: argparse.Namespace) -> CaseFile:
         return read_case_file(example_path(args.example))
     if not args.case:
         raise SealeakError("give a case file (CASE.toml) or --example NAME; `sealeak examples` lists the examples")
-    return read_case_file(args.case)
+    # a regular file only: reading a FIFO or a device (/dev/zero) as the case would never end
+    return read_case_file(input_file(args.case, "case file"))
 
 
 def load(args: argparse.Namespace) -> list[Case]:
