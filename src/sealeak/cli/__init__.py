@@ -59,6 +59,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
 
 def _cmd_examples(args: argparse.Namespace) -> int:
     from ..cases import example_names, example_text
+    from ..cases.loader import example_data_names, example_description
 
     if args.name:
         sys.stdout.write(example_text(args.name))
@@ -66,9 +67,13 @@ def _cmd_examples(args: argparse.Namespace) -> int:
     print("Bundled example cases (print one with `sealeak examples NAME`, run it with "
           "`sealeak predict --example NAME`):")
     for name in example_names():
-        first = next((ln for ln in example_text(name).splitlines() if ln.startswith("title")), "")
-        title = first.split("=", 1)[1].strip().strip('"') if "=" in first else ""
-        print(f"  {name:24s} {title}")
+        print(f"  {name:24s} {example_description(name)}")
+    data = example_data_names()
+    if data:
+        print("Bundled example data (save one with `sealeak examples NAME > NAME`, then e.g. "
+              "`sealeak fit --example reference-experiment --data NAME`):")
+        for name in data:
+            print(f"  {name:24s} {example_description(name)}")
     return 0
 
 
