@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, UnitError
-from ..io.units import parse_quantity, registry
+from ..io.units import parse_quantity
 from ..lab.rig import RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
@@ -329,17 +329,7 @@ def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why
 
 def _rig(sec: Section, fluid: Fluid) -> RigSetup:
     """The [rig] section: the water-column rig of the reference experiment (:class:`~sealeak.lab.rig.RigSetup`)."""
-    gravity = STANDARD_GRAVITY
-    if sec.has("gravity"):
-        raw = sec.raw("gravity")
-        allowed = "an acceleration with its unit, e.g. '9.81 m/s^2'"
-        try:
-            qty = registry().Quantity(str(raw).replace("^", "**")) if isinstance(raw, str) else None
-            gravity = float(qty.to("m/s**2").magnitude) if qty is not None else float("nan")
-        except Exception:
-            raise UnitError(sec.field("gravity"), raw, allowed) from None
-        if not (np.isfinite(gravity) and gravity > 0):
-            raise UnitError(sec.field("gravity"), raw, allowed)
+    gravity = sec.quantity("gravity", "acceleration") if sec.has("gravity") else STANDARD_GRAVITY
     if not sec.has("load"):
         raise InputError(sec.field("load"), None, "is required: the mass (e.g. '3.4 kg') or force (e.g. '33 N') on the ring")
     try:
