@@ -126,7 +126,7 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float) -> Fig
     ax.set_ylim(0, 1.08 * rig.initial_height * 100)
     ax.set_xlim(left=0)
     subtitle(ax, f"P0 = {p0 / 1e3:.3g} kPa ({rig.load_note or 'load'}), cylinder {rig.cylinder_diameter * 100:.3g} cm, "
-                  f"ΔP = ρgH, ρ = {rig.density:g} kg/m³; dots: final height reached")
+                  f"ΔP = ρgH, ρ = {rig.density:g} kg/m³\ndots: the final height reached")
     if not columns:
         say_nothing(ax, "no model to simulate")
     finish_axes(ax)
