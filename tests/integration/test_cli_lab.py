@@ -191,7 +191,7 @@ def test_report_is_valid_self_contained_html(tmp_path):
     ("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n30, 1.0, 10\n60, 2.0, 0\n",
      "line 3: a leak rate of 2 ml/min at zero pressure difference"),
     ("", "no numeric rows"),
-    ("squeeze_pressure (kPa); leak_rate (ml/min)\n30; 1,5\n60; 2,5\n", "decimal commas?"),
+    ("squeeze_pressure (kPa); leak_rate (ml/min)\n30; 1,5\n60; 2,5\n", "use a decimal point"),
 ])
 def test_bad_data_files_through_the_cli(tmp_path, capsys, content, problem):
     data = tmp_path / "bad.csv"

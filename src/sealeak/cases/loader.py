@@ -52,6 +52,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import FileFormatError, InputError, SealeakError
+from ..io.files import input_file
 from .builders import build_case
 from .model import Case
 from .schema import SECTIONS, Section
@@ -116,6 +117,7 @@ def read_case_file(path: str | Path) -> CaseFile:
         raise FileFormatError(p, "case file not found")
     if p.is_dir():
         raise FileFormatError(p, "is a folder, not a case file")
+    p = input_file(p, "case file")  # a FIFO or device would block or never end
     try:
         text = p.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:

@@ -92,7 +92,10 @@ class Section:
                 value = parse_quantity(self.field(key), value, "dimensionless")
             else:
                 raise InputError(self.field(key), value, "must be a number")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:
+            raise InputError(self.field(key), self.data[key], "must be a number a float can hold (|x| < 1.8e308)") from None
         rng = (("(" if low_open else "[") + (f"{low:g}" if low is not None else "-inf") + ", "
                + (f"{high:g}" if high is not None else "inf") + (")" if high_open else "]"))
         ok = np.isfinite(value)

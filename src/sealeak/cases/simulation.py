@@ -35,7 +35,7 @@ from scipy import special
 
 from .. import numerics
 from ..errors import InputError
-from ..io.files import OutputWriteError
+from ..io.files import OutputWriteError, check_replaceable
 from ..numerics.synthesis import synthesize
 from .model import Case
 from .run import predict
@@ -358,8 +358,15 @@ class _StagedFolder:
             return
         if exc_type is None:
             moved: list[Path] = []
+            parts = sorted(self.stage.iterdir())
             try:
-                for part in sorted(self.stage.iterdir()):
+                for part in parts:  # only regular files (or nothing) may be replaced, checked before any move
+                    check_replaceable(self.target / part.name)  # type: ignore[operator]
+            except BaseException:
+                self._clean()
+                raise
+            try:
+                for part in parts:
                     os.replace(part, self.target / part.name)  # type: ignore[operator]
                     moved.append(self.target / part.name)  # type: ignore[operator]
             except BaseException as err:

@@ -18,13 +18,11 @@ __all__ = ["register", "unit_options"]
 
 def _lengths(text: str | None, field: str) -> float | tuple[float, float] | None:
     """'1 mm' -> 1e-3; '1 mm, 0.5 mm' -> (1e-3, 5e-4)."""
-    from ..io.units import parse_quantity
+    from ..io.units import parse_quantity, split_quantities
 
     if text is None:
         return None
-    parts = [p.strip() for p in text.split(",") if p.strip()]
-    if not 1 <= len(parts) <= 2:
-        raise InputError(field, text, "one length (square) or two separated by a comma, e.g. '1 mm, 0.5 mm'")
+    parts = split_quantities(field, text)
     values = [parse_quantity(field, p, "length") for p in parts]
     for v, p in zip(values, parts):
         if v <= 0:

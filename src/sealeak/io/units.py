@@ -138,10 +138,15 @@ def _dim_name(dimension: str) -> str:
     return dimension.replace("_", " ")
 
 
+def _article(name: str) -> str:
+    """"a pressure", "an acceleration"."""
+    return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
+
+
 def _allowed(dimension: str) -> str:
     if dimension == "dimensionless":
         return f"a number, e.g. {_EXAMPLES[dimension]}"
-    return f"a {_dim_name(dimension)} with its unit, e.g. {_EXAMPLES[dimension]}"
+    return f"{_article(_dim_name(dimension))} with its unit, e.g. {_EXAMPLES[dimension]}"
 
 
 # ---------------------------------------------------------------------------------------- commas
@@ -309,8 +314,8 @@ def _si_factor(unit: str, dimension: str) -> float:
     target = ureg.parse_units(SI_UNITS[dimension].replace("^", "**")) if dimension != "dimensionless" else None
     if u.dimensionality != ureg.get_dimensionality(DIMENSIONS[dimension]):
         shown = f"{u:~}" or "1"
-        what = "dimensionless" if u.dimensionless else f"a {_dim_of(u)}"
-        raise _WrongDimension(f"its unit '{shown}' is {what}, not a {_dim_name(dimension)}")
+        what = "dimensionless" if u.dimensionless else _article(_dim_of(u))
+        raise _WrongDimension(f"its unit '{shown}' is {what}, not {_article(_dim_name(dimension))}")
     try:
         q = ureg.Quantity(1.0, u)
         factor = float(q.to(target).magnitude if target is not None else q.to("dimensionless").magnitude)

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError
+from ..io.files import input_file
 from ._common import (
     INSTALL_HINT,
     LengthLike,
@@ -96,6 +97,7 @@ def read_topography(
         raise FileFormatError(p, "no such file")
     if p.is_dir():
         raise FileFormatError(p, "is a directory, not a file")
+    p = input_file(p, "topography file")  # a FIFO or device would block or never end
     try:
         with open(p, "rb") as fh:
             data = fh.read(4096)

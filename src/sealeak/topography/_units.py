@@ -9,61 +9,41 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
-import pint
 
 from ..errors import UnitError
-from ..io.units import registry
+from ..io.units import parse_quantity, unit_factor
 
 __all__ = ["length_unit_factor", "parse_length", "cli_option_names", "option_name", "option_example",
            "MissingUnitsError"]
 
 
-@lru_cache(maxsize=64)
-def _factor(text: str) -> float:
-    ureg = registry()
-    try:
-        quantity = ureg.Quantity(text) if any(c.isspace() or c.isdigit() for c in text) else ureg.Quantity(1.0, text)
-        value = float(quantity.to("m").magnitude)
-    except pint.errors.DimensionalityError:
-        raise ValueError("not a length") from None
-    except Exception:  # pint raises many types for garbage (UndefinedUnitError, SyntaxError, ...)
-        raise ValueError("unknown unit") from None
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError("must be a positive length")
-    return value
-
-
 def length_unit_factor(unit: str, field: str = "unit") -> float:
-    """Metres per ``unit`` (e.g. ``"um"``, ``"µm"``, ``"μm"``, ``"nm"``, ``"mm"``, ``"m"``, ``"Å"``).
+    """Metres per ``unit`` (e.g. ``"um"``, ``"µm"``, ``"μm"``, ``"nm"``, ``"mm"``, ``"m"``, ``"Å"``, or a scaled unit ``"0.5 um"``).
 
-    Raises :class:`~sealeak.errors.UnitError` (naming ``field``) for unknown units and units that are
-    not lengths.
+    Parsed by the project's one quantity parser (:func:`sealeak.io.units.unit_factor`: nothing is
+    evaluated, no decimal commas). Raises :class:`~sealeak.errors.UnitError` (naming ``field``) for
+    unknown units, units that are not lengths and factors that are not > 0.
     """
     if not isinstance(unit, str) or not unit.strip():
         raise UnitError(field, unit, "a length unit such as 'm', 'mm', 'um', 'nm'")
-    try:
-        return _factor(unit.strip())
-    except ValueError as exc:
-        raise UnitError(field, unit, f"{exc}; allowed: a length unit such as 'm', 'mm', 'um', 'nm'") from None
+    value = unit_factor(field, unit.strip(), "length")
+    if not value > 0:
+        raise UnitError(field, unit, "must be a positive length unit, such as 'm', 'mm', 'um', 'nm'")
+    return value
 
 
 def parse_length(value: Any, field: str) -> float:
-    """A length in metres from a number (already in m) or a string with unit (``"0.5 um"``)."""
+    """A length in metres from a number (already in m) or a string with unit (``"0.5 um"``), > 0."""
     if isinstance(value, str):
-        text = value.strip()
-        try:
-            return _factor(text)
-        except ValueError as exc:
-            raise UnitError(field, value, f"{exc}; allowed: a positive length like '0.5 um' or a number in m") from None
-    try:
+        v = parse_quantity(field, value, "length")
+    elif isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise UnitError(field, value, "a positive length like '0.5 um' or a number in m")
+    else:
         v = float(value)
-    except (TypeError, ValueError):
-        raise UnitError(field, value, "a positive length like '0.5 um' or a number in m") from None
-    if not np.isfinite(v) or v <= 0:
+    if not (np.isfinite(v) and v > 0):
         raise UnitError(field, value, "a positive length like '0.5 um' or a number in m")
     return v
 
