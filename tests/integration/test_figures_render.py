@@ -26,6 +26,7 @@ from sealeak.cases import (
     example_names,
     example_path,
     linearity,
+    prediction_curves,
     read_case_file,
     rig_prediction,
     rig_readings,
@@ -42,6 +43,7 @@ from sealeak.render import (
     figure_rig,
     prediction_figures,
 )
+from sealeak.render.figures import figure_leak_rate, figure_pressure_difference
 from tests.casefiles import BASE, edit
 
 # The figures are checked at the dpi they are written with: text extents do not scale with the dpi
@@ -284,17 +286,19 @@ def test_results_outside_the_theory_are_hollow_and_do_not_set_the_axis(example_f
             assert not np.isin(y[np.isfinite(y)], q_invalid).any()
 
 
-# ---------------------------------------------------------------------- degenerate sweeps
+# ---------------------------------------------------------------------- degenerate sweeps, the other models
 DEGENERATE = {
     "a single pressure, no leak channel": edit(PRESSURES, 'squeeze_pressure = ["100 MPa"]'),
     "both models, every pressure in full contact": edit("[theory]", '[theory]\nmodel = "both"', edit(
         PRESSURES, 'squeeze_pressure = ["40 MPa", "70 MPa", "100 MPa"]')),
     "one pressure of two has a leak channel": edit(PRESSURES, 'squeeze_pressure = ["60 kPa", "100 MPa"]'),
+    "both models": edit("[theory]", '[theory]\nmodel = "both"'),
+    "the effective medium alone": edit("[theory]", '[theory]\nmodel = "effective-medium"'),
 }
 
 
 @pytest.mark.parametrize("text", list(DEGENERATE.values()), ids=list(DEGENERATE))
-def test_degenerate_sweeps_draw_without_warnings(text, tmp_path):
+def test_degenerate_sweeps_and_the_other_models_draw_without_warnings(text, tmp_path):
     results = _results(text, tmp_path)
     figures = _build(lambda: prediction_figures(results))
     _assert_reads_right(figures)
@@ -306,12 +310,13 @@ def test_degenerate_sweeps_draw_without_warnings(text, tmp_path):
 
 
 def test_a_zero_pressure_difference_reaching_the_figures_says_so(tmp_path):
-    """The case loader refuses ΔP = 0; a case built in Python can still carry it to the figures."""
+    """The case loader refuses ΔP = 0; a case built in Python can still carry it to the leak-rate figures."""
     (result,) = _results(BASE, tmp_path)
-    case = replace(result.case, pressure_difference=0.0)
-    results = [run_case(case)]
+    results = [run_case(replace(result.case, pressure_difference=0.0))]
     assert results[0].critical_junction.percolates.any()
-    figures = _build(lambda: prediction_figures(results))
+    figures = _build(lambda: {"leak_rate.png": figure_leak_rate(results, log=False),
+                              "leak_rate_log.png": figure_leak_rate(results, log=True),
+                              "leak_rate_vs_pressure_difference.png": figure_pressure_difference(prediction_curves(results))})
     _assert_reads_right(figures)
     for name in ("leak_rate.png", "leak_rate_log.png"):
         assert "zero at every squeeze pressure" in " ".join(t.get_text() for t in figures[name].axes[0].texts)
