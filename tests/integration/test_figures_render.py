@@ -43,7 +43,7 @@ from sealeak.render import (
     figure_rig,
     prediction_figures,
 )
-from sealeak.render.figures import figure_leak_rate, figure_pressure_difference
+from sealeak.render.figures import Series, color, draw_series, figure_leak_rate, figure_pressure_difference, new_figure
 from tests.casefiles import BASE, edit
 
 # The figures are checked at the dpi they are written with: text extents do not scale with the dpi
@@ -350,3 +350,16 @@ def test_laboratory_figures_read_right(case, sweep, tmp_path):
     assert figures["fit.png"].axes[0].get_yscale() == "log"
     for name in ("fit.png", "linearity.png", "readings.png"):
         assert any("ml/min" in sec.get_ylabel() for sec in figures[name].axes[0].child_axes), name
+
+
+def test_an_invalid_zero_on_a_log_axis_is_a_triangle_below_it():
+    """u_c = 0 (the junction at the end of the resolved band) gives Q = 0, flagged invalid: drawn below the axis."""
+    fig, ax = new_figure("test")
+    x = np.arange(1.0, 6.0)
+    series = [Series(x, np.array([1e-6, 1e-7, 1e-8, 1e-9, 0.0]), np.array([True] * 4 + [False]), color(0), "-", "Q",
+                     ("",) * 4 + ("u_c = 0 nm is below the fluid's molecular size 0.3 nm",))]
+    assert _build(lambda: draw_series(ax, series, logy=True))
+    lo, hi = ax.get_ylim()
+    (below,) = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
+    assert list(below.get_xdata()) == [5.0] and lo < below.get_ydata()[0] < 1e-9
+    assert not figure_problems(fig)

@@ -333,7 +333,9 @@ def draw_series(ax: Axes, series: Sequence[Series], logy: bool = False, logx: bo
 
     Valid points alone set the y limits (when there are any); invalid points near or beyond a limit
     get a narrow band beyond it, where those beyond are hollow triangles. Non-finite points (no leak
-    channel) and, on a log axis, non-positive ones are left out. ``bottom_zero``: a linear axis from 0.
+    channel) are left out, and on a log axis so are non-positive valid ones (an invalid zero, e.g.
+    u_c = 0 at the end of the resolved band, is a triangle in the lower band). ``bottom_zero``: a
+    linear axis from 0.
     """
     if logy:
         ax.set_yscale("log")
@@ -343,11 +345,10 @@ def draw_series(ax: Axes, series: Sequence[Series], logy: bool = False, logx: bo
     for s in series:
         x, y = np.asarray(s.x, dtype=float), np.asarray(s.y, dtype=float)
         finite = np.isfinite(x) & np.isfinite(y)
-        if logy:
-            finite &= y > 0
         if logx:
             finite &= x > 0
-        ok, bad = finite & s.valid, finite & ~s.valid
+        # on a log axis a valid Q = 0 has no place; an invalid one (e.g. u_c = 0) goes below the axis
+        ok, bad = finite & s.valid & ((y > 0) if logy else True), finite & ~s.valid
         marker = "o" if x.size <= 12 else ""
         if ok.any():
             ax.plot(x, np.where(ok, y, np.nan), s.style, marker=marker, ms=3, color=s.color, label=s.label)
@@ -363,11 +364,16 @@ def draw_series(ax: Axes, series: Sequence[Series], logy: bool = False, logx: bo
         return drawn
     hollow: dict[str, Any] = {"ls": "none", "mfc": "none", "ms": 4.5, "mew": 1.0}
     if not drawn:  # nothing valid: the invalid points are all there is, at their values
+        pending = [(x[y > 0], y[y > 0], c) for x, y, c in pending] if logy else pending
+        if not any(y.size for _, y, _ in pending):
+            return False
         for x, y, c in pending:
             ax.plot(x, y, "o", mec=c, **hollow)
     else:
         ax.autoscale_view()
         lo, hi = ax.get_ylim()  # the valid points set the scale
+        if logy:  # a non-positive invalid point lies below any log axis: in the lower band
+            pending = [(x, np.where(y > 0, y, 1e-3 * lo), c) for x, y, c in pending]
         fwd, inv = (np.log10, lambda v: 10.0 ** v) if logy else (lambda v: v, lambda v: v)
         span = fwd(hi) - fwd(lo)
         ys = np.concatenate([y for _, y, _ in pending])
