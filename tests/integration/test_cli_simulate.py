@@ -160,7 +160,7 @@ def test_interrupted_fields_leave_nothing(existing, tmp_path):
             "--no-threshold", "--fields", str(folder), "--force"]
     rc, err = _interrupt_after_first_field(args, folder, tmp_path)
     assert rc == 130
-    assert err.strip().splitlines()[-1] == "sealeak: interrupted; no partial output files were left"
+    assert err.strip().splitlines()[-1] == "sealeak: interrupted; no output was left half-written (outputs completed before the interruption remain)"
     if existing:
         assert {p.name: p.read_bytes() for p in folder.iterdir()} == old
     else:

@@ -123,7 +123,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"sealeak: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
-        print("sealeak: interrupted; no partial output files were left", file=sys.stderr)
+        print("sealeak: interrupted; no output was left half-written (outputs completed before the interruption remain)", file=sys.stderr)
         return EXIT_INTERRUPTED
 
 
