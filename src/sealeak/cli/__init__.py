@@ -11,12 +11,11 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 from .._version import __version__
 from ..errors import SealeakError
 from . import lab, simulate, surface
-from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, load_case_file, say
+from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, inputs, load_case_file, outputs, say
 
 __all__ = ["main", "build_parser"]
 
@@ -34,10 +33,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
         save_figures,
     )
 
-    outputs = [p for p in (args.table, args.json, args.csv) if p]
-    if args.plots:
-        outputs += [str(Path(args.plots) / n) for n in PREDICTION_FIGURE_NAMES]
-    check_outputs(outputs, args.force)
+    check_outputs(outputs(args, PREDICTION_FIGURE_NAMES, files=("table", "json", "csv")), args.force, inputs=inputs(args))
     results = [run_case(c) for c in load_case_file(args).cases]
     # render everything first, then write: a failure while rendering leaves no file behind
     table = prediction_table(results)

@@ -14,12 +14,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import InputError, SealeakError
+from ..io.files import Output
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..cases import Case, CaseFile
 
 __all__ = ["Parser", "EXIT_USER_ERROR", "EXIT_INTERRUPTED", "add_case_args", "load_case_file", "load",
-           "one_case", "say", "outputs", "positive_pressure"]
+           "one_case", "say", "outputs", "inputs", "positive_pressure"]
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -77,12 +78,39 @@ def say(args: argparse.Namespace, text: str) -> None:
         print(text, file=sys.stderr)
 
 
-def outputs(args: argparse.Namespace, figure_names: Iterable[str]) -> list[str]:
-    """The files a command will write: ``--json`` and the figures in ``--plots``."""
-    out = [args.json] if getattr(args, "json", None) else []
-    if getattr(args, "plots", None):
-        out += [str(Path(args.plots) / n) for n in figure_names]
+def outputs(args: argparse.Namespace, figure_names: Iterable[str] = (), files: Iterable[str] = ("json",),
+            folders: Iterable[str] = ("plots",)) -> list[Output]:
+    """The outputs a command will write, for :func:`sealeak.io.files.check_outputs`.
+
+    ``files`` and ``folders`` are the attribute names of the file options (``--json``) and of the
+    folder options (``--plots``, ``--fields``) of ``args``; ``figure_names`` the files written into
+    ``--plots``. An option given as an empty string is kept, so that it is refused, not ignored.
+    """
+    out: list[Output] = []
+    for attr in files:
+        if getattr(args, attr, None) is not None:
+            out.append(Output(getattr(args, attr), _option(attr)))
+    for attr in folders:
+        folder = getattr(args, attr, None)
+        if folder is not None:
+            out.append(Output(folder, _option(attr), folder=True))
+            if attr == "plots" and folder:
+                out += [Output(str(Path(folder) / n), "--plots") for n in figure_names]
     return out
+
+
+def inputs(args: argparse.Namespace, *attrs: str) -> list[str]:
+    """The files a command reads (the case file and the options ``attrs``), for ``check_outputs(inputs=...)``."""
+    out: list[str] = []
+    for attr in ("case", *attrs):
+        value = getattr(args, attr, None)
+        out += value if isinstance(value, list) else [value] if value else []
+    return out
+
+
+def _option(attr: str) -> str:
+    """``psd_out`` -> ``--psd-out``."""
+    return "--" + attr.replace("_", "-")
 
 
 def positive_pressure(field: str, text: str) -> float:

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, SealeakError
-from ._common import load_case_file, one_case, outputs, positive_pressure, say
+from ._common import inputs, load_case_file, one_case, outputs, positive_pressure, say
 
 __all__ = ["register"]
 
@@ -58,7 +58,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     from ..render import figure_fit, fit_json, fit_text, render_figures, save_figures
 
     names = ("linearity.png",) if args.linearity else ("fit.png",)
-    check_outputs(outputs(args, names), args.force)
+    check_outputs(outputs(args, names), args.force, inputs=inputs(args, "data"))
     reference = positive_pressure("--at-pressure", args.at_pressure)
     case = one_case(args)
     if args.linearity:
@@ -117,7 +117,7 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     from ..render import figure_readings, figure_rig, render_figures, rig_json, rig_text, save_figures
 
     names = ("rig.png", "readings.png") if args.readings else ("rig.png",)
-    check_outputs(outputs(args, names), args.force)
+    check_outputs(outputs(args, names), args.force, inputs=inputs(args, "readings"))
     case = one_case(args)
     if case.rig is None:
         raise InputError("rig", None, f"{case.source or 'the case'} has no [rig] section: give cylinder_diameter, "
@@ -151,7 +151,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs, write_text
     from ..render import html_report
 
-    check_outputs([args.output], args.force)
+    check_outputs(outputs(args, files=("output",), folders=()), args.force, inputs=inputs(args))
     case_file = load_case_file(args)
     single = len(case_file.cases) == 1  # the report shows the rig of a single case
     write_text(args.output, html_report([run_case(c, rig=single) for c in case_file.cases], case_file.inputs))

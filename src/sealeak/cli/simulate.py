@@ -8,7 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError, SealeakError
-from ._common import load, outputs
+from ._common import inputs, load, outputs
 
 __all__ = ["register"]
 
@@ -20,7 +20,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
 
-    check_outputs(outputs(args, SIMULATION_FIGURE_NAMES), args.force)
+    check_outputs(outputs(args, SIMULATION_FIGURE_NAMES, folders=("plots", "fields")), args.force, inputs=inputs(args))
     if args.fields:
         _check_fields_folder(Path(args.fields), args.force)
     cases = load(args)

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, SealeakError
-from ._common import say
+from ._common import inputs, outputs, say
 
 __all__ = ["register", "unit_options"]
 
@@ -58,7 +58,7 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     from ..render import analysis_json, analysis_text, plot_spectra, spectrum_csv
     from ..topography import analyze, cli_option_names
 
-    check_outputs([p for p in (args.psd_out, args.plot, args.json) if p], args.force)
+    check_outputs(outputs(args, files=("psd_out", "plot", "json"), folders=()), args.force, inputs=inputs(args, "files"))
     with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments
         an = analyze(args.files, **unit_options(args), **range_options(args))
     if not an.has_spectrum and (args.psd_out or args.plot):  # before any output: nothing is left behind
@@ -133,7 +133,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     n = args.grid
     # refuse before any work: the synthesis peak, then the map kept while the file is written
     require_memory(synthesis_memory_bytes(n), f"--grid {n}: synthesizing a {n}x{n} map")
-    check_outputs(height_map_outputs(out), args.force)
+    check_outputs(height_map_outputs(out), args.force, inputs=inputs(args, "psd"))
     spectrum, width = _spectrum_for_synthesis(args)
     if args.size:
         size = parse_quantity("--size", args.size, "length")

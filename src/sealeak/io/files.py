@@ -20,11 +20,12 @@ import stat
 import tempfile
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import FileFormatError, SealeakError
+from ..errors import FileFormatError, InputError, SealeakError
 
-__all__ = ["OutputExistsError", "OutputWriteError", "check_outputs", "check_replaceable", "atomic_write", "write_text",
+__all__ = ["Output", "OutputExistsError", "OutputWriteError", "check_outputs", "check_replaceable", "atomic_write", "write_text",
            "input_file"]
 
 
@@ -79,22 +80,46 @@ def check_replaceable(path: str | Path) -> bool:
                             "even with --force; give a file name")
 
 
-def check_outputs(paths: Iterable[str | Path], force: bool) -> None:
+@dataclass(frozen=True)
+class Output:
+    """One output of a command, for :func:`check_outputs`.
+
+    ``path`` as the user gave it; ``option`` names it in messages (``"--json"``); ``folder`` marks a
+    folder the command writes files into (``--plots``, ``--fields``), as opposed to a file.
+    """
+
+    path: str | Path
+    option: str = ""
+    folder: bool = False
+
+    def name(self) -> str:
+        """``--json y.json``, or the bare path when no option is known."""
+        return f"{self.option} {self.path}" if self.option else str(self.path)
+
+
+def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: Iterable[str | Path | None] = ()) -> None:
     """Refuse up front (before any work) outputs that cannot or may not be written.
 
-    Refused, with or without ``force``: two outputs of one run that are the same file (the second
-    would silently replace the first); a path that exists and is not a regular file (a folder, a
+    ``paths`` are the outputs of one run: plain paths of files, or :class:`Output` (a file or a
+    folder written into, with the option naming it); ``inputs`` the files the run reads (case file,
+    data files, topographies), ``None`` entries ignored.
+
+    Refused, with or without ``force``: an empty path; two outputs of one run that are the same file
+    (the second would silently replace the first); an output inside (below) another file output, or
+    a file output that is also an output folder of the run (the run would write the file, then fail
+    on the folder, or the reverse); an output that is the same file as an input (it would replace
+    the data it was computed from); a path that exists and is not a regular file (a folder, a
     symbolic link, a device such as ``/dev/null``, a named pipe, a socket: see
     :func:`check_replaceable`); a path below a file, or in a folder the user may not write into.
     Refused without ``force``: a path that exists as a regular file.
     """
-    targets = [Path(p) for p in paths]
-    seen: dict[Path, Path] = {}
-    for p in targets:
-        key = p.resolve()
-        if key in seen:
-            raise OutputExistsError(f"{seen[key]} and {p} are the same file: give each output its own name")
-        seen[key] = p
+    given = [p if isinstance(p, Output) else Output(p) for p in paths]
+    for o in given:
+        if str(o.path) == "":
+            raise InputError(o.option or "output", "", f"is empty: give a {'folder' if o.folder else 'file'} name (or leave the option out)")
+    _check_collisions(given)
+    _check_inputs(given, [Path(p) for p in inputs if p])
+    targets = [Path(o.path) for o in given if not o.folder]
     for p in targets:
         _check_folder(p)
     existing = [str(p) for p in targets if check_replaceable(p)]
@@ -102,6 +127,41 @@ def check_outputs(paths: Iterable[str | Path], force: bool) -> None:
         shown = ", ".join(existing[:5]) + (f" and {len(existing) - 5} more" if len(existing) > 5 else "")
         raise OutputExistsError(f"{shown} already exist{'s' if len(existing) == 1 else ''}; "
                                 "pass --force to overwrite, or choose another name")
+
+
+def _check_collisions(outputs: list[Output]) -> None:
+    """Two outputs that are the same file, an output below a file output, a file output that is an output folder."""
+    seen: dict[Path, Output] = {}
+    for o in outputs:
+        if o.folder:
+            continue
+        key = Path(o.path).resolve()
+        if key in seen:
+            raise OutputExistsError(f"{seen[key].name()} and {o.name()} are the same file: give each output its own name")
+        seen[key] = o
+    for f_key, f in seen.items():
+        for o in outputs:
+            key = Path(o.path).resolve()
+            if o.folder and key == f_key:
+                raise OutputExistsError(f"{f.name()} and {o.name()} are the same path: a file output cannot also be an "
+                                        "output folder; give each its own name")
+            if f_key in key.parents:
+                raise OutputExistsError(f"{o.name()} would be inside {f.name()}, a file this run writes: give each output "
+                                        "its own name")
+
+
+def _check_inputs(outputs: list[Output], inputs: list[Path]) -> None:
+    """No output is an input of the same run (same resolved path, or the same file through another name)."""
+    for o in outputs:
+        out = Path(o.path)
+        for inp in inputs:
+            try:
+                same = out.resolve() == inp.resolve() or os.path.samefile(out, inp)
+            except OSError:  # one of them does not exist (yet): not the same file
+                same = False
+            if same:
+                raise OutputExistsError(f"{o.name()} is the input {inp}: a run may not write over what it reads, even "
+                                        "with --force; give the output another name")
 
 
 def _check_folder(path: Path) -> None:
