@@ -110,3 +110,14 @@ def test_base_case_is_valid_everywhere(tmp_path, capsys):
     assert main(["predict", str(_write(tmp_path, BASE))]) == 0
     out = capsys.readouterr().out
     assert "valid = NO" not in out and out.count(" yes") == 3
+
+
+def test_pressure_difference_not_small_against_p0_is_outside_the_theory(tmp_path, capsys):
+    path = _write(tmp_path, edit('pressure_difference = "10 kPa"', 'pressure_difference = "45 kPa"'))
+    js = tmp_path / "o.json"
+    assert main(["predict", str(path), "-q", "--json", str(js)]) == 0
+    rows = json.loads(js.read_text())["results"]
+    # ΔP > P0/2 (docs/theory.md §3.6) at P0 = 20 and 60 kPa, not at 100 kPa
+    assert [r["valid"] for r in rows] == [r["pressure_difference"] <= 0.5 * r["squeeze_pressure"] for r in rows]
+    assert [r["valid"] for r in rows] == [False, False, True]
+    assert rows[0]["validity"].startswith("ΔP = ")

@@ -118,6 +118,20 @@ def test_warm_start_gives_same_answer_in_fewer_iterations() -> None:
     assert warm.mean_gap == pytest.approx(float(warm.gap.mean()))
 
 
+def test_warm_start_from_a_one_cell_contact_reaches_the_cold_answer() -> None:
+    """At a tiny pressure the contact is a single cell; warm-starting a much larger load from it must still work."""
+    n, L, e_star = 32, 1e-3, 1e6
+    sp = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=4 * 2 * np.pi / L, q_cutoff=8 * 2 * np.pi / L,
+                                   q_lowest=2 * np.pi / L, h_rms=1e-6)
+    h = synthesize(sp, n, L, seed=0)
+    first = solve_contact(h, L, e_star, 1e-6 * e_star * sp.slope_rms)
+    assert first.contact_area <= 2 / n**2
+    p2 = 1e-2 * e_star * sp.slope_rms
+    cold = solve_contact(h, L, e_star, p2)
+    warm = solve_contact(h, L, e_star, p2, initial=first)
+    assert np.abs(warm.pressure - cold.pressure).max() <= 1e-5 * p2
+
+
 def test_not_converging_raises_with_residual_and_tolerance() -> None:
     n, L = 64, 1e-3
     sp = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=4 * 2 * np.pi / L, q_cutoff=16 * 2 * np.pi / L, h_rms=1e-6)

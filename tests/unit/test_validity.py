@@ -147,3 +147,9 @@ def test_junction_at_the_end_of_the_band_gives_zero_gap_flagged_not_an_error():
     assert r.critical_gap[0] > 1e-9
     valid, _ = continuum_verdict(r.critical_gap, 0.3e-9)
     assert valid[0] and not valid[-1]
+
+
+@pytest.mark.parametrize("h_rms", [1e150, 1e-300, 2e3])
+def test_h_rms_beyond_any_real_surface_is_refused_naming_it(h_rms):
+    with pytest.raises(InputError, match=r"^h_rms = .*must lie in"):
+        PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, q_cutoff=1e7, h_rms=h_rms)

@@ -229,8 +229,23 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     if em is not None:
         valid_em, validity_em = continuum_verdict(np.where(em.percolates, em.effective_gap, np.nan), d, "u_e",
                                                case.seal.width, "Lx (seal width)")
+    # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2)
+    lifted = pressure_difference_not_small(res.squeeze_pressure, res.pressure_difference)
+    valid, validity = _lifted(valid, validity, lifted, res.percolates, res)
+    if em is not None and valid_em is not None and validity_em is not None:
+        valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
     return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
                       tuple(case_warnings(case, res)))
+
+
+def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
+            res: CriticalJunctionResult) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+    """Add the verdict "ΔP not small against P0" to rows that have a leak channel and no other reason."""
+    flag = lifted & percolates & valid
+    out = tuple(f"ΔP = {res.pressure_difference[i]:.4g} Pa is not small against P0 = {res.squeeze_pressure[i]:.4g} Pa: "
+                "the fluid pressure would lift the seal, which the theory (P0 >> ΔP) does not model" if flag[i] else r
+                for i, r in enumerate(reasons))
+    return valid & ~flag, out
 
 
 def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:

@@ -290,6 +290,15 @@ def solve_contact(
             np.multiply(r, mask, out=tmp)
             rbar = float(tmp.sum()) / nc
             denom = dot(tmp, t) - rbar * float(t.sum())
+        if denom <= 0.0:
+            # no descent direction on the contact set (e.g. a warm start whose contact is one cell,
+            # where the gap vanishes trivially while other cells interpenetrate): restart from the
+            # uniform pressure, from which every cell can enter the contact set
+            p[...] = p0
+            u = convolve(p)
+            t[...] = 0.0
+            g_old, delta, fresh, since_fresh = 1.0, 0.0, True, 0
+            continue
         tau = dot(gm, t) / denom
         t_tau = tau * t
         p -= t_tau

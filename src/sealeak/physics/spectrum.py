@@ -170,13 +170,24 @@ class PowerSpectrum:
             shape = np.array([(q_lowest / q_rolloff) ** decay, (q_cutoff / q_rolloff) ** decay])
         if h_rms is not None:
             _check_positive("h_rms", h_rms)
+            if not H_RMS_RANGE[0] <= h_rms <= H_RMS_RANGE[1]:
+                raise InputError("h_rms", h_rms, f"must lie in [{H_RMS_RANGE[0]:g}, {H_RMS_RANGE[1]:g}] m: beyond it no surface "
+                                                 "is rough and the contact mechanics leaves the range of floating-point "
+                                                 "numbers; check the value and its unit")
             unit = cls(nodes, shape)
-            C0 = h_rms**2 / unit.h_rms**2
+            with np.errstate(over="ignore", under="ignore"):
+                C0 = np.float64(h_rms) ** 2 / unit.h_rms**2
         else:
             _check_positive("C0", C0)
+        with np.errstate(over="ignore", under="ignore"):
+            values = shape * C0
+        if not (np.isfinite(values).all() and (values > 0).all()):  # C(q) beyond what a float holds
+            name, given = ("h_rms", h_rms) if h_rms is not None else ("C0", C0)
+            raise InputError(name, given, "so far from any real roughness that C(q) is not representable as a "
+                                          "float (it overflows or underflows); check the value and its unit")
         if not label:
             label = f"self-affine model, H = {hurst:g}"
-        return cls(nodes, shape * C0, label=label)
+        return cls(nodes, values, label=label)
 
     @classmethod
     def from_arrays(cls, q: ArrayLike, C: ArrayLike, label: str = "") -> PowerSpectrum:
@@ -318,6 +329,11 @@ class PowerSpectrum:
     def __repr__(self) -> str:
         return (f"PowerSpectrum({self.q.size} nodes, q = {self.q_min:.4g}..{self.q_max:.4g} 1/m, "
                 f"h_rms = {self.h_rms:.4g} m, label={self.label!r})")
+
+
+#: h_rms (m) a self-affine model accepts: from below a nucleus to a kilometre. Values far
+#: outside what a seal meets are still computed (and warned about, docs/theory.md §9.11) inside it.
+H_RMS_RANGE = (1e-15, 1e3)
 
 
 def _check_positive(name: str, value: float | None, open_upper: float | None = None) -> None:
