@@ -17,7 +17,8 @@ have any. Without a header the caller's default units apply. Every problem raise
 Numbers are ASCII decimals (``2.3``, ``-1e-3``; ``nan``/``inf`` are read, for the caller to judge).
 A comma is never part of a number: in a semicolon or tab separated file a cell such as ``2,3``
 (a decimal comma) or ``1,000`` (a thousands separator) is refused, naming the file and line and
-saying how to write it; so is a space-separated line of such numbers (``2,3 1,5``). In a comma
+saying how to write it; so is a space-separated line of numbers with such a number in it (``2,3 1,5``,
+``1e3 1,5e-20``), also on the first line of a file without header. In a comma
 separated file the commas separate the columns; a row with more cells than the header names, whose
 cells are separated by ', ' but which has a ',' between two digits (``20,5, 380``), gets the same hint.
 """
@@ -60,6 +61,7 @@ _SEPARATOR = re.compile(r"[,;\t]")
 _STRONG_SEPARATOR = re.compile(r"[;\t]")
 _SPACED_HEADER_CELL = re.compile(r"[^\s(\[]+(?:\s*[\(\[][^\)\]]*[\)\]])?")
 _COMMA_NUMBER = re.compile(r"[+-]?[0-9]*[0-9],[0-9][0-9,]*(?:[eE][+-]?[0-9]+)?")
+_SPACED_COMMA_NUMBER = re.compile(r"[+-]?[0-9]+(?:,[0-9]+)+(?:[eE][+-]?[0-9]+)?")  # no ',' at the end: '20,5,' is a cell and a separator
 
 
 class _CommaInNumber(ValueError):
@@ -68,15 +70,25 @@ class _CommaInNumber(ValueError):
 
 def _separator(line: str) -> re.Pattern[str] | None:
     """How a line's cells are separated: ';' or tab (then a ',' is inside a cell), else ',', else white space
-    (None). A space-separated line whose every cell is a number with a comma ('1,5 2,3') is decimal commas."""
+    (None). A space-separated line of numbers some of which have a comma ('1,5 2,3', '1e3 1,5e-20') is decimal
+    commas (refused by :func:`_number`), not a comma-separated line with a space inside a cell."""
     if _STRONG_SEPARATOR.search(line):
         return _STRONG_SEPARATOR
     if "," in line:
         tokens = line.split()
-        if len(tokens) > 1 and all(_COMMA_NUMBER.fullmatch(t) for t in tokens):
+        if len(tokens) > 1 and any(_SPACED_COMMA_NUMBER.fullmatch(t) for t in tokens) and all(
+                _SPACED_COMMA_NUMBER.fullmatch(t) or _is_number(t) for t in tokens):
             return None
         return re.compile(",")
     return None
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        parse_number(cell)
+    except ValueError:
+        return False
+    return True
 
 
 def _split(line: str, width: int | None = None) -> list[str]:

@@ -1,7 +1,7 @@
 """Native reader for plain numeric text: a height matrix, x y h columns, x h columns or one column.
 
 Layouts (detected from the number of columns; comment lines start with ``#``, ``%`` or ``//``;
-separators: whitespace, ``,`` or ``;``):
+separators: whitespace, ``,`` or ``;``; numbers have a decimal point):
 
 * 1 column, or a single row: heights of one profile on a uniform grid (needs a pixel size or length);
 * 2 columns: ``x h`` of one profile; x may be non-uniform (then interpolated onto a uniform grid);
@@ -13,6 +13,11 @@ Comment lines of the form ``# key: value`` (or ``key = value``) state units and 
 understands ``size`` (``# size: 1 mm, 0.5 mm``; one length for a square map), ``pixel_size``,
 ``height_unit``, ``lateral_unit`` and ``periodic`` (true/false). ``sealeak surface synthesize``
 writes them, and users may add them to their own files instead of passing the options.
+
+A comma is a separator only: in a line whose values are separated by ``;`` or white space, a
+number written with a comma (``0,3456;0,8216`` or ``0,3456 0,8216``, and the ambiguous ``1,5 2,3``)
+is a decimal comma (or a thousands separator) and the file is refused, naming the line and saying
+how to write the number, rather than read with the commas taken as separators.
 
 This module only parses; units are applied by :mod:`._readers`. Every failure is a
 :class:`~sealeak.errors.FileFormatError` naming the file and the line.
@@ -28,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError
+from ..io.units import comma_advice
 
 __all__ = ["RawTable", "parse_text", "looks_binary", "NotPlainText"]
 
@@ -36,6 +42,8 @@ class NotPlainText(FileFormatError):
     """The file has non-numeric lines: maybe an instrument export (tried next with SurfaceTopography)."""
 
 _SPLIT = re.compile(r"[,;\s]+")
+_OTHER_SPLIT = re.compile(r"[;\s]+")  # the separators besides ','
+_COMMA_NUMBER = re.compile(r"[+-]?[0-9]+(?:,[0-9]+)+(?:[eE][+-]?[0-9]+)?")  # 0,3456 / -1,3e-3 / 1,000
 _HEADER = re.compile(r"^(?:#|%|//)\s*(size|pixel[ _]size|height[ _]unit|lateral[ _]unit|periodic)\s*[:=]\s*(.*?)\s*$",
                      re.IGNORECASE)
 _COMMENT = ("#", "%", "//")
@@ -90,6 +98,7 @@ def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None
         tokens = [t for t in _SPLIT.split(stripped) if t]
         if not tokens:
             continue
+        _refuse_comma_numbers(path, lineno, stripped)
         try:
             values = [float(t) for t in tokens]
         except ValueError:
@@ -106,6 +115,20 @@ def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None
         raise FileFormatError(path, "no numeric data (empty or only comments)")
     # infinite heights (or numbers beyond float64) are no-data markers, dealt with when units are applied
     return np.asarray(rows, dtype=float)
+
+
+def _refuse_comma_numbers(path: Path, lineno: int, line: str) -> None:
+    """Refuse a line whose values are separated by ';' or white space but which holds a number with a
+    comma between its digits (a decimal comma, or a thousands separator): read with ',' as a separator
+    it would give twice the values, silently. A line separated by commas alone (also ``0.1, 0.2``, a comma
+    next to a space) is left to the caller."""
+    if ";" not in line and (not re.search(r"\s", line) or re.search(r",\s|\s,", line)):
+        return
+    cells = [c for c in _OTHER_SPLIT.split(line) if c]
+    bad = next((c for c in cells if _COMMA_NUMBER.fullmatch(c)), None)
+    if bad is not None:
+        raise FileFormatError(path, f"line {lineno}: {bad[:40]!r}: {comma_advice(bad)} (the values are separated "
+                                    f"by {repr(';') if ';' in line else 'spaces or tabs'}, so a ',' inside a value is a decimal comma)")
 
 
 def _is_float(token: str) -> bool:
