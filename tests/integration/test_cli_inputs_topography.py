@@ -48,3 +48,10 @@ def test_an_integer_too_large_for_a_float_names_the_key(tmp_path, capsys):
     assert main(["predict", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("sealeak: error: theory.alpha = ") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(("option", "value"), [("--grid", "15"), ("--realizations", "0"), ("--seed", "-5")])
+def test_simulate_names_the_option_at_fault(capsys, option, value):
+    assert main(["simulate", "--example", "reference-experiment", option, value, "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"sealeak: error: {option} = {value}") and err.count("\n") == 1

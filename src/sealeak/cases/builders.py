@@ -314,7 +314,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
 
 def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why: str) -> InputError:
     """q0 = 2π/L is out of range: name the key it came from (theory.*, else the seal's width)."""
-    problem = f"it sets q0 = 2π/L = {q0:.6g} 1/m, which {why.removeprefix('must be ')}" if why.startswith("must") else why
+    problem = f"it sets q0 = 2π/L = {q0:.6g} 1/m, which must be {why.removeprefix('must be ')}" if why.startswith("must") else why
     if theory.has("lowest_wavevector"):
         return InputError(theory.field("lowest_wavevector"), theory.raw("lowest_wavevector"), why)
     if theory.has("square_side"):

@@ -30,6 +30,11 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     # options override the case's [simulation] section, which overrides the built-in defaults
     grid, realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
                                 for k, d in (("grid", 256), ("realizations", 4), ("seed", 0)))
+    for key, value in (("grid", grid), ("realizations", realizations), ("seed", seed)):  # name the option (or key)
+        low = {"grid": 16, "realizations": 1, "seed": 0}[key]
+        if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
+            where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
+            raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
     total = realizations * len(case.squeeze_pressure)
     with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
         res = simulate(case, grid=grid, realizations=realizations, seed=seed,
