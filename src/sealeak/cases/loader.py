@@ -112,12 +112,7 @@ def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -
 
 def read_case_file(path: str | Path) -> CaseFile:
     """Read a case file into a :class:`CaseFile` (its cases and its inputs as written)."""
-    p = Path(path)
-    if not p.exists():
-        raise FileFormatError(p, "case file not found")
-    if p.is_dir():
-        raise FileFormatError(p, "is a folder, not a case file")
-    p = input_file(p, "case file")  # a FIFO or device would block or never end
+    p = input_file(path, "case file")  # missing, a folder, a FIFO or a device: one line naming it
     try:
         text = p.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError:

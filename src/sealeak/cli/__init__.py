@@ -15,14 +15,14 @@ from collections.abc import Sequence
 from .._version import __version__
 from ..errors import SealeakError
 from . import lab, simulate, surface
-from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, inputs, load_case_file, outputs, say
+from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, emit, inputs, load_case_file, outputs
 
 __all__ = ["main", "build_parser"]
 
 
 def _cmd_predict(args: argparse.Namespace) -> int:
     from ..cases import run_case
-    from ..io.files import check_outputs, write_text
+    from ..io.files import check_outputs
     from ..render import (
         PREDICTION_FIGURE_NAMES,
         prediction_csv,
@@ -30,7 +30,6 @@ def _cmd_predict(args: argparse.Namespace) -> int:
         prediction_json,
         prediction_table,
         render_figures,
-        save_figures,
     )
 
     check_outputs(outputs(args, PREDICTION_FIGURE_NAMES, files=("table", "json", "csv")), args.force, inputs=inputs(args))
@@ -39,17 +38,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     table = prediction_table(results)
     texts = {path: render(results) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv)) if path}
     pngs = render_figures(prediction_figures(results)) if args.plots else {}
-    if not args.quiet:
-        sys.stdout.write(table)
-    if args.table:
-        write_text(args.table, table)
-        say(args, f"wrote {args.table}")
-    for path, text in texts.items():
-        write_text(path, text)
-        say(args, f"wrote {path}")
-    if args.plots:
-        written = save_figures(pngs, args.plots)
-        say(args, f"wrote {len(written)} figures to {args.plots}/")
+    emit(args, table, ({args.table: table} if args.table else {}) | texts, pngs)
     return 0
 
 

@@ -20,7 +20,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..cases import Case, CaseFile
 
 __all__ = ["Parser", "EXIT_USER_ERROR", "EXIT_INTERRUPTED", "add_case_args", "load_case_file", "load",
-           "one_case", "say", "outputs", "inputs", "positive_pressure"]
+           "one_case", "say", "emit", "outputs", "inputs", "positive_pressure"]
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -47,7 +47,6 @@ def add_case_args(p: argparse.ArgumentParser) -> None:
 def load_case_file(args: argparse.Namespace) -> CaseFile:
     """The case file named by ``args.case`` or ``--example`` (exactly one of them)."""
     from ..cases import example_path, read_case_file
-    from ..io.files import input_file
 
     if args.example and args.case:
         raise SealeakError("give a case file or --example NAME, not both")
@@ -55,8 +54,8 @@ def load_case_file(args: argparse.Namespace) -> CaseFile:
         return read_case_file(example_path(args.example))
     if not args.case:
         raise SealeakError("give a case file (CASE.toml) or --example NAME; `sealeak examples` lists the examples")
-    # a regular file only: reading a FIFO or a device (/dev/zero) as the case would never end
-    return read_case_file(input_file(args.case, "case file"))
+    # read_case_file reads regular files only (a FIFO or /dev/zero as the case would never end)
+    return read_case_file(args.case)
 
 
 def load(args: argparse.Namespace) -> list[Case]:
@@ -76,6 +75,26 @@ def say(args: argparse.Namespace, text: str) -> None:
     """A progress line on stderr, unless ``--quiet``."""
     if not getattr(args, "quiet", False):
         print(text, file=sys.stderr)
+
+
+def emit(args: argparse.Namespace, text: str, files: dict[str, str], pngs: dict[str, bytes]) -> None:
+    """The end of every command that writes results: print ``text`` (unless ``--quiet``), then write the
+    text ``files`` ({path: content}) and the figures ``pngs`` into ``args.plots``, saying what was written.
+
+    Everything is rendered by the caller before this is called, so a failure while rendering
+    leaves no file behind; each file is written atomically.
+    """
+    from ..io.files import write_text
+    from ..render import save_figures
+
+    if not args.quiet:
+        sys.stdout.write(text)
+    for path, content in files.items():
+        write_text(path, content)
+        say(args, f"wrote {path}")
+    if pngs:
+        written = save_figures(pngs, args.plots)
+        say(args, f"wrote {written[0]}" if len(written) == 1 else f"wrote {len(written)} figures to {args.plots}/")
 
 
 def outputs(args: argparse.Namespace, figure_names: Iterable[str] = (), files: Iterable[str] = ("json",),

@@ -9,12 +9,11 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError, SealeakError
-from ._common import inputs, load_case_file, one_case, outputs, positive_pressure, say
+from ._common import emit, inputs, load_case_file, one_case, outputs, positive_pressure, say
 
 __all__ = ["register"]
 
@@ -53,9 +52,9 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
 # ---------------------------------------------------------------------- fit
 def _cmd_fit(args: argparse.Namespace) -> int:
     from ..cases import run_fit
-    from ..io.files import check_outputs, write_text
+    from ..io.files import check_outputs
     from ..lab import read_leak_data
-    from ..render import figure_fit, fit_json, fit_text, render_figures, save_figures
+    from ..render import figure_fit, fit_json, fit_text, render_figures
 
     names = ("linearity.png",) if args.linearity else ("fit.png",)
     check_outputs(outputs(args, names), args.force, inputs=inputs(args, "data"))
@@ -68,22 +67,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     # render everything first, then write: a failure while rendering leaves no file behind
     text, doc = fit_text(result), fit_json(result) if args.json else ""
     pngs = render_figures({"fit.png": figure_fit(result)}) if args.plots else {}
-    if not args.quiet:
-        print(text, end="")
-    if args.json:
-        write_text(args.json, doc)
-        say(args, f"wrote {args.json}")
-    if args.plots:
-        save_figures(pngs, args.plots)
-        say(args, f"wrote {Path(args.plots) / 'fit.png'}")
+    emit(args, text, {args.json: doc} if args.json else {}, pngs)
     return 0
 
 
 def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # type: ignore[no-untyped-def]
     from ..cases import linearity
-    from ..io.files import write_text
     from ..lab import read_leak_data
-    from ..render import figure_linearity, linearity_json, linearity_text, render_figures, save_figures
+    from ..render import figure_linearity, linearity_json, linearity_text, render_figures
 
     data = read_leak_data(args.data, reference_pressure=reference, required=("pressure_difference", "leak_rate"))
     if len(data) < 3:
@@ -98,23 +89,16 @@ def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # 
     check = linearity(case, data.pressure_difference, data.leak_rate, p0, source)
     text, doc = linearity_text(case, data, check), linearity_json(case, data, check) if args.json else ""
     pngs = render_figures({"linearity.png": figure_linearity(data.pressure_difference, data.leak_rate, check)}) if args.plots else {}
-    if not args.quiet:
-        print(text, end="")
-    if args.json:
-        write_text(args.json, doc)
-        say(args, f"wrote {args.json}")
-    if args.plots:
-        save_figures(pngs, args.plots)
-        say(args, f"wrote {Path(args.plots) / 'linearity.png'}")
+    emit(args, text, {args.json: doc} if args.json else {}, pngs)
     return 0
 
 
 # ---------------------------------------------------------------------- rig
 def _cmd_rig(args: argparse.Namespace) -> int:
     from ..cases import rig_prediction, rig_readings
-    from ..io.files import check_outputs, write_text
+    from ..io.files import check_outputs
     from ..lab import read_rig_readings
-    from ..render import figure_readings, figure_rig, render_figures, rig_json, rig_text, save_figures
+    from ..render import figure_readings, figure_rig, render_figures, rig_json, rig_text
 
     names = ("rig.png", "readings.png") if args.readings else ("rig.png",)
     check_outputs(outputs(args, names), args.force, inputs=inputs(args, "readings"))
@@ -134,14 +118,7 @@ def _cmd_rig(args: argparse.Namespace) -> int:
         if analysis is not None:
             figs["readings.png"] = figure_readings(analysis, pred.conductance)
         pngs = render_figures(figs)
-    if not args.quiet:
-        print(text, end="")
-    if args.json:
-        write_text(args.json, doc)
-        say(args, f"wrote {args.json}")
-    if args.plots:
-        save_figures(pngs, args.plots)
-        say(args, f"wrote {len(pngs)} figure(s) to {args.plots}/")
+    emit(args, text, {args.json: doc} if args.json else {}, pngs)
     return 0
 
 

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 from .contact import PerssonContact
-from .validity import pressures_text
+from .validity import no_channel_note, pressures_text
 
 __all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
 
@@ -193,21 +193,15 @@ def critical_junction(
     lam_c = 2.0 * np.pi / (zeta_c * contact.q0)
     q = np.where(percolates, poiseuille_leak_rate(u_c, dp, viscosity, aspect_ratio, alpha), np.nan)
 
-    messages = []
-    if not percolates.all():
-        a = area_cut[~percolates]
-        shown = f"{a[0]:.3f}" if a.size == 1 else f"{a.min():.3f} … {a.max():.3f}"
-        messages.append(
-            f"{pressures_text(p0, ~percolates)}: the contact area at the roughness cut-off is A/A0 = {shown}, "
-            f"above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
-            "within the resolved roughness; the theory predicts no leak channel (no leak-rate number)."
-        )
+    note = no_channel_note(p0, percolates, area_cut,
+                           f", above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
+                           "within the resolved roughness; the theory predicts no leak channel (no leak-rate number).")
+    messages = [note] if note else []
     large = pressure_difference_not_small(p0, dp)
     if large.any():
-        i = int(np.argmax(large))
         messages.append(
-            f"ΔP = {dp[i]:.6g} Pa is not small against P0 = {p0[i]:.6g} Pa: the theory neglects the fluid "
-            "pressure's effect on the contact (it assumes P0 >> ΔP)."
+            f"{pressures_text(p0, large)}: ΔP is not small against P0 (ΔP > {LARGE_PRESSURE_RATIO:g} P0): the theory "
+            "neglects the fluid pressure's effect on the contact (it assumes P0 >> ΔP); the fluid would lift the seal."
         )
     return CriticalJunctionResult(
         squeeze_pressure=p0, pressure_difference=dp, percolates=percolates,

@@ -45,7 +45,7 @@ from ..errors import ConvergenceError, InputError
 from .contact import PerssonContact
 from .critical_junction import _pressures
 from .gaps import GapDistribution, folded_normal_cdf, gap_distribution
-from .validity import pressures_text
+from .validity import no_channel_note
 
 __all__ = ["EffectiveMediumResult", "effective_medium", "bruggeman_conductivity", "bruggeman_residual",
            "discretise", "BRUGGEMAN_THRESHOLD"]
@@ -331,15 +331,10 @@ def effective_medium(
     area = dist.contact_fraction[inverse]
     q = np.where(percolates, aspect_ratio * sigma * dp, np.nan)
     u_e = np.cbrt(12.0 * viscosity * sigma)
-    messages = []
-    if not percolates.all():
-        a = area[~percolates]
-        shown = f"{a[0]:.3f}" if a.size == 1 else f"{a.min():.3f} … {a.max():.3f}"
-        messages.append(
-            f"{pressures_text(p0, ~percolates)}: the contact area at the roughness cut-off is A/A0 = {shown} >= 0.5, "
-            "the 2D Bruggeman percolation threshold: the effective-medium theory predicts no flow "
-            "(no leak-rate number; numerically exact studies put the threshold near A/A0 = 0.42)."
-        )
+    note = no_channel_note(p0, percolates, area,
+                           " >= 0.5, the 2D Bruggeman percolation threshold: the effective-medium theory predicts no flow "
+                           "(no leak-rate number; numerically exact studies put the threshold near A/A0 = 0.42).")
+    messages = [note] if note else []
     return EffectiveMediumResult(
         squeeze_pressure=p0, pressure_difference=dp, percolates=percolates, effective_conductivity=sigma,
         effective_gap=u_e, leak_rate=q, contact_area_at_cutoff=area, mean_gap=dist.mean_gap[inverse],

@@ -23,8 +23,8 @@ from numpy.typing import ArrayLike, NDArray
 from ..io.units import format_quantity
 
 __all__ = [
-    "MOLECULAR_SIZES", "DEFAULT_MOLECULAR_SIZE", "pressures_text", "ATOMIC_SIZE", "SLOPE_LIMIT", "STRAIN_LIMIT", "ALPHA_RANGE", "FULL_CONTACT",
-    "molecular_size", "continuum_verdict", "assumption_warnings",
+    "MOLECULAR_SIZES", "DEFAULT_MOLECULAR_SIZE", "ATOMIC_SIZE", "SLOPE_LIMIT", "STRAIN_LIMIT", "ALPHA_RANGE",
+    "FULL_CONTACT", "pressures_text", "no_channel_note", "molecular_size", "continuum_verdict", "assumption_warnings",
 ]
 
 #: Molecular size d (m) of common fluids, by lower-case name: the kinetic (collision) diameter for
@@ -78,6 +78,18 @@ def molecular_size(name: str) -> tuple[float, bool]:
 
 def _nm(x: float) -> str:
     return f"{x * 1e9:.3g} nm"
+
+
+def no_channel_note(squeeze_pressure: ArrayLike, percolates: ArrayLike, contact_area_at_cutoff: ArrayLike, why: str) -> str:
+    """One note for every squeeze pressure without a leak channel: which P0, A(ζ1)/A0 there, and ``why``
+    ('' when every pressure percolates). Both theories' notes (docs/theory.md §3.3, §5.4) are made here."""
+    closed = ~np.asarray(percolates, dtype=bool)
+    if not closed.any():
+        return ""
+    a = np.asarray(contact_area_at_cutoff, dtype=float)[closed]
+    shown = f"{a[0]:.3f}" if a.size == 1 else f"{a.min():.3f} … {a.max():.3f}"
+    return (f"{pressures_text(squeeze_pressure, closed)}: the contact area at the roughness cut-off is "
+            f"A/A0 = {shown}{why}")
 
 
 def continuum_verdict(gap: ArrayLike, molecular_size: float, name: str = "u_c", width: ArrayLike | None = None,
