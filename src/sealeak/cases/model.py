@@ -8,6 +8,7 @@ kept by the loader (:class:`~sealeak.cases.loader.CaseFile`) for the report.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,13 +16,65 @@ from numpy.typing import NDArray
 from ..lab.rig import RigSetup
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
+from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
 
-__all__ = ["Case", "MODELS"]
+if TYPE_CHECKING:  # until physics.oring lands
+    from ..physics.oring import ORingContact
+
+__all__ = ["Case", "MODELS", "BandSeal"]
 
 #: The leak-rate theories a case may ask for (``theory.model``).
 MODELS = ("critical-junction", "effective-medium", "both")
+
+
+@dataclass(frozen=True)
+class BandSeal:
+    """A seal whose nominal contact pressure varies across the band: an O-ring or a pressure-profile file.
+
+    Attributes
+    ----------
+    kind
+        "o-ring" or "profile".
+    length
+        Ly, the length of the seal line (m): π × the mean diameter of an O-ring's contact line.
+    load_name
+        What is swept: "compression" (ε = δ/d of an O-ring) or "profile_scale" (a factor on a
+        profile file's pressures).
+    loads
+        The swept values (1), one result row each.
+    profiles
+        The nominal pressure profile p(x) of each load (docs/theory.md §10).
+    q0
+        q0 (1/m) of each load: 2π/w with w the load's contact width, unless the case file sets
+        ``theory.lowest_wavevector`` or ``theory.square_side`` (docs/theory.md §10.1).
+    oring
+        The O-ring contact of each compression (force, width, peak pressure, regime), or None.
+    faces
+        Contact faces in parallel (1: the rough counterface; 2 counts the groove bottom as a
+        second, equally rough path).
+    notes
+        Lines for the output: the relations used, their regime and range.
+    """
+
+    kind: str
+    length: float
+    load_name: str
+    loads: NDArray[np.float64]
+    profiles: tuple[PressureProfile, ...]
+    q0: NDArray[np.float64]
+    oring: ORingContact | None = None
+    faces: int = 1
+    notes: tuple[str, ...] = ()
+    cross_section_diameter: float | None = None
+    mean_diameter: float | None = None
+    profile_source: str = ""
+
+    @property
+    def load_unit(self) -> str:
+        """How front ends label a load: compression in %, a scale factor as is."""
+        return "%" if self.load_name == "compression" else "1"
 
 
 @dataclass(frozen=True)
@@ -70,6 +123,9 @@ class Case:
         The variant's name within a parameter study ('' otherwise).
     source
         The case file's path ('' for text).
+    band
+        For an O-ring or a pressure-profile seal, its profiles and loads (docs/theory.md §10);
+        ``seal`` is then the widest band and ``squeeze_pressure`` each load's mean pressure.
     """
 
     title: str
@@ -93,6 +149,7 @@ class Case:
     simulation: dict[str, int] = field(default_factory=dict)
     label: str = ""
     source: str = ""
+    band: BandSeal | None = None
 
     @property
     def square_side(self) -> float:
