@@ -45,7 +45,7 @@ remainders, which is why the contact set must be taken from ``pressure > 0``, ne
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -228,11 +228,74 @@ def solve_contact(
     else:
         p = np.full_like(hs, p0)
     ncell = float(n * n)
+    stiffness = (lambda x: convolve(x, stiff)) if precondition else None
+    p, g, gbar, residual, it = _constrained_cg(hs, p, p0, h_rms, convolve, stiffness, tol, max_iter,
+                                               f"N = {n}, P0 = {p0:.6g} Pa")
+
+    mask = p > 0
+    gap = np.maximum(g, 0.0)
+    c = -gbar  # g = u - hs + c  with mean(u) = 0
+    return ContactResult(
+        gap=gap,
+        pressure=p,
+        contact_area=float(np.count_nonzero(mask)) / ncell,
+        mean_gap=float(gap.mean()),
+        approach=float(hs.max() - c),
+        mean_pressure=p0,
+        iterations=it,
+        residual=residual,
+        tol=float(tol),
+        size=float(size),
+        e_star=float(e_star),
+    )
+
+
+def _constrained_cg(
+    hs: FloatArray,
+    p: FloatArray,
+    p0: float,
+    height_scale: float,
+    convolve: Callable[[FloatArray], FloatArray],
+    stiffness: Callable[[FloatArray], FloatArray] | None,
+    tol: float,
+    max_iter: int,
+    label: str,
+) -> tuple[FloatArray, FloatArray, float, float, int]:
+    """Polonsky & Keer's constrained conjugate gradient, pressure-controlled (module docstring).
+
+    Shared by the periodic solver here and the band solver (:mod:`sealeak.numerics._band_contact`).
+
+    Parameters
+    ----------
+    hs:
+        Rigid-surface heights (m); only differences matter (a constant shifts c).
+    p:
+        Starting pressure (Pa), >= 0 with mean ``p0``; updated in place and returned.
+    p0:
+        Prescribed mean pressure over all cells (Pa).
+    height_scale:
+        Height scale of the residual (m): h_rms of the periodic cell.
+    convolve:
+        p -> elastic displacement u = K p (m); any additive constant is absorbed by c.
+    stiffness:
+        Preconditioner S ≈ K⁻¹ (symmetric, positive semi-definite), or None for plain CG.
+    tol, max_iter:
+        Tolerance on the scale-free residual and iteration limit (ConvergenceError beyond).
+    label:
+        What the error message says about the problem (grid, load).
+
+    Returns
+    -------
+    (p, g, gbar, residual, iterations)
+        Pressure, gap before clipping (g = u - hs - gbar, m), the shift gbar (c = -gbar), the final
+        residual and the iterations used.
+    """
+    ncell = float(p.size)
 
     t = np.zeros_like(hs)
     gm = np.empty_like(hs)
     tmp = np.empty_like(hs)
-    u = convolve(p)  # elastic displacement (zero mean), kept up to date incrementally
+    u = convolve(p)  # elastic displacement (an additive constant goes into c), kept up to date incrementally
     fresh = True  # u was computed from p by a full convolution (not updated incrementally)
     since_fresh = 0
     g_old = 1.0
@@ -252,8 +315,8 @@ def solve_contact(
         np.minimum(g, 0.0, out=tmp)  # interpenetration (zero where contact: taken by gm)
         tmp *= ~mask
         r_gap = math.sqrt((dot(gm, gm)
-                           + dot(tmp, tmp)) / ncell) / h_rms
-        r_comp = dot(p, np.abs(gm)) / (ncell * p0 * h_rms)
+                           + dot(tmp, tmp)) / ncell) / height_scale
+        r_comp = dot(p, np.abs(gm)) / (ncell * p0 * height_scale)
         residual = max(r_gap, r_comp)
         if residual <= tol:
             if fresh:
@@ -264,11 +327,11 @@ def solve_contact(
         if it >= max_iter:
             raise ConvergenceError(
                 f"contact solver: residual {residual:.3g} after {it} iterations, tolerance {tol:.3g} "
-                f"(N = {n}, P0 = {p0:.6g} Pa); raise max_iter or tol")
+                f"({label}); raise max_iter or tol")
         it += 1
         # --- conjugate direction on the contact set
-        if precondition:  # z = P_c S P_c g, mean over the contact set removed
-            z = convolve(gm, stiff)
+        if stiffness is not None:  # z = P_c S P_c g, mean over the contact set removed
+            z = stiffness(gm)
             z *= mask
             z -= float(z.sum()) / nc
             z *= mask
@@ -324,22 +387,7 @@ def solve_contact(
             u *= scale
             fresh = False
 
-    mask = p > 0
-    gap = np.maximum(g, 0.0)
-    c = -gbar  # g = u - hs + c  with mean(u) = 0
-    return ContactResult(
-        gap=gap,
-        pressure=p,
-        contact_area=float(np.count_nonzero(mask)) / ncell,
-        mean_gap=float(gap.mean()),
-        approach=float(hs.max() - c),
-        mean_pressure=p0,
-        iterations=it,
-        residual=residual,
-        tol=float(tol),
-        size=float(size),
-        e_star=float(e_star),
-    )
+    return p, g, gbar, residual, it
 
 
 def solve_contact_sweep(
