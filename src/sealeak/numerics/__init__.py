@@ -5,6 +5,10 @@ Small public API over private modules:
 * contact:      :func:`solve_contact`, :func:`solve_contact_sweep`, :class:`ContactResult`,
                 :func:`contact_memory_bytes` (FFT boundary elements, preconditioned
                 Polonsky-Keer constrained conjugate gradient);
+* band contact: :func:`solve_band_contact`, :class:`BandContactResult`, :func:`band_displacement`,
+                :func:`band_contact_memory_bytes`, :func:`hertz_line_contact`, :func:`contact_edges` (a smooth
+                cylinder on a rough surface: periodic along the seal line, free across the band by zero
+                padding, DC-FFT);
 * flow:         :func:`solve_flow`, :class:`FlowResult`, :func:`flow_memory_bytes`
                 (steady Reynolds equation, finite volumes, sparse direct or AMG-CG, every
                 solution checked);
@@ -22,6 +26,14 @@ from __future__ import annotations
 from typing import Literal
 
 from ..errors import InputError
+from ._band_contact import (
+    BandContactResult,
+    band_contact_memory_bytes,
+    band_displacement,
+    contact_edges,
+    hertz_line_contact,
+    solve_band_contact,
+)
 from ._contact import ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
 from ._flow import FlowResult, flow_memory_bytes, solve_flow
 from ._memory import available_memory_bytes, require_memory
@@ -37,6 +49,12 @@ __all__ = [
     "ThresholdResult",
     "solve_contact",
     "solve_contact_sweep",
+    "BandContactResult",
+    "solve_band_contact",
+    "band_displacement",
+    "band_contact_memory_bytes",
+    "hertz_line_contact",
+    "contact_edges",
     "solve_flow",
     "label_clusters",
     "spans",
