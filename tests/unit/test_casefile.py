@@ -67,7 +67,7 @@ def test_bundled_examples_load_and_print(name):
     assert len(example_names()) >= 3
     cases = load_cases(example_path(name))
     assert cases and all(c.title for c in cases)
-    assert parse_cases(example_text(name))[0].spectrum.h_rms == pytest.approx(cases[0].spectrum.h_rms)
+    assert parse_cases(example_text(name), example_path(name).parent)[0].spectrum.h_rms == pytest.approx(cases[0].spectrum.h_rms)
 
 
 def test_reference_experiment_stand_in():

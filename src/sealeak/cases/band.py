@@ -40,9 +40,9 @@ FloatArray = NDArray[np.float64]
 
 #: The effective medium's σ(p) table: lowest pressure relative to p_max, Chebyshev points (first, most), and
 #: the relative change of R between two tables at which it stops (far below the ~10 % of the Bruggeman model itself).
-TABLE_FLOOR = 1e-4
-TABLE_POINTS = (9, 65)
-TABLE_RTOL = 1e-6
+TABLE_FLOOR = 1e-3
+TABLE_POINTS = (9, 33)
+TABLE_RTOL = 1e-5
 
 #: SI unit of every field of a band record (JSON ``units``, CSV headers); the load's key is added.
 BAND_UNITS: dict[str, str] = {
@@ -252,16 +252,23 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
     where = [resistance_band(g) for g in integrals]
     messages = []
     if sealed.any():
-        loads = ", ".join(f"{v:.4g}" for v in band.loads[sealed])
-        messages.append(f"{name}: no leak channel at {band.load_name.replace('_', ' ')} {loads}: where the contact "
+        messages.append(f"{name}: no leak channel at {_loads_text(band, sealed)}: where the contact "
                         "pressure is highest the non-contact area does not percolate, which seals the whole band")
     not_converged = [i for i, ok in enumerate(converged) if not ok]
     if not_converged:
         i = not_converged[0]
-        messages.append(f"{name}: the integral ∫dx/σ did not converge to {RTOL:g} at {band.load_name.replace('_', ' ')} "
-                        f"{band.loads[i]:.4g} (last relative change {changes[i]:.2g}); the leak rate is less certain")
+        messages.append(f"{name}: the integral ∫dx/σ did not converge to {RTOL:g} at "
+                        f"{_loads_text(band, np.arange(band.loads.size) == i)} (last relative change {changes[i]:.2g}); "
+                        "the leak rate is less certain")
     return BandTheory(q, ~sealed, uniform, r, np.array([w for w, _ in where]), np.array([x for _, x in where]),
                       tuple(integrals), np.array(changes), np.array([g.nodes for g in integrals]), tuple(messages))
+
+
+def _loads_text(band: BandSeal, mask: NDArray[np.bool_]) -> str:
+    """"compression 15, 20 %" or "profile scale 1.5, 2" for the loads where ``mask`` holds."""
+    if band.load_name == "compression":
+        return "compression " + ", ".join(f"{100 * v:.4g}" for v in band.loads[mask]) + " %"
+    return "profile scale " + ", ".join(f"{v:.4g}" for v in band.loads[mask])
 
 
 def run_band(case: Case, *, effective: bool | None = None) -> BandResult:

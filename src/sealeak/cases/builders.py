@@ -20,11 +20,16 @@ from ..io.units import parse_quantity
 from ..lab.rig import RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
+try:  # TEMPORARY until physics.oring lands
+    from ..physics.oring import youngs_modulus_from_shore_a
+except ImportError:  # pragma: no cover
+    pass
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
 from .model import Case
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
+from .seals import build_band, is_band_seal
 
 __all__ = ["build_case", "register_surface_model", "SurfaceBuilder"]
 
@@ -54,7 +59,10 @@ def _written(sec: Section, stem: str) -> str:
 
 
 def _seal(sec: Section) -> Seal:
-    shape = sec.choice("shape", ("ring", "rectangle"))
+    for key in ("cross_section_diameter", "mean_diameter", "faces"):
+        if sec.has(key):
+            raise InputError(sec.field(key), sec.raw(key), "is for an O-ring (shape = \"o-ring\") or a pressure-profile seal")
+    shape = sec.choice("shape", ("ring", "rectangle", "o-ring"))
     if sec.has("height"):  # the ring's cross-section height: described, not used by the theory
         sec.quantity("height", "length")
     if shape == "ring":
@@ -229,7 +237,14 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         if not isinstance(value, str):
             raise InputError(f"{section}.{key}", value, "must be text")
     rubber = Section("rubber", doc["rubber"])
-    youngs = rubber.quantity("youngs_modulus", "pressure")
+    if rubber.has("shore_a"):
+        if rubber.has("youngs_modulus"):
+            raise InputError(rubber.field("shore_a"), rubber.raw("shore_a"), "give either youngs_modulus or shore_a, not both")
+        shore = rubber.number("shore_a", low=0.0, high=100.0)
+        with case_keys({"shore_a": rubber.field("shore_a")}):
+            youngs = youngs_modulus_from_shore_a(shore)
+    else:
+        youngs = rubber.quantity("youngs_modulus", "pressure")
     nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
     sub = doc.get("substrate")
     if sub is not None:
@@ -242,8 +257,10 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         with case_keys():
             e_star = contact_modulus(youngs, nu)
     seal_section = Section("seal", doc["seal"])
-    with case_keys():
-        seal = _seal(seal_section)
+    band_kind = is_band_seal(seal_section)
+    if band_kind is None:
+        with case_keys():
+            seal = _seal(seal_section)
     fsec = Section("fluid", doc["fluid"])
     density = fsec.quantity("density", "density", default=-1.0)
     viscosity = fsec.quantity("viscosity", "viscosity")
@@ -254,12 +271,22 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     with case_keys():
         fluid = Fluid(viscosity, None if density < 0 else density, fluid_name, molecular)
     cond = Section("conditions", doc["conditions"])
-    p0 = _squeeze(cond)
+    theory = Section("theory", doc.get("theory", {}))
+    band = None
+    if band_kind is None:
+        for key in ("compression", "groove_depth", "profile_scale"):
+            if cond.has(key):
+                raise InputError(cond.field(key), cond.raw(key), "is for an O-ring (seal.shape = \"o-ring\") or a seal "
+                                 "with a pressure_profile; this seal takes squeeze_pressure")
+        p0 = _squeeze(cond)
+    else:
+        q0_fixed = (theory.quantity("lowest_wavevector", "wavevector") if theory.has("lowest_wavevector") else
+                    2.0 * np.pi / theory.quantity("square_side", "length") if theory.has("square_side") else None)
+        band, seal, p0 = build_band(band_kind, seal_section, cond, rubber, youngs, nu, case_dir, q0_fixed)
     dp = cond.quantity("pressure_difference", "pressure", positive=False)
     if not dp > 0:
         raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"),
                          "must be > 0: with no pressure difference across the seal nothing leaks")
-    theory = Section("theory", doc.get("theory", {}))
     alpha = theory.number("alpha", 1.0, low=0.0)
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
     gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
@@ -273,6 +300,9 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     elif theory.has("square_side"):
         q0 = 2.0 * np.pi / theory.quantity("square_side", "length")
         q0_note = "q0 = 2π/L with L set in the case file"
+    elif band is not None:
+        q0 = float(band.q0.min())
+        q0_note = "q0 = 2π/w per load (w its contact width)"
     else:
         q0 = 2.0 * np.pi / seal.width
         q0_note = "q0 = 2π/Lx (seal width)"
@@ -299,8 +329,8 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         if q0_given and exc.field.startswith("surface.lowest_wave"):
             raise _q0_error(seal_section, theory, seal, q0, exc.allowed) from None
         raise
-    if not q0 < spectrum.q_max:
-        raise _q0_error(seal_section, theory, seal, q0,
+    if not (q0 if band is None else float(band.q0.max())) < spectrum.q_max:
+        raise _q0_error(seal_section, theory, seal, q0 if band is None else float(band.q0.max()),
                         f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
     rig = _rig(Section("rig", doc["rig"]), fluid) if "rig" in doc else None  # RigSetup under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
@@ -308,7 +338,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
         e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
         percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
-        simulation=simulation, source=source, surface_model=str(model_name),
+        simulation=simulation, source=source, surface_model=str(model_name), band=band,
     )
 
 
@@ -319,7 +349,7 @@ def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why
         return InputError(theory.field("lowest_wavevector"), theory.raw("lowest_wavevector"), why)
     if theory.has("square_side"):
         return InputError(theory.field("square_side"), theory.raw("square_side"), problem)
-    key = "outer_diameter" if seal.shape == "ring" else "width"
+    key = {"ring": "outer_diameter", "o-ring": "cross_section_diameter", "profile": "pressure_profile"}.get(seal.shape, "width")
     width = f"{seal.width:.4g} m"
     return InputError(seal_section.field(key), seal_section.raw(key),
                       f"the seal width Lx = {width} is too narrow for the roughness: q0 = 2π/Lx = {q0:.6g} 1/m should be "

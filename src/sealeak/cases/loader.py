@@ -83,21 +83,32 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
         return CaseFile([build_case(doc, case_dir, source)], inputs, source)
     sec = Section("study", study)
     vary = sec.raw("vary")
-    if not isinstance(vary, str) or vary.count(".") != 1:
-        raise InputError("study.vary", vary, "must name one key as 'section.key', e.g. 'surface.h_rms'")
-    section, key = vary.split(".")
-    if section not in SECTIONS or section == "study" or key not in SECTIONS[section]:
+    whole = isinstance(vary, str) and vary in SECTIONS and vary not in ("study", "simulation")
+    if not whole and (not isinstance(vary, str) or vary.count(".") != 1):
+        raise InputError("study.vary", vary, "must name one key as 'section.key', e.g. 'surface.h_rms', or a section "
+                                             "such as 'fluid' whose values are tables")
+    section, key = (vary, "") if whole else vary.split(".")
+    if section not in SECTIONS or section == "study" or not (whole or key in SECTIONS[section]):
         raise InputError("study.vary", vary, "names no known case-file key")
     values = sec.raw("values")
     if not isinstance(values, list) or not values:
         raise InputError("study.values", values, "must be a non-empty list of values for " + vary)
-    labels = sec.raw("labels", [f"{key} = {v}" for v in values])
+    if whole:
+        for i, v in enumerate(values):
+            if not isinstance(v, dict):
+                raise InputError(f"study.values[{i}]", v, f"must be a table of [{section}] keys, e.g. "
+                                                           "{name = \"oil\", viscosity = \"50 mPa*s\"}")
+    labels = sec.raw("labels", [str(v.get("name") or f"{section} {i + 1}") if whole else f"{key} = {v}"
+                                for i, v in enumerate(values)])
     if not isinstance(labels, list) or len(labels) != len(values):
         raise InputError("study.labels", labels, f"must be a list of {len(values)} names")
     cases = []
     for value, label in zip(values, labels):
         variant = copy.deepcopy(doc)
-        variant.setdefault(section, {})[key] = value
+        if whole:  # the table's keys replace the section's
+            variant[section] = {**variant.get(section, {}), **value}
+        else:
+            variant.setdefault(section, {})[key] = value
         try:
             cases.append(build_case(variant, case_dir, source, label=str(label)))
         except InputError as exc:

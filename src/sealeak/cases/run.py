@@ -31,6 +31,7 @@ from ..lab.rig import ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.validity import assumption_warnings, continuum_verdict
+from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, run_band
 from .model import Case
 from .schema import case_keys
 
@@ -164,6 +165,11 @@ class CaseResult:
     warnings
         Inputs far outside what the theory assumes, in plain words (docs/theory.md §9.11); the
         numbers are computed all the same.
+    band
+        For an O-ring or pressure-profile seal (``case.band``): the leak rates per load through the
+        non-uniform band (docs/theory.md §10), which front ends show instead of the uniform table;
+        ``critical_junction`` then holds the uniform prediction at each load's mean pressure and the
+        verdicts judge the band at its highest pressure.
     """
 
     case: Case
@@ -176,15 +182,21 @@ class CaseResult:
     valid_effective_medium: NDArray[np.bool_] | None = None
     validity_effective_medium: tuple[str, ...] | None = None
     warnings: tuple[str, ...] = ()
+    band: BandResult | None = None
 
     @property
     def shows_critical_junction(self) -> bool:
         """Whether front ends show the critical-junction numbers (not for model = "effective-medium")."""
+        if self.band is not None:
+            return self.case.model != "effective-medium"
         return self.case.model != "effective-medium" or self.effective_medium is None
 
     @property
     def units(self) -> dict[str, str]:
         """SI unit of every field of :meth:`records`."""
+        if self.band is not None:
+            em = BAND_EFFECTIVE_MEDIUM_UNITS if self.band.effective_medium is not None else {}
+            return {self.band.band.load_name: "1"} | BAND_UNITS | em
         return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
 
     @property
@@ -196,6 +208,8 @@ class CaseResult:
 
     def records(self) -> list[dict[str, Any]]:
         """One dict per squeeze pressure with the fields of :attr:`units` (SI values; NaN kept)."""
+        if self.band is not None:
+            return self._band_records(self.band)
         res, em = self.critical_junction, self.effective_medium
         out = []
         for i in range(len(res)):
@@ -211,12 +225,44 @@ class CaseResult:
         return out
 
 
+    def _band_records(self, b: BandResult) -> list[dict[str, Any]]:
+        cj, em = b.critical_junction, b.effective_medium
+        values: dict[str, Any] = {
+            b.band.load_name: b.band.loads, "contact_width": b.contact_width, "force_per_length": b.force_per_length,
+            "mean_contact_pressure": b.mean_contact_pressure, "max_contact_pressure": b.max_contact_pressure,
+            "pressure_difference": np.full(len(b), b.pressure_difference), "percolates": cj.percolates,
+            "leak_rate": cj.leak_rate, "leak_rate_uniform_mean_pressure": cj.uniform_mean_pressure,
+            "critical_gap_at_max_pressure": b.critical_gap_at_max_pressure,
+            "resistance_band_width": cj.resistance_band_width, "resistance_peak_position": cj.resistance_peak_position,
+            "lowest_wavevector": b.q0,
+        }
+        if em is not None:
+            values |= {"percolates_effective_medium": em.percolates, "leak_rate_effective_medium": em.leak_rate,
+                       "leak_rate_effective_medium_uniform_mean_pressure": em.uniform_mean_pressure,
+                       "resistance_band_width_effective_medium": em.resistance_band_width}
+        out = []
+        for i in range(len(b)):
+            rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
+            for key in self.units:
+                if key == "valid":
+                    rec[key] = bool(self.valid[i])
+                elif key == "validity":
+                    rec[key] = self.validity[i]
+                else:
+                    v = values[key][i]
+                    rec[key] = bool(v) if isinstance(v, np.bool_) else float(v)
+            out.append(rec)
+        return out
+
+
 def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     """Run a case: both theories as ``case.model`` asks, all notes collected, every result judged.
 
     ``rig``: also simulate the case's ``[rig]`` (if it has one); it takes an ODE solve per model
     (~0.2 s), so only front ends that show the rig (the report) ask for it.
     """
+    if case.band is not None:
+        return _run_band_case(case, rig=rig)
     res = predict(case)
     em = predict_effective_medium(case) if case.model != "critical-junction" else None
     rig_result = rig_prediction(case) if rig and case.rig is not None else None
@@ -236,6 +282,31 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
         valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
     return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
                       tuple(case_warnings(case, res)))
+
+
+def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
+    """run_case for an O-ring or profile seal: the band's leak rates, judged where the pressure is highest."""
+    band = run_band(case)
+    res = predict(case)  # uniform, at each load's mean pressure over the widest band (kept for old front ends)
+    messages = list(band.critical_junction.messages)
+    if band.effective_medium is not None:
+        messages += list(band.effective_medium.messages)
+    d = case.fluid.molecular_length
+    valid, validity = continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
+                                        band.critical_wavelength_at_max_pressure, "λc")
+    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference)
+    flag = lifted & band.critical_junction.percolates & valid
+    validity = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
+                     f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
+                     "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(validity))
+    valid = valid & ~flag
+    rig_result = rig_prediction(case) if rig and case.rig is not None else None
+    warnings = assumption_warnings(
+        slope_rms=case.spectrum.slope_rms, h_rms=case.spectrum.h_rms, seal_width=float(band.contact_width.min()),
+        cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
+        youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
+    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, None, None,
+                      tuple(case.band.notes[1:]) + tuple(warnings), band)
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],

@@ -29,11 +29,12 @@ SURFACE_KEYS: dict[str, set[str]] = {
 }
 SECTIONS: dict[str, set[str]] = {
     "surface": {"model", "label"}.union(*SURFACE_KEYS.values()),
-    "rubber": {"youngs_modulus", "poisson_ratio", "name"},
+    "rubber": {"youngs_modulus", "poisson_ratio", "name", "shore_a"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
-    "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height"},
+    "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height", "cross_section_diameter",
+             "mean_diameter", "faces", "pressure_profile"},
     "fluid": {"viscosity", "density", "name", "molecular_size"},
-    "conditions": {"squeeze_pressure", "pressure_difference"},
+    "conditions": {"squeeze_pressure", "pressure_difference", "compression", "groove_depth", "profile_scale"},
     "theory": {"alpha", "percolation_threshold", "gamma", "lowest_wavevector", "square_side", "model"},
     "study": {"vary", "values", "labels"},
     "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},

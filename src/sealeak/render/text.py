@@ -43,6 +43,18 @@ def _setting_lines(case: Case, em: EffectiveMediumResult | None) -> dict[str, li
     }
 
 
+def _settings(r: CaseResult) -> dict[str, list[str]]:
+    """The setting lines of a result: those of its case, with the band's seal line for a band seal."""
+    blocks = _setting_lines(r.case, r.effective_medium)
+    if r.band is not None:
+        blocks["seal"] = _band_setting(r)
+        case = r.case
+        blocks["theory"] = [f"theory    {'critical junction, α = ' + format(case.alpha, 'g') if case.model != 'effective-medium' else 'effective medium'}"
+                            f"{' and effective medium' if case.model == 'both' else ''}, strips in series across the band "
+                            f"(Q = Ly ΔP / ∫dx/σ(p(x))), {case.q0_note}"]
+    return blocks
+
+
 def _cj_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
     """(header, width, cells) of the critical-junction table (with Q_EM beside Q_CJ for model "both")."""
     res, em = r.critical_junction, r.effective_medium
@@ -69,6 +81,52 @@ def _cj_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
                               + ("" if valid_em is None or em is None else
                                  "/" + _verdict(bool(em.percolates[i]), bool(valid_em[i]))) for i in n]))
     return cols
+
+
+def _pressure_unit(values: np.ndarray) -> tuple[float, str]:
+    top = float(np.nanmax(values)) if np.isfinite(values).any() else 1e6
+    return (1e6, "MPa") if top >= 1e6 else (1e3, "kPa")
+
+
+def _band_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
+    """(header, width, cells) of the table of an O-ring or pressure-profile seal, one row per load."""
+    b = r.band
+    assert b is not None
+    cj, em = b.critical_junction, b.effective_medium
+    n = range(len(b))
+    w_scale, w_unit = length_unit(b.contact_width)
+    p_scale, p_unit = _pressure_unit(b.max_contact_pressure)
+    load = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.band.loads]) if b.band.load_name == "compression"
+            else ("scale", 7, [f"{v:.4g}" for v in b.band.loads]))
+    cols = [load,
+            (f"w ({w_unit})", 9, [fmt(b.contact_width[i] / w_scale, ".4g") for i in n]),
+            (f"p_mean ({p_unit})", 13, [fmt(b.mean_contact_pressure[i] / p_scale, ".4g") for i in n]),
+            (f"p_max ({p_unit})", 12, [fmt(b.max_contact_pressure[i] / p_scale, ".4g") for i in n])]
+    if cj.leak_rate is not None and r.shows_critical_junction:
+        cols += [("Q (m³/s)" if em is None else "Q_CJ (m³/s)", 12, [fmt(cj.leak_rate[i], ".3e") for i in n]),
+                 ("Q (ml/min)" if em is None else "Q_CJ (ml/min)", 14, [fmt(cj.leak_rate[i] * 6e7, ".4g") for i in n])]
+    if em is not None:
+        cols += [("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n])]
+    main = cj if r.shows_critical_junction else em
+    assert main is not None
+    cols += [("Q(p_mean) (m³/s)", 17, [fmt(main.uniform_mean_pressure[i], ".3e") for i in n]),
+             (f"90% of R ({w_unit})", 15, [fmt(main.resistance_band_width[i] / w_scale, ".3g") for i in n]),
+             ("valid", 6, [_verdict(bool(cj.percolates[i]), bool(r.valid[i])) for i in n])]
+    return cols
+
+
+def _band_setting(r: CaseResult) -> list[str]:
+    b = r.band
+    assert b is not None
+    band = b.band
+    faces = "" if band.faces == 1 else ", 2 faces in parallel (counterface and groove bottom)"
+    if band.kind == "o-ring":
+        d = band.cross_section_diameter or 0.0
+        head = (f"seal      O-ring, cross-section d = {d * 1e3:.4g} mm, seal line diameter {(band.mean_diameter or 0) * 1e3:.4g} mm: "
+                f"Ly = {band.length * 1e3:.4g} mm{faces}")
+    else:
+        head = f"seal      pressure profile, Ly = {band.length * 1e3:.4g} mm{faces}"
+    return [head] + [f"          {line}" for line in band.notes[:1]]
 
 
 def _verdict(percolates: bool, valid: bool) -> str:
@@ -102,7 +160,8 @@ def prediction_columns(result: CaseResult, table: str = "critical-junction") -> 
     the validity verdict) or "effective-medium" (the second table of model "both"/"effective-medium").
     A verdict is "yes", "NO" (outside the continuum theory, docs/theory.md §9.11) or "—" (no leak channel).
     """
-    cols = _cj_columns(result) if table == "critical-junction" else _em_columns(result)
+    cols = (_band_columns(result) if result.band is not None and table == "critical-junction"
+            else _cj_columns(result) if table == "critical-junction" else _em_columns(result))
     headers = [c[0] for c in cols]
     rows = [[c[2][i] for c in cols] for i in range(len(cols[0][2]))]
     return headers, rows
@@ -120,6 +179,14 @@ def validity_notes(result: CaseResult) -> list[str]:
     fluid = result.case.fluid
     d = f"d = {fluid.molecular_length * 1e9:.3g} nm ({fluid.molecular_length_note}; fluid.molecular_size sets it)"
     out = []
+    if result.band is not None:
+        b = result.band
+        name = "compression" if b.band.load_name == "compression" else "profile scale"
+        values = b.band.loads * (100 if name == "compression" else 1)
+        out = []
+        for i in np.flatnonzero(~result.valid & b.critical_junction.percolates):
+            out.append(f"{name} {values[i]:.4g}{' %' if name == 'compression' else ''}: valid = NO: {result.validity[i]}")
+        return out
     checks = [("critical junction", result.valid, result.critical_junction.squeeze_pressure, "u_c", result.validity)]
     if (result.effective_medium is not None and result.valid_effective_medium is not None
             and result.validity_effective_medium is not None):
@@ -151,7 +218,7 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
     first = results[0].case
     lines.append(first.title)
     lines.append("=" * min(len(first.title), 100))
-    first_blocks = _setting_lines(first, results[0].effective_medium)
+    first_blocks = _settings(results[0])
     for r in results:
         case, res, em = r.case, r.critical_junction, r.effective_medium
         s = case.spectrum
@@ -163,10 +230,19 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
             lines.append(f"          h_rms = {s.h_rms * 1e6:.4g} µm, slope_rms = {s.slope_rms:.4g}, "
                          f"A_true/A0 = {s.area_ratio:.4g}, q = {s.q_min:.4g} .. {s.q_max:.4g} 1/m")
             # every setting for the first case; for the other variants, the settings that differ
-            for key, block in _setting_lines(case, em).items():
+            for key, block in _settings(r).items():
                 if case is first or block != first_blocks.get(key):
                     lines.extend(block)
         lines.extend("warning: " + w for w in r.warnings)
+        if r.band is not None:
+            lines.append("")
+            lines.extend(_table_lines(_band_columns(r)))
+            lines.append("          w: contact width; p_mean, p_max: mean and peak contact pressure; Q(p_mean): a uniform seal "
+                         "at the mean pressure, for comparison; 90% of R: the width of the band holding 90 % of the flow "
+                         "resistance")
+            lines.extend("note: " + m for m in r.messages)
+            lines.extend("note: " + m for m in validity_notes(r))
+            continue
         if r.shows_critical_junction:
             lines.append("")
             lines.extend(_table_lines(_cj_columns(r)))

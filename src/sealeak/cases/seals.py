@@ -1,0 +1,258 @@
+"""Builders of band seals: ``[seal] shape = "o-ring"`` and ``[seal] pressure_profile = "file.csv"``.
+
+An O-ring case gives the cross-section diameter d, the seal line's diameter (``mean_diameter``, or
+``inner_diameter`` + d) and ``[conditions] compression`` (ε = δ/d) or ``groove_depth``; the
+rubber's Young's modulus (or ``rubber.shore_a``) sets the contact (:mod:`sealeak.physics.oring`).
+A profile case gives a file with columns ``x`` and ``pressure`` (with their units), the seal line
+``length`` and ``[conditions] profile_scale`` (default 1). docs/case-files.md lists the keys;
+docs/theory.md §10 the physics.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import FileFormatError, InputError, UnitError
+from ..io.tables import read_unit_table
+from ..io.units import parse_quantity, unit_factor
+
+try:  # TEMPORARY until physics.oring lands
+    from ..physics.oring import compression_from_groove_depth, oring_contact
+except ImportError:  # pragma: no cover
+    pass
+from ..physics.profile import PressureProfile
+from ..physics.seal import Seal
+from .model import BandSeal
+from .schema import Section, case_keys
+
+__all__ = ["is_band_seal", "build_band", "with_loads", "read_pressure_profile", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
+
+#: [seal] keys of each band seal, and the [conditions] keys that replace squeeze_pressure.
+BAND_SEAL_KEYS = {"o-ring": {"shape", "cross_section_diameter", "inner_diameter", "mean_diameter", "faces"},
+                  "profile": {"pressure_profile", "length", "faces"}}
+BAND_CONDITION_KEYS = {"o-ring": ("compression", "groove_depth"), "profile": ("profile_scale",)}
+
+_X_NAMES = ("x", "position", "distance")
+_P_NAMES = ("pressure", "p", "contact_pressure")
+
+
+def is_band_seal(seal: Section) -> str | None:
+    """"o-ring" or "profile" when the [seal] section describes a band seal, else None."""
+    if seal.has("pressure_profile"):
+        if seal.has("shape"):
+            raise InputError(seal.field("shape"), seal.raw("shape"),
+                             "a seal with a pressure_profile takes no shape (its file sets the band): remove shape")
+        return "profile"
+    return "o-ring" if seal.raw("shape") == "o-ring" else None
+
+
+def _values(cond: Section, key: str, dimension: str) -> tuple[NDArray[np.float64], list[object]]:
+    """A list (or one value, or a {start, stop, num} range) of ``key`` in SI."""
+    value = cond.raw(key)
+    field = cond.field(key)
+    if isinstance(value, dict):
+        unknown = set(value) - {"start", "stop", "num", "spacing"}
+        if unknown:
+            k = sorted(unknown)[0]
+            raise InputError(f"{field}.{k}", value[k], "unknown key; a range takes start, stop, num, spacing")
+        start = parse_quantity(f"{field}.start", value.get("start"), dimension)
+        stop = parse_quantity(f"{field}.stop", value.get("stop"), dimension)
+        num = value.get("num", 20)
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
+            raise InputError(f"{field}.num", num, "must be a whole number from 1 to 100000")
+        spacing = value.get("spacing", "linear")
+        if spacing not in ("log", "linear"):
+            raise InputError(f"{field}.spacing", spacing, "allowed: 'log', 'linear'")
+        if not stop > start:
+            raise InputError(f"{field}.stop", value.get("stop"), f"must exceed start ({value.get('start')})")
+        if spacing == "log" and not start > 0:
+            raise InputError(f"{field}.start", value.get("start"), "must be > 0 for a log range")
+        out = np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
+        return out, list(out)
+    items = value if isinstance(value, list) else [value]
+    if not items:
+        raise InputError(field, [], "is empty: give at least one value")
+    return np.array([parse_quantity(f"{field}[{i}]" if isinstance(value, list) else field, v, dimension)
+                     for i, v in enumerate(items)]), items
+
+
+def _faces(seal: Section) -> int:
+    faces = seal.raw("faces", 1)
+    if isinstance(faces, bool) or faces not in (1, 2):
+        raise InputError(seal.field("faces"), faces, "must be 1 (the rough counterface) or 2 (the groove bottom too, "
+                                                     "as rough, in parallel)")
+    return int(faces)
+
+
+def _check_keys(seal: Section, cond: Section, kind: str) -> None:
+    for key in seal.data:
+        if key not in BAND_SEAL_KEYS[kind]:
+            what = "an O-ring" if kind == "o-ring" else "a seal with a pressure_profile"
+            raise InputError(seal.field(key), seal.raw(key),
+                             f"not used by {what}; its keys: {', '.join(sorted(BAND_SEAL_KEYS[kind]))}")
+    if cond.has("squeeze_pressure"):
+        keys = " or ".join(f"conditions.{k}" for k in BAND_CONDITION_KEYS[kind])
+        raise InputError(cond.field("squeeze_pressure"), cond.raw("squeeze_pressure"),
+                         f"the contact pressure of {'an O-ring' if kind == 'o-ring' else 'a profile seal'} follows from "
+                         f"{keys}: remove squeeze_pressure")
+    other = "profile" if kind == "o-ring" else "o-ring"
+    for key in BAND_CONDITION_KEYS[other]:
+        if cond.has(key):
+            raise InputError(cond.field(key), cond.raw(key),
+                             f"is for {'an O-ring' if other == 'o-ring' else 'a pressure-profile seal'}; "
+                             f"this seal takes {' or '.join(BAND_CONDITION_KEYS[kind])}")
+
+
+def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_modulus: float, poisson_ratio: float,
+               case_dir: Path, q0_fixed: float | None) -> tuple[BandSeal, Seal, NDArray[np.float64]]:
+    """The band seal, its widest band as a :class:`Seal`, and each load's mean pressure (Pa).
+
+    ``q0_fixed``: q0 set in the case file (``theory.lowest_wavevector``/``square_side``), else
+    None and each load gets q0 = 2π/w (docs/theory.md §10.1).
+    """
+    _check_keys(seal, cond, kind)
+    faces = _faces(seal)
+    if kind == "o-ring":
+        d = seal.quantity("cross_section_diameter", "length")
+        if seal.has("mean_diameter") and seal.has("inner_diameter"):
+            raise InputError(seal.field("mean_diameter"), seal.raw("mean_diameter"),
+                             "give either mean_diameter or inner_diameter, not both")
+        if seal.has("mean_diameter"):
+            mean_d = seal.quantity("mean_diameter", "length")
+            if not mean_d > d:
+                raise InputError(seal.field("mean_diameter"), seal.raw("mean_diameter"),
+                                 f"must exceed the cross-section diameter ({d:.6g} m): the ring's line of contact "
+                                 "runs around its centre")
+        elif seal.has("inner_diameter"):
+            mean_d = seal.quantity("inner_diameter", "length") + d
+        else:
+            raise InputError(seal.field("inner_diameter"), None,
+                             "is required for an O-ring (or mean_diameter): the diameter of the seal line")
+        has_c, has_g = cond.has("compression"), cond.has("groove_depth")
+        if has_c == has_g:
+            raise InputError("conditions.compression", cond.raw("compression"),
+                             "give either compression (e.g. [\"15 %\", \"25 %\"]) or groove_depth for an O-ring"
+                             if not has_c else "give either compression or groove_depth, not both")
+        if has_c:
+            eps, raw = _values(cond, "compression", "dimensionless")
+            for i, e in enumerate(eps):
+                if not 0 < e < 1:
+                    raise InputError(f"conditions.compression[{i}]" if len(eps) > 1 else "conditions.compression", raw[i],
+                                     "must lie between 0 and 100 % (ε = squeeze / cross-section diameter)")
+        else:
+            depth, raw = _values(cond, "groove_depth", "length")
+            with case_keys({"groove_depth": "conditions.groove_depth"}):
+                eps = compression_from_groove_depth(d, depth)
+        with case_keys({"compression": "conditions.compression", "youngs_modulus": rubber.field("youngs_modulus"),
+                        "shore_a": rubber.field("shore_a")}):
+            contact = oring_contact(d, youngs_modulus, poisson_ratio, eps)
+        profiles = tuple(contact.profile(i) for i in range(eps.size))
+        length = np.pi * mean_d
+        notes = (contact.source,) + tuple(getattr(contact, "warnings", ()))
+        band_args = dict(oring=contact, cross_section_diameter=d, mean_diameter=mean_d)
+        loads, load_name = np.asarray(eps, dtype=float), "compression"
+    else:
+        name = seal.raw("pressure_profile")
+        if not isinstance(name, str) or not name:
+            raise InputError(seal.field("pressure_profile"), name, "must be the name of a file with columns x and pressure")
+        path = Path(name) if Path(name).is_absolute() else case_dir / name
+        base = read_pressure_profile(path)
+        length = seal.quantity("length", "length")
+        if cond.has("profile_scale"):
+            loads, raw = _values(cond, "profile_scale", "dimensionless")
+            for i, f in enumerate(loads):
+                if not (np.isfinite(f) and f > 0):
+                    raise InputError(f"conditions.profile_scale[{i}]" if len(loads) > 1 else "conditions.profile_scale",
+                                     raw[i], "must be > 0 (a factor on the file's pressures)")
+        else:
+            loads = np.ones(1)
+        profiles = tuple(base.scaled(float(f)) for f in loads)
+        notes = (f"pressure profile from {path.name}: {base.x.size} points over w = {base.width:.4g} m, "
+                 f"mean {base.mean_pressure:.4g} Pa, max {base.max_pressure:.4g} Pa (× profile_scale)",)
+        band_args = dict(profile_source=str(path))
+        load_name = "profile_scale"
+    widths = np.array([p.width for p in profiles])
+    q0 = np.full(widths.size, q0_fixed) if q0_fixed is not None else 2.0 * np.pi / widths
+    band = BandSeal(kind=kind, length=length, load_name=load_name, loads=loads, profiles=profiles, q0=q0, faces=faces,
+                    notes=notes, **band_args)  # type: ignore[arg-type]
+    with case_keys():
+        rect = Seal(width=float(widths.max()), length=length, shape=kind)
+    return band, rect, np.array([p.mean_pressure for p in profiles])
+
+
+def read_pressure_profile(path: Path) -> PressureProfile:
+    """A nominal pressure profile from a text table with columns x and pressure, each with its unit.
+
+    Example header: ``x (mm), pressure (MPa)``. x must not decrease (two equal x make a step);
+    pressures must be >= 0. Raises :class:`FileFormatError` naming the file and the line.
+    """
+    table = read_unit_table(path)
+    if not table.has_header:
+        raise FileFormatError(path, "the first row must name the columns with their units, e.g. 'x (mm), pressure (MPa)'")
+    names = [n.strip().lower().replace(" ", "_") for n in table.names]
+    ix = next((i for i, n in enumerate(names) if n in _X_NAMES), None)
+    ip = next((i for i, n in enumerate(names) if n in _P_NAMES), None)
+    if ix is None or ip is None or table.data.shape[1] != 2:
+        raise FileFormatError(path, f"needs two columns, x and pressure, each with its unit (found: {', '.join(table.names)})")
+    factors = []
+    for i, dim in ((ix, "length"), (ip, "pressure")):
+        if not table.units[i]:
+            raise FileFormatError(path, f"column '{table.names[i]}' has no unit: write it in parentheses, e.g. "
+                                        f"'{table.names[i]} ({'mm' if dim == 'length' else 'MPa'})'")
+        try:
+            factors.append(unit_factor(f"column '{table.names[i]}' unit", table.units[i], dim))
+        except UnitError as exc:
+            raise FileFormatError(path, str(exc)) from None
+    x = table.data[:, ix] * factors[0]
+    p = table.data[:, ip] * factors[1]
+    bad = ~(np.isfinite(x) & np.isfinite(p))
+    if bad.any():
+        raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: a value is missing or not finite")
+    steps = np.diff(x)
+    if (steps < 0).any():
+        i = int(np.argmax(steps < 0)) + 1
+        raise FileFormatError(path, f"line {table.line_of(i)}: x = {table.data[i, ix]:g} is below the previous row's "
+                                    f"{table.data[i - 1, ix]:g} (x must not decrease across the band)")
+    if (p < 0).any():
+        i = int(np.argmax(p < 0))
+        raise FileFormatError(path, f"line {table.line_of(i)}: pressure = {table.data[i, ip]:g} is negative "
+                                    "(a contact pressure is >= 0)")
+    if not x[-1] > x[0]:
+        raise FileFormatError(path, "x spans no width: the band needs at least two different positions")
+    if not p.max() > 0:
+        raise FileFormatError(path, "every pressure is zero: nothing presses the seal")
+    if x.size > 100000:
+        raise FileFormatError(path, f"{x.size} rows: at most 100000 points")
+    try:
+        return PressureProfile.table(x, p)
+    except InputError as exc:
+        raise FileFormatError(path, str(exc)) from None
+
+
+def with_loads(case_band: BandSeal, loads: NDArray[np.float64], youngs_modulus: float, poisson_ratio: float,
+               q0_fixed: float | None = None) -> BandSeal:
+    """The same seal at other loads (compressions or profile scales), e.g. those of measured data.
+
+    ``q0_fixed``: the case's q0 if the case file set one, else None (q0 = 2π/w per load).
+    """
+    values = np.atleast_1d(np.asarray(loads, dtype=float))
+    if case_band.kind == "o-ring":
+        assert case_band.cross_section_diameter is not None
+        with case_keys({"compression": "compression"}):
+            contact = oring_contact(case_band.cross_section_diameter, youngs_modulus, poisson_ratio, values)
+        profiles = tuple(contact.profile(i) for i in range(values.size))
+        extra: dict[str, object] = {"oring": contact}
+    else:
+        bad = ~(np.isfinite(values) & (values > 0))
+        if bad.any():
+            raise InputError("profile_scale", float(values[bad][0]), "must be > 0 (a factor on the file's pressures)")
+        base = case_band.profiles[0].scaled(1.0 / float(case_band.loads[0]))
+        profiles = tuple(base.scaled(float(f)) for f in values)
+        extra = {}
+    widths = np.array([p.width for p in profiles])
+    q0 = np.full(widths.size, q0_fixed) if q0_fixed is not None else 2.0 * np.pi / widths
+    return replace(case_band, loads=values, profiles=profiles, q0=q0, **extra)  # type: ignore[arg-type]
