@@ -58,6 +58,7 @@ BAND_UNITS: dict[str, str] = {
     "resistance_band_width": "m",
     "resistance_peak_position": "m",
     "lowest_wavevector": "1/m",
+    "integral_relative_change": "1",
     "valid": "1",
     "validity": "",
 }
@@ -66,6 +67,7 @@ BAND_EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
     "leak_rate_effective_medium": "m^3/s",
     "leak_rate_effective_medium_uniform_mean_pressure": "m^3/s",
     "resistance_band_width_effective_medium": "m",
+    "integral_relative_change_effective_medium": "1",
 }
 
 

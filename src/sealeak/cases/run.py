@@ -234,12 +234,13 @@ class CaseResult:
             "leak_rate": cj.leak_rate, "leak_rate_uniform_mean_pressure": cj.uniform_mean_pressure,
             "critical_gap_at_max_pressure": b.critical_gap_at_max_pressure,
             "resistance_band_width": cj.resistance_band_width, "resistance_peak_position": cj.resistance_peak_position,
-            "lowest_wavevector": b.q0,
+            "lowest_wavevector": b.q0, "integral_relative_change": cj.change,
         }
         if em is not None:
             values |= {"percolates_effective_medium": em.percolates, "leak_rate_effective_medium": em.leak_rate,
                        "leak_rate_effective_medium_uniform_mean_pressure": em.uniform_mean_pressure,
-                       "resistance_band_width_effective_medium": em.resistance_band_width}
+                       "resistance_band_width_effective_medium": em.resistance_band_width,
+                       "integral_relative_change_effective_medium": em.change}
         out = []
         for i in range(len(b)):
             rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
