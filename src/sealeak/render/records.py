@@ -58,7 +58,21 @@ def case_summary(case: Case) -> dict[str, Any]:
         "pressure_difference": case.pressure_difference,
         "alpha": case.alpha, "percolation_threshold": case.percolation_threshold, "gamma": case.gamma,
         "q0": case.q0, "q0_note": case.q0_note, "model": case.model,
-    }
+    } | ({"band": _band_summary(case)} if case.band is not None else {})
+
+
+def _band_summary(case: Case) -> dict[str, Any]:
+    """An O-ring's or a profile seal's description (SI): what the band rows were computed from."""
+    band = case.band
+    assert band is not None
+    out: dict[str, Any] = {"kind": band.kind, "seal_line_length": band.length, "faces": band.faces,
+                           "load": band.load_name, "notes": list(band.notes)}
+    if band.kind == "o-ring" and band.oring is not None:
+        out |= {"cross_section_diameter": band.cross_section_diameter, "mean_diameter": band.mean_diameter,
+                "regime": list(band.oring.regime)}
+    else:
+        out["pressure_profile"] = band.profile_source
+    return out
 
 
 def _units(results: Sequence[CaseResult]) -> dict[str, str]:
