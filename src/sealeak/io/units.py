@@ -520,3 +520,158 @@ def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
         if abs(value) >= factor * 0.9999:
             chosen = (factor, name)
     return f"{value / chosen[0]:.{digits}g} {chosen[1]}"
+
+
+# ---------------------------------------------------------------------------------------- gases: temperature and leak rates
+# Temperatures (offset units: °C, °F) and the leak-rate units of gas leak tests: pV throughput
+# (Pa·m³/s, mbar·l/s, Torr·l/s, atm·cc/s), standard volume flow (sccm, slm), molar flow (mol/s) and
+# mass flow (kg/s, g/a). Converting between them needs the gas's molar mass and temperature
+# (docs/theory.md §Leak-rate units).
+__all__ += ["STANDARD_TEMPERATURE", "STANDARD_PRESSURE", "LEAK_RATE_KINDS", "parse_temperature", "leak_rate_unit",
+            "molar_flow_factor", "convert_leak_rate", "parse_leak_rate"]
+
+#: Standard conditions of standard volume flows (sccm, slm): 0 °C and 101325 Pa (DIN 1343, SEMI E12), ideal gas.
+STANDARD_TEMPERATURE = 273.15
+STANDARD_PRESSURE = 101325.0
+_MOLAR_GAS_CONSTANT = 6.02214076e23 * 1.380649e-23  # R = N_A k_B, J/(mol K), exact
+
+#: Kinds of leak rate → (SI unit, pint dimensionality, examples).
+LEAK_RATE_KINDS = {
+    "throughput": ("Pa*m^3/s", "[mass] * [length] ** 2 / [time] ** 3", "'mbar*l/s', 'Pa*m^3/s'"),
+    "standard_volume_flow": ("m^3/s at 0 °C and 101325 Pa", "", "'sccm', 'slm'"),
+    "molar_flow": ("mol/s", "[substance] / [time]", "'mol/s'"),
+    "mass_flow": ("kg/s", "[mass] / [time]", "'kg/s', 'g/a'"),
+    "volume_flow": ("m^3/s", "[length] ** 3 / [time]", "'ml/min' (at a stated pressure)"),
+}
+#: Standard volume flows: unit name → m³/s (at STANDARD_TEMPERATURE and STANDARD_PRESSURE) per unit.
+_STANDARD_FLOWS = {"sccm": 1e-6 / 60.0, "sccs": 1e-6, "slm": 1e-3 / 60.0, "slpm": 1e-3 / 60.0, "scch": 1e-6 / 3600.0}
+_LEAK_UNITS_ALLOWED = ("a leak rate: a pV throughput ('mbar*l/s', 'Pa*m^3/s', 'Torr*l/s'), a standard volume flow ('sccm', "
+                       "'slm'), a molar flow ('mol/s') or a mass flow ('kg/s', 'g/a')")
+_TEMPERATURE_ALLOWED = "a temperature with its unit, e.g. '20 degC', '20 °C', '293.15 K', '68 degF'"
+
+
+def _leak_text(unit: str) -> str:
+    """Normalised leak-rate unit text: also 'mbar.l/s' (a dot between two unit names is a product) and 'Torr'."""
+    text = _normalise(unit)
+    text = re.sub(r"(?<=[A-Za-z])\.(?=[A-Za-z])", "*", text)
+    return re.sub(r"\bTorr\b", "torr", text)
+
+
+def parse_temperature(field: str, value: Any) -> float:
+    """An absolute temperature in K from text with its unit: ``"20 degC"``, ``"20 °C"``, ``"293.15 K"``, ``"68 degF"``.
+
+    The number syntax is :func:`parse_quantity`'s. A bare number is refused (°C or K cannot be
+    guessed), and so are a unit that is not a temperature (``"20 C"`` is coulombs: the message says
+    to write ``degC``) and a temperature at or below absolute zero. Raises :class:`UnitError`
+    naming ``field``.
+    """
+    if isinstance(value, bool) or isinstance(value, (int, float)):
+        raise UnitError(field, value, f"a bare number has no unit (°C or K?); give {_TEMPERATURE_ALLOWED}")
+    if not isinstance(value, str) or not value.strip():
+        raise UnitError(field, value, f"give {_TEMPERATURE_ALLOWED}")
+    text = _normalise(value).replace("°C", "degC").replace("°F", "degF").replace("℃", "degC").replace("°K", "K")
+    try:
+        number, unit = _split(text)
+        magnitude = _finite(number)
+        if not unit:
+            raise _Unreadable("it has no unit (°C or K?)")
+        u = _unit(unit)
+    except (_Unreadable, ValueError) as exc:
+        raise UnitError(field, value, _with_allowed(str(exc), _TEMPERATURE_ALLOWED)) from None
+    ureg = registry()
+    if u.dimensionality != ureg.get_dimensionality("[temperature]"):
+        hint = " (for degrees Celsius write 'degC' or '°C')" if unit.strip() in ("C", "c", "deg C", "deg") else ""
+        raise UnitError(field, value, f"its unit '{unit}' is not a temperature{hint}; give {_TEMPERATURE_ALLOWED}")
+    try:
+        kelvin = float(ureg.Quantity(magnitude, u).to("kelvin").magnitude)
+    except Exception as exc:  # e.g. a temperature difference unit pint cannot place on the absolute scale
+        raise UnitError(field, value, f"cannot convert it to kelvin ({type(exc).__name__}); give {_TEMPERATURE_ALLOWED}") from None
+    if not (math.isfinite(kelvin) and kelvin > 0):
+        raise UnitError(field, value, f"is at or below absolute zero ({kelvin:.6g} K); give {_TEMPERATURE_ALLOWED}")
+    return kelvin
+
+
+def leak_rate_unit(field: str, unit: str) -> tuple[str, float]:
+    """(kind, factor) of a leak-rate unit: the kind (a key of :data:`LEAK_RATE_KINDS`) and the factor to its SI unit.
+
+    ``"mbar*l/s"`` (also ``"mbar l/s"``, ``"mbar·l/s"``, ``"mbar.l/s"``) → ``("throughput", 0.1)``;
+    ``"sccm"`` → ``("standard_volume_flow", 1e-6/60)``; ``"mol/s"`` → ``("molar_flow", 1.0)``;
+    ``"g/a"`` → ``("mass_flow", 1e-3/31557600)`` (a Julian year of 365.25 days). Raises
+    :class:`UnitError` naming ``field`` for anything else.
+    """
+    if not isinstance(unit, str) or not unit.strip():
+        raise UnitError(field, unit, f"missing: give {_LEAK_UNITS_ALLOWED}")
+    text = _leak_text(unit)
+    if text.lower() in _STANDARD_FLOWS:
+        return "standard_volume_flow", _STANDARD_FLOWS[text.lower()]
+    if "," in text:
+        raise UnitError(field, unit, comma_advice(text))
+    try:
+        u = _unit(text)
+    except _Unreadable as exc:
+        raise UnitError(field, unit, f"{exc}; give {_LEAK_UNITS_ALLOWED}") from None
+    ureg = registry()
+    for kind, (si, dims, _examples) in LEAK_RATE_KINDS.items():
+        if dims and u.dimensionality == ureg.get_dimensionality(dims):
+            factor = float(ureg.Quantity(1.0, u).to(ureg.parse_units(si.replace("^", "**"))).magnitude)
+            return kind, factor
+    raise UnitError(field, unit, f"its unit '{unit}' is not a leak rate; give {_LEAK_UNITS_ALLOWED}")
+
+
+def molar_flow_factor(field: str, unit: str, *, temperature: float, molar_mass: float, pressure: float | None = None) -> float:
+    """mol/s per one ``unit`` of leak rate of a gas of ``molar_mass`` M (kg/mol) at ``temperature`` T (K).
+
+    pV throughput: ṅ = Q_pV/(R T) (the pV counted at the gas temperature T); standard volume flow:
+    ṅ = P0 V̇0/(R T0) with T0 = 273.15 K, P0 = 101325 Pa; mass flow: ṅ = ṁ/M; a plain volume flow
+    needs the absolute ``pressure`` p (Pa) it is counted at: ṅ = p V̇/(R T). Ideal gas throughout
+    (docs/theory.md §Leak-rate units).
+    """
+    kind, factor = leak_rate_unit(field, unit)
+    if not (math.isfinite(temperature) and temperature > 0):
+        raise UnitError("temperature", temperature, "must be an absolute temperature > 0 K")
+    if not (math.isfinite(molar_mass) and molar_mass > 0):
+        raise UnitError("molar_mass", molar_mass, "must be a molar mass > 0 (kg/mol)")
+    if kind == "throughput":
+        return factor / (_MOLAR_GAS_CONSTANT * temperature)
+    if kind == "standard_volume_flow":
+        return factor * STANDARD_PRESSURE / (_MOLAR_GAS_CONSTANT * STANDARD_TEMPERATURE)
+    if kind == "molar_flow":
+        return factor
+    if kind == "mass_flow":
+        return factor / molar_mass
+    if pressure is None or not (math.isfinite(pressure) and pressure > 0):
+        raise UnitError(field, unit, "a volume flow of a gas needs the absolute pressure it is counted at; give a pV "
+                                     "throughput ('mbar*l/s') or a standard volume flow ('sccm') instead")
+    return factor * pressure / (_MOLAR_GAS_CONSTANT * temperature)
+
+
+def convert_leak_rate(value: float, from_unit: str, to_unit: str, *, temperature: float, molar_mass: float,
+                      pressure: float | None = None, field: str = "leak rate") -> float:
+    """``value`` in ``from_unit`` converted to ``to_unit`` for a gas of ``molar_mass`` (kg/mol) at ``temperature`` (K).
+
+    Through the molar flow: value · n(from_unit)/n(to_unit), with :func:`molar_flow_factor`; e.g.
+    1 mbar·l/s of helium at 20 °C is 0.1/(R · 293.15 K) mol/s = 4.1e-5 mol/s.
+    """
+    n_from = molar_flow_factor(field, from_unit, temperature=temperature, molar_mass=molar_mass, pressure=pressure)
+    n_to = molar_flow_factor(field, to_unit, temperature=temperature, molar_mass=molar_mass, pressure=pressure)
+    return float(value) * n_from / n_to
+
+
+def parse_leak_rate(field: str, value: Any, *, temperature: float, molar_mass: float, pressure: float | None = None) -> float:
+    """A leak rate written with its unit (``"1e-6 mbar*l/s"``, ``"2 sccm"``, ``"5 g/a"``) as a molar flow in mol/s.
+
+    Number syntax as :func:`parse_quantity`; the unit as :func:`leak_rate_unit`; the conversion as
+    :func:`molar_flow_factor`. Raises :class:`UnitError` naming ``field``.
+    """
+    if isinstance(value, bool) or isinstance(value, (int, float)):
+        raise UnitError(field, value, f"a bare number has no unit; give {_LEAK_UNITS_ALLOWED}")
+    if not isinstance(value, str) or not value.strip():
+        raise UnitError(field, value, f"give {_LEAK_UNITS_ALLOWED}")
+    try:
+        number, unit = _split(_leak_text(value))
+        magnitude = _finite(number)
+    except (_Unreadable, ValueError) as exc:
+        raise UnitError(field, value, _with_allowed(str(exc), _LEAK_UNITS_ALLOWED)) from None
+    if not unit:
+        raise UnitError(field, value, f"it has no unit; give {_LEAK_UNITS_ALLOWED}")
+    return magnitude * molar_flow_factor(field, unit, temperature=temperature, molar_mass=molar_mass, pressure=pressure)
