@@ -59,8 +59,7 @@ SHORE_A_CHECKED = (40.0, 90.0)
 
 #: The one-line statement of the relations, carried into every result.
 SOURCE = ("O-ring contact: Hertz line contact of a cylinder between two plates (Johnson 1985) up to 1 % compression, "
-          "Lindley's O-ring relations f = E d (1.25 ε^1.5 + 50 ε^6), w = d (6ε/π)^1/2 (J. IRI 1 (1967) 209) from 10 %, "
-          "interpolated between; semi-elliptic pressure p_max = 4f/(πw)")
+          "Lindley's O-ring relations (J. IRI 1 (1967) 209) from 10 %, interpolated between; semi-elliptic pressure")
 
 
 @dataclass(frozen=True)
