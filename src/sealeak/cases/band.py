@@ -231,9 +231,10 @@ def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile) 
         return sigma
 
     integral = series_resistance(profile, sigma_of(table))
+    change = float("inf")
     while True:
         if table.s.size >= TABLE_POINTS[1] or not table.ok:
-            return integral, float("nan"), False
+            return integral, max(change, integral.change), False
         finer = table.refine(exact)
         again = series_resistance(profile, sigma_of(finer))
         change = abs(again.resistance - integral.resistance) / again.resistance if again.resistance > 0 else 0.0
@@ -259,7 +260,7 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
     not_converged = [i for i, ok in enumerate(converged) if not ok]
     if not_converged:
         i = not_converged[0]
-        messages.append(f"{name}: the integral ∫dx/σ did not converge to {RTOL:g} at "
+        messages.append(f"{name}: the integral ∫dx/σ did not converge to {RTOL if name.startswith('critical') else TABLE_RTOL:g} at "
                         f"{_loads_text(band, np.arange(band.loads.size) == i)} (last relative change {changes[i]:.2g}); "
                         "the leak rate is less certain")
     return BandTheory(q, ~sealed, uniform, r, np.array([w for w, _ in where]), np.array([x for _, x in where]),

@@ -20,10 +20,7 @@ from ..io.units import parse_quantity
 from ..lab.rig import RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
-try:  # TEMPORARY until physics.oring lands
-    from ..physics.oring import youngs_modulus_from_shore_a
-except ImportError:  # pragma: no cover
-    pass
+from ..physics.oring import youngs_modulus_from_shore_a
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names

@@ -8,7 +8,6 @@ kept by the loader (:class:`~sealeak.cases.loader.CaseFile`) for the report.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -16,12 +15,10 @@ from numpy.typing import NDArray
 from ..lab.rig import RigSetup
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
+from ..physics.oring import ORingContact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
-
-if TYPE_CHECKING:  # until physics.oring lands
-    from ..physics.oring import ORingContact
 
 __all__ = ["Case", "MODELS", "BandSeal"]
 

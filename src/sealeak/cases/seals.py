@@ -19,11 +19,7 @@ from numpy.typing import NDArray
 from ..errors import FileFormatError, InputError, UnitError
 from ..io.tables import read_unit_table
 from ..io.units import parse_quantity, unit_factor
-
-try:  # TEMPORARY until physics.oring lands
-    from ..physics.oring import compression_from_groove_depth, oring_contact
-except ImportError:  # pragma: no cover
-    pass
+from ..physics.oring import compression_from_groove_depth, oring_contact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
 from .model import BandSeal
