@@ -20,7 +20,7 @@ from ..io.units import parse_quantity
 from ..lab.rig import RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
-from ..physics.oring import youngs_modulus_from_shore_a
+from ..physics.oring import shore_a_warnings, youngs_modulus_from_shore_a
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
@@ -234,12 +234,14 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         if not isinstance(value, str):
             raise InputError(f"{section}.{key}", value, "must be text")
     rubber = Section("rubber", doc["rubber"])
+    input_warnings: tuple[str, ...] = ()
     if rubber.has("shore_a"):
         if rubber.has("youngs_modulus"):
             raise InputError(rubber.field("shore_a"), rubber.raw("shore_a"), "give either youngs_modulus or shore_a, not both")
         shore = rubber.number("shore_a", low=0.0, high=100.0)
         with case_keys({"shore_a": rubber.field("shore_a")}):
             youngs = youngs_modulus_from_shore_a(shore)
+            input_warnings += shore_a_warnings(shore)
     else:
         youngs = rubber.quantity("youngs_modulus", "pressure")
     nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
@@ -335,7 +337,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
         e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
         percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
-        simulation=simulation, source=source, surface_model=str(model_name), band=band,
+        simulation=simulation, source=source, surface_model=str(model_name), band=band, input_warnings=input_warnings,
     )
 
 

@@ -123,6 +123,9 @@ class Case:
     band
         For an O-ring or a pressure-profile seal, its profiles and loads (docs/theory.md §10);
         ``seal`` is then the widest band and ``squeeze_pressure`` each load's mean pressure.
+    input_warnings
+        Warnings the builders found in the inputs (e.g. a Shore A hardness outside the range of
+        the modulus relation), shown with the result's warnings.
     """
 
     title: str
@@ -147,6 +150,7 @@ class Case:
     label: str = ""
     source: str = ""
     band: BandSeal | None = None
+    input_warnings: tuple[str, ...] = ()
 
     @property
     def square_side(self) -> float:

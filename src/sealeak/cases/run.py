@@ -282,7 +282,7 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     if em is not None and valid_em is not None and validity_em is not None:
         valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
     return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      tuple(case_warnings(case, res)))
+                      case.input_warnings + tuple(case_warnings(case, res)))
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
@@ -307,7 +307,7 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, None, None,
-                      tuple(case.band.notes[1:]) + tuple(warnings), band)
+                      case.input_warnings + tuple(case.band.notes[1:]) + tuple(warnings), band)
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
