@@ -91,10 +91,6 @@ def test_y_uniform_strip_load_is_the_plane_strain_solution_without_wrap_around()
         u = band_displacement(p, W, 1.0, E)
         a, b = i0 * dx, i1 * dx
 
-        def xlogx(t):
-            t = np.abs(t)
-            return np.where(t > 0, t * np.log(np.where(t > 0, t, 1.0)), 0.0) * np.sign(t)
-
         # signed: ∫_a^b -ln|x-s| ds = -( F(x-a) - F(x-b) ) with F(t) = t ln|t| - t, odd
         def F(t):
             return np.where(t != 0, t * np.log(np.abs(np.where(t != 0, t, 1.0))) - t, 0.0)

@@ -6,9 +6,13 @@ import argparse
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import InputError, SealeakError
 from ._common import inputs, load, outputs
+
+if TYPE_CHECKING:
+    from ..cases import Case
 
 __all__ = ["register"]
 
@@ -19,8 +23,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ..cases import simulate
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
+    from ..render.simulation import BAND_SIMULATION_FIGURE_NAMES
 
-    check_outputs(outputs(args, SIMULATION_FIGURE_NAMES, folders=("plots", "fields")), args.force, inputs=inputs(args))
+    names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES))  # either route's figures
+    check_outputs(outputs(args, names, folders=("plots", "fields")), args.force, inputs=inputs(args))
     if args.fields:
         _check_fields_folder(Path(args.fields), args.force)
     cases = load(args)
@@ -35,6 +41,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
             where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
             raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+    if case.band is not None:
+        return _simulate_band(args, case, grid, realizations, seed,
+                              "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid")
     total = realizations * len(case.squeeze_pressure)
     with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
         res = simulate(case, grid=grid, realizations=realizations, seed=seed,
@@ -45,6 +54,36 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         write_text(args.json, simulation_json(case, res))
     if args.plots:
         save_figures(simulation_figures(case, res), args.plots)
+    return 0
+
+
+def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations: int, seed: int, grid_name: str) -> int:
+    """``simulate`` on an O-ring case: the cylinder on the rough surface, the flow across its band, α."""
+    from tqdm import tqdm
+
+    from ..cases.simulation_band import simulate_band
+    from ..io.files import write_text
+    from ..render import save_figures
+    from ..render.simulation import band_simulation_figures, band_simulation_json, band_simulation_table
+
+    band = case.band
+    assert band is not None
+    if band.kind != "o-ring":
+        raise InputError("seal.pressure_profile", band.profile_source or "a pressure profile",
+                         "simulate solves uniform seals and O-rings; a seal given by its pressure profile has no body "
+                         "whose contact could be simulated (use predict)")
+    if args.no_threshold and not args.quiet:
+        sys.stderr.write("note: --no-threshold does not apply to an O-ring (no percolation-threshold search is made)\n")
+    total = (realizations + 1) * band.loads.size
+    with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
+        res = simulate_band(case, grid=grid, realizations=realizations, seed=seed,
+                            fields_dir=args.fields, progress=bar.update, grid_name=grid_name)
+    if not args.quiet:
+        sys.stdout.write(band_simulation_table(case, res))
+    if args.json:
+        write_text(args.json, band_simulation_json(case, res))
+    if args.plots:
+        save_figures(band_simulation_figures(case, res), args.plots)
     return 0
 
 
@@ -62,7 +101,8 @@ def _check_fields_folder(folder: Path, force: bool) -> None:
 def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.ArgumentParser], None]) -> None:
     """Add ``simulate`` to the sub-command parsers."""
     p = sub.add_parser("simulate", help="numerically exact leak rate and α: random surfaces, BEM contact, "
-                                        "Reynolds flow")
+                                        "Reynolds flow (an O-ring: the cylinder on the rough surface, flow across "
+                                        "its band)")
     add_case_args(p)
     p.add_argument("--grid", type=int, help="grid points per side N (even; default: [simulation] grid, else 256)")
     p.add_argument("--realizations", type=int,
@@ -71,5 +111,6 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--json", metavar="FILE", help="write per-pressure results as JSON")
     p.add_argument("--fields", metavar="DIR", help="write DIR/r<r>-p<i>.npz with height, gap, pressure, size")
     p.add_argument("--plots", metavar="DIR", help="write figures into DIR")
-    p.add_argument("--no-threshold", action="store_true", help="skip the percolation-threshold search")
+    p.add_argument("--no-threshold", action="store_true",
+                   help="skip the percolation-threshold search (uniform seals; an O-ring makes none)")
     p.set_defaults(func=_cmd_simulate)

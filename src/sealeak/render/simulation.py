@@ -8,15 +8,20 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 
 from ..cases import Case, SimulationResult
 from ..cases.simulation import JUNCTION_CELLS
+from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..numerics import spanning_mask
+from ..physics.profile import PressureProfile
 from .figures import pressure_axis
 from .records import case_summary, json_document, json_value
 from .text import fmt
 
-__all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES"]
+__all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
+           "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
+           "BAND_SIMULATION_FIGURE_NAMES"]
 
 
 def _axes(figsize: tuple[float, float]) -> tuple[Figure, Axes]:
@@ -184,3 +189,218 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     return figs
 
 
+
+
+# ---------------------------------------------------------------- the O-ring (band) simulation
+BAND_SIMULATION_UNITS = {
+    "compression": "1", "profile_scale": "1", "force_per_length": "N/m", "model_contact_width": "m",
+    "model_max_pressure": "Pa", "hertz_contact_width": "m", "hertz_max_pressure": "Pa", "smooth_contact_width": "m",
+    "smooth_max_pressure": "Pa", "smooth_width_error": "1", "smooth_pressure_error": "1", "contact_width": "m",
+    "contact_width_std": "m", "relative_contact_area": "1", "relative_contact_area_std": "1",
+    "percolating_fraction": "1", "leak_rate": "m^3/s", "leak_rate_std": "m^3/s",
+    "leak_rate_series_resistance": "m^3/s", "alpha": "1", "alpha_std": "1", "junction_cells": "1",
+    "junction_resolved": "1", "pressure_difference": "Pa", "size": "m", "period": "m", "seal_length": "m",
+    "radius": "m", "spectrum_cut_wavevector": "1/m", "spectrum_low_wavevector": "1/m",
+}
+BAND_SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png",
+                                "simulate_band_pressure.png")
+_BAND_ROW_KEYS = ("force_per_length", "model_contact_width", "model_max_pressure", "hertz_contact_width",
+                  "hertz_max_pressure", "smooth_contact_width", "smooth_max_pressure", "smooth_width_error",
+                  "smooth_pressure_error", "contact_width", "contact_width_std", "relative_contact_area",
+                  "relative_contact_area_std", "percolating_fraction", "leak_rate", "leak_rate_std",
+                  "leak_rate_series_resistance", "alpha", "alpha_std", "junction_cells")
+
+
+def _band_coarse(res: BandSimulationResult, i: int) -> bool:
+    """Whether the theory's junction at load ``i`` spans fewer grid cells than α needs (see the notes)."""
+    c = res.junction_cells[i]
+    return bool(np.isfinite(c) and c < JUNCTION_CELLS)
+
+
+def _load_label(res: BandSimulationResult) -> tuple[str, float]:
+    """Column label and the factor that shows the loads (compression in %, a scale factor as is)."""
+    return ("compression (%)", 100.0) if res.load_name == "compression" else (res.load_name.replace("_", " "), 1.0)
+
+
+def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
+    """The ``sealeak simulate --json`` document of an O-ring: per compression, the smooth check, settings, case."""
+    units = {k: v for k, v in BAND_SIMULATION_UNITS.items()
+             if k not in ("compression", "profile_scale") or k == res.load_name}
+    rows = [{res.load_name: json_value(res.loads[i])}
+            | {k: json_value(getattr(res, k)[i]) for k in _BAND_ROW_KEYS}
+            | {"junction_resolved": None if not np.isfinite(res.junction_cells[i]) else bool(not _band_coarse(res, i)),
+               "pressure_difference": res.pressure_difference}
+            for i in range(res.loads.size)]
+    doc: dict[str, Any] = {
+        "units": units,
+        "results": rows,
+        "smooth_check": {"passed": res.smooth_check_passed, "tolerance": HERTZ_TOL,
+                         "note": "the solver without roughness against Hertz line contact with the same force per "
+                                 "length: b = sqrt(4 f R/(pi E*)), p_max = 2 f/(pi b); *_error = simulated/Hertz - 1"},
+        "settings": {"grid": res.grid, "realizations": res.realizations, "seed": res.seed, "size": res.size,
+                     "period": res.period, "seal_length": res.seal_length, "faces": res.faces, "radius": res.radius,
+                     "spectrum_cut_wavevector": res.q_cut, "spectrum_low_wavevector": res.q_low,
+                     "spectrum": res.spectrum_note},
+        "leak_rate_series_resistance_note": "series-resistance prediction of the critical-junction theory with alpha = 1 "
+                                            "for the same spectrum and the Hertz profile of the same force; "
+                                            "alpha = leak_rate / leak_rate_series_resistance",
+        "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
+                       "ones), not standard errors; null with fewer than two values",
+        "case": case_summary(case),
+        "notes": list(res.notes),
+    }
+    return json_document(doc)
+
+
+def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
+    """The table ``sealeak simulate`` prints for an O-ring: the smooth check, then numerical against series leak rate and α."""
+    label, factor = _load_label(res)
+    cell = res.size / res.grid
+    lines = [f"{case.title}: numerically exact leak rate of the O-ring",
+             f"domain {res.size * 1e3:.4g} mm across the band (free edges) x {res.period * 1e3:.4g} mm along the seal "
+             f"line (periodic), grid {res.grid}x{res.grid} ({cell * 1e6:.3g} µm cells), {res.realizations} "
+             f"realisation(s), seed {res.seed}",
+             f"cylinder radius R = {res.radius * 1e3:.4g} mm, seal line {res.seal_length * 1e3:.4g} mm, "
+             f"{res.faces} face(s), ΔP = {res.pressure_difference / 1e3:.4g} kPa; {res.spectrum_note}", "",
+             "Smooth check, no roughness: the solver against Hertz line contact, 2b = 2√(4fR/(πE*)), p_max = 2f/(πb)",
+             f"{label:>16} {'f (N/m)':>9} {'2b Hertz (mm)':>14} {'2b sim (mm)':>12} {'Δ':>8} "
+             f"{'p_max Hertz (MPa)':>18} {'p_max sim (MPa)':>16} {'Δ':>8}"]
+    for i in range(res.loads.size):
+        lines.append(f"{res.loads[i] * factor:16.4g} {res.force_per_length[i]:9.4g} {res.hertz_contact_width[i] * 1e3:14.4g} "
+                     f"{fmt(res.smooth_contact_width[i] * 1e3, '12.4g')} {fmt(100 * res.smooth_width_error[i], '+7.2f')}% "
+                     f"{res.hertz_max_pressure[i] / 1e6:18.4g} {res.smooth_max_pressure[i] / 1e6:16.4g} "
+                     f"{fmt(100 * res.smooth_pressure_error[i], '+7.2f')}%")
+    lines.append(f"agreement within {100 * HERTZ_TOL:g} % at every load: {'yes' if res.smooth_check_passed else 'NO (see the notes)'}")
+    lines += ["", "Rough contact and flow across the band",
+              f"{label:>16} {'width (mm)':>11} {'A/A0 band':>10} {'perc':>5} {'Q sim (m³/s)':>13} {'± sd':>9} "
+              f"{'Q series α=1':>13} {'α':>8} {'± sd':>7}"]
+    for i in range(res.loads.size):
+        star = "*" if _band_coarse(res, i) and np.isfinite(res.alpha[i]) else " "
+        lines.append(f"{res.loads[i] * factor:16.4g} {res.contact_width[i] * 1e3:11.4g} {fmt(res.relative_contact_area[i], '10.3f')} "
+                     f"{res.percolating_fraction[i]:5.2f} {fmt(res.leak_rate[i], '13.3e')} {fmt(res.leak_rate_std[i], '9.2e')} "
+                     f"{fmt(res.leak_rate_series_resistance[i], '13.3e')} {fmt(res.alpha[i], '8.3g')}{star}"
+                     f"{fmt(res.alpha_std[i], '7.2g')}")
+    lines += ["",
+              "width: extent of the rough contact across the band; A/A0 band: contact fraction inside the Hertz band; "
+              "perc: fraction of realisations in which fluid crosses the band",
+              "Q series α=1: the series-resistance prediction Q = Ly ΔP / ∫dx/σ(p(x)) of the critical-junction theory "
+              "with α = 1, same spectrum, Hertz profile of the same force; α = Q sim / Q series is the α of this O-ring",
+              _spread_legend(res.realizations)]
+    for n in res.notes:
+        lines.append("note: " + n)
+    return "\n".join(lines) + "\n"
+
+
+def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, Figure]:
+    """The figures of ``sealeak simulate --plots`` for an O-ring: leak rate, α, a contact map, the pressure across the band."""
+    figs: dict[str, Figure] = {}
+    label, factor = _load_label(res)
+    loads = res.loads * factor
+    coarse = np.array([_band_coarse(res, i) for i in range(loads.size)], dtype=bool)
+
+    fig, ax = _axes((6.4, 4.4))
+    ok = res.leak_rate > 0
+    std = np.nan_to_num(res.leak_rate_std[ok])
+    lower = np.minimum(std, 0.9 * res.leak_rate[ok])
+    ax.errorbar(loads[ok], res.leak_rate[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
+                label=f"numerical (cylinder on rough surface + Reynolds), {res.realizations} realisation(s), ± sd")
+    q_sr = res.leak_rate_series_resistance
+    good = np.where(coarse, np.nan, q_sr)
+    ax.plot(loads, good, "-", color="C1", label="series resistance, critical junction, α = 1")
+    if coarse.any():
+        edge = np.where(coarse | np.roll(coarse, -1), q_sr, np.nan)
+        ax.plot(loads, edge, ":", color="C1", label=f"series resistance where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    blocked = ~ok
+    shown = np.concatenate([res.leak_rate[ok], good[np.isfinite(good) & (good > 0)]])  # the flagged theory may leave the axis
+    if shown.size:
+        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
+        if blocked.any():  # no leak in any realisation: a hollow triangle at the bottom of the axis
+            ax.plot(loads[blocked], np.full(int(blocked.sum()), shown.min() / 2.0), "v", mfc="none", color="C0",
+                    label="numerical: no channel crosses the band (Q = 0)")
+        ax.set_yscale("log")
+    else:
+        ax.text(0.5, 0.5, "no channel crosses the band at any load", transform=ax.transAxes, ha="center", va="center")
+    ax.set_xlabel(label)
+    ax.set_ylabel("leak rate Q (m³/s)")
+    ax.set_title(f"O-ring: numerical against series-resistance leak rate\n{res.grid}² grid, ΔP = "
+                 f"{res.pressure_difference / 1e3:.3g} kPa, seal line {res.seal_length * 1e3:.3g} mm", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    figs["simulate_leak_rate.png"] = fig
+
+    fig, ax = _axes((6.4, 4.4))
+    ok = np.isfinite(res.alpha) & ~coarse
+    ax.errorbar(loads[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3,
+                label="α = Q_num / Q_series(α=1), ± sd")
+    ax.axhline(1.0, color="k", ls="--", lw=0.8, label="α = 1")
+    flagged = np.isfinite(res.alpha) & coarse
+    if flagged.any():  # drawn hollow, clipped to the resolved values' range (their α can be absurdly large)
+        top = max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, 1.0)
+        limit = 3.0 * top
+        inside = flagged & (res.alpha <= limit)
+        off = int(flagged.sum() - inside.sum())
+        ax.plot(loads[inside], res.alpha[inside], "o", mfc="none", color="C0",
+                label=f"λc < {JUNCTION_CELLS} cells: grid too coarse" + (f" ({off} more off scale)" if off else ""))
+        ax.set_ylim(0.0, 1.1 * max(limit if off else 0.0, top, *res.alpha[inside]))
+    if not np.isfinite(res.alpha).any():
+        ax.text(0.5, 0.5, "no α: the band holds no channel\n(numerically or in the theory)", transform=ax.transAxes,
+                ha="center", va="center")
+    ax.set_xlabel(label)
+    ax.set_ylabel("α (1)")
+    ax.set_title("The α of this O-ring: numerically exact over series-resistance leak rate", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    figs["simulate_alpha.png"] = fig
+
+    fig, ax = _axes((6.4, 5.4))
+    if res.contact_maps:
+        idx = sorted(res.contact_maps)
+        perc_idx = [i for i in idx if res.per_realization["percolates"][0, i]]
+        pick = perc_idx[-1] if perc_idx else idx[len(idx) // 2]
+        contact = res.contact_maps[pick]
+        channel = spanning_mask(~contact)
+        img = np.where(contact, 0, np.where(channel, 2, 1))
+        cmap = ListedColormap(["#202020", "#d8d8d8", "#1f77b4"])
+        ax.imshow(img.T, cmap=cmap, vmin=0, vmax=2, extent=(0, res.size * 1e3, 0, res.period * 1e3), origin="lower",
+                  interpolation="nearest")
+        half = res.hertz_contact_width[pick] / 2.0
+        for xe in (res.size / 2.0 - half, res.size / 2.0 + half):
+            ax.axvline(xe * 1e3, color="C3", ls="--", lw=1.0)
+        ax.set_xlabel("x across the band (mm), flow from x = 0 to the outlet →")
+        ax.set_ylabel("y along the seal line, periodic (mm)")
+        ax.set_title(f"Contact map, realisation 0, {label.split(' (')[0]} {loads[pick]:.3g}"
+                     f"{' %' if res.load_name == 'compression' else ''}\n"
+                     f"black: contact; blue: channels crossing the band; grey: trapped or dead-end fluid; "
+                     f"red dashes: Hertz band", fontsize=8)
+    figs["contact_map.png"] = fig
+
+    fig, ax = _axes((6.4, 4.4))
+    x = res.x
+    xm = (x - res.size / 2.0) * 1e3
+    unit = " %" if res.load_name == "compression" else ""
+    for i in range(res.loads.size):
+        color = f"C{i % 10}"
+        hertz = PressureProfile.semi_elliptic(res.hertz_contact_width[i], res.hertz_max_pressure[i])
+        xs = np.linspace(0.0, res.hertz_contact_width[i], 201)
+        ax.plot((xs - res.hertz_contact_width[i] / 2.0) * 1e3, hertz.at(xs) / 1e6, "-", color=color, lw=1.2,
+                label=f"{loads[i]:.3g}{unit}")
+        if i in res.smooth_line_pressure:
+            sm = res.smooth_line_pressure[i]
+            ax.plot(xm[sm > 0], sm[sm > 0] / 1e6, ".", color=color, ms=2.5)
+        if i in res.line_pressure:
+            ax.plot(xm, res.line_pressure[i] / 1e6, "-", color=color, lw=0.6, alpha=0.6)
+    first = ax.legend(fontsize=7, title=label.split(" (")[0], title_fontsize=7, loc="upper left")
+    ax.add_artist(first)
+    styles = [Line2D([], [], color="0.3", lw=1.2, label="Hertz (smooth, analytic)"),
+              Line2D([], [], color="0.3", ls="none", marker=".", ms=4, label="smooth cylinder, simulated"),
+              Line2D([], [], color="0.3", lw=0.6, alpha=0.6, label="rough, averaged along the seal line")]
+    ax.legend(handles=styles, fontsize=7, loc="upper right")
+    reach = 0.65 * float(np.nanmax(np.concatenate([res.hertz_contact_width, res.contact_width]))) * 1e3  # mm, past the edges
+    ax.set_xlim(-reach, reach)
+    ax.set_xlabel("x from the band's centre (mm)")
+    ax.set_ylabel("contact pressure (MPa)")
+    ax.set_title("Pressure across the band: Hertz, the smooth cylinder simulated, and the rough contact\n"
+                 "averaged along the seal line (realisation 0)", fontsize=9)
+    ax.grid(alpha=0.3)
+    figs["simulate_band_pressure.png"] = fig
+    return figs
