@@ -22,7 +22,8 @@ The inverse (:func:`leak_rate_from_decay`): from readings (t_i, P_i), the leak r
 is V (P_i − P_(i+1))/(t_(i+1) − t_i) at the mean pressure, and the conductance K follows from the
 straight line F(P_i) = F(P_0) + K (t_i − t_0)/(2V) with F(P) = artanh(P2/P)/P2 (1/P for P2 = 0). With a
 model's throughput at α = 1, :func:`scale_factor_from_decay` gives the α the readings imply:
-t_i − t_0 = (V/α) ∫_{P_i}^{P_0} dP/Q_1(P, P2), a straight line through the origin.
+J_i = ∫_{P_i}^{P_0} dP/Q_1(P, P2) = (α/V)(t_i − t_0), a straight line in t (fitted with an intercept,
+which absorbs the error of the first reading).
 """
 
 from __future__ import annotations
@@ -270,19 +271,13 @@ def _check_readings(setup: PressureDecaySetup, time: ArrayLike, pressure: ArrayL
     return t, p
 
 
-def _line(x: FloatArray, y: FloatArray, through_origin: bool = False) -> tuple[float, float, FloatArray]:
-    """Least-squares slope, its standard error (NaN with too few points) and the residuals of y = a + b x (or y = b x)."""
-    if through_origin:
-        sxx = float(np.sum(x * x))
-        slope = float(np.sum(x * y)) / sxx
-        resid = y - slope * x
-        dof = x.size - 1
-    else:
-        xm = x.mean()
-        sxx = float(np.sum((x - xm) ** 2))
-        slope = float(np.sum((x - xm) * (y - y.mean()))) / sxx
-        resid = y - (y.mean() + slope * (x - xm))
-        dof = x.size - 2
+def _line(x: FloatArray, y: FloatArray) -> tuple[float, float, FloatArray]:
+    """Least-squares slope b of y = a + b x, its standard error (NaN with two points) and the residuals."""
+    xm = x.mean()
+    sxx = float(np.sum((x - xm) ** 2))
+    slope = float(np.sum((x - xm) * (y - y.mean()))) / sxx
+    resid = y - (y.mean() + slope * (x - xm))
+    dof = x.size - 2
     std = math.sqrt(float(np.sum(resid**2)) / dof / sxx) if dof > 0 else math.nan
     return slope, std, resid
 
@@ -344,9 +339,9 @@ class ScaleFromDecay:
     alpha, alpha_std
         α and its standard error (NaN with two readings).
     resistance_integral
-        J_i = ∫_{P_i}^{P_0} dP/Q_1(P, P2) (s/m³) at each reading; t_i − t_0 = (V/α) J_i.
+        J_i = ∫_{P_i}^{P_0} dP/Q_1(P, P2) (s/m³) at each reading; J_i = (α/V)(t_i − t_0).
     rms_relative_residual
-        Rms of the residuals of t_i − t_0 divided by the time span.
+        Rms of the residuals of J divided by its span.
     """
 
     alpha: float
@@ -359,9 +354,10 @@ def scale_factor_from_decay(setup: PressureDecaySetup, time: ArrayLike, pressure
                             source: str = "readings") -> ScaleFromDecay:
     """α from readings (t, P) and the model's throughput at α = 1, ``unit_throughput(P_in, P_out)`` (Pa·m³/s).
 
-    V dP/dt = −α Q_1(P, P2) gives t_i − t_0 = (V/α) J_i with J_i = ∫_{P_i}^{P_0} dP/Q_1(P, P2)
-    (adaptive quadrature); the least-squares line through the origin of t − t_0 against J has the
-    slope V/α. For the viscous law Q_1 = (K_1/2)(P² − P2²) this is K/K_1 of :func:`leak_rate_from_decay`.
+    V dP/dt = −α Q_1(P, P2) gives J_i = (α/V)(t_i − t_0) with J_i = ∫_{P_i}^{P_0} dP/Q_1(P, P2)
+    (adaptive quadrature); the least-squares line J = a + b (t − t_0) (the readings' errors are in
+    the pressures, hence in J) has the slope b = α/V. For the viscous law Q_1 = (K_1/2)(P² − P2²)
+    this is K/K_1 of :func:`leak_rate_from_decay`.
     """
     t, p = _check_readings(setup, time, pressure, source)
     p2 = setup.outside_pressure
@@ -373,8 +369,6 @@ def scale_factor_from_decay(setup: PressureDecaySetup, time: ArrayLike, pressure
         return 1.0 / q
 
     j = np.array([0.0] + [quad(inverse, pi, p[0], epsabs=0.0, epsrel=1e-12, limit=200)[0] for pi in p[1:]])
-    slope, std, resid = _line(j, t - t[0], through_origin=True)
-    alpha = setup.volume / slope
-    alpha_std = alpha * std / slope if math.isfinite(std) else math.nan
-    return ScaleFromDecay(alpha=float(alpha), alpha_std=float(alpha_std), resistance_integral=j,
-                          rms_relative_residual=float(np.sqrt(np.mean(resid**2)) / (t[-1] - t[0])))
+    slope, std, resid = _line(t - t[0], j)
+    return ScaleFromDecay(alpha=float(setup.volume * slope), alpha_std=float(setup.volume * std), resistance_integral=j,
+                          rms_relative_residual=float(np.sqrt(np.mean(resid**2)) / (j.max() - j.min())))

@@ -139,7 +139,7 @@ def flow_regime(knudsen: float) -> str:
     """"continuum" (Kn < 0.001), "slip" (< 0.1), "transition" (< 10) or "free molecular" (docs/theory.md §Mean free path and Knudsen number)."""
     if not knudsen >= 0:
         raise InputError("knudsen", knudsen, "must be >= 0")
-    return next(name for limit, name in _REGIMES if knudsen < limit)
+    return next((name for limit, name in _REGIMES if knudsen < limit), _REGIMES[-1][1])
 
 
 def slip_factor(knudsen: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
