@@ -1,0 +1,384 @@
+"""The shared style of every sealeak figure: axes, units, titles, legends and series with validity.
+
+The rules these helpers implement are listed in :mod:`sealeak.render.figures` ("How the figures
+read"); the prediction, band, laboratory and simulation figures all use them. Figures are built
+without pyplot, so importing sealeak never selects or changes a matplotlib backend.
+"""
+
+from __future__ import annotations
+
+import functools
+import textwrap
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, ParamSpec
+
+import matplotlib as mpl
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.axes import Axes
+from matplotlib.axis import Axis
+from matplotlib.figure import Figure
+from matplotlib.layout_engine import PlaceHolderLayoutEngine
+from matplotlib.legend import Legend
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator, ScalarFormatter
+
+__all__ = ["pressure_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
+           "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
+           "invalid_note", "series_peaks", "STYLE"]
+
+P = ParamSpec("P")
+
+#: Characters of a title line at 9 pt that fit the figure's 6.4 in width.
+_TITLE_CHARS = 92
+
+STYLE = {"figure.figsize": (6.4, 4.6), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
+          "axes.titlesize": 10, "legend.fontsize": 8}
+
+#: ml/min per m³/s (the command-line table's second leak-rate unit).
+ML_PER_MIN_PER_M3_PER_S = 6e7
+
+#: Values spanning more than this many decades are drawn on a log axis.
+_LOG_DECADES = 2.0
+
+_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive",
+           "tab:cyan", "tab:gray")
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def color(i: int) -> str:
+    """The colour of the i-th curve (a case, a variant of a study, a squeeze pressure)."""
+    return _COLORS[i % len(_COLORS)]
+
+
+# ---------------------------------------------------------------------- axes and units
+def pressure_axis(p: Any) -> tuple[float, str]:
+    """(scale, unit) for showing pressures: kPa, or MPa when the largest exceeds 2 MPa (NaN ignored)."""
+    v = np.asarray(p, dtype=float).ravel()
+    v = v[np.isfinite(v)]
+    return (1e6, "MPa") if v.size and v.max() > 2e6 else (1e3, "kPa")
+
+
+def spans_decades(values: Any, decades: float = _LOG_DECADES) -> bool:
+    """Whether the positive finite ``values`` span more than ``decades`` decades (then draw them on a log axis)."""
+    v = np.abs(np.asarray(values, dtype=float).ravel())
+    v = v[np.isfinite(v) & (v > 0)]
+    return bool(v.size > 1 and v.max() > v.min() * 10.0 ** decades)
+
+
+def power_unit(values: Any, unit: str) -> tuple[float, str]:
+    """(scale, label) of a linear axis: values/scale below 10⁴, the power of ten written in the unit label.
+
+    E.g. leak rates of about 3e-10 m³/s give (1e-12, "10⁻¹² m³/s"): the axis reads 0 … 300.
+    Values between 0.01 and 10⁴ keep their unit (scale 1).
+    """
+    v = np.abs(np.asarray(values, dtype=float).ravel())
+    v = v[np.isfinite(v) & (v > 0)]
+    if not v.size:
+        return 1.0, unit
+    e = float(np.log10(v.max()))
+    if -2.0 <= e < 4.0:
+        return 1.0, unit
+    k = int(3 * np.floor(e / 3))
+    return 10.0 ** k, f"10{str(k).translate(_SUPERSCRIPT)} {unit}"
+
+
+def _log_label(v: float, plain: bool) -> str:
+    """Tick label of a log axis: a plain number (``plain``), else 10ⁿ or m×10ⁿ (text, not mathtext: quick to lay out)."""
+    if not (np.isfinite(v) and v > 0):
+        return ""
+    if plain:
+        return f"{v:.4g}"
+    e = int(np.floor(np.log10(v) + 1e-9))
+    m = v / 10.0 ** e
+    power = "10" + str(e).translate(_SUPERSCRIPT)
+    return power if abs(m - 1.0) < 1e-6 else f"{m:.2g}×{power}"
+
+
+def log_axis(axis: Axis, lo: float | None = None, hi: float | None = None) -> None:
+    """Ticks of a log axis: 1–9 within a decade, 1, 2, 5 over a few decades, powers of ten beyond.
+
+    ``lo``, ``hi``: the axis range (default: its current view interval).
+    """
+    if lo is None or hi is None:
+        lo, hi = sorted(axis.get_view_interval())
+    if not (lo > 0 and hi > lo and np.isfinite(hi)):
+        return
+    decades = float(np.log10(hi / lo))
+    subs: Sequence[float] = np.arange(1.0, 10.0) if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
+    axis.set_major_locator(LogLocator(base=10.0, subs=subs, numticks=12))
+    plain = lo >= 1e-3 and hi < 1e4  # one style per axis: plain numbers where they are all short
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: _log_label(v, plain)))
+    # minor ticks at 2..9 while they can be told apart; beyond six decades they are noise (and slow to draw)
+    axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(2.0, 10.0), numticks=12) if decades <= 6.0 else NullLocator())
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _plain_axis(axis: Axis) -> None:
+    """A linear axis without offset or multiplier text (its scale belongs in the label, see :func:`power_unit`)."""
+    fmt = ScalarFormatter(useOffset=False)
+    fmt.set_scientific(False)
+    axis.set_major_formatter(fmt)
+
+
+def finish_axes(ax: Axes) -> None:
+    """Tick formats for both axes of ``ax``: :func:`log_axis` on log axes, plain numbers on linear ones."""
+    limits = {"x": ax.get_xlim(), "y": ax.get_ylim()}  # settles pending autoscaling
+    for name, axis, scale in (("x", ax.xaxis, ax.get_xscale()), ("y", ax.yaxis, ax.get_yscale())):
+        if scale == "log":
+            log_axis(axis, *sorted(limits[name]))
+        elif scale == "linear":
+            _plain_axis(axis)
+
+
+def ml_per_min_axis(ax: Axes, scale: float = 1.0) -> Any:
+    """A right-hand axis that reads the leak rate in ml/min.
+
+    ``ax`` plots Q/``scale`` in m³/s (``scale`` from :func:`power_unit`; 1 on a log axis). Call it
+    once the y limits are final.
+    """
+    lo, hi = ax.get_ylim()
+    if ax.get_yscale() == "log":
+        k = ML_PER_MIN_PER_M3_PER_S
+        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
+        sec.set_ylabel("leak rate Q (ml/min)")
+        log_axis(sec.yaxis, lo * k, hi * k)
+    else:
+        mscale, munit = power_unit([hi * scale * ML_PER_MIN_PER_M3_PER_S], "ml/min")
+        k = scale * ML_PER_MIN_PER_M3_PER_S / mscale
+        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
+        sec.set_ylabel(f"leak rate Q ({munit})")
+        _plain_axis(sec.yaxis)
+    return sec
+
+
+# ---------------------------------------------------------------------- figure, title, message, legend
+def new_figure(title: str, figsize: tuple[float, float] | None = None) -> tuple[Figure, Axes]:
+    """A figure with one axes in the project's style; ``title`` is the heading, :func:`subtitle` adds lines.
+
+    The figure uses matplotlib's constrained layout, so labels, a second axis and a legend below the
+    axes all fit inside it.
+    """
+    with mpl.rc_context(STYLE):
+        fig = Figure(figsize=figsize, layout="constrained") if figsize else Figure(layout="constrained")
+        ax = fig.add_subplot()
+    ax._sealeak_heading = title  # type: ignore[attr-defined]
+    subtitle(ax, "")
+    return fig, ax
+
+
+def laid_out(make: Callable[P, Figure]) -> Callable[P, Figure]:
+    """Decorate a figure function: lay the finished figure out once (constrained layout), then keep that layout.
+
+    Constrained layout fits labels, a second axis and a legend below the axes inside the figure, but
+    it costs two extra layout passes on every draw; the figures are finished when their function
+    returns, so the layout is computed once and frozen (later draws and savefig reuse it).
+    """
+    @functools.wraps(make)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> Figure:
+        fig = make(*args, **kwargs)
+        engine = fig.get_layout_engine()
+        if engine is not None and not isinstance(engine, PlaceHolderLayoutEngine):
+            engine.execute(fig)
+            fig.set_layout_engine("none")
+        return fig
+    return wrapper
+
+
+def subtitle(ax: Axes, text: str) -> None:
+    """Set the axes title to its heading plus ``text`` on the lines below (long lines wrapped to the figure's width)."""
+    heading = getattr(ax, "_sealeak_heading", "")
+    lines = [w for line in text.splitlines() for w in (textwrap.wrap(line, _TITLE_CHARS) or [""])] if text else []
+    ax.set_title("\n".join([heading, *lines]), fontsize=9)
+
+
+def say_nothing(ax: Axes, text: str) -> None:
+    """Write on the axes why the figure has nothing to draw, and drop the meaningless y ticks."""
+    ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center", fontsize=10, color="0.2",
+            bbox={"boxstyle": "round,pad=0.6", "fc": "white", "ec": "0.6"})
+    ax.set_yticks([])
+    ax.grid(False, axis="y")
+
+
+_INSIDE = ("upper right", "upper left", "lower left", "lower right", "center right", "center left", "upper center",
+           "lower center", "center")
+
+
+def _drawn_points(ax: Axes) -> np.ndarray:
+    """Display coordinates of what the axes draw: line vertices and points every ~2 px along the segments."""
+    out = [np.zeros((0, 2))]
+    box = ax.bbox
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = np.asarray(line.get_xydata(), dtype=float)
+        if xy.size == 0:
+            continue
+        d = line.get_transform().transform(xy)
+        good = np.isfinite(d).all(axis=1)
+        out.append(d[good])
+        if line.get_linestyle() not in ("None", "none", "", " ") and len(d) > 1:
+            a, b = d[:-1], d[1:]
+            seg = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)
+            a, b = a[seg], b[seg]
+            n = np.clip(np.ceil(np.hypot(*(b - a).T) / 2.0).astype(int), 1, 2000)
+            t = np.concatenate([np.arange(k) / k for k in n]) if n.size else np.zeros(0)
+            i = np.repeat(np.arange(len(a)), n)
+            out.append(a[i] + (b[i] - a[i]) * t[:, None])
+    for coll in ax.collections:
+        offsets = coll.get_offsets()
+        if len(offsets):
+            out.append(coll.get_offset_transform().transform(offsets))
+    pts = np.concatenate(out)
+    keep = (pts[:, 0] >= box.x0) & (pts[:, 0] <= box.x1) & (pts[:, 1] >= box.y0) & (pts[:, 1] <= box.y1)
+    return pts[keep]
+
+
+def _covers(leg: Legend, points: np.ndarray, texts: Sequence[Any], pad: float = 4.0) -> bool:
+    box = leg.get_window_extent().padded(pad)
+    inside = ((points[:, 0] >= box.x0) & (points[:, 0] <= box.x1) & (points[:, 1] >= box.y0) & (points[:, 1] <= box.y1))
+    return bool(inside.any()) or any(box.overlaps(t) for t in texts)
+
+
+def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequence[str] | None = None,
+                 **kwargs: Any) -> Legend | None:
+    """A legend inside the axes where it covers no data, else below the axes (as wide as the figure allows).
+
+    Call it last, once everything is drawn and the limits are final: it lays the figure out to see
+    where the data are (and, with the legend inside, keeps that layout; see :func:`laid_out`).
+    """
+    if handles is None or labels is None:
+        handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return None
+    fig = ax.get_figure()
+    assert isinstance(fig, Figure)
+    ax.get_xlim(), ax.get_ylim()  # settle the autoscaled limits
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        engine.execute(fig)  # lay out (not a full draw): the data's display positions are final from here
+    points = _drawn_points(ax)
+    texts = [t.get_window_extent() for t in ax.texts if t.get_visible() and t.get_text()]
+    for loc in _INSIDE:
+        leg = ax.legend(handles, labels, loc=loc, **kwargs)
+        if not _covers(leg, points, texts):
+            if engine is not None:
+                fig.set_layout_engine("none")  # a legend inside the axes leaves the layout as it is: keep it
+            return leg
+        leg.remove()
+    kwargs.pop("ncol", None)
+    leg = None
+    for ncol in (3, 2, 1):
+        leg = fig.legend(handles, labels, loc="outside lower center", ncol=min(ncol, len(handles)), **kwargs)
+        if ncol == 1 or leg.get_window_extent().width <= 0.98 * fig.bbox.width:
+            break
+        leg.remove()
+    return leg
+
+
+# ---------------------------------------------------------------------- series with validity
+@dataclass(frozen=True)
+class Series:
+    """One curve: x, y and a per-point validity verdict (False: drawn hollow, not joined, not scaling the axis)."""
+
+    x: np.ndarray
+    y: np.ndarray
+    valid: np.ndarray
+    color: str
+    style: str = "-"
+    label: str | None = None
+    why: tuple[str, ...] = ()
+
+
+def _invalid_label(reasons: Sequence[str]) -> str:
+    """Legend text of the hollow markers, from the verdicts' reasons (docs/theory.md §9.11)."""
+    kinds = []
+    if any("molecular" in r for r in reasons):
+        gap = next((r.split(" ", 1)[0] for r in reasons if "molecular" in r), "u_c")
+        kinds.append(f"{gap} below molecular size: outside the continuum theory")
+    if any(r and "molecular" not in r for r in reasons):
+        kinds.append("not a thin film: outside the theory")
+    return "; ".join(kinds) or "outside the theory's validity"
+
+
+def draw_series(ax: Axes, series: Sequence[Series], logy: bool = False, logx: bool = False,
+                bottom_zero: bool = False) -> bool:
+    """Draw the valid points of each series as a curve and the invalid ones hollow; True if anything was drawn.
+
+    Valid points alone set the y limits (when there are any); invalid points near or beyond a limit
+    get a narrow band beyond it, where those beyond are hollow triangles. Non-finite points (no leak
+    channel) are left out, and on a log axis so are non-positive valid ones (an invalid zero, e.g.
+    u_c = 0 at the end of the resolved band, is a triangle in the lower band). ``bottom_zero``: a
+    linear axis from 0.
+    """
+    if logy:
+        ax.set_yscale("log")
+    if logx:
+        ax.set_xscale("log")
+    drawn, pending, reasons = False, [], []
+    for s in series:
+        x, y = np.asarray(s.x, dtype=float), np.asarray(s.y, dtype=float)
+        finite = np.isfinite(x) & np.isfinite(y)
+        if logx:
+            finite &= x > 0
+        # on a log axis a valid Q = 0 has no place; an invalid one (e.g. u_c = 0) goes below the axis
+        ok, bad = finite & s.valid & ((y > 0) if logy else True), finite & ~s.valid
+        marker = "o" if x.size <= 12 else ""
+        if ok.any():
+            ax.plot(x, np.where(ok, y, np.nan), s.style, marker=marker, ms=3, color=s.color, label=s.label)
+            drawn = True
+        elif s.label and bad.any():
+            ax.plot([], [], s.style, color=s.color, label=s.label)
+        if bad.any():
+            pending.append((x[bad], y[bad], s.color))
+            reasons += [r for r, b in zip(s.why, bad) if b] if len(s.why) == len(bad) else []
+    if drawn and bottom_zero:
+        ax.set_ylim(bottom=0)
+    if not pending:
+        return drawn
+    hollow: dict[str, Any] = {"ls": "none", "mfc": "none", "ms": 4.5, "mew": 1.0}
+    if not drawn:  # nothing valid: the invalid points are all there is, at their values
+        pending = [(x[y > 0], y[y > 0], c) for x, y, c in pending] if logy else pending
+        if not any(y.size for _, y, _ in pending):
+            return False
+        for x, y, c in pending:
+            ax.plot(x, y, "o", mec=c, **hollow)
+    else:
+        ax.autoscale_view()
+        lo, hi = ax.get_ylim()  # the valid points set the scale
+        if logy:  # a non-positive invalid point lies below any log axis: in the lower band
+            pending = [(x, np.where(y > 0, y, 1e-3 * lo), c) for x, y, c in pending]
+        fwd, inv = (np.log10, lambda v: 10.0 ** v) if logy else (lambda v: v, lambda v: v)
+        span = fwd(hi) - fwd(lo)
+        ys = np.concatenate([y for _, y, _ in pending])
+        # a band beyond each limit that has invalid points near or beyond it, for markers that stay whole
+        low = bool((fwd(ys) < fwd(lo) + 0.03 * span).any())
+        high = bool((fwd(ys) > fwd(hi) - 0.03 * span).any())
+        band = 0.07 * span
+        ax.set_ylim(inv(fwd(lo) - band) if low else lo, inv(fwd(hi) + band) if high else hi)
+        for x, y, c in pending:
+            inside = (y >= lo) & (y <= hi)
+            ax.plot(x[inside], y[inside], "o", mec=c, **hollow)
+            for sel, at, marker in ((y < lo, fwd(lo) - band / 2, "v"), (y > hi, fwd(hi) + band / 2, "^")):
+                if sel.any():
+                    ax.plot(x[sel], np.full(int(sel.sum()), inv(at)), marker, mec=c, **hollow)
+    ax.plot([], [], "o", mec="0.35", label=_invalid_label(reasons), **hollow)
+    return True
+
+
+def invalid_note(series: Sequence[Series]) -> str:
+    """A subtitle line explaining hollow markers, when a figure has any."""
+    if not any((~np.asarray(s.valid)).any() for s in series):
+        return ""
+    return "hollow markers: outside the theory's validity (▽/△ in the band at an edge: beyond the axis)"
+
+
+def series_peaks(series: Sequence[Series]) -> list[float]:
+    """The largest valid positive value of each series that has one (what a linear axis must show)."""
+    peaks = []
+    for s in series:
+        y = np.asarray(s.y, dtype=float)
+        ok = np.isfinite(y) & (y > 0) & s.valid
+        if ok.any():
+            peaks.append(float(y[ok].max()))
+    return peaks
