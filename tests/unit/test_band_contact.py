@@ -78,7 +78,7 @@ def test_a_domain_too_narrow_for_the_band_is_flagged():
 
 # ---------------------------------------------------------------- the Green's function: free across, periodic along
 def test_y_uniform_strip_load_is_the_plane_strain_solution_without_wrap_around():
-    """u(x) = -(2p/(πE*)) [(x-a) ln|x-a| - (x-b) ln|x-b|] + C for pressure p on a < x < b (Johnson 1985 §2.7).
+    """u(x) = -(2p/(πE*)) [(x-a) ln|x-a| - (x-b) ln|x-b|] + C for pressure p on a < x < b (plane strain, Johnson 1985 ch. 2).
 
     Evaluated over the whole domain, up to its edges: a periodic (wrapped) kernel would bend it there.
     """

@@ -7,19 +7,19 @@ contact modulus E* this is the same as a rigid surface of heights
     H(x, y) = h(x, y) - (x - x_c)² / (2R)
 
 pressed onto an elastic half-space (the parabolic approximation of the cylinder, Johnson, Contact
-Mechanics (1985) §4.2). The computational domain is 0 <= x <= W across the band (cells dx = W/nx)
+Mechanics (1985) ch. 4). The computational domain is 0 <= x <= W across the band (cells dx = W/nx)
 and one period 0 <= y < Ly along the seal line (dy = Ly/ny). Unlike :mod:`._contact`, the half-space
 is **not** periodic across the band: pressure outside 0 <= x <= W is zero, so a band in the middle
 of a domain 2-3 contact widths wide is an isolated line contact, not one of a row of neighbours.
 
 Green's function, mixed form. Along y the pressure is a Fourier series, p(x, y) = Σ_k p_k(x) e^(iky),
 k = 2πj/Ly; across x it is constant on each cell. For one mode the surface displacement of the
-Boussinesq half-space, u = (1/(π E*)) ∫ p(x') / r dA' (Johnson 1985 eq. 3.20 with E* = E/(1-ν²)),
+Boussinesq half-space, u = (1/(π E*)) ∫ p(x') / r dA' (Boussinesq; Johnson 1985 ch. 3, with E* = E/(1-ν²)),
 integrated over y' gives a one-dimensional convolution along x,
 
     u_k(x) = ∫ G_k(x - x') p_k(x') dx',
     G_k(s) = (2/(π E*)) K0(|k| |s|)          (k ≠ 0;  ∫ e^(iky)/√(s²+y²) dy = 2 K0(|k||s|))
-    G_0(s) = -(2/(π E*)) ln(|s|/ℓ)           (k = 0: the plane-strain line load, Johnson 1985 eq. 2.19b)
+    G_0(s) = -(2/(π E*)) ln(|s|/ℓ)           (k = 0: the plane-strain line load, Johnson 1985 ch. 2)
 
 The line load's displacement is defined only up to a constant (ℓ, here the domain width W): it
 shifts every cell equally and is absorbed in the rigid-body approach, which is therefore not a
@@ -364,7 +364,7 @@ def contact_edges(x: ArrayLike, pressure: ArrayLike) -> tuple[float, float]:
     """Edges (m) of a smooth contact from a pressure line p(x) on cell centres, to a fraction of a cell.
 
     Near the edge of a smooth (non-conforming) contact p ∝ √(distance to the edge) (Johnson 1985
-    §4.2; docs/theory.md §6.7), so p² is linear there: each edge is where the straight line through
+    ch. 4; docs/theory.md §6.7), so p² is linear there: each edge is where the straight line through
     p² of the two outermost loaded cells reaches zero (clipped to the next empty cell centre).
     Returns (NaN, NaN) when fewer than three cells carry pressure.
     """
