@@ -167,8 +167,8 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
         else:
             loads = np.ones(1)
         profiles = tuple(base.scaled(float(f)) for f in loads)
-        notes = (f"pressure profile from {path.name}: {base.x.size} points over w = {base.width:.4g} m, "
-                 f"mean {base.mean_pressure:.4g} Pa, max {base.max_pressure:.4g} Pa (× profile_scale)",)
+        notes = (f"pressure profile from {path.name}: {base.x.size} points over w = {base.width * 1e3:.4g} mm, "
+                 f"mean {base.mean_pressure / 1e6:.4g} MPa, max {base.max_pressure / 1e6:.4g} MPa (before profile_scale)",)
         band_args = dict(profile_source=str(path))
         load_name = "profile_scale"
     widths = np.array([p.width for p in profiles])
