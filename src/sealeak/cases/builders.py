@@ -24,7 +24,7 @@ from ..physics.oring import shore_a_warnings, youngs_modulus_from_shore_a
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
-from .model import Case
+from .model import BandSeal, Case
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import build_band, is_band_seal
 
@@ -331,7 +331,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     if not (q0 if band is None else float(band.q0.max())) < spectrum.q_max:
         raise _q0_error(seal_section, theory, seal, q0 if band is None else float(band.q0.max()),
                         f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
-    rig = _rig(Section("rig", doc["rig"]), fluid) if "rig" in doc else None  # RigSetup under case_keys, in _rig
+    rig = _rig(Section("rig", doc["rig"]), fluid, band) if "rig" in doc else None  # RigSetup under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
@@ -356,20 +356,26 @@ def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why
                       "set theory.square_side")
 
 
-def _rig(sec: Section, fluid: Fluid) -> RigSetup:
-    """The [rig] section: the water-column rig of the reference experiment (:class:`~sealeak.lab.rig.RigSetup`)."""
+def _rig(sec: Section, fluid: Fluid, band: BandSeal | None = None) -> RigSetup:
+    """The [rig] section: the water-column rig of the reference experiment (:class:`~sealeak.lab.rig.RigSetup`).
+
+    For an O-ring or pressure-profile seal (``band``) the compression or profile scale sets the
+    contact, so ``load`` is refused; the rig's load is then the band's contact force f·Ly (N) at
+    its first load (the rig itself runs at one load only, :func:`sealeak.cases.run.rig_prediction`).
+    """
     gravity = sec.quantity("gravity", "acceleration") if sec.has("gravity") else STANDARD_GRAVITY
-    if not sec.has("load"):
+    if band is not None:
+        what = "an O-ring's compression" if band.kind == "o-ring" else "a pressure profile's profile_scale"
+        if sec.has("load"):
+            raise InputError(sec.field("load"), sec.raw("load"), f"is not used here: {what} (in [conditions]) sets the "
+                                                                 "contact; remove load")
+        load = band.profiles[0].force_per_length * band.length
+        shown = f"compression {100 * band.loads[0]:.4g} %" if band.kind == "o-ring" else f"profile_scale {band.loads[0]:.4g}"
+        note = f"the contact force f·Ly at {shown}"
+    elif not sec.has("load"):
         raise InputError(sec.field("load"), None, "is required: the mass (e.g. '3.4 kg') or force (e.g. '33 N') on the ring")
-    try:
-        mass = sec.quantity("load", "mass")
-        load, note = mass * gravity, f"load {mass:g} kg × g"
-    except UnitError:
-        try:
-            load, note = sec.quantity("load", "force"), "load given as a force"
-        except UnitError:
-            raise UnitError(sec.field("load"), sec.raw("load"),
-                            "a mass (e.g. '3.4 kg') or a force (e.g. '33 N') with its unit") from None
+    else:
+        load, note = _rig_load(sec, gravity)
     if sec.has("density"):
         density = sec.quantity("density", "density")
     elif fluid.density is not None:
@@ -383,6 +389,19 @@ def _rig(sec: Section, fluid: Fluid) -> RigSetup:
     with case_keys():
         return RigSetup(cylinder_diameter=diameter, initial_height=height, load=load, density=density,
                         final_height=final, gravity=gravity, duration=duration, load_note=note)
+
+
+def _rig_load(sec: Section, gravity: float) -> tuple[float, str]:
+    """[rig] load as a force (N), given as a mass (× g) or a force, and how it was given."""
+    try:
+        mass = sec.quantity("load", "mass")
+        return mass * gravity, f"load {mass:g} kg × g"
+    except UnitError:
+        try:
+            return sec.quantity("load", "force"), "load given as a force"
+        except UnitError:
+            raise UnitError(sec.field("load"), sec.raw("load"),
+                            "a mass (e.g. '3.4 kg') or a force (e.g. '33 N') with its unit") from None
 
 
 def _simulation(sec: Section) -> dict[str, int]:

@@ -8,10 +8,12 @@ Front ends (``sealeak.render``, ``sealeak.cli``) format it; they compute nothing
 The other entry points of this layer:
 
 * :func:`predict`, :func:`predict_effective_medium`: one theory at the case's (or given) pressures;
-* :func:`conductance`: K = Q/ΔP of a model at squeeze pressures (both theories are linear in ΔP,
-  docs/theory.md §3 and §5), used by the rig, the linearity check and the fit;
+* :func:`conductance`: K = Q/ΔP of a model at squeeze pressures, or at the loads of an O-ring or
+  pressure-profile seal (both theories are linear in ΔP, docs/theory.md §3, §5 and §10.1), used by
+  the rig, the linearity check and the fit;
 * :func:`fit_models`, :func:`linearity`, :func:`rig_prediction`, :func:`rig_readings`: the
-  laboratory workflows (docs/theory.md §4 and §8) applied to a case;
+  laboratory workflows (docs/theory.md §4 and §8) applied to a case, a uniform seal or a band seal
+  (docs/theory.md §10.5: the band's leak rate at each measured compression or profile scale);
 
 The curves of the prediction figures are computed in :mod:`sealeak.cases.curves`.
 """
@@ -24,27 +26,33 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError, SealeakError
+from ..errors import FileFormatError, InputError, SealeakError
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, ScaleFit, fit_line, fit_scale
 from ..lab.rig import ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
+from ..physics.seal import Seal
 from ..physics.validity import assumption_warnings, continuum_verdict
-from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, run_band
+from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, BandTheory, run_band
 from .model import Case
 from .schema import case_keys
+from .seals import with_loads
 
 __all__ = [
     "CaseResult", "run_case", "case_warnings", "predict", "predict_effective_medium", "conductance", "Model",
     "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "MODEL_NAMES",
-    "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction", "rig_readings",
+    "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "run_linearity", "RigPrediction", "rig_prediction",
+    "rig_readings", "seal_description",
 ]
 
 FloatArray = NDArray[np.float64]
 
 #: A leak-rate model: the critical-junction theory (docs/theory.md §3) or the effective medium (§5).
 Model = Literal["critical-junction", "effective-medium"]
+
+#: Points of a band seal's critical-junction curve in the fit figure (about 30 ms each).
+BAND_CURVE_POINTS = 30
 
 #: How front ends name the models.
 MODEL_NAMES: dict[str, str] = {"critical-junction": "critical junction", "effective-medium": "effective medium"}
@@ -116,21 +124,115 @@ def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critica
     Both theories are linear in ΔP at fixed P0, so K is the leak rate at ΔP = 1 Pa: for the
     critical junction K = α (Ly/Lx) u_c³/(12η) (Lorenz & Persson (2009) eq. 2), for the effective
     medium K = (Ly/Lx) σ_eff (docs/theory.md §5). K = 0 where the model predicts no leak channel.
+
+    For an O-ring or pressure-profile seal (``case.band``) ``squeeze_pressure`` holds the loads
+    instead, compressions ε (1) or profile scales (1), and K = faces · Ly / ∫₀^w dx/σ(p(x)) of the
+    band at each (docs/theory.md §10.1); the effective medium costs 1–2 s per load.
     """
     return _conductance(case, squeeze_pressure, model)[0]
 
 
 def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple[FloatArray, tuple[str, ...]]:
     """:func:`conductance` and the model's notes (why there is no leak channel, where there is none)."""
+    if model not in ("critical-junction", "effective-medium"):
+        raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
+    if case.band is not None:
+        ks, _ = _band_conductance(case, squeeze_pressure, (model,))
+        return ks[model]
     p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
     res: CriticalJunctionResult | EffectiveMediumResult
     if model == "critical-junction":
         res = predict(case, squeeze_pressure=p0, pressure_difference=1.0)
-    elif model == "effective-medium":
-        res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
     else:
-        raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
+        res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
     return np.where(res.percolates, res.leak_rate, 0.0), res.messages
+
+
+# ---------------------------------------------------------------------- band seals at other loads
+def _q0_fixed(case: Case) -> float | None:
+    """The q0 (1/m) a band case's file fixed (``theory.lowest_wavevector``/``square_side``), or None: 2π/w per load.
+
+    The builder sets q0 = 2π/w per load with exactly this expression, so equality tells the two apart.
+    """
+    band = case.band
+    assert band is not None
+    per_load = 2.0 * np.pi / np.array([p.width for p in band.profiles])
+    return None if np.array_equal(band.q0, per_load) else float(band.q0[0])
+
+
+def _band_at(case: Case, loads: ArrayLike) -> Case:
+    """The band case at other loads (compressions ε or profile scales, 1): its profiles, q0, seal and mean pressures.
+
+    :func:`~sealeak.cases.seals.with_loads` builds the same seal at ``loads``; q0 stays fixed if the
+    case file fixed it, else it is 2π/w of each load's contact width (docs/theory.md §10.1).
+    """
+    band = case.band
+    assert band is not None
+    values = np.atleast_1d(np.asarray(loads, dtype=float))
+    if np.array_equal(values, band.loads):
+        return case
+    new = with_loads(band, values, case.youngs_modulus, case.poisson_ratio, _q0_fixed(case))
+    widths = np.array([p.width for p in new.profiles])
+    with case_keys():
+        seal = Seal(width=float(widths.max()), length=new.length, shape=new.kind)
+    return replace(case, band=new, seal=seal, squeeze_pressure=np.array([p.mean_pressure for p in new.profiles]))
+
+
+def _band_k(band_result: BandResult, theory: BandTheory) -> FloatArray:
+    """K = faces · Ly / R (m³/(Pa·s)) of each load, 0 where the band holds no leak channel (docs/theory.md §10.1)."""
+    band = band_result.band
+    with np.errstate(divide="ignore"):
+        return np.where(theory.percolates, band.faces * band.length / theory.resistance, 0.0)
+
+
+def _band_conductance(case: Case, loads: ArrayLike | None,
+                      models: tuple[str, ...]) -> tuple[dict[str, tuple[FloatArray, tuple[str, ...]]], BandResult]:
+    """K of a band seal per model at ``loads`` (None: the case's), with each theory's notes, and the band result.
+
+    One :func:`~sealeak.cases.band.run_band` serves both models (the effective medium only when asked:
+    it costs 1–2 s per load).
+    """
+    at = case if loads is None else _band_at(case, loads)
+    res = run_band(at, effective="effective-medium" in models)
+    out: dict[str, tuple[FloatArray, tuple[str, ...]]] = {}
+    for model in models:
+        theory = res.critical_junction if model == "critical-junction" else res.effective_medium
+        assert theory is not None
+        out[model] = (_band_k(res, theory), theory.messages)
+    return out, res
+
+
+def _load_text(load_name: str, value: float) -> str:
+    """"compression 20 %", "profile scale 1.5" or "P0 = 30000 Pa" for one load."""
+    if load_name == "compression":
+        return f"compression {100 * value:.4g} %"
+    if load_name == "profile_scale":
+        return f"profile scale {value:.4g}"
+    return f"P0 = {value:.6g} Pa"
+
+
+def seal_description(case: Case) -> str:
+    """The case's seal in a few words, for messages about a data file that does not fit it."""
+    band = case.band
+    if band is None:
+        return f"a {case.seal.shape} pressed by a uniform squeeze pressure"
+    if band.kind == "o-ring":
+        d = f" of {band.cross_section_diameter * 1e3:.4g} mm cross-section" if band.cross_section_diameter else ""
+        return f"an O-ring{d}, whose contact follows from its compression"
+    return "a seal with a pressure profile, whose load is a scale factor on the profile file's pressures"
+
+
+def _check_load_column(case: Case, data: LeakData, required: bool = True) -> None:
+    """The data file's load column must be the one the case's seal takes; one line naming both if not."""
+    want = case.band.load_name if case.band is not None else "squeeze_pressure"
+    if data.load_name == want or (not required and not data.load_name):
+        return
+    example = {"squeeze_pressure": "'squeeze_pressure (kPa)'", "compression": "'compression (%)'",
+               "profile_scale": "'profile_scale'"}[want]
+    if not data.load_name:
+        raise FileFormatError(data.path, f"no {want} column: the case's seal is {seal_description(case)}; give a column {example}")
+    raise FileFormatError(data.path, f"column '{data.columns.get(data.load_name, data.load_name)}' does not fit the case's "
+                                     f"seal, {seal_description(case)}: give a column {example} instead")
 
 
 def _model_name(case: Case, model: Model) -> str:
@@ -301,7 +403,8 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
                      f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
                      "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(validity))
     valid = valid & ~flag
-    rig_result = rig_prediction(case) if rig and case.rig is not None else None
+    # the rig runs at one load (rig_prediction refuses several): a sweep's report shows no rig
+    rig_result = rig_prediction(case) if rig and case.rig is not None and case.band.loads.size == 1 else None
     warnings = assumption_warnings(
         slope_rms=case.spectrum.slope_rms, h_rms=case.spectrum.h_rms, seal_width=float(band.contact_width.min()),
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
@@ -336,16 +439,39 @@ def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: Arr
     """α of the critical-junction and of the effective-medium model for measured (P0, ΔP, Q) (SI).
 
     Rows without a pressure difference (NaN) use the case's. Least squares in ln Q
-    (docs/theory.md §8); keys "critical_junction" and "effective_medium".
+    (docs/theory.md §8); keys "critical_junction" and "effective_medium". For an O-ring or
+    pressure-profile seal (``case.band``) ``squeeze_pressure`` holds each row's load instead, a
+    compression ε (1) or a profile scale (1), and the model is the band's leak rate there
+    (docs/theory.md §10.5); the effective medium costs 1–2 s per distinct load.
     """
-    p0 = np.asarray(squeeze_pressure, dtype=float)
     dp = np.asarray(pressure_difference, dtype=float)
     dp = np.where(np.isfinite(dp), dp, case.pressure_difference)
     q = np.asarray(leak_rate, dtype=float)
+    if case.band is not None:
+        return _band_fit(case, squeeze_pressure, dp, q)[0]
+    p0 = np.asarray(squeeze_pressure, dtype=float)
     cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=dp).leak_rate
     em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp).leak_rate
     return {"critical_junction": fit_scale(q, cj, "critical_junction"),
             "effective_medium": fit_scale(q, em, "effective_medium")}
+
+
+def _band_fit(case: Case, loads: ArrayLike, dp: FloatArray, q: FloatArray
+              ) -> tuple[dict[str, ScaleFit], BandResult, NDArray[np.int_]]:
+    """:func:`fit_models` of a band seal: Q_i = α K(load_i) ΔP_i with K at α = 1 (docs/theory.md §10.5).
+
+    Both theories are linear in ΔP (and the critical junction in α), so the band is run once per
+    distinct load at the case's ΔP and scaled to each row's. Returns the fits, the band result at the
+    distinct loads and each row's index into them.
+    """
+    distinct, inverse = np.unique(np.asarray(loads, dtype=float), return_inverse=True)
+    ks, res = _band_conductance(replace(case, alpha=1.0), distinct, ("critical-junction", "effective-medium"))
+    fits = {}
+    for model, name in (("critical-junction", "critical_junction"), ("effective-medium", "effective_medium")):
+        k = ks[model][0]
+        prediction = np.where(k > 0, k, np.nan)[inverse] * dp  # NaN: no leak channel at that load
+        fits[name] = fit_scale(q, prediction, name)
+    return fits, res, inverse
 
 
 @dataclass(frozen=True)
@@ -368,9 +494,15 @@ class FitResult:
     grid
         Squeeze pressures of the model curves (Pa).
     curves
-        Each model at α = 1 on ``grid`` (m³/s).
+        Each model at α = 1 on ``grid`` (m³/s), or on its own grid in ``curve_grids``.
     messages
         Excluded rows, a single usable point, ΔP not small against P0.
+    load_name
+        What the x axis is: "squeeze_pressure" (P0, Pa), or for a band seal "compression" (ε, 1)
+        or "profile_scale" (1); ``grid`` and the data's :attr:`~sealeak.lab.data.LeakData.load` hold it.
+    curve_grids
+        A model's own grid, where it is not ``grid``: a band seal's effective medium is drawn
+        through its values at the measured loads only (1–2 s each).
     """
 
     case: Case
@@ -382,10 +514,20 @@ class FitResult:
     grid: FloatArray
     curves: dict[str, FloatArray]
     messages: tuple[str, ...]
+    load_name: str = "squeeze_pressure"
+    curve_grids: dict[str, FloatArray] = field(default_factory=dict)
 
 
 def run_fit(case: Case, data: LeakData) -> FitResult:
-    """Fit α of both models to measured leak rates (docs/theory.md §8); raises if no row can be used."""
+    """Fit α of both models to measured leak rates (docs/theory.md §8); raises if no row can be used.
+
+    The data file's load column must be the case's (squeeze_pressure for a uniform seal,
+    compression for an O-ring, profile_scale for a pressure profile); a mismatch is a
+    :class:`~sealeak.errors.FileFormatError` naming the column and the seal.
+    """
+    _check_load_column(case, data)
+    if case.band is not None:
+        return _run_band_fit(case, data)
     fits = fit_models(case, data.squeeze_pressure, data.pressure_difference, data.leak_rate)
     if not any(f.fitted for f in fits.values()):
         reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
@@ -417,6 +559,58 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages))
 
 
+def _run_band_fit(case: Case, data: LeakData) -> FitResult:
+    """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
+    band = case.band
+    assert band is not None and data.band_load is not None
+    loads = data.band_load
+    column = data.columns.get(band.load_name, band.load_name)
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    distinct = np.unique(loads)
+    try:
+        _band_at(case, distinct)
+    except InputError:  # a load the seal's relations refuse: name its line in the data file
+        for v in distinct:
+            try:
+                _band_at(case, [v])
+            except InputError as exc:
+                row = int(np.argmax(loads == v))
+                raise FileFormatError(data.path, f"line {data.line_of(row)}, column '{column}': "
+                                                 f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
+        raise
+    fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
+    if not any(f.fitted for f in fits.values()):
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+    messages = []
+    for name, f in fits.items():
+        for i, reason in f.excluded:
+            messages.append(f"{name.replace('_', ' ')}: line {data.line_of(i)} ({_load_text(band.load_name, loads[i])}) "
+                            f"excluded: {reason}")
+    if not any(f.n_used > 1 for f in fits.values()):
+        messages.append("with one usable point α has no standard error")
+    if res.band.oring is not None:
+        messages += list(res.band.oring.warnings)
+    # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
+    p_max = res.max_contact_pressure[inverse]
+    large = pressure_difference_not_small(p_max, dp_used)
+    if large.any():
+        i = int(np.argmax(large))
+        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against the peak contact pressure "
+                        f"{p_max[i]:.6g} Pa at {_load_text(band.load_name, loads[i])} ({int(large.sum())} row(s) like it): "
+                        "both theories assume p >> ΔP")
+    same = bool(np.allclose(dp_used, dp_used[0]))
+    ref_dp = float(dp_used[0]) if same else case.pressure_difference
+    measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))
+    grid = np.linspace(loads.min(), loads.max(), BAND_CURVE_POINTS) if loads.max() > loads.min() else loads[:1].copy()
+    ks_grid, _ = _band_conductance(replace(case, alpha=1.0), grid, ("critical-junction",))
+    k_em = _band_k(res, res.effective_medium) if res.effective_medium is not None else np.zeros(distinct.size)
+    curves = {"critical_junction": np.where(ks_grid["critical-junction"][0] > 0, ks_grid["critical-junction"][0], np.nan) * ref_dp,
+              "effective_medium": np.where(k_em > 0, k_em, np.nan) * ref_dp}
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), band.load_name,
+                     {"effective_medium": distinct})
+
+
 @dataclass(frozen=True)
 class LinearityCheck:
     """Q against ΔP at one squeeze pressure: the straight-line fit and the models' slopes.
@@ -435,6 +629,10 @@ class LinearityCheck:
         The measured slope over the critical junction's slope at α = 1.
     messages
         Notes (a model without a leak channel, no P0 known).
+    load_name, load
+        For an O-ring or pressure-profile seal: "compression" or "profile_scale" and its value
+        (1), or None when unknown; ``squeeze_pressure`` is then the band's mean contact pressure
+        there (Pa) and ``squeeze_pressure_source`` says where the load came from.
     """
 
     line: LinearFit
@@ -443,6 +641,8 @@ class LinearityCheck:
     model_slopes: dict[str, float]
     alpha_from_slope: float | None
     messages: tuple[str, ...]
+    load_name: str = "squeeze_pressure"
+    load: float | None = None
 
     @property
     def intercept_z(self) -> float:
@@ -455,9 +655,14 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
               squeeze_pressure: float | None = None, squeeze_pressure_source: str = "") -> LinearityCheck:
     """Fit Q = slope ΔP + intercept and compare the slope with both models at P0 (docs/theory.md §8).
 
-    ``squeeze_pressure`` None: the case's single P0, else its ``[rig]`` load, else none.
+    ``squeeze_pressure`` None: the case's single P0, else its ``[rig]`` load, else none. For an
+    O-ring or pressure-profile seal ``squeeze_pressure`` is the load instead (a compression ε or a
+    profile scale, 1; None: the case's single load) and the models' slopes are the band's
+    K = faces · Ly / ∫dx/σ there (docs/theory.md §10.5).
     """
     line = fit_line(pressure_difference, leak_rate)
+    if case.band is not None:
+        return _band_linearity(case, line, squeeze_pressure, squeeze_pressure_source)
     p0, source = squeeze_pressure, squeeze_pressure_source
     if p0 is None and case.squeeze_pressure.size == 1:
         p0, source = float(case.squeeze_pressure[0]), "the case file"
@@ -480,6 +685,53 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     return LinearityCheck(line, p0, source, slopes, alpha_from_slope, tuple(messages))
 
 
+def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = None,
+                  squeeze_pressure_source: str = "") -> LinearityCheck:
+    """:func:`linearity` of a data file (columns pressure_difference, leak_rate, optionally the load).
+
+    The load is ``squeeze_pressure`` if given (a uniform seal only), else the data file's load
+    column if it has one (one value: the check is at one load), else the case's single load (or its
+    [rig] load). A load column that does not fit the case's seal is a FileFormatError.
+    """
+    _check_load_column(case, data, required=False)
+    if squeeze_pressure is None and data.load_name:
+        load = data.load
+        if not np.allclose(load, load[0], rtol=1e-6):
+            what = {"squeeze_pressure": "squeeze pressure", "compression": "compression", "profile_scale": "profile scale"}
+            raise SealeakError(f"{data.path}: a linearity check is at one {what[data.load_name]}; the file has several")
+        squeeze_pressure, squeeze_pressure_source = float(load[0]), "the data file"
+    return linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
+
+
+def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str) -> LinearityCheck:
+    """:func:`linearity` of a band seal: the models' slopes at one compression or profile scale."""
+    band = case.band
+    assert band is not None
+    if load is None and band.loads.size == 1:
+        load, source = float(band.loads[0]), "the case file"
+    slopes: dict[str, float] = {}
+    messages: list[str] = []
+    alpha_from_slope = None
+    p_mean = None
+    if load is not None:
+        ks, res = _band_conductance(case, [load], ("critical-junction", "effective-medium"))
+        p_mean = float(res.mean_contact_pressure[0])
+        for model in ("critical-junction", "effective-medium"):
+            k, notes = ks[model]
+            if k[0] > 0:
+                slopes[_model_name(case, model)] = float(k[0])
+                if model == "critical-junction":
+                    alpha_from_slope = line.slope / (float(k[0]) / case.alpha)
+            else:
+                messages.extend(notes)
+    else:
+        word = "compression" if band.load_name == "compression" else "profile scale"
+        messages.append(f"the case has {band.loads.size} values of conditions.{band.load_name} and the data file no "
+                        f"{band.load_name} column: give one {word} (in the case, or as a column with one value) to "
+                        "compare with the models")
+    return LinearityCheck(line, p_mean, source, slopes, alpha_from_slope, tuple(messages), band.load_name, load)
+
+
 # ---------------------------------------------------------------------- the virtual rig
 @dataclass(frozen=True)
 class RigPrediction:
@@ -499,6 +751,10 @@ class RigPrediction:
         Closed-form time to fall to the final height, each model (s).
     messages
         Notes (no leak, ΔP not small against P0).
+    band
+        For an O-ring or pressure-profile seal, the band at the case's one load (contact width,
+        mean and peak pressure; docs/theory.md §10); ``squeeze_pressure`` is then its mean
+        contact pressure.
     """
 
     squeeze_pressure: float
@@ -507,6 +763,7 @@ class RigPrediction:
     time_constant: dict[str, float] = field(default_factory=dict)
     drain_time: dict[str, float] = field(default_factory=dict)
     messages: tuple[str, ...] = ()
+    band: BandResult | None = None
 
 
 def rig_prediction(case: Case) -> RigPrediction:
@@ -515,18 +772,33 @@ def rig_prediction(case: Case) -> RigPrediction:
     Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP with K from :func:`conductance`;
     the ODE is still solved in general (:func:`~sealeak.lab.rig.water_column`) and the closed-form
     exponential gives the same curve.
+
+    An O-ring or pressure-profile seal runs at the case's one load (its compression or profile
+    scale sets the contact; the [rig] has no load): K = faces · Ly / ∫dx/σ of the band
+    (docs/theory.md §10.5). Several loads raise an InputError naming conditions.compression or
+    conditions.profile_scale.
     """
     rig = case.rig
     if rig is None:
         raise InputError("rig", None, "the case file has no [rig] section (cylinder_diameter, initial_height, load, ...)")
-    p0 = rig.squeeze_pressure(case.seal)
     models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
     k_of: dict[str, float] = {}
     messages: list[str] = []
-    for model in models:
-        k, notes = _conductance(case, [p0], model)
-        k_of[_model_name(case, model)] = float(k[0])
-        messages.extend(notes)
+    band = None
+    if case.band is not None:
+        if case.band.loads.size != 1:
+            raise InputError(f"conditions.{case.band.load_name}", None, _one_load_needed(case))
+        ks, band = _band_conductance(case, None, tuple(models))
+        for model in models:
+            k_of[_model_name(case, model)] = float(ks[model][0][0])
+            messages.extend(ks[model][1])
+        p0 = float(band.mean_contact_pressure[0])
+    else:
+        p0 = rig.squeeze_pressure(case.seal)
+        for model in models:
+            k, notes = _conductance(case, [p0], model)
+            k_of[_model_name(case, model)] = float(k[0])
+            messages.extend(notes)
     columns, tau, t_final = {}, {}, {}
     area = rig.cylinder_area
     for name, k in k_of.items():
@@ -536,9 +808,25 @@ def rig_prediction(case: Case) -> RigPrediction:
         tau[name] = area / (k * rig.density * rig.gravity) if k > 0 else float("inf")
         t_final[name] = drain_time(rig, k, columns[name].final_height)
     dp0 = float(rig.pressure_difference(rig.initial_height))
-    if pressure_difference_not_small(p0, dp0):
+    if band is not None:
+        p_max = float(band.max_contact_pressure[0])
+        if pressure_difference_not_small(p_max, dp0):
+            messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against the peak contact pressure {p_max:.4g} Pa: "
+                            "the theory assumes p >> ΔP")
+    elif pressure_difference_not_small(p0, dp0):
         messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
-    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages))
+    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages), band)
+
+
+def _one_load_needed(case: Case) -> str:
+    """Why a band case with several loads has no rig, and what to do."""
+    band = case.band
+    assert band is not None
+    shown = [f"{100 * v:.4g} %" if band.load_name == "compression" else f"{v:.4g}" for v in band.loads[:4]]
+    values = ", ".join(shown) + (", ..." if band.loads.size > 4 else "")
+    what = "compression (or groove_depth)" if band.kind == "o-ring" else "profile_scale"
+    return (f"the rig runs at one {what}, which sets the contact; this case has {band.loads.size} ({values}): "
+            "give one value for the rig (predict sweeps several)")
 
 
 def rig_readings(case: Case, time: ArrayLike, height: ArrayLike, source: str = "readings") -> ReadingsAnalysis:

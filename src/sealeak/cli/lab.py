@@ -10,20 +10,24 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
-import numpy as np
-
 from ..errors import InputError, SealeakError
-from ._common import emit, inputs, load_case_file, one_case, outputs, positive_pressure, say
+from ._common import emit, inputs, load, load_case_file, outputs, positive_pressure, say
 
 __all__ = ["register"]
 
 
 def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.ArgumentParser], None]) -> None:
     """Add ``fit``, ``rig`` and ``report`` to the sub-command parsers."""
-    p = sub.add_parser("fit", help="fit α to measured leak rates (or check linearity in ΔP)")
+    p = sub.add_parser("fit", help="fit α to measured leak rates (or check linearity in ΔP)",
+                       description="Fit α of both theories to measured leak rates. For an O-ring or pressure-profile "
+                                   "seal the data give each row's compression or profile_scale; the effective medium "
+                                   "then takes about 1-2 s per distinct value.")
     add_case_args(p)
+    _add_variant(p)
     p.add_argument("--data", metavar="FILE", required=True,
-                   help="measured data: header with units, e.g. 'squeeze_pressure (kPa), leak_rate (ml/min)'")
+                   help="measured data: header with units, e.g. 'squeeze_pressure (kPa), leak_rate (ml/min)'; "
+                        "for an O-ring 'compression (%%), leak_rate (ml/min)', for a pressure profile "
+                        "'profile_scale, leak_rate (ml/min)'")
     p.add_argument("--at-pressure", metavar="PRESSURE", default="1 atm",
                    help="pressure at which leak-test throughputs (mbar*l/s, Pa*m^3/s) become volume flows "
                         "(default: 1 atm, ambient)")
@@ -31,13 +35,18 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                    help="check Q linear in ΔP at fixed P0 (columns pressure_difference, leak_rate)")
     p.add_argument("--squeeze-pressure", metavar="PRESSURE",
                    help="P0 of a linearity data set (default: its squeeze_pressure column, the case's single P0, "
-                        "or the [rig] load)")
+                        "or the [rig] load); not for an O-ring or profile seal, whose compression or profile_scale "
+                        "(a data column, or the case's single value) sets the contact")
     p.add_argument("--json", metavar="FILE", help="write the fit as JSON")
     p.add_argument("--plots", metavar="DIR", help="write the figure (fit.png or linearity.png) into DIR")
     p.set_defaults(func=_cmd_fit)
 
-    p = sub.add_parser("rig", help="virtual water-column rig: level against time, or leak rate from readings")
+    p = sub.add_parser("rig", help="virtual water-column rig: level against time, or leak rate from readings",
+                       description="The virtual water-column rig of the case's [rig] section. An O-ring or "
+                                   "pressure-profile seal runs at the case's one compression or profile_scale "
+                                   "(the [rig] then has no load).")
     add_case_args(p)
+    _add_variant(p)
     p.add_argument("--readings", metavar="FILE", help="measured (time, height) readings, e.g. 'time (min), height (cm)'")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON")
     p.add_argument("--plots", metavar="DIR", help="write rig.png (and readings.png) into DIR")
@@ -47,6 +56,30 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     add_case_args(p)
     p.add_argument("-o", "--output", metavar="REPORT.html", required=True, help="the HTML file to write")
     p.set_defaults(func=_cmd_report)
+
+
+def _add_variant(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--variant", metavar="NAME", help="the variant of a [study] case file to use (its label, or the "
+                                                       "start of it), e.g. --variant water for the o-ring example")
+
+
+def _one_case(args: argparse.Namespace):  # type: ignore[no-untyped-def]
+    """The case of a command that takes one variant: the file's only one, or the study's ``--variant``."""
+    cases = load(args)
+    labels = [c.label for c in cases]
+    if args.variant is not None:
+        if len(cases) == 1 and not cases[0].label:
+            raise InputError("--variant", args.variant, "the case file defines no [study]: leave --variant out")
+        chosen = [c for c in cases if c.label == args.variant]
+        chosen = chosen or [c for c in cases if c.label.lower().startswith(args.variant.lower())]
+        if len(chosen) != 1:
+            raise InputError("--variant", args.variant, f"{'is ambiguous' if chosen else 'is not a variant'}: one of "
+                                                        + ", ".join(repr(x) for x in labels))
+        return chosen[0]
+    if len(cases) != 1:
+        raise SealeakError(f"this command takes a case with one variant; the case file defines a study of {len(cases)}: "
+                           "choose one with --variant (one of " + ", ".join(repr(x) for x in labels) + ")")
+    return cases[0]
 
 
 # ---------------------------------------------------------------------- fit
@@ -59,7 +92,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     names = ("linearity.png",) if args.linearity else ("fit.png",)
     check_outputs(outputs(args, names), args.force, inputs=inputs(args, "data"))
     reference = positive_pressure("--at-pressure", args.at_pressure)
-    case = one_case(args)
+    case = _one_case(args)
     if args.linearity:
         return _fit_linearity(args, case, reference)
     data = read_leak_data(args.data, reference_pressure=reference)
@@ -72,21 +105,21 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 
 def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # type: ignore[no-untyped-def]
-    from ..cases import linearity
+    from ..cases.run import run_linearity, seal_description
     from ..lab import read_leak_data
     from ..render import figure_linearity, linearity_json, linearity_text, render_figures
 
+    p0, source = None, ""
+    if args.squeeze_pressure is not None:
+        if case.band is not None:
+            raise InputError("--squeeze-pressure", args.squeeze_pressure,
+                             f"is for a seal pressed uniformly; this case's seal is {seal_description(case)}: leave the "
+                             f"option out (the data file's {case.band.load_name} column or the case's single value sets it)")
+        p0, source = positive_pressure("--squeeze-pressure", args.squeeze_pressure), "--squeeze-pressure"
     data = read_leak_data(args.data, reference_pressure=reference, required=("pressure_difference", "leak_rate"))
     if len(data) < 3:
         raise SealeakError(f"{data.path}: a linearity check needs at least 3 rows, found {len(data)}")
-    p0, source = None, ""
-    if args.squeeze_pressure:
-        p0, source = positive_pressure("--squeeze-pressure", args.squeeze_pressure), "--squeeze-pressure"
-    elif np.isfinite(data.squeeze_pressure).all():
-        if not np.allclose(data.squeeze_pressure, data.squeeze_pressure[0], rtol=1e-6):
-            raise SealeakError(f"{data.path}: a linearity check is at one squeeze pressure; the file has several")
-        p0, source = float(data.squeeze_pressure[0]), "the data file"
-    check = linearity(case, data.pressure_difference, data.leak_rate, p0, source)
+    check = run_linearity(case, data, p0, source)
     text, doc = linearity_text(case, data, check), linearity_json(case, data, check) if args.json else ""
     pngs = render_figures({"linearity.png": figure_linearity(data.pressure_difference, data.leak_rate, check)}) if args.plots else {}
     emit(args, text, {args.json: doc} if args.json else {}, pngs)
@@ -99,10 +132,11 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs
     from ..lab import read_rig_readings
     from ..render import figure_readings, figure_rig, render_figures, rig_json, rig_text
+    from ..render.lab import rig_condition
 
     names = ("rig.png", "readings.png") if args.readings else ("rig.png",)
     check_outputs(outputs(args, names), args.force, inputs=inputs(args, "readings"))
-    case = one_case(args)
+    case = _one_case(args)
     if case.rig is None:
         raise InputError("rig", None, f"{case.source or 'the case'} has no [rig] section: give cylinder_diameter, "
                                       "initial_height, load (kg or N) and optionally final_height, density")
@@ -114,7 +148,7 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     text, doc = rig_text(case, pred, analysis, args.readings or ""), rig_json(case, pred, analysis) if args.json else ""
     pngs = {}
     if args.plots:  # rendered before anything is written: a failure leaves no file behind
-        figs = {"rig.png": figure_rig(case.rig, pred.columns, pred.squeeze_pressure)}
+        figs = {"rig.png": figure_rig(case.rig, pred.columns, pred.squeeze_pressure, rig_condition(case, pred, short=True))}
         if analysis is not None:
             figs["readings.png"] = figure_readings(analysis, pred.conductance)
         pngs = render_figures(figs)

@@ -1,4 +1,4 @@
-"""Measured data files: leak rates against squeeze pressure / pressure difference, rig readings (an edge module).
+"""Measured data files: leak rates against the load / pressure difference, rig readings (an edge module).
 
 A data file is a numeric table (comma, semicolon, tab or space separated; '#' comments) whose
 first row names every column with its unit in parentheses or brackets, e.g.::
@@ -7,8 +7,15 @@ first row names every column with its unit in parentheses or brackets, e.g.::
     20, 380, 10
     ...
 
+The load of each row is one of three columns, as the case's seal takes it: ``squeeze_pressure``
+(a flat seal pressed uniformly, a pressure), ``compression`` (an O-ring, ε = δ/d: ``compression (%)``,
+or a fraction ``compression (1)``) or ``profile_scale`` (a pressure-profile seal, the factor on the
+profile file's pressures: ``profile_scale (1)`` or ``profile_scale`` with no unit). Which one the
+case needs is checked where the case is known (:func:`sealeak.cases.run_fit`).
+
 Column names (case-insensitive; spaces and hyphens count as underscores; aliases in brackets):
 squeeze_pressure [p0, squeezing_pressure, contact_pressure, nominal_pressure],
+compression [compression_ratio], profile_scale [scale, load_factor],
 leak_rate [q, leakage, leak], pressure_difference [dp, delta_p, Δp, pressure_drop],
 time [t], height [h, level, water_height]. Units: any pint knows, written as
 :mod:`sealeak.io.units` reads them (``kPa``, ``ml/min``, ``1/um``; no arithmetic), for the leak rate either a
@@ -32,15 +39,20 @@ from ..errors import FileFormatError, UnitError
 from ..io.tables import read_unit_table
 from ..io.units import unit_dimension, unit_factor
 
-__all__ = ["ATMOSPHERE", "leak_rate_factor", "LeakData", "read_leak_data", "read_rig_readings"]
+__all__ = ["ATMOSPHERE", "LOAD_COLUMNS", "leak_rate_factor", "LeakData", "read_leak_data", "read_rig_readings"]
 
 FloatArray = NDArray[np.float64]
 
 #: Default pressure at which leak-test throughputs (mbar·l/s, Pa·m³/s) are converted to volume flows.
 ATMOSPHERE = 101325.0
 
+#: The columns that give a row's load: a uniform squeeze pressure, an O-ring's compression, a profile's scale factor.
+LOAD_COLUMNS = ("squeeze_pressure", "compression", "profile_scale")
+
 _ALIASES = {
     "squeeze_pressure": {"squeeze_pressure", "p0", "squeezing_pressure", "contact_pressure", "nominal_pressure"},
+    "compression": {"compression", "compression_ratio"},
+    "profile_scale": {"profile_scale", "scale", "load_factor"},
     "leak_rate": {"leak_rate", "q", "leakage", "leak"},
     "pressure_difference": {"pressure_difference", "dp", "delta_p", "δp", "pressure_drop"},
     "time": {"time", "t"},
@@ -70,7 +82,11 @@ def leak_rate_factor(unit: str, reference_pressure: float = ATMOSPHERE, field_na
 class LeakData:
     """Measured leak rates in SI: squeeze_pressure, pressure_difference (Pa; NaN where the file has no
     such column or the row's cell is empty: the case's ΔP applies), leak_rate (m³/s); ``columns`` maps
-    each found column to its header text."""
+    each found column to its header text.
+
+    ``load_name`` is the column that gives each row's load (one of :data:`LOAD_COLUMNS`, '' if the
+    file has none); for ``compression`` (a fraction ε, 1) and ``profile_scale`` (1) the values are in
+    ``band_load`` and ``squeeze_pressure`` is NaN. :attr:`load` is that column whichever it is."""
 
     path: str
     squeeze_pressure: FloatArray
@@ -80,6 +96,15 @@ class LeakData:
     reference_pressure: float = ATMOSPHERE
     throughput: bool = False  # the leak rates were pV throughputs, converted at reference_pressure
     lines: tuple[int, ...] = ()  # line number in the file of each data row
+    load_name: str = "squeeze_pressure"
+    band_load: FloatArray | None = None
+
+    @property
+    def load(self) -> FloatArray:
+        """Each row's load: P0 (Pa), a compression ε (1) or a profile scale (1), as :attr:`load_name` says."""
+        if self.load_name in ("compression", "profile_scale") and self.band_load is not None:
+            return self.band_load
+        return self.squeeze_pressure
 
     def line_of(self, row: int) -> int:
         """Line number in the file of data row ``row`` (0-based)."""
@@ -98,22 +123,33 @@ def _canonical(name: str) -> str | None:
 
 
 def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may_be_empty: tuple[str, ...] = ()):
+    """The table and {column: index}. ``"load"`` in ``wanted``/``optional`` stands for one of :data:`LOAD_COLUMNS`."""
     table = read_unit_table(path, min_columns=1)
     if not table.has_header:
         raise FileFormatError(path, "the first row must name every column with its unit, e.g. "
                                     "'squeeze_pressure (kPa), leak_rate (ml/min)'")
+    takes = [c for c in wanted + optional if c != "load"]
+    if "load" in wanted + optional:
+        takes[0:0] = LOAD_COLUMNS
     found: dict[str, int] = {}
     for i, name in enumerate(table.names):
         canon = _canonical(name)
-        if canon is None or canon not in wanted + optional:
+        if canon is None or canon not in takes:
             raise FileFormatError(path, f"column {i + 1} '{name}' is not one of the columns this file takes: "
-                                        f"{', '.join(wanted + optional)}")
+                                        f"{', '.join(takes)}")
         if canon in found:
             raise FileFormatError(path, f"column {i + 1} '{name}' repeats column {found[canon] + 1} ({canon})")
         found[canon] = i
-    missing = [w for w in wanted if w not in found]
+    loads = [c for c in LOAD_COLUMNS if c in found]
+    if len(loads) > 1:
+        raise FileFormatError(path, f"columns {' and '.join(loads)}: give one load column, the one the case's seal takes "
+                                    "(squeeze_pressure for a flat seal, compression for an O-ring, profile_scale for a "
+                                    "pressure profile)")
+    missing = [w for w in wanted if w not in found and not (w == "load" and loads)]
     if missing:
-        raise FileFormatError(path, f"missing column{'s' if len(missing) > 1 else ''} {', '.join(missing)} "
+        names = ["squeeze_pressure (or compression for an O-ring, profile_scale for a pressure profile)" if m == "load"
+                 else m for m in missing]
+        raise FileFormatError(path, f"missing column{'s' if len(missing) > 1 else ''} {', '.join(names)} "
                                     f"(found: {', '.join(table.names)})")
     bad = ~np.isfinite(table.data)
     for canon in may_be_empty:  # missing values allowed here (NaN: the caller supplies a default)
@@ -140,14 +176,15 @@ def _factor(path: Path, table, i: int, dimension: str) -> float:
 
 
 def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
-                   required: tuple[str, ...] = ("squeeze_pressure", "leak_rate")) -> LeakData:
+                   required: tuple[str, ...] = ("load", "leak_rate")) -> LeakData:
     """Read measured leak rates (see the module docstring). Every problem is a FileFormatError naming the file.
 
-    ``required``: the columns the file must have (the others of squeeze_pressure, leak_rate,
-    pressure_difference are optional). Leak rates must be >= 0, pressures > 0 (ΔP >= 0).
+    ``required``: the columns the file must have, ``"load"`` standing for one of :data:`LOAD_COLUMNS`
+    (the others of load, leak_rate, pressure_difference are optional). Leak rates must be >= 0,
+    squeeze pressures > 0 (ΔP >= 0), compressions between 0 and 100 %, profile scales > 0.
     """
     p = Path(path)
-    optional = tuple(c for c in ("squeeze_pressure", "leak_rate", "pressure_difference") if c not in required)
+    optional = tuple(c for c in ("load", "leak_rate", "pressure_difference") if c not in required)
     # an empty ΔP cell means "the case's ΔP", unless ΔP is a required column (the linearity test's x)
     empty_ok = ("pressure_difference",) if "pressure_difference" not in required else ()
     table, found = _columns(p, required, optional, may_be_empty=empty_ok)
@@ -181,9 +218,34 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
         raise FileFormatError(p, f"line {table.line_of(r)}: a leak rate of {table.data[r, i]:g} {table.units[i]} at "
                                  "zero pressure difference: no pressure drives a flow (check the row; leave the cell "
                                  "empty to use the case's pressure difference)")
-    columns = {c: f"{table.names[j]} ({table.units[j]})" for c, j in found.items()}
+    load_name = next((c for c in LOAD_COLUMNS if c in found), "")
+    band_load = _band_load(p, table, load_name, found[load_name]) if load_name in ("compression", "profile_scale") else None
+    columns = {c: f"{table.names[j]} ({table.units[j]})" if table.units[j] else table.names[j] for c, j in found.items()}
     return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure,
-                    throughput, table.lines)
+                    throughput, table.lines, load_name=load_name, band_load=band_load)
+
+
+def _band_load(path: Path, table, name: str, i: int) -> FloatArray:
+    """An O-ring's compression (a fraction, from '%' or '1') or a profile's scale factor (1), checked row by row."""
+    header = table.names[i]
+    if name == "compression":
+        if not table.units[i]:
+            raise FileFormatError(path, f"column '{header}' has no unit: write 'compression (%)' for per cent, or "
+                                        "'compression (1)' for a fraction (0.2 = 20 %)")
+        values = table.data[:, i] * _factor(path, table, i, "dimensionless")
+        for r, v in enumerate(values):
+            if not 0 < v < 1:
+                hint = (f" (as a fraction: for per cent write '{header} (%)')"
+                        if v >= 1 and unit_factor("unit", table.units[i], "dimensionless") == 1.0 else "")
+                raise FileFormatError(path, f"line {table.line_of(r)}, column '{header}': {table.data[r, i]:g} "
+                                            f"{table.units[i]} is not a compression between 0 and 100 %{hint}")
+        return values
+    values = table.data[:, i] * (_factor(path, table, i, "dimensionless") if table.units[i] else 1.0)
+    for r, v in enumerate(values):
+        if not v > 0:
+            raise FileFormatError(path, f"line {table.line_of(r)}, column '{header}': {table.data[r, i]:g} must be > 0 "
+                                        "(a factor on the profile file's pressures)")
+    return values
 
 
 def read_rig_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:

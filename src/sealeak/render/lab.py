@@ -16,7 +16,7 @@ from ..lab.rig import ReadingsAnalysis
 from .records import json_document, json_value
 from .text import fmt
 
-__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json"]
+__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition"]
 
 
 def fit_text(result: FitResult) -> str:
@@ -28,6 +28,13 @@ def fit_text(result: FitResult) -> str:
     if data.throughput:
         lines.append(f"leak rates in {data.columns['leak_rate']} are pV throughputs: converted to volume flows at "
                      f"{reference / 1e3:.6g} kPa (--at-pressure)")
+    band = case.band
+    if band is not None:
+        n = int(np.unique(data.load).size)
+        word = "compression" if band.load_name == "compression" else "profile scale"
+        seal = "O-ring" if band.kind == "o-ring" else "pressure-profile seal"
+        lines.append(f"model: the {seal}'s leak rate at each row's {word} (strips in series across the band), both "
+                     f"theories at {n} distinct {word}{'s' if n != 1 else ''}")
     lines += ["least squares in log Q: Q_measured = α × Q_model(α = 1)", ""]
     lines.append(f"{'model':<20} {'α':>10} {'± se':>10} {'rms (decades)':>14} {'points':>7}")
     for name, f in fits.items():
@@ -40,7 +47,8 @@ def fit_text(result: FitResult) -> str:
 def fit_json(result: FitResult) -> str:
     """The ``sealeak fit --json`` document (α, its standard error and the excluded rows per model)."""
     data = result.data
-    doc: dict[str, Any] = {"case": result.case.title, "data": data.path, "reference_pressure": data.reference_pressure,
+    doc: dict[str, Any] = {"case": result.case.title, "data": data.path, "load_column": result.load_name,
+                           "reference_pressure": data.reference_pressure,
                            "units": {"alpha": "1", "alpha_std": "1", "rms_log10_residual": "decades (log10)",
                                      "reference_pressure": "Pa"},
                            "messages": list(result.messages)}
@@ -61,8 +69,12 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
              f"intercept  {line.intercept:.4g} ± {line.intercept_std:.2g} m³/s  "
              f"({fmt(z, '.2g')} standard errors from 0{'; consistent with a line through the origin' if z < 2 else ''})",
              f"R²         {line.r_squared:.5f}, rms residual {line.rms_residual:.3g} m³/s"]
-    if p0 is not None:
+    if case.band is not None and check.load is not None:
+        lines.append(f"load       {_load(check.load_name, check.load)} (from {check.squeeze_pressure_source}): mean contact "
+                     f"pressure {fmt(p0 / 1e6 if p0 is not None else None)} MPa")
+    elif p0 is not None:
         lines.append(f"P0         {p0 / 1e3:.4g} kPa (from {check.squeeze_pressure_source})")
+    if p0 is not None:
         for name, k in check.model_slopes.items():
             lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa)")
         if check.alpha_from_slope is not None:
@@ -85,7 +97,37 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
            "units": {"slope": "m^3/(s*Pa)", "slope_std": "m^3/(s*Pa)", "intercept": "m^3/s",
                      "intercept_std": "m^3/s", "squeeze_pressure": "Pa", "model_slopes": "m^3/(s*Pa)"},
            "messages": list(check.messages)}
+    if case.band is not None:  # the band's load; squeeze_pressure is its mean contact pressure
+        doc["linearity"][check.load_name] = json_value(check.load) if check.load is not None else None
+        doc["units"][check.load_name] = "1"
     return json_document(doc)
+
+
+def _load(load_name: str, value: float) -> str:
+    """"compression 20 %" or "profile scale 1.5"."""
+    return f"compression {100 * value:.4g} %" if load_name == "compression" else f"profile scale {value:.4g}"
+
+
+def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
+    """One line on what presses the seal in the rig: the load and P0, or a band seal's compression and contact.
+
+    ``short``: the figure's version (load, or the band's load and peak pressure).
+    """
+    rig = case.rig
+    assert rig is not None
+    b = pred.band
+    if b is None:
+        if short:
+            return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
+        return (f"load {rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
+                f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
+    seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
+    if short:
+        return (f"{seal} at {_load(b.band.load_name, float(b.band.loads[0]))}, peak contact pressure "
+                f"{b.max_contact_pressure[0] / 1e6:.3g} MPa")
+    return (f"{seal} at {_load(b.band.load_name, float(b.band.loads[0]))}: contact width {b.contact_width[0] * 1e3:.4g} mm, "
+            f"mean contact pressure {b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa, "
+            f"seal line {b.band.length * 1e3:.4g} mm{' (2 faces)' if b.band.faces == 2 else ''}")
 
 
 def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None = None,
@@ -96,8 +138,7 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     area = rig.cylinder_area
     dp0 = float(rig.pressure_difference(rig.initial_height))
     lines = [case.title, "virtual water-column rig (Lorenz & Persson, EPL 86 (2009) 44006)", "",
-             f"load        {rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
-             f"{case.seal.nominal_area * 1e4:.4g} cm² seal",
+             f"{'load' if pred.band is None else 'seal':<11} {rig_condition(case, pred)}",
              f"cylinder    D = {rig.cylinder_diameter * 100:.4g} cm, A = {area * 1e4:.4g} cm², "
              f"H0 = {rig.initial_height * 100:.4g} cm (ΔP0 = {dp0 / 1e3:.4g} kPa), "
              f"ρ = {rig.density:g} kg/m³, g = {rig.gravity:g} m/s²", ""]
@@ -151,6 +192,15 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
                   "time_constant": "s", "time_to_final_height": "s", "time": "s", "height": "m",
                   "interval_pressure_difference": "Pa", "interval_leak_rate": "m^3/s"},
         "messages": list(pred.messages)}
+    b = pred.band
+    if b is not None:  # a band seal: its load and contact; "load" is the contact force f·Ly, P0 its mean pressure
+        doc[b.band.load_name] = float(b.band.loads[0])
+        doc["band"] = {"contact_width": float(b.contact_width[0]), "mean_contact_pressure": float(b.mean_contact_pressure[0]),
+                       "max_contact_pressure": float(b.max_contact_pressure[0]),
+                       "force_per_length": float(b.force_per_length[0]), "seal_line_length": float(b.band.length),
+                       "faces": b.band.faces}
+        doc["units"] |= {b.band.load_name: "1", "contact_width": "m", "mean_contact_pressure": "Pa",
+                         "max_contact_pressure": "Pa", "force_per_length": "N/m", "seal_line_length": "m", "faces": "1"}
     if readings is not None:
         doc["readings"] = {"interval_pressure_difference": [json_value(x) for x in readings.interval_pressure_difference],
                            "interval_leak_rate": [json_value(x) for x in readings.interval_leak_rate],

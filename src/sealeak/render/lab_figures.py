@@ -30,26 +30,50 @@ __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings"]
 
 _NAMES = {"critical_junction": "critical junction", "effective_medium": "effective medium"}
 
+#: A year (365.25 days) in s, the time unit of a rig that drains for longer than two years.
+YEAR = 365.25 * 86400.0
+
+
+def _load_x(ax: Axes, load_name: str, values: np.ndarray) -> float:
+    """Label the x axis with the load of the fit (P0, or a band seal's compression in % or profile scale); returns its scale."""
+    if load_name == "squeeze_pressure":
+        return pressure_x(ax, values)
+    if load_name == "compression":
+        ax.set_xlabel("compression ε (%)")
+        scale = 0.01
+    else:
+        ax.set_xlabel("profile scale (factor on the profile's pressures)")
+        scale = 1.0
+    v = np.asarray(values, dtype=float) / scale
+    lo, hi = float(np.nanmin(v)), float(np.nanmax(v))
+    pad = 0.05 * (hi - lo) if hi > lo else 0.05 * abs(hi) or 1.0
+    ax.set_xlim(lo - pad, hi + pad)
+    return scale
+
 
 @laid_out
 def figure_fit(result: FitResult) -> Figure:
-    """Measured Q against P0 (log scale) with both fitted models, and a second axis in ml/min."""
+    """Measured Q against the load (P0 on a log scale, or a band seal's compression or profile scale) with both
+    fitted models, and a second axis in ml/min."""
     fig, ax = new_figure("Measured leak rate and fitted theory")
-    p0 = result.data.squeeze_pressure
+    load = result.data.load
     q, grid, models, fits = result.measured, result.grid, result.curves, result.fits
     same, ref_dp = result.same_pressure_difference, result.reference_pressure_difference
-    scale = pressure_x(ax, np.concatenate([p0, grid]))
+    scale = _load_x(ax, result.load_name, np.concatenate([load, grid]))
     ax.set_yscale("log")
     pos = np.isfinite(q) & (q > 0)
-    ax.plot(p0[pos] / scale, q[pos], "ks", ms=4, label="measured")
+    ax.plot(load[pos] / scale, q[pos], "ks", ms=4, label="measured")
+    measured_at = {"compression": "compressions", "profile_scale": "profile scales"}.get(result.load_name, "loads")
     for i, (name, curve) in enumerate(models.items()):
         fit = fits[name]
+        x = result.curve_grids.get(name, grid)
         y = fit.alpha * np.asarray(curve, dtype=float)
         shown = np.isfinite(y) & (y > 0)
         if fit.fitted and shown.any():
-            ax.plot(grid / scale, np.where(shown, y, np.nan), ("-", "--")[i % 2], color=color(i),
-                    label=f"{_NAMES[name]}: α = {fit.alpha:.3g} ± {fit.alpha_std:.2g}, "
-                          f"rms {fit.rms_log10_residual:.2g} decades")
+            own = name in result.curve_grids  # drawn through its values at the measured loads only
+            ax.plot(x / scale, np.where(shown, y, np.nan), ("-", "--")[i % 2], color=color(i), marker="o" if own else None,
+                    ms=3, label=f"{_NAMES[name]}: α = {fit.alpha:.3g} ± {fit.alpha_std:.2g}, "
+                                f"rms {fit.rms_log10_residual:.2g} decades" + (f" (at the measured {measured_at})" if own else ""))
     ax.set_ylabel("leak rate Q (m³/s)")
     note = f"ΔP = {ref_dp / 1e3:.3g} kPa" + ("" if same else " (measurements scaled to it, Q ∝ ΔP)")
     excluded = sum(len(f.excluded) for f in fits.values())
@@ -110,13 +134,21 @@ def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Fi
 
 
 @laid_out
-def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float) -> Figure:
-    """Water height against time for each model (WaterColumn solutions)."""
+def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float, condition: str | None = None) -> Figure:
+    """Water height against time for each model (WaterColumn solutions).
+
+    ``condition``: what presses the seal, for the subtitle (default: P0 and how the load was given;
+    an O-ring or profile seal passes its compression or scale and peak pressure).
+    """
     fig, ax = new_figure("Virtual water-column rig: level against time")
     longest = max((c.time[-1] for c in columns.values()), default=1.0)
     tscale, tunit = (3600.0, "h") if longest > 7200 else ((60.0, "min") if longest > 120 else (1.0, "s"))
+    lscale, lunit = tscale, tunit  # the legend's time unit (without a power of ten)
+    if longest > 2 * YEAR:  # a tight seal drains over years: years, with the power of ten in the axis unit
+        power, tunit = power_unit([longest / YEAR], "years")
+        tscale, lscale, lunit = YEAR * power, YEAR, "years"
     for i, (name, col) in enumerate(columns.items()):
-        label = name + (f": H = {col.final_height * 100:.3g} cm after {col.time_to_final / tscale:.3g} {tunit}"
+        label = name + (f": H = {col.final_height * 100:.3g} cm after {col.time_to_final / lscale:.3g} {lunit}"
                         if np.isfinite(col.time_to_final) else ": no leak, the level stays")
         ax.plot(col.time / tscale, col.height * 100, ("-", "--")[i % 2], color=color(i), label=label)
         if np.isfinite(col.time_to_final):
@@ -125,8 +157,10 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float) -> Fig
     ax.set_ylabel("water height H (cm)")
     ax.set_ylim(0, 1.08 * rig.initial_height * 100)
     ax.set_xlim(left=0)
-    subtitle(ax, f"P0 = {p0 / 1e3:.3g} kPa ({rig.load_note or 'load'}), cylinder {rig.cylinder_diameter * 100:.3g} cm, "
-                  f"ΔP = ρgH, ρ = {rig.density:g} kg/m³\ndots: the final height reached")
+    if condition is None:
+        condition = f"P0 = {p0 / 1e3:.3g} kPa ({rig.load_note or 'load'})"
+    subtitle(ax, f"{condition}\ncylinder {rig.cylinder_diameter * 100:.3g} cm, "
+                  f"ΔP = ρgH, ρ = {rig.density:g} kg/m³; dots: the final height reached")
     if not columns:
         say_nothing(ax, "no model to simulate")
     finish_axes(ax)
