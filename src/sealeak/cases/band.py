@@ -89,9 +89,9 @@ class BandTheory:
         Width of the narrowest part of the band holding 90 % of R, and where 1/σ is largest (m).
     integrals
         The quadrature of each load (points, p, σ), for the figures.
-    change, nodes
-        Relative change of R at the last refinement (quadrature and, for the effective medium,
-        table) and the Gauss–Legendre nodes per piece.
+    change, evaluations
+        Estimated relative error of R (quadrature and, for the effective medium, the change between
+        the last two tables) and the number of σ evaluations.
     messages
         Notes (no channel at some loads, a quadrature that did not converge).
     """
@@ -104,7 +104,7 @@ class BandTheory:
     resistance_peak_position: FloatArray
     integrals: tuple[BandIntegral, ...]
     change: FloatArray
-    nodes: NDArray[np.int_]
+    evaluations: NDArray[np.int_]
     messages: tuple[str, ...] = ()
 
 
@@ -264,7 +264,7 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
                         f"{_loads_text(band, np.arange(band.loads.size) == i)} (last relative change {changes[i]:.2g}); "
                         "the leak rate is less certain")
     return BandTheory(q, ~sealed, uniform, r, np.array([w for w, _ in where]), np.array([x for _, x in where]),
-                      tuple(integrals), np.array(changes), np.array([g.nodes for g in integrals]), tuple(messages))
+                      tuple(integrals), np.array(changes), np.array([g.evaluations for g in integrals]), tuple(messages))
 
 
 def _loads_text(band: BandSeal, mask: NDArray[np.bool_]) -> str:
