@@ -14,7 +14,14 @@ from sealeak.cases.model import BandSeal
 from sealeak.errors import InputError
 from sealeak.physics.contact import PerssonContact
 from sealeak.physics.critical_junction import critical_junction
-from sealeak.physics.profile import PressureProfile, resistance_band, series_resistance
+from sealeak.physics.profile import (
+    GAUSS_WEIGHTS,
+    KRONROD_NODES,
+    KRONROD_WEIGHTS,
+    PressureProfile,
+    resistance_band,
+    series_resistance,
+)
 
 
 @pytest.fixture(scope="module")
@@ -147,3 +154,24 @@ def test_q0_is_per_load_by_default_and_changes_the_result(base):
     own = run_band(_band(base, prof, q0=2 * np.pi / (2 * w)))
     wide = replace(base, seal=replace(base.seal, width=2 * w), q0=2 * np.pi / (2 * w))
     assert own.critical_junction.leak_rate[0] == pytest.approx(predict(wide, squeeze_pressure=[1e5]).leak_rate[0], rel=1e-10)
+
+
+def test_kronrod_rule_is_exact_for_polynomials():
+    """K15 integrates degree 22 exactly, its embedded G7 degree 13 (the error estimate is their difference)."""
+    for deg in range(0, 23):
+        exact = 0.0 if deg % 2 else 2.0 / (deg + 1)
+        assert KRONROD_WEIGHTS @ KRONROD_NODES**deg == pytest.approx(exact, abs=1e-14)
+        if deg <= 13:
+            assert GAUSS_WEIGHTS @ KRONROD_NODES**deg == pytest.approx(exact, abs=1e-14)
+    assert np.allclose(np.sort(KRONROD_NODES[1::2]), np.polynomial.legendre.leggauss(7)[0], atol=1e-15)
+
+
+@pytest.mark.parametrize("decades", [1, 10, 26])
+def test_steep_conductance_near_the_peak_converges_to_the_closed_form(decades):
+    """1/σ = exp(a p) on a ramp 0 → p_max: R = w (e^{a p_max} - 1)/(a p_max), 1/σ spanning up to 26 decades."""
+    w, pmax = 1e-3, 2e6
+    a = decades * np.log(10) / pmax
+    g = series_resistance(PressureProfile.table([0, w], [0, pmax]), lambda p: np.exp(-a * p))
+    exact = w * np.expm1(a * pmax) / (a * pmax)
+    assert g.converged and g.change < 1e-8
+    assert g.resistance == pytest.approx(exact, rel=1e-8)

@@ -298,7 +298,8 @@ class CaseResult:
         """SI unit of every field of :meth:`records`."""
         if self.band is not None:
             em = BAND_EFFECTIVE_MEDIUM_UNITS if self.band.effective_medium is not None else {}
-            return {self.band.band.load_name: "1"} | BAND_UNITS | em
+            regime = {"regime": ""} if self.band.band.oring is not None else {}
+            return {self.band.band.load_name: "1"} | regime | BAND_UNITS | em
         return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
 
     @property
@@ -338,6 +339,8 @@ class CaseResult:
             "resistance_band_width": cj.resistance_band_width, "resistance_peak_position": cj.resistance_peak_position,
             "lowest_wavevector": b.q0, "integral_relative_change": cj.change,
         }
+        if b.band.oring is not None:
+            values["regime"] = b.band.oring.regime
         if em is not None:
             values |= {"percolates_effective_medium": em.percolates, "leak_rate_effective_medium": em.leak_rate,
                        "leak_rate_effective_medium_uniform_mean_pressure": em.uniform_mean_pressure,
@@ -353,7 +356,7 @@ class CaseResult:
                     rec[key] = self.validity[i]
                 else:
                     v = values[key][i]
-                    rec[key] = bool(v) if isinstance(v, np.bool_) else float(v)
+                    rec[key] = bool(v) if isinstance(v, np.bool_) else v if isinstance(v, str) else float(v)
             out.append(rec)
         return out
 

@@ -98,7 +98,8 @@ def _band_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
     p_scale, p_unit = _pressure_unit(b.max_contact_pressure)
     load = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.band.loads]) if b.band.load_name == "compression"
             else ("scale", 7, [f"{v:.4g}" for v in b.band.loads]))
-    cols = [load,
+    regime = ([("regime", 13, list(b.band.oring.regime))] if b.band.oring is not None else [])
+    cols = [load, *regime,
             (f"w ({w_unit})", 9, [fmt(b.contact_width[i] / w_scale, ".4g") for i in n]),
             (f"p_mean ({p_unit})", 13, [fmt(b.mean_contact_pressure[i] / p_scale, ".4g") for i in n]),
             (f"p_max ({p_unit})", 12, [fmt(b.max_contact_pressure[i] / p_scale, ".4g") for i in n])]
