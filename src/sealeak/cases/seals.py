@@ -148,7 +148,7 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
             contact = oring_contact(d, youngs_modulus, poisson_ratio, eps)
         profiles = tuple(contact.profile(i) for i in range(eps.size))
         length = np.pi * mean_d
-        notes = (contact.source,) + tuple(getattr(contact, "warnings", ()))
+        notes = (contact.source,) + contact.warnings
         band_args = dict(oring=contact, cross_section_diameter=d, mean_diameter=mean_d)
         loads, load_name = np.asarray(eps, dtype=float), "compression"
     else:

@@ -14,7 +14,7 @@ f(ε) and w(ε) come from two published relations, with E* = E/(1 - ν²):
   half-width b = sqrt(4 f R/(π E*)), and the compression of the diameter
   δ = (2 f/(π E*)) (2 ln(4R/b) - 1), solved for f;
 * larger squeeze (ε >= :data:`LINDLEY_FROM`): Lindley's relations for a laterally unrestrained
-  O-ring (Lindley, J. Inst. Rubber Ind. 1 (1967) 209): f = E d (1.25 ε^1.5 + 50 ε^6),
+  O-ring (Lindley, J. Inst. Rubber Ind. 1 (1967) 202): f = E d (1.25 ε^1.5 + 50 ε^6),
   w = d sqrt(6 ε/π), for incompressible rubber; for ν < 0.5 E is replaced by (3/4) E*, the
   same plane-strain modulus Hertz uses (equal to E at ν = 0.5);
 * in between, ln f and ln w are interpolated with a cubic smoothstep in ln ε, so f, w and p_max
@@ -59,7 +59,7 @@ SHORE_A_CHECKED = (40.0, 90.0)
 
 #: The one-line statement of the relations, carried into every result.
 SOURCE = ("O-ring contact: Hertz line contact of a cylinder between two plates (Johnson 1985) up to 1 % compression, "
-          "Lindley's O-ring relations (J. IRI 1 (1967) 209) from 10 %, interpolated between; semi-elliptic pressure")
+          "Lindley's O-ring relations (J. IRI 1 (1967) 202) from 10 %, interpolated between; semi-elliptic pressure")
 
 
 @dataclass(frozen=True)
