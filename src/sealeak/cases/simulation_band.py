@@ -2,7 +2,7 @@
 
 The series-resistance theory of a band seal (docs/theory.md §10.1) assumes that every strip dx of
 the band conducts like a uniform seal at its nominal pressure p(x). This pipeline checks that
-assumption for an O-ring (docs/theory.md §6.7):
+assumption for an O-ring (docs/theory.md §10.4):
 
 1. the domain: W = :data:`DOMAIN_WIDTHS` × the widest contact band across x (free edges, zero-padded
    Green's function), one period Ly = W along the seal line, N × N square cells;
@@ -172,7 +172,7 @@ def simulate_band(
 ) -> BandSimulationResult:
     """Numerically exact leak rate of an O-ring case and the α of its series-resistance theory.
 
-    α = Q_num / Q_sr(α = 1) per percolating realisation (module docstring; docs/theory.md §6.7). Leak
+    α = Q_num / Q_sr(α = 1) per percolating realisation (module docstring; docs/theory.md §10.4). Leak
     rates in m³/s, widths in m, pressures in Pa.
 
     Parameters

@@ -1,6 +1,6 @@
 """Contact of a smooth cylinder (an O-ring's cross-section) with a rough surface: periodic along the seal line, free across it.
 
-Problem (docs/theory.md §6.7). The rubber cylinder of radius R (axis along y, the seal line) is
+Problem (docs/theory.md §10.4). The rubber cylinder of radius R (axis along y, the seal line) is
 pressed with a force f per unit length of seal line onto a rigid rough surface h(x, y); with the
 contact modulus E* this is the same as a rigid surface of heights
 
@@ -77,7 +77,7 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
     """Hertz contact of a cylinder on a flat: half-width b (m) and peak pressure p_max (Pa).
 
     b = √(4 f R/(π E*)), p_max = 2 f/(π b) (Johnson, Contact Mechanics (1985) eqs. 4.43, 4.45;
-    docs/theory.md §6.7), with f the force per unit length (N/m), R the radius (m), E* (Pa).
+    docs/theory.md §10.4), with f the force per unit length (N/m), R the radius (m), E* (Pa).
     """
     b = math.sqrt(4.0 * force_per_length * radius / (math.pi * e_star))
     return b, 2.0 * force_per_length / (math.pi * b)
@@ -267,7 +267,7 @@ def solve_band_contact(
 
     Solves g = u - H + c >= 0, p >= 0, g p = 0, Σ p dx dy = f Ly with H = h - (x - x_c)²/(2R) and u
     from the half-space Green's function, zero-padded across x and periodic along y (module
-    docstring; docs/theory.md §6.7).
+    docstring; docs/theory.md §10.4).
 
     Parameters
     ----------
@@ -364,7 +364,7 @@ def contact_edges(x: ArrayLike, pressure: ArrayLike) -> tuple[float, float]:
     """Edges (m) of a smooth contact from a pressure line p(x) on cell centres, to a fraction of a cell.
 
     Near the edge of a smooth (non-conforming) contact p ∝ √(distance to the edge) (Johnson 1985
-    ch. 4; docs/theory.md §6.7), so p² is linear there: each edge is where the straight line through
+    ch. 4; docs/theory.md §10.4), so p² is linear there: each edge is where the straight line through
     p² of the two outermost loaded cells reaches zero (clipped to the next empty cell centre).
     Returns (NaN, NaN) when fewer than three cells carry pressure.
     """
