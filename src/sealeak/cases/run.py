@@ -219,7 +219,7 @@ def seal_description(case: Case) -> str:
     if band.kind == "o-ring":
         d = f" of {band.cross_section_diameter * 1e3:.4g} mm cross-section" if band.cross_section_diameter else ""
         return f"an O-ring{d}, whose contact follows from its compression"
-    return "a seal with a pressure profile, whose load is a scale factor on the profile file's pressures"
+    return "a pressure-profile seal, whose load is a scale factor on the profile file's pressures"
 
 
 def _check_load_column(case: Case, data: LeakData, required: bool = True) -> None:

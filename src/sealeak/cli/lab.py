@@ -95,7 +95,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     case = _one_case(args)
     if args.linearity:
         return _fit_linearity(args, case, reference)
-    data = read_leak_data(args.data, reference_pressure=reference)
+    data = read_leak_data(args.data, reference_pressure=reference,
+                          load_column=case.band.load_name if case.band is not None else "squeeze_pressure")
     result = run_fit(case, data)
     # render everything first, then write: a failure while rendering leaves no file behind
     text, doc = fit_text(result), fit_json(result) if args.json else ""
@@ -138,8 +139,9 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     check_outputs(outputs(args, names), args.force, inputs=inputs(args, "readings"))
     case = _one_case(args)
     if case.rig is None:
+        load = "" if case.band is not None else ", load (kg or N)"  # a band seal's compression or scale sets the contact
         raise InputError("rig", None, f"{case.source or 'the case'} has no [rig] section: give cylinder_diameter, "
-                                      "initial_height, load (kg or N) and optionally final_height, density")
+                                      f"initial_height{load} and optionally final_height, density")
     pred = rig_prediction(case)
     analysis = None
     if args.readings:

@@ -122,8 +122,10 @@ def _canonical(name: str) -> str | None:
     return None
 
 
-def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may_be_empty: tuple[str, ...] = ()):
-    """The table and {column: index}. ``"load"`` in ``wanted``/``optional`` stands for one of :data:`LOAD_COLUMNS`."""
+def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may_be_empty: tuple[str, ...] = (),
+             load_column: str | None = None):
+    """The table and {column: index}. ``"load"`` in ``wanted``/``optional`` stands for one of :data:`LOAD_COLUMNS`
+    (``load_column``: the one the caller's case takes, named when none is found)."""
     table = read_unit_table(path, min_columns=1)
     if not table.has_header:
         raise FileFormatError(path, "the first row must name every column with its unit, e.g. "
@@ -147,8 +149,9 @@ def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may
                                     "pressure profile)")
     missing = [w for w in wanted if w not in found and not (w == "load" and loads)]
     if missing:
-        names = ["squeeze_pressure (or compression for an O-ring, profile_scale for a pressure profile)" if m == "load"
-                 else m for m in missing]
+        load_text = (f"{load_column} (the load of the case's seal)" if load_column else
+                     "squeeze_pressure (or compression for an O-ring, profile_scale for a pressure profile)")
+        names = [load_text if m == "load" else m for m in missing]
         raise FileFormatError(path, f"missing column{'s' if len(missing) > 1 else ''} {', '.join(names)} "
                                     f"(found: {', '.join(table.names)})")
     bad = ~np.isfinite(table.data)
@@ -176,18 +179,20 @@ def _factor(path: Path, table, i: int, dimension: str) -> float:
 
 
 def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
-                   required: tuple[str, ...] = ("load", "leak_rate")) -> LeakData:
+                   required: tuple[str, ...] = ("load", "leak_rate"), load_column: str | None = None) -> LeakData:
     """Read measured leak rates (see the module docstring). Every problem is a FileFormatError naming the file.
 
     ``required``: the columns the file must have, ``"load"`` standing for one of :data:`LOAD_COLUMNS`
-    (the others of load, leak_rate, pressure_difference are optional). Leak rates must be >= 0,
-    squeeze pressures > 0 (ΔP >= 0), compressions between 0 and 100 %, profile scales > 0.
+    (the others of load, leak_rate, pressure_difference are optional). ``load_column``: the load
+    column the case takes, named if the file has none (whether the file's one fits the case is
+    checked with the case, :func:`sealeak.cases.run_fit`). Leak rates must be >= 0, squeeze
+    pressures > 0 (ΔP >= 0), compressions between 0 and 100 %, profile scales > 0.
     """
     p = Path(path)
     optional = tuple(c for c in ("load", "leak_rate", "pressure_difference") if c not in required)
     # an empty ΔP cell means "the case's ΔP", unless ΔP is a required column (the linearity test's x)
     empty_ok = ("pressure_difference",) if "pressure_difference" not in required else ()
-    table, found = _columns(p, required, optional, may_be_empty=empty_ok)
+    table, found = _columns(p, required, optional, may_be_empty=empty_ok, load_column=load_column)
     n = table.data.shape[0]
     out: dict[str, FloatArray] = {}
     for canon in ("squeeze_pressure", "pressure_difference"):

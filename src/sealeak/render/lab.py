@@ -16,7 +16,7 @@ from ..lab.rig import ReadingsAnalysis
 from .records import json_document, json_value
 from .text import fmt
 
-__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition"]
+__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition", "load_label"]
 
 
 def fit_text(result: FitResult) -> str:
@@ -70,7 +70,7 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
              f"({fmt(z, '.2g')} standard errors from 0{'; consistent with a line through the origin' if z < 2 else ''})",
              f"R²         {line.r_squared:.5f}, rms residual {line.rms_residual:.3g} m³/s"]
     if case.band is not None and check.load is not None:
-        lines.append(f"load       {_load(check.load_name, check.load)} (from {check.squeeze_pressure_source}): mean contact "
+        lines.append(f"load       {load_label(check.load_name, check.load)} (from {check.squeeze_pressure_source}): mean contact "
                      f"pressure {fmt(p0 / 1e6 if p0 is not None else None)} MPa")
     elif p0 is not None:
         lines.append(f"P0         {p0 / 1e3:.4g} kPa (from {check.squeeze_pressure_source})")
@@ -103,7 +103,7 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
     return json_document(doc)
 
 
-def _load(load_name: str, value: float) -> str:
+def load_label(load_name: str, value: float) -> str:
     """"compression 20 %" or "profile scale 1.5"."""
     return f"compression {100 * value:.4g} %" if load_name == "compression" else f"profile scale {value:.4g}"
 
@@ -123,9 +123,9 @@ def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
                 f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
     seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
     if short:
-        return (f"{seal} at {_load(b.band.load_name, float(b.band.loads[0]))}, peak contact pressure "
+        return (f"{seal} at {load_label(b.band.load_name, float(b.band.loads[0]))}, peak contact pressure "
                 f"{b.max_contact_pressure[0] / 1e6:.3g} MPa")
-    return (f"{seal} at {_load(b.band.load_name, float(b.band.loads[0]))}: contact width {b.contact_width[0] * 1e3:.4g} mm, "
+    return (f"{seal} at {load_label(b.band.load_name, float(b.band.loads[0]))}: contact width {b.contact_width[0] * 1e3:.4g} mm, "
             f"mean contact pressure {b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa, "
             f"seal line {b.band.length * 1e3:.4g} mm{' (2 faces)' if b.band.faces == 2 else ''}")
 

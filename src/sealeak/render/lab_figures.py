@@ -25,6 +25,7 @@ from .figures import (
     say_nothing,
     subtitle,
 )
+from .lab import load_label
 
 __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings"]
 
@@ -125,7 +126,10 @@ def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Fi
     hidden = _model_lines(ax, x, {name: slope * x for name, slope in model_lines.items()}, qscale)
     ax.set_xlabel("pressure difference ΔP (kPa)")
     ax.set_xlim(left=0)
-    notes = [f"P0 = {p0 / 1e3:.3g} kPa" if p0 else "", "beyond the axes: " + ", ".join(hidden) if hidden else ""]
+    at = f"P0 = {p0 / 1e3:.3g} kPa" if p0 else ""
+    if check.load is not None and p0:  # a band seal: its load, and the mean contact pressure there
+        at = f"{load_label(check.load_name, check.load)} (mean contact pressure {p0 / 1e3:.3g} kPa)"
+    notes = [at, "beyond the axes: " + ", ".join(hidden) if hidden else ""]
     subtitle(ax, "; ".join(n for n in notes if n))
     finish_axes(ax)
     ml_per_min_axis(ax, qscale)
