@@ -407,13 +407,13 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
                      "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(validity))
     valid = valid & ~flag
     # the rig runs at one load (rig_prediction refuses several): a sweep's report shows no rig
-    rig_result = rig_prediction(case) if rig and case.rig is not None and case.band.loads.size == 1 else None
+    rig_result = rig_prediction(case) if rig and case.rig is not None and band.band.loads.size == 1 else None
     warnings = assumption_warnings(
         slope_rms=case.spectrum.slope_rms, h_rms=case.spectrum.h_rms, seal_width=float(band.contact_width.min()),
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, None, None,
-                      case.input_warnings + tuple(case.band.notes[1:]) + tuple(warnings), band)
+                      case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band)
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
@@ -791,16 +791,16 @@ def rig_prediction(case: Case) -> RigPrediction:
     if case.band is not None:
         if case.band.loads.size != 1:
             raise InputError(f"conditions.{case.band.load_name}", None, _one_load_needed(case))
-        ks, band = _band_conductance(case, None, tuple(models))
+        by_model, band = _band_conductance(case, None, tuple(models))
         for model in models:
-            k_of[_model_name(case, model)] = float(ks[model][0][0])
-            messages.extend(ks[model][1])
+            k_of[_model_name(case, model)] = float(by_model[model][0][0])
+            messages.extend(by_model[model][1])
         p0 = float(band.mean_contact_pressure[0])
     else:
         p0 = rig.squeeze_pressure(case.seal)
         for model in models:
-            k, notes = _conductance(case, [p0], model)
-            k_of[_model_name(case, model)] = float(k[0])
+            ks, notes = _conductance(case, [p0], model)
+            k_of[_model_name(case, model)] = float(ks[0])
             messages.extend(notes)
     columns, tau, t_final = {}, {}, {}
     area = rig.cylinder_area

@@ -86,7 +86,7 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
 def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
     """The ``sealeak fit --linearity --json`` document."""
     line, p0 = check.line, check.squeeze_pressure
-    doc = {"case": case.title, "data": data.path,
+    doc: dict[str, Any] = {"case": case.title, "data": data.path,
            "linearity": {"slope": json_value(line.slope), "slope_std": json_value(line.slope_std),
                          "intercept": json_value(line.intercept), "intercept_std": json_value(line.intercept_std),
                          "r_squared": json_value(line.r_squared), "points": line.n,
