@@ -23,17 +23,12 @@ __all__ = ["main", "build_parser"]
 def _cmd_predict(args: argparse.Namespace) -> int:
     from ..cases import run_case
     from ..io.files import check_outputs
-    from ..render import (
-        PREDICTION_FIGURE_NAMES,
-        prediction_csv,
-        prediction_figures,
-        prediction_json,
-        prediction_table,
-        render_figures,
-    )
+    from ..render import prediction_csv, prediction_figures, prediction_json, prediction_table, render_figures
+    from ..render.figures import prediction_figure_names
 
-    check_outputs(outputs(args, PREDICTION_FIGURE_NAMES, files=("table", "json", "csv")), args.force, inputs=inputs(args))
-    results = [run_case(c) for c in load_case_file(args).cases]
+    cases = load_case_file(args).cases  # read first: the figures of an O-ring or profile seal are other files
+    check_outputs(outputs(args, prediction_figure_names(cases), files=("table", "json", "csv")), args.force, inputs=inputs(args))
+    results = [run_case(c) for c in cases]
     # render everything first, then write: a failure while rendering leaves no file behind
     table = prediction_table(results)
     texts = {path: render(results) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv)) if path}

@@ -6,6 +6,9 @@ curves computed for them (:func:`~sealeak.cases.prediction_curves`) and returns 
 pyplot, so importing sealeak never selects or changes a matplotlib backend (a notebook keeps its
 own). :func:`prediction_figures` returns them all by file name; :func:`save_figures` renders them
 all, then writes them atomically.
+For O-ring and pressure-profile seals the figures against one squeeze pressure give way to the band
+figures of :mod:`sealeak.render.band` (p(x), u_c(x), Q against the load); C(q) stays. The style
+helpers every figure shares live in :mod:`sealeak.render.plotstyle` (re-exported here).
 Every axis is labelled with its unit. The reference paper's theory figures are: C(q) (its Fig. 4),
 Q against P0 on a linear and a log10 scale (Figs. 6, 7), the critical pore size against P0 (Fig. 8)
 and ζc against P0 (Fig. 9); Q against ΔP (Fig. 5) and A(ζ), ū(ζ), u1(ζ) complete the set.
@@ -37,6 +40,7 @@ from ..cases import Case, CaseResult, CurveSet, PredictionCurves, prediction_cur
 from ..io.files import atomic_write
 from ..io.units import length_unit
 from ..physics.validity import pressures_text
+from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
 from .plotstyle import (
     ML_PER_MIN_PER_M3_PER_S,
     Series,
@@ -60,7 +64,7 @@ from .plotstyle import (
 __all__ = ["prediction_figures", "save_figures", "render_figures", "pressure_axis", "PREDICTION_FIGURE_NAMES",
            "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "pressure_x",
-           "figure_png", "laid_out"]
+           "figure_png", "laid_out", "prediction_figure_names"]
 
 
 # ---------------------------------------------------------------------- the prediction figures
@@ -99,15 +103,24 @@ def pressure_x(ax: Axes, p0: np.ndarray) -> float:
 
 
 @laid_out
-def figure_spectrum(cases: Sequence[Case], curves: PredictionCurves) -> Figure:
-    """C(q) against q, log-log, with q0 and the spectrum's nodes."""
+def figure_spectrum(cases: Sequence[Case], spectra: Sequence[tuple[np.ndarray, np.ndarray]],
+                    q0: tuple[float, float, str] | None = None) -> Figure:
+    """C(q) against q, log-log, with q0 and the spectrum's nodes.
+
+    ``spectra``: (q, C) of each case (:attr:`~sealeak.cases.PredictionCurves.spectra`); ``q0``:
+    (lowest, highest, label) of the q0 a band seal's loads use (shaded when they differ), else the
+    first case's q0 = 2π/L.
+    """
     fig, ax = new_figure("Surface roughness power spectrum")
-    for i, (case, (q, c)) in enumerate(zip(cases, curves.spectra)):
+    for i, (case, (q, c)) in enumerate(zip(cases, spectra)):
         keep = np.isfinite(q) & np.isfinite(c) & (q > 0) & (c > 0)
         ax.loglog(q[keep], c[keep], color=color(i), label=_label(case, case.spectrum.label or "C(q)"))
     case = cases[0]
-    ax.axvline(case.q0, color="0.5", ls=":", lw=1)
-    ax.annotate("q0 = 2π/L", (case.q0, 0.03), xycoords=ax.get_xaxis_transform(), rotation=90, va="bottom", ha="right",
+    lo, hi, text = q0 if q0 is not None else (case.q0, case.q0, "q0 = 2π/L")
+    if hi > lo * (1 + 1e-9):
+        ax.axvspan(lo, hi, color="0.5", alpha=0.15, lw=0)
+    ax.axvline(lo, color="0.5", ls=":", lw=1)
+    ax.annotate(text, (lo, 0.03), xycoords=ax.get_xaxis_transform(), rotation=90, va="bottom", ha="right",
                 fontsize=8, color="0.4")
     ax.set_xlabel("wavevector q (1/m)")
     ax.set_ylabel("power spectrum C(q) (m⁴)")
@@ -118,6 +131,16 @@ def figure_spectrum(cases: Sequence[Case], curves: PredictionCurves) -> Figure:
     if len(cases) > 1 or case.spectrum.label:
         place_legend(ax)
     return fig
+
+
+def _band_q0(results: Sequence[CaseResult]) -> tuple[float, float, str]:
+    """(lowest, highest, label) of the q0 of every load of a band run (docs/theory.md §10.1)."""
+    bands = [r.band for r in results if r.band is not None]
+    q0 = np.concatenate([b.q0 for b in bands])
+    own = all(np.allclose(b.q0, 2.0 * np.pi / b.contact_width, rtol=1e-12) for b in bands)
+    many = q0.max() > q0.min() * (1 + 1e-9)
+    label = ("q0 = 2π/w of each load (shaded)" if many else "q0 = 2π/w") if own else "q0 (set in the case file)"
+    return float(q0.min()), float(q0.max()), label
 
 
 @laid_out
@@ -441,17 +464,23 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
 
 
 def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves | None = None) -> dict[str, Figure]:
-    """Every figure of a prediction, keyed by PNG file name.
+    """Every figure of a prediction, keyed by PNG file name (:func:`prediction_figure_names`).
 
     ``curves`` defaults to :func:`~sealeak.cases.prediction_curves` of ``results``. Effective-medium
     curves are drawn dashed next to the critical-junction ones (model "both"), or alone
-    (model "effective-medium").
+    (model "effective-medium"). For O-ring and pressure-profile seals (every result has a
+    ``band``) the figures against one squeeze pressure P0 make no sense: C(q) stays, with the
+    loads' q0, and the band figures of :mod:`sealeak.render.band` replace the rest (``curves`` is
+    not used).
     """
+    cases = [r.case for r in results]
+    if is_band_run(results):
+        spectra = [c.spectrum.sample(400) for c in cases]
+        return {"spectrum.png": figure_spectrum(cases, spectra, _band_q0(results))} | band_figures(results)
     if curves is None:
         curves = prediction_curves(list(results))
-    cases = [r.case for r in results]
     return {
-        "spectrum.png": figure_spectrum(cases, curves),
+        "spectrum.png": figure_spectrum(cases, curves.spectra),
         "contact_area.png": figure_contact_area(cases, curves),
         "separation.png": figure_separation(cases, curves),
         "gap_distribution.png": figure_gap_distribution(curves),
@@ -461,6 +490,13 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
         "critical_magnification.png": figure_critical_magnification(results),
         "leak_rate_vs_pressure_difference.png": figure_pressure_difference(curves),
     }
+
+
+def prediction_figure_names(cases: Sequence[Case]) -> tuple[str, ...]:
+    """The files :func:`prediction_figures` writes for these cases (known before they are run)."""
+    if cases and all(c.band is not None for c in cases):
+        return ("spectrum.png", *BAND_FIGURE_NAMES)
+    return PREDICTION_FIGURE_NAMES
 
 
 def figure_png(fig: Figure) -> bytes:
