@@ -9,6 +9,11 @@ tables with the same columns and digits as ``sealeak predict`` (:func:`~sealeak.
 validity verdicts included), every prediction figure in a two-column grid with a caption saying
 what it shows and, when the case has a [rig], the virtual rig (K, Q and τ at the initial height,
 the time to the final height).
+
+For an O-ring or pressure-profile seal (every result has a ``band``, docs/theory.md §10) the report
+adds a Seal section (geometry, the contact relations used, each load's force per length, contact
+width, q0 and contact regime), shows the band table of ``sealeak predict`` instead of the uniform
+one, and the band figures of :mod:`sealeak.render.band` with their own captions.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ from matplotlib.figure import Figure
 
 from .._version import __version__
 from ..cases import CaseResult
+from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, prediction_figures
 from .lab_figures import figure_rig
 from .text import fmt, prediction_columns, validity_notes
@@ -117,19 +123,68 @@ CAPTIONS = {
                                             "pressure per case: a straight line through the origin (the reference "
                                             "paper's Fig. 5).",
 }
+#: Captions of the figures of an O-ring or pressure-profile seal (docs/theory.md §10).
+BAND_CAPTIONS = {
+    "spectrum.png": "Surface roughness power spectrum C(q) against wavevector q (log-log), the input of the contact "
+                    "mechanics; the dotted line (and the shaded range, when the loads differ) marks the lowest "
+                    "wavevector q0 of the loads (2π/w with w the load's contact width, unless the case file sets q0).",
+    "pressure_profile.png": "Nominal contact pressure p(x) across the sealing band, one curve per load; below, for each "
+                            "load, the narrowest part of the band that holds 90 % of the flow resistance R = ∫dx/σ(p(x)): "
+                            "where the seal is decided.",
+    "local_critical_gap.png": "Local critical gap u_c(x) across the band (log scale): the critical-junction gap of a "
+                              "uniform seal at the local pressure p(x); the smallest u_c, where the pressure is highest, "
+                              "sets the leak rate. Dashed: the fluid's molecular size, below which no continuum flow is "
+                              "possible.",
+    "leak_rate.png": "Leak rate Q through the band against the load (log scale), in m³/s on the left and ml/min on the "
+                     "right: solid through the band (strips in series), dashed in the same colour a uniform seal at the "
+                     "mean contact pressure; × at the bottom: no leak channel, the band seals.",
+}
 _HOLLOW = (" Hollow markers are results outside the theory's validity (see the valid column); they do not set "
            "the axis limits.")
 _WITH_VERDICTS = {"leak_rate.png", "leak_rate_log.png", "critical_junction.png", "critical_magnification.png"}
 
 
-def _caption(name: str, any_invalid: bool) -> str:
-    return CAPTIONS.get(name, name) + (_HOLLOW if any_invalid and name in _WITH_VERDICTS else "")
+def _caption(name: str, any_invalid: bool, band: bool = False) -> str:
+    text = (BAND_CAPTIONS if band else CAPTIONS).get(name, name)
+    return text + (_HOLLOW if any_invalid and name in _WITH_VERDICTS else "")
 
 
 def _result_table(r: CaseResult, which: str) -> str:
     header, rows = prediction_columns(r, which)
     classes = ["invalid" if row[-1].strip().startswith("NO") or "/NO" in row[-1] else "" for row in rows]
     return _table(header, rows, left=0, row_classes=classes)
+
+
+def _band_section(results: Sequence[CaseResult]) -> list[str]:
+    """The seal of an O-ring or pressure-profile case: its geometry, the relations used and each load's contact."""
+    parts = ["<h2 id=\"seal\">Seal</h2>"]
+    for r in results:
+        if r.band is None:
+            continue
+        band = r.band.band
+        if r.case.label and len(results) > 1:
+            parts.append(f"<h3>{_e(r.case.label)}</h3>")
+        faces = ("one rough face" if band.faces == 1 else
+                 f"{band.faces} faces in parallel (the groove bottom counted as rough as the counterface)")
+        if band.kind == "o-ring":
+            parts.append(f"<p>O-ring, cross-section d = {(band.cross_section_diameter or 0) * 1e3:.4g} mm, seal line "
+                         f"diameter {(band.mean_diameter or 0) * 1e3:.4g} mm: seal line length Ly = {band.length * 1e3:.4g} mm; "
+                         f"{_e(faces)}.</p>")
+        else:
+            parts.append(f"<p>Pressure profile from <code>{_e(band.profile_source or '—')}</code>, seal line length "
+                         f"Ly = {band.length * 1e3:.4g} mm; {_e(faces)}.</p>")
+        for note in band.notes[:1]:
+            parts.append(f"<p class=\"note\">{_e(note)}</p>")
+        b = r.band
+        load_head = "compression ε (%)" if band.load_name == "compression" else "profile scale (1)"
+        loads = [fmt(100 * v if band.load_name == "compression" else v) for v in band.loads]
+        header = [load_head, "force per length f (N/m)", "contact width w (mm)", "q0 (1/m)"]
+        cols = [loads, [fmt(v) for v in b.force_per_length], [fmt(v * 1e3) for v in b.contact_width], [fmt(v) for v in b.q0]]
+        if band.oring is not None:
+            header.append("contact relation")
+            cols.append(list(band.oring.regime))
+        parts.append(_table(header, [list(row) for row in zip(*cols)], left=0))
+    return parts
 
 
 def _rig_section(result: CaseResult, number: int) -> list[str]:
@@ -168,7 +223,8 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     """
     cases = [r.case for r in results]
     first = cases[0]
-    any_em = any(r.effective_medium is not None for r in results)
+    band = is_band_run(results)
+    any_em = any(r.effective_medium is not None or (r.band is not None and r.band.effective_medium is not None) for r in results)
     parts: list[str] = ["<!DOCTYPE html>", "<html lang=\"en\">", "<head>", "<meta charset=\"utf-8\">",
                         "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">",
                         f"<title>{_e(first.title)} — sealeak report</title>", f"<style>{_CSS}</style>", "</head>",
@@ -186,8 +242,10 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     for c in cases:
         s = c.spectrum
         measured = "model (not a measurement)" if c.spectrum_is_model else f"measurement ({c.surface_model})"
+        q0 = fmt(c.q0) if c.band is None or c.band.q0.min() == c.band.q0.max() else (
+            f"{fmt(float(c.band.q0.min()))} … {fmt(float(c.band.q0.max()))}")
         rows.append((c.label or "—", c.spectrum_note, measured, fmt(s.h_rms * 1e6), fmt(s.slope_rms),
-                     fmt(s.curvature_rms), fmt(s.area_ratio), fmt(s.q_min), fmt(s.q_max), fmt(c.q0)))
+                     fmt(s.curvature_rms), fmt(s.area_ratio), fmt(s.q_min), fmt(s.q_max), q0))
     parts.append(_table(("variant", "spectrum", "kind", "h_rms (µm)", "slope_rms (1)", "curvature_rms (1/m)",
                          "A_true/A0 (1)", "q_min (1/m)", "q1 (1/m)", "q0 (1/m)"), rows, left=3))
 
@@ -205,9 +263,19 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     kinds = {("model" if "model" in r[2] else "measurement") for r in rows}
     parts.append(f"<li>The roughness spectrum is a {'model' if kinds == {'model'} else 'measurement'}: "
                  f"{_e(first.spectrum_note)}.</li>")
-    parts.append(f"<li>q0 = 2π/L = {first.q0:.4g} 1/m ({_e(first.q0_note)}); incompressible Newtonian fluid, "
-                 "laminar flow; P0 ≫ ΔP (the fluid pressure does not change the contact); rigid substrate "
-                 "unless [substrate] is given.</li>")
+    if band:
+        parts.append("<li>The contact pressure varies across the band: each strip dx at nominal pressure p(x) conducts like "
+                     "a uniform seal at that pressure (sheet conductance σ(p)), and the strips are in series, "
+                     "Q = Ly ΔP / ∫dx/σ(p(x)); a strip that does not percolate seals the whole band. This holds while "
+                     "the band is wide against the roughness' longest wavelengths.</li>")
+        parts.append(f"<li>{_e(first.q0_note)} (the seal table gives each load's q0); incompressible "
+                     "Newtonian fluid, laminar flow; p ≫ ΔP where the contact pressure is highest (the fluid pressure does not "
+                     "change the contact); the validity verdict judges the band where the pressure is highest; rigid substrate "
+                     "unless [substrate] is given.</li>")
+    else:
+        parts.append(f"<li>q0 = 2π/L = {first.q0:.4g} 1/m ({_e(first.q0_note)}); incompressible Newtonian fluid, "
+                     "laminar flow; P0 ≫ ΔP (the fluid pressure does not change the contact); rigid substrate "
+                     "unless [substrate] is given.</li>")
     fluid = first.fluid
     parts.append(f"<li>Continuum flow: a result is valid only where the flow channel is wider than the fluid's molecular "
                  f"size d = {fluid.molecular_length * 1e9:.3g} nm ({_e(fluid.molecular_length_note)}) and thin against "
@@ -215,6 +283,9 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     if any_em:
         parts.append("<li>Plain 2D Bruggeman stops percolating at A/A0 = 0.5; numerically exact studies find ≈ 0.42.</li>")
     parts.append("</ul>")
+
+    if band:
+        parts += _band_section(results)
 
     warned = [(r.case.label, w) for r in results for w in r.warnings]
     if warned:
@@ -224,10 +295,25 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
             parts.append(f"<p class=\"warning\">{_e(label + ': ' if label else '')}{_e(w)}</p>")
 
     parts.append("<h2 id=\"results\">Results</h2>")
-    parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
-                 "Q_EM: Q effective medium; valid: yes, NO (outside the theory's validity: the row's numbers are the "
-                 "formula's, not a prediction; highlighted) or — (no leak channel).</p>")
+    if band:
+        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. w: contact "
+                     "width; p_mean, p_max: mean and peak contact pressure; Q_CJ: Q critical junction; Q_EM: Q effective "
+                     "medium; Q(p_mean): a uniform seal at the mean pressure, for comparison; 90% of R: the width of the "
+                     "band holding 90 % of the flow resistance; valid: yes, NO (outside the theory's validity where the "
+                     "pressure is highest: the row's numbers are the formula's, not a prediction; highlighted) or — (no "
+                     "leak channel: the band seals).</p>")
+    else:
+        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
+                     "Q_EM: Q effective medium; valid: yes, NO (outside the theory's validity: the row's numbers are the "
+                     "formula's, not a prediction; highlighted) or — (no leak channel).</p>")
     for r in results:
+        if r.band is not None:
+            if r.case.label:
+                parts.append(f"<h3>{_e(r.case.label)}</h3>")
+            parts.append(_result_table(r, "critical-junction"))  # the band table (prediction_columns)
+            parts += [f"<p class=\"note\">{_e(m)}</p>" for m in r.messages]
+            parts += [f"<p class=\"warning\">{_e(m)}</p>" for m in validity_notes(r)]
+            continue
         case, res, em = r.case, r.critical_junction, r.effective_medium
         if case.label:
             parts.append(f"<h3>{_e(case.label)}</h3>")
@@ -249,7 +335,7 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     parts.append("<div class=\"figures\">")
     figures = prediction_figures(results)
     for number, (name, fig) in enumerate(figures.items(), start=1):
-        parts.append(_figure(name, number, fig, _caption(name, any_invalid)))
+        parts.append(_figure(name, number, fig, _caption(name, any_invalid, band)))
     parts.append("</div>")
 
     if len(cases) == 1:
