@@ -109,7 +109,7 @@ def load_label(load_name: str, value: float) -> str:
 
 
 def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
-    """One line on what presses the seal in the rig: the load and P0, or a band seal's compression and contact.
+    """What presses the seal in the rig: the load (N) and P0, or a band seal's compression (or scale) and contact.
 
     ``short``: the figure's version (load, or the band's load and peak pressure).
     """
@@ -119,7 +119,7 @@ def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
     if b is None:
         if short:
             return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
-        return (f"load {rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
+        return (f"{rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
                 f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
     seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
     if short:
