@@ -111,14 +111,18 @@ def test_pressure_profile_draws_each_load_and_where_its_resistance_sits(name, ru
     # the bars: per load the intervals of the highest pressures, as wide as the band that holds 90 % of R
     labels = [t.get_text() for t in bars.get_yticklabels()]
     assert labels == load_labels(b.band)
-    rows = {int(round(c.get_paths()[0].vertices[:, 1].mean())): c for c in bars.collections}
+    rows: dict[int, list] = {}
+    for line in _lines(bars):
+        x, y = _xy(line)
+        assert y[0] == y[1]
+        rows.setdefault(int(y[0]), []).append((x.min() * sx, x.max() * sx))
     widths = b.critical_junction.resistance_band_width
     for i, profile in enumerate(b.band.profiles):
         if not b.critical_junction.percolates[i]:
             assert i not in rows
             assert any("no leak channel" in t.get_text() and round(t.get_position()[1]) == i for t in bars.texts)
             continue
-        spans = [(p.vertices[:, 0].min() * sx, p.vertices[:, 0].max() * sx) for p in rows[i].get_paths()]
+        spans = rows[i]
         assert sum(hi - lo for lo, hi in spans) == pytest.approx(widths[i], rel=1e-6)
         centre = profile.width / 2 if b.band.kind == "o-ring" else 0.0
         x = np.linspace(0, profile.width, 4001)
@@ -272,3 +276,32 @@ def test_an_existing_band_figure_is_not_replaced(existing, cases_dir, tmp_path, 
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and existing in err and "Traceback" not in err
     assert (out / existing).read_bytes() == b"mine" and {p.name for p in out.iterdir()} == {existing}
+
+
+@pytest.mark.parametrize("edits", [
+    {"profile_scale = [0.5, 2.0]": "profile_scale = [3.0, 4.0]"},
+    {"profile_scale = [0.5, 2.0]": "profile_scale = [0.5]", 'model = "both"': 'model = "effective-medium"'},
+], ids=["every load sealed", "the effective medium alone"])
+def test_degenerate_band_runs_draw_and_say_why(edits, cases_dir, tmp_path):
+    text = _lip_text()
+    for old, new in edits.items():
+        assert old in text
+        text = text.replace(old, new)
+    path = cases_dir / f"lip-{len(edits)}.toml"
+    path.write_text(text)
+    results = [run_case(c) for c in read_case_file(path).cases]
+    figures = _build(lambda: prediction_figures(results))
+    bad = {n: p for n, fig in figures.items() if (p := figure_problems(fig))}
+    assert not bad, bad
+    b = results[0].band
+    ax = figures["leak_rate.png"].axes[0]
+    labels = [t.get_text() for leg in [*figures["leak_rate.png"].legends, ax.get_legend()] if leg for t in leg.get_texts()]
+    if not b.critical_junction.percolates.any():
+        gap_ax = figures["local_critical_gap.png"].axes[0]
+        assert any("no leak channel at any load" in t.get_text() for t in gap_ax.texts)
+        crosses = [ln for ln in ax.get_lines() if ln.get_marker() == "x"]
+        assert sum(len(ln.get_xdata()) for ln in crosses) == 2 * len(b)  # both theories, every load
+        assert "critical junction" in labels and "effective medium" in labels  # the colours are named
+    else:
+        assert "effective medium" in labels and "critical junction" not in labels
+        assert "(effective medium)" in figures["pressure_profile.png"].axes[1].get_title(loc="left")

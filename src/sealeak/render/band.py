@@ -347,9 +347,8 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
     ax.label_outer()
 
     for k, row in enumerate(rows):
-        if row.spans:
-            bars.broken_barh([((lo - row.centre) / sx, (hi - lo) / sx) for lo, hi in row.spans], (k - 0.34, 0.68),
-                             facecolors=row.color)
+        for lo, hi in row.spans:  # a thick line per interval: its ends are exact in x
+            bars.plot([(lo - row.centre) / sx, (hi - row.centre) / sx], [k, k], color=row.color, lw=6, solid_capstyle="butt")
     lo_x, hi_x = ax.get_xlim()
     for k, row in enumerate(rows):
         if not row.spans:
@@ -405,7 +404,10 @@ def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
     ax.set_xlabel(_x_label(results, xunit))
     if not curves:
         ax.set_ylabel("local critical gap u_c (nm)")
-        say_nothing(ax, "no leak channel at any load:\nthe non-contact area does not percolate where the pressure is highest")
+        widest = max(float(np.max(_band(r).contact_width)) for r in results) / sx
+        ax.set_xlim(*((-widest / 2, widest / 2) if _band(results[0]).band.kind == "o-ring" else (0.0, widest)))
+        say_nothing(ax, "no leak channel at any load (" + "; ".join(sealed_text) + "):\nthe non-contact area does not "
+                        "percolate where the pressure is highest")
         finish_axes(ax)
         return fig
     every = np.concatenate([u for *_, u in curves])
@@ -520,6 +522,10 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
         return fig
     draw_series(ax, series, logy=True)
     handles, labels = ax.get_legend_handles_labels()
+    for s, _ in solid:  # a theory without a drawn point still names its colour (its × and dashed curve)
+        if s.label and s.label not in labels:
+            handles.insert(len(labels), Line2D([], [], color=s.color, marker="o", ms=3))
+            labels.append(s.label)
     if any(mask.any() for _, mask in solid):
         at = _bottom_band(ax)
         sealed = [(s, mask) for s, mask in solid if mask.any()]
