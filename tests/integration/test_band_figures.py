@@ -305,3 +305,13 @@ def test_degenerate_band_runs_draw_and_say_why(edits, cases_dir, tmp_path):
     else:
         assert "effective medium" in labels and "critical junction" not in labels
         assert "(effective medium)" in figures["pressure_profile.png"].axes[1].get_title(loc="left")
+
+
+def test_report_of_a_study_describes_a_shared_seal_once(runs):
+    results, _, case_file = runs["o-ring"]
+    text = html_report(results, case_file.inputs)
+    relation = html.escape(results[0].band.band.notes[0])
+    assert text.count(relation) == 1  # water and oil share the O-ring
+    for r in results:  # each variant's band table
+        assert f"<h3>{html.escape(r.case.label)}</h3>" in text
+    assert text.count("force per length f (N/m)") == 1

@@ -12,7 +12,7 @@ the time to the final height).
 
 For an O-ring or pressure-profile seal (every result has a ``band``, docs/theory.md §10) the report
 adds a Seal section (geometry, the contact relations used, each load's force per length, contact
-width, q0 and contact regime), shows the band table of ``sealeak predict`` instead of the uniform
+width and q0), shows the band table of ``sealeak predict`` instead of the uniform
 one, and the band figures of :mod:`sealeak.render.band` with their own captions.
 """
 
@@ -156,34 +156,36 @@ def _result_table(r: CaseResult, which: str) -> str:
 
 
 def _band_section(results: Sequence[CaseResult]) -> list[str]:
-    """The seal of an O-ring or pressure-profile case: its geometry, the relations used and each load's contact."""
-    parts = ["<h2 id=\"seal\">Seal</h2>"]
+    """The seal of an O-ring or pressure-profile case: its geometry, the relations used and each load's contact.
+
+    Variants of a study with the same seal (e.g. a study of fluids) share one description.
+    """
+    described: dict[str, list[str]] = {}
     for r in results:
         if r.band is None:
             continue
-        band = r.band.band
-        if r.case.label and len(results) > 1:
-            parts.append(f"<h3>{_e(r.case.label)}</h3>")
+        band, b = r.band.band, r.band
         faces = ("one rough face" if band.faces == 1 else
                  f"{band.faces} faces in parallel (the groove bottom counted as rough as the counterface)")
         if band.kind == "o-ring":
-            parts.append(f"<p>O-ring, cross-section d = {(band.cross_section_diameter or 0) * 1e3:.4g} mm, seal line "
-                         f"diameter {(band.mean_diameter or 0) * 1e3:.4g} mm: seal line length Ly = {band.length * 1e3:.4g} mm; "
-                         f"{_e(faces)}.</p>")
+            part = [f"<p>O-ring, cross-section d = {(band.cross_section_diameter or 0) * 1e3:.4g} mm, seal line "
+                    f"diameter {(band.mean_diameter or 0) * 1e3:.4g} mm: seal line length Ly = {band.length * 1e3:.4g} mm; "
+                    f"{_e(faces)}.</p>"]
         else:
-            parts.append(f"<p>Pressure profile from <code>{_e(band.profile_source or '—')}</code>, seal line length "
-                         f"Ly = {band.length * 1e3:.4g} mm; {_e(faces)}.</p>")
-        for note in band.notes[:1]:
-            parts.append(f"<p class=\"note\">{_e(note)}</p>")
-        b = r.band
+            part = [f"<p>Pressure profile from <code>{_e(band.profile_source or '—')}</code>, seal line length "
+                    f"Ly = {band.length * 1e3:.4g} mm; {_e(faces)}.</p>"]
+        part += [f"<p class=\"note\">{_e(note)}</p>" for note in band.notes[:1]]
         load_head = "compression ε (%)" if band.load_name == "compression" else "profile scale (1)"
         loads = [fmt(100 * v if band.load_name == "compression" else v) for v in band.loads]
-        header = [load_head, "force per length f (N/m)", "contact width w (mm)", "q0 (1/m)"]
         cols = [loads, [fmt(v) for v in b.force_per_length], [fmt(v * 1e3) for v in b.contact_width], [fmt(v) for v in b.q0]]
-        if band.oring is not None:
-            header.append("contact relation")
-            cols.append(list(band.oring.regime))
-        parts.append(_table(header, [list(row) for row in zip(*cols)], left=0))
+        part.append(_table([load_head, "force per length f (N/m)", "contact width w (mm)", "q0 (1/m)"],
+                           [list(row) for row in zip(*cols)], left=0))
+        described.setdefault("\n".join(part), []).append(r.case.label)
+    parts = ["<h2 id=\"seal\">Seal</h2>"]
+    for text, labels in described.items():
+        if len(described) > 1 and any(labels):
+            parts.append(f"<h3>{_e(', '.join(label for label in labels if label))}</h3>")
+        parts.append(text)
     return parts
 
 
