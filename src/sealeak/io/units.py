@@ -526,7 +526,7 @@ def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
 # Temperatures (offset units: °C, °F) and the leak-rate units of gas leak tests: pV throughput
 # (Pa·m³/s, mbar·l/s, Torr·l/s, atm·cc/s), standard volume flow (sccm, slm), molar flow (mol/s) and
 # mass flow (kg/s, g/a). Converting between them needs the gas's molar mass and temperature
-# (docs/theory.md §Leak-rate units).
+# (docs/theory.md §11.6).
 __all__ += ["STANDARD_TEMPERATURE", "STANDARD_PRESSURE", "LEAK_RATE_KINDS", "parse_temperature", "leak_rate_unit",
             "molar_flow_factor", "convert_leak_rate", "parse_leak_rate"]
 
@@ -624,7 +624,7 @@ def molar_flow_factor(field: str, unit: str, *, temperature: float, molar_mass: 
     pV throughput: ṅ = Q_pV/(R T) (the pV counted at the gas temperature T); standard volume flow:
     ṅ = P0 V̇0/(R T0) with T0 = 273.15 K, P0 = 101325 Pa; mass flow: ṅ = ṁ/M; a plain volume flow
     needs the absolute ``pressure`` p (Pa) it is counted at: ṅ = p V̇/(R T). Ideal gas throughout
-    (docs/theory.md §Leak-rate units).
+    (docs/theory.md §11.6).
     """
     kind, factor = leak_rate_unit(field, unit)
     if not (math.isfinite(temperature) and temperature > 0):

@@ -1,4 +1,4 @@
-"""Virtual pressure-decay test: a gas-filled test volume leaking through the seal (docs/theory.md §Pressure-decay test).
+"""Virtual pressure-decay test: a gas-filled test volume leaking through the seal (docs/theory.md §11.7).
 
 A test volume V (m³) holds a gas at absolute pressure P(t) (Pa), initially P1, at the constant
 temperature T of the test; outside the seal the absolute pressure is P2 < P1. The seal passes the
@@ -58,7 +58,7 @@ def _positive(name: str, value: float, allow_zero: bool = False) -> float:
 
 @dataclass(frozen=True)
 class PressureDecaySetup:
-    """A pressure-decay test (SI units; docs/theory.md §Pressure-decay test).
+    """A pressure-decay test (SI units; docs/theory.md §11.7).
 
     Attributes
     ----------
@@ -108,7 +108,7 @@ class PressureDecaySetup:
 
 def viscous_throughput_function(conductance: float) -> Throughput:
     """Q_pV(P_in, P_out) = (K/2)(P_in² − P_out²) in Pa·m³/s for a no-slip conductance K (m³/(Pa·s))
-    (docs/theory.md §Compressible isothermal viscous flow)."""
+    (docs/theory.md §11.3)."""
     k = _positive("conductance", conductance, allow_zero=True)
 
     def throughput(p_in: float, p_out: float) -> float:
@@ -118,7 +118,7 @@ def viscous_throughput_function(conductance: float) -> Throughput:
 
 
 def viscous_decay(setup: PressureDecaySetup, conductance: float, time: ArrayLike) -> FloatArray:
-    """P(t) (Pa) of V dP/dt = −(K/2)(P² − P2²) in closed form (module docstring; docs/theory.md §Pressure-decay test).
+    """P(t) (Pa) of V dP/dt = −(K/2)(P² − P2²) in closed form (module docstring; docs/theory.md §11.7).
 
     K in m³/(Pa·s), t in s. Derivation: F(P) = artanh(P2/P)/P2 has dF/dP = −1/(P² − P2²), so dF/dt = K/(2V):
     artanh(P2/P) = artanh(P2/P1) + K P2 t/(2V); for P2 = 0, 1/P = 1/P1 + K t/(2V).
@@ -135,7 +135,7 @@ def viscous_decay(setup: PressureDecaySetup, conductance: float, time: ArrayLike
 def viscous_decay_time(setup: PressureDecaySetup, conductance: float, pressure_loss: float | None = None) -> float:
     """Time (s) for P to fall from P1 to P1 − ΔP with Q_pV = (K/2)(P² − P2²) (inf for K = 0).
 
-    t = 2V (F(P1 − ΔP) − F(P1))/K with F(P) = artanh(P2/P)/P2 (1/P for P2 = 0); docs/theory.md §Pressure-decay test.
+    t = 2V (F(P1 − ΔP) − F(P1))/K with F(P) = artanh(P2/P)/P2 (1/P for P2 = 0); docs/theory.md §11.7.
     """
     k = _positive("conductance", conductance, allow_zero=True)
     dp = setup.loss if pressure_loss is None else _positive("pressure_loss", pressure_loss)
@@ -160,7 +160,7 @@ def exponential_decay(setup: PressureDecaySetup, conductance: float, time: Array
     """P(t) = P2 + (P1 − P2) exp(−t/τ), τ = V/(K P̄), P̄ = (P1 + P2)/2 (Pa; K in m³/(Pa·s), t in s).
 
     The exact solution for a throughput linear in the pressure difference, Q_pV = K P̄ (P − P2); the
-    small-ΔP limit of the viscous decay (docs/theory.md §Pressure-decay test)."""
+    small-ΔP limit of the viscous decay (docs/theory.md §11.7)."""
     k = _positive("conductance", conductance, allow_zero=True)
     p1, p2 = setup.initial_pressure, setup.outside_pressure
     rate = k * 0.5 * (p1 + p2) / setup.volume
@@ -174,7 +174,7 @@ def standard_leak_rate(volume: float, pressure_loss: float, duration: float) -> 
 
 @dataclass(frozen=True)
 class PressureDecay:
-    """Solution of V dP/dt = −Q_pV(P, P2) (docs/theory.md §Pressure-decay test).
+    """Solution of V dP/dt = −Q_pV(P, P2) (docs/theory.md §11.7).
 
     Attributes
     ----------
@@ -211,7 +211,7 @@ def pressure_decay(setup: PressureDecaySetup, throughput: Throughput, *, t_end: 
 
     The time at which P = P1 − ΔP (``setup.loss``) is located by an event. ``t_end`` (s) defaults
     to the last of ``t_eval``, else ``setup.duration``, else 1.5× the time to lose ΔP at the initial
-    leak rate, V ΔP/Q_pV(P1, P2) (3600 s when that is 0). docs/theory.md §Pressure-decay test.
+    leak rate, V ΔP/Q_pV(P1, P2) (3600 s when that is 0). docs/theory.md §11.7.
     """
     p1, p2, v = setup.initial_pressure, setup.outside_pressure, setup.volume
     dp = setup.loss
@@ -284,7 +284,7 @@ def _line(x: FloatArray, y: FloatArray) -> tuple[float, float, FloatArray]:
 
 @dataclass(frozen=True)
 class DecayReadings:
-    """Leak rate from (time, pressure) readings of a pressure-decay test (docs/theory.md §Pressure-decay test).
+    """Leak rate from (time, pressure) readings of a pressure-decay test (docs/theory.md §11.7).
 
     Attributes
     ----------
@@ -332,7 +332,7 @@ def leak_rate_from_decay(setup: PressureDecaySetup, time: ArrayLike, pressure: A
 
 @dataclass(frozen=True)
 class ScaleFromDecay:
-    """The scale factor α implied by decay readings for a model Q_pV = α Q_1(P, P2) (docs/theory.md §Pressure-decay test).
+    """The scale factor α implied by decay readings for a model Q_pV = α Q_1(P, P2) (docs/theory.md §11.7).
 
     Attributes
     ----------

@@ -1,7 +1,7 @@
 """Gas flow through the constrictions of a seal: compressible, isothermal, viscous, with rarefaction.
 
 Plain SI floats; no property library here (named fluids: :mod:`sealeak.physics.properties`).
-docs/theory.md §Gases and leak tests:
+docs/theory.md §11:
 
 * ideal gas at the temperature T of the seal: ρ = p/(R_s T), R_s = R/M;
 * mean free path λ = (μ/p) √(π R_s T/2) and Knudsen number Kn = λ/h at a gap h (§Mean free path and Knudsen number);
@@ -66,7 +66,7 @@ def _finite(name: str, value: float, *, positive: bool = True, allow_zero: bool 
 class Gas:
     """An ideal gas at temperature ``temperature`` (K) with ``viscosity`` μ (Pa·s) and ``molar_mass`` M (kg/mol).
 
-    The viscosity of a dilute gas does not depend on the pressure (Maxwell; docs/theory.md §Gas and liquid properties):
+    The viscosity of a dilute gas does not depend on the pressure (Maxwell; docs/theory.md §11.1):
     one μ at the seal's temperature serves the whole pressure drop. ``name`` is for messages.
     """
 
@@ -91,12 +91,12 @@ class Gas:
 
     @property
     def mean_thermal_speed(self) -> float:
-        """v̄ = √(8 R_s T/π) in m/s: the mean molecular speed of a Maxwell distribution (docs/theory.md §Mean free path and Knudsen number)."""
+        """v̄ = √(8 R_s T/π) in m/s: the mean molecular speed of a Maxwell distribution (docs/theory.md §11.2)."""
         return math.sqrt(8.0 * self.specific_gas_constant * self.temperature / math.pi)
 
     @property
     def rarefaction_pressure_scale(self) -> float:
-        """μ √(π R_s T/2) in Pa·m: λ p, the same at every pressure; Kn = (this)/(p h) (docs/theory.md §Mean free path and Knudsen number)."""
+        """μ √(π R_s T/2) in Pa·m: λ p, the same at every pressure; Kn = (this)/(p h) (docs/theory.md §11.2)."""
         return self.viscosity * math.sqrt(0.5 * math.pi * self.specific_gas_constant * self.temperature)
 
     def density(self, pressure: ArrayLike) -> FloatArray:
@@ -104,13 +104,13 @@ class Gas:
         return np.asarray(pressure, dtype=float) / (self.specific_gas_constant * self.temperature)
 
     def mean_free_path(self, pressure: ArrayLike) -> FloatArray:
-        """λ = (μ/p) √(π R_s T/2) in m at absolute pressure ``pressure`` (Pa; inf at p = 0; docs/theory.md §Mean free path and Knudsen number)."""
+        """λ = (μ/p) √(π R_s T/2) in m at absolute pressure ``pressure`` (Pa; inf at p = 0; docs/theory.md §11.2)."""
         p = np.asarray(pressure, dtype=float)
         with np.errstate(divide="ignore"):
             return self.rarefaction_pressure_scale / p
 
     def knudsen_number(self, gap: ArrayLike, pressure: ArrayLike) -> FloatArray:
-        """Kn = λ(p)/h for a gap h (m) at absolute pressure p (Pa) (docs/theory.md §Mean free path and Knudsen number)."""
+        """Kn = λ(p)/h for a gap h (m) at absolute pressure p (Pa) (docs/theory.md §11.2)."""
         h = np.asarray(gap, dtype=float)
         with np.errstate(divide="ignore", invalid="ignore"):
             return self.mean_free_path(pressure) / h
@@ -136,14 +136,14 @@ def check_pressures(upstream: float, downstream: float) -> tuple[float, float]:
 
 
 def flow_regime(knudsen: float) -> str:
-    """"continuum" (Kn < 0.001), "slip" (< 0.1), "transition" (< 10) or "free molecular" (docs/theory.md §Mean free path and Knudsen number)."""
+    """"continuum" (Kn < 0.001), "slip" (< 0.1), "transition" (< 10) or "free molecular" (docs/theory.md §11.2)."""
     if not knudsen >= 0:
         raise InputError("knudsen", knudsen, "must be >= 0")
     return next((name for limit, name in _REGIMES if knudsen < limit), _REGIMES[-1][1])
 
 
 def slip_factor(knudsen: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
-    """f(Kn): the slit's flow divided by the no-slip Poiseuille flow h³/(12μ) (docs/theory.md §Rarefaction: the slit conductance).
+    """f(Kn): the slit's flow divided by the no-slip Poiseuille flow h³/(12μ) (docs/theory.md §11.4: the slit conductance).
 
     Beskok & Karniadakis (1999), channel with diffuse walls:
     f = (1 + α(Kn) Kn) (1 + 6 Kn/(1 + Kn)), α(Kn) = α0 (2/π) arctan(α1 Kn^β),
@@ -164,7 +164,7 @@ def slip_factor(knudsen: ArrayLike, model: str = "beskok-karniadakis") -> FloatA
 
 
 def free_molecular_coefficient(gap: ArrayLike, gas: Gas) -> FloatArray:
-    """G_fm = (7 α0/12) h² √(π R_s T/2) in m³/s: the limit Kn → ∞ of h³/(12μ) · f(Kn) · p (docs/theory.md §Rarefaction: the slit conductance).
+    """G_fm = (7 α0/12) h² √(π R_s T/2) in m³/s: the limit Kn → ∞ of h³/(12μ) · f(Kn) · p (docs/theory.md §11.4: the slit conductance).
 
     Per unit width of a slit of height h (m), the free-molecular pV throughput is q = −G_fm dp/dx;
     it depends on neither the pressure nor the viscosity. G_fm = (7 α0 π/48) h² v̄ ≈ 0.622 h² v̄.
@@ -175,7 +175,7 @@ def free_molecular_coefficient(gap: ArrayLike, gas: Gas) -> FloatArray:
 
 def sheet_conductance(gap: ArrayLike, gas: Gas, pressure: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
     """σ(h, p) = h³/(12 μ) f(λ(p)/h) in m³/(Pa·s): the local sheet conductance of a slit of height h (m)
-    for a gas at absolute pressure p (Pa) (docs/theory.md §Rarefaction: the slit conductance). At Kn → 0 this is the liquid's h³/(12μ)."""
+    for a gas at absolute pressure p (Pa) (docs/theory.md §11.4: the slit conductance). At Kn → 0 this is the liquid's h³/(12μ)."""
     h = np.asarray(gap, dtype=float)
     return h**3 / (12.0 * gas.viscosity) * slip_factor(gas.knudsen_number(h, pressure), model)
 
@@ -192,7 +192,7 @@ def _integrand(p: float, c: float) -> float:
 
 
 def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, model: str = "beskok-karniadakis") -> float:
-    """I = ∫_{P_b}^{P_a} p f(Kn(p)) dp in Pa² with Kn(p) = λ(p)/h (docs/theory.md §Integration along the pressure drop).
+    """I = ∫_{P_b}^{P_a} p f(Kn(p)) dp in Pa² with Kn(p) = λ(p)/h (docs/theory.md §11.5).
 
     The pV throughput of a channel of no-slip conductance K (m³/(Pa·s)) whose narrowest gap is
     ``gap`` h (m) is Q_pV = K I. Without rarefaction (``model="no-slip"``, or Kn → 0)
@@ -214,19 +214,19 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
 
 def viscous_throughput(conductance: ArrayLike, upstream: float, downstream: float) -> FloatArray:
     """Q_pV = K (P_a² − P_b²)/2 in Pa·m³/s: isothermal no-slip gas flow through a channel of conductance
-    K (m³/(Pa·s)) between absolute pressures P_a ≥ P_b (Pa) (docs/theory.md §Compressible isothermal viscous flow)."""
+    K (m³/(Pa·s)) between absolute pressures P_a ≥ P_b (Pa) (docs/theory.md §11.3)."""
     pa, pb = check_pressures(upstream, downstream)
     return np.asarray(conductance, dtype=float) * 0.5 * (pa - pb) * (pa + pb)
 
 
 def viscous_mass_flow(conductance: ArrayLike, upstream: float, downstream: float, gas: Gas) -> FloatArray:
-    """ṁ = K (P_a² − P_b²)/(2 R_s T) in kg/s (docs/theory.md §Compressible isothermal viscous flow)."""
+    """ṁ = K (P_a² − P_b²)/(2 R_s T) in kg/s (docs/theory.md §11.3)."""
     return viscous_throughput(conductance, upstream, downstream) / (gas.specific_gas_constant * gas.temperature)
 
 
 @dataclass(frozen=True)
 class GasLeak:
-    """A gas leak through a channel of no-slip conductance K whose narrowest gap is h (docs/theory.md §Integration along the pressure drop).
+    """A gas leak through a channel of no-slip conductance K whose narrowest gap is h (docs/theory.md §11.5).
 
     Attributes
     ----------
@@ -259,7 +259,7 @@ def gas_leak(conductance: float, gap: float, gas: Gas, upstream: float, downstre
              model: str = "beskok-karniadakis") -> GasLeak:
     """The leak of ``gas`` through a channel of no-slip conductance ``conductance`` K (m³/(Pa·s), e.g.
     α (Ly/Lx) u_c³/(12μ) for the critical junction) whose narrowest gap is ``gap`` h (m), between the
-    absolute pressures ``upstream`` P_a and ``downstream`` P_b (Pa) (docs/theory.md §Integration along the pressure drop)."""
+    absolute pressures ``upstream`` P_a and ``downstream`` P_b (Pa) (docs/theory.md §11.5)."""
     pa, pb = check_pressures(upstream, downstream)
     k = _finite("conductance", conductance, allow_zero=True)
     h = _finite("gap", gap)

@@ -4,7 +4,7 @@ CoolProp (Bell, Wronski, Quoilin & Lemort, Ind. Eng. Chem. Res. 53, 2498 (2014);
 evaluates each fluid's reference equation of state and viscosity correlation, e.g. Lemmon &
 Jacobsen (2004) for air, nitrogen and argon, Arp, McCarty & Friend (1998) for helium, Huber et al.
 (2009, IAPWS 2008) for water. Which correlation serves a fluid is in :attr:`FluidState.source`;
-the choice of library and the accuracies are in docs/theory.md §Gas and liquid properties.
+the choice of library and the accuracies are in docs/theory.md §11.1.
 
 Only the fluids of :data:`KNOWN_FLUIDS` are offered (by name or alias, case and ``-``/``_``/space
 insensitive): an unknown name is refused with the list. Oils are in no property library: their
@@ -162,7 +162,7 @@ def fluid_state(fluid: str, temperature: float, pressure: float = 101325.0) -> F
     Raises :class:`InputError` naming ``fluid`` (unknown name, an oil), ``temperature`` (not a
     finite absolute temperature, or outside the range of the fluid's correlations, which is given)
     or ``pressure`` (not > 0, or out of range). A state on the saturation line is refused: give a
-    pressure a little above or below the vapour pressure. docs/theory.md §Gas and liquid properties.
+    pressure a little above or below the vapour pressure. docs/theory.md §11.1.
     """
     name = canonical_fluid_name(fluid)
     cp_name = KNOWN_FLUIDS[name][0]
@@ -203,7 +203,7 @@ def fluid_state(fluid: str, temperature: float, pressure: float = 101325.0) -> F
 
 
 def vapour_pressure_note(state: FluidState, upstream: float, downstream: float) -> str | None:
-    """A warning when a liquid would boil in the leak path, else None (docs/theory.md §Vapour pressure of liquids).
+    """A warning when a liquid would boil in the leak path, else None (docs/theory.md §11.8).
 
     A liquid (``state.phase == "liquid"``) whose lower absolute pressure (Pa) lies below its vapour
     pressure at T may flash to vapour inside the seal: the liquid leak rate then does not hold.
