@@ -28,8 +28,13 @@ How the ζ-integrals are computed (docs/theory.md §2.9; exact to ~1e-9 relative
   roll-off q_r, become panel edges so each panel is smooth), at fixed values of y between 5 and
   0.75 (exp(-y²) is double-exponential in s, so its flank needs narrower panels) and into panels no wider than
   ``panel_width`` in s (default 2); each panel uses ``order``-point Gauss–Legendre (default 6:
-  ~1e-9 relative against a much finer rule, see tests/unit/test_contact.py). Everything is one NumPy
-  expression over (evaluation points × panels × nodes): no Python loop over pressures or ζ.
+  ~1e-9 relative against a much finer rule, see tests/unit/test_contact.py). All panels of all evaluation
+  points (pressures × ζ) are listed flat and evaluated in cache-sized blocks: no Python loop over pressures or ζ.
+* The cost is the integrand (docs/theory.md §2.9): each panel lies within one segment of the power law, so q(t)
+  takes that segment's constants once per panel; ln y² = ln κ² - s needs no logarithm; F(y) = E1(y²)/2 comes
+  from a table of eˣE1(x) (:func:`sealeak.physics._kernels.exp1`, 5e-15 relative) and shares e^(-y²) with
+  F'(y). The result equals the point-by-point evaluation with scipy.special.exp1 to ~1e-15
+  (tests/unit/test_emperf.py).
 * ū'(ζ) is the analytic ζ-derivative under the integral (the boundary term at q = ζq0 vanishes):
   ū' = ∫ ds [ D (F(y) + y F'(y)) / (2 q √t) + p'(ζ) F'(y) / (√π E* q) ],  D = q0 (ζq0)³ C(ζq0).
 """
@@ -54,15 +59,15 @@ FloatArray = NDArray[np.float64]
 
 _TAIL = 40.0  # the s-range starts where y² = y_T² + _TAIL
 _Y_EDGES = np.array([5.0, 4.0, 3.2, 2.6, 2.1, 1.7, 1.35, 1.05, 0.75])  # panel edges at these y
+_BLOCK = 2048  # panels evaluated together: order × _BLOCK points per array, below 128 kB (cache, and no fresh pages per array)
 
 
 @lru_cache(maxsize=8)
-def _gauss_tables(order: int) -> tuple[FloatArray, FloatArray]:
-    """Gauss–Legendre abscissae and weights for 1..order points, padded into (order+1, order) tables."""
-    x = np.zeros((order + 1, order))
-    w = np.zeros((order + 1, order))
-    for n in range(1, order + 1):
-        x[n, :n], w[n, :n] = np.polynomial.legendre.leggauss(n)
+def _gauss(order: int) -> tuple[FloatArray, FloatArray]:
+    """Gauss–Legendre abscissae and weights on [-1, 1] (read-only)."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    x.setflags(write=False)
+    w.setflags(write=False)
     return x, w
 
 
@@ -228,45 +233,84 @@ class PerssonContact:
         y_s = np.log(kappa**2)[:, None] - 2.0 * np.log(_Y_EDGES)[None, :]
         y_s = np.clip(y_s, s_lo[:, None], s_hi[:, None])
         edges = np.sort(np.concatenate([uniform, node_s, y_s], axis=1), axis=1)
-        s, w, row = self._panel_nodes(edges)
-        t = np.exp(s)
-        q = spec.inverse_cumulative_moment(3, t + m_lo[row])
-        sqrt_t = np.sqrt(t)
-        y = kappa[row] / sqrt_t
-        fy = _kernels.f_function(y, self.gamma)
-        n_pts = z.size
-        ubar_flat = np.bincount(row, weights=w * sqrt_t * fy / q, minlength=n_pts)
+        d = pz = None
+        if derivative:
+            d = self.q0 * qz**3 * spec(qz)
+            pz = -p0 * self.area_derivative(z, p0) / area**2 / (np.sqrt(np.pi) * self.e_star)
+        ubar_flat, dubar_flat = self._panel_sums(edges, active, m_lo, kappa, d, pz)
         ubar = cast(FloatArray, np.where(active, ubar_flat, 0.0).reshape(shape))
-        if not derivative:
+        if dubar_flat is None:
             return ubar, None
-        fpy = _kernels.f_derivative(y, self.gamma)
-        d = self.q0 * qz**3 * spec(qz)
-        p_z = -p0 * self.area_derivative(z, p0) / area**2
-        integrand = (d[row] * (fy + y * fpy) / (2.0 * q * sqrt_t)
-                     + (p_z / (np.sqrt(np.pi) * self.e_star))[row] * fpy / q)
-        dubar_flat = np.bincount(row, weights=w * integrand, minlength=n_pts)
-        dubar = cast(FloatArray, np.where(active, dubar_flat, 0.0).reshape(shape))
-        return ubar, dubar
+        return ubar, cast(FloatArray, np.where(active, dubar_flat, 0.0).reshape(shape))
 
-    def _panel_nodes(self, edges: FloatArray) -> tuple[FloatArray, FloatArray, NDArray[np.intp]]:
-        """``order``-point Gauss–Legendre on every non-empty panel between consecutive ``edges``.
+    def _panel_sums(self, edges: FloatArray, active: NDArray[np.bool_], m_lo: FloatArray, kappa: FloatArray,
+                    d: FloatArray | None, pz: FloatArray | None) -> tuple[FloatArray, FloatArray | None]:
+        """ū (and ū' when ``d``, ``pz`` are given) per row: ``order``-point Gauss–Legendre on every non-empty panel.
 
-        Rows are ragged (spectrum nodes outside a row's range give empty panels, which get no
-        points), so the result is flat: abscissae s, weights, and the row each point belongs to.
+        Rows are ragged (spectrum nodes outside a row's range give empty panels, which get no points; inactive rows
+        get none), so the panels are listed flat with the row each belongs to, and evaluated in blocks of
+        ``_BLOCK`` panels (the arrays stay in cache). Each panel lies within one segment k of the piecewise power
+        law (the spectrum's nodes are panel edges), so the closed-form inverse q(t) (docs/theory.md §1.3)
+        takes that segment's constants once per panel: q = q_k (1 + e r)^(1/e), r = (t + m_lo - M3(q_k))/(C_k q_k⁴).
+        With y² = κ²/t, ln y² = ln κ² - s (no logarithm per point), P = -y F'(y) and F'(y) = -P √t/κ, the integrands
+        of the module docstring read  ū: √t F/q,  ū': [D (F - P)/(2√t) - p'(ζ)/(√π E*) P √t/κ]/q
+        (``d`` = D, ``pz`` = p'(ζ)/(√π E*)).
         """
-        a, b = edges[:, :-1], edges[:, 1:]
-        width = b - a
-        n = np.where(width > 0, self.order, 0).astype(np.intp).ravel()
-        x_tab, w_tab = _gauss_tables(self.order)
-        panel = np.repeat(np.arange(n.size), n)
-        start = np.cumsum(n) - n
-        j = np.arange(panel.size) - start[panel]
-        half = 0.5 * width.ravel()[panel]
-        mid = a.ravel()[panel] + half
-        k = n[panel]
-        s = mid + half * x_tab[k, j]
-        w = half * w_tab[k, j]
-        return s, w, panel // width.shape[1]
+        spec = self.spectrum
+        a = edges[:, :-1]
+        width = edges[:, 1:] - a
+        live = (width > 0) & active[:, None]
+        row = np.nonzero(live)[0]
+        half = 0.5 * width[live]
+        mid = a[live] + half
+        xg, wg = _gauss(self.order)
+        cum_top = float(spec.cumulative_moment(3, spec.q_max))
+        seg = spec._moment_segment(3, np.minimum(np.exp(mid) + m_lo[row], cum_top))
+        cum_k, scale_k, e_k = spec._segment_constants(3, seg)
+        linear = e_k == 0.0  # ((q/q_k)^e - 1)/e at e = 0 is ln(q/q_k): q = q_k e^r
+        neg_inv_e = -1.0 / np.where(linear, 1.0, e_k)
+        slope_k = np.where(linear, 1.0, e_k) / scale_k  # z = e r = slope_k (t + m_lo - M3(q_k))
+        offset_k = m_lo[row] - cum_k
+        q_k = spec.q[seg]
+        floor_k = q_k / spec.q_max  # q <= q1: q_k/q >= q_k/q1
+        # per panel: Σ_j w_j f_j = half Σ_j wg_j f_j, and 1/q = (q_k/q)/q_k
+        factor = half / q_k
+        kappa2 = (kappa * kappa)[row]
+        log_kappa2 = 2.0 * np.log(kappa)[row]
+        ubar = np.empty(row.size)  # per panel, summed per row at the end
+        dubar = np.empty(row.size) if d is not None else None
+        if dubar is not None:
+            d_half = 0.5 * d[row]  # type: ignore[index]
+            pz_kappa = (pz / kappa)[row]  # type: ignore[operator]
+        for lo in range(0, row.size, _BLOCK):
+            blk = slice(lo, lo + _BLOCK)
+            s = half[blk, None] * xg
+            s += mid[blk, None]
+            t = np.exp(s)
+            z = t + offset_k[blk, None]
+            z *= slope_k[blk, None]
+            x = np.log1p(z)
+            x *= neg_inv_e[blk, None]
+            lin = linear[blk]
+            if lin.any():
+                x[lin] = -z[lin]
+            ratio = np.exp(x)  # q_k/q
+            np.maximum(ratio, floor_k[blk, None], out=ratio)
+            f, p = _kernels.f_and_slope(kappa2[blk, None] / t, log_kappa2[blk, None] - s, self.gamma)
+            sqrt_t = np.sqrt(t)
+            ratio *= sqrt_t  # √t q_k/q
+            ubar[blk] = ((f * ratio) @ wg) * factor[blk]
+            if dubar is not None:
+                two = (p * ratio) @ wg
+                f -= p
+                ratio /= t  # q_k/(q √t)
+                one = (f * ratio) @ wg
+                dubar[blk] = (d_half[blk] * one - pz_kappa[blk] * two) * factor[blk]
+        n_rows = edges.shape[0]
+        ubar_rows: FloatArray = np.bincount(row, weights=ubar, minlength=n_rows).astype(float)
+        if dubar is None:
+            return ubar_rows, None
+        return ubar_rows, np.bincount(row, weights=dubar, minlength=n_rows).astype(float)
 
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """ū(ζ) in m: mean separation in the apparent contact area seen at magnification ζ.

@@ -28,7 +28,11 @@ The continuous part of P(u) (a mixture of folded Gaussians, :mod:`sealeak.physic
 Gauss–Legendre nodes in ln u, on panels between the 1e-10 and 1 - 1e-13 quantiles; each panel's
 weights are rescaled so the panel holds exactly its mass from the closed-form mixture CDF (so
 the discrete distribution integrates to one to rounding), the mass below (above) the range sits
-at its lower (upper) end. On that discrete distribution, with x = ln u and s = ln u_e where
+at its lower (upper) end. The mixture's density and CDF are summed without visiting every (component, u)
+pair (:class:`_Mixture`: exact closed forms only where they differ from 0, 1 and from a short Taylor series
+in u; same values to ~1e-15), and the two cut points are found by Newton's method (lower) and by bisection
+over the components' own quantile points followed by regula falsi (upper), not by plain bisection.
+On that discrete distribution, with x = ln u and s = ln u_e where
 σ(u_e) = σ_eff, g(s) = 2A(ζ1)/A0 + Σ_j W_j 2/(1 + e^(3(x_j - s))), monotone in s; a vectorised
 Newton iteration with a bisection bracket (all pressures at once) solves g(s) = 1 until the
 relative residual |1 - g| is below 1e-12 (σ_eff to ~1e-12 relative).
@@ -37,9 +41,11 @@ relative residual |1 - g| is below 1e-12 (σ_eff to ~1e-12 relative).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import special
 
 from ..errors import ConvergenceError, InputError
 from .contact import PerssonContact
@@ -148,16 +154,244 @@ def bruggeman_residual(gaps: ArrayLike, weights: ArrayLike, contact_fraction: Ar
     return s * (1.0 / s - np.sum(w * 2.0 / (s[:, None] + local), axis=1) - 2.0 * c / s)
 
 
-def _quantile(dist: GapDistribution, level: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
-    """The u (per pressure) where the continuous part's CDF reaches ``level`` (bisection in ln u)."""
-    a, b = np.log(lo), np.log(hi)
-    for _ in range(80):
-        mid = 0.5 * (a + b)
-        cdf = np.sum(dist.weights * folded_normal_cdf(np.exp(mid)[:, None], dist.centres, dist.widths), axis=1)
-        below = cdf < level
-        a = np.where(below, mid, a)
-        b = np.where(below, b, mid)
-    return np.exp(0.5 * (a + b))
+_R = float(np.sqrt(80.0))  # terms with |u ∓ u1|/h beyond √80 (< e^-40 of their peak) are left out of the density
+_R_TAIL = 12.0  # the upper tail 1 - CDF keeps components with u < u1 + 12 h (the rest add < 2e-33 of their weight)
+_SERIES = 0.05  # the small-u series serves a component for u/h <= _SERIES/(u1/h + 3)
+_SQRT2PI = float(np.sqrt(2.0 * np.pi))
+_STEPS = np.array([-8.0, -4.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 4.0, 8.0])  # u = c + t h: bisection points of the upper tail
+
+
+class _Mixture:
+    """The continuous part of P(u) (a mixture of folded Gaussians), prepared for fast evaluation.
+
+    For one component (weight W, centre c = u1, width h; κ = c/h, s = u/h) the density is
+    W [φ(s - κ) + φ(s + κ)]/h and the CDF Φ(s - κ) - Φ(-s - κ) (φ, Φ: standard normal density and CDF).
+    Three regimes make the sums cheap without changing their value beyond rounding (docs/theory.md §5.5):
+
+    * u >= c + √80 h: the CDF is 1 to double precision (Φ(√80) rounds to 1), the density term is left out
+      (as in the plain sum, which drops terms below e^-40 of their peak); u <= c - √80 h: both are left out;
+    * u/h <= 0.05/(κ + 3) (only for κ < √80): the even Taylor series in s, with the Hermite polynomials
+      He_n (e^(-s²/2) cosh(sκ) = Σ_(n even) He_n(κ) sⁿ/n!):
+      density = 2W φ(κ)/h Σ_(n = 0, 2, 4, 6) He_n(κ) sⁿ/n!,  CDF = 2W φ(κ) Σ_(n = 0, 2, 4, 6) He_n(κ) s^(n+1)/((n+1) n!),
+      truncated where the next term is below 1e-15 of the first; the series' coefficients of all components
+      add up into one polynomial in u, so they cost nothing per component;
+    * in between: the closed forms, evaluated only on the (component, u) pairs that fall there.
+    """
+
+    def __init__(self, dist: GapDistribution) -> None:
+        w, c, h = dist.weights, dist.centres, dist.widths
+        self.w = np.where(w > 0, w, 0.0)
+        self.c = c
+        self.h = h
+        self.mass = w.sum(axis=1)
+        self.smooth = (w > 0) & (h > 0)  # components with a density (h = 0: a step of the CDF at u = c)
+        hs = np.where(self.smooth, h, 1.0)
+        self.hs = hs
+        kappa = c / hs
+        self.amp = np.where(self.smooth, w / (_SQRT2PI * hs), 0.0)
+        self.top = np.where(w > 0, c + _R * np.where(h > 0, h, 0.0), np.inf)  # CDF = 1 from here on
+        self.bottom = c - _R * hs  # nothing below this
+        k2 = kappa * kappa
+        he = (np.ones_like(k2), k2 - 1.0, (k2 - 6.0) * k2 + 3.0, ((k2 - 15.0) * k2 + 45.0) * k2 - 15.0)
+        with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+            lead = 2.0 * self.amp * np.exp(-0.5 * k2)
+            dens = [lead * he[k] / _FACT[2 * k] / hs ** (2 * k) for k in range(4)]
+        ok = self.smooth & (kappa < _R) & np.all([np.isfinite(d) & (np.abs(d) < 1e290) for d in dens], axis=0)
+        self.series_top = np.where(ok, _SERIES * hs / (kappa + 3.0), 0.0)
+        self.dens_coef = [np.where(ok, d, 0.0) for d in dens]
+        self.cdf_coef = [d / (2 * k + 1) for k, d in enumerate(self.dens_coef)]
+        self.window_lo = np.maximum(self.series_top, self.bottom)  # exact evaluation for window_lo < u < top
+
+    # ------------------------------------------------------------------ one u per row (root finding)
+    def at(self, u: FloatArray, *, upper: bool) -> tuple[FloatArray, FloatArray]:
+        """(CDF, density) at one u per row; with ``upper`` (1 - CDF, density), see :meth:`quantile`."""
+        uu = u[:, None]
+        if upper:
+            # 1 - CDF = Σ W [Φ(κ - s) + Φ(-s - κ)], computed as such (no cancellation), over the components with
+            # u < c + 12 h (h = 0: u < c); the density of the same components, in full
+            r, k = np.nonzero((self.w > 0) & (uu < np.where(self.h > 0, self.c + _R_TAIL * self.h, self.c)))
+            ur, c, h, hs = u[r], self.c[r, k], self.h[r, k], self.hs[r, k]
+            sf = np.where(h > 0, special.ndtr((c - ur) / hs) + special.ndtr((-ur - c) / hs), 1.0)
+            dens = self.amp[r, k] * (np.exp(-0.5 * ((ur - c) / hs) ** 2) + np.exp(-0.5 * ((ur + c) / hs) ** 2))
+            return _sum_by(r, self.w[r, k] * sf, u.size), _sum_by(r, dens, u.size)
+        series = uu <= self.series_top
+        us = uu * uu
+        poly_d = self.dens_coef[3] * us
+        poly_c = self.cdf_coef[3] * us
+        for j in (2, 1):
+            poly_d = (poly_d + self.dens_coef[j]) * us
+            poly_c = (poly_c + self.cdf_coef[j]) * us
+        poly_d += self.dens_coef[0]
+        poly_c = (poly_c + self.cdf_coef[0]) * uu
+        dens = np.sum(np.where(series, poly_d, 0.0), axis=1)
+        cdf = np.sum(np.where(uu >= self.top, self.w, 0.0), axis=1) + np.sum(np.where(series, poly_c, 0.0), axis=1)
+        r, k = np.nonzero(self.smooth & ~series & (uu > self.window_lo) & (uu < self.top))
+        if r.size:
+            ur, c, h = u[r], self.c[r, k], self.h[r, k]
+            dens += _sum_by(r, self.amp[r, k] * _pair_density(ur, c, h), u.size)
+            cdf += _sum_by(r, self.w[r, k] * folded_normal_cdf(ur, c, h), u.size)
+        return cdf, dens
+
+    def quantile(self, level: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
+        """The u (per row) where the CDF reaches ``level``, to 1e-13 in ln u (rows without a continuous part: ``lo``).
+
+        Newton's method on ln CDF against ln u, kept inside the bisection bracket [lo, hi]. It starts at ``lo``:
+        there the CDF grows like u, so the first step all but lands.
+        """
+        a, b = np.log(lo), np.log(hi)
+        live = (self.mass > 0) & (level > 0)
+        log_level = np.log(np.where(live, level, 1.0))
+        x = a.copy()
+        done = ~live
+        for it in range(200):
+            u = np.exp(x)
+            value, dens = self.at(u, upper=False)
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                f = np.log(value) - log_level
+                step = f / (u * dens / value)
+            small = np.abs(step) <= 1e-13 * np.maximum(1.0, np.abs(x))
+            a = np.where((f < 0) & ~done, x, a)
+            b = np.where((f >= 0) & ~done, x, b)
+            new = x - step
+            bisect = ~small & (~np.isfinite(new) | (new <= a) | (new >= b) | (it >= 100))
+            new = np.where(bisect, 0.5 * (a + b), new)
+            converged = small | (b - a <= 1e-13 * np.maximum(1.0, np.abs(x)))
+            x = np.where(done, x, new)
+            done = done | converged
+            if done.all():
+                return np.exp(x)
+        raise ConvergenceError("gap distribution: its lower quantile was not found in 200 iterations")
+
+    def upper_quantile(self, level: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
+        """The u (per row) where 1 - CDF falls to ``level``, to 1e-12 in ln u (rows without a continuous part: ``lo``).
+
+        Far out, P(u) is a comb of narrow components (ζ → 1: large u1, small h, tiny weights), so 1 - CDF is a
+        staircase on which Newton's method stalls. The root is bracketed by the largest single-component quantiles
+        (1 - CDF >= W_i Φ((c_i - u)/h_i) gives the lower end; W_i [Φ((c_i - u)/h_i) + Φ((-u - c_i)/h_i)] <= level/(2n)
+        for the n components with W_i > level/(4n), the others adding at most level/4, the upper end), narrowed by
+        bisection over the sorted points c_i + t h_i (t = 0, ±0.5, ±1, ±2, ±4, ±8) inside it, and then solved by regula
+        falsi with the Illinois modification on ln(1 - CDF) against ln u between two neighbouring points, where it
+        is smooth.
+        """
+        live = (self.mass > 0) & (level > 0)
+        rows = np.arange(level.size)
+        n = np.maximum(np.sum(self.w > 0, axis=1), 1)[:, None]
+        lev = level[:, None]
+        h = np.where(self.h > 0, self.h, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            low = np.max(np.where(self.w > lev, self.c - h * special.ndtri(np.minimum(lev / self.w, 1.0)), 0.0), axis=1)
+            high = np.max(np.where(self.w > lev / (4 * n), self.c - h * special.ndtri(np.minimum(lev / (4 * n * self.w), 1.0)), 0.0),
+                          axis=1)
+        a = np.clip(np.log(np.maximum(low, lo)), np.log(lo), np.log(hi))
+        b = np.maximum(np.clip(np.log(np.maximum(high, lo)), np.log(lo), np.log(hi)), a)
+        log_level = np.log(np.where(live, level, 1.0))
+
+        def f(x: FloatArray) -> FloatArray:
+            with np.errstate(divide="ignore"):
+                return np.log(self.at(np.exp(x), upper=True)[0]) - log_level
+
+        fa, fb = f(a), f(b)
+        # bisection over the sorted points c + t h inside (a, b)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            points = np.log((self.c[:, :, None] + h[:, :, None] * _STEPS).reshape(level.size, -1))
+        points = np.where((self.w > 0).repeat(_STEPS.size, axis=1) & (points > a[:, None]) & (points < b[:, None]), points, b[:, None])
+        points = np.sort(np.concatenate([a[:, None], points, b[:, None]], axis=1), axis=1)
+        i_lo = np.zeros(level.size, dtype=np.intp)
+        i_hi = np.argmax(points >= b[:, None], axis=1)
+        while True:
+            wide = i_hi - i_lo > 1
+            if not wide.any():
+                break
+            mid = (i_lo + i_hi) // 2
+            fm = f(np.where(wide, points[rows, mid], a))
+            above = wide & (fm > 0)  # the root lies above
+            below = wide & ~(fm > 0)
+            i_lo, fa = np.where(above, mid, i_lo), np.where(above, fm, fa)
+            i_hi, fb = np.where(below, mid, i_hi), np.where(below, fm, fb)
+        a, b = points[rows, i_lo], points[rows, i_hi]
+        done = ~live | (fa <= 0) | (fb >= 0) | (b - a <= 1e-12 * np.maximum(1.0, np.abs(a)))
+        x = np.where(fa <= 0, a, b)  # (a bracket end that is the root already)
+        side = np.zeros(a.size)
+        for _ in range(200):
+            if done.all():
+                return np.exp(np.where(live, x, np.log(lo)))
+            with np.errstate(invalid="ignore", divide="ignore"):
+                secant = b - fb * (b - a) / (fb - fa)
+            inside = np.isfinite(secant) & (secant > a) & (secant < b)
+            x = np.where(done, x, np.where(inside, secant, 0.5 * (a + b)))
+            fx = f(x)
+            above = fx > 0  # the root lies above x
+            # Illinois: halve the f of the end kept twice in a row
+            fb = np.where(above & (side > 0), 0.5 * fb, fb)
+            fa = np.where(~above & (side < 0), 0.5 * fa, fa)
+            a, fa = np.where(above & ~done, x, a), np.where(above & ~done, fx, fa)
+            b, fb = np.where(~above & ~done, x, b), np.where(~above & ~done, fx, fb)
+            side = np.where(above, 1.0, -1.0)
+            done = done | (fx == 0) | (b - a <= 1e-12 * np.maximum(1.0, np.abs(x)))
+        raise ConvergenceError("gap distribution: its upper quantile was not found in 200 iterations")
+
+    # ------------------------------------------------------------------ sorted grids (one row at a time)
+    def density_on(self, i: int, u: FloatArray) -> FloatArray:
+        """The density at the ascending separations ``u`` of row i (1/m)."""
+        n = u.size
+        coef = _series_sums(u, self.series_top[i], self.dens_coef, i)
+        us = u * u
+        out = ((coef[3] * us + coef[2]) * us + coef[1]) * us + coef[0]
+        comp, node = self._pairs(i, u)
+        if comp.size:
+            out += _sum_by(node, self.amp[i, comp] * _pair_density(u[node], self.c[i, comp], self.h[i, comp]), n)
+        return out
+
+    def cdf_on(self, i: int, u: FloatArray) -> FloatArray:
+        """The CDF of the continuous part at the ascending separations ``u`` of row i."""
+        n = u.size
+        order = np.argsort(self.top[i], kind="stable")
+        full = np.concatenate([[0.0], np.cumsum(self.w[i, order])])[np.searchsorted(self.top[i, order], u, side="right")]
+        coef = _series_sums(u, self.series_top[i], self.cdf_coef, i)
+        us = u * u
+        out = full + (((coef[3] * us + coef[2]) * us + coef[1]) * us + coef[0]) * u
+        comp, node = self._pairs(i, u)
+        if comp.size:
+            out += _sum_by(node, self.w[i, comp] * folded_normal_cdf(u[node], self.c[i, comp], self.h[i, comp]), n)
+        return out
+
+    def _pairs(self, i: int, u: FloatArray) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+        """(component, node) pairs of row i with window_lo < u < top: the closed forms are evaluated there."""
+        smooth = np.flatnonzero(self.smooth[i])
+        j_lo = np.searchsorted(u, self.window_lo[i, smooth], side="right")
+        j_hi = np.searchsorted(u, self.top[i, smooth], side="left")
+        count = np.maximum(j_hi - j_lo, 0)
+        comp = np.repeat(smooth, count)
+        start = np.repeat(j_lo - (np.cumsum(count) - count), count)
+        return comp, start + np.arange(comp.size)
+
+
+_FACT = (1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0)
+
+
+def _series_sums(u: FloatArray, series_top: FloatArray, coef: list[FloatArray], i: int) -> list[FloatArray]:
+    """Per node j, the sum of every series coefficient over the components whose series serves u_j (u_j <= series_top)."""
+    n = u.size
+    j = np.searchsorted(u, series_top, side="right")  # the series serves nodes 0 .. j-1
+    out = []
+    for c in coef:
+        acc = _sum_by(j, c[i], n + 1)
+        out.append(np.cumsum(acc[::-1])[::-1][1:])
+    return out
+
+
+def _sum_by(index: NDArray[np.intp], values: FloatArray, n: int) -> FloatArray:
+    """Σ of ``values`` per ``index`` (0 .. n-1), as floats."""
+    return cast(FloatArray, np.bincount(index, weights=values, minlength=n))
+
+
+def _pair_density(u: FloatArray, c: FloatArray, h: FloatArray) -> FloatArray:
+    """e^(-(u-c)²/2h²) + e^(-(u+c)²/2h²), each term left out beyond √80 widths (as the plain sum does)."""
+    z = ((u - c) / h) ** 2
+    out = np.exp(-0.5 * z, where=z < 80.0, out=np.zeros_like(z))
+    zm = ((u + c) / h) ** 2
+    out += np.exp(-0.5 * zm, where=zm < 80.0, out=np.zeros_like(zm))
+    return out
 
 
 def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 8) -> tuple[FloatArray, FloatArray]:
@@ -166,11 +400,12 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 
     Gaps in m, weights dimensionless (docs/theory.md §5.5). Rows whose continuous part is empty get a
     single node of weight 0.
     """
-    mass = dist.weights.sum(axis=1)
+    mix = _Mixture(dist)
+    mass = mix.mass
     scale = np.maximum(dist.mean, 1e-200)  # (rows in complete contact have no continuous part)
     top = np.maximum(np.max(np.where(dist.weights > 0, dist.centres + 12.0 * dist.widths, 0.0), axis=1), scale)
-    u_lo = _quantile(dist, 1e-10 * mass, scale * 1e-30, top)
-    u_hi = _quantile(dist, mass - 1e-13 * np.maximum(mass, 1e-300), scale * 1e-30, top * 10.0)
+    u_lo = mix.quantile(1e-10 * mass, scale * 1e-30, top)
+    u_hi = mix.upper_quantile(1e-13 * mass, scale * 1e-30, top * 10.0)
     u_hi = np.maximum(u_hi, u_lo * 1.0001)
     span = np.log(u_hi / u_lo)
     n_pan = int(np.clip(np.ceil(np.max(span) / panel_width), 1, 2000))
@@ -180,11 +415,14 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 
     half = 0.5 * (right - left)
     x = (0.5 * (left + right))[:, :, None] + half[:, :, None] * xg
     u = np.exp(x).reshape(len(dist), -1)
-    dens = _density_rows(dist, u)
+    u_edges = np.exp(edges)
+    dens = np.empty_like(u)
+    cdf_edges = np.empty_like(u_edges)
+    for i in range(len(dist)):
+        dens[i] = mix.density_on(i, u[i])
+        cdf_edges[i] = mix.cdf_on(i, u_edges[i])
     w = (half[:, :, None] * wg).reshape(len(dist), -1) * u * dens
     # rescale each panel to its exact mass from the closed-form CDF
-    cdf_edges = np.sum(dist.weights[:, None, :] * folded_normal_cdf(np.exp(edges)[:, :, None], dist.centres[:, None, :],
-                                                                     dist.widths[:, None, :]), axis=2)
     exact = np.diff(cdf_edges, axis=1)
     approx = w.reshape(len(dist), n_pan, order).sum(axis=2)
     # a panel whose Gauss points badly miss its mass (a feature narrower than the panel) gets its
@@ -201,35 +439,6 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 
     gaps = np.concatenate([u_lo[:, None], u, u_hi[:, None]], axis=1)
     weights = np.concatenate([below[:, None], w, np.maximum(above, 0.0)[:, None]], axis=1)
     return gaps, weights
-
-
-def _density_rows(dist: GapDistribution, u: FloatArray) -> FloatArray:
-    """The continuous density at per-row separations u (pressures × n).
-
-    Terms with |u ∓ u1|/h > √80 (< e^-40 of the peak) are skipped; the mirror term only for
-    components with u1 < 9h.
-    """
-    out = np.empty_like(u)
-    sq = np.sqrt(2.0 * np.pi)
-    for i in range(len(dist)):
-        live = (dist.weights[i] > 0) & (dist.widths[i] > 0)
-        if not live.any():
-            out[i] = 0.0
-            continue
-        wv, c, h = dist.weights[i, live], dist.centres[i, live], dist.widths[i, live]
-        amp = wv / (sq * h)
-        mirror = c < 9.0 * h
-        for k in range(0, u.shape[1], 512):
-            uk = u[i, k:k + 512, None]
-            z = ((uk - c) / h) ** 2
-            e = np.exp(-0.5 * z, where=z < 80.0, out=np.zeros_like(z))
-            dens = e @ amp
-            if mirror.any():
-                zm = ((uk + c[mirror]) / h[mirror]) ** 2
-                em = np.exp(-0.5 * zm, where=zm < 80.0, out=np.zeros_like(zm))
-                dens += em @ amp[mirror]
-            out[i, k:k + 512] = dens
-    return out
 
 
 @dataclass(frozen=True)

@@ -38,11 +38,11 @@ def _exprel(z: FloatArray) -> FloatArray:
 
 
 def _log1prel(z: FloatArray) -> FloatArray:
-    """log(1 + z)/z, equal to 1 at z = 0."""
+    """log(1 + z)/z, equal to 1 at z = 0 (log1p is accurate to rounding for small z, so only z = 0 is special)."""
     z = np.asarray(z, dtype=float)
-    small = np.abs(z) < 1e-8
-    safe = np.where(small, 1.0, z)
-    return np.where(small, 1.0 - z / 2.0, np.log1p(safe) / safe)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.log1p(z) / z
+    return np.where(z == 0.0, 1.0, out)
 
 
 def area_ratio_from_slope(slope_rms: float | FloatArray) -> float | FloatArray:
@@ -263,13 +263,32 @@ class PowerSpectrum:
 
     def inverse_cumulative_moment(self, n: float, m: ArrayLike) -> FloatArray:
         """The q (1/m) at which M_n(q) = m (closed-form inverse of :meth:`cumulative_moment`, docs/theory.md §1.3; m clipped to the band)."""
-        cum = self._node_cumulative(n)
-        ma = np.clip(np.asarray(m, dtype=float), 0.0, cum[-1])
-        k = np.clip(np.searchsorted(cum, ma, side="right") - 1, 0, self.q.size - 2)
-        e = n + 1.0 + self._beta[k]  # type: ignore[attr-defined]
-        r = (ma - cum[k]) / (self.C[k] * self.q[k] ** (n + 1.0))
+        ma = np.clip(np.asarray(m, dtype=float), 0.0, self._node_cumulative(n)[-1])
+        return self._inverse_in_segment(n, ma, self._moment_segment(n, ma))
+
+    def _moment_segment(self, n: float, m: FloatArray) -> NDArray[np.intp]:
+        """Index k of the segment [q_k, q_k+1] in which M_n reaches m (m within [0, M_n(q_max)])."""
+        return np.clip(np.searchsorted(self._node_cumulative(n), m, side="right") - 1, 0, self.q.size - 2)
+
+    def _inverse_in_segment(self, n: float, m: FloatArray, k: NDArray[np.intp]) -> FloatArray:
+        """q with M_n(q) = m on segment k (k broadcasts against m, e.g. one k per row of m).
+
+        On [q_k, q_k+1] with exponent β_k, M_n(q) = M_n(q_k) + C_k q_k^(n+1) [(q/q_k)^e - 1]/e, e = n + 1 + β_k,
+        so q = q_k exp(r log(1 + e r)/(e r)) with r = (m - M_n(q_k))/(C_k q_k^(n+1)) (docs/theory.md §1.3).
+        """
+        cum, scale, e = self._segment_constants(n, k)
+        r = (m - cum) / scale
         x = r * _log1prel(e * r)
         return np.minimum(self.q[k] * np.exp(x), self.q[-1])
+
+    def _segment_constants(self, n: float, k: NDArray[np.intp]) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """M_n(q_k), C_k q_k^(n+1) and e = n + 1 + β_k of segments k (the constants of :meth:`_inverse_in_segment`)."""
+        key = ("segments", float(n))
+        table = self._cum.get(key)
+        if table is None:
+            table = (self.C[:-1] * self.q[:-1] ** (n + 1.0), n + 1.0 + self._beta)  # type: ignore[attr-defined]
+            self._cum[key] = table
+        return self._node_cumulative(n)[k], table[0][k], table[1][k]
 
     def moment(self, n: float, q_lo: ArrayLike | None = None, q_hi: ArrayLike | None = None) -> FloatArray | float:
         """Band moment ∫_{q_lo}^{q_hi} qⁿ C(q) dq in m^(3-n) (defaults: the whole band). Vectorised."""
