@@ -323,7 +323,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     q0_given = not surf.has("lowest_wavevector") and not surf.has("lowest_wavelength")
     try:
         with case_keys():
-            spectrum, note = builders[model_name](surf, case_dir, q0)
+            spectrum, note = builders[model_name](surf, case_dir, q0 if band is None else band.spectrum_start)
     except InputError as exc:  # the spectrum starts at q0 unless the file says otherwise: blame q0's source
         if q0_given and exc.field.startswith("surface.lowest_wave"):
             raise _q0_error(seal_section, theory, seal, q0, exc.allowed) from None

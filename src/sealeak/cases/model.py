@@ -51,6 +51,8 @@ class BandSeal:
     faces
         Contact faces in parallel (1: the rough counterface; 2 counts the groove bottom as a
         second, equally rough path).
+    q0_fixed
+        q0 (1/m) fixed by the case file for every load, or None (q0 = 2π/w per load).
     notes
         Lines for the output: the relations used, their regime and range.
     """
@@ -67,6 +69,20 @@ class BandSeal:
     cross_section_diameter: float | None = None
     mean_diameter: float | None = None
     profile_source: str = ""
+    q0_fixed: float | None = None
+
+    @property
+    def spectrum_start(self) -> float:
+        """Where the roughness spectrum starts by default (1/m), independent of the listed loads.
+
+        2π/d for an O-ring (every contact width is below the cross-section d), 2π/w of the profile
+        file, or the case's fixed q0; the loads' own q0 = 2π/w lie above it (docs/theory.md §10.1).
+        """
+        if self.q0_fixed is not None:
+            return self.q0_fixed
+        if self.kind == "o-ring" and self.cross_section_diameter is not None:
+            return 2.0 * np.pi / self.cross_section_diameter
+        return float(np.min(self.q0))
 
     @property
     def load_unit(self) -> str:

@@ -150,14 +150,9 @@ def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple
 
 # ---------------------------------------------------------------------- band seals at other loads
 def _q0_fixed(case: Case) -> float | None:
-    """The q0 (1/m) a band case's file fixed (``theory.lowest_wavevector``/``square_side``), or None: 2π/w per load.
-
-    The builder sets q0 = 2π/w per load with exactly this expression, so equality tells the two apart.
-    """
-    band = case.band
-    assert band is not None
-    per_load = 2.0 * np.pi / np.array([p.width for p in band.profiles])
-    return None if np.array_equal(band.q0, per_load) else float(band.q0[0])
+    """The q0 (1/m) a band case's file fixed (``theory.lowest_wavevector``/``square_side``), or None: 2π/w per load."""
+    assert case.band is not None
+    return case.band.q0_fixed
 
 
 def _band_at(case: Case, loads: ArrayLike) -> Case:

@@ -174,7 +174,7 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
     widths = np.array([p.width for p in profiles])
     q0 = np.full(widths.size, q0_fixed) if q0_fixed is not None else 2.0 * np.pi / widths
     band = BandSeal(kind=kind, length=length, load_name=load_name, loads=loads, profiles=profiles, q0=q0, faces=faces,
-                    notes=notes, **band_args)  # type: ignore[arg-type]
+                    notes=notes, q0_fixed=q0_fixed, **band_args)  # type: ignore[arg-type]
     with case_keys():
         rect = Seal(width=float(widths.max()), length=length, shape=kind)
     return band, rect, np.array([p.mean_pressure for p in profiles])
