@@ -36,14 +36,21 @@ from sealeak.lab.data import read_leak_data
 from sealeak.lab.fitting import fit_scale
 from sealeak.lab.rig import exponential_height
 from sealeak.render import (
-    PREDICTION_FIGURE_NAMES,
     figure_fit,
     figure_linearity,
     figure_readings,
     figure_rig,
     prediction_figures,
 )
-from sealeak.render.figures import Series, color, draw_series, figure_leak_rate, figure_pressure_difference, new_figure
+from sealeak.render.figures import (
+    Series,
+    color,
+    draw_series,
+    figure_leak_rate,
+    figure_pressure_difference,
+    new_figure,
+    prediction_figure_names,
+)
 from tests.casefiles import BASE, edit
 
 # The figures are checked at the dpi they are written with: text extents do not scale with the dpi
@@ -217,7 +224,7 @@ def example_figures():
 @pytest.mark.parametrize("name", example_names())
 def test_every_figure_of_a_bundled_example_reads_right(name, example_figures):
     results, figures = example_figures(name)
-    assert set(figures) == set(PREDICTION_FIGURE_NAMES)
+    assert set(figures) == set(prediction_figure_names([r.case for r in results]))
     _assert_reads_right(figures)
     for name, fig in figures.items():
         if name in LINEAR_BY_NATURE:

@@ -7,7 +7,8 @@ compute no physics. Figures are :class:`matplotlib.figure.Figure` objects built 
 importing sealeak leaves matplotlib's backend alone.
 
 * :mod:`~sealeak.render.text`: the prediction table; :mod:`~sealeak.render.records`: JSON and CSV;
-* :mod:`~sealeak.render.figures`: the prediction figures; :mod:`~sealeak.render.lab_figures`: fit,
+* :mod:`~sealeak.render.figures`: the prediction figures (:mod:`~sealeak.render.band`: those of O-ring and
+  pressure-profile seals; :mod:`~sealeak.render.plotstyle`: the shared axes, units and legends); :mod:`~sealeak.render.lab_figures`: fit,
   linearity and rig figures; :mod:`~sealeak.render.spectra`: measured spectra;
 * :mod:`~sealeak.render.lab`, :mod:`~sealeak.render.simulation`, :mod:`~sealeak.render.surface`:
   text and JSON of the other commands; :mod:`~sealeak.render.report`: the HTML report.
