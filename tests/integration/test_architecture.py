@@ -16,7 +16,9 @@ PACKAGE = SRC / "sealeak"
 DOCS = Path(__file__).resolve().parents[2] / "docs"
 
 #: Function-level imports allowed outside the command line: an optional extra, imported when used.
-ALLOWED_LAZY = {("sealeak/topography/_external.py", "SurfaceTopography")}
+ALLOWED_LAZY = {("sealeak/topography/_external.py", "SurfaceTopography"),
+                # CoolProp takes ~3 s to import; a case whose viscosity is given needs no property lookup
+                ("sealeak/physics/properties.py", "CoolProp")}
 
 
 def _modules() -> dict[str, Path]:

@@ -18,9 +18,8 @@ import math
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-
-import CoolProp
-import CoolProp.CoolProp as CP
+from types import ModuleType
+from typing import Any
 
 from ..errors import InputError
 from .gas import MOLAR_GAS_CONSTANT, Gas
@@ -55,6 +54,15 @@ KNOWN_FLUIDS: dict[str, tuple[str, tuple[str, ...]]] = {
 _OIL = re.compile(r"oil|iso\s*vg|\bvg\s*\d|sae\s*\d|glycerol|glycerine|grease|lubricant|hydraulic|silicone", re.IGNORECASE)
 _PHASES = {"gas": "gas", "supercritical_gas": "gas", "supercritical": "supercritical", "liquid": "liquid",
            "supercritical_liquid": "liquid", "twophase": "two-phase"}
+
+
+def _coolprop() -> tuple[Any, ModuleType]:
+    """(CoolProp, CoolProp.CoolProp), imported on first use: importing CoolProp takes ~3 s, and a case
+    whose fluid's viscosity is given by hand needs no property at all (docs/architecture.md)."""
+    import CoolProp
+    import CoolProp.CoolProp as CP
+
+    return CoolProp, CP
 
 
 def _key(name: str) -> str:
@@ -95,7 +103,7 @@ def canonical_fluid_name(fluid: str) -> str:
 
 def property_library() -> str:
     """"CoolProp <version>": the library the properties come from."""
-    return f"CoolProp {CoolProp.__version__}"
+    return f"CoolProp {_coolprop()[0].__version__}"
 
 
 @dataclass(frozen=True)
@@ -153,7 +161,7 @@ class FluidState:
 
 
 def _prop(output: str, cp_name: str, temperature: float, pressure: float) -> float:
-    return float(CP.PropsSI(output, "T", temperature, "P", pressure, cp_name))
+    return float(_coolprop()[1].PropsSI(output, "T", temperature, "P", pressure, cp_name))
 
 
 def fluid_state(fluid: str, temperature: float, pressure: float = 101325.0) -> FluidState:
@@ -166,6 +174,7 @@ def fluid_state(fluid: str, temperature: float, pressure: float = 101325.0) -> F
     """
     name = canonical_fluid_name(fluid)
     cp_name = KNOWN_FLUIDS[name][0]
+    CP = _coolprop()[1]
     try:
         t = float(temperature)
     except (TypeError, ValueError):
