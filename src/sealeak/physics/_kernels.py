@@ -20,7 +20,8 @@ with 1024 intervals per unit of v, exact derivative dg/dv = x g - 1 (from dE1/dx
 relative error below 5e-15 (h⁴/384 times g's relative fourth v-derivative, which is of order one;
 checked against scipy.special.exp1 in the tests). Below x = 1e-2 the convergent series
 E1(x) = -γ_E - ln x - Σ_{k>=1} (-x)^k/(k·k!) (A&S 5.1.11) to x⁵ (remainder < x⁶/4320 < 3e-16);
-above x = 700, scipy.special.exp1 (E1 < 1e-306 there). About 8x faster than scipy.special.exp1.
+above x = 700 (E1 < 1e-306) the asymptotic series of eˣ E1(x) to 1/x⁷ (A&S 5.1.51). About 8x faster than
+scipy.special.exp1.
 """
 
 from __future__ import annotations
@@ -99,12 +100,10 @@ def exp1(x: NDArray[np.float64], log_x: NDArray[np.float64] | None = None,
     i = u.astype(np.intp)  # outside the table (x < 1e-2, x > 700) i is clipped and the value replaced below
     u -= i  # the position τ in the interval, 0 <= τ < 1 inside the table
     out = np.take(_E1_A3, i, mode="clip")
-    out *= u
-    out += np.take(_E1_A2, i, mode="clip")
-    out *= u
-    out += np.take(_E1_A1, i, mode="clip")
-    out *= u
-    out += np.take(_E1_A0, i, mode="clip")
+    coefficient = np.empty_like(out)
+    for table in (_E1_A2, _E1_A1, _E1_A0):
+        out *= u
+        out += np.take(table, i, out=coefficient, mode="clip")
     out *= e
     if x.size and x.min() < _E1_X_LO:
         low = x < _E1_X_LO
@@ -112,8 +111,11 @@ def exp1(x: NDArray[np.float64], log_x: NDArray[np.float64] | None = None,
         # -γ - ln x + x - x²/4 + x³/18 - x⁴/96 + x⁵/600
         out[low] = -_EULER - vl + xl * (1.0 + xl * (-0.25 + xl * (1.0 / 18.0 + xl * (-1.0 / 96.0 + xl / 600.0))))
     if x.size and x.max() > _E1_X_HI:
+        # x > 700: E1 < 1e-306 and e^x E1 = (1/x)(1 - 1/x + 2/x² - ... + 720/x⁶), remainder < 5040/x⁷ < 1e-16 (A&S 5.1.51)
         high = x > _E1_X_HI
-        out[high] = special.exp1(x[high])
+        r = 1.0 / x[high]
+        series = 1.0 - r * (1.0 - 2.0 * r * (1.0 - 3.0 * r * (1.0 - 4.0 * r * (1.0 - 5.0 * r * (1.0 - 6.0 * r)))))
+        out[high] = e[high] * r * series
     return out.reshape(shape)
 
 

@@ -71,6 +71,15 @@ def _gauss(order: int) -> tuple[FloatArray, FloatArray]:
     return x, w
 
 
+def _row_sums(values: FloatArray, count: NDArray[np.intp]) -> FloatArray:
+    """Sums of consecutive runs of ``values``, ``count[i]`` of them for row i (0 for an empty run)."""
+    out = np.zeros(count.size)
+    filled = count > 0
+    if filled.any():
+        out[filled] = np.add.reduceat(values, (np.cumsum(count) - count)[filled])
+    return out
+
+
 def contact_modulus(youngs_modulus: float, poisson_ratio: float,
                     youngs_modulus_2: float | None = None, poisson_ratio_2: float = 0.0) -> float:
     """E* in Pa: E/(1-ν²), or 1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 when the substrate is elastic too.
@@ -260,57 +269,65 @@ class PerssonContact:
         a = edges[:, :-1]
         width = edges[:, 1:] - a
         live = (width > 0) & active[:, None]
-        row = np.nonzero(live)[0]
+        count = live.sum(axis=1)  # panels per row; they are listed row after row
+
+        def per_panel(values: FloatArray) -> FloatArray:
+            return np.repeat(values, count)
+
         half = 0.5 * width[live]
         mid = a[live] + half
         xg, wg = _gauss(self.order)
+        m_lo_p = per_panel(m_lo)
         cum_top = float(spec.cumulative_moment(3, spec.q_max))
-        seg = spec._moment_segment(3, np.minimum(np.exp(mid) + m_lo[row], cum_top))
-        cum_k, scale_k, e_k = spec._segment_constants(3, seg)
-        linear = e_k == 0.0  # ((q/q_k)^e - 1)/e at e = 0 is ln(q/q_k): q = q_k e^r
-        neg_inv_e = -1.0 / np.where(linear, 1.0, e_k)
-        slope_k = np.where(linear, 1.0, e_k) / scale_k  # z = e r = slope_k (t + m_lo - M3(q_k))
-        offset_k = m_lo[row] - cum_k
-        q_k = spec.q[seg]
-        floor_k = q_k / spec.q_max  # q <= q1: q_k/q >= q_k/q1
+        seg = spec._moment_segment(3, np.minimum(np.exp(mid) + m_lo_p, cum_top))
+        cum_k, scale_k, e_k = spec._segment_constants(3, np.arange(spec.q.size - 1))  # per segment, then per panel
+        linear_k = e_k == 0.0  # ((q/q_k)^e - 1)/e at e = 0 is ln(q/q_k): q = q_k e^r
+        linear = linear_k[seg]
+        neg_inv_e = (-1.0 / np.where(linear_k, 1.0, e_k))[seg]
+        slope = (np.where(linear_k, 1.0, e_k) / scale_k)[seg]  # z = e r = slope (t + m_lo - M3(q_k))
+        offset = m_lo_p - cum_k[seg]
+        floor = (spec.q[:-1] / spec.q_max)[seg]  # q <= q1: q_k/q >= q_k/q1
         # per panel: Σ_j w_j f_j = half Σ_j wg_j f_j, and 1/q = (q_k/q)/q_k
-        factor = half / q_k
-        kappa2 = (kappa * kappa)[row]
-        log_kappa2 = 2.0 * np.log(kappa)[row]
-        ubar = np.empty(row.size)  # per panel, summed per row at the end
-        dubar = np.empty(row.size) if d is not None else None
+        factor = half / spec.q[:-1][seg]
+        kappa2 = per_panel(kappa * kappa)
+        log_kappa2 = per_panel(2.0 * np.log(kappa))
+        ubar = np.empty(half.size)  # per panel, summed per row at the end
+        dubar = np.empty(half.size) if d is not None else None
         if dubar is not None:
-            d_half = 0.5 * d[row]  # type: ignore[index]
-            pz_kappa = (pz / kappa)[row]  # type: ignore[operator]
-        for lo in range(0, row.size, _BLOCK):
+            d_half = per_panel(0.5 * d)  # type: ignore[operator]
+            pz_kappa = per_panel(pz / kappa)  # type: ignore[operator]
+        xg = xg[:, None]
+        for lo in range(0, half.size, _BLOCK):
+            # arrays (order, panels): the per-panel constants broadcast along the long last axis; few temporaries
             blk = slice(lo, lo + _BLOCK)
-            s = half[blk, None] * xg
-            s += mid[blk, None]
+            s = half[blk] * xg
+            s += mid[blk]
             t = np.exp(s)
-            z = t + offset_k[blk, None]
-            z *= slope_k[blk, None]
-            x = np.log1p(z)
-            x *= neg_inv_e[blk, None]
+            ratio = t + offset[blk]  # z = e r, then q_k/q = (1 + z)^(-1/e)
+            ratio *= slope[blk]
             lin = linear[blk]
-            if lin.any():
-                x[lin] = -z[lin]
-            ratio = np.exp(x)  # q_k/q
-            np.maximum(ratio, floor_k[blk, None], out=ratio)
-            f, p = _kernels.f_and_slope(kappa2[blk, None] / t, log_kappa2[blk, None] - s, self.gamma)
-            sqrt_t = np.sqrt(t)
+            z_lin = ratio[:, lin] if lin.any() else None
+            np.log1p(ratio, out=ratio)
+            ratio *= neg_inv_e[blk]
+            if z_lin is not None:
+                ratio[:, lin] = -z_lin
+            np.exp(ratio, out=ratio)
+            np.maximum(ratio, floor[blk], out=ratio)
+            y2 = kappa2[blk] / t
+            np.subtract(log_kappa2[blk], s, out=s)  # ln y²
+            f, p = _kernels.f_and_slope(y2, s, self.gamma)
+            sqrt_t = np.sqrt(t, out=y2)
             ratio *= sqrt_t  # √t q_k/q
-            ubar[blk] = ((f * ratio) @ wg) * factor[blk]
+            np.multiply(f, ratio, out=s)
+            ubar[blk] = (wg @ s) * factor[blk]
             if dubar is not None:
-                two = (p * ratio) @ wg
+                np.multiply(p, ratio, out=s)
+                two = wg @ s
                 f -= p
                 ratio /= t  # q_k/(q √t)
-                one = (f * ratio) @ wg
-                dubar[blk] = (d_half[blk] * one - pz_kappa[blk] * two) * factor[blk]
-        n_rows = edges.shape[0]
-        ubar_rows: FloatArray = np.bincount(row, weights=ubar, minlength=n_rows).astype(float)
-        if dubar is None:
-            return ubar_rows, None
-        return ubar_rows, np.bincount(row, weights=dubar, minlength=n_rows).astype(float)
+                f *= ratio
+                dubar[blk] = (d_half[blk] * (wg @ f) - pz_kappa[blk] * two) * factor[blk]
+        return _row_sums(ubar, count), None if dubar is None else _row_sums(dubar, count)
 
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """ū(ζ) in m: mean separation in the apparent contact area seen at magnification ζ.
