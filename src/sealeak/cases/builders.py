@@ -10,21 +10,25 @@ re-labelled here with the case-file key (:func:`relabel`).
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError, UnitError
-from ..io.units import parse_quantity
-from ..lab.rig import RigSetup
+from ..io.units import STANDARD_PRESSURE, parse_quantity, parse_temperature
+from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
+from ..physics.gas import RAREFACTION_MODELS, Gas, check_pressures
 from ..physics.oring import shore_a_warnings, youngs_modulus_from_shore_a
+from ..physics.properties import FluidState, canonical_fluid_name, fluid_state, vapour_pressure_note
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
-from .model import BandSeal, Case
+from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
+from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import build_band, is_band_seal
 
@@ -260,17 +264,11 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     if band_kind is None:
         with case_keys():
             seal = _seal(seal_section)
-    fsec = Section("fluid", doc["fluid"])
-    density = fsec.quantity("density", "density", default=-1.0)
-    viscosity = fsec.quantity("viscosity", "viscosity")
-    molecular = fsec.quantity("molecular_size", "length") if fsec.has("molecular_size") else None
-    fluid_name = fsec.raw("name", "")
-    if not isinstance(fluid_name, str):
-        raise InputError(fsec.field("name"), fluid_name, "must be text, e.g. \"water\"")
-    with case_keys():
-        fluid = Fluid(viscosity, None if density < 0 else density, fluid_name, molecular)
     cond = Section("conditions", doc["conditions"])
     theory = Section("theory", doc.get("theory", {}))
+    fl = _fluid(Section("fluid", doc["fluid"]), cond, theory)
+    fluid = fl.fluid
+    input_warnings += fl.warnings
     band = None
     if band_kind is None:
         for key in ("compression", "groove_depth", "profile_scale"):
@@ -282,10 +280,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         q0_fixed = (theory.quantity("lowest_wavevector", "wavevector") if theory.has("lowest_wavevector") else
                     2.0 * np.pi / theory.quantity("square_side", "length") if theory.has("square_side") else None)
         band, seal, p0 = build_band(band_kind, seal_section, cond, rubber, youngs, nu, case_dir, q0_fixed)
-    dp = cond.quantity("pressure_difference", "pressure", positive=False)
-    if not dp > 0:
-        raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"),
-                         "must be > 0: with no pressure difference across the seal nothing leaks")
+    dp = fl.pressure_difference
     alpha = theory.number("alpha", 1.0, low=0.0)
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
     gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
@@ -331,14 +326,151 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     if not (q0 if band is None else float(band.q0.max())) < spectrum.q_max:
         raise _q0_error(seal_section, theory, seal, q0 if band is None else float(band.q0.max()),
                         f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
-    rig = _rig(Section("rig", doc["rig"]), fluid, band) if "rig" in doc else None  # RigSetup under case_keys, in _rig
+    rig = _rig(doc["rig"], fluid, band, doc) if "rig" in doc else None  # the rig's objects under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
         e_star=e_star, seal=seal, fluid=fluid, squeeze_pressure=p0, pressure_difference=dp, alpha=alpha,
         percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
         simulation=simulation, source=source, surface_model=str(model_name), band=band, input_warnings=input_warnings,
+        gas=fl.gas, temperature=fl.temperature, absolute_pressures=fl.absolute_pressures, fluid_state=fl.state,
+        helium_equivalent=fl.helium_equivalent, rarefaction=fl.rarefaction,
     )
+
+
+#: Known fluids that are liquids at 20 °C and 1 atm: with a viscosity given and no absolute pressures,
+#: such a case runs as before named fluids existed, without any property lookup.
+_LIQUIDS_AT_ROOM = ("water", "ethanol")
+
+
+@dataclass(frozen=True)
+class _FluidInputs:
+    """What [fluid] and the pressure keys of [conditions] give (SI): the fluid, ΔP, the gas, the warnings."""
+
+    fluid: Fluid
+    pressure_difference: float
+    temperature: float
+    absolute_pressures: tuple[float, float] | None
+    state: FluidState | None
+    gas: GasConditions | None
+    helium_equivalent: bool
+    rarefaction: str
+    warnings: tuple[str, ...]
+
+
+def _absolute_pressures(cond: Section) -> tuple[float, float] | None:
+    """``conditions.upstream_pressure`` and ``downstream_pressure`` (absolute, Pa), both or neither."""
+    keys = ("upstream_pressure", "downstream_pressure")
+    given = [cond.has(k) for k in keys]
+    if not any(given):
+        return None
+    if not all(given):
+        missing = keys[given.index(False)]
+        raise InputError(cond.field(missing), None, "is required with " + cond.field(keys[given.index(True)])
+                         + ": give both absolute pressures (e.g. upstream_pressure = \"1 bar\", downstream_pressure = "
+                         "\"0 Pa\" for vacuum)")
+    pa, pb = (cond.quantity(k, "pressure", positive=False) for k in keys)
+    with case_keys():
+        pa, pb = check_pressures(pa, pb)
+    if pa == pb:
+        raise InputError(cond.field("upstream_pressure"), cond.raw("upstream_pressure"),
+                         f"equals {cond.field('downstream_pressure')}: with no pressure difference across the seal nothing leaks")
+    return pa, pb
+
+
+def _pressure_difference(cond: Section, absolute: tuple[float, float] | None) -> float:
+    """ΔP (Pa): ``conditions.pressure_difference``, or P_a − P_b; both given must agree (to 1e-6)."""
+    if absolute is not None:
+        dp = absolute[0] - absolute[1]
+        if cond.has("pressure_difference"):
+            given = cond.quantity("pressure_difference", "pressure", positive=False)
+            if not abs(given - dp) <= 1e-6 * dp:
+                raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"),
+                                 f"disagrees with conditions.upstream_pressure − conditions.downstream_pressure = "
+                                 f"{cond.raw('upstream_pressure')} − {cond.raw('downstream_pressure')} = {dp:.6g} Pa; "
+                                 "give either the pressure difference or the absolute pressures, or make them agree")
+        return dp
+    if not cond.has("pressure_difference"):
+        raise InputError(cond.field("pressure_difference"), None, "is required: give a pressure with its unit (e.g. "
+                         "\"10 kPa\"), or the absolute conditions.upstream_pressure and conditions.downstream_pressure")
+    dp = cond.quantity("pressure_difference", "pressure", positive=False)
+    if not dp > 0:
+        raise InputError(cond.field("pressure_difference"), cond.raw("pressure_difference"),
+                         "must be > 0: with no pressure difference across the seal nothing leaks")
+    return dp
+
+
+def _fluid(fsec: Section, cond: Section, theory: Section) -> _FluidInputs:
+    """[fluid] with the pressures of [conditions]: a liquid (Q = K ΔP) or a gas between two absolute pressures.
+
+    A named fluid's viscosity, density and phase come from the property library
+    (:func:`~sealeak.physics.properties.fluid_state`, at ``fluid.temperature`` and the upstream
+    pressure); ``fluid.viscosity`` overrides the looked-up value. A liquid whose viscosity is given
+    and that has no absolute pressures is not looked up (docs/theory.md §11.9). A gas needs both
+    absolute pressures.
+    """
+    name = fsec.raw("name", "")
+    if not isinstance(name, str):
+        raise InputError(fsec.field("name"), name, "must be text, e.g. \"water\" or \"helium\"")
+    density = fsec.quantity("density", "density") if fsec.has("density") else None
+    viscosity = fsec.quantity("viscosity", "viscosity") if fsec.has("viscosity") else None
+    molecular = fsec.quantity("molecular_size", "length") if fsec.has("molecular_size") else None
+    temperature = parse_temperature(fsec.field("temperature"), fsec.raw("temperature")) if fsec.has("temperature") \
+        else STANDARD_TEMPERATURE_CASE
+    rarefaction = theory.choice("rarefaction", RAREFACTION_MODELS, RAREFACTION_MODELS[0])
+    helium = cond.raw("helium_equivalent", False)
+    if not isinstance(helium, bool):
+        raise InputError(cond.field("helium_equivalent"), helium, "must be true or false")
+    absolute = _absolute_pressures(cond)
+    dp = _pressure_difference(cond, absolute)
+    keys = {"fluid": fsec.field("name"), "temperature": fsec.field("temperature"), "pressure": cond.field("upstream_pressure")}
+    known = None
+    if name.strip():
+        try:
+            with case_keys(keys):
+                known = canonical_fluid_name(name)
+        except InputError:
+            if viscosity is None:
+                raise
+    elif viscosity is None:
+        raise InputError(fsec.field("viscosity"), None, "is required: give the viscosity with its unit (e.g. \"1 mPa*s\"), "
+                                                        "or fluid.name, a fluid of the property library (e.g. \"water\", \"helium\")")
+    lookup = known is not None and (viscosity is None or absolute is not None or known not in _LIQUIDS_AT_ROOM)
+    warnings: list[str] = []
+    state = gas = None
+    if lookup:
+        assert known is not None
+        with case_keys(keys):
+            state = fluid_state(known, temperature, absolute[0] if absolute is not None else STANDARD_PRESSURE)
+        if state.phase not in ("gas", "supercritical", "liquid"):
+            raise InputError(fsec.field("name"), name, f"is {state.phase} at {temperature - 273.15:.4g} °C and "
+                             f"{state.pressure:.6g} Pa (on its saturation line): choose a temperature or upstream pressure "
+                             "where it is a gas or a liquid")
+        if state.is_gas:
+            if absolute is None:
+                raise InputError(cond.field("upstream_pressure"), None,
+                                 f"is required for a gas ({known} is a gas at {temperature - 273.15:.4g} °C): give "
+                                 "conditions.upstream_pressure and conditions.downstream_pressure (absolute, e.g. \"1 bar\" "
+                                 "and \"0 Pa\" for vacuum); a gas's leak rate depends on both, not on ΔP alone")
+            mu = viscosity if viscosity is not None else state.viscosity
+            with case_keys({"viscosity": fsec.field("viscosity"), "temperature": fsec.field("temperature")}):
+                g = Gas(name=known, temperature=temperature, viscosity=mu, molar_mass=state.molar_mass)
+            gas = GasConditions(g, absolute[0], absolute[1], rarefaction, state)
+            viscosity = mu
+        else:
+            viscosity = viscosity if viscosity is not None else state.viscosity
+            density = density if density is not None else state.density
+            if absolute is not None:
+                note = vapour_pressure_note(state, *absolute)
+                warnings += [note] if note else []
+        name = known
+    assert viscosity is not None
+    if gas is None and theory.has("rarefaction") and not helium:
+        raise InputError(theory.field("rarefaction"), theory.raw("rarefaction"), "is for gas flow: the fluid is a liquid "
+                         "(set conditions.helium_equivalent = true for its helium-equivalent leak rate)")
+    with case_keys():
+        fluid = Fluid(viscosity, density, name, molecular)
+    return _FluidInputs(fluid, dp, temperature, absolute, state, gas, helium or gas is not None, rarefaction, tuple(warnings))
 
 
 def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why: str) -> InputError:
@@ -356,14 +488,28 @@ def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why
                       "set theory.square_side")
 
 
-def _rig(sec: Section, fluid: Fluid, band: BandSeal | None = None) -> RigSetup:
-    """The [rig] section: the water-column rig of the reference experiment (:class:`~sealeak.lab.rig.RigSetup`).
+def _rig(raw: Any, fluid: Fluid, band: BandSeal | None = None, doc: dict[str, Any] | None = None) -> RigSetup | DecayRigSetup:
+    """The [rig] section: the water-column rig of the reference experiment (:class:`~sealeak.lab.rig.RigSetup`),
+    or with ``kind = "pressure-decay"`` the pressure-decay test of a gas (:class:`~sealeak.lab.rig.DecayRigSetup`,
+    built by :func:`~sealeak.cases.rig_builders.decay_rig_setup`; ``doc`` gives its [fluid] and [theory]).
 
     For an O-ring or pressure-profile seal (``band``) the compression or profile scale sets the
     contact, so ``load`` is refused; the rig's load is then the band's contact force f·Ly (N) at
     its first load (the rig itself runs at one load only, :func:`sealeak.cases.run.rig_prediction`).
     """
+    sec = RigSection(raw)
     gravity = sec.quantity("gravity", "acceleration") if sec.has("gravity") else STANDARD_GRAVITY
+    if sec.kind == "pressure-decay":
+        doc = doc or {}
+        if band is not None and sec.has("load"):
+            raise InputError(sec.field("load"), sec.raw("load"), "is not used here: the seal's compression or profile_scale "
+                                                                 "(in [conditions]) sets the contact; remove load")
+        if band is None and not sec.has("load"):
+            raise InputError(sec.field("load"), None, "is required: the mass (e.g. '3.4 kg') or force (e.g. '33 N') on the seal")
+        load = None if band is not None else _rig_load(sec, gravity)
+        fluid_doc, theory_doc = doc.get("fluid", {}), doc.get("theory", {})
+        return decay_rig_setup(sec, fluid, fluid_doc if isinstance(fluid_doc, dict) else {},
+                               theory_doc if isinstance(theory_doc, dict) else {}, band, load)
     if band is not None:
         what = "an O-ring's compression" if band.kind == "o-ring" else "a pressure profile's profile_scale"
         if sec.has("load"):

@@ -15,12 +15,17 @@ from numpy.typing import NDArray
 from ..lab.rig import RigSetup
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
+from ..physics.gas import Gas
 from ..physics.oring import ORingContact
 from ..physics.profile import PressureProfile
+from ..physics.properties import FluidState
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
 
-__all__ = ["Case", "MODELS", "BandSeal"]
+__all__ = ["Case", "MODELS", "BandSeal", "GasConditions", "STANDARD_TEMPERATURE_CASE"]
+
+#: The temperature of a case whose ``[fluid]`` gives none: 20 °C, in K.
+STANDARD_TEMPERATURE_CASE = 293.15
 
 #: The leak-rate theories a case may ask for (``theory.model``).
 MODELS = ("critical-junction", "effective-medium", "both")
@@ -91,6 +96,40 @@ class BandSeal:
 
 
 @dataclass(frozen=True)
+class GasConditions:
+    """The gas of a gas case, between two absolute pressures (docs/theory.md §11).
+
+    Attributes
+    ----------
+    gas
+        The ideal gas (name, T in K, μ in Pa·s, M in kg/mol) the leak rates use; μ is the case's
+        ``fluid.viscosity`` when given, else the property library's.
+    upstream_pressure, downstream_pressure
+        P_a > P_b >= 0, absolute (Pa); ΔP = P_a − P_b is the case's ``pressure_difference``.
+    rarefaction
+        The slip model f(Kn) (``theory.rarefaction``; :data:`sealeak.physics.gas.RAREFACTION_MODELS`).
+    state
+        The property library's state of the gas at T and P_a (viscosity, density, source).
+    """
+
+    gas: Gas
+    upstream_pressure: float
+    downstream_pressure: float
+    rarefaction: str
+    state: FluidState
+
+    @property
+    def temperature(self) -> float:
+        """T in K."""
+        return self.gas.temperature
+
+    @property
+    def mean_pressure(self) -> float:
+        """(P_a + P_b)/2 in Pa: where the Knudsen number of the result tables is taken."""
+        return 0.5 * (self.upstream_pressure + self.downstream_pressure)
+
+
+@dataclass(frozen=True)
 class Case:
     """One seal case (SI units).
 
@@ -142,6 +181,21 @@ class Case:
     input_warnings
         Warnings the builders found in the inputs (e.g. a Shore A hardness outside the range of
         the modulus relation), shown with the result's warnings.
+    gas
+        For a gas (``fluid.name`` a gas at the case's temperature and upstream pressure): the gas,
+        both absolute pressures and the rarefaction model (docs/theory.md §11); None for a liquid.
+    temperature
+        T of the fluid (K; ``fluid.temperature``, default 20 °C).
+    absolute_pressures
+        (P_a, P_b) in Pa when the case file gives them (gas or liquid), else None.
+    fluid_state
+        The property library's state of a named fluid (None when nothing was looked up: a liquid
+        whose viscosity the case file gives and that has no absolute pressures).
+    helium_equivalent
+        Whether results carry the helium-equivalent leak rate (always for a gas;
+        ``conditions.helium_equivalent`` for a liquid; docs/theory.md §11.9).
+    rarefaction
+        The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
     """
 
     title: str
@@ -167,6 +221,12 @@ class Case:
     source: str = ""
     band: BandSeal | None = None
     input_warnings: tuple[str, ...] = ()
+    gas: GasConditions | None = None
+    temperature: float = STANDARD_TEMPERATURE_CASE
+    absolute_pressures: tuple[float, float] | None = None
+    fluid_state: FluidState | None = None
+    helium_equivalent: bool = False
+    rarefaction: str = "beskok-karniadakis"
 
     @property
     def square_side(self) -> float:
