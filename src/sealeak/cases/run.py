@@ -27,11 +27,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import FileFormatError, InputError, SealeakError
+from ..io.units import molar_flow_factor
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, ScaleFit, fit_line, fit_scale
 from ..lab.rig import ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
+from ..physics.gas import Gas, GasLeak, gas_leak
+from ..physics.properties import fluid_state
 from ..physics.seal import Seal
 from ..physics.validity import assumption_warnings, continuum_verdict
 from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, BandTheory, run_band
@@ -43,7 +46,8 @@ __all__ = [
     "CaseResult", "run_case", "case_warnings", "predict", "predict_effective_medium", "conductance", "Model",
     "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "MODEL_NAMES",
     "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "run_linearity", "RigPrediction", "rig_prediction",
-    "rig_readings", "seal_description",
+    "rig_readings", "seal_description", "GasRows", "gas_rows", "GAS_UNITS", "HELIUM_UNITS", "HELIUM_TEST",
+    "helium_test_gas",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -85,6 +89,27 @@ EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
 _EM_ATTR = {"percolates_effective_medium": "percolates", "effective_conductivity": "effective_conductivity",
             "effective_gap": "effective_gap", "leak_rate_effective_medium": "leak_rate", "mean_gap": "mean_gap",
             "gap_distribution_mean": "gap_distribution_mean"}
+
+#: SI unit of the gas fields of a record (a gas case); the effective medium's carry the suffix ``_effective_medium``.
+GAS_UNITS: dict[str, str] = {
+    "knudsen_number": "1",
+    "flow_regime": "",
+    "leak_rate_pv": "Pa*m^3/s",
+    "leak_rate_mbar_l_s": "mbar*l/s",
+    "leak_rate_mass": "kg/s",
+    "leak_rate_molar": "mol/s",
+    "leak_rate_sccm": "sccm",
+}
+
+#: SI unit of the helium-equivalent fields (a gas case, or a liquid with ``conditions.helium_equivalent``).
+HELIUM_UNITS: dict[str, str] = {"leak_rate_helium_pv": "Pa*m^3/s", "leak_rate_helium_mbar_l_s": "mbar*l/s"}
+
+#: The standard helium leak test: helium at 1 bar (absolute) against vacuum, 20 °C (docs/theory.md §11.9).
+HELIUM_TEST = {"upstream_pressure": 1e5, "downstream_pressure": 0.0, "temperature": 293.15}
+
+#: 1 mbar·l/s in Pa·m³/s.
+MBAR_LITRE_PER_SECOND = 0.1
+
 
 # ---------------------------------------------------------------------- the theories for a case
 def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
@@ -235,6 +260,104 @@ def _model_name(case: Case, model: Model) -> str:
     return f"critical junction (α = {case.alpha:g})" if model == "critical-junction" else "effective medium (Bruggeman)"
 
 
+# ---------------------------------------------------------------------- gases
+def helium_test_gas() -> Gas:
+    """Helium at 20 °C and 1 bar from the property library: the gas of the helium-equivalent leak rate."""
+    t, p = HELIUM_TEST["temperature"], HELIUM_TEST["upstream_pressure"]
+    return fluid_state("helium", t, p).gas()
+
+
+@dataclass(frozen=True)
+class GasRows:
+    """One theory's gas leak per row (squeeze pressure or load), SI units (docs/theory.md §11.5, §11.9).
+
+    Attributes
+    ----------
+    conductance
+        K = Q/ΔP of the seal with the case's viscosity (m³/(Pa·s)); 0 where no leak channel.
+    gap
+        h, the gap of the narrowest constriction (m): u_c (critical junction), u_e (effective
+        medium), or u_c at the peak contact pressure of a band seal; NaN where no leak channel.
+    leaks
+        The :class:`~sealeak.physics.gas.GasLeak` of the case's gas per row (None: a liquid case,
+        or no leak channel).
+    helium
+        Q_pV of helium in the standard test (1 bar against vacuum, 20 °C) through the same seal,
+        Pa·m³/s (None: not asked for); 0 without a leak channel.
+    """
+
+    conductance: FloatArray
+    gap: FloatArray
+    leaks: tuple[GasLeak | None, ...] | None
+    helium: FloatArray | None
+
+    def fields(self, suffix: str = "") -> dict[str, Any]:
+        """The record fields (:data:`GAS_UNITS`, :data:`HELIUM_UNITS`, with ``suffix``) as arrays per row."""
+        out: dict[str, Any] = {}
+        if self.leaks is not None:
+            def pick(attr: str) -> FloatArray:
+                return np.array([getattr(g, attr) if g is not None else 0.0 for g in self.leaks or ()])
+
+            pv = pick("throughput")
+            molar = pick("molar_flow")
+            sccm = molar / molar_flow_factor("leak_rate", "sccm", temperature=1.0, molar_mass=1.0)
+            out |= {"knudsen_number": np.array([g.knudsen_mean if g is not None else np.nan for g in self.leaks]),
+                    "flow_regime": [g.regime if g is not None else "" for g in self.leaks],
+                    "leak_rate_pv": pv, "leak_rate_mbar_l_s": pv / MBAR_LITRE_PER_SECOND, "leak_rate_mass": pick("mass_flow"),
+                    "leak_rate_molar": molar, "leak_rate_sccm": sccm}
+        if self.helium is not None:
+            out |= {"leak_rate_helium_pv": self.helium, "leak_rate_helium_mbar_l_s": self.helium / MBAR_LITRE_PER_SECOND}
+        return {k + suffix: v for k, v in out.items()}
+
+
+def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike) -> GasRows:
+    """The case's gas leak (if a gas case) and the helium equivalent (if asked for) per row.
+
+    ``conductance`` K (m³/(Pa·s)) was computed with ``case.fluid.viscosity``, the gas's own
+    viscosity for a gas case (K ∝ 1/μ: Poiseuille flow). The helium equivalent is the helium leak
+    of the same seal: K μ_case/μ_He, the same gap, helium's rarefaction, 1 bar against vacuum at
+    20 °C (docs/theory.md §11.9).
+    """
+    k = np.atleast_1d(np.asarray(conductance, dtype=float))
+    h = np.atleast_1d(np.asarray(gap, dtype=float))
+    channel = (k > 0) & np.isfinite(h) & (h > 0)
+    leaks = None
+    gas = case.gas
+    if gas is not None:
+        with case_keys():
+            leaks = tuple(gas_leak(float(k[i]), float(h[i]), gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                   gas.rarefaction) if channel[i] else None for i in range(k.size))
+    helium = None
+    if case.helium_equivalent:
+        he = helium_test_gas()
+        scale = case.fluid.viscosity / he.viscosity
+        pa, pb = HELIUM_TEST["upstream_pressure"], HELIUM_TEST["downstream_pressure"]
+        helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction).throughput
+                           if channel[i] else 0.0 for i in range(k.size)])
+    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium)
+
+
+def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
+    """Gas rows of a uniform seal: K = Q/ΔP of each theory; the gap u_c, or u_e for the effective medium."""
+    out = {"critical_junction": gas_rows(case, np.where(res.percolates, res.leak_rate / res.pressure_difference, 0.0),
+                                         res.critical_gap)}
+    if em is not None:
+        out["effective_medium"] = gas_rows(case, np.where(em.percolates, em.leak_rate / em.pressure_difference, 0.0),
+                                           np.where(em.percolates, em.effective_gap, np.nan))
+    return out
+
+
+def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
+    """Gas rows of a band seal: K = Q/ΔP of the band, the gap u_c at the peak contact pressure (docs/theory.md §11.9)."""
+    out = {}
+    for name, theory in (("critical_junction", band.critical_junction), ("effective_medium", band.effective_medium)):
+        if theory is None or theory.leak_rate is None:
+            continue
+        k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
+        out[name] = gas_rows(case, k, band.critical_gap_at_max_pressure)
+    return out
+
+
 # ---------------------------------------------------------------------- one result for every front end
 @dataclass(frozen=True)
 class CaseResult:
@@ -267,6 +390,10 @@ class CaseResult:
         non-uniform band (docs/theory.md §10), which front ends show instead of the uniform table;
         ``critical_junction`` then holds the uniform prediction at each load's mean pressure and the
         verdicts judge the band at its highest pressure.
+    gas
+        For a gas case, or a liquid with ``conditions.helium_equivalent``: the gas leak and the
+        helium equivalent of each theory ("critical_junction", "effective_medium"), per row; the
+        rows are the band's loads for a band seal (docs/theory.md §11.9).
     """
 
     case: Case
@@ -280,6 +407,7 @@ class CaseResult:
     validity_effective_medium: tuple[str, ...] | None = None
     warnings: tuple[str, ...] = ()
     band: BandResult | None = None
+    gas: dict[str, GasRows] | None = None
 
     @property
     def shows_critical_junction(self) -> bool:
@@ -294,8 +422,23 @@ class CaseResult:
         if self.band is not None:
             em = BAND_EFFECTIVE_MEDIUM_UNITS if self.band.effective_medium is not None else {}
             regime = {"regime": ""} if self.band.band.oring is not None else {}
-            return {self.band.band.load_name: "1"} | regime | BAND_UNITS | em
-        return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
+            return {self.band.band.load_name: "1"} | regime | BAND_UNITS | em | self._gas_units
+        return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {}) | self._gas_units
+
+    @property
+    def _gas_units(self) -> dict[str, str]:
+        out: dict[str, str] = {}
+        for name, rows in (self.gas or {}).items():
+            suffix = "_effective_medium" if name == "effective_medium" else ""
+            units = (GAS_UNITS if rows.leaks is not None else {}) | (HELIUM_UNITS if rows.helium is not None else {})
+            out |= {k + suffix: u for k, u in units.items()}
+        return out
+
+    def _gas_fields(self) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for name, rows in (self.gas or {}).items():
+            out |= rows.fields("_effective_medium" if name == "effective_medium" else "")
+        return out
 
     @property
     def shown_valid(self) -> NDArray[np.bool_]:
@@ -309,6 +452,7 @@ class CaseResult:
         if self.band is not None:
             return self._band_records(self.band)
         res, em = self.critical_junction, self.effective_medium
+        gas = self._gas_fields()
         out = []
         for i in range(len(res)):
             rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
@@ -319,6 +463,7 @@ class CaseResult:
                     rec[key] = getattr(em, attr)[i]
                 rec["valid_effective_medium"] = bool(self.valid_effective_medium[i])
                 rec["validity_effective_medium"] = self.validity_effective_medium[i]
+            rec |= {k: _plain(v[i]) for k, v in gas.items()}
             out.append(rec)
         return out
 
@@ -341,6 +486,7 @@ class CaseResult:
                        "leak_rate_effective_medium_uniform_mean_pressure": em.uniform_mean_pressure,
                        "resistance_band_width_effective_medium": em.resistance_band_width,
                        "integral_relative_change_effective_medium": em.change}
+        values |= self._gas_fields()
         out = []
         for i in range(len(b)):
             rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
@@ -354,6 +500,11 @@ class CaseResult:
                     rec[key] = bool(v) if isinstance(v, np.bool_) else v if isinstance(v, str) else float(v)
             out.append(rec)
         return out
+
+
+def _plain(v: Any) -> Any:
+    """A record value as a plain Python bool, str or float."""
+    return bool(v) if isinstance(v, (bool, np.bool_)) else v if isinstance(v, str) else float(v)
 
 
 def run_case(case: Case, *, rig: bool = False) -> CaseResult:
@@ -381,8 +532,9 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     valid, validity = _lifted(valid, validity, lifted, res.percolates, res)
     if em is not None and valid_em is not None and validity_em is not None:
         valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
+    gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
     return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      case.input_warnings + tuple(case_warnings(case, res)))
+                      case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
@@ -407,8 +559,9 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         slope_rms=case.spectrum.slope_rms, h_rms=case.spectrum.h_rms, seal_width=float(band.contact_width.min()),
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
+    gas = _band_gas(case, band) if case.gas is not None or case.helium_equivalent else None
     return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, None, None,
-                      case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band)
+                      case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band, gas)
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
