@@ -283,7 +283,9 @@ class GasRows:
         or no leak channel).
     helium
         Q_pV of helium in the standard test (1 bar against vacuum, 20 °C) through the same seal,
-        Pa·m³/s (None: not asked for); 0 without a leak channel.
+        Pa·m³/s (None: not asked for).
+
+    Rows without a leak channel hold NaN leak rates (``null`` in JSON), as the liquid's ``leak_rate``.
     """
 
     conductance: FloatArray
@@ -296,7 +298,7 @@ class GasRows:
         out: dict[str, Any] = {}
         if self.leaks is not None:
             def pick(attr: str) -> FloatArray:
-                return np.array([getattr(g, attr) if g is not None else 0.0 for g in self.leaks or ()])
+                return np.array([getattr(g, attr) if g is not None else np.nan for g in self.leaks or ()])
 
             pv = pick("throughput")
             molar = pick("molar_flow")
@@ -333,7 +335,7 @@ def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike) -> GasRows:
         scale = case.fluid.viscosity / he.viscosity
         pa, pb = HELIUM_TEST["upstream_pressure"], HELIUM_TEST["downstream_pressure"]
         helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction).throughput
-                           if channel[i] else 0.0 for i in range(k.size)])
+                           if channel[i] else np.nan for i in range(k.size)])
     return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium)
 
 

@@ -38,9 +38,85 @@ def _setting_lines(case: Case, em: EffectiveMediumResult | None) -> dict[str, li
                    f"E* = {case.e_star / 1e6:.4g} MPa"],
         "seal": [f"seal      {geom}: Lx = {seal.width * 1e3:.4g} mm, Ly = {seal.length * 1e3:.4g} mm, "
                  f"Ly/Lx = {seal.aspect_ratio:.4g}"],
-        "fluid": [f"fluid     η = {case.fluid.viscosity * 1e3:.4g} mPa·s, ΔP = {case.pressure_difference / 1e3:.4g} kPa"],
+        "fluid": _fluid_lines(case),
         "theory": theory,
     }
+
+
+def _kpa(p: float) -> str:
+    return f"{p / 1e3:.4g} kPa"
+
+
+def _fluid_lines(case: Case) -> list[str]:
+    """The fluid: its viscosity and ΔP; for a named fluid its temperature and absolute pressures; for a gas its properties."""
+    fluid = case.fluid
+    name = f"{fluid.name}, " if fluid.name else ""
+    temp = f"T = {case.temperature - 273.15:.4g} °C, " if case.fluid_state is not None else ""
+    if case.absolute_pressures is not None:
+        pa, pb = case.absolute_pressures
+        pressures = f"P_a = {_kpa(pa)} → P_b = {_kpa(pb)} (absolute), ΔP = {_kpa(case.pressure_difference)}"
+    else:
+        pressures = f"ΔP = {_kpa(case.pressure_difference)}"
+    eta = f"{fluid.viscosity * 1e6:.4g} µPa·s" if fluid.viscosity < 1e-4 else f"{fluid.viscosity * 1e3:.4g} mPa·s"
+    lines = [f"fluid     {name}η = {eta}, {temp}{pressures}"]
+    if case.gas is not None:
+        g = case.gas
+        lines.append(f"          a gas: M = {g.gas.molar_mass * 1e3:.4g} g/mol, mean free path {g.gas.mean_free_path(g.mean_pressure) * 1e9:.4g} nm "
+                     f"at the mean pressure; rarefaction {g.rarefaction} (docs/theory.md §11.4)")
+    if case.fluid_state is not None:
+        lines.append(f"          properties: {case.fluid_state.source}"
+                     + (" (viscosity given in the case file)" if abs(fluid.viscosity / case.fluid_state.viscosity - 1) > 1e-12 else ""))
+    return lines
+
+
+def _gas_columns(r: CaseResult, theory: str) -> list[tuple[str, int, list[str]]]:
+    """(header, width, cells) of the gas table of one theory ("critical_junction" or "effective_medium")."""
+    assert r.gas is not None
+    rows = r.gas[theory]
+    n = range(rows.conductance.size)
+    if r.band is not None:
+        b = r.band.band
+        first = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.loads]) if b.load_name == "compression"
+                 else ("scale", 7, [f"{v:.4g}" for v in b.loads]))
+    else:
+        first = ("P0 (kPa)", 10, [f"{p / 1e3:.4g}" for p in r.critical_junction.squeeze_pressure])
+    g_scale, g_unit = length_unit(rows.gap[np.isfinite(rows.gap)] if np.isfinite(rows.gap).any() else np.array([1e-6]))
+    cols = [first, (f"gap ({g_unit})", 10, [fmt(rows.gap[i] / g_scale, ".4g") for i in n])]
+    f = rows.fields()
+    if rows.leaks is not None:
+        cols += [("Kn", 9, [fmt(f["knudsen_number"][i], ".3g") for i in n]),
+                 ("regime", 14, [f["flow_regime"][i] or "—" for i in n]),
+                 ("Q_pV (Pa·m³/s)", 15, [fmt(f["leak_rate_pv"][i], ".3e") for i in n]),
+                 ("Q (mbar·l/s)", 13, [fmt(f["leak_rate_mbar_l_s"][i], ".3e") for i in n]),
+                 ("ṁ (kg/s)", 10, [fmt(f["leak_rate_mass"][i], ".3e") for i in n]),
+                 ("ṅ (mol/s)", 10, [fmt(f["leak_rate_molar"][i], ".3e") for i in n]),
+                 ("Q (sccm)", 10, [fmt(f["leak_rate_sccm"][i], ".3e") for i in n])]
+    if rows.helium is not None:
+        cols.append(("He-eq (mbar·l/s)", 17, [fmt(f["leak_rate_helium_mbar_l_s"][i], ".3e") for i in n]))
+    return cols
+
+
+def _gas_block(r: CaseResult) -> list[str]:
+    """The gas tables (one per theory) and what their columns mean."""
+    if r.gas is None:
+        return []
+    lines: list[str] = []
+    gap_of = {"critical_junction": "u_c at the peak contact pressure" if r.band is not None else "u_c",
+              "effective_medium": "u_c at the peak contact pressure" if r.band is not None else "u_e"}
+    for theory, rows in r.gas.items():
+        if theory == "critical_junction" and not r.shows_critical_junction:
+            continue
+        what = "gas leak" if rows.leaks is not None else "helium-equivalent leak"
+        lines += ["", f"{what}, {theory.replace('_', ' ')} (gap: {gap_of[theory]}):"]
+        lines += _table_lines(_gas_columns(r, theory))
+    case = r.case
+    notes = []
+    if case.gas is not None:
+        notes.append(f"Kn = λ/gap at the mean pressure {_kpa(case.gas.mean_pressure)}; Q_pV counted at "
+                     f"{case.temperature - 273.15:.4g} °C; sccm: cm³/min at 0 °C and 101.325 kPa")
+    if case.helium_equivalent:
+        notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
+    return lines + ["          " + n for n in notes]
 
 
 def _settings(r: CaseResult) -> dict[str, list[str]]:
@@ -241,12 +317,16 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
             lines.append("          w: contact width; p_mean, p_max: mean and peak contact pressure; Q(p_mean): a uniform seal "
                          "at the mean pressure, for comparison; 90% of R: the width of the band holding 90 % of the flow "
                          "resistance")
+            lines.extend(_gas_block(r))
             lines.extend("note: " + m for m in r.messages)
             lines.extend("note: " + m for m in validity_notes(r))
             continue
         if r.shows_critical_junction:
             lines.append("")
             lines.extend(_table_lines(_cj_columns(r)))
+            if case.gas is not None:
+                lines.append("          Q in m³/s and ml/min: the incompressible formula K ΔP with the gas's viscosity, for "
+                             "comparison; the gas's leak rate is in the gas tables below")
             for m in res.messages:
                 lines.append("note: " + m)
         if em is not None:
@@ -257,5 +337,6 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
                          "u_e: the gap whose u³/(12η) equals σ_eff")
             for m in em.messages:
                 lines.append("note: " + m)
+        lines.extend(_gas_block(r))
         lines.extend("note: " + m for m in validity_notes(r))
     return "\n".join(lines) + "\n"
