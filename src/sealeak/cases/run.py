@@ -30,7 +30,7 @@ from ..errors import FileFormatError, InputError, SealeakError
 from ..io.units import molar_flow_factor
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, ScaleFit, fit_line, fit_scale
-from ..lab.rig import ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
+from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.gas import Gas, GasLeak, gas_leak
@@ -38,6 +38,7 @@ from ..physics.properties import fluid_state
 from ..physics.seal import Seal
 from ..physics.validity import assumption_warnings, continuum_verdict
 from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, BandTheory, run_band
+from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
 from .schema import case_keys
 from .seals import with_loads
@@ -919,8 +920,11 @@ class RigPrediction:
     band: BandResult | None = None
 
 
-def rig_prediction(case: Case) -> RigPrediction:
+def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model`` (docs/theory.md §4.2).
+
+    A ``[rig] kind = "pressure-decay"`` goes to :func:`~sealeak.cases.leak_tests.decay_prediction`
+    (P(t) of the test volume, docs/theory.md §11.7).
 
     Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP with K from :func:`conductance`;
     the ODE is still solved in general (:func:`~sealeak.lab.rig.water_column`) and the closed-form
@@ -934,6 +938,8 @@ def rig_prediction(case: Case) -> RigPrediction:
     rig = case.rig
     if rig is None:
         raise InputError("rig", None, "the case file has no [rig] section (cylinder_diameter, initial_height, load, ...)")
+    if isinstance(rig, DecayRigSetup):
+        return decay_prediction(case)
     models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
     k_of: dict[str, float] = {}
     messages: list[str] = []
@@ -986,4 +992,7 @@ def rig_readings(case: Case, time: ArrayLike, height: ArrayLike, source: str = "
     """The leak rate read from measured (t, H) readings of the case's rig (docs/theory.md §4)."""
     if case.rig is None:
         raise InputError("rig", None, "the case file has no [rig] section")
+    if isinstance(case.rig, DecayRigSetup):
+        raise InputError("rig.kind", case.rig.kind, "(t, P) readings of a pressure-decay test go to "
+                                                    "sealeak.cases.leak_tests.decay_readings")
     return leak_rate_from_readings(case.rig, time, height, source=source)

@@ -41,13 +41,16 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--plots", metavar="DIR", help="write the figure (fit.png or linearity.png) into DIR")
     p.set_defaults(func=_cmd_fit)
 
-    p = sub.add_parser("rig", help="virtual water-column rig: level against time, or leak rate from readings",
-                       description="The virtual water-column rig of the case's [rig] section. An O-ring or "
-                                   "pressure-profile seal runs at the case's one compression or profile_scale "
-                                   "(the [rig] then has no load).")
+    p = sub.add_parser("rig", help="virtual leak-test rig (water column or pressure decay): against time, or from readings",
+                       description="The virtual rig of the case's [rig] section: the water column (kind = "
+                                   "\"water-column\", the default) or the pressure-decay test of a gas (kind = "
+                                   "\"pressure-decay\"). An O-ring or pressure-profile seal runs at the case's one "
+                                   "compression or profile_scale (the [rig] then has no load).")
     add_case_args(p)
     _add_variant(p)
-    p.add_argument("--readings", metavar="FILE", help="measured (time, height) readings, e.g. 'time (min), height (cm)'")
+    p.add_argument("--readings", metavar="FILE", help="measured readings: (time, height) of a water column, e.g. 'time (min), "
+                                                      "height (cm)', or (time, absolute pressure) of a pressure-decay test, "
+                                                      "e.g. 'time (min), pressure (mbar)'")
     p.add_argument("--json", metavar="FILE", help="write the results as JSON")
     p.add_argument("--plots", metavar="DIR", help="write rig.png (and readings.png) into DIR")
     p.set_defaults(func=_cmd_rig)
@@ -142,6 +145,8 @@ def _cmd_rig(args: argparse.Namespace) -> int:
         load = "" if case.band is not None else ", load (kg or N)"  # a band seal's compression or scale sets the contact
         raise InputError("rig", None, f"{case.source or 'the case'} has no [rig] section: give cylinder_diameter, "
                                       f"initial_height{load} and optionally final_height, density")
+    if case.rig.kind == "pressure-decay":
+        return _decay_rig(args, case)
     pred = rig_prediction(case)
     analysis = None
     if args.readings:
@@ -153,6 +158,30 @@ def _cmd_rig(args: argparse.Namespace) -> int:
         figs = {"rig.png": figure_rig(case.rig, pred.columns, pred.squeeze_pressure, rig_condition(case, pred, short=True))}
         if analysis is not None:
             figs["readings.png"] = figure_readings(analysis, pred.conductance)
+        pngs = render_figures(figs)
+    emit(args, text, {args.json: doc} if args.json else {}, pngs)
+    return 0
+
+
+def _decay_rig(args: argparse.Namespace, case) -> int:  # type: ignore[no-untyped-def]
+    """``sealeak rig`` on a ``[rig] kind = "pressure-decay"`` case: P(t), Δt, V·ΔP/Δt; readings give the leak rate and α."""
+    from ..cases.leak_tests import decay_prediction, decay_readings
+    from ..lab import read_decay_readings
+    from ..render import render_figures
+    from ..render.lab import decay_condition, decay_json, decay_text
+    from ..render.lab_figures import figure_decay, figure_decay_readings
+
+    pred = decay_prediction(case)
+    readings = None
+    if args.readings:
+        t, p = read_decay_readings(args.readings)
+        readings = decay_readings(case, pred, t, p, source=args.readings)
+    text, doc = decay_text(case, pred, readings, args.readings or ""), decay_json(case, pred, readings) if args.json else ""
+    pngs = {}
+    if args.plots:  # rendered before anything is written: a failure leaves no file behind
+        figs = {"rig.png": figure_decay(case.rig, pred, decay_condition(case, pred, short=True))}
+        if readings is not None:
+            figs["readings.png"] = figure_decay_readings(case.rig, readings)
         pngs = render_figures(figs)
     emit(args, text, {args.json: doc} if args.json else {}, pngs)
     return 0

@@ -24,16 +24,25 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from ..errors import ConvergenceError, FileFormatError, InputError
+from ..physics.gas import RAREFACTION_MODELS, Gas
 from ..physics.seal import STANDARD_GRAVITY, Seal
+from .data import _columns, _factor
+from .pressure_decay import PressureDecaySetup
 
-__all__ = ["RigSetup", "WaterColumn", "water_column", "exponential_height", "drain_time",
-           "ReadingsAnalysis", "leak_rate_from_readings"]
+__all__ = ["RIG_KINDS", "RigSetup", "WaterColumn", "water_column", "exponential_height", "drain_time",
+           "ReadingsAnalysis", "leak_rate_from_readings", "DecayRigSetup",
+           "read_decay_readings"]
+
+#: The rigs a case file's ``[rig] kind`` may name: the reference paper's water column (the default)
+#: and the pressure-decay test of a gas (docs/theory.md §11.7).
+RIG_KINDS = ("water-column", "pressure-decay")
 
 FloatArray = NDArray[np.float64]
 
@@ -95,6 +104,11 @@ class RigSetup:
                                  f"must be below the initial height {self.initial_height:.6g} m")
         if self.duration is not None:
             _positive("duration", self.duration)
+
+    @property
+    def kind(self) -> str:
+        """"water-column" (:data:`RIG_KINDS`)."""
+        return "water-column"
 
     @property
     def cylinder_area(self) -> float:
@@ -265,3 +279,66 @@ def leak_rate_from_readings(rig: RigSetup, time: ArrayLike, height: ArrayLike, s
     rms = float(np.sqrt(np.mean(resid**2)) / np.log(10.0))
     return ReadingsAnalysis(time=t, height=h, interval_pressure_difference=dp, interval_leak_rate=q,
                             conductance=float(k), conductance_std=float(k_std), rms_log_residual=rms)
+
+
+@dataclass(frozen=True)
+class DecayRigSetup:
+    """The pressure-decay rig: a test volume of gas leaking through the seal (SI units; docs/theory.md §11.7).
+
+    Attributes
+    ----------
+    test
+        V (m³), the initial and outside absolute pressures P1, P2 (Pa), the temperature T (K), the
+        pressure loss ΔP to time (Pa) and the simulated duration (s):
+        :class:`~sealeak.lab.pressure_decay.PressureDecaySetup`.
+    gas
+        The ideal gas at T (viscosity μ in Pa·s, molar mass M in kg/mol) whose throughput
+        Q_pV = K ∫ p f(Kn(p)) dp through the seal empties the volume (docs/theory.md §11.5).
+    rarefaction_model
+        The f(Kn) of :func:`~sealeak.physics.gas.slip_factor` ("beskok-karniadakis" or "no-slip").
+    load
+        Force F pressing a flat seal (N), as for the water column; None for an O-ring or pressure-profile
+        seal, whose compression or profile scale sets the contact.
+    load_note
+        How the load was given (e.g. a mass converted with g), for reports.
+    gas_note
+        Where the gas's properties come from (property library, temperature), for reports.
+    """
+
+    test: PressureDecaySetup
+    gas: Gas
+    rarefaction_model: str = "beskok-karniadakis"
+    load: float | None = None
+    load_note: str = ""
+    gas_note: str = ""
+
+    def __post_init__(self) -> None:
+        if self.rarefaction_model not in RAREFACTION_MODELS:
+            raise InputError("rarefaction_model", self.rarefaction_model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
+        if self.load is not None:
+            _positive("load", self.load)
+        if abs(self.gas.temperature - self.test.temperature) > 1e-9 * self.test.temperature:
+            raise InputError("temperature", self.gas.temperature,
+                             f"the gas must be at the test temperature {self.test.temperature:.6g} K")
+
+    @property
+    def kind(self) -> str:
+        """"pressure-decay" (:data:`RIG_KINDS`)."""
+        return "pressure-decay"
+
+    def squeeze_pressure(self, seal: Seal) -> float:
+        """P0 = F / (Lx Ly) in Pa for a flat seal pressed by ``load``."""
+        if self.load is None:
+            raise InputError("load", None, "the rig has no load: the seal's compression or profile scale sets the contact")
+        return seal.squeeze_pressure_from_load(self.load)
+
+
+def read_decay_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
+    """Pressure-decay readings: columns time and pressure with units (e.g. 'time (min), pressure (mbar)');
+    returns t (s) and the absolute pressure P (Pa). A column in a unit of the wrong kind is a
+    :class:`FileFormatError` naming the file and the column."""
+    p = Path(path)
+    table, found = _columns(p, ("time", "pressure"), ())
+    t = table.data[:, found["time"]] * _factor(p, table, found["time"], "time")
+    pressure = table.data[:, found["pressure"]] * _factor(p, table, found["pressure"], "pressure")
+    return t, pressure

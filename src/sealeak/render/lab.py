@@ -11,12 +11,17 @@ from typing import Any
 import numpy as np
 
 from ..cases import Case, FitResult, LinearityCheck, RigPrediction
+from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
 from ..lab.data import LeakData
 from ..lab.rig import ReadingsAnalysis
 from .records import json_document, json_value
 from .text import fmt
 
-__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition", "load_label"]
+__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition", "load_label",
+           "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3"]
+
+#: 1 Pa·m³/s = 10 mbar·l/s (100 Pa × 1000 l/m³: the leak-test unit; docs/theory.md §11.6).
+MBAR_L_PER_PA_M3 = 10.0
 
 
 def fit_text(result: FitResult) -> str:
@@ -206,4 +211,134 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
                            "interval_leak_rate": [json_value(x) for x in readings.interval_leak_rate],
                            "conductance": json_value(readings.conductance),
                            "conductance_std": json_value(readings.conductance_std)}
+    return json_document(doc)
+
+
+def duration_text(seconds: float) -> str:
+    """A time in s, with a readable unit beside it for long times: '1234 s (20.6 min)', '3.2e+08 s (10.1 years)'."""
+    if not np.isfinite(seconds):
+        return "never" if seconds > 0 else "n/a"
+    for size, unit in ((365.25 * 86400.0, "years"), (86400.0, "days"), (3600.0, "h"), (60.0, "min")):
+        if seconds >= 2 * size:
+            return f"{seconds:.4g} s ({seconds / size:.3g} {unit})"
+    return f"{seconds:.4g} s"
+
+
+def decay_condition(case: Case, pred: DecayPrediction, short: bool = False) -> str:
+    """What presses the seal in the pressure-decay rig: the load and P0, or a band seal's load and contact."""
+    rig = decay_rig(case)
+    b = pred.band
+    if b is None:
+        if short:
+            return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
+        return (f"{rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
+                f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
+    seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
+    at = load_label(b.band.load_name, float(b.band.loads[0]))
+    if short:
+        return f"{seal} at {at}, peak contact pressure {b.max_contact_pressure[0] / 1e6:.3g} MPa"
+    return (f"{seal} at {at}: contact width {b.contact_width[0] * 1e3:.4g} mm, mean contact pressure "
+            f"{b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa")
+
+
+def _pv(q: float) -> str:
+    """A pV throughput in Pa·m³/s and mbar·l/s."""
+    if not np.isfinite(q):
+        return "n/a"
+    return f"{q:.4g} Pa·m³/s = {q * MBAR_L_PER_PA_M3:.4g} mbar·l/s"
+
+
+def decay_text(case: Case, pred: DecayPrediction, readings: DecayReadingsResult | None = None,
+               readings_source: str = "") -> str:
+    """What ``sealeak rig`` prints for a pressure-decay test: the test, then per model K, the gap, Kn, the
+    time to lose ΔP and the standard leak rate V·ΔP/Δt (docs/theory.md §11.7)."""
+    rig = decay_rig(case)
+    test = rig.test
+    lines = [case.title, "virtual pressure-decay test: V dP/dt = -Q_pV(P, P2) (docs/theory.md §11.7)", "",
+             f"{'load' if pred.band is None else 'seal':<8} {decay_condition(case, pred)}",
+             f"{'gas':<8} {rig.gas_note}",
+             f"{'volume':<8} V = {test.volume * 1e3:.4g} l, P1 = {test.initial_pressure / 100:.6g} mbar, "
+             f"P2 = {test.outside_pressure / 100:.6g} mbar (absolute), ΔP to time = {test.loss / 100:.4g} mbar",
+             f"{'flow':<8} Q_pV = K ∫ p f(Kn(p)) dp from P2 to P, rarefaction: {rig.rarefaction_model}"]
+    for name, m in pred.models.items():
+        d, leak = m.decay, m.initial_leak
+        lines += ["", name]
+        if leak is None:
+            lines.append("  no leak channel: the pressure stays at P1")
+            continue
+        lines += [f"  K = {m.conductance:.4g} m³/(Pa·s), narrowest gap h = {m.gap:.4g} m, Kn = {leak.knudsen_mean:.3g} "
+                  f"at the mean pressure ({leak.regime} flow)",
+                  f"  leak at the start: {_pv(leak.throughput)} ({leak.mass_flow:.4g} kg/s)",
+                  f"  time to lose ΔP = {d.pressure_loss / 100:.4g} mbar: {duration_text(d.time_to_loss)}"
+                  + (f"  (no-slip flow: {duration_text(m.viscous_time_to_loss)})" if rig.rarefaction_model != "no-slip" else ""),
+                  f"  standard leak rate V·ΔP/Δt: {_pv(d.standard_leak_rate)}"]
+    if readings is not None:
+        r = readings.readings
+        t = r.time
+        lines += ["", f"readings from {readings_source}: {t.size} points over {duration_text(t[-1] - t[0])}", "",
+                  f"{'P (mbar)':>12} {'Q_pV (Pa·m³/s)':>15} {'(mbar·l/s)':>12}"]
+        for pi, qi in zip(r.interval_pressure, r.interval_leak_rate):
+            lines.append(f"{pi / 100:12.6g} {qi:15.4e} {qi * MBAR_L_PER_PA_M3:12.4e}")
+        rising = int(np.count_nonzero(r.interval_leak_rate < 0))
+        if rising:
+            lines.append(f"note: the pressure rises in {rising} of {r.interval_leak_rate.size} intervals (reading noise?): "
+                         "those intervals show a negative leak rate")
+        lines.append(f"leak rate over the readings V·(P_first − P_last)/(t_last − t_first): {_pv(r.leak_rate)}")
+        lines.append(f"viscous fit of artanh(P2/P)/P2 against t: K = {r.conductance:.4g} ± {r.conductance_std:.2g} m³/(Pa·s)")
+        for name, sc in readings.scale.items():
+            what = "α implied by the readings" if name.startswith("critical") else "factor on its K implied by the readings"
+            lines.append(f"{name}: {what}: {sc.alpha:.4g} ± {sc.alpha_std:.2g}"
+                         + (f" (case α = {case.alpha:g})" if name.startswith("critical") else ""))
+    lines += ["note: " + m for m in pred.messages]
+    return "\n".join(lines) + "\n"
+
+
+def decay_json(case: Case, pred: DecayPrediction, readings: DecayReadingsResult | None = None) -> str:
+    """The ``sealeak rig --json`` document of a pressure-decay test: the test, and per model K, the gap, Kn,
+    the leak at the start, Δt, V·ΔP/Δt and the whole P(t) (SI units, listed in ``units``)."""
+    rig = decay_rig(case)
+    test = rig.test
+    models: dict[str, Any] = {}
+    for name, m in pred.models.items():
+        d, leak = m.decay, m.initial_leak
+        models[name] = {
+            "conductance": json_value(m.conductance), "gap": json_value(m.gap),
+            "knudsen_number": json_value(leak.knudsen_mean) if leak else None, "flow_regime": leak.regime if leak else None,
+            "initial_leak_rate_pv": json_value(leak.throughput) if leak else 0.0,
+            "initial_leak_rate_mbar_l_s": json_value(leak.throughput * MBAR_L_PER_PA_M3) if leak else 0.0,
+            "initial_leak_rate_mass": json_value(leak.mass_flow) if leak else 0.0,
+            "time_to_pressure_loss": json_value(d.time_to_loss),
+            "time_to_pressure_loss_no_slip": json_value(m.viscous_time_to_loss),
+            "standard_leak_rate_pv": json_value(d.standard_leak_rate),
+            "standard_leak_rate_mbar_l_s": json_value(d.standard_leak_rate * MBAR_L_PER_PA_M3),
+            "time": [json_value(x) for x in d.time], "pressure": [json_value(x) for x in d.pressure],
+            "leak_rate_pv": [json_value(x) for x in d.throughput]}
+    doc: dict[str, Any] = {
+        "case": case.title, "kind": "pressure-decay", "squeeze_pressure": pred.squeeze_pressure,
+        "load": json_value(rig.load) if rig.load is not None else None,
+        "test": {"volume": test.volume, "initial_pressure": test.initial_pressure, "outside_pressure": test.outside_pressure,
+                 "temperature": test.temperature, "pressure_loss": test.loss, "gas": rig.gas.name,
+                 "viscosity": rig.gas.viscosity, "molar_mass": rig.gas.molar_mass, "rarefaction_model": rig.rarefaction_model},
+        "models": models,
+        "units": {"squeeze_pressure": "Pa", "load": "N", "volume": "m^3", "initial_pressure": "Pa (absolute)",
+                  "outside_pressure": "Pa (absolute)", "temperature": "K", "pressure_loss": "Pa", "viscosity": "Pa*s",
+                  "molar_mass": "kg/mol", "conductance": "m^3/(Pa*s)", "gap": "m", "knudsen_number": "1",
+                  "initial_leak_rate_pv": "Pa*m^3/s", "initial_leak_rate_mbar_l_s": "mbar*l/s", "initial_leak_rate_mass": "kg/s",
+                  "time_to_pressure_loss": "s", "time_to_pressure_loss_no_slip": "s", "standard_leak_rate_pv": "Pa*m^3/s",
+                  "standard_leak_rate_mbar_l_s": "mbar*l/s", "time": "s", "pressure": "Pa (absolute)",
+                  "leak_rate_pv": "Pa*m^3/s", "interval_pressure": "Pa", "interval_leak_rate_pv": "Pa*m^3/s",
+                  "alpha": "1"},
+        "messages": list(pred.messages)}
+    b = pred.band
+    if b is not None:
+        doc[b.band.load_name] = float(b.band.loads[0])
+        doc["units"][b.band.load_name] = "1"
+    if readings is not None:
+        r = readings.readings
+        doc["readings"] = {"interval_pressure": [json_value(x) for x in r.interval_pressure],
+                           "interval_leak_rate_pv": [json_value(x) for x in r.interval_leak_rate],
+                           "leak_rate_pv": json_value(r.leak_rate), "leak_rate_mbar_l_s": json_value(r.leak_rate * MBAR_L_PER_PA_M3),
+                           "conductance": json_value(r.conductance), "conductance_std": json_value(r.conductance_std),
+                           "scale": {name: {"alpha": json_value(sc.alpha), "alpha_std": json_value(sc.alpha_std)}
+                                     for name, sc in readings.scale.items()}}
     return json_document(doc)

@@ -12,7 +12,8 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..cases import FitResult, LinearityCheck
-from ..lab.rig import ReadingsAnalysis, RigSetup, WaterColumn
+from ..cases.leak_tests import DecayPrediction, DecayReadingsResult
+from ..lab.rig import DecayRigSetup, ReadingsAnalysis, RigSetup, WaterColumn
 from .figures import (
     color,
     finish_axes,
@@ -27,7 +28,7 @@ from .figures import (
 )
 from .lab import load_label
 
-__all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings"]
+__all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings", "figure_decay", "figure_decay_readings"]
 
 _NAMES = {"critical_junction": "critical junction", "effective_medium": "effective medium"}
 
@@ -192,5 +193,68 @@ def figure_readings(analysis: ReadingsAnalysis, model_conductance: dict[str, flo
         subtitle(ax, "beyond the axes: " + ", ".join(hidden) + " (K in the text output)")
     finish_axes(ax)
     ml_per_min_axis(ax, qscale)
+    place_legend(ax)
+    return fig
+
+
+def _time_unit(longest: float) -> tuple[float, str]:
+    """(seconds per unit, unit) of a time axis reaching ``longest`` s."""
+    for size, unit in ((YEAR, "years"), (86400.0, "days"), (3600.0, "h"), (60.0, "min")):
+        if longest > 2 * size:
+            return size, unit
+    return 1.0, "s"
+
+
+@laid_out
+def figure_decay(rig: DecayRigSetup, pred: DecayPrediction, condition: str = "") -> Figure:
+    """Absolute pressure P(t) in the test volume for each model, the level P1 − ΔP and the time it is reached."""
+    fig, ax = new_figure("Virtual pressure-decay test: pressure against time")
+    test = rig.test
+    longest = max((m.decay.time[-1] for m in pred.models.values()), default=1.0)
+    tscale, tunit = _time_unit(longest)
+    target = test.initial_pressure - test.loss
+    for i, (name, m) in enumerate(pred.models.items()):
+        d = m.decay
+        reached = np.isfinite(d.time_to_loss)
+        label = name + (f": ΔP lost after {d.time_to_loss / tscale:.3g} {tunit}" if reached else
+                        (": no leak, the pressure stays" if m.conductance == 0 else ": ΔP not lost in the simulated time"))
+        ax.plot(d.time / tscale, d.pressure / 100, ("-", "--")[i % 2], color=color(i), label=label)
+        if reached:
+            ax.plot([d.time_to_loss / tscale], [target / 100], "o", color=color(i), ms=4)
+    ax.axhline(target / 100, color="0.5", lw=0.8, ls=":", label=f"P1 − ΔP = {target / 100:.6g} mbar")
+    ax.set_xlabel(f"time t ({tunit})")
+    ax.set_ylabel("absolute pressure P in the test volume (mbar)")
+    ax.set_xlim(left=0)
+    subtitle(ax, f"{condition}\n{rig.gas.name}, V = {test.volume * 1e3:.3g} l, P2 = {test.outside_pressure / 100:.4g} mbar "
+                 f"outside, T = {test.temperature - 273.15:.3g} °C, rarefaction: {rig.rarefaction_model}")
+    if not pred.models:
+        say_nothing(ax, "no model to simulate")
+    finish_axes(ax)
+    place_legend(ax)
+    return fig
+
+
+@laid_out
+def figure_decay_readings(rig: DecayRigSetup, readings: DecayReadingsResult) -> Figure:
+    """Measured P(t) readings with each model's P(t) scaled by the factor the readings imply (α for the critical junction),
+    started at the first reading."""
+    fig, ax = new_figure("Pressure-decay readings and the models fitted to them")
+    r = readings.readings
+    t0 = r.time[0]
+    span = r.time[-1] - t0
+    tscale, tunit = _time_unit(span)
+    ax.plot((r.time - t0) / tscale, r.pressure / 100, "ks", ms=4, label="readings")
+    for i, (name, sc) in enumerate(readings.scale.items()):
+        curve = readings.fitted.get(name)
+        if curve is None:
+            continue
+        what = "α" if name.startswith("critical") else "factor on K"
+        ax.plot(curve.time / tscale, curve.pressure / 100, ("-", "--")[i % 2], color=color(i),
+                label=f"{name}, {what} = {sc.alpha:.3g} ± {sc.alpha_std:.2g}")
+    ax.set_xlabel(f"time since the first reading ({tunit})")
+    ax.set_ylabel("absolute pressure P (mbar)")
+    subtitle(ax, f"{rig.gas.name}, V = {rig.test.volume * 1e3:.3g} l, P2 = {rig.test.outside_pressure / 100:.4g} mbar; "
+                 f"leak rate over the readings {r.leak_rate * 10:.3g} mbar·l/s")
+    finish_axes(ax)
     place_legend(ax)
     return fig

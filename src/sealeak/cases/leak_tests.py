@@ -1,0 +1,258 @@
+"""Leak tests of a case: the pressure-decay test of a gas-filled volume (docs/theory.md §11.7).
+
+The case's ``[rig] kind = "pressure-decay"`` (:class:`~sealeak.lab.rig.DecayRigSetup`) holds a test
+volume V at an initial absolute pressure P1 and an outside pressure P2, at temperature T. Each model
+the case asks for gives the seal's no-slip conductance K (m³/(Pa·s)) and the gap h of its narrowest
+constriction:
+
+* critical junction (docs/theory.md §3): K = α (Ly/Lx) u_c³/(12μ), h = u_c;
+* effective medium (§5): K = (Ly/Lx) σ_eff, h = u_e = (12 μ σ_eff)^(1/3);
+* an O-ring or pressure-profile seal (§10): K = faces · Ly / ∫dx/σ(p(x)) of the band, h the
+  critical gap at the peak contact pressure (critical junction) or the effective gap of the
+  smallest σ along the band (effective medium).
+
+K is that of the case's fluid viscosity μ_case; at the test's temperature the gas has μ(T), so the
+rig uses K μ_case/μ(T) (both theories are Poiseuille flows, K ∝ 1/μ). The seal's pV throughput
+(§11.5) is Q_pV(P, P2) = K ∫_{P2}^{P} p f(Kn(p)) dp with Kn(p) = λ(p)/h and the rig's rarefaction
+model, and V dP/dt = −Q_pV(P, P2) is integrated by :func:`~sealeak.lab.pressure_decay.pressure_decay`.
+From readings (t_i, P_i), the scale factor on each model's K is
+:func:`~sealeak.lab.pressure_decay.scale_factor_from_decay` (for the critical junction: α itself).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError
+from ..lab.pressure_decay import DecayReadings, PressureDecay, ScaleFromDecay, leak_rate_from_decay, pressure_decay, scale_factor_from_decay, viscous_decay_time
+from ..lab.rig import DecayRigSetup
+from ..physics.critical_junction import critical_junction
+from ..physics.effective_medium import effective_medium
+from ..physics.gas import GasLeak, gas_leak, pressure_integral
+from .band import BandResult, run_band
+from .model import Case
+from .schema import case_keys
+
+__all__ = ["DecayModel", "DecayPrediction", "decay_prediction", "DecayReadingsResult", "decay_readings", "decay_rig"]
+
+#: How the rig names the models (the same names as the water-column rig).
+_NAMES = {"critical-junction": "critical junction", "effective-medium": "effective medium (Bruggeman)"}
+
+
+@dataclass(frozen=True)
+class DecayModel:
+    """One model's pressure decay (SI units; docs/theory.md §11.7).
+
+    Attributes
+    ----------
+    conductance
+        K (m³/(Pa·s)) of the seal at the test temperature (0: no leak channel).
+    gap
+        h (m), the narrowest gap, for the Knudsen number (NaN without a leak channel).
+    decay
+        P(t) (Pa) against t (s), the throughput Q_pV (Pa·m³/s) along it, the time Δt to lose ΔP and V ΔP/Δt.
+    initial_leak
+        The gas leak at t = 0 (between P1 and P2): throughput, mass and molar flow, Kn, regime.
+    viscous_time_to_loss
+        Δt (s) of the same K without rarefaction, in closed form (docs/theory.md §11.7): the
+        continuum reference (inf without a leak channel).
+    """
+
+    name: str
+    conductance: float
+    gap: float
+    decay: PressureDecay
+    initial_leak: GasLeak | None
+    viscous_time_to_loss: float
+
+
+@dataclass(frozen=True)
+class DecayPrediction:
+    """The pressure-decay test simulated for a case (docs/theory.md §11.7).
+
+    Attributes
+    ----------
+    squeeze_pressure
+        P0 from the load (Pa), or a band seal's mean contact pressure.
+    models
+        The decay per model the case asks for, by display name.
+    messages
+        Notes (no leak channel, rarefaction regime, ΔP not small against P0).
+    band
+        For an O-ring or pressure-profile seal, the band at the case's one load.
+    """
+
+    squeeze_pressure: float
+    models: dict[str, DecayModel]
+    messages: tuple[str, ...] = ()
+    band: BandResult | None = None
+
+    @property
+    def conductance(self) -> dict[str, float]:
+        """K (m³/(Pa·s)) per model, by display name."""
+        return {name: m.conductance for name, m in self.models.items()}
+
+
+def decay_rig(case: Case) -> DecayRigSetup:
+    """The case's pressure-decay rig; InputError naming ``rig.kind`` when the case has another (or none)."""
+    rig = case.rig
+    if not isinstance(rig, DecayRigSetup):
+        raise InputError("rig.kind", getattr(rig, "kind", None), "the case has no pressure-decay rig: give [rig] kind = "
+                                                                 "\"pressure-decay\" with volume, initial_pressure, outside_pressure")
+    return rig
+
+
+def _models(case: Case) -> list[str]:
+    return [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
+
+
+def _uniform(case: Case, rig: DecayRigSetup, model: str) -> tuple[float, float, tuple[str, ...]]:
+    """K at ΔP = 1 Pa (m³/(Pa·s)), the gap (m) and the notes of one model at the rig's P0 (flat seal)."""
+    p0 = rig.squeeze_pressure(case.seal)
+    with case_keys():
+        if model == "critical-junction":
+            cj = critical_junction(case.contact(), squeeze_pressure=[p0], pressure_difference=1.0, viscosity=case.fluid.viscosity,
+                                   aspect_ratio=case.seal.aspect_ratio, alpha=case.alpha,
+                                   percolation_threshold=case.percolation_threshold)
+            ok = bool(cj.percolates[0])
+            return (float(cj.leak_rate[0]) if ok else 0.0), (float(cj.critical_gap[0]) if ok else math.nan), cj.messages
+        em = effective_medium(case.contact(), squeeze_pressure=[p0], pressure_difference=1.0, viscosity=case.fluid.viscosity,
+                              aspect_ratio=case.seal.aspect_ratio)
+        ok = bool(em.percolates[0])
+        return (float(em.leak_rate[0]) if ok else 0.0), (float(em.effective_gap[0]) if ok else math.nan), em.messages
+
+
+def _band(case: Case, models: list[str]) -> tuple[dict[str, tuple[float, float, tuple[str, ...]]], BandResult]:
+    """K (m³/(Pa·s)), gap (m) and notes per model of a band seal at its one load (docs/theory.md §10.1)."""
+    band = case.band
+    assert band is not None
+    if band.loads.size != 1:
+        raise InputError(f"conditions.{band.load_name}", None,
+                         f"the pressure-decay rig runs at one {band.load_name}, which sets the contact; this case has "
+                         f"{band.loads.size}: give one value for the rig (predict sweeps several)")
+    res = run_band(case, effective="effective-medium" in models)
+    out = {}
+    for model in models:
+        theory = res.critical_junction if model == "critical-junction" else res.effective_medium
+        assert theory is not None
+        ok = bool(theory.percolates[0]) and math.isfinite(float(theory.resistance[0])) and theory.resistance[0] > 0
+        k = float(res.band.faces * res.band.length / theory.resistance[0]) if ok else 0.0
+        if not ok:
+            gap = math.nan
+        elif model == "critical-junction":
+            gap = float(res.critical_gap_at_max_pressure[0])
+        else:  # the narrowest effective gap along the band: u_e = (12 μ σ_min)^(1/3)
+            sigma = theory.integrals[0].conductance
+            gap = float((12.0 * case.fluid.viscosity * np.min(sigma[sigma > 0])) ** (1.0 / 3.0))
+        out[model] = (k, gap, theory.messages)
+    return out, res
+
+
+def decay_prediction(case: Case) -> DecayPrediction:
+    """Simulate the case's pressure-decay test: P(t) for each model of ``case.model`` (module docstring).
+
+    The throughput of each model is Q_pV(P, P2) = K ∫_{P2}^{P} p f(Kn(p)) dp (Pa·m³/s) with the
+    rig's rarefaction model (:func:`~sealeak.physics.gas.pressure_integral`); the ODE
+    V dP/dt = −Q_pV is integrated to the test's duration and the time to lose ΔP found by an event
+    (docs/theory.md §11.7).
+    """
+    rig = decay_rig(case)
+    test, gas = rig.test, rig.gas
+    models = _models(case)
+    messages: list[str] = []
+    band = None
+    if case.band is not None:
+        found, band = _band(case, models)
+        p0 = float(band.mean_contact_pressure[0])
+    else:
+        found = {m: _uniform(case, rig, m) for m in models}
+        p0 = rig.squeeze_pressure(case.seal)
+    scale = case.fluid.viscosity / gas.viscosity  # K ∝ 1/μ: the case's K at the gas's viscosity at T
+    out: dict[str, DecayModel] = {}
+    for model in models:
+        k_case, gap, notes = found[model]
+        name = _NAMES[model] + (f" (α = {case.alpha:g})" if model == "critical-junction" else "")
+        messages.extend(notes)
+        k = k_case * scale
+        if k > 0:
+            def throughput(p: float, p2: float, k: float = k, gap: float = gap) -> float:
+                return k * pressure_integral(gap, gas, p, p2, rig.rarefaction_model)
+
+            leak: GasLeak | None = gas_leak(k, gap, gas, test.initial_pressure, test.outside_pressure, rig.rarefaction_model)
+        else:
+            def throughput(p: float, p2: float) -> float:
+                return 0.0
+
+            leak = None
+            messages.append(f"{name}: no leak channel at P0 = {p0:.6g} Pa: the pressure stays at {test.initial_pressure:.6g} Pa")
+        decay = pressure_decay(test, throughput)
+        out[name] = DecayModel(name=name, conductance=k, gap=gap, decay=decay, initial_leak=leak,
+                               viscous_time_to_loss=viscous_decay_time(test, k))
+        if leak is not None and leak.regime != "continuum" and rig.rarefaction_model != "no-slip":
+            messages.append(f"{name}: Kn = {leak.knudsen_mean:.3g} at the gap h = {gap:.3g} m ({leak.regime} flow): "
+                            f"rarefaction changes the leak rate by a factor {leak.throughput / leak.throughput_no_slip:.3g} "
+                            "against no-slip flow")
+        if k > 0 and not math.isfinite(decay.time_to_loss):
+            messages.append(f"{name}: the volume did not lose ΔP = {test.loss:.6g} Pa within the simulated "
+                            f"{decay.time[-1]:.6g} s (rig.duration)")
+    dp = test.initial_pressure - test.outside_pressure
+    p_ref = float(band.max_contact_pressure[0]) if band is not None else p0
+    if dp > 0.1 * p_ref:
+        what = "the peak contact pressure" if band is not None else "P0"
+        messages.append(f"P1 − P2 = {dp:.4g} Pa is not small against {what} {p_ref:.4g} Pa: the theory assumes that the "
+                        "gas pressure does not change the contact (p >> ΔP)")
+    return DecayPrediction(p0, out, tuple(messages), band)
+
+
+@dataclass(frozen=True)
+class DecayReadingsResult:
+    """What measured (t, P) readings of a pressure-decay test imply (docs/theory.md §11.7).
+
+    Attributes
+    ----------
+    readings
+        Interval leak rates, the standard leak rate over the readings and the viscous K.
+    scale
+        Per model (display name): the factor on its K that fits the readings, with its standard
+        error; for the critical junction this is α (the case's α does not enter).
+    fitted
+        Per model: P(t) with that factor, from the first reading (t counted from it), over the readings.
+    """
+
+    readings: DecayReadings
+    scale: dict[str, ScaleFromDecay]
+    fitted: dict[str, PressureDecay] = field(default_factory=dict)
+
+
+def decay_readings(case: Case, pred: DecayPrediction, time: ArrayLike, pressure: ArrayLike,
+                   source: str = "readings") -> DecayReadingsResult:
+    """The leak rate and each model's scale factor from readings t (s), absolute P (Pa) (docs/theory.md §11.7)."""
+    rig = decay_rig(case)
+    test, gas = rig.test, rig.gas
+    readings = leak_rate_from_decay(test, time, pressure, source=source)
+    scale: dict[str, ScaleFromDecay] = {}
+    curves: dict[str, PressureDecay] = {}
+    for name, m in pred.models.items():
+        if not m.conductance > 0:
+            continue
+        k1 = m.conductance / case.alpha if name.startswith("critical") else m.conductance
+
+        def unit(p: float, p2: float, k1: float = k1, gap: float = m.gap) -> float:
+            return k1 * pressure_integral(gap, gas, p, p2, rig.rarefaction_model)
+
+        sc = scale_factor_from_decay(test, readings.time, readings.pressure, unit, source=source)
+        scale[name] = sc
+        if sc.alpha > 0:
+            p = readings.pressure
+            start = replace(test, initial_pressure=float(p[0]), pressure_loss=None, duration=None)
+
+            def fitted(pi: float, p2: float, unit=unit, a: float = sc.alpha) -> float:
+                return a * unit(pi, p2)
+
+            curves[name] = pressure_decay(start, fitted, t_eval=np.linspace(0.0, readings.time[-1] - readings.time[0], 101),
+                                          rtol=1e-9)
+    return DecayReadingsResult(readings, scale, curves)
