@@ -1,0 +1,205 @@
+"""Gases in case files through the command line (issue 13): predict's gas fields and the bad inputs.
+
+The checks compare the gas fields of ``predict --json`` with formulas evaluated here: the no-slip
+limit Q_pV = K (P_a² − P_b²)/2 (docs/theory.md §11.3), the units (mbar·l/s, sccm, mol/s, kg/s), the
+helium equivalent against :func:`sealeak.physics.gas.gas_leak` called by hand, and the limit ΔP ≪ P
+where the gas leak is the liquid formula with the gas's viscosity.
+"""
+
+import json
+
+import pytest
+
+from sealeak.cli import main
+from sealeak.physics.gas import Gas, gas_leak, slip_factor
+from sealeak.physics.properties import fluid_state
+from tests.casefiles import BASE, edit
+
+R = 6.02214076e23 * 1.380649e-23  # J/(mol K), exact
+
+#: The base case with helium between two absolute pressures, at squeeze pressures where it leaks.
+GAS = edit('viscosity = "1 mPa*s"', 'name = "helium"',
+           edit('pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"',
+                edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]',
+                     BASE)))
+
+
+def gas_case(fluid="helium", upstream="1 bar", downstream="0 Pa", extra_theory="", extra_fluid=""):
+    text = edit('name = "helium"', f'name = "{fluid}"' + extra_fluid, GAS)
+    text = edit('upstream_pressure = "1 bar"', f'upstream_pressure = "{upstream}"', text)
+    text = edit('downstream_pressure = "0 Pa"', f'downstream_pressure = "{downstream}"', text)
+    return edit("alpha = 0.2", "alpha = 0.2" + extra_theory, text)
+
+
+def predict_json(tmp_path, capsys, text):
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    out = tmp_path / "out.json"
+    assert main(["predict", str(case), "--json", str(out), "--force"]) == 0
+    capsys.readouterr()
+    return json.loads(out.read_text())
+
+
+def leaking(doc):
+    rows = [r for r in doc["results"] if r["percolates"]]
+    assert rows, "the test case must leak at some squeeze pressure"
+    return rows
+
+
+@pytest.mark.parametrize("fluid, upstream, downstream", [("helium", "1 bar", "0 Pa"), ("nitrogen", "5 bar", "1 bar"),
+                                                         ("air", "101325 Pa", "50 kPa")])
+def test_no_slip_throughput_is_k_times_half_the_difference_of_squares(tmp_path, capsys, fluid, upstream, downstream):
+    doc = predict_json(tmp_path, capsys, gas_case(fluid, upstream, downstream, '\nrarefaction = "no-slip"'))
+    pa, pb = (float(v.split()[0]) * {"bar": 1e5, "Pa": 1.0, "kPa": 1e3}[v.split()[1]] for v in (upstream, downstream))
+    for rec in leaking(doc):
+        k = rec["leak_rate"] / rec["pressure_difference"]  # the liquid law's K = Q/ΔP, with the gas's viscosity
+        assert rec["pressure_difference"] == pytest.approx(pa - pb, rel=1e-12)
+        assert rec["leak_rate_pv"] == pytest.approx(k * (pa**2 - pb**2) / 2, rel=1e-10)
+        assert rec["flow_regime"] in ("continuum", "slip", "transition", "free molecular")
+
+
+@pytest.mark.parametrize("ratio", [1e-2, 1e-3])
+def test_small_pressure_drop_tends_to_the_liquid_formula_with_the_gas_viscosity(tmp_path, capsys, ratio):
+    """ΔP ≪ P: Q_pV/p_mean → K ΔP f(Kn_mean), K with the gas's viscosity (a liquid case run with μ of the gas)."""
+    pa = 20e5
+    pb = pa * (1 - ratio)
+    gas = predict_json(tmp_path, capsys, gas_case("nitrogen", f"{pa} Pa", f"{pb} Pa"))
+    mu = fluid_state("nitrogen", 293.15, pa).viscosity
+    liquid_text = edit('pressure_difference = "10 kPa"', f'pressure_difference = "{pa - pb} Pa"',
+                       edit('viscosity = "1 mPa*s"', f'viscosity = "{mu!r} Pa*s"',
+                            edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
+                                 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]')))
+    liquid = predict_json(tmp_path, capsys, liquid_text)
+    pm = 0.5 * (pa + pb)
+    for g, q in zip(gas["results"], liquid["results"]):
+        if not q["percolates"]:
+            continue
+        f = float(slip_factor(g["knudsen_number"]))
+        assert g["leak_rate_pv"] / pm == pytest.approx(q["leak_rate"] * f, rel=10 * ratio**2)
+        assert 1.0 < f < 1.2  # slip, not continuum: the comparison is not trivial
+
+
+def test_unit_columns_agree_with_each_other(tmp_path, capsys):
+    doc = predict_json(tmp_path, capsys, gas_case("argon", "3 bar", "1 bar"))
+    molar_mass = fluid_state("argon", 293.15, 3e5).molar_mass
+    for rec in leaking(doc):
+        pv = rec["leak_rate_pv"]
+        assert rec["leak_rate_mbar_l_s"] == pytest.approx(pv * 10, rel=1e-12)  # 1 mbar·l/s = 0.1 Pa·m³/s
+        assert rec["leak_rate_molar"] == pytest.approx(pv / (R * 293.15), rel=1e-12)
+        assert rec["leak_rate_mass"] == pytest.approx(rec["leak_rate_molar"] * molar_mass, rel=1e-12)
+        # sccm: cm³/min of the gas at 0 °C and 101325 Pa
+        assert rec["leak_rate_sccm"] == pytest.approx(rec["leak_rate_molar"] * R * 273.15 / 101325 * 1e6 * 60, rel=1e-12)
+    assert doc["units"]["leak_rate_pv"] == "Pa*m^3/s" and doc["units"]["leak_rate_mass"] == "kg/s"
+    assert doc["units"]["leak_rate_sccm"] == "sccm" and doc["units"]["knudsen_number"] == "1"
+
+
+def _helium_by_hand(k_case, mu_case, gap):
+    he = fluid_state("helium", 293.15, 1e5)
+    gas = Gas("helium", 293.15, he.viscosity, he.molar_mass)
+    return gas_leak(k_case * mu_case / he.viscosity, gap, gas, 1e5, 0.0).throughput
+
+
+def test_helium_equivalent_of_a_gas_case_is_gas_leak_of_helium(tmp_path, capsys):
+    doc = predict_json(tmp_path, capsys, gas_case("nitrogen", "2 bar", "1 bar", '\nmodel = "both"'))
+    mu = doc["cases"][0]["fluid"]["viscosity"]
+    for rec in leaking(doc):
+        expected = _helium_by_hand(rec["leak_rate"] / rec["pressure_difference"], mu, rec["critical_gap"])
+        assert rec["leak_rate_helium_pv"] == pytest.approx(expected, rel=1e-12)
+        assert rec["leak_rate_helium_mbar_l_s"] == pytest.approx(10 * expected, rel=1e-12)
+        k_em = rec["effective_conductivity"] * doc["cases"][0]["seal"]["aspect_ratio"]
+        expected_em = _helium_by_hand(k_em, mu, rec["effective_gap"])
+        assert rec["leak_rate_helium_pv_effective_medium"] == pytest.approx(expected_em, rel=1e-9)
+        assert rec["leak_rate_pv_effective_medium"] > 0
+
+
+def test_helium_equivalent_of_a_liquid_when_asked(tmp_path, capsys):
+    text = edit('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nhelium_equivalent = true',
+                edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]'))
+    doc = predict_json(tmp_path, capsys, text)
+    for rec in leaking(doc):
+        expected = _helium_by_hand(rec["leak_rate"] / rec["pressure_difference"], 1e-3, rec["critical_gap"])
+        assert rec["leak_rate_helium_mbar_l_s"] == pytest.approx(10 * expected, rel=1e-12)
+        assert "leak_rate_pv" not in rec  # a liquid has no gas throughput of its own
+    plain = predict_json(tmp_path, capsys, BASE)
+    assert not any(k.startswith("leak_rate_helium") for k in plain["units"])
+
+
+def test_gas_table_is_printed(tmp_path, capsys):
+    case = tmp_path / "case.toml"
+    case.write_text(GAS)
+    assert main(["predict", str(case)]) == 0
+    out = capsys.readouterr().out
+    for text in ("helium", "Q (mbar·l/s)", "Q (sccm)", "Kn", "regime", "He-eq (mbar·l/s)", "0 °C and 101.325 kPa"):
+        assert text in out, text
+
+
+def test_oring_with_a_gas_uses_the_band_conductance(tmp_path, capsys):
+    from sealeak.cases import example_path
+
+    text = example_path("o-ring").read_text()
+    text = text.split("[study]")[0]
+    text = text.replace('name = "water"\nviscosity = "1 mPa*s"', 'name = "nitrogen"')
+    text = text.replace('pressure_difference = "1 bar"', 'upstream_pressure = "2 bar"\ndownstream_pressure = "1 bar"')
+    text = text.replace('model = "both"', 'model = "critical-junction"\nrarefaction = "no-slip"')
+    text = text.replace('num = 9', 'num = 3')
+    doc = predict_json(tmp_path, capsys, text)
+    rows = leaking(doc)
+    for rec in rows:
+        k = rec["leak_rate"] / rec["pressure_difference"]
+        assert rec["leak_rate_pv"] == pytest.approx(k * (4e10 - 1e10) / 2, rel=1e-10)
+        assert rec["knudsen_number"] > 0
+
+
+# ------------------------------------------------------------------------------------ bad input
+def one_line_error(capsys, *names):
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error: ") and err.count("\n") == 1, err
+    assert "Traceback" not in err
+    for name in names:
+        assert name in err, (name, err)
+    return err
+
+
+BAD = [  # (case text, names the message must hold)
+    (gas_case(upstream="-1 bar"), ["conditions.upstream_pressure"]),
+    (gas_case(downstream="-5 kPa"), ["conditions.downstream_pressure"]),
+    (gas_case(upstream="1 bar", downstream="2 bar"), ["conditions.upstream_pressure", "downstream"]),
+    (gas_case(fluid="unobtainium"), ["fluid.name", "helium", "nitrogen", "R134a"]),
+    (gas_case(extra_fluid='\ntemperature = "20"'), ["fluid.temperature"]),
+    (gas_case(extra_fluid='\ntemperature = "20 C"'), ["fluid.temperature", "degC"]),
+    (gas_case(extra_fluid='\ntemperature = "20 Pa"'), ["fluid.temperature"]),
+    (gas_case(extra_fluid="\ntemperature = 20"), ["fluid.temperature"]),
+    (edit('upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"', 'pressure_difference = "1 bar"', GAS),
+     ["conditions.upstream_pressure", "gas"]),
+    (edit('downstream_pressure = "0 Pa"', 'downstream_pressure = "0 Pa"\npressure_difference = "0.5 bar"', GAS),
+     ["conditions.pressure_difference", "conditions.upstream_pressure", "conditions.downstream_pressure"]),
+    (edit('downstream_pressure = "0 Pa"\n', "", GAS), ["conditions.downstream_pressure"]),
+    (gas_case(extra_theory='\nrarefaction = "magic"'), ["theory.rarefaction"]),
+    (edit('viscosity = "1 mPa*s"', 'name = "ISO VG 46 oil"'), ["fluid.name", "fluid.viscosity"]),
+]
+
+
+@pytest.mark.parametrize("text, names", BAD, ids=[str(i) for i in range(len(BAD))])
+def test_bad_gas_input_is_one_line_naming_the_field(tmp_path, capsys, text, names):
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    kept = tmp_path / "kept.json"
+    kept.write_text("earlier result\n")
+    new_out = tmp_path / "new.csv"
+    assert main(["predict", str(case), "--json", str(kept), "--csv", str(new_out), "--force"]) == 2
+    one_line_error(capsys, *names)
+    assert kept.read_text() == "earlier result\n" and not new_out.exists()
+
+
+def test_a_liquid_below_its_vapour_pressure_warns(tmp_path, capsys):
+    text = edit('viscosity = "1 mPa*s"', 'name = "water"',
+                edit('pressure_difference = "10 kPa"', 'upstream_pressure = "50 kPa"\ndownstream_pressure = "1 kPa"'))
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    assert main(["predict", str(case)]) == 0
+    out = capsys.readouterr().out
+    assert "warning:" in out and "vapour pressure" in out and "boil" in out
+    above = edit('downstream_pressure = "1 kPa"', 'downstream_pressure = "10 kPa"', text)
+    case.write_text(above)
+    assert main(["predict", str(case)]) == 0
+    assert "vapour pressure" not in capsys.readouterr().out
