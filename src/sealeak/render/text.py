@@ -85,7 +85,7 @@ def _gas_columns(r: CaseResult, theory: str) -> list[tuple[str, int, list[str]]]
     f = rows.fields()
     if rows.leaks is not None:
         cols += [("Kn", 9, [fmt(f["knudsen_number"][i], ".3g") for i in n]),
-                 ("regime", 14, [f["flow_regime"][i] or "—" for i in n]),
+                 ("regime", 15, [f["flow_regime"][i] or "—" for i in n]),
                  ("Q_pV (Pa·m³/s)", 15, [fmt(f["leak_rate_pv"][i], ".3e") for i in n]),
                  ("Q (mbar·l/s)", 13, [fmt(f["leak_rate_mbar_l_s"][i], ".3e") for i in n]),
                  ("ṁ (kg/s)", 10, [fmt(f["leak_rate_mass"][i], ".3e") for i in n]),
@@ -317,6 +317,9 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
             lines.append("          w: contact width; p_mean, p_max: mean and peak contact pressure; Q(p_mean): a uniform seal "
                          "at the mean pressure, for comparison; 90% of R: the width of the band holding 90 % of the flow "
                          "resistance")
+            if case.gas is not None:
+                lines.append("          Q in m³/s and ml/min: the incompressible formula K ΔP with the gas's viscosity, for "
+                             "comparison; the gas's leak rate is in the gas table below")
             lines.extend(_gas_block(r))
             lines.extend("note: " + m for m in r.messages)
             lines.extend("note: " + m for m in validity_notes(r))
