@@ -30,10 +30,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
-from ..errors import ConvergenceError, FileFormatError, InputError
+from ..errors import ConvergenceError, FileFormatError, InputError, UnitError
+from ..io.tables import read_unit_table
+from ..io.units import unit_factor
 from ..physics.gas import RAREFACTION_MODELS, Gas
 from ..physics.seal import STANDARD_GRAVITY, Seal
-from .data import _columns, _factor
 from .pressure_decay import PressureDecaySetup
 
 __all__ = ["RIG_KINDS", "RigSetup", "WaterColumn", "water_column", "exponential_height", "drain_time",
@@ -43,6 +44,9 @@ __all__ = ["RIG_KINDS", "RigSetup", "WaterColumn", "water_column", "exponential_
 #: The rigs a case file's ``[rig] kind`` may name: the reference paper's water column (the default)
 #: and the pressure-decay test of a gas (docs/theory.md §11.7).
 RIG_KINDS = ("water-column", "pressure-decay")
+
+#: The columns of pressure-decay readings and the names they may go by.
+_DECAY_COLUMNS = {"time": {"time", "t"}, "pressure": {"pressure", "p", "absolute_pressure", "test_pressure"}}
 
 FloatArray = NDArray[np.float64]
 
@@ -335,10 +339,39 @@ class DecayRigSetup:
 
 def read_decay_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
     """Pressure-decay readings: columns time and pressure with units (e.g. 'time (min), pressure (mbar)');
-    returns t (s) and the absolute pressure P (Pa). A column in a unit of the wrong kind is a
+    returns t (s) and the absolute pressure P (Pa). A missing or unknown column, a column without a
+    unit or in a unit of the wrong kind, or a value that is not a finite number is a
     :class:`FileFormatError` naming the file and the column."""
     p = Path(path)
-    table, found = _columns(p, ("time", "pressure"), ())
-    t = table.data[:, found["time"]] * _factor(p, table, found["time"], "time")
-    pressure = table.data[:, found["pressure"]] * _factor(p, table, found["pressure"], "pressure")
-    return t, pressure
+    table = read_unit_table(p, min_columns=2)
+    if not table.has_header:
+        raise FileFormatError(p, "the first row must name every column with its unit, e.g. 'time (min), pressure (mbar)'")
+    found: dict[str, int] = {}
+    for i, name in enumerate(table.names):
+        key = name.strip().lower().replace(" ", "_")
+        canon = next((c for c, names in _DECAY_COLUMNS.items() if key in names), None)
+        if canon is None:
+            raise FileFormatError(p, f"column {i + 1} '{name}' is not one of the columns this file takes: time, pressure "
+                                     "(the absolute pressure in the test volume)")
+        if canon in found:
+            raise FileFormatError(p, f"column {i + 1} '{name}' repeats column {found[canon] + 1} ({canon})")
+        found[canon] = i
+    missing = [c for c in _DECAY_COLUMNS if c not in found]
+    if missing:
+        raise FileFormatError(p, f"missing column {', '.join(missing)} (found: {', '.join(table.names)})")
+    out = []
+    for canon, dimension in (("time", "time"), ("pressure", "pressure")):
+        i = found[canon]
+        if not table.units[i]:
+            raise FileFormatError(p, f"column '{table.names[i]}' has no unit: write it in parentheses, e.g. "
+                                     f"'{table.names[i]} ({'min' if canon == 'time' else 'mbar'})'")
+        try:
+            factor = unit_factor(f"column '{table.names[i]}' unit", table.units[i], dimension)
+        except UnitError as exc:
+            raise FileFormatError(p, str(exc)) from None
+        values = table.data[:, i]
+        if not np.isfinite(values).all():
+            r = int(np.argmax(~np.isfinite(values)))
+            raise FileFormatError(p, f"line {table.line_of(r)}, column '{table.names[i]}': not a finite number")
+        out.append(values * factor)
+    return out[0], out[1]
