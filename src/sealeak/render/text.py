@@ -50,7 +50,7 @@ def _kpa(p: float) -> str:
 def _fluid_lines(case: Case) -> list[str]:
     """The fluid: its viscosity and ΔP; for a named fluid its temperature and absolute pressures; for a gas its properties."""
     fluid = case.fluid
-    name = f"{fluid.name}, " if fluid.name else ""
+    name = f"{fluid.name}, " if fluid.name and case.fluid_state is not None else ""
     temp = f"T = {case.temperature - 273.15:.4g} °C, " if case.fluid_state is not None else ""
     if case.absolute_pressures is not None:
         pa, pb = case.absolute_pressures
