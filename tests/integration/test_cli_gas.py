@@ -203,3 +203,37 @@ def test_a_liquid_below_its_vapour_pressure_warns(tmp_path, capsys):
     case.write_text(above)
     assert main(["predict", str(case)]) == 0
     assert "vapour pressure" not in capsys.readouterr().out
+
+
+# ------------------------------------------------------------------------------------ fit with gas leak data
+FIT_UNITS = [("mbar*l/s", "leak_rate_mbar_l_s", 1.0), ("Pa*m^3/s", "leak_rate_pv", 1.0), ("sccm", "leak_rate_sccm", 1.0),
+             ("mol/s", "leak_rate_molar", 1.0), ("g/s", "leak_rate_mass", 1e3)]
+
+
+@pytest.mark.parametrize("unit, key, scale", FIT_UNITS, ids=[u[0] for u in FIT_UNITS])
+def test_fit_of_gas_leak_data_recovers_alpha_in_any_leak_unit(tmp_path, capsys, unit, key, scale):
+    """Data made from predict's gas leak at α = 0.2, in each unit: fit's α of the critical junction is 0.2."""
+    text = gas_case("nitrogen", "3 bar", "1 bar")
+    doc = predict_json(tmp_path, capsys, text)
+    rows = leaking(doc)
+    assert len(rows) >= 2
+    data = tmp_path / "measured.csv"
+    data.write_text(f"squeeze_pressure (kPa), leak_rate ({unit})\n"
+                    + "".join(f"{r['squeeze_pressure'] / 1e3!r}, {r[key] * scale!r}\n" for r in rows))
+    case = tmp_path / "case.toml"
+    case.write_text(text)
+    out = tmp_path / "fit.json"
+    assert main(["fit", str(case), "--data", str(data), "--json", str(out), "--force"]) == 0
+    fit = json.loads(out.read_text())
+    assert fit["critical_junction"]["alpha"] == pytest.approx(0.2, rel=1e-9)
+    assert "pV throughputs of nitrogen" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("unit", ["sccm", "mol/s", "kg/s"])
+def test_a_gas_leak_unit_for_a_liquid_case_is_one_line(tmp_path, capsys, unit):
+    case = tmp_path / "case.toml"
+    case.write_text(BASE)
+    data = tmp_path / "measured.csv"
+    data.write_text(f"squeeze_pressure (kPa), leak_rate ({unit})\n20, 1e-3\n60, 1e-4\n")
+    assert main(["fit", str(case), "--data", str(data)]) == 2
+    one_line_error(capsys, "measured.csv", "liquid")

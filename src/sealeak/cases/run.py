@@ -33,7 +33,7 @@ from ..lab.fitting import LinearFit, ScaleFit, fit_line, fit_scale
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction, pressure_difference_not_small
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
-from ..physics.gas import Gas, GasLeak, gas_leak
+from ..physics.gas import MOLAR_GAS_CONSTANT, Gas, GasLeak, gas_leak, pressure_integral
 from ..physics.properties import fluid_state
 from ..physics.seal import Seal
 from ..physics.validity import assumption_warnings, continuum_verdict
@@ -657,6 +657,9 @@ class FitResult:
     curve_grids
         A model's own grid, where it is not ``grid``: a band seal's effective medium is drawn
         through its values at the measured loads only (1–2 s each).
+    leak_rate_unit
+        The unit of ``measured`` and ``curves``: "m^3/s" (a volume flow; liquids), or for a gas
+        case "Pa*m^3/s" (the pV throughput the data and the models are compared in, docs/theory.md §11.9).
     """
 
     case: Case
@@ -670,6 +673,7 @@ class FitResult:
     messages: tuple[str, ...]
     load_name: str = "squeeze_pressure"
     curve_grids: dict[str, FloatArray] = field(default_factory=dict)
+    leak_rate_unit: str = "m^3/s"
 
 
 def run_fit(case: Case, data: LeakData) -> FitResult:
@@ -680,6 +684,12 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     :class:`~sealeak.errors.FileFormatError` naming the column and the seal.
     """
     _check_load_column(case, data)
+    if case.gas is not None:
+        return _run_gas_fit(case, data)
+    if data.leak_rate_kind in _GAS_ONLY_KINDS:
+        raise FileFormatError(data.path, f"column '{data.columns.get('leak_rate', 'leak_rate')}': a {data.leak_rate_kind.replace('_', ' ')} "
+                                         "is a gas's leak rate, and the case's fluid is a liquid: give a volume flow (e.g. "
+                                         "'ml/min'), or name the gas in the case ([fluid] name, absolute pressures)")
     if case.band is not None:
         return _run_band_fit(case, data)
     fits = fit_models(case, data.squeeze_pressure, data.pressure_difference, data.leak_rate)
@@ -711,6 +721,100 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
         "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
     }
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages))
+
+
+#: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.units`).
+_GAS_ONLY_KINDS = ("standard_volume_flow", "molar_flow", "mass_flow")
+
+
+def _measured_throughput(case: Case, data: LeakData) -> FloatArray:
+    """The data's leak rates as pV throughputs (Pa·m³/s) of the case's gas at its temperature (docs/theory.md §11.6).
+
+    Throughput as is; molar flow ṅ R T; mass flow ṁ R T/M; standard volume flow ṅ = P0 V̇/(R T0)
+    first; a plain volume flow p V̇ with p the data's reference pressure (``--at-pressure``).
+    """
+    gas = case.gas
+    assert gas is not None and data.leak_rate_si is not None
+    rt = MOLAR_GAS_CONSTANT * gas.temperature
+    q = data.leak_rate_si
+    kind = data.leak_rate_kind
+    if kind == "throughput":
+        return q
+    if kind == "molar_flow":
+        return q * rt
+    if kind == "mass_flow":
+        return q / gas.gas.molar_mass * rt
+    if kind == "standard_volume_flow":
+        return q * molar_flow_factor("leak_rate", "m^3/s", temperature=273.15, molar_mass=1.0, pressure=101325.0) * rt
+    return q * data.reference_pressure
+
+
+def _gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -> FloatArray:
+    """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row; NaN where K = 0 (docs/theory.md §11.9)."""
+    gas = case.gas
+    assert gas is not None
+    pb = gas.downstream_pressure
+    out = np.full(k.size, np.nan)
+    for i in range(k.size):
+        if k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
+            with case_keys():
+                out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction)
+    return out
+
+
+def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
+    """:func:`run_fit` of a gas case: measured and predicted pV throughputs (Pa·m³/s), α scaling K (docs/theory.md §11.9).
+
+    Each theory's prediction at a row is K(α = 1) ∫ p f(Kn(p)) dp from P_b to P_b + ΔP_row with the
+    gap of :func:`gas_rows` (u_c, u_e, or u_c at the band's peak pressure), which does not depend on
+    α: the throughput is proportional to α, and :func:`~sealeak.lab.fitting.fit_scale` applies.
+    """
+    gas = case.gas
+    assert gas is not None
+    q = _measured_throughput(case, data)
+    dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    unit = ("load", "") if case.band is not None else ("P0", " Pa")
+
+    def models(at: Case, loads: FloatArray) -> dict[str, tuple[FloatArray, FloatArray]]:
+        """(K at α = 1, gap) of both theories at ``loads``."""
+        if at.band is not None:
+            ks, res = _band_conductance(replace(at, alpha=1.0), loads, ("critical-junction", "effective-medium"))
+            gap = res.critical_gap_at_max_pressure
+            return {"critical_junction": (ks["critical-junction"][0], gap), "effective_medium": (ks["effective-medium"][0], gap)}
+        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=1.0)
+        em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=1.0)
+        return {"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap),
+                "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0), np.where(em.percolates, em.effective_gap, np.nan))}
+
+    loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
+    distinct, inverse = np.unique(loads, return_inverse=True)
+    at_distinct = models(case, distinct)
+    fits = {name: fit_scale(q, _gas_throughput(case, k[inverse], gap[inverse], dp), name)
+            for name, (k, gap) in at_distinct.items()}
+    if not any(f.fitted for f in fits.values()):
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+    messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({unit[0]} = {loads[i]:.6g}{unit[1]}) excluded: {reason}"
+                for name, f in fits.items() for i, reason in f.excluded]
+    messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {gas.temperature - 273.15:.4g} °C "
+                    f"(Pa·m³/s), P_b = {gas.downstream_pressure:.6g} Pa and P_a = P_b + ΔP of each row")
+    if not any(f.n_used > 1 for f in fits.values()):
+        messages.append("with one usable point α has no standard error")
+    same = bool(np.allclose(dp, dp[0]))
+    ref_dp = float(dp[0]) if same else case.pressure_difference
+    pb = gas.downstream_pressure
+    # the figure's points at the reference ΔP: scaled with the no-slip law (P_a² − P_b²), approximate with slip
+    measured = q if same else q * ((pb + ref_dp) ** 2 - pb**2) / ((pb + dp) ** 2 - pb**2)
+    if case.band is not None:
+        grid = distinct
+        at_grid = at_distinct
+    else:
+        grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
+        at_grid = models(case, grid)
+    curves = {name: _gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
+    load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
+                     leak_rate_unit="Pa*m^3/s")
 
 
 def _run_band_fit(case: Case, data: LeakData) -> FitResult:

@@ -25,6 +25,13 @@ Leak-test units. A throughput in mbar·l/s or Pa·m³/s is pressure × volume pe
 flow is throughput / p, at the pressure p the volume is measured at. That pressure is stated by the
 user (``sealeak fit --at-pressure "1 atm"``); the default is 1 atm = 101325 Pa (ambient). E.g.
 1 mbar·l/s = 0.1 Pa·m³/s = 0.1/101325 m³/s = 9.869e-7 m³/s at 1 atm.
+
+Gas leak units. Every leak-rate unit of :func:`sealeak.io.units.leak_rate_unit` is read: besides
+volume flows and pV throughputs, standard volume flows (``sccm``, ``slm``), molar flows (``mol/s``)
+and mass flows (``kg/s``, ``g/a``). :attr:`LeakData.leak_rate_kind` and
+:attr:`LeakData.leak_rate_si` keep the leak rates as written (in the kind's SI unit), for a gas case
+to convert with its gas (:func:`sealeak.cases.run_fit`, docs/theory.md §11.9); ``leak_rate`` (m³/s)
+is NaN for the three gas-only kinds, which a liquid case refuses.
 """
 
 from __future__ import annotations
@@ -37,7 +44,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
 from ..io.tables import read_unit_table
-from ..io.units import unit_dimension, unit_factor
+from ..io.units import leak_rate_unit, unit_dimension, unit_factor
 
 __all__ = ["ATMOSPHERE", "LOAD_COLUMNS", "leak_rate_factor", "LeakData", "read_leak_data", "read_rig_readings"]
 
@@ -98,6 +105,8 @@ class LeakData:
     lines: tuple[int, ...] = ()  # line number in the file of each data row
     load_name: str = "squeeze_pressure"
     band_load: FloatArray | None = None
+    leak_rate_kind: str = "volume_flow"  # a key of sealeak.io.units.LEAK_RATE_KINDS
+    leak_rate_si: FloatArray | None = None  # the leak rates as written, in the SI unit of their kind
 
     @property
     def load(self) -> FloatArray:
@@ -202,14 +211,24 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
         else:
             out[canon] = np.full(n, np.nan)
     i = found["leak_rate"]
+    unit_field = f"column '{table.names[i]}' unit"
     try:
-        fq = leak_rate_factor(table.units[i], reference_pressure, f"column '{table.names[i]}' unit")
-    except UnitError as exc:
-        raise FileFormatError(p, str(exc)) from None
+        kind, si_factor = leak_rate_unit(unit_field, table.units[i])
+    except UnitError:
+        kind, si_factor = "", 1.0
+    if kind in ("standard_volume_flow", "molar_flow", "mass_flow"):  # gas units: converted by a gas case
+        fq, throughput = float("nan"), False
+    else:
+        try:
+            fq = leak_rate_factor(table.units[i], reference_pressure, unit_field)
+        except UnitError as exc:
+            raise FileFormatError(p, str(exc)) from None
+        throughput = fq != leak_rate_factor(table.units[i], 2.0 * reference_pressure, unit_field)
+        kind, si_factor = ("throughput", fq * reference_pressure) if throughput else ("volume_flow", fq)
     q = table.data[:, i] * fq
-    throughput = fq != leak_rate_factor(table.units[i], 2.0 * reference_pressure, f"column '{table.names[i]}' unit")
-    if (q < 0).any():
-        r = int(np.argmax(q < 0))
+    q_si = table.data[:, i] * si_factor
+    if (q_si < 0).any():
+        r = int(np.argmax(q_si < 0))
         raise FileFormatError(p, f"line {table.line_of(r)}: leak rate {table.data[r, i]:g} {table.units[i]} is negative")
     if "squeeze_pressure" in found and (out["squeeze_pressure"] <= 0).any():
         r = int(np.argmax(out["squeeze_pressure"] <= 0))
@@ -218,8 +237,8 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     if "pressure_difference" in found and (dp < 0).any():
         r = int(np.argmax(dp < 0))
         raise FileFormatError(p, f"line {table.line_of(r)}: pressure difference must be >= 0")
-    if "pressure_difference" in found and ((dp == 0) & (q > 0)).any():
-        r = int(np.argmax((dp == 0) & (q > 0)))
+    if "pressure_difference" in found and ((dp == 0) & (q_si > 0)).any():
+        r = int(np.argmax((dp == 0) & (q_si > 0)))
         raise FileFormatError(p, f"line {table.line_of(r)}: a leak rate of {table.data[r, i]:g} {table.units[i]} at "
                                  "zero pressure difference: no pressure drives a flow (check the row; leave the cell "
                                  "empty to use the case's pressure difference)")
@@ -227,7 +246,8 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     band_load = _band_load(p, table, load_name, found[load_name]) if load_name in ("compression", "profile_scale") else None
     columns = {c: f"{table.names[j]} ({table.units[j]})" if table.units[j] else table.names[j] for c, j in found.items()}
     return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure,
-                    throughput, table.lines, load_name=load_name, band_load=band_load)
+                    throughput, table.lines, load_name=load_name, band_load=band_load, leak_rate_kind=kind,
+                    leak_rate_si=q_si)
 
 
 def _band_load(path: Path, table, name: str, i: int) -> FloatArray:
