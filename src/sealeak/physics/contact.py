@@ -239,21 +239,33 @@ class PerssonContact:
             node_s = np.log(np.where(node_t > 0, node_t, 0.0))
         node_s = np.clip(node_s, s_lo[:, None], s_hi[:, None])
         # exp(-y²) is double-exponential in s: extra edges at fixed y resolve its steep flank.
-        y_s = np.log(kappa**2)[:, None] - 2.0 * np.log(_Y_EDGES)[None, :]
-        y_s = np.clip(y_s, s_lo[:, None], s_hi[:, None])
-        edges = np.sort(np.concatenate([uniform, node_s, y_s], axis=1), axis=1)
+        y_edges = np.log(kappa**2)[:, None] - 2.0 * np.log(_Y_EDGES)[None, :]
+        y_s = np.clip(y_edges, s_lo[:, None], s_hi[:, None])
+        parts = np.concatenate([uniform, node_s, y_s], axis=1)
+        order = np.argsort(parts, axis=1, kind="stable")
+        edges = np.take_along_axis(parts, order, axis=1)
+        # the segment of C each panel lies in (spectrum nodes at or before its left edge, less one), and which panels
+        # run from one y-edge to the next (neither clipped): there the nodes sit at fixed y
+        tags = np.full(parts.shape, -1, dtype=np.intp)
+        n_uniform, n_nodes = uniform.shape[1], node_s.shape[1]
+        tags[:, n_uniform:n_uniform + n_nodes] = -2
+        tags[:, n_uniform + n_nodes:] = np.where(y_s == y_edges, np.arange(_Y_EDGES.size), -1)
+        tags = np.take_along_axis(tags, order, axis=1)
+        segment = np.clip(np.cumsum(tags == -2, axis=1)[:, :-1] - 1, 0, spec.q.size - 2)
+        y_panel = np.where((tags[:, :-1] >= 0) & (tags[:, 1:] == tags[:, :-1] + 1), tags[:, :-1], -1)
         d = pz = None
         if derivative:
             d = self.q0 * qz**3 * spec(qz)
             pz = -p0 * self.area_derivative(z, p0) / area**2 / (np.sqrt(np.pi) * self.e_star)
-        ubar_flat, dubar_flat = self._panel_sums(edges, active, m_lo, kappa, d, pz)
+        ubar_flat, dubar_flat = self._panel_sums(edges, active, m_lo, kappa, d, pz, segment, y_panel)
         ubar = cast(FloatArray, np.where(active, ubar_flat, 0.0).reshape(shape))
         if dubar_flat is None:
             return ubar, None
         return ubar, cast(FloatArray, np.where(active, dubar_flat, 0.0).reshape(shape))
 
     def _panel_sums(self, edges: FloatArray, active: NDArray[np.bool_], m_lo: FloatArray, kappa: FloatArray,
-                    d: FloatArray | None, pz: FloatArray | None) -> tuple[FloatArray, FloatArray | None]:
+                    d: FloatArray | None, pz: FloatArray | None, segment: NDArray[np.intp],
+                    y_panel: NDArray[np.intp]) -> tuple[FloatArray, FloatArray | None]:
         """ū (and ū' when ``d``, ``pz`` are given) per row: ``order``-point Gauss–Legendre on every non-empty panel.
 
         Rows are ragged (spectrum nodes outside a row's range give empty panels, which get no points; inactive rows
@@ -278,8 +290,7 @@ class PerssonContact:
         mid = a[live] + half
         xg, wg = _gauss(self.order)
         m_lo_p = per_panel(m_lo)
-        cum_top = float(spec.cumulative_moment(3, spec.q_max))
-        seg = spec._moment_segment(3, np.minimum(np.exp(mid) + m_lo_p, cum_top))
+        seg = segment[live]
         cum_k, scale_k, e_k = spec._segment_constants(3, np.arange(spec.q.size - 1))  # per segment, then per panel
         linear_k = e_k == 0.0  # ((q/q_k)^e - 1)/e at e = 0 is ln(q/q_k): q = q_k e^r
         linear = linear_k[seg]
@@ -293,40 +304,66 @@ class PerssonContact:
         log_kappa2 = per_panel(2.0 * np.log(kappa))
         ubar = np.empty(half.size)  # per panel, summed per row at the end
         dubar = np.empty(half.size) if d is not None else None
-        if dubar is not None:
-            d_half = per_panel(0.5 * d)  # type: ignore[operator]
-            pz_kappa = per_panel(pz / kappa)  # type: ignore[operator]
+        d_half = per_panel(0.5 * d) if d is not None else None
+        pz_kappa = per_panel(pz / kappa) if pz is not None else None
         xg = xg[:, None]
-        for lo in range(0, half.size, _BLOCK):
-            # arrays (order, panels): the per-panel constants broadcast along the long last axis; few temporaries
-            blk = slice(lo, lo + _BLOCK)
-            s = half[blk] * xg
-            s += mid[blk]
-            t = np.exp(s)
-            ratio = t + offset[blk]  # z = e r, then q_k/q = (1 + z)^(-1/e)
-            ratio *= slope[blk]
-            lin = linear[blk]
-            z_lin = ratio[:, lin] if lin.any() else None
-            np.log1p(ratio, out=ratio)
-            ratio *= neg_inv_e[blk]
-            if z_lin is not None:
-                ratio[:, lin] = -z_lin
-            np.exp(ratio, out=ratio)
-            np.maximum(ratio, floor[blk], out=ratio)
-            y2 = kappa2[blk] / t
-            np.subtract(log_kappa2[blk], s, out=s)  # ln y²
-            f, p = _kernels.f_and_slope(y2, s, self.gamma)
-            sqrt_t = np.sqrt(t, out=y2)
-            ratio *= sqrt_t  # √t q_k/q
-            np.multiply(f, ratio, out=s)
-            ubar[blk] = (wg @ s) * factor[blk]
-            if dubar is not None:
-                np.multiply(p, ratio, out=s)
-                two = wg @ s
-                f -= p
-                ratio /= t  # q_k/(q √t)
-                f *= ratio
-                dubar[blk] = (d_half[blk] * (wg @ f) - pz_kappa[blk] * two) * factor[blk]
+        # A panel between two neighbouring y-edges (``y_panel`` >= 0: its index among y = 5, 4, ..., 0.75) has its
+        # nodes at the same y in every row: there t = κ²/y², √t = κ/y, F and P are the same numbers for all rows.
+        v_edges = 2.0 * np.log(_Y_EDGES)  # ln y² at the edges
+        v_nodes = 0.5 * (v_edges[:-1] + v_edges[1:]) - 0.5 * (v_edges[:-1] - v_edges[1:]) * xg  # (order, y-panels)
+        f_tab, p_tab = _kernels.f_and_slope(np.exp(v_nodes), v_nodes, self.gamma)
+        inv_y2_tab, inv_y_tab = np.exp(-v_nodes), np.exp(-0.5 * v_nodes)
+        y_panel = y_panel[live]
+        shared = y_panel >= 0
+        kappa_p = per_panel(kappa)
+        # A flat segment of C (β = 0, e = 4: the roll-off plateau) has q_k/q = (1 + z)^(-1/4), two square roots.
+        flat = e_k[seg] == 4.0
+        kind = flat + 2 * shared
+        for k in range(4):
+            panels = np.flatnonzero(kind == k)
+            plateau, same_y = bool(k & 1), bool(k & 2)
+            for lo in range(0, panels.size, _BLOCK):
+                # arrays (order, panels): the per-panel constants broadcast along the long last axis; few temporaries
+                blk = panels[lo:lo + _BLOCK]
+                if same_y:
+                    j = np.take(y_panel, blk)
+                    t = np.take(kappa2, blk) * inv_y2_tab[:, j]
+                else:
+                    s = np.take(half, blk) * xg
+                    s += np.take(mid, blk)
+                    t = np.exp(s)
+                ratio = t + np.take(offset, blk)  # z = e r, then q_k/q = (1 + z)^(-1/e)
+                ratio *= np.take(slope, blk)
+                if plateau:
+                    ratio += 1.0
+                    np.sqrt(ratio, out=ratio)
+                    np.sqrt(ratio, out=ratio)
+                    np.reciprocal(ratio, out=ratio)
+                else:
+                    lin = np.take(linear, blk)
+                    z_lin = ratio[:, lin] if lin.any() else None
+                    np.log1p(ratio, out=ratio)
+                    ratio *= np.take(neg_inv_e, blk)
+                    if z_lin is not None:
+                        ratio[:, lin] = -z_lin
+                    np.exp(ratio, out=ratio)
+                np.maximum(ratio, np.take(floor, blk), out=ratio)
+                if same_y:
+                    f, p = f_tab[:, j], p_tab[:, j]
+                    ratio *= np.take(kappa_p, blk) * inv_y_tab[:, j]  # √t q_k/q
+                else:
+                    y2 = np.take(kappa2, blk) / t
+                    np.subtract(np.take(log_kappa2, blk), s, out=s)  # ln y²
+                    f, p = _kernels.f_and_slope(y2, s, self.gamma)
+                    ratio *= np.sqrt(t, out=y2)  # √t q_k/q
+                factor_b = np.take(factor, blk)
+                ubar[blk] = (wg @ (f * ratio)) * factor_b
+                if dubar is not None:
+                    two = wg @ (p * ratio)
+                    f = f - p
+                    ratio /= t  # q_k/(q √t)
+                    f *= ratio
+                    dubar[blk] = (np.take(d_half, blk) * (wg @ f) - np.take(pz_kappa, blk) * two) * factor_b  # type: ignore[arg-type]
         return _row_sums(ubar, count), None if dubar is None else _row_sums(dubar, count)
 
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
