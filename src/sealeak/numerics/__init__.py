@@ -12,6 +12,8 @@ Small public API over private modules:
 * flow:         :func:`solve_flow`, :class:`FlowResult`, :func:`flow_memory_bytes`
                 (steady Reynolds equation, finite volumes, sparse direct or AMG-CG, every
                 solution checked);
+* gas flow:     :func:`solve_gas_flow`, :class:`GasFlowResult`, :func:`gas_flow_memory_bytes` (isothermal
+                gas with rarefaction: the same linear problem in p², a checked fixed point with slip);
 * percolation:  :func:`label_clusters`, :func:`spans`, :func:`spanning_mask`,
                 :func:`percolation_threshold`, :class:`ThresholdResult`;
 * synthesis:    :func:`synthesize` random periodic surfaces with a given C(q), :func:`wavevector_grid`;
@@ -36,6 +38,7 @@ from ._band_contact import (
 )
 from ._contact import ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
 from ._flow import FlowResult, flow_memory_bytes, solve_flow
+from ._gas_flow import GasFlowResult, gas_flow_memory_bytes, solve_gas_flow
 from ._memory import available_memory_bytes, require_memory
 from ._percolation import ThresholdResult, label_clusters, percolation_threshold, spanning_mask, spans
 from .synthesis import synthesis_memory_bytes, synthesize, wavevector_grid
@@ -56,6 +59,9 @@ __all__ = [
     "hertz_line_contact",
     "contact_edges",
     "solve_flow",
+    "GasFlowResult",
+    "solve_gas_flow",
+    "gas_flow_memory_bytes",
     "label_clusters",
     "spans",
     "spanning_mask",
