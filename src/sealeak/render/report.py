@@ -27,9 +27,11 @@ from matplotlib.figure import Figure
 
 from .._version import __version__
 from ..cases import CaseResult
+from ..cases.leak_tests import DecayPrediction
 from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, prediction_figures
-from .lab_figures import figure_rig
+from .lab import decay_condition, decay_text
+from .lab_figures import figure_decay, figure_rig
 from .text import fmt, prediction_columns, validity_notes
 
 __all__ = ["html_report", "figure_to_data_uri"]
@@ -189,11 +191,23 @@ def _band_section(results: Sequence[CaseResult]) -> list[str]:
     return parts
 
 
+def _decay_section(result: CaseResult, pred: DecayPrediction, number: int) -> list[str]:
+    """The virtual pressure-decay test (docs/theory.md §11.7): the same text as ``sealeak rig``, and P(t)."""
+    case = result.case
+    parts = ["<h2 id=\"rig\">Virtual pressure-decay test</h2>", f"<pre style=\"white-space: pre-wrap\">{_e(decay_text(case, pred))}</pre>"]
+    fig = figure_decay(case.rig, pred, decay_condition(case, pred, short=True))  # type: ignore[arg-type]
+    parts.append("<div class=\"figures\">" + _figure("rig.png", number, fig, "Absolute pressure in the test volume against "
+                                                    "time, for each model the case asks for.") + "</div>")
+    return parts
+
+
 def _rig_section(result: CaseResult, number: int) -> list[str]:
     case, pred = result.case, result.rig
     rig = case.rig
     if rig is None or pred is None:
         return []
+    if isinstance(pred, DecayPrediction):
+        return _decay_section(result, pred, number)
     parts = ["<h2 id=\"rig\">Virtual water-column rig</h2>"]
     dp0 = float(rig.pressure_difference(rig.initial_height))
     parts.append(f"<p>Load {rig.load:.4g} N ({_e(rig.load_note)}) on the seal: P0 = {pred.squeeze_pressure / 1e3:.4g} kPa; "
