@@ -67,12 +67,7 @@ def _volume(sec: RigSection) -> float:
         raise InputError("rig.volume", None, f"is required: the test volume, {allowed}")
     if isinstance(value, bool) or isinstance(value, (int, float)):
         raise UnitError("rig.volume", value, f"a bare number has no unit; give {allowed}")
-    if not isinstance(value, str) or "/" in value:
-        raise UnitError("rig.volume", value, f"give {allowed}")
-    try:  # a volume is a volume flow times a second (the unit table has no volume of its own)
-        v = parse_quantity("rig.volume", value.strip() + "/s", "volume_flow")
-    except UnitError:
-        raise UnitError("rig.volume", value, f"not a volume; give {allowed}") from None
+    v = parse_quantity("rig.volume", value, "volume")
     if not v > 0:
         raise InputError("rig.volume", value, "must be > 0: the gas-filled test volume")
     return v

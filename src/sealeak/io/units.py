@@ -58,6 +58,7 @@ SI_UNITS = {
     "force": "N",
     "time": "s",
     "acceleration": "m/s^2",
+    "volume": "m^3",
     "dimensionless": "1",
 }
 
@@ -75,6 +76,7 @@ DIMENSIONS = {
     "force": "[mass] * [length] / [time] ** 2",
     "time": "[time]",
     "acceleration": "[length] / [time] ** 2",
+    "volume": "[length] ** 3",
     "dimensionless": "",
 }
 
@@ -91,6 +93,7 @@ _EXAMPLES = {
     "force": "'20 N'",
     "time": "'10 s', '5 min'",
     "acceleration": "'9.81 m/s^2'",
+    "volume": "'0.5 l', '250 ml', '1e-4 m^3'",
     "dimensionless": "'0.5'",
 }
 
