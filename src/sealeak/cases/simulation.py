@@ -12,7 +12,13 @@ The reference paper could only fit α; this pipeline computes it (docs/theory.md
 4. the critical-junction prediction for the same (grid-resolved) spectrum with α = 1,
    Q_cj = (Ly/Lx) u_c³ ΔP/(12η), and α = Q_sq (Ly/Lx) / Q_cj for every percolating realisation;
 5. optionally, per realisation, the relative contact area at which the non-contact area stops
-   percolating (bisection on pressure, :func:`sealeak.numerics.percolation_threshold`).
+   percolating (bisection on pressure, :func:`sealeak.numerics.percolation_threshold`);
+6. for a gas case, also the isothermal gas flow through each gap field between the case's absolute
+   pressures with its rarefaction model (:func:`sealeak.numerics.solve_gas_flow`: the p² problem,
+   with slip a checked fixed point), the critical-junction gas leak of the same spectrum with α = 1
+   and the same rarefaction model (:func:`sealeak.cases.run.gas_rows`, as ``predict``), and
+   α_gas = Q_pV,sim/Q_pV,cj (docs/theory.md §Gas flow through the gap field). The liquid columns stay:
+   for a gas they are the incompressible formula with the gas's viscosity.
 
 Resolution: the grid resolves wavelengths of at least 4 cells, q <= 2π N/(4L). When the
 spectrum's cut-off q1 lies above that, the spectrum is cut there, the result says so, and the
@@ -37,10 +43,12 @@ from .. import numerics
 from ..errors import InputError
 from ..io.files import OutputWriteError, check_replaceable
 from ..numerics.synthesis import synthesize
+from ..physics.gas import MOLAR_GAS_CONSTANT
 from .model import Case
-from .run import predict
+from .run import gas_rows, predict
 
-__all__ = ["SimulationResult", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS"]
+__all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
+           "JUNCTION_CELLS"]
 
 POINTS_PER_WAVELENGTH = 4
 #: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
@@ -54,6 +62,56 @@ def resolved_spectrum_cut(grid: int, size: float) -> float:
 
 
 @dataclass(frozen=True)
+class GasSimulation:
+    """The gas leak of a gas case, per squeeze pressure (SI units; docs/theory.md §Gas flow through the gap field).
+
+    Leak rates are the seal's, (Ly/Lx) times the square's, averaged over all realisations (a blocked
+    one leaks 0), ``*_std`` their standard deviations (ddof = 1; NaN with fewer than two values).
+
+    Attributes
+    ----------
+    gas_name, temperature, upstream_pressure, downstream_pressure, rarefaction
+        The gas, T (K), P_a and P_b (Pa, absolute) and the slip model.
+    throughput, throughput_std
+        pV throughput Q_pV (Pa·m³/s), counted at T.
+    mass_flow, mass_flow_std
+        ṁ = Q_pV/(R_s T) (kg/s).
+    molar_flow
+        ṅ = Q_pV/(R T) (mol/s).
+    slip_gain
+        Q_pV/Q_pV(no slip) of the same gap fields, mean over percolating realisations: how much the
+        rarefaction adds (1 without slip).
+    throughput_critical_junction
+        The critical-junction gas leak with α = 1, the same (possibly cut) spectrum and rarefaction model
+        (Pa·m³/s; NaN where the theory has no junction).
+    knudsen_critical_junction, regime_critical_junction
+        Kn = λ/u_c at the mean pressure (P_a + P_b)/2 and its flow regime (as ``predict`` reports them).
+    alpha, alpha_std
+        α_gas = Q_pV/Q_pV,cj(α = 1) over the percolating realisations (NaN where none percolates).
+    iterations
+        The most fixed-point iterations any realisation needed (0 without slip).
+    """
+
+    gas_name: str
+    temperature: float
+    upstream_pressure: float
+    downstream_pressure: float
+    rarefaction: str
+    throughput: FloatArray
+    throughput_std: FloatArray
+    mass_flow: FloatArray
+    mass_flow_std: FloatArray
+    molar_flow: FloatArray
+    slip_gain: FloatArray
+    throughput_critical_junction: FloatArray
+    knudsen_critical_junction: FloatArray
+    regime_critical_junction: tuple[str, ...]
+    alpha: FloatArray
+    alpha_std: FloatArray
+    iterations: NDArray[np.int64]
+
+
+@dataclass(frozen=True)
 class SimulationResult:
     """Per-pressure statistics over realisations (SI units). Arrays have one entry per pressure.
 
@@ -63,6 +121,8 @@ class SimulationResult:
     critical-junction prediction with α = 1 for the same (possibly cut) spectrum.
     ``junction_cells`` is N/ζc, the grid cells across the theory's critical wavelength λc (NaN where
     there is no junction); below :data:`JUNCTION_CELLS` the α of that pressure is flagged.
+    ``gas`` holds the gas leak and α_gas of a gas case (None for a liquid); the other fields are then
+    the incompressible formula with the gas's viscosity.
     """
 
     squeeze_pressure: FloatArray
@@ -90,6 +150,7 @@ class SimulationResult:
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)  # realisation 0
     junction_cells: FloatArray = field(default_factory=lambda: np.empty(0))
+    gas: GasSimulation | None = None
 
 
 def _mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -147,6 +208,9 @@ def simulate(
         raise InputError("seed", seed, "must be a whole number >= 0")
     numerics.check_memory(grid, "contact", available=memory_limit)
     numerics.check_memory(grid, "flow", available=memory_limit)
+    gas = case.gas
+    if gas is not None:
+        numerics.require_memory(numerics.gas_flow_memory_bytes(grid), f"the {grid}x{grid} gas flow problem", memory_limit)
 
     size = case.square_side
     notes: list[str] = []
@@ -171,7 +235,7 @@ def simulate(
     eta = case.fluid.viscosity
     aspect = case.seal.aspect_ratio
 
-    q_cj, junction_cells = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
+    q_cj, junction_cells, u_c = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
     contact_theory = sim_case.contact().area(sim_case.spectrum.q_max / sim_case.q0, pressures)
     p_anchor = _threshold_anchor(sim_case)
 
@@ -182,6 +246,9 @@ def simulate(
     q_seal = np.zeros((realizations, n_p))
     thresholds = np.full(realizations, np.nan)
     contact_maps: dict[int, NDArray[np.bool_]] = {}
+    gas_pv = np.zeros((realizations, n_p))  # the seal's pV throughput (Pa·m³/s)
+    gas_pv_no_slip = np.zeros((realizations, n_p))
+    gas_iterations = np.zeros((realizations, n_p), dtype=np.int64)
 
     with _StagedFolder(fields_dir) as fields:
         for r in range(realizations):
@@ -193,6 +260,13 @@ def simulate(
                 gap[r, i] = res.mean_gap
                 perc[r, i] = flow.percolates
                 q_seal[r, i] = aspect * flow.flux
+                if gas is not None:
+                    gflow = numerics.solve_gas_flow(res.gap, size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                                    contact=res.contact, model=gas.rarefaction, method=flow_method,
+                                                    memory_limit=memory_limit)
+                    gas_pv[r, i] = aspect * gflow.throughput
+                    gas_pv_no_slip[r, i] = aspect * gflow.throughput_no_slip
+                    gas_iterations[r, i] = gflow.iterations
                 if r == 0:
                     contact_maps[i] = res.contact.copy()
                 fields.write(f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(size))
@@ -212,6 +286,13 @@ def simulate(
                      f"q = {spectrum.q_min:.4g} .. {spectrum.q_max:.4g} 1/m")
     if threshold and np.isnan(thresholds).all():
         notes.append("no percolation threshold found (see the notes above)")
+    gas_result = None
+    if gas is not None:
+        gas_result = _gas_statistics(sim_case, q_cj, u_c, perc, gas_pv, gas_pv_no_slip, gas_iterations)
+        per_gas = {"leak_rate_pv": gas_pv, "leak_rate_pv_no_slip": gas_pv_no_slip, "gas_iterations": gas_iterations,
+                   "alpha_gas": _ratio(perc, gas_pv, gas_result.throughput_critical_junction)}
+    else:
+        per_gas = {}
     return SimulationResult(
         squeeze_pressure=pressures, pressure_difference=dp, relative_contact_area=area_m,
         relative_contact_area_std=area_s, relative_contact_area_theory=contact_theory, mean_gap=gap_m,
@@ -221,15 +302,54 @@ def simulate(
         realizations=int(realizations), seed=int(seed), size=size, q_cut=cut_at, notes=tuple(notes),
         spectrum_note=spectrum_note, contact_maps=contact_maps, junction_cells=junction_cells,
         per_realization={"relative_contact_area": area, "mean_gap": gap, "percolates": perc,
-                         "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds},
+                         "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas,
+        gas=gas_result,
     )
 
 
-def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,
-                      notes: list[str]) -> tuple[FloatArray, FloatArray]:
-    """Critical-junction Q (α = 1, m³/s) of the (cut) spectrum, and the grid cells across each junction.
+def _ratio(perc: NDArray[np.bool_], q: FloatArray, theory: FloatArray) -> FloatArray:
+    """q/theory per realisation and pressure where the realisation percolates and the theory has a leak; else NaN."""
+    ok = perc & (np.isfinite(theory) & (theory > 0))[None, :]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(ok, q / np.where(ok, theory[None, :], 1.0), np.nan)
 
-    Returns ``(q_cj, cells)``: cells = N/ζc, the grid cells across the critical wavelength
+
+def _gas_statistics(case: Case, q_cj: FloatArray, u_c: FloatArray, perc: NDArray[np.bool_], pv: FloatArray,
+                    pv_no_slip: FloatArray, iterations: NDArray[np.int64]) -> GasSimulation:
+    """Means over realisations of the gas leak, the critical-junction gas leak (α = 1) and α_gas.
+
+    The theory is ``predict``'s (:func:`sealeak.cases.run.gas_rows`): the channel of conductance
+    K = Q_cj/ΔP (α = 1, the gas's viscosity) whose gap is u_c, integrated along the pressure drop with the
+    case's rarefaction model (docs/theory.md §11.5).
+    """
+    gas = case.gas
+    assert gas is not None
+    with np.errstate(invalid="ignore", divide="ignore"):
+        k = np.where(np.isfinite(q_cj) & (q_cj > 0), q_cj / case.pressure_difference, 0.0)
+    rows = gas_rows(case, k, np.where(np.isfinite(u_c), u_c, np.nan))
+    leaks = rows.leaks or ()
+    theory = np.array([g.throughput if g is not None else np.nan for g in leaks])
+    kn = np.array([g.knudsen_mean if g is not None else np.nan for g in leaks])
+    regime = tuple(g.regime if g is not None else "" for g in leaks)
+    pv_m, pv_s = _mean_std(pv)
+    rst = gas.gas.specific_gas_constant * gas.temperature
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gain = np.where(perc, pv / np.where(perc, pv_no_slip, 1.0), np.nan)
+    alpha_m, alpha_s = _mean_std(_ratio(perc, pv, theory))
+    return GasSimulation(
+        gas_name=gas.gas.name, temperature=gas.temperature, upstream_pressure=gas.upstream_pressure,
+        downstream_pressure=gas.downstream_pressure, rarefaction=gas.rarefaction, throughput=pv_m, throughput_std=pv_s,
+        mass_flow=pv_m / rst, mass_flow_std=pv_s / rst, molar_flow=pv_m / (MOLAR_GAS_CONSTANT * gas.temperature),
+        slip_gain=_mean_std(gain)[0], throughput_critical_junction=theory, knudsen_critical_junction=kn,
+        regime_critical_junction=regime, alpha=alpha_m, alpha_std=alpha_s, iterations=iterations.max(axis=0))
+
+
+def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,
+                      notes: list[str]) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Critical-junction Q (α = 1, m³/s) of the (cut) spectrum, the grid cells across each junction, and u_c.
+
+    Returns ``(q_cj, cells, u_c)``: u_c is ``predict``'s critical gap (m; NaN where Q_cj is not computed);
+    cells = N/ζc, the grid cells across the critical wavelength
     λc = L/ζc (NaN where the theory has no junction). The critical gap u_c = u1(ζc) falls to zero as
     ζc approaches the end of the spectrum ζ1 (u1(ζ1) = 0, docs/theory.md §2.10); on a coarse grid
     the spectrum is cut at ζ1 = N/4, so at the higher pressures the junction can sit in the last
@@ -244,9 +364,12 @@ def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: floa
     zeta_1 = contact.zeta_max
     at_end = percolates & ~(np.isfinite(u_c) & (u_c > 0)) & (zeta_c - 1.0 > 0.5 * (zeta_1 - 1.0))
     q_cj = np.full(pressures.size, np.nan)
+    gap_c = np.full(pressures.size, np.nan)
     keep = ~at_end
     if keep.any():
-        q_cj[keep] = predict(replace(case, alpha=1.0), squeeze_pressure=pressures[keep]).leak_rate
+        cj = predict(replace(case, alpha=1.0), squeeze_pressure=pressures[keep])
+        q_cj[keep] = cj.leak_rate
+        gap_c[keep] = np.where(cj.percolates, cj.critical_gap, np.nan)
     cells = np.where(percolates, grid / zeta_c, np.nan)
     coarse = percolates & (cells < JUNCTION_CELLS)
     if coarse.any():
@@ -263,7 +386,7 @@ def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: floa
                          "u_c vanishes: no critical-junction leak rate and no α")
         notes.append(f"grid = {grid}: the {grid}x{grid} grid {resolved}; " + "; ".join(parts)
                      + ". A finer grid (--grid, or grid in [simulation]) resolves the junction.")
-    return q_cj, cells
+    return q_cj, cells, gap_c
 
 
 def _kpa(p: FloatArray) -> str:

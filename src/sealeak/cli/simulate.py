@@ -23,9 +23,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ..cases import simulate
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
-    from ..render.simulation import BAND_SIMULATION_FIGURE_NAMES
+    from ..render.simulation import BAND_SIMULATION_FIGURE_NAMES, SIMULATION_GAS_FIGURE_NAMES
 
-    names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES))  # either route's figures
+    # either route's figures, and a gas case's
+    names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES + SIMULATION_GAS_FIGURE_NAMES))
     check_outputs(outputs(args, names, folders=("plots", "fields")), args.force, inputs=inputs(args))
     if args.fields:
         _check_fields_folder(Path(args.fields), args.force)

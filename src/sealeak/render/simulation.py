@@ -9,6 +9,7 @@ from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from numpy.typing import NDArray
 
 from ..cases import Case, SimulationResult
 from ..cases.simulation import JUNCTION_CELLS
@@ -20,6 +21,7 @@ from .records import case_summary, json_document, json_value
 from .text import fmt
 
 __all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
+           "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES",
            "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
            "BAND_SIMULATION_FIGURE_NAMES"]
 
@@ -38,6 +40,19 @@ SIMULATION_UNITS = {
     "size": "m",
 }
 SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png")
+#: The extra figure of a gas case.
+SIMULATION_GAS_FIGURE_NAMES = ("simulate_gas_leak_rate.png",)
+#: Units of the gas keys of a ``simulate --json`` row (a gas case); names as ``predict``'s gas keys.
+SIMULATION_GAS_UNITS = {
+    "knudsen_number": "1", "flow_regime": "", "leak_rate_pv": "Pa*m^3/s", "leak_rate_pv_std": "Pa*m^3/s",
+    "leak_rate_mbar_l_s": "mbar*l/s", "leak_rate_mass": "kg/s", "leak_rate_mass_std": "kg/s", "leak_rate_molar": "mol/s",
+    "slip_gain": "1", "leak_rate_pv_critical_junction": "Pa*m^3/s", "alpha_gas": "1", "alpha_gas_std": "1",
+    "gas_iterations": "1",
+}
+_GAS_ATTR = {"knudsen_number": "knudsen_critical_junction", "leak_rate_pv": "throughput", "leak_rate_pv_std": "throughput_std",
+             "leak_rate_mass": "mass_flow", "leak_rate_mass_std": "mass_flow_std", "leak_rate_molar": "molar_flow",
+             "slip_gain": "slip_gain", "leak_rate_pv_critical_junction": "throughput_critical_junction", "alpha_gas": "alpha",
+             "alpha_gas_std": "alpha_std", "gas_iterations": "iterations"}
 
 
 def simulation_json(case: Case, res: SimulationResult) -> str:
@@ -64,7 +79,55 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
         "case": case_summary(case),
         "notes": list(res.notes),
     }
+    if res.gas is not None:
+        _gas_json(doc, res)
     return json_document(doc)
+
+
+def _gas_json(doc: dict[str, Any], res: SimulationResult) -> None:
+    """Add a gas case's keys to the ``simulate --json`` document: per row the gas leak, its α, and the gas settings."""
+    g = res.gas
+    assert g is not None
+    doc["units"] = doc["units"] | SIMULATION_GAS_UNITS
+    for i, row in enumerate(doc["results"]):
+        row |= {k: json_value(getattr(g, a)[i]) for k, a in _GAS_ATTR.items()}
+        row |= {"flow_regime": g.regime_critical_junction[i] or None,
+                "leak_rate_mbar_l_s": json_value(g.throughput[i] / 0.1)}
+    doc["gas"] = {"name": g.gas_name, "temperature": g.temperature, "upstream_pressure": g.upstream_pressure,
+                  "downstream_pressure": g.downstream_pressure, "rarefaction": g.rarefaction,
+                  "units": {"temperature": "K", "upstream_pressure": "Pa", "downstream_pressure": "Pa"}}
+    doc["gas_note"] = ("leak_rate_pv: the seal's pV throughput from isothermal gas flow through the same gap fields, "
+                       "div(g^3 f(Kn) grad p^2) = 0, counted at the gas temperature; leak_rate_mass = leak_rate_pv/(R_s T); "
+                       "slip_gain = leak_rate_pv / the same flow without rarefaction; leak_rate_pv_critical_junction: the "
+                       "critical-junction gas leak with alpha = 1, gap u_c, the same rarefaction model (as predict); "
+                       "alpha_gas = leak_rate_pv / leak_rate_pv_critical_junction; knudsen_number, flow_regime: at u_c and the "
+                       "mean pressure (P_a + P_b)/2; gas_iterations: the most fixed-point iterations of any realisation; "
+                       "leak_rate, alpha: the incompressible formula with the gas's viscosity, for comparison")
+
+
+def _gas_lines(res: SimulationResult) -> list[str]:
+    """The gas table of ``sealeak simulate`` and what its columns mean."""
+    g = res.gas
+    assert g is not None
+    lines = ["", f"gas leak of {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa "
+                 f"(absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}:",
+             f"{'P0 (kPa)':>9} {'Kn at u_c':>9} {'regime':>14} {'Q_pV sim (Pa·m³/s)':>19} {'± sd':>9} {'Q (mbar·l/s)':>12} "
+             f"{'ṁ (kg/s)':>10} {'slip gain':>9} {'Q_pV cj α=1':>12} {'α_gas':>7} {'± sd':>7} {'iter':>4}"]
+    for i in range(res.squeeze_pressure.size):
+        star = "*" if _coarse(res, i) and np.isfinite(g.alpha[i]) else " "
+        lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {fmt(g.knudsen_critical_junction[i], '9.3g')} "
+                     f"{g.regime_critical_junction[i] or '—':>14} {fmt(g.throughput[i], '19.3e')} {fmt(g.throughput_std[i], '9.2e')} "
+                     f"{fmt(g.throughput[i] / 0.1, '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
+                     f"{fmt(g.throughput_critical_junction[i], '12.3e')} {fmt(g.alpha[i], '7.3g')}{star}"
+                     f"{fmt(g.alpha_std[i], '7.2g')} {g.iterations[i]:4d}")
+    lines += ["",
+              "Q_pV sim: isothermal gas flow through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, counted at the gas "
+              "temperature; ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
+              f"Q_pV cj α=1: the critical-junction gas leak (gap u_c, the same rarefaction; as predict); α_gas = Q_pV sim / "
+              f"Q_pV cj; Kn = λ/u_c at the mean pressure {0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} kPa; "
+              "iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
+              "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
+    return lines
 
 
 def simulation_table(case: Case, res: SimulationResult) -> str:
@@ -81,6 +144,8 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
                      f"{res.percolating_fraction[i]:5.2f} {fmt(res.leak_rate[i], '13.3e')} {fmt(res.leak_rate_std[i], '9.2e')} "
                      f"{fmt(res.leak_rate_critical_junction[i], '10.3e')} {fmt(res.alpha[i], '7.3g')}"
                      f"{'*' if _coarse(res, i) and np.isfinite(res.alpha[i]) else ' '}{fmt(res.alpha_std[i], '7.2g')}")
+    if res.gas is not None:
+        lines += _gas_lines(res)
     lines.append("")
     lines.append(_spread_legend(res.realizations))
     if np.isfinite(res.percolation_threshold):
@@ -150,11 +215,21 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     fig, ax = _axes((6.4, 4.4))
     ok = np.isfinite(res.alpha) & ~coarse
     ax.errorbar(p[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3,
-                label="α = Q_num / Q_cj(α=1), ± sd")
+                label="α = Q_num / Q_cj(α=1), ± sd" if res.gas is None
+                else "α = Q_num / Q_cj(α=1), incompressible formula (gas viscosity), ± sd")
+    if res.gas is not None:
+        g = res.gas
+        good = np.isfinite(g.alpha) & ~coarse
+        ax.errorbar(p[good], g.alpha[good], yerr=np.nan_to_num(g.alpha_std[good]), fmt="s--", ms=4, capsize=3, color="C3",
+                    label=f"α_gas = Q_pV / Q_pV,cj(α=1), {g.gas_name} {g.upstream_pressure / 1e3:.4g} → "
+                          f"{g.downstream_pressure / 1e3:.4g} kPa, ± sd")
     ax.axhline(case.alpha, color="k", ls="--", lw=0.8, label=f"case α = {case.alpha:g}")
     flagged = np.isfinite(res.alpha) & coarse
     if flagged.any():
         top = max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, case.alpha)
+        if res.gas is not None and (np.isfinite(res.gas.alpha) & ~coarse).any():
+            good = np.isfinite(res.gas.alpha) & ~coarse
+            top = max(top, float(np.nanmax(res.gas.alpha[good] + np.nan_to_num(res.gas.alpha_std[good]))))
         limit = 3.0 * top
         inside = flagged & (res.alpha <= limit)
         off = int(flagged.sum() - inside.sum())
@@ -186,9 +261,46 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
                      f"black: contact ({contact.mean():.1%}); blue: channels spanning inlet to outlet; "
                      f"grey: trapped fluid", fontsize=8)
     figs["contact_map.png"] = fig
+    if res.gas is not None:
+        figs["simulate_gas_leak_rate.png"] = _gas_figure(case, res, coarse)
     return figs
 
 
+def _gas_figure(case: Case, res: SimulationResult, coarse: NDArray[np.bool_]) -> Figure:
+    """The gas case's leak rate: the simulated pV throughput against the critical-junction gas leak (α = 1, and the case's α)."""
+    g = res.gas
+    assert g is not None
+    scale, unit = pressure_axis(res.squeeze_pressure)
+    p = res.squeeze_pressure / scale
+    fig, ax = _axes((6.4, 4.4))
+    ok = g.throughput > 0
+    std = np.nan_to_num(g.throughput_std[ok])
+    lower = np.minimum(std, 0.9 * g.throughput[ok])
+    ax.errorbar(p[ok], g.throughput[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
+                label=f"numerical (BEM + gas flow in p²), {res.realizations} realisation(s), ± sd")
+    q_cj = g.throughput_critical_junction
+    good = np.where(coarse, np.nan, q_cj)
+    ax.plot(p, good, "-", color="C1", label="critical junction, α = 1")
+    if case.alpha != 1.0:
+        ax.plot(p, case.alpha * good, "--", color="C2", label=f"critical junction, α = {case.alpha:g}")
+    if coarse.any():
+        edge = np.where(coarse | np.roll(coarse, -1), q_cj, np.nan)
+        ax.plot(p, edge, ":", color="C1", label=f"critical junction where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    shown = np.concatenate([g.throughput[ok], good[np.isfinite(good) & (good > 0)]])
+    if shown.size:
+        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
+        ax.set_yscale("log")
+        ax.secondary_yaxis("right", functions=(lambda q: q * 10.0, lambda q: q / 10.0)).set_ylabel("Q (mbar·l/s)")
+    else:
+        ax.text(0.5, 0.5, "no leak channel at any squeeze pressure", transform=ax.transAxes, ha="center", va="center")
+    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
+    ax.set_ylabel("pV throughput Q_pV (Pa·m³/s)")
+    ax.set_title(f"Gas leak: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} → {g.downstream_pressure / 1e3:.4g} kPa (absolute), "
+                 f"{g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}\n{res.grid}² grid, "
+                 f"Ly/Lx = {case.seal.aspect_ratio:.3g}; Q_pV counted at the gas temperature", fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
 
 
 # ---------------------------------------------------------------- the O-ring (band) simulation
@@ -249,7 +361,15 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
         "case": case_summary(case),
         "notes": list(res.notes),
     }
+    if case.gas is not None:
+        doc["gas_note"] = _BAND_GAS_NOTE
     return json_document(doc)
+
+
+#: What ``simulate`` says of a gas O-ring: its leak rates are the incompressible formula, the gas route is the uniform seal's.
+_BAND_GAS_NOTE = ("a gas: the leak rates and α of the O-ring are the incompressible formula with the gas's viscosity; "
+                  "the gas flow itself (p², rarefaction, α_gas) is simulated for uniform seals only. "
+                  "predict gives this O-ring's gas leak from the critical-junction theory")
 
 
 def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
@@ -286,6 +406,8 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
               "Q series α=1: the series-resistance prediction Q = Ly ΔP / ∫dx/σ(p(x)) of the critical-junction theory "
               "with α = 1, same spectrum, Hertz profile of the same force; α = Q sim / Q series is the α of this O-ring",
               _spread_legend(res.realizations)]
+    if case.gas is not None:
+        lines.append("note: " + _BAND_GAS_NOTE)
     for n in res.notes:
         lines.append("note: " + n)
     return "\n".join(lines) + "\n"
