@@ -94,6 +94,7 @@ PINNED = {
     ("hurst-study", "H = 0.7"): (1.33965, 1.97801, 5.80455),
     ("hurst-study", "H = 0.8"): (1.56532, 3.30675, None),
     ("hurst-study", "H = 0.9"): (1.80715, 6.60491, None),
+    ("pressure-decay", ""): (1.73642, 1.73642, 1.73642),  # one squeeze pressure
 }
 
 
