@@ -28,10 +28,12 @@ The continuous part of P(u) (a mixture of folded Gaussians, :mod:`sealeak.physic
 Gauss–Legendre nodes in ln u, on panels between the 1e-10 and 1 - 1e-13 quantiles; each panel's
 weights are rescaled so the panel holds exactly its mass from the closed-form mixture CDF (so
 the discrete distribution integrates to one to rounding), the mass below (above) the range sits
-at its lower (upper) end. The mixture's density and CDF are summed without visiting every (component, u)
-pair (:class:`_Mixture`: exact closed forms only where they differ from 0, 1 and from a short Taylor series
-in u; same values to ~1e-15), and the two cut points are found by Newton's method (lower) and by bisection
-over the components' own quantile points followed by regula falsi (upper), not by plain bisection.
+at its lower (upper) end. The upper cut point is where 1 - CDF, summed as Σ W P(|X| > u), reaches 1e-13 of
+the continuous mass (computed as mass - CDF, that level is rounding noise, which moves the cut by up to a
+few per cent and σ_eff by up to ~5e-11). The mixture's density and CDF are summed without visiting every
+(component, u) pair (:class:`_Mixture`: closed forms only where they differ from 0, 1 and from a Taylor
+series in u; the same values to ~1e-15), the lower cut point by Newton's method, the upper one by bisection
+over the components' own quantile points and then regula falsi (docs/theory.md §5.5).
 On that discrete distribution, with x = ln u and s = ln u_e where
 σ(u_e) = σ_eff, g(s) = 2A(ζ1)/A0 + Σ_j W_j 2/(1 + e^(3(x_j - s))), monotone in s; a vectorised
 Newton iteration with a bisection bracket (all pressures at once) solves g(s) = 1 until the
@@ -160,6 +162,7 @@ _R_TAIL = 12.0  # the upper tail 1 - CDF keeps components with u < u1 + 12 h (th
 _SERIES = 1.0  # the small-u series serves a component for u/h <= _SERIES/(u1/h + 3) ...
 _SERIES_TERMS = 10  # ... with the terms s^0, s^2, ..., s^18 (the next one is below 2e-15 of the first there)
 _SQRT2PI = float(np.sqrt(2.0 * np.pi))
+_CHUNK = 8192  # (component, u) pairs evaluated together (arrays below 128 kB)
 _STEPS = np.array([-8.0, -4.0, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 4.0, 8.0])  # u = c + t h: bisection points of the upper tail
 
 
@@ -179,7 +182,8 @@ class _Mixture:
       truncated where the remainder is below 2e-15 of the sum (checked against the closed forms in the tests);
       the series' coefficients of all components add up into one polynomial in u, so they cost nothing per
       component;
-    * in between: the closed forms, evaluated only on the (component, u) pairs that fall there.
+    * in between: the closed forms, evaluated only on the (component, u) pairs that fall there, the mirror
+      terms φ(s + κ) and Φ(-s - κ) only where s + κ < √80 (beyond, below e^-40 and 2e-19).
     """
 
     def __init__(self, dist: GapDistribution) -> None:
@@ -207,19 +211,20 @@ class _Mixture:
         self.dens_coef = [np.where(ok, d, 0.0) for d in dens]
         self.cdf_coef = [d / (2 * k + 1) for k, d in enumerate(self.dens_coef)]
         self.window_lo = np.maximum(self.series_top, self.bottom)  # exact evaluation for window_lo < u < top
+        self.tail_top = np.where(w > 0, np.where(h > 0, c + _R_TAIL * np.where(h > 0, h, 0.0), c), -np.inf)
 
     # ------------------------------------------------------------------ one u per row (root finding)
-    def at(self, u: FloatArray, *, upper: bool) -> tuple[FloatArray, FloatArray]:
-        """(CDF, density) at one u per row; with ``upper`` (1 - CDF, density), see :meth:`quantile`."""
+    def tail(self, u: FloatArray) -> FloatArray:
+        """1 - CDF at one u per row, as Σ W [Φ((c - u)/h) + Φ((-u - c)/h)] (no cancellation) over the components
+        with u < c + 12 h (h = 0: u < c); the others add less than 2e-33 of their weight."""
+        r, k = np.nonzero(u[:, None] < self.tail_top)
+        ur, c, h, hs = u[r], self.c[r, k], self.h[r, k], self.hs[r, k]
+        sf = np.where(h > 0, special.ndtr((c - ur) / hs) + special.ndtr((-ur - c) / hs), 1.0)
+        return _sum_by(r, self.w[r, k] * sf, u.size)
+
+    def at(self, u: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """(CDF, density) at one u per row."""
         uu = u[:, None]
-        if upper:
-            # 1 - CDF = Σ W [Φ(κ - s) + Φ(-s - κ)], computed as such (no cancellation), over the components with
-            # u < c + 12 h (h = 0: u < c); the density of the same components, in full
-            r, k = np.nonzero((self.w > 0) & (uu < np.where(self.h > 0, self.c + _R_TAIL * self.h, self.c)))
-            ur, c, h, hs = u[r], self.c[r, k], self.h[r, k], self.hs[r, k]
-            sf = np.where(h > 0, special.ndtr((c - ur) / hs) + special.ndtr((-ur - c) / hs), 1.0)
-            dens = self.amp[r, k] * (np.exp(-0.5 * ((ur - c) / hs) ** 2) + np.exp(-0.5 * ((ur + c) / hs) ** 2))
-            return _sum_by(r, self.w[r, k] * sf, u.size), _sum_by(r, dens, u.size)
         series = uu <= self.series_top
         us = uu * uu
         poly_d = _horner(self.dens_coef, us)
@@ -246,7 +251,7 @@ class _Mixture:
         done = ~live
         for it in range(200):
             u = np.exp(x)
-            value, dens = self.at(u, upper=False)
+            value, dens = self.at(u)
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 f = np.log(value) - log_level
                 step = f / (u * dens / value)
@@ -289,7 +294,7 @@ class _Mixture:
 
         def f(x: FloatArray) -> FloatArray:
             with np.errstate(divide="ignore"):
-                return np.log(self.at(np.exp(x), upper=True)[0]) - log_level
+                return np.log(self.tail(np.exp(x))) - log_level
 
         fa, fb = f(a), f(b)
         # bisection over the sorted points c + t h inside (a, b)
@@ -334,37 +339,49 @@ class _Mixture:
     # ------------------------------------------------------------------ sorted grids (one row at a time)
     def density_on(self, i: int, u: FloatArray) -> FloatArray:
         """The density at the ascending separations ``u`` of row i (1/m)."""
-        n = u.size
-        coef = _series_sums(u, self.series_top[i], self.dens_coef, i)
-        us = u * u
-        out = _horner(coef, us)
-        comp, node = self._pairs(i, u)
-        if comp.size:
-            out += _sum_by(node, self.amp[i, comp] * _pair_density(u[node], self.c[i, comp], self.h[i, comp]), n)
+        out = _horner(_series_sums(u, self.series_top[i], self.dens_coef, i), u * u)
+        for (node, c, h, amp), sign in zip(self._pairs(i, u), (-1.0, 1.0)):
+            for lo in range(0, node.size, _CHUNK):
+                part = slice(lo, lo + _CHUNK)
+                z = u[node[part]] + sign * c[part]  # u - c, then u + c (the mirror term)
+                z /= h[part]
+                z *= z
+                term = np.exp(-0.5 * z)
+                term[z >= 80.0] = 0.0  # (the windows end at √80 h; rounding may let one more in)
+                term *= amp[part]
+                out += _sum_by(node[part], term, u.size)
         return out
 
     def cdf_on(self, i: int, u: FloatArray) -> FloatArray:
         """The CDF of the continuous part at the ascending separations ``u`` of row i."""
-        n = u.size
         order = np.argsort(self.top[i], kind="stable")
         full = np.concatenate([[0.0], np.cumsum(self.w[i, order])])[np.searchsorted(self.top[i, order], u, side="right")]
-        coef = _series_sums(u, self.series_top[i], self.cdf_coef, i)
-        us = u * u
-        out = full + _horner(coef, us) * u
-        comp, node = self._pairs(i, u)
-        if comp.size:
-            out += _sum_by(node, self.w[i, comp] * folded_normal_cdf(u[node], self.c[i, comp], self.h[i, comp]), n)
+        out = full + _horner(_series_sums(u, self.series_top[i], self.cdf_coef, i), u * u) * u
+        # Φ((u - c)/h) - Φ((-u - c)/h): the second term only where (u + c)/h < √80 (elsewhere below 2e-19)
+        for (node, c, h, amp), sign in zip(self._pairs(i, u), (-1.0, 1.0)):
+            for lo in range(0, node.size, _CHUNK):
+                part = slice(lo, lo + _CHUNK)
+                z = u[node[part]] + sign * c[part]
+                z /= (-sign) * h[part]
+                term = special.ndtr(z)
+                term *= (-sign * _SQRT2PI) * amp[part] * h[part]  # ± W
+                out += _sum_by(node[part], term, u.size)
         return out
 
-    def _pairs(self, i: int, u: FloatArray) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-        """(component, node) pairs of row i with window_lo < u < top: the closed forms are evaluated there."""
+    def _pairs(self, i: int, u: FloatArray) -> tuple[tuple[NDArray[np.intp], FloatArray, FloatArray, FloatArray], ...]:
+        """The (node, c, h, W/(√(2π) h)) quadruples of row i where the closed forms are evaluated: window_lo < u < top
+        for the term in u - c, and in addition u < √80 h - c for the mirror term in u + c (nodes ascending)."""
         smooth = np.flatnonzero(self.smooth[i])
+        c, h, amp = self.c[i, smooth], self.h[i, smooth], self.amp[i, smooth]
         j_lo = np.searchsorted(u, self.window_lo[i, smooth], side="right")
         j_hi = np.searchsorted(u, self.top[i, smooth], side="left")
-        count = np.maximum(j_hi - j_lo, 0)
-        comp = np.repeat(smooth, count)
-        start = np.repeat(j_lo - (np.cumsum(count) - count), count)
-        return comp, start + np.arange(comp.size)
+        j_mirror = np.minimum(np.searchsorted(u, _R * h - c, side="left"), j_hi)
+        out = []
+        for top in (j_hi, j_mirror):
+            count = np.maximum(top - j_lo, 0)
+            node = np.repeat(j_lo - (np.cumsum(count) - count), count) + np.arange(count.sum())
+            out.append((node, np.repeat(c, count), np.repeat(h, count), np.repeat(amp, count)))
+        return tuple(out)
 
 
 def _horner(coef: list[FloatArray], x: FloatArray) -> FloatArray:

@@ -262,27 +262,21 @@ class PowerSpectrum:
         return cum[k] + self.C[k] * self.q[k] ** (n + 1.0) * x * _exprel(e * x)
 
     def inverse_cumulative_moment(self, n: float, m: ArrayLike) -> FloatArray:
-        """The q (1/m) at which M_n(q) = m (closed-form inverse of :meth:`cumulative_moment`, docs/theory.md §1.3; m clipped to the band)."""
-        ma = np.clip(np.asarray(m, dtype=float), 0.0, self._node_cumulative(n)[-1])
-        return self._inverse_in_segment(n, ma, self._moment_segment(n, ma))
+        """The q (1/m) at which M_n(q) = m (closed-form inverse of :meth:`cumulative_moment`, docs/theory.md §1.3; m clipped to the band).
 
-    def _moment_segment(self, n: float, m: FloatArray) -> NDArray[np.intp]:
-        """Index k of the segment [q_k, q_k+1] in which M_n reaches m (m within [0, M_n(q_max)])."""
-        return np.clip(np.searchsorted(self._node_cumulative(n), m, side="right") - 1, 0, self.q.size - 2)
-
-    def _inverse_in_segment(self, n: float, m: FloatArray, k: NDArray[np.intp]) -> FloatArray:
-        """q with M_n(q) = m on segment k (k broadcasts against m, e.g. one k per row of m).
-
-        On [q_k, q_k+1] with exponent β_k, M_n(q) = M_n(q_k) + C_k q_k^(n+1) [(q/q_k)^e - 1]/e, e = n + 1 + β_k,
-        so q = q_k exp(r log(1 + e r)/(e r)) with r = (m - M_n(q_k))/(C_k q_k^(n+1)) (docs/theory.md §1.3).
+        On segment k (exponent β_k, e = n + 1 + β_k), M_n(q) = M_n(q_k) + C_k q_k^(n+1) [(q/q_k)^e - 1]/e, so
+        q = q_k exp(r log(1 + e r)/(e r)) with r = (m - M_n(q_k))/(C_k q_k^(n+1)).
         """
-        cum, scale, e = self._segment_constants(n, k)
-        r = (m - cum) / scale
+        cum = self._node_cumulative(n)
+        ma = np.clip(np.asarray(m, dtype=float), 0.0, cum[-1])
+        k = np.clip(np.searchsorted(cum, ma, side="right") - 1, 0, self.q.size - 2)
+        start, scale, e = self._segment_constants(n, k)
+        r = (ma - start) / scale
         x = r * _log1prel(e * r)
         return np.minimum(self.q[k] * np.exp(x), self.q[-1])
 
     def _segment_constants(self, n: float, k: NDArray[np.intp]) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """M_n(q_k), C_k q_k^(n+1) and e = n + 1 + β_k of segments k (the constants of :meth:`_inverse_in_segment`)."""
+        """M_n(q_k), C_k q_k^(n+1) and e = n + 1 + β_k of segments k (the constants of :meth:`inverse_cumulative_moment`; cached per n)."""
         key = ("segments", float(n))
         table = self._cum.get(key)
         if table is None:
