@@ -42,16 +42,21 @@ from ..io.units import length_unit
 from ..physics.validity import pressures_text
 from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
 from .plotstyle import (
+    GAS_LEAK_LABEL,
     ML_PER_MIN_PER_M3_PER_S,
     Series,
     color,
     draw_series,
     finish_axes,
+    gas_conditions_text,
+    gas_regime_text,
+    gas_series,
     invalid_note,
     laid_out,
     log_axis,
     ml_per_min_axis,
     new_figure,
+    pa_m3_axis,
     place_legend,
     power_unit,
     pressure_axis,
@@ -64,7 +69,7 @@ from .plotstyle import (
 __all__ = ["prediction_figures", "save_figures", "render_figures", "pressure_axis", "PREDICTION_FIGURE_NAMES",
            "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "pressure_x",
-           "figure_png", "laid_out", "prediction_figure_names"]
+           "figure_png", "laid_out", "prediction_figure_names", "is_gas_run", "figure_gas_leak_rate"]
 
 
 # ---------------------------------------------------------------------- the prediction figures
@@ -291,7 +296,10 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     Effective-medium curves (model "both") are drawn dashed next to the critical-junction ones, or
     alone (model "effective-medium"). The linear figure turns logarithmic when the curves' maxima
     differ by more than two decades (on a linear axis all but the largest would lie flat on zero).
+    For gas cases the figure draws the gas leak rate instead (:func:`figure_gas_leak_rate`).
     """
+    if is_gas_run(results):
+        return figure_gas_leak_rate(results, log)
     cases = [r.case for r in results]
     p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
     fig, ax = new_figure("Leak rate against squeeze pressure" + (" (log scale)" if log else ""))
@@ -330,6 +338,88 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
     ml_per_min_axis(ax, qscale)
+    place_legend(ax)
+    return fig
+
+
+def is_gas_run(results: Sequence[CaseResult]) -> bool:
+    """Whether every result is a gas case with gas leak rates (docs/theory.md §11.9): its figures show Q_pV, not K ΔP."""
+    return bool(results) and all(r.case.gas is not None and r.gas for r in results)
+
+
+def _gas_leak_series(results: Sequence[CaseResult], x_scale: float) -> tuple[list[Series], list]:
+    """Per case and theory, in its own colour: the gas leak (solid) and the helium equivalent (dashed), mbar·l/s."""
+    several = len(results) > 1
+    out: list[Series] = []
+    rows = []
+    k = 0
+    for r in results:
+        gas = r.gas or {}
+        theories = []
+        if r.shows_critical_junction and "critical_junction" in gas:
+            theories.append(("critical junction", gas["critical_junction"], r.valid, r.validity))
+        if r.effective_medium is not None and "effective_medium" in gas:
+            valid = r.valid_effective_medium if r.valid_effective_medium is not None else np.ones(len(r.effective_medium), bool)
+            theories.append(("effective medium", gas["effective_medium"], valid, r.validity_effective_medium or ()))
+        x = r.critical_junction.squeeze_pressure / x_scale
+        for name, g, valid, why in theories:
+            label = f"{r.case.label}, {name}" if several and r.case.label else name
+            out += gas_series(x, g, valid, why, color(k), label)
+            rows.append(g)
+            k += 1
+    return out, rows
+
+
+@laid_out
+def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
+    """The gas leak rate Q_pV (mbar·l/s, second axis Pa·m³/s) against P0 for gas cases (docs/theory.md §11.5, §11.9).
+
+    Each theory in its own colour: the case's gas solid, its helium-equivalent leak rate (1 bar helium
+    against vacuum, 20 °C) dashed where computed and not the same numbers. The heading names the gas;
+    the first subtitle line its T, P_a and P_b; the Knudsen numbers and flow regimes of the drawn
+    points follow. The values are the records' ``leak_rate_mbar_l_s`` (and ``leak_rate_helium_mbar_l_s``).
+    """
+    case = results[0].case
+    names = sorted({r.case.gas.gas.name for r in results if r.case.gas is not None})
+    fig, ax = new_figure(f"Leak rate of {' / '.join(names)} against squeeze pressure" + (" (log scale)" if log else ""))
+    p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
+    scale = pressure_x(ax, p_all)
+    series, rows = _gas_leak_series(results, scale)
+    conditions = {gas_conditions_text(r.case) for r in results}
+    notes = [gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)"]
+    settings = f"Q_pV = K ∫ p f(Kn) dp over P_b…P_a, Ly/Lx = {case.seal.aspect_ratio:.3g}"
+    if any(r.shows_critical_junction for r in results):
+        settings += f", α = {case.alpha:g}"
+    if any(s.style == "--" for s in series):
+        settings += "; dashed: helium equivalent (1 bar He against vacuum, 20 °C)"
+    notes.append(settings)
+    regime = gas_regime_text(rows)
+    if regime:
+        notes.append(regime)
+    peaks = series_peaks(series)
+    logy = log or spans_decades(peaks, 1.0)
+    if not any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series):
+        say_nothing(ax, _no_leak_text(results))
+        ax.set_ylabel(f"{GAS_LEAK_LABEL} (mbar·l/s)")
+        subtitle(ax, "\n".join(notes))
+        finish_axes(ax)
+        return fig
+    qscale, qunit = (1.0, "mbar·l/s") if logy else power_unit(peaks, "mbar·l/s")
+    scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]
+    draw_series(ax, scaled, logy=logy, bottom_zero=not logy)
+    ax.set_ylabel(f"{GAS_LEAK_LABEL} ({qunit})")
+    if not log and logy:
+        notes.append("log scale: the curves differ by decades")
+    missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction)
+    missing = missing or any(r.effective_medium is not None and (~r.effective_medium.percolates).any() for r in results)
+    if missing:
+        notes.append("missing points: no leak channel (the non-contact area does not percolate)")
+    hollow = invalid_note(series)
+    if hollow:
+        notes.append(hollow)
+    subtitle(ax, "\n".join(notes))
+    finish_axes(ax)
+    pa_m3_axis(ax, qscale)
     place_legend(ax)
     return fig
 
@@ -410,9 +500,23 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     With effective-medium results for a case (model "both"), its Bruggeman leak rate is drawn dashed.
     When the cases' leak rates differ by more than two decades, both axes are logarithmic (Q ∝ ΔP
     is then a line of slope one).
+
+    For gas cases the figure draws nothing and says why: Q_pV = K ∫ p f(Kn) dp from P_b to P_a is
+    not linear in ΔP and needs P_b and the gap at each P0 (docs/theory.md §11.5, §11.9), which the
+    sweep of :func:`~sealeak.cases.prediction_curves` does not carry; the gas leak rate at the case's
+    pressures is in ``leak_rate.png``.
     """
     fig, ax = new_figure("Leak rate against fluid pressure difference")
     ax.set_xlabel("pressure difference ΔP = P_a - P_b (kPa)")
+    if curves.sets and all(cs.case.gas is not None for cs in curves.sets):
+        say_nothing(ax, "not drawn for a gas: the gas leak rate Q_pV = K ∫ p f(Kn) dp\n"
+                        "from P_b to P_a is not linear in ΔP (no-slip: K (P_a² − P_b²)/2);\n"
+                        "leak_rate.png shows it at the case's P_a and P_b")
+        ax.set_ylabel(f"{GAS_LEAK_LABEL} (mbar·l/s)")
+        ax.set_xticks([])
+        subtitle(ax, gas_conditions_text(curves.sets[0].case))
+        finish_axes(ax)
+        return fig
     sweeps = curves.pressure_difference
     if not sweeps:
         say_nothing(ax, "no leak channel at any squeeze pressure:\nno leak rate to draw against ΔP")

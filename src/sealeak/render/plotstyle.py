@@ -25,7 +25,8 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLoca
 
 __all__ = ["pressure_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
-           "invalid_note", "series_peaks", "STYLE"]
+           "invalid_note", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
+           "gas_conditions_text", "gas_regime_text", "gas_series"]
 
 P = ParamSpec("P")
 
@@ -131,25 +132,114 @@ def finish_axes(ax: Axes) -> None:
             _plain_axis(axis)
 
 
+def second_leak_axis(ax: Axes, factor: float, unit: str, quantity: str = "leak rate Q", scale: float = 1.0) -> Any:
+    """A right-hand axis that reads the left axis's leak rate times ``factor`` in ``unit``.
+
+    ``ax`` plots the leak rate divided by ``scale`` (from :func:`power_unit`; 1 on a log axis) in
+    its own unit; ``factor`` converts that unit into ``unit``. A linear second axis carries its power
+    of ten in the label. Call it once the y limits are final.
+    """
+    lo, hi = ax.get_ylim()
+    if ax.get_yscale() == "log":
+        k = factor
+        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
+        sec.set_ylabel(f"{quantity} ({unit})")
+        log_axis(sec.yaxis, lo * k, hi * k)
+    else:
+        mscale, munit = power_unit([hi * scale * factor], unit)
+        k = scale * factor / mscale
+        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
+        sec.set_ylabel(f"{quantity} ({munit})")
+        _plain_axis(sec.yaxis)
+    return sec
+
+
 def ml_per_min_axis(ax: Axes, scale: float = 1.0) -> Any:
     """A right-hand axis that reads the leak rate in ml/min.
 
     ``ax`` plots Q/``scale`` in m³/s (``scale`` from :func:`power_unit`; 1 on a log axis). Call it
     once the y limits are final.
     """
-    lo, hi = ax.get_ylim()
-    if ax.get_yscale() == "log":
-        k = ML_PER_MIN_PER_M3_PER_S
-        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
-        sec.set_ylabel("leak rate Q (ml/min)")
-        log_axis(sec.yaxis, lo * k, hi * k)
-    else:
-        mscale, munit = power_unit([hi * scale * ML_PER_MIN_PER_M3_PER_S], "ml/min")
-        k = scale * ML_PER_MIN_PER_M3_PER_S / mscale
-        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
-        sec.set_ylabel(f"leak rate Q ({munit})")
-        _plain_axis(sec.yaxis)
-    return sec
+    return second_leak_axis(ax, ML_PER_MIN_PER_M3_PER_S, "ml/min", scale=scale)
+
+
+def pa_m3_axis(ax: Axes, scale: float = 1.0) -> Any:
+    """A right-hand axis that reads a pV throughput plotted in mbar·l/s (divided by ``scale``) in Pa·m³/s.
+
+    1 mbar·l/s = 100 Pa × 10⁻³ m³/s = 0.1 Pa·m³/s (docs/theory.md §11.6).
+    """
+    return second_leak_axis(ax, PA_M3_PER_MBAR_L, "Pa·m³/s", quantity="pV throughput Q_pV", scale=scale)
+
+
+# ---------------------------------------------------------------------- gas cases (docs/theory.md §11.9)
+#: Pa·m³/s per mbar·l/s (100 Pa × 1 l = 0.1 Pa·m³; docs/theory.md §11.6).
+PA_M3_PER_MBAR_L = 0.1
+
+#: The y label of a gas leak rate: the pV throughput in the leak-test unit.
+GAS_LEAK_LABEL = "gas leak rate Q_pV"
+
+
+def _pressure_text(p: float) -> str:
+    """An absolute pressure for a figure title: "1 bar", "250 mbar", "0 Pa (vacuum)"."""
+    if p == 0:
+        return "0 (vacuum)"
+    if p >= 1e4:
+        return f"{p / 1e5:.4g} bar"
+    if p >= 1.0:
+        return f"{p / 1e2:.4g} mbar"
+    return f"{p:.3g} Pa"
+
+
+def gas_conditions_text(case: Any) -> str:
+    """The gas line of a gas figure's title: gas, T, P_a, P_b (absolute) and the rarefaction model.
+
+    ``case`` is a :class:`~sealeak.cases.Case` with ``case.gas`` set (a gas case, docs/theory.md §11.9).
+    """
+    gas = case.gas
+    return (f"{gas.gas.name}, T = {gas.temperature - 273.15:.4g} °C, absolute P_a = {_pressure_text(gas.upstream_pressure)}, "
+            f"P_b = {_pressure_text(gas.downstream_pressure)}; rarefaction {gas.rarefaction}")
+
+
+def gas_regime_text(rows: Sequence[Any]) -> str:
+    """Where the Knudsen numbers of the drawn rows lie, and their flow regimes (a subtitle line).
+
+    ``rows``: :class:`~sealeak.cases.GasRows` of the drawn theories; Kn = λ/h at the mean pressure
+    (P_a + P_b)/2 and the narrowest gap h (docs/theory.md §11.9). Empty when nothing leaks.
+    """
+    kn, regimes = [], []
+    for r in rows:
+        for leak in r.leaks or ():
+            if leak is not None and np.isfinite(leak.knudsen_mean):
+                kn.append(leak.knudsen_mean)
+                if leak.regime not in regimes:
+                    regimes.append(leak.regime)
+    if not kn:
+        return ""
+    lo, hi = min(kn), max(kn)
+    span = f"{lo:.2g}" if hi <= lo * 1.005 else f"{lo:.2g} to {hi:.2g}"
+    return f"Kn at the narrowest gap, mean pressure: {span} ({', '.join(regimes)})"
+
+
+def gas_series(x: np.ndarray, rows: Any, valid: np.ndarray, why: tuple[str, ...], colour: str, label: str,
+               helium: bool = True) -> list[Series]:
+    """The gas leak (solid) and, when computed and not the same numbers, its helium equivalent (dashed), in mbar·l/s.
+
+    ``rows``: a :class:`~sealeak.cases.GasRows` (the record fields ``leak_rate_mbar_l_s`` and
+    ``leak_rate_helium_mbar_l_s``, docs/theory.md §11.9); rows without a leak channel are NaN.
+    """
+    fields = rows.fields()
+    out = []
+    q = np.asarray(fields.get("leak_rate_mbar_l_s", np.full(len(x), np.nan)), dtype=float)
+    if rows.leaks is not None:
+        out.append(Series(x, q, np.asarray(valid, dtype=bool), colour, "-", label, why))
+    he = fields.get("leak_rate_helium_mbar_l_s")
+    if helium and he is not None:
+        he = np.asarray(he, dtype=float)
+        same = rows.leaks is not None and np.allclose(he, q, rtol=1e-9, equal_nan=True)
+        if not same:
+            out.append(Series(x, he, np.asarray(valid, dtype=bool), colour, "--",
+                              f"{label}: helium equivalent" if label else "helium equivalent", why))
+    return out
 
 
 # ---------------------------------------------------------------------- figure, title, message, legend
