@@ -35,14 +35,19 @@ from ..cases.band import BandResult
 from ..cases.model import BandSeal
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
 from .plotstyle import (
+    GAS_LEAK_LABEL,
     STYLE,
     Series,
     color,
     draw_series,
     finish_axes,
+    gas_conditions_text,
+    gas_regime_text,
+    gas_series,
     laid_out,
     ml_per_min_axis,
     new_figure,
+    pa_m3_axis,
     place_legend,
     pressure_axis,
     say_nothing,
@@ -449,11 +454,18 @@ def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
     return fig
 
 
-def _leak_series(results: Sequence[CaseResult]) -> tuple[list[Series], list[tuple[Series, np.ndarray]]]:
+def _is_gas(results: Sequence[CaseResult]) -> bool:
+    """Whether every result is a gas case with gas leak rates: its leak figure shows Q_pV (docs/theory.md §11.9)."""
+    return all(r.case.gas is not None and r.gas for r in results)
+
+
+def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list[Series], list[tuple[Series, np.ndarray]]]:
     """(every series to draw, (solid series, sealed mask) of each theory through the band).
 
     Per case and theory a solid series (the band) and a dashed one (a uniform seal at the mean
-    pressure) in one colour; the critical junction's rows carry the band's verdicts.
+    pressure) in one colour; the critical junction's rows carry the band's verdicts. With ``gas``
+    the solid series is the gas leak rate Q_pV through the band in mbar·l/s (the records'
+    ``leak_rate_mbar_l_s``) and the dashed one its helium equivalent, when computed (docs/theory.md §11.9).
     """
     several = len(results) > 1
     out: list[Series] = []
@@ -469,6 +481,14 @@ def _leak_series(results: Sequence[CaseResult]) -> tuple[list[Series], list[tupl
             theories.append(("effective medium", b.effective_medium, np.ones(len(b), dtype=bool)))
         for name, theory, valid in theories:
             label = f"{r.case.label}, {name}" if several and r.case.label else name
+            if gas:
+                rows = (r.gas or {})[name.replace(" ", "_")]
+                drawn = gas_series(x, rows, np.asarray(valid, dtype=bool), r.validity if name == "critical junction" else (),
+                                   color(k), label)
+                out += drawn
+                solid.append((drawn[0], ~theory.percolates))
+                k += 1
+                continue
             s = Series(x, theory.leak_rate, np.asarray(valid, dtype=bool), color(k), "-", label, r.validity if name == "critical junction" else ())
             out.append(s)
             out.append(Series(x, theory.uniform_mean_pressure, np.ones(len(b), dtype=bool), color(k), "--", None))
@@ -493,7 +513,9 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
     """Q through the band against the load (log axis), both theories, with Q of a uniform seal at p_mean dashed."""
     first = _band(results[0]).band
     word = "compression" if first.load_name == "compression" else "profile scale"
-    fig, ax = new_figure(f"Leak rate against {word}")
+    gas = _is_gas(results)
+    names = sorted({r.case.gas.gas.name for r in results if r.case.gas is not None})
+    fig, ax = new_figure(f"Leak rate of {' / '.join(names)} against {word}" if gas else f"Leak rate against {word}")
     x_all = np.concatenate([_load_axis(_band(r).band)[0] for r in results])
     ax.set_xlabel(_load_axis(first)[1])
     lo_x, hi_x = float(x_all.min()), float(x_all.max())
@@ -502,7 +524,7 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
         ax.set_xlim(lo_x / (hi_x / lo_x) ** 0.04, hi_x * (hi_x / lo_x) ** 0.04)
     elif hi_x > lo_x:
         ax.set_xlim(lo_x - 0.04 * (hi_x - lo_x), hi_x + 0.04 * (hi_x - lo_x))
-    series, solid = _leak_series(results)
+    series, solid = _leak_series(results, gas)
     case = results[0].case
     etas = {r.case.fluid.viscosity for r in results}
     settings = [f"ΔP = {case.pressure_difference / 1e3:.3g} kPa", f"Ly = {first.length * 1e3:.4g} mm"]
@@ -515,9 +537,21 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
     notes = [", ".join(settings) + "; solid: through the band (strips in series), dashed: a uniform seal at the mean "
              "contact pressure"]
     ax.set_ylabel("leak rate Q (m³/s)")
+    if gas:
+        settings[0] = "Q_pV = K ∫ p f(Kn) dp over P_b…P_a, K through the band (strips in series)"
+        if len(etas) == 1:
+            settings[2] = f"η = {case.fluid.viscosity * 1e6:.4g} µPa·s"
+        conditions = {gas_conditions_text(r.case) for r in results}
+        notes = [gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
+                 ", ".join(settings) + ("; dashed: helium equivalent (1 bar He against vacuum, 20 °C)"
+                                        if any(s.style == "--" for s in series) else "")]
+        regime = gas_regime_text([g for r in results for g in (r.gas or {}).values()])
+        if regime:
+            notes.append(regime.replace("narrowest gap", "gap u_c at the peak contact pressure"))
+        ax.set_ylabel(f"{GAS_LEAK_LABEL} (mbar·l/s)")
     if not any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series):
         say_nothing(ax, f"no leak channel at any {word}:\nthe non-contact area does not percolate")
-        subtitle(ax, notes[0])
+        subtitle(ax, "\n".join(notes[:2]) if gas else notes[0])
         finish_axes(ax)
         return fig
     draw_series(ax, series, logy=True)
@@ -536,13 +570,17 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
             ax.plot(x, np.full(int(mask.sum()), at), "x", color=s.color, ms=5, mew=1.4)
         handles.append(Line2D([], [], ls="none", marker="x", color="0.3", ms=6, mew=1.5))
         labels.append("no leak channel: the band seals (× at the bottom)")
-    handles.append(Line2D([], [], ls="--", color="0.4"))
-    labels.append("uniform seal at the mean contact pressure")
+    if not gas:
+        handles.append(Line2D([], [], ls="--", color="0.4"))
+        labels.append("uniform seal at the mean contact pressure")
     if any(not np.asarray(s.valid).all() for s in series):
         notes.append("hollow: outside the theory's validity where the pressure is highest (▽: below the axis)")
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
-    ml_per_min_axis(ax, 1.0)
+    if gas:
+        pa_m3_axis(ax, 1.0)
+    else:
+        ml_per_min_axis(ax, 1.0)
     place_legend(ax, handles, labels)
     return fig
 
