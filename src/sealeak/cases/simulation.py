@@ -17,7 +17,7 @@ The reference paper could only fit α; this pipeline computes it (docs/theory.md
    pressures with its rarefaction model (:func:`sealeak.numerics.solve_gas_flow`: the p² problem,
    with slip a checked fixed point), the critical-junction gas leak of the same spectrum with α = 1
    and the same rarefaction model (:func:`sealeak.cases.run.gas_rows`, as ``predict``), and
-   α_gas = Q_pV,sim/Q_pV,cj (docs/theory.md §Gas flow through the gap field). The liquid columns stay:
+   α_gas = Q_pV,sim/Q_pV,cj (docs/theory.md §11.10). The liquid columns stay:
    for a gas they are the incompressible formula with the gas's viscosity.
 
 Resolution: the grid resolves wavelengths of at least 4 cells, q <= 2π N/(4L). When the
@@ -63,7 +63,7 @@ def resolved_spectrum_cut(grid: int, size: float) -> float:
 
 @dataclass(frozen=True)
 class GasSimulation:
-    """The gas leak of a gas case, per squeeze pressure (SI units; docs/theory.md §Gas flow through the gap field).
+    """The gas leak of a gas case, per squeeze pressure (SI units; docs/theory.md §11.10).
 
     Leak rates are the seal's, (Ly/Lx) times the square's, averaged over all realisations (a blocked
     one leaks 0), ``*_std`` their standard deviations (ddof = 1; NaN with fewer than two values).

@@ -1,6 +1,6 @@
 """Steady isothermal gas flow through the gap field of a periodic contact cell, with rarefaction.
 
-Equation (docs/theory.md §Gas flow through the gap field; thin film, ideal gas ρ = p/(R_s T), isothermal,
+Equation (docs/theory.md §11.10; thin film, ideal gas ρ = p/(R_s T), isothermal,
 slow viscous flow with the slip model of §11.4):
 
     ∇·( ρ σ(g, p) ∇p ) = 0   ⇔   ∇·( σ(g, p) ∇(p²) ) = 0,    σ(g, p) = g³ f(Kn(g, p)) / (12 μ)
@@ -88,7 +88,7 @@ _BLOCK = 65536
 
 @dataclass(frozen=True, eq=False)
 class GasFlowResult:
-    """Steady isothermal gas flow through one square cell (docs/theory.md §Gas flow through the gap field).
+    """Steady isothermal gas flow through one square cell (docs/theory.md §11.10).
 
     Attributes
     ----------
@@ -161,7 +161,7 @@ def gas_flow_memory_bytes(n: int, method: Method = "auto") -> int:
 
 def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
     """F = ∫_{p2}^{p1} 2 p f(c/p) dp / (p1² − p2²): the slip factor f averaged over a pressure interval as
-    the flux of p² weights it (F = f(c/p1) when p1 = p2); docs/theory.md §Gas flow through the gap field.
+    the flux of p² weights it (F = f(c/p1) when p1 = p2); docs/theory.md §11.10.
 
     ``knudsen_scale`` c = μ √(π R_s T/2)/g (Pa) makes Kn = c/p; ``p1``, ``p2`` are absolute pressures
     (Pa, > 0 or one of them 0). Broadcasts. Gauss–Legendre quadrature (module docstring), relative
@@ -234,7 +234,7 @@ def solve_gas_flow(
 ) -> GasFlowResult:
     """Gas leak through an N×N gap field from the inlet edge x = 0 (P_a) to the outlet edge x = L (P_b).
 
-    Solves ∇·(g³ f(Kn) ∇(p²)) = 0 (docs/theory.md §Gas flow through the gap field): without slip one
+    Solves ∇·(g³ f(Kn) ∇(p²)) = 0 (docs/theory.md §11.10): without slip one
     linear solve of the liquid problem in p² (:func:`solve_flow`), with slip a checked fixed point
     over the same linear solver (module docstring).
 
