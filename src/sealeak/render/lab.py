@@ -18,19 +18,63 @@ from .records import json_document, json_value
 from .text import fmt
 
 __all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition", "load_label",
-           "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3"]
+           "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3",
+           "is_gas_fit", "FIT_UNIT_TEXT"]
 
 #: 1 Pa·m³/s = 10 mbar·l/s (100 Pa × 1000 l/m³: the leak-test unit; docs/theory.md §11.6).
 MBAR_L_PER_PA_M3 = 10.0
 
 
+#: How a :attr:`~sealeak.cases.FitResult.leak_rate_unit` reads in text and on figures.
+FIT_UNIT_TEXT = {"m^3/s": "m³/s", "Pa*m^3/s": "Pa·m³/s"}
+
+
+def is_gas_fit(result: FitResult) -> bool:
+    """Whether the fit compared pV throughputs of a gas (``leak_rate_unit`` "Pa*m^3/s", docs/theory.md §11.9)."""
+    return result.leak_rate_unit == "Pa*m^3/s"
+
+
+def _gas_fit_lines(result: FitResult) -> list[str]:
+    """The gas lines of ``sealeak fit``: the unit compared, and each row measured and fitted in Pa·m³/s and mbar·l/s."""
+    data, fits = result.data, result.fits
+    gas = result.case.gas
+    lines = [f"leak rates compared as pV throughputs Q_pV in Pa·m³/s (1 Pa·m³/s = {MBAR_L_PER_PA_M3:g} mbar·l/s)"
+             + (f" of {gas.gas.name}" if gas is not None else "")]
+    if data.leak_rate_kind == "volume_flow":
+        lines.append(f"volume flows in {data.columns['leak_rate']} counted at {data.reference_pressure / 1e3:.6g} kPa "
+                     "(--at-pressure): Q_pV = p V̇")
+    if not result.same_pressure_difference:
+        return lines
+    load = {"compression": ("ε (%)", 100.0), "profile_scale": ("scale", 1.0)}.get(result.load_name, ("P0 (kPa)", 1e-3))
+    names = [n for n in fits if fits[n].fitted]
+    head = f"{load[0]:>10} {'measured (Pa·m³/s)':>19} {'(mbar·l/s)':>11}"
+    head += "".join(f" {n.replace('_', ' ') + ' (mbar·l/s)':>32}" for n in names)
+    rows = ["", "measured and fitted (α × model) leak rates:", head]
+    x = result.data.load
+    for i in range(len(data)):
+        q = float(result.measured[i])
+        row = f"{x[i] * load[1]:>10.4g} {fmt(q, '.4e'):>19} {fmt(q * MBAR_L_PER_PA_M3, '.4e'):>11}"
+        for n in names:
+            row += f" {fmt(fits[n].alpha * float(fits[n].prediction[i]) * MBAR_L_PER_PA_M3, '.4e'):>32}"
+        rows.append(row)
+    return lines + rows
+
+
 def fit_text(result: FitResult) -> str:
-    """The table ``sealeak fit`` prints: α ± its standard error, rms residual and points used per model, then notes."""
+    """The table ``sealeak fit`` prints: α ± its standard error, rms residual and points used per model, then notes.
+
+    A gas case's fit (:func:`is_gas_fit`) names its unit, Pa·m³/s (the pV throughput), and lists
+    each row measured and fitted in Pa·m³/s and mbar·l/s.
+    """
     case, data, fits = result.case, result.data, result.fits
     reference = data.reference_pressure
+    gas = is_gas_fit(result)
     lines = [f"{case.title}", f"fit of {len(data)} measured leak rate{'s' if len(data) != 1 else ''} from "
              f"{data.path} (columns: {', '.join(data.columns.values())})"]
-    if data.throughput:
+    gas_lines = _gas_fit_lines(result) if gas else []
+    head = 2 if gas and data.leak_rate_kind == "volume_flow" else 1
+    lines += gas_lines[:head]
+    if data.throughput and not gas:
         lines.append(f"leak rates in {data.columns['leak_rate']} are pV throughputs: converted to volume flows at "
                      f"{reference / 1e3:.6g} kPa (--at-pressure)")
     band = case.band
@@ -40,11 +84,16 @@ def fit_text(result: FitResult) -> str:
         seal = "O-ring" if band.kind == "o-ring" else "pressure-profile seal"
         lines.append(f"model: the {seal}'s leak rate at each row's {word} (strips in series across the band), both "
                      f"theories at {n} distinct {word}{'s' if n != 1 else ''}")
-    lines += ["least squares in log Q: Q_measured = α × Q_model(α = 1)", ""]
+    if gas:
+        lines.append("least squares in log Q_pV: Q_pV,measured = α × Q_pV,model(α = 1)")
+    else:
+        lines.append("least squares in log Q: Q_measured = α × Q_model(α = 1)")
+    lines.append("")
     lines.append(f"{'model':<20} {'α':>10} {'± se':>10} {'rms (decades)':>14} {'points':>7}")
     for name, f in fits.items():
         lines.append(f"{name.replace('_', ' '):<20} {fmt(f.alpha):>10} {fmt(f.alpha_std, '.2g'):>10} "
                      f"{fmt(f.rms_log10_residual, '.3g'):>14} {f.n_used:>7}")
+    lines += gas_lines[head:]
     lines += ["note: " + m for m in result.messages]
     return "\n".join(lines) + "\n"
 
@@ -54,9 +103,21 @@ def fit_json(result: FitResult) -> str:
     data = result.data
     doc: dict[str, Any] = {"case": result.case.title, "data": data.path, "load_column": result.load_name,
                            "reference_pressure": data.reference_pressure,
+                           "leak_rate_unit": result.leak_rate_unit,
                            "units": {"alpha": "1", "alpha_std": "1", "rms_log10_residual": "decades (log10)",
                                      "reference_pressure": "Pa"},
                            "messages": list(result.messages)}
+    if is_gas_fit(result) and result.same_pressure_difference:
+        # each row measured and fitted as pV throughputs, in the fit's unit and in the leak-test unit
+        doc["units"] |= {"measured": "Pa*m^3/s", "measured_mbar_l_s": "mbar*l/s"}
+        for n in result.fits:
+            doc["units"] |= {f"fitted_{n}": "Pa*m^3/s", f"fitted_{n}_mbar_l_s": "mbar*l/s"}
+        doc["rows"] = [{result.load_name: json_value(float(result.data.load[i])), "measured": json_value(float(result.measured[i])),
+                        "measured_mbar_l_s": json_value(float(result.measured[i]) * MBAR_L_PER_PA_M3)}
+                       | {f"fitted_{n}": json_value(f.alpha * float(f.prediction[i])) for n, f in result.fits.items()}
+                       | {f"fitted_{n}_mbar_l_s": json_value(f.alpha * float(f.prediction[i]) * MBAR_L_PER_PA_M3)
+                          for n, f in result.fits.items()}
+                       for i in range(len(result.data))]
     for name, f in result.fits.items():
         doc[name] = {"alpha": json_value(f.alpha), "alpha_std": json_value(f.alpha_std),
                      "log10_alpha_std": json_value(f.log10_alpha_std),

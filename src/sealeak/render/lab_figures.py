@@ -26,7 +26,8 @@ from .figures import (
     say_nothing,
     subtitle,
 )
-from .lab import load_label
+from .lab import MBAR_L_PER_PA_M3, is_gas_fit, load_label
+from .plotstyle import gas_conditions_text, second_leak_axis
 
 __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings", "figure_decay", "figure_decay_readings"]
 
@@ -56,8 +57,13 @@ def _load_x(ax: Axes, load_name: str, values: np.ndarray) -> float:
 @laid_out
 def figure_fit(result: FitResult) -> Figure:
     """Measured Q against the load (P0 on a log scale, or a band seal's compression or profile scale) with both
-    fitted models, and a second axis in ml/min."""
-    fig, ax = new_figure("Measured leak rate and fitted theory")
+    fitted models, and a second axis in ml/min.
+
+    A gas case's fit (``result.leak_rate_unit`` "Pa*m^3/s") draws pV throughputs Q_pV in Pa·m³/s with a
+    second axis in mbar·l/s, and names the gas, T, P_b and the reference ΔP (docs/theory.md §11.9).
+    """
+    gas = is_gas_fit(result)
+    fig, ax = new_figure("Measured gas leak rate and fitted theory" if gas else "Measured leak rate and fitted theory")
     load = result.data.load
     q, grid, models, fits = result.measured, result.grid, result.curves, result.fits
     same, ref_dp = result.same_pressure_difference, result.reference_pressure_difference
@@ -76,8 +82,15 @@ def figure_fit(result: FitResult) -> Figure:
             ax.plot(x / scale, np.where(shown, y, np.nan), ("-", "--")[i % 2], color=color(i), marker="o" if own else None,
                     ms=3, label=f"{_NAMES[name]}: α = {fit.alpha:.3g} ± {fit.alpha_std:.2g}, "
                                 f"rms {fit.rms_log10_residual:.2g} decades" + (f" (at the measured {measured_at})" if own else ""))
-    ax.set_ylabel("leak rate Q (m³/s)")
+    ax.set_ylabel("pV throughput Q_pV (Pa·m³/s)" if gas else "leak rate Q (m³/s)")
     note = f"ΔP = {ref_dp / 1e3:.3g} kPa" + ("" if same else " (measurements scaled to it, Q ∝ ΔP)")
+    if gas and result.case.gas is not None:
+        g = result.case.gas
+        note = (f"{g.gas.name}, T = {g.temperature - 273.15:.4g} °C, P_b = {g.downstream_pressure / 1e5:.4g} bar, "
+                f"P_a = P_b + ΔP, ΔP = {ref_dp / 1e3:.4g} kPa"
+                + ("" if same else " (measurements scaled to it with P_a² − P_b²)"))
+        if not same:
+            note += "\n" + gas_conditions_text(result.case)
     excluded = sum(len(f.excluded) for f in fits.values())
     subtitle(ax, note + (f"; {excluded} point exclusions (see the text output)" if excluded else ""))
     if not pos.any():
@@ -86,7 +99,10 @@ def figure_fit(result: FitResult) -> Figure:
         finish_axes(ax)
         return fig
     finish_axes(ax)
-    ml_per_min_axis(ax)
+    if gas:
+        second_leak_axis(ax, MBAR_L_PER_PA_M3, "mbar·l/s", quantity="gas leak rate Q_pV")
+    else:
+        ml_per_min_axis(ax)
     place_legend(ax)
     return fig
 
