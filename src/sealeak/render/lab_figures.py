@@ -27,7 +27,7 @@ from .figures import (
     subtitle,
 )
 from .lab import MBAR_L_PER_PA_M3, is_gas_fit, load_label
-from .plotstyle import gas_conditions_text, second_leak_axis
+from .plotstyle import second_leak_axis
 
 __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings", "figure_decay", "figure_decay_readings"]
 
@@ -89,8 +89,7 @@ def figure_fit(result: FitResult) -> Figure:
         note = (f"{g.gas.name}, T = {g.temperature - 273.15:.4g} °C, P_b = {g.downstream_pressure / 1e5:.4g} bar, "
                 f"P_a = P_b + ΔP, ΔP = {ref_dp / 1e3:.4g} kPa"
                 + ("" if same else " (measurements scaled to it with P_a² − P_b²)"))
-        if not same:
-            note += "\n" + gas_conditions_text(result.case)
+        note += f"; rarefaction {g.rarefaction}"
     excluded = sum(len(f.excluded) for f in fits.values())
     subtitle(ax, note + (f"; {excluded} point exclusions (see the text output)" if excluded else ""))
     if not pos.any():
