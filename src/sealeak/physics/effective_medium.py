@@ -30,7 +30,8 @@ weights are rescaled so the panel holds exactly its mass from the closed-form mi
 the discrete distribution integrates to one to rounding), the mass below (above) the range sits
 at its lower (upper) end. The upper cut point is where 1 - CDF, summed as Σ W P(|X| > u), reaches 1e-13 of
 the continuous mass (computed as mass - CDF, that level is rounding noise, which moves the cut by up to a
-few per cent and σ_eff by up to ~5e-11). The mixture's density and CDF are summed without visiting every
+few per cent and σ_eff by up to ~5e-11; by up to ~1e-6 at squeeze pressures below ~100 Pa, where P(u) is
+narrower than a panel and σ_eff follows the panels' placement). The mixture's density and CDF are summed without visiting every
 (component, u) pair (:class:`_Mixture`: closed forms only where they differ from 0, 1 and from a Taylor
 series in u; the same values to ~1e-15), the lower cut point by Newton's method, the upper one by bisection
 over the components' own quantile points and then regula falsi (docs/theory.md §5.5).
