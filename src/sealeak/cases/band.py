@@ -12,7 +12,7 @@ Every strip uses the contact mechanics of the band, with q0 = 2π/w (w the load'
 unless the case file sets q0. Beside it the leak rate that a uniform pressure equal to the mean
 would give, Q_u = faces · (Ly/w) σ(p_mean) ΔP, shows what averaging the pressure would do.
 
-The effective medium costs ~60 ms per pressure, so its σ(p) is interpolated between exact values at
+The effective medium costs ~10 ms per pressure, so its σ(p) is interpolated between exact values at
 Chebyshev points in ln p (barycentric, in ln σ) over [p_max·1e-6, p_max], the points doubled until R
 changes by less than 1e-8; pressures below the table's end take σ(p_max·1e-6) (a strip of relative
 width below 1e-12 for a Hertz profile).
