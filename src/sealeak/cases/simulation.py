@@ -27,10 +27,11 @@ critical-junction theory it is compared with uses the same cut spectrum.
 
 from __future__ import annotations
 
+import base64
 import os
 import shutil
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -48,7 +49,7 @@ from .model import Case
 from .run import gas_rows, predict
 
 __all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
-           "JUNCTION_CELLS"]
+           "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "ensemble_tasks", "run_task"]
 
 POINTS_PER_WAVELENGTH = 4
 #: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
@@ -176,6 +177,7 @@ def simulate(
     flow_method: str = "auto",
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
+    runner: Callable[[list[EnsembleTask]], Iterable[dict[str, Any]]] | None = None,
 ) -> SimulationResult:
     """Numerically exact leak rate and α for ``case`` at its squeeze pressures.
 
@@ -197,7 +199,14 @@ def simulate(
     fields_dir:
         If given, write ``r<r>-p<i>.npz`` (height, gap, pressure [x, y] in m, m, Pa; size in m).
     progress:
-        Called with the number of finished (realisation, pressure) steps since the last call.
+        Called with the number of finished (realisation, pressure) steps since the last call (only
+        without ``runner``).
+    runner:
+        Runs the independent tasks (:func:`ensemble_tasks`: each realisation's pressure sweep and its
+        threshold search) and returns their results (:func:`run_task`) in the order given; None runs
+        them one after the other in this process. :func:`sealeak.cases.ensemble.make_runner` runs them
+        on a Dask cluster and keeps them in a store. Results are aggregated in realisation order, so
+        they do not depend on the runner.
     """
 
     if not isinstance(grid, (int, np.integer)) or grid < 16 or grid % 2:
@@ -240,6 +249,17 @@ def simulate(
     p_anchor = _threshold_anchor(sim_case)
 
     n_p = pressures.size
+    with _StagedFolder(fields_dir) as fields:
+        spec = EnsembleSpec(spectrum=spectrum, grid=int(grid), size=size, seed=int(seed), e_star=case.e_star,
+                            pressures=pressures, viscosity=eta, pressure_difference=dp, aspect=aspect, gas=gas,
+                            flow_method=flow_method, contact_tol=contact_tol, threshold_anchor=p_anchor,
+                            memory_limit=memory_limit, fields_stage=None if fields.stage is None else str(fields.stage),
+                            fields_target=None if fields.target is None else str(fields.target))
+        tasks = ensemble_tasks(spec, realizations, threshold)
+        if runner is None:
+            done = [run_task(t, progress=progress) for t in tasks]
+        else:
+            done = list(runner(tasks))
     area = np.zeros((realizations, n_p))
     gap = np.zeros((realizations, n_p))
     perc = np.zeros((realizations, n_p), dtype=bool)
@@ -249,31 +269,22 @@ def simulate(
     gas_pv = np.zeros((realizations, n_p))  # the seal's pV throughput (Pa·m³/s)
     gas_pv_no_slip = np.zeros((realizations, n_p))
     gas_iterations = np.zeros((realizations, n_p), dtype=np.int64)
-
-    with _StagedFolder(fields_dir) as fields:
-        for r in range(realizations):
-            h = synthesize(spectrum, int(grid), size, seed=np.random.default_rng([int(seed), r]))
-            results = numerics.solve_contact_sweep(h, size, case.e_star, pressures, tol=contact_tol)
-            for i, res in enumerate(results):
-                flow = numerics.solve_flow(res.gap, size, eta, dp, contact=res.contact, method=flow_method)
-                area[r, i] = res.contact_area
-                gap[r, i] = res.mean_gap
-                perc[r, i] = flow.percolates
-                q_seal[r, i] = aspect * flow.flux
-                if gas is not None:
-                    gflow = numerics.solve_gas_flow(res.gap, size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
-                                                    contact=res.contact, model=gas.rarefaction, method=flow_method,
-                                                    memory_limit=memory_limit)
-                    gas_pv[r, i] = aspect * gflow.throughput
-                    gas_pv_no_slip[r, i] = aspect * gflow.throughput_no_slip
-                    gas_iterations[r, i] = gflow.iterations
-                if r == 0:
-                    contact_maps[i] = res.contact.copy()
-                fields.write(f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(size))
-                if progress is not None:
-                    progress(1)
-            if threshold:
-                thresholds[r] = _threshold(h, size, case.e_star, p_anchor, contact_tol, notes, r)
+    for task, out in zip(tasks, done, strict=True):  # in realisation order, whatever order they finished in
+        r = task.realization
+        if task.kind == "threshold":
+            thresholds[r] = out["threshold"]
+            notes.extend(out["notes"])
+            continue
+        area[r] = out["relative_contact_area"]
+        gap[r] = out["mean_gap"]
+        perc[r] = out["percolates"]
+        q_seal[r] = out["leak_rate"]
+        if gas is not None:
+            gas_pv[r] = out["leak_rate_pv"]
+            gas_pv_no_slip[r] = out["leak_rate_pv_no_slip"]
+            gas_iterations[r] = out["gas_iterations"]
+        if r == 0:
+            contact_maps = {i: unpack_mask(m) for i, m in enumerate(out["contact_maps"])}
 
     area_m, area_s = _mean_std(area)
     gap_m, gap_s = _mean_std(gap)
@@ -305,6 +316,147 @@ def simulate(
                          "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas,
         gas=gas_result,
     )
+
+
+@dataclass(frozen=True)
+class EnsembleSpec:
+    """Everything one task of an ensemble needs, in SI units (shared by all tasks of a run).
+
+    ``spectrum`` is the (possibly cut) C(q) the surfaces are drawn from; ``size`` L (m), ``e_star`` E* (Pa),
+    ``pressures`` the sorted squeeze pressures (Pa), ``viscosity`` η (Pa·s), ``pressure_difference`` ΔP (Pa),
+    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa). ``fields_stage`` is the
+    folder the sweep tasks write their field files into (None: none), ``fft_workers`` the FFT threads of each
+    task (-1: all cores; 1 on a cluster, whose worker processes share the cores). Neither changes a number.
+    """
+
+    spectrum: Any
+    grid: int
+    size: float
+    seed: int
+    e_star: float
+    pressures: FloatArray
+    viscosity: float
+    pressure_difference: float
+    aspect: float
+    gas: Any
+    flow_method: str
+    contact_tol: float
+    threshold_anchor: float
+    memory_limit: float | None = None
+    fields_stage: str | None = None
+    fields_target: str | None = None
+    fft_workers: int = -1
+
+    def identity(self) -> dict[str, Any]:
+        """The inputs the tasks' numbers depend on, as plain JSON values (floats exact by ``repr``).
+
+        The store's manifest keeps a hash of it (:mod:`sealeak.cases.ensemble`): ``spectrum`` (the nodes of
+        C(q)), ``grid``, ``seed`` and ``case`` (everything else that enters a task).
+        """
+        gas = self.gas
+        return {
+            "spectrum": {"q": [float(x) for x in self.spectrum.q], "C": [float(x) for x in self.spectrum.C]},
+            "grid": int(self.grid),
+            "seed": int(self.seed),
+            "case": {"size": float(self.size), "e_star": float(self.e_star),
+                     "squeeze_pressure": [float(x) for x in self.pressures], "viscosity": float(self.viscosity),
+                     "pressure_difference": float(self.pressure_difference), "aspect": float(self.aspect),
+                     "flow_method": self.flow_method, "contact_tol": float(self.contact_tol),
+                     "threshold_anchor": float(self.threshold_anchor),
+                     "gas": None if gas is None else {"name": gas.gas.name, "temperature": float(gas.temperature),
+                                                      "upstream_pressure": float(gas.upstream_pressure),
+                                                      "downstream_pressure": float(gas.downstream_pressure),
+                                                      "rarefaction": gas.rarefaction}},
+        }
+
+
+@dataclass(frozen=True)
+class EnsembleTask:
+    """One independent task: realisation ``realization``'s pressure sweep (``kind = "sweep"``) or threshold search."""
+
+    kind: str
+    realization: int
+    spec: EnsembleSpec
+
+    @property
+    def name(self) -> str:
+        """``sweep-r<r>`` or ``threshold-r<r>``: the task's name in the store and in progress lines."""
+        return f"{self.kind}-r{self.realization}"
+
+
+def ensemble_tasks(spec: EnsembleSpec, realizations: int, threshold: bool) -> list[EnsembleTask]:
+    """The tasks of a run in realisation order: each realisation's sweep, then (if asked) its threshold search."""
+    kinds = ("sweep", "threshold") if threshold else ("sweep",)
+    return [EnsembleTask(k, r, spec) for r in range(int(realizations)) for k in kinds]
+
+
+def pack_mask(mask: NDArray[np.bool_]) -> dict[str, Any]:
+    """A boolean map as plain JSON values: its shape and its bits (``numpy.packbits``) in base64."""
+    return {"shape": list(mask.shape), "bits": base64.b64encode(np.packbits(mask, axis=None).tobytes()).decode("ascii")}
+
+
+def unpack_mask(packed: dict[str, Any]) -> NDArray[np.bool_]:
+    """The boolean map :func:`pack_mask` packed."""
+    shape = tuple(int(n) for n in packed["shape"])
+    bits = np.frombuffer(base64.b64decode(packed["bits"]), dtype=np.uint8)
+    return np.unpackbits(bits, count=int(np.prod(shape))).astype(bool).reshape(shape)
+
+
+def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+    """Compute one task; return its scalars as plain JSON values (lists of floats, bools, ints, strings).
+
+    Realisation r's surface is ``synthesize`` with the seed sequence (seed, r) (docs/theory.md §6.1), drawn
+    again by each task that needs it, so every task depends on its inputs only. A sweep solves the contact
+    at every squeeze pressure (warm-started upwards) and the flow through each gap field (§6.2–6.3); it
+    returns per pressure the relative contact area, mean gap (m), whether the fluid percolates and the
+    seal's leak rate (Ly/Lx)·Q_sq (m³/s), for a gas also the pV throughputs (Pa·m³/s, §11.10), and for
+    realisation 0 the contact maps (packed). Field files, if asked, are written by the task itself. A
+    threshold task returns the relative contact area at the percolation threshold (§6.4) and its notes.
+    """
+    spec, r = task.spec, task.realization
+    h = synthesize(spec.spectrum, spec.grid, spec.size, seed=np.random.default_rng([spec.seed, r]), workers=spec.fft_workers)
+    if task.kind == "threshold":
+        notes: list[str] = []
+        th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
+        return {"kind": "threshold", "realization": r, "threshold": float(th), "notes": notes}
+    gas = spec.gas
+    out: dict[str, Any] = {"kind": "sweep", "realization": r, "relative_contact_area": [], "mean_gap": [],
+                           "percolates": [], "leak_rate": [], "contact_maps": []}
+    if gas is not None:
+        out |= {"leak_rate_pv": [], "leak_rate_pv_no_slip": [], "gas_iterations": []}
+    results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
+                                           workers=spec.fft_workers)
+    for i, res in enumerate(results):
+        flow = numerics.solve_flow(res.gap, spec.size, spec.viscosity, spec.pressure_difference, contact=res.contact,
+                                   method=spec.flow_method)
+        out["relative_contact_area"].append(float(res.contact_area))
+        out["mean_gap"].append(float(res.mean_gap))
+        out["percolates"].append(bool(flow.percolates))
+        out["leak_rate"].append(float(spec.aspect * flow.flux))
+        if gas is not None:
+            gflow = numerics.solve_gas_flow(res.gap, spec.size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                            contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
+                                            memory_limit=spec.memory_limit)
+            out["leak_rate_pv"].append(float(spec.aspect * gflow.throughput))
+            out["leak_rate_pv_no_slip"].append(float(spec.aspect * gflow.throughput_no_slip))
+            out["gas_iterations"].append(int(gflow.iterations))
+        if r == 0:
+            out["contact_maps"].append(pack_mask(np.asarray(res.contact, dtype=bool)))
+        if spec.fields_stage is not None:
+            _write_fields(spec, f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(spec.size))
+        if progress is not None:
+            progress(1)
+    return out
+
+
+def _write_fields(spec: EnsembleSpec, name: str, **arrays: Any) -> None:
+    """One field file into the run's staging folder (moved into the target when the run has finished)."""
+    assert spec.fields_stage is not None
+    try:
+        with open(Path(spec.fields_stage) / name, "wb") as fh:
+            np.savez_compressed(fh, **arrays)
+    except OSError as exc:
+        raise OutputWriteError(Path(spec.fields_target or spec.fields_stage) / name, exc) from None
 
 
 def _ratio(perc: NDArray[np.bool_], q: FloatArray, theory: FloatArray) -> FloatArray:
@@ -413,7 +565,7 @@ THRESHOLD_REL_TOL = 1e-3
 
 
 def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: float, notes: list[str],
-               r: int) -> float:
+               r: int, workers: int = -1) -> float:
     """Relative contact area at which realisation ``r``'s non-contact area stops spanning inlet to outlet.
 
     The bracket comes from a ladder p_anchor·2^k (k = 0, then up while the fluid spans or down while
@@ -422,7 +574,7 @@ def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: 
     squeeze pressures listed in the case, so neither does the threshold.
     """
     def spanning(p: float) -> bool:
-        return numerics.spans(~numerics.solve_contact(h, size, e_star, p, tol=tol).contact)
+        return numerics.spans(~numerics.solve_contact(h, size, e_star, p, tol=tol, workers=workers).contact)
 
     first = spanning(p_anchor)
     step = 1 if first else -1
@@ -435,7 +587,8 @@ def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: 
                      "Pa; no percolation threshold found")
         return float("nan")
     p_a, p_b = sorted((p_anchor * 2.0 ** (k - step), p_anchor * 2.0**k))
-    th = numerics.percolation_threshold(h, size, e_star, p_lo=p_a, p_hi=p_b, rel_tol=THRESHOLD_REL_TOL, tol=tol)
+    th = numerics.percolation_threshold(h, size, e_star, p_lo=p_a, p_hi=p_b, rel_tol=THRESHOLD_REL_TOL, tol=tol,
+                                            workers=workers)
     return th.contact_area
 
 
