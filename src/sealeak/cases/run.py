@@ -351,13 +351,21 @@ def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumRes
 
 
 def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
-    """Gas rows of a band seal: K = Q/ΔP of the band, the gap u_c at the peak contact pressure (docs/theory.md §11.9)."""
+    """Gas rows of a band seal: K = Q/ΔP of the band; the gap of the narrowest constriction, u_c at the peak
+    contact pressure (critical junction) or u_e = (12 μ σ_min)^(1/3) of the smallest σ along the band (effective
+    medium), docs/theory.md §11.9."""
     out = {}
     for name, theory in (("critical_junction", band.critical_junction), ("effective_medium", band.effective_medium)):
         if theory is None or theory.leak_rate is None:
             continue
         k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
-        out[name] = gas_rows(case, k, band.critical_gap_at_max_pressure)
+        if name == "critical_junction":
+            gap = band.critical_gap_at_max_pressure
+        else:
+            gap = np.array([float(np.cbrt(12.0 * case.fluid.viscosity * np.min(g.conductance[g.conductance > 0])))
+                            if ok and np.any(g.conductance > 0) else np.nan
+                            for g, ok in zip(theory.integrals, theory.percolates)])
+        out[name] = gas_rows(case, k, gap)
     return out
 
 
