@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from sealeak.cases import example_path, load_case, predict, predict_effective_medium
+from sealeak.cases import example_path, load_case, predict, predict_effective_medium, run_case
 from sealeak.cases.band import run_band
 from sealeak.cases.model import BandSeal
 from sealeak.errors import InputError
@@ -175,3 +175,15 @@ def test_steep_conductance_near_the_peak_converges_to_the_closed_form(decades):
     exact = w * np.expm1(a * pmax) / (a * pmax)
     assert g.converged and g.change < 1e-8
     assert g.resistance == pytest.approx(exact, rel=1e-8)
+
+
+def test_gas_through_a_band_uses_each_theorys_narrowest_constriction():
+    """Rarefaction gap of a band seal: u_c at the peak (critical junction), (12 μ σ_min)^(1/3) (effective medium)."""
+    case = load_case(example_path("helium-test"))
+    band = replace(case.band, loads=case.band.loads[:1], profiles=case.band.profiles[:1], q0=case.band.q0[:1])
+    res = run_case(replace(case, band=band, model="both"))
+    assert res.gas is not None and res.band is not None
+    assert res.gas["critical_junction"].gap[0] == pytest.approx(res.band.critical_gap_at_max_pressure[0], rel=1e-12)
+    sigma = res.band.effective_medium.integrals[0].conductance
+    u_e = np.cbrt(12 * case.fluid.viscosity * sigma[sigma > 0].min())
+    assert res.gas["effective_medium"].gap[0] == pytest.approx(u_e, rel=1e-12)
