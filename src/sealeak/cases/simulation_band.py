@@ -19,7 +19,14 @@ assumption for an O-ring (docs/theory.md §10.4):
    simulation has: the Hertz semi-ellipse of the same f (half-width b = √(4fR/(πE*)),
    p_max = 2f/(πb)); α = Q_num / Q_sr is the α of a real O-ring;
 6. a smooth-cylinder check: the same solver without roughness, its contact width and peak
-   pressure against Hertz (reported; off by more than :data:`HERTZ_TOL` is flagged).
+   pressure against Hertz (reported; off by more than :data:`HERTZ_TOL` is flagged);
+7. for a gas case, also the isothermal gas flow across the band through each gap field, P_a at
+   x = 0 and P_b at x = W, with the case's rarefaction model (:func:`sealeak.numerics.solve_gas_flow`:
+   the p² problem, with slip a checked fixed point), scaled to the seal line as Q_num; beside it the
+   series-resistance gas leak of the same theory (K = Q_sr/ΔP with α = 1 and the gas's viscosity,
+   the gap u_c at the peak pressure, the same rarefaction model, as ``predict`` computes a band
+   seal's gas leak, docs/theory.md §11.9) and α_gas = Q_pV,num/Q_pV,sr (docs/theory.md §11.10).
+   The liquid columns stay: for a gas they are the incompressible formula with the gas's viscosity.
 """
 
 from __future__ import annotations
@@ -27,6 +34,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,7 +45,16 @@ from ..numerics.synthesis import synthesize
 from ..physics.profile import PressureProfile
 from .band import run_band
 from .model import Case
-from .simulation import JUNCTION_CELLS, POINTS_PER_WAVELENGTH, _mean_std, _StagedFolder, resolved_spectrum_cut
+from .simulation import (
+    JUNCTION_CELLS,
+    POINTS_PER_WAVELENGTH,
+    GasSimulation,
+    _gas_statistics,
+    _mean_std,
+    _ratio,
+    _StagedFolder,
+    resolved_spectrum_cut,
+)
 
 __all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL"]
 
@@ -88,6 +105,12 @@ class BandSimulationResult:
         Domain across the band W and along the seal line Ly (m; Ly = W).
     seal_length, faces, radius
         Seal line length (m), contact faces in parallel, cylinder radius d/2 (m).
+    gas
+        A gas case's leak across the band (None for a liquid): pV throughput Q_pV (Pa·m³/s), mass and
+        molar flow of the seal, the series-resistance gas leak with α = 1 (``throughput_critical_junction``:
+        gap u_c at the peak pressure, the case's rarefaction model), Kn and regime at that gap and the
+        mean pressure, and α_gas = Q_pV/Q_pV,sr (docs/theory.md §11.9, §11.10). The other leak rates
+        are then the incompressible formula with the gas's viscosity.
     """
 
     load_name: str
@@ -130,6 +153,7 @@ class BandSimulationResult:
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)
     line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
     smooth_line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
+    gas: GasSimulation | None = None
 
     @property
     def x(self) -> FloatArray:
@@ -203,6 +227,9 @@ def simulate_band(
     n = int(grid)
     numerics.require_memory(numerics.band_contact_memory_bytes(n, n), f"the {n}x{n} band contact problem", memory_limit)
     numerics.check_memory(n, "flow", available=memory_limit)
+    gas = case.gas
+    if gas is not None:
+        numerics.require_memory(numerics.gas_flow_memory_bytes(n), f"the {n}x{n} gas flow problem", memory_limit)
     band = case.band
     assert band is not None
     radius = d / 2.0
@@ -310,6 +337,9 @@ def simulate_band(
     area = np.zeros((realizations, n_l))
     perc = np.zeros((realizations, n_l), dtype=bool)
     q_num = np.zeros((realizations, n_l))
+    pv = np.zeros((realizations, n_l))  # the seal's pV throughput (Pa·m³/s), a gas case only
+    pv_no_slip = np.zeros((realizations, n_l))
+    iterations = np.zeros((realizations, n_l), dtype=np.int64)
     contact_maps: dict[int, NDArray[np.bool_]] = {}
     lines: dict[int, FloatArray] = {}
     touched: list[float] = []
@@ -327,6 +357,13 @@ def simulate_band(
                 area[r, i] = float(res.contact[in_band[:, i]].mean()) if in_band[:, i].any() else np.nan
                 perc[r, i] = flow.percolates
                 q_num[r, i] = scale * flow.flux
+                if gas is not None:  # P_a at the inlet edge x = 0, P_b at the outlet edge x = W
+                    gflow = numerics.solve_gas_flow(res.gap, size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                                    contact=res.contact, model=gas.rarefaction, method=flow_method,
+                                                    memory_limit=memory_limit)
+                    pv[r, i] = scale * gflow.throughput
+                    pv_no_slip[r, i] = scale * gflow.throughput_no_slip
+                    iterations[r, i] = gflow.iterations
                 if res.touches_edge:
                     touched.append(float(loads[i]))
                 if r == 0:
@@ -346,6 +383,14 @@ def simulate_band(
     with np.errstate(invalid="ignore", divide="ignore"):
         alpha_r = np.where(perc & (np.isfinite(q_sr) & (q_sr > 0))[None, :], q_num / q_sr[None, :], np.nan)
     alpha_m, alpha_s = _mean_std(alpha_r)
+    gas_result = None
+    per_gas: dict[str, Any] = {}
+    if gas is not None:
+        # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
+        u_c = np.where(np.isfinite(q_sr), np.asarray(theory.critical_gap_at_max_pressure, dtype=float), np.nan)
+        gas_result = _gas_statistics(theory_case, q_sr, u_c, perc, pv, pv_no_slip, iterations)
+        per_gas = {"leak_rate_pv": pv, "leak_rate_pv_no_slip": pv_no_slip, "gas_iterations": iterations,
+                   "alpha_gas": _ratio(perc, pv, gas_result.throughput_critical_junction)}
     spectrum_note = (f"{cut.label or case.spectrum_note}: h_rms = {cut.h_rms * 1e6:.4g} µm over "
                      f"q = {cut.q_min:.4g} .. {cut.q_max:.4g} 1/m")
     return BandSimulationResult(
@@ -358,8 +403,8 @@ def simulate_band(
         realizations=int(realizations), seed=int(seed), size=size, period=size, seal_length=float(band.length),
         faces=int(band.faces), radius=radius, q_cut=cut_at, q_low=q_low, notes=tuple(notes), spectrum_note=spectrum_note,
         per_realization={"contact_width": width, "relative_contact_area": area, "percolates": perc, "leak_rate": q_num,
-                         "alpha": alpha_r},
-        contact_maps=contact_maps, line_pressure=lines, smooth_line_pressure=smooth_lines,
+                         "alpha": alpha_r} | per_gas,
+        contact_maps=contact_maps, line_pressure=lines, smooth_line_pressure=smooth_lines, gas=gas_result,
     )
 
 

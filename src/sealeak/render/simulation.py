@@ -23,7 +23,7 @@ from .text import fmt
 __all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
            "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES",
            "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
-           "BAND_SIMULATION_FIGURE_NAMES"]
+           "BAND_SIMULATION_FIGURE_NAMES", "BAND_SIMULATION_GAS_UNITS"]
 
 
 def _axes(figsize: tuple[float, float]) -> tuple[Figure, Axes]:
@@ -361,15 +361,68 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
         "case": case_summary(case),
         "notes": list(res.notes),
     }
-    if case.gas is not None:
-        doc["gas_note"] = _BAND_GAS_NOTE
+    if res.gas is not None:
+        _band_gas_json(doc, res)
     return json_document(doc)
 
 
-#: What ``simulate`` says of a gas O-ring: its leak rates are the incompressible formula, the gas route is the uniform seal's.
-_BAND_GAS_NOTE = ("a gas: the leak rates and α of the O-ring are the incompressible formula with the gas's viscosity; "
-                  "the gas flow itself (p², rarefaction, α_gas) is simulated for uniform seals only. "
-                  "predict gives this O-ring's gas leak from the critical-junction theory")
+#: Units of the gas keys of an O-ring's ``simulate --json`` row: the uniform route's names, the theory's column
+#: named as the band's liquid one (``leak_rate_pv_series_resistance``).
+BAND_SIMULATION_GAS_UNITS = {("leak_rate_pv_series_resistance" if k == "leak_rate_pv_critical_junction" else k): v
+                             for k, v in SIMULATION_GAS_UNITS.items()}
+_BAND_GAS_ATTR = {("leak_rate_pv_series_resistance" if k == "leak_rate_pv_critical_junction" else k): a
+                  for k, a in _GAS_ATTR.items()}
+
+
+def _band_gas_json(doc: dict[str, Any], res: BandSimulationResult) -> None:
+    """Add a gas O-ring's keys to the ``simulate --json`` document: per row the gas leak across the band, α_gas, the gas."""
+    g = res.gas
+    assert g is not None
+    doc["units"] = doc["units"] | BAND_SIMULATION_GAS_UNITS
+    for i, row in enumerate(doc["results"]):
+        row |= {k: json_value(getattr(g, a)[i]) for k, a in _BAND_GAS_ATTR.items()}
+        row |= {"flow_regime": g.regime_critical_junction[i] or None,
+                "leak_rate_mbar_l_s": json_value(g.throughput[i] / 0.1)}
+    doc["gas"] = {"name": g.gas_name, "temperature": g.temperature, "upstream_pressure": g.upstream_pressure,
+                  "downstream_pressure": g.downstream_pressure, "rarefaction": g.rarefaction,
+                  "units": {"temperature": "K", "upstream_pressure": "Pa", "downstream_pressure": "Pa"}}
+    doc["gas_note"] = ("leak_rate_pv: the seal's pV throughput from isothermal gas flow across the band through the same gap "
+                       "fields, div(g^3 f(Kn) grad p^2) = 0 with P_a at x = 0 and P_b at x = W, scaled to the seal line as "
+                       "leak_rate, counted at the gas temperature; leak_rate_mass = leak_rate_pv/(R_s T); slip_gain = "
+                       "leak_rate_pv / the same flow without rarefaction; leak_rate_pv_series_resistance: the "
+                       "series-resistance gas leak with alpha = 1 (K = leak_rate_series_resistance/(P_a - P_b), gap u_c at "
+                       "the peak contact pressure, the same rarefaction model, as predict); alpha_gas = leak_rate_pv / "
+                       "leak_rate_pv_series_resistance; knudsen_number, flow_regime: at that gap and the mean pressure "
+                       "(P_a + P_b)/2; gas_iterations: the most fixed-point iterations of any realisation; "
+                       "leak_rate, alpha: the incompressible formula with the gas's viscosity, for comparison")
+
+
+def _band_gas_lines(res: BandSimulationResult) -> list[str]:
+    """The gas table of ``sealeak simulate`` for an O-ring and what its columns mean."""
+    g = res.gas
+    assert g is not None
+    label, factor = _load_label(res)
+    lines = ["", f"Gas leak across the band: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → "
+                 f"{g.downstream_pressure / 1e3:.4g} kPa (absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}",
+             f"{label:>16} {'Kn at u_c':>9} {'regime':>14} {'Q_pV sim (Pa·m³/s)':>19} {'± sd':>9} {'Q (mbar·l/s)':>12} "
+             f"{'ṁ (kg/s)':>10} {'slip gain':>9} {'Q_pV series α=1':>15} {'α_gas':>7} {'± sd':>7} {'iter':>4}"]
+    for i in range(res.loads.size):
+        star = "*" if _band_coarse(res, i) and np.isfinite(g.alpha[i]) else " "
+        lines.append(f"{res.loads[i] * factor:16.4g} {fmt(g.knudsen_critical_junction[i], '9.3g')} "
+                     f"{g.regime_critical_junction[i] or '—':>14} {fmt(g.throughput[i], '19.3e')} {fmt(g.throughput_std[i], '9.2e')} "
+                     f"{fmt(g.throughput[i] / 0.1, '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
+                     f"{fmt(g.throughput_critical_junction[i], '15.3e')} {fmt(g.alpha[i], '7.3g')}{star}"
+                     f"{fmt(g.alpha_std[i], '7.2g')} {g.iterations[i]:4d}")
+    lines += ["",
+              "Q_pV sim: isothermal gas flow across the band through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, P_a at "
+              "the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim, counted at the gas temperature; "
+              "ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
+              f"Q_pV series α=1: the series-resistance gas leak (K = Q series/ΔP, gap u_c at the peak contact pressure, the "
+              f"same rarefaction; as predict); α_gas = Q_pV sim / Q_pV series; Kn = λ/u_c at the mean pressure "
+              f"{0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} kPa; "
+              "iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
+              "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
+    return lines
 
 
 def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
@@ -406,8 +459,8 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
               "Q series α=1: the series-resistance prediction Q = Ly ΔP / ∫dx/σ(p(x)) of the critical-junction theory "
               "with α = 1, same spectrum, Hertz profile of the same force; α = Q sim / Q series is the α of this O-ring",
               _spread_legend(res.realizations)]
-    if case.gas is not None:
-        lines.append("note: " + _BAND_GAS_NOTE)
+    if res.gas is not None:
+        lines += _band_gas_lines(res)
     for n in res.notes:
         lines.append("note: " + n)
     return "\n".join(lines) + "\n"
@@ -525,4 +578,44 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
                  "averaged along the seal line (realisation 0)", fontsize=9)
     ax.grid(alpha=0.3)
     figs["simulate_band_pressure.png"] = fig
+    if res.gas is not None:
+        figs["simulate_gas_leak_rate.png"] = _band_gas_figure(res, coarse)
     return figs
+
+
+def _band_gas_figure(res: BandSimulationResult, coarse: NDArray[np.bool_]) -> Figure:
+    """A gas O-ring's leak rate: the simulated pV throughput across the band against the series-resistance gas leak (α = 1)."""
+    g = res.gas
+    assert g is not None
+    label, factor = _load_label(res)
+    loads = res.loads * factor
+    fig, ax = _axes((6.4, 4.4))
+    ok = g.throughput > 0
+    std = np.nan_to_num(g.throughput_std[ok])
+    lower = np.minimum(std, 0.9 * g.throughput[ok])
+    ax.errorbar(loads[ok], g.throughput[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
+                label=f"numerical (cylinder on rough surface + gas flow in p²), {res.realizations} realisation(s), ± sd")
+    q_sr = g.throughput_critical_junction
+    good = np.where(coarse, np.nan, q_sr)
+    ax.plot(loads, good, "-", color="C1", label="series resistance, critical junction, α = 1")
+    if coarse.any():
+        edge = np.where(coarse | np.roll(coarse, -1), q_sr, np.nan)
+        ax.plot(loads, edge, ":", color="C1", label=f"series resistance where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    shown = np.concatenate([g.throughput[ok], good[np.isfinite(good) & (good > 0)]])
+    if shown.size:
+        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
+        if (~ok).any():  # no leak in any realisation: a hollow triangle at the bottom of the axis
+            ax.plot(loads[~ok], np.full(int((~ok).sum()), shown.min() / 2.0), "v", mfc="none", color="C0",
+                    label="numerical: no channel crosses the band (Q = 0)")
+        ax.set_yscale("log")
+        ax.secondary_yaxis("right", functions=(lambda q: q * 10.0, lambda q: q / 10.0)).set_ylabel("Q (mbar·l/s)")
+    else:
+        ax.text(0.5, 0.5, "no channel crosses the band at any load", transform=ax.transAxes, ha="center", va="center")
+    ax.set_xlabel(label)
+    ax.set_ylabel("pV throughput Q_pV (Pa·m³/s)")
+    ax.set_title(f"O-ring gas leak: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} → {g.downstream_pressure / 1e3:.4g} kPa "
+                 f"(absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}\n{res.grid}² grid, seal line "
+                 f"{res.seal_length * 1e3:.3g} mm; Q_pV counted at the gas temperature", fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    return fig
