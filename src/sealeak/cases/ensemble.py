@@ -30,6 +30,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
+from importlib.util import find_spec
 from pathlib import Path
 from typing import Any
 
@@ -62,7 +63,8 @@ class TaskEvent:
     """What the runner reports: a task finished (``task`` its name) or, with ``task = None``, still working.
 
     ``done`` of ``total`` tasks are finished (those taken from a store included), ``elapsed`` and ``left``
-    in seconds (``left`` is None until a task has been computed in this run).
+    in seconds (``left`` is None until a task has been computed in this run). ``dashboard`` is the address of
+    the Dask dashboard, reported once when the cluster is up (if it serves one).
     """
 
     done: int
@@ -70,6 +72,7 @@ class TaskEvent:
     task: str | None
     elapsed: float
     left: float | None
+    dashboard: str | None = None
 
 
 def _digest(value: Any) -> str:
@@ -177,7 +180,7 @@ def _client(workers: int, scheduler: str | None) -> Iterator[Any]:
         with client:
             yield client
         return
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                       silence_logs=logging.ERROR, env=dict(THREAD_ENV)) as cluster, Client(cluster) as client:
         yield client
 
@@ -226,6 +229,7 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
                 say(f"resumed: {len(results)} of {len(tasks)} tasks from {kept.folder}")
         todo = [i for i in range(len(tasks)) if i not in results]
         start = time.monotonic()
+        clock = [start]  # when computing began (after a local cluster has started): the time left is rated from it
         computed = 0
 
         def finished(i: int, out: dict[str, Any]) -> None:
@@ -235,15 +239,19 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
             if kept is not None:
                 kept.save(tasks[i].name, out)
             if progress is not None:
-                elapsed = time.monotonic() - start
+                now = time.monotonic()
                 remaining = len(tasks) - len(results)
-                progress(TaskEvent(len(results), len(tasks), tasks[i].name, elapsed, elapsed / computed * remaining))
+                progress(TaskEvent(len(results), len(tasks), tasks[i].name, now - start,
+                                   (now - clock[0]) / computed * remaining))
 
         if not parallel:
             for i in todo:
                 finished(i, task_function(tasks[i]))
         elif todo:
-            _run_dask(tasks, todo, finished, workers, scheduler, task_function, progress, heartbeat, results, start)
+            if progress is not None:
+                say(f"connecting to the Dask scheduler at {scheduler}" if scheduler is not None else
+                    f"starting a local Dask cluster: {workers} worker process{'es' if workers > 1 else ''}, one thread each")
+            _run_dask(tasks, todo, finished, workers, scheduler, task_function, progress, heartbeat, results, start, clock)
         return [results[i] for i in range(len(tasks))]
 
     return run
@@ -252,9 +260,13 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
 def _run_dask(tasks: list[EnsembleTask], todo: Iterable[int], finished: Callable[[int, dict[str, Any]], None],
               workers: int, scheduler: str | None, task_function: Callable[[EnsembleTask], dict[str, Any]],
               progress: Callable[[TaskEvent], None] | None, heartbeat: float, results: dict[int, Any],
-              start: float) -> None:
+              start: float, clock: list[float]) -> None:
     """Submit the tasks ``todo`` and hand each result to ``finished`` as soon as it arrives (in any order)."""
     with _client(workers, scheduler) as client:
+        clock[0] = time.monotonic()
+        link = getattr(client, "dashboard_link", None) if progress is not None else None
+        if link and find_spec("bokeh") is not None:
+            progress(TaskEvent(len(results), len(tasks), None, clock[0] - start, None, dashboard=link))
         index = {client.submit(task_function, tasks[i], pure=False): i for i in todo}
         pending = as_completed(list(index))
         last = time.monotonic()

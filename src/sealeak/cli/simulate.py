@@ -13,6 +13,7 @@ from ._common import inputs, load, outputs
 
 if TYPE_CHECKING:
     from ..cases import Case
+    from ..cases.ensemble import TaskEvent
 
 __all__ = ["register"]
 
@@ -21,6 +22,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from ..cases import simulate
+    from ..cases.ensemble import default_workers, make_runner
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
     from ..render.simulation import BAND_SIMULATION_FIGURE_NAMES, SIMULATION_GAS_FIGURE_NAMES
@@ -45,10 +47,20 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     if case.band is not None:
         return _simulate_band(args, case, grid, realizations, seed,
                               "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid")
-    total = realizations * len(case.squeeze_pressure)
-    with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
+    if args.store is not None and args.fields:
+        raise InputError("--fields", args.fields, "cannot be combined with --store yet: a resumed run would lack the "
+                                                  "field files of the tasks it takes from the store")
+    workers = default_workers() if args.workers is None else args.workers
+    if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop, as before Dask
+        total = realizations * len(case.squeeze_pressure)
+        with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
+            res = simulate(case, grid=grid, realizations=realizations, seed=seed,
+                           threshold=not args.no_threshold, fields_dir=args.fields, progress=bar.update)
+    else:
+        runner = make_runner(workers=workers, scheduler=args.scheduler, store=args.store,
+                             progress=None if args.quiet else _progress_line, note=_note)
         res = simulate(case, grid=grid, realizations=realizations, seed=seed,
-                       threshold=not args.no_threshold, fields_dir=args.fields, progress=bar.update)
+                       threshold=not args.no_threshold, fields_dir=args.fields, runner=runner)
     if not args.quiet:
         sys.stdout.write(simulation_table(case, res))
     if args.json:
@@ -73,6 +85,9 @@ def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations
         raise InputError("seal.pressure_profile", band.profile_source or "a pressure profile",
                          "simulate solves uniform seals and O-rings; a seal given by its pressure profile has no body "
                          "whose contact could be simulated (use predict)")
+    if (args.scheduler or args.store or args.workers is not None) and not args.quiet:
+        sys.stderr.write("note: --workers, --scheduler and --store apply to uniform seals; an O-ring is simulated in "
+                         "this process, one load after the other\n")
     if args.no_threshold and not args.quiet:
         sys.stderr.write("note: --no-threshold does not apply to an O-ring (no percolation-threshold search is made)\n")
     total = (realizations + 1) * band.loads.size
@@ -86,6 +101,31 @@ def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations
     if args.plots:
         save_figures(band_simulation_figures(case, res), args.plots)
     return 0
+
+
+def _clock(seconds: float) -> str:
+    """``m:ss`` (or ``h:mm:ss``) of a duration in seconds."""
+    m, sec = divmod(int(round(seconds)), 60)
+    h, m = divmod(m, 60)
+    return f"{h}:{m:02d}:{sec:02d}" if h else f"{m}:{sec:02d}"
+
+
+def _progress_line(event: TaskEvent) -> None:
+    """One line on stderr per finished task (with the time left), and one when nothing finished for a while."""
+    if event.dashboard is not None:
+        line = f"simulate: the Dask dashboard shows the tasks at {event.dashboard}"
+    elif event.task is None:
+        line = f"simulate: working, {event.done} of {event.total} tasks finished, {_clock(event.elapsed)} elapsed"
+    else:
+        left = "" if event.left is None else f", about {_clock(event.left)} left"
+        line = (f"simulate: {event.task} finished ({event.done} of {event.total} tasks, {_clock(event.elapsed)} "
+                f"elapsed{left})")
+    sys.stderr.write(line + "\n")
+    sys.stderr.flush()
+
+
+def _note(message: str) -> None:
+    sys.stderr.write(f"note: {message}\n")
 
 
 def _check_fields_folder(folder: Path, force: bool) -> None:
@@ -114,4 +154,12 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--plots", metavar="DIR", help="write figures into DIR")
     p.add_argument("--no-threshold", action="store_true",
                    help="skip the percolation-threshold search (uniform seals; an O-ring makes none)")
+    p.add_argument("--workers", type=int, metavar="N",
+                   help="run the realisations on a local Dask cluster of N worker processes, one thread each "
+                        "(default: all cores); 0: no Dask, one after the other in this process")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on the Dask cluster whose scheduler is at ADDRESS (e.g. tcp://10.0.0.5:8786) "
+                        "instead of a local one")
+    p.add_argument("--store", metavar="DIR",
+                   help="keep every finished task in DIR; the same command run again computes only what is missing")
     p.set_defaults(func=_cmd_simulate)
