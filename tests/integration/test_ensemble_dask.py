@@ -72,6 +72,18 @@ def test_cli_workers_json_and_fields_identical(tmp_path):
             np.testing.assert_array_equal(a[key], b[key])
 
 
+def test_cli_running_scheduler(tmp_path):
+    """--scheduler ADDRESS: the tasks run on a cluster started elsewhere (here in this test), same JSON as serial."""
+    from distributed import LocalCluster
+
+    path = case_file(tmp_path)
+    base = ["simulate", str(path), "--grid", "32", "--realizations", "2", "--seed", "6", "-q"]
+    assert main([*base, "--workers", "0", "--json", str(tmp_path / "serial.json")]) == 0
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+        assert main([*base, "--scheduler", cluster.scheduler_address, "--json", str(tmp_path / "remote.json")]) == 0
+    assert json.loads((tmp_path / "serial.json").read_text()) == json.loads((tmp_path / "remote.json").read_text())
+
+
 class Counting:
     """Task function counting what it computes (serial runner: runs in this process)."""
 
@@ -187,13 +199,14 @@ def test_cli_damaged_record_computed_again_with_a_note(tmp_path, capsys):
     (["--workers", "-1"], "--workers"),
     (["--store", "STORE", "--fields", "FIELDS"], "--fields"),
     (["--store", "FILE"], "--store"),
+    (["--scheduler", "not an address"], "--scheduler"),
 ])
 def test_cli_bad_ensemble_options(tmp_path, capsys, extra, named):
     path = case_file(tmp_path)
     (tmp_path / "file").write_text("x")
     extra = [{"STORE": str(tmp_path / "s"), "FIELDS": str(tmp_path / "f"), "FILE": str(tmp_path / "file")}.get(a, a)
              for a in extra]
-    assert main(["simulate", str(path), "--grid", "32", "--realizations", "1", "--json", str(tmp_path / "o.json"),
+    assert main(["simulate", str(path), "--grid", "32", "--realizations", "1", "--json", str(tmp_path / "o.json"), "-q",
                  *extra]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and named in err and "Traceback" not in err

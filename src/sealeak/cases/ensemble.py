@@ -175,8 +175,10 @@ def _client(workers: int, scheduler: str | None) -> Iterator[Any]:
     if scheduler is not None:
         try:
             client = Client(scheduler, timeout="20s")
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise InputError("--scheduler", scheduler, f"no Dask scheduler answers there ({type(exc).__name__})") from None
+        except ValueError:
+            raise InputError("--scheduler", scheduler, "is not a scheduler address (tcp://HOST:PORT)") from None
+        except (OSError, TimeoutError):
+            raise InputError("--scheduler", scheduler, "no Dask scheduler answers there (waited 20 s)") from None
         with client:
             yield client
         return
