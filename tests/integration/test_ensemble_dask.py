@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from distributed import LocalCluster
 
 from sealeak.cases import example_path, load_cases
 from sealeak.cases.ensemble import make_runner
@@ -74,8 +75,6 @@ def test_cli_workers_json_and_fields_identical(tmp_path):
 
 def test_cli_running_scheduler(tmp_path):
     """--scheduler ADDRESS: the tasks run on a cluster started elsewhere (here in this test), same JSON as serial."""
-    from distributed import LocalCluster
-
     path = case_file(tmp_path)
     base = ["simulate", str(path), "--grid", "32", "--realizations", "2", "--seed", "6", "-q"]
     assert main([*base, "--workers", "0", "--json", str(tmp_path / "serial.json")]) == 0
