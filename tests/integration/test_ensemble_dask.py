@@ -12,6 +12,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import cloudpickle
 import numpy as np
 import pytest
 from distributed import LocalCluster
@@ -37,8 +38,13 @@ def test_local_cluster_gives_the_serial_numbers(tmp_path):
     """Two worker processes, tasks finishing in any order: every number, note and contact map as the serial loop."""
     (case,) = load_cases(case_file(tmp_path))
     serial = simulate(case, grid=64, realizations=4, seed=9)
-    events = []
-    parallel = simulate(case, grid=64, realizations=4, seed=9, runner=make_runner(workers=2, progress=events.append))
+    events, times = [], []
+
+    def record(event):
+        events.append(event)
+        times.append(time.monotonic())
+
+    parallel = simulate(case, grid=64, realizations=4, seed=9, runner=make_runner(workers=2, progress=record, heartbeat=0.2))
     assert serial.per_realization.keys() == parallel.per_realization.keys()
     for key in serial.per_realization:
         np.testing.assert_array_equal(serial.per_realization[key], parallel.per_realization[key], err_msg=key)
@@ -53,6 +59,32 @@ def test_local_cluster_gives_the_serial_numbers(tmp_path):
     finished = [e for e in events if e.task is not None]
     assert sorted(e.task for e in finished) == sorted(f"{k}-r{r}" for r in range(4) for k in ("sweep", "threshold"))
     assert [e.done for e in finished] == list(range(1, 9)) and finished[-1].left == 0
+    assert all(e.left is not None and e.left >= 0 for e in finished)
+
+
+def slow_task(task):
+    """A task that takes at least 1.5 s (sent to the workers by value)."""
+    time.sleep(1.5)
+    return run_task(task)
+
+
+def test_progress_never_silent_while_tasks_run(tmp_path):
+    """Tasks of 1.5 s on 2 workers, heartbeat 0.2 s: an event at least every ~0.2 s, the finished ones with the time left."""
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    (case,) = load_cases(case_file(tmp_path))
+    case = replace(case, squeeze_pressure=case.squeeze_pressure[:1])
+    events, times = [], []
+
+    def record(event):
+        events.append(event)
+        times.append(time.monotonic())
+
+    simulate(case, grid=32, realizations=2, seed=1, threshold=False,
+             runner=make_runner(workers=2, progress=record, heartbeat=0.2, task_function=slow_task))
+    assert [e.task for e in events if e.task is not None] != [] and events[-1].done == 2
+    assert sum(e.task is None for e in events) >= 3  # "working" while the 1.5 s tasks run
+    assert max(np.diff(times)) < 0.2 + 0.8  # slack for a loaded machine, far below the 1.5 s of a task
+    assert all(e.left is None for e in events if e.task is None)
 
 
 def test_cli_workers_json_and_fields_identical(tmp_path):

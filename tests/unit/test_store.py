@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from sealeak.cases import example_path, load_cases
-from sealeak.cases.ensemble import make_runner
+from sealeak.cases.ensemble import default_workers, make_runner
 from sealeak.cases.simulation import run_task, simulate
 from sealeak.errors import InputError
 
@@ -166,3 +166,8 @@ def test_workers_must_be_a_whole_number(workers):
     with pytest.raises(InputError) as err:
         make_runner(workers=workers)
     assert err.value.field == "--workers"
+
+
+def test_default_workers_plain_loop_below_512():
+    assert default_workers(256) == 0 and default_workers(510) == 0
+    assert default_workers(512) >= 1 and default_workers() == default_workers(4096) >= 1

@@ -34,24 +34,38 @@ from importlib.util import find_spec
 from pathlib import Path
 from typing import Any
 
+import dask
 from distributed import Client, LocalCluster, as_completed
 
 from ..errors import InputError
 from ..io.files import OutputWriteError
 from .simulation import EnsembleTask, run_task
 
-__all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers"]
+__all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID"]
 
 #: The format tag of a store's manifest.
 STORE_FORMAT = "sealeak-ensemble-store/1"
 #: Environment of every worker process: one thread for the numerical libraries.
 THREAD_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: Dask configuration of the local cluster's worker processes. Dask sets MALLOC_TRIM_THRESHOLD_=65536 in them
+#: by default (to return freed memory to the system sooner); glibc then maps and unmaps every large temporary
+#: array afresh, which made the contact solves 2-3 times slower on this machine: sealeak's workers keep glibc's
+#: own, adaptive threshold.
+_WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
 #: Seconds without a finished task after which the runner reports that it is still working.
 HEARTBEAT = 5.0
 
 
-def default_workers() -> int:
-    """All cores of this machine (the CPUs this process may run on)."""
+#: Smallest grid N for which ``simulate`` starts a local Dask cluster unless told (``--workers``): one task
+#: then takes some ten seconds or more, and the cluster's start-up (2-3 s) is a small part of the run; below
+#: it, the plain loop is faster.
+DASK_FROM_GRID = 512
+
+
+def default_workers(grid: int | None = None) -> int:
+    """All cores of this machine (the CPUs this process may run on); 0 (the plain loop) below ``DASK_FROM_GRID``."""
+    if grid is not None and grid < DASK_FROM_GRID:
+        return 0
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
@@ -182,8 +196,9 @@ def _client(workers: int, scheduler: str | None) -> Iterator[Any]:
         with client:
             yield client
         return
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                      silence_logs=logging.ERROR, env=dict(THREAD_ENV)) as cluster, Client(cluster) as client:
+    with dask.config.set(_WORKER_CONFIG), LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0", silence_logs=logging.ERROR,
+            env=dict(THREAD_ENV)) as cluster, Client(cluster) as client:
         yield client
 
 

@@ -50,7 +50,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store yet: a resumed run would lack the "
                                                   "field files of the tasks it takes from the store")
-    workers = default_workers() if args.workers is None else args.workers
+    workers = default_workers(grid) if args.workers is None else args.workers
     if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop, as before Dask
         total = realizations * len(case.squeeze_pressure)
         with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
@@ -156,7 +156,8 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                    help="skip the percolation-threshold search (uniform seals; an O-ring makes none)")
     p.add_argument("--workers", type=int, metavar="N",
                    help="run the realisations on a local Dask cluster of N worker processes, one thread each "
-                        "(default: all cores); 0: no Dask, one after the other in this process")
+                        "(default: all cores from a 512x512 grid up, else 0); 0: no Dask, one after the other in "
+                        "this process")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask cluster whose scheduler is at ADDRESS (e.g. tcp://10.0.0.5:8786) "
                         "instead of a local one")
