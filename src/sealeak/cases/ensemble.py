@@ -12,7 +12,9 @@ runner ``simulate`` calls with them:
 - ``scheduler = ADDRESS``: a running Dask cluster (SSH, Kubernetes, SLURM through dask-jobqueue).
 
 A task returns its scalars only; the runner hands the results back in the order of the tasks, so the
-numbers are those of the serial loop whatever the number of workers or the order in which tasks finish.
+numbers are those of the serial loop whatever the number of workers or the order in which tasks finish
+(docs/theory.md §6.7, the ensemble as independent tasks; the time left of a progress line is the mean
+wall time per computed task times the tasks still to do).
 
 With a store (:class:`TaskStore`), every finished task's result is written at once, atomically, as
 ``DIR/tasks/<task>.json`` with its SHA-256; ``DIR/manifest.json`` names the case, spectrum, grid and seed
