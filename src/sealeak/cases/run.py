@@ -20,6 +20,7 @@ The curves of the prediction figures are computed in :mod:`sealeak.cases.curves`
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
@@ -684,6 +685,18 @@ class FitResult:
     leak_rate_unit: str = "m^3/s"
 
 
+def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], where: Callable[[int], str]) -> list[str]:
+    """Refuse a fit of no point at all; else the notes on excluded rows (each with ``where(row)``) and a lone point."""
+    if not any(f.fitted for f in fits.values()):
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+    messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({where(i)}) excluded: {reason}"
+                for name, f in fits.items() for i, reason in f.excluded]
+    if not any(f.n_used > 1 for f in fits.values()):
+        messages.append("with one usable point α has no standard error")
+    return messages
+
+
 def run_fit(case: Case, data: LeakData) -> FitResult:
     """Fit α of both models to measured leak rates (docs/theory.md §8); raises if no row can be used.
 
@@ -701,16 +714,7 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     if case.band is not None:
         return _run_band_fit(case, data)
     fits = fit_models(case, data.squeeze_pressure, data.pressure_difference, data.leak_rate)
-    if not any(f.fitted for f in fits.values()):
-        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
-        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
-    messages = []
-    for name, f in fits.items():
-        for i, reason in f.excluded:
-            messages.append(f"{name.replace('_', ' ')}: line {data.line_of(i)} (P0 = {data.squeeze_pressure[i]:.6g} Pa) "
-                            f"excluded: {reason}")
-    if not any(f.n_used > 1 for f in fits.values()):
-        messages.append("with one usable point α has no standard error")
+    messages = _fit_messages(data, fits, lambda i: f"P0 = {data.squeeze_pressure[i]:.6g} Pa")
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
     if large.any():
@@ -845,16 +849,7 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
                                                  f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
         raise
     fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
-    if not any(f.fitted for f in fits.values()):
-        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
-        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
-    messages = []
-    for name, f in fits.items():
-        for i, reason in f.excluded:
-            messages.append(f"{name.replace('_', ' ')}: line {data.line_of(i)} ({_load_text(band.load_name, loads[i])}) "
-                            f"excluded: {reason}")
-    if not any(f.n_used > 1 for f in fits.values()):
-        messages.append("with one usable point α has no standard error")
+    messages = _fit_messages(data, fits, lambda i: _load_text(band.load_name, loads[i]))
     if res.band.oring is not None:
         messages += list(res.band.oring.warnings)
     # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
