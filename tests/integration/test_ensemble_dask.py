@@ -243,3 +243,44 @@ def test_cli_bad_ensemble_options(tmp_path, capsys, extra, named):
     assert len(err.splitlines()) == 1 and named in err and "Traceback" not in err
     assert not (tmp_path / "o.json").exists() and not (tmp_path / "s").exists() and not (tmp_path / "f").exists()
     assert Path(tmp_path / "file").read_text() == "x"
+
+
+def test_ctrl_c_stops_client_and_workers_with_one_line(tmp_path):
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) on a 2-worker run: one line, exit 130,
+    no worker traceback, no worker left running, the finished tasks kept in the store."""
+    path = case_file(tmp_path)
+    store = tmp_path / "store"
+    proc = subprocess.Popen([sys.executable, "-c", "import sys; from sealeak.cli import main; sys.exit(main(sys.argv[1:]))",
+                             "simulate", str(path), "--grid", "128", "--realizations", "6", "--workers", "2",
+                             "--store", str(store), "--json", str(tmp_path / "out.json")],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        seen = []
+        for line in proc.stderr:
+            seen.append(line)
+            if " finished (" in line:
+                os.killpg(proc.pid, signal.SIGINT)
+                break
+        rest = proc.stderr.read()
+        proc.wait(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        proc.stderr.close()
+    assert proc.returncode == 130, rest
+    assert "Traceback" not in rest and "KeyboardInterrupt" not in rest
+    assert rest.strip().splitlines()[-1].startswith("sealeak: interrupted")
+    assert not (tmp_path / "out.json").exists()
+    assert len(list((store / "tasks").glob("*.json"))) >= 1
+    deadline = time.monotonic() + 15
+    while time.monotonic() < deadline:  # the whole group is gone: no worker process left behind
+        try:
+            os.killpg(proc.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.2)
+    else:
+        os.killpg(proc.pid, signal.SIGKILL)
+        pytest.fail("worker processes still running 15 s after the client exited")
