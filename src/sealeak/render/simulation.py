@@ -12,7 +12,7 @@ from matplotlib.lines import Line2D
 from numpy.typing import NDArray
 
 from ..cases import Case, SimulationResult
-from ..cases.simulation import JUNCTION_CELLS
+from ..cases.simulation import JUNCTION_CELLS, GasSimulation
 from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
@@ -84,18 +84,22 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
     return json_document(doc)
 
 
-def _gas_json(doc: dict[str, Any], res: SimulationResult) -> None:
-    """Add a gas case's keys to the ``simulate --json`` document: per row the gas leak, its α, and the gas settings."""
-    g = res.gas
-    assert g is not None
-    doc["units"] = doc["units"] | SIMULATION_GAS_UNITS
+def _add_gas_json(doc: dict[str, Any], g: GasSimulation, units: dict[str, str], attrs: dict[str, str]) -> None:
+    """The gas keys of a ``simulate --json`` document (uniform or O-ring): per row the gas leak and α_gas, and the gas."""
+    doc["units"] = doc["units"] | units
     for i, row in enumerate(doc["results"]):
-        row |= {k: json_value(getattr(g, a)[i]) for k, a in _GAS_ATTR.items()}
+        row |= {k: json_value(getattr(g, a)[i]) for k, a in attrs.items()}
         row |= {"flow_regime": g.regime_critical_junction[i] or None,
                 "leak_rate_mbar_l_s": json_value(g.throughput[i] / 0.1)}
     doc["gas"] = {"name": g.gas_name, "temperature": g.temperature, "upstream_pressure": g.upstream_pressure,
                   "downstream_pressure": g.downstream_pressure, "rarefaction": g.rarefaction,
                   "units": {"temperature": "K", "upstream_pressure": "Pa", "downstream_pressure": "Pa"}}
+
+
+def _gas_json(doc: dict[str, Any], res: SimulationResult) -> None:
+    """Add a gas case's keys to the ``simulate --json`` document: per row the gas leak, its α, and the gas settings."""
+    assert res.gas is not None
+    _add_gas_json(doc, res.gas, SIMULATION_GAS_UNITS, _GAS_ATTR)
     doc["gas_note"] = ("leak_rate_pv: the seal's pV throughput from isothermal gas flow through the same gap fields, "
                        "div(g^3 f(Kn) grad p^2) = 0, counted at the gas temperature; leak_rate_mass = leak_rate_pv/(R_s T); "
                        "slip_gain = leak_rate_pv / the same flow without rarefaction; leak_rate_pv_critical_junction: the "
@@ -376,16 +380,8 @@ _BAND_GAS_ATTR = {("leak_rate_pv_series_resistance" if k == "leak_rate_pv_critic
 
 def _band_gas_json(doc: dict[str, Any], res: BandSimulationResult) -> None:
     """Add a gas O-ring's keys to the ``simulate --json`` document: per row the gas leak across the band, α_gas, the gas."""
-    g = res.gas
-    assert g is not None
-    doc["units"] = doc["units"] | BAND_SIMULATION_GAS_UNITS
-    for i, row in enumerate(doc["results"]):
-        row |= {k: json_value(getattr(g, a)[i]) for k, a in _BAND_GAS_ATTR.items()}
-        row |= {"flow_regime": g.regime_critical_junction[i] or None,
-                "leak_rate_mbar_l_s": json_value(g.throughput[i] / 0.1)}
-    doc["gas"] = {"name": g.gas_name, "temperature": g.temperature, "upstream_pressure": g.upstream_pressure,
-                  "downstream_pressure": g.downstream_pressure, "rarefaction": g.rarefaction,
-                  "units": {"temperature": "K", "upstream_pressure": "Pa", "downstream_pressure": "Pa"}}
+    assert res.gas is not None
+    _add_gas_json(doc, res.gas, BAND_SIMULATION_GAS_UNITS, _BAND_GAS_ATTR)
     doc["gas_note"] = ("leak_rate_pv: the seal's pV throughput from isothermal gas flow across the band through the same gap "
                        "fields, div(g^3 f(Kn) grad p^2) = 0 with P_a at x = 0 and P_b at x = W, scaled to the seal line as "
                        "leak_rate, counted at the gas temperature; leak_rate_mass = leak_rate_pv/(R_s T); slip_gain = "
