@@ -228,18 +228,11 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
                     label=f"α_gas = Q_pV / Q_pV,cj(α=1), {g.gas_name} {g.upstream_pressure / 1e3:.4g} → "
                           f"{g.downstream_pressure / 1e3:.4g} kPa, ± sd")
     ax.axhline(case.alpha, color="k", ls="--", lw=0.8, label=f"case α = {case.alpha:g}")
-    flagged = np.isfinite(res.alpha) & coarse
-    if flagged.any():
-        top = max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, case.alpha)
-        if res.gas is not None and (np.isfinite(res.gas.alpha) & ~coarse).any():
-            good = np.isfinite(res.gas.alpha) & ~coarse
-            top = max(top, float(np.nanmax(res.gas.alpha[good] + np.nan_to_num(res.gas.alpha_std[good]))))
-        limit = 3.0 * top
-        inside = flagged & (res.alpha <= limit)
-        off = int(flagged.sum() - inside.sum())
-        ax.plot(p[inside], res.alpha[inside], "o", mfc="none", color="C0",
-                label=f"λc < {JUNCTION_CELLS} cells: grid too coarse" + (f" ({off} more off scale)" if off else ""))
-        ax.set_ylim(0.0, 1.1 * max(limit if off else 0.0, top, *res.alpha[inside]))
+    top = max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, case.alpha)
+    if res.gas is not None and (np.isfinite(res.gas.alpha) & ~coarse).any():
+        good = np.isfinite(res.gas.alpha) & ~coarse
+        top = max(top, float(np.nanmax(res.gas.alpha[good] + np.nan_to_num(res.gas.alpha_std[good]))))
+    _coarse_alpha(ax, p, res.alpha, coarse, top)
     ax.set_xlabel(f"squeeze pressure P0 ({unit})")
     ax.set_ylabel("α (1)")
     ax.set_title("The factor α of the critical-junction theory, computed", fontsize=9)
@@ -249,16 +242,7 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
 
     fig, ax = _axes((5.6, 5.2))
     if res.contact_maps:
-        idx = sorted(res.contact_maps)
-        perc_idx = [i for i in idx if res.per_realization["percolates"][0, i]]
-        pick = perc_idx[-1] if perc_idx else idx[len(idx) // 2]
-        contact = res.contact_maps[pick]
-        channel = spanning_mask(~contact)
-        img = np.where(contact, 0, np.where(channel, 2, 1))
-        cmap = ListedColormap(["#202020", "#d8d8d8", "#1f77b4"])
-        # img is indexed [x, y]; transpose so x runs horizontally (flow left to right)
-        ax.imshow(img.T, cmap=cmap, vmin=0, vmax=2, extent=(0, res.size * 1e3, 0, res.size * 1e3), origin="lower",
-                  interpolation="nearest")
+        pick, contact = _contact_map(ax, res.contact_maps, res.per_realization["percolates"], res.size, res.size)
         ax.set_xlabel("x (mm), flow from inlet x = 0 to outlet →")
         ax.set_ylabel("y, periodic (mm)")
         ax.set_title(f"Contact map, realisation 0, P0 = {res.squeeze_pressure[pick] / scale:.3g} {unit}\n"
@@ -268,6 +252,35 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     if res.gas is not None:
         figs["simulate_gas_leak_rate.png"] = _gas_figure(case, res, coarse)
     return figs
+
+
+def _coarse_alpha(ax: Any, x: NDArray[np.float64], alpha: NDArray[np.float64], coarse: NDArray[np.bool_], top: float) -> None:
+    """Draw the α of rows whose junction the grid resolves too coarsely hollow, clipped to 3 × ``top`` (the resolved
+    values' range: their α can be absurdly large), with how many fall off scale."""
+    flagged = np.isfinite(alpha) & coarse
+    if not flagged.any():
+        return
+    limit = 3.0 * top
+    inside = flagged & (alpha <= limit)
+    off = int(flagged.sum() - inside.sum())
+    ax.plot(x[inside], alpha[inside], "o", mfc="none", color="C0",
+            label=f"λc < {JUNCTION_CELLS} cells: grid too coarse" + (f" ({off} more off scale)" if off else ""))
+    ax.set_ylim(0.0, 1.1 * max(limit if off else 0.0, top, *alpha[inside]))
+
+
+def _contact_map(ax: Any, maps: dict[int, NDArray[np.bool_]], percolates: NDArray[np.bool_], width: float,
+                 height: float) -> tuple[int, NDArray[np.bool_]]:
+    """Draw realisation 0's contact map at the highest percolating load (else the middle one): contact black,
+    channels spanning inlet to outlet blue, trapped fluid grey; x (flow) horizontal, sizes in m. Returns (load, map)."""
+    idx = sorted(maps)
+    perc_idx = [i for i in idx if percolates[0, i]]
+    pick = perc_idx[-1] if perc_idx else idx[len(idx) // 2]
+    contact = maps[pick]
+    img = np.where(contact, 0, np.where(spanning_mask(~contact), 2, 1))
+    # img is indexed [x, y]; transpose so x runs horizontally (flow left to right)
+    ax.imshow(img.T, cmap=ListedColormap(["#202020", "#d8d8d8", "#1f77b4"]), vmin=0, vmax=2,
+              extent=(0, width * 1e3, 0, height * 1e3), origin="lower", interpolation="nearest")
+    return pick, contact
 
 
 def _gas_figure(case: Case, res: SimulationResult, coarse: NDArray[np.bool_]) -> Figure:
@@ -504,15 +517,8 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
     ax.errorbar(loads[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3,
                 label="α = Q_num / Q_series(α=1), ± sd")
     ax.axhline(1.0, color="k", ls="--", lw=0.8, label="α = 1")
-    flagged = np.isfinite(res.alpha) & coarse
-    if flagged.any():  # drawn hollow, clipped to the resolved values' range (their α can be absurdly large)
-        top = max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, 1.0)
-        limit = 3.0 * top
-        inside = flagged & (res.alpha <= limit)
-        off = int(flagged.sum() - inside.sum())
-        ax.plot(loads[inside], res.alpha[inside], "o", mfc="none", color="C0",
-                label=f"λc < {JUNCTION_CELLS} cells: grid too coarse" + (f" ({off} more off scale)" if off else ""))
-        ax.set_ylim(0.0, 1.1 * max(limit if off else 0.0, top, *res.alpha[inside]))
+    _coarse_alpha(ax, loads, res.alpha, coarse,
+                  max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, 1.0))
     if not np.isfinite(res.alpha).any():
         ax.text(0.5, 0.5, "no α: the band holds no channel\n(numerically or in the theory)", transform=ax.transAxes,
                 ha="center", va="center")
@@ -525,15 +531,7 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
 
     fig, ax = _axes((6.4, 5.4))
     if res.contact_maps:
-        idx = sorted(res.contact_maps)
-        perc_idx = [i for i in idx if res.per_realization["percolates"][0, i]]
-        pick = perc_idx[-1] if perc_idx else idx[len(idx) // 2]
-        contact = res.contact_maps[pick]
-        channel = spanning_mask(~contact)
-        img = np.where(contact, 0, np.where(channel, 2, 1))
-        cmap = ListedColormap(["#202020", "#d8d8d8", "#1f77b4"])
-        ax.imshow(img.T, cmap=cmap, vmin=0, vmax=2, extent=(0, res.size * 1e3, 0, res.period * 1e3), origin="lower",
-                  interpolation="nearest")
+        pick, contact = _contact_map(ax, res.contact_maps, res.per_realization["percolates"], res.size, res.period)
         half = res.hertz_contact_width[pick] / 2.0
         for xe in (res.size / 2.0 - half, res.size / 2.0 + half):
             ax.axvline(xe * 1e3, color="C3", ls="--", lw=1.0)
