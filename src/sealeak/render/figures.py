@@ -29,8 +29,9 @@ How the figures read (the same rules for the laboratory figures, :mod:`sealeak.r
 from __future__ import annotations
 
 import io
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -322,14 +323,22 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
         finish_axes(ax)
         return fig
     qscale, qunit = (1.0, "m³/s") if logy else power_unit(peaks, "m³/s")
+    _finish_leak_rate(ax, results, series, [settings], qscale, f"leak rate Q ({qunit})", log, logy, ml_per_min_axis)
+    return fig
+
+
+def _finish_leak_rate(ax: Any, results: Sequence[CaseResult], series: list[Series], notes: list[str], qscale: float,
+                      ylabel: str, log: bool, logy: bool, second_axis: Callable[[Any, float], Any]) -> None:
+    """Draw a leak-rate figure's series (scaled by 1/``qscale``), its notes (log scale, missing points, hollow
+    markers), the second unit axis and the legend: shared by the liquid and the gas figure."""
     scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]
     draw_series(ax, scaled, logy=logy, bottom_zero=not logy)
-    ax.set_ylabel(f"leak rate Q ({qunit})")
-    missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction)
-    missing = missing or any(r.effective_medium is not None and (~r.effective_medium.percolates).any() for r in results)
-    notes = [settings]
+    ax.set_ylabel(ylabel)
+    notes = list(notes)
     if not log and logy:
         notes.append("log scale: the curves differ by decades")
+    missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction)
+    missing = missing or any(r.effective_medium is not None and (~r.effective_medium.percolates).any() for r in results)
     if missing:
         notes.append("missing points: no leak channel (the non-contact area does not percolate)")
     hollow = invalid_note(series)
@@ -337,9 +346,8 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
         notes.append(hollow)
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
-    ml_per_min_axis(ax, qscale)
+    second_axis(ax, qscale)
     place_legend(ax)
-    return fig
 
 
 def is_gas_run(results: Sequence[CaseResult]) -> bool:
@@ -405,22 +413,7 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
         finish_axes(ax)
         return fig
     qscale, qunit = (1.0, "mbar·l/s") if logy else power_unit(peaks, "mbar·l/s")
-    scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]
-    draw_series(ax, scaled, logy=logy, bottom_zero=not logy)
-    ax.set_ylabel(f"{GAS_LEAK_LABEL} ({qunit})")
-    if not log and logy:
-        notes.append("log scale: the curves differ by decades")
-    missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction)
-    missing = missing or any(r.effective_medium is not None and (~r.effective_medium.percolates).any() for r in results)
-    if missing:
-        notes.append("missing points: no leak channel (the non-contact area does not percolate)")
-    hollow = invalid_note(series)
-    if hollow:
-        notes.append(hollow)
-    subtitle(ax, "\n".join(notes))
-    finish_axes(ax)
-    pa_m3_axis(ax, qscale)
-    place_legend(ax)
+    _finish_leak_rate(ax, results, series, notes, qscale, f"{GAS_LEAK_LABEL} ({qunit})", log, logy, pa_m3_axis)
     return fig
 
 
