@@ -212,6 +212,10 @@ def figure_readings(analysis: ReadingsAnalysis, model_conductance: dict[str, flo
     return fig
 
 
+#: Ratio of the models' times to lose ΔP above which the pressure-decay figure draws time on a logarithmic axis.
+DECAY_LOG_RATIO = 10.0
+
+
 def _time_unit(longest: float) -> tuple[float, str]:
     """(seconds per unit, unit) of a time axis reaching ``longest`` s."""
     for size, unit in ((YEAR, "years"), (86400.0, "days"), (3600.0, "h"), (60.0, "min")):
@@ -228,18 +232,27 @@ def figure_decay(rig: DecayRigSetup, pred: DecayPrediction, condition: str = "")
     longest = max((m.decay.time[-1] for m in pred.models.values()), default=1.0)
     tscale, tunit = _time_unit(longest)
     target = test.initial_pressure - test.loss
+    # times to lose ΔP that differ by more than DECAY_LOG_RATIO do not share a linear axis: the faster model would be
+    # a vertical line at t = 0; a logarithmic time axis shows both (each curve from its first time > 0)
+    losses = [m.decay.time_to_loss for m in pred.models.values() if np.isfinite(m.decay.time_to_loss) and m.decay.time_to_loss > 0]
+    log_time = len(losses) > 1 and max(losses) > DECAY_LOG_RATIO * min(losses)
     for i, (name, m) in enumerate(pred.models.items()):
         d = m.decay
         reached = np.isfinite(d.time_to_loss)
         label = name + (f": ΔP lost after {d.time_to_loss / tscale:.3g} {tunit}" if reached else
                         (": no leak, the pressure stays" if m.conductance == 0 else ": ΔP not lost in the simulated time"))
-        ax.plot(d.time / tscale, d.pressure / 100, ("-", "--")[i % 2], color=color(i), label=label)
+        shown = d.time > 0 if log_time else slice(None)
+        ax.plot(d.time[shown] / tscale, d.pressure[shown] / 100, ("-", "--")[i % 2], color=color(i), label=label)
         if reached:
             ax.plot([d.time_to_loss / tscale], [target / 100], "o", color=color(i), ms=4)
     ax.axhline(target / 100, color="0.5", lw=0.8, ls=":", label=f"P1 − ΔP = {target / 100:.6g} mbar")
-    ax.set_xlabel(f"time t ({tunit})")
     ax.set_ylabel("absolute pressure P in the test volume (mbar)")
-    ax.set_xlim(left=0)
+    if log_time:
+        ax.set_xscale("log")
+        ax.set_xlabel(f"time t ({tunit}, logarithmic: the models' times differ by a factor {max(losses) / min(losses):.3g})")
+    else:
+        ax.set_xlabel(f"time t ({tunit})")
+        ax.set_xlim(left=0)
     subtitle(ax, f"{condition}\n{rig.gas.name}, V = {test.volume * 1e3:.3g} l, P2 = {test.outside_pressure / 100:.4g} mbar "
                  f"outside, T = {test.temperature - 273.15:.3g} °C, rarefaction: {rig.rarefaction_model}")
     if not pred.models:
