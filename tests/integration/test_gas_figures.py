@@ -4,7 +4,7 @@ For a gas case ``leak_rate.png`` / ``leak_rate_log.png`` (uniform seal) and the 
 draw the pV throughput in mbar·l/s with a second axis in Pa·m³/s, each theory solid and its helium
 equivalent dashed; the drawn curves are the records' ``leak_rate_mbar_l_s`` (and
 ``leak_rate_helium_mbar_l_s``), read here from the Line2D data. ``leak_rate_vs_pressure_difference.png``
-says why it draws nothing for a gas. ``sealeak fit`` on a gas case names Pa·m³/s (text, JSON, figure
+draws Q_pV against ΔP at fixed P_b (no slip: K (P_a² − P_b²)/2). ``sealeak fit`` on a gas case names Pa·m³/s (text, JSON, figure
 labels) and gives mbar·l/s beside it. Liquid figures keep m³/s and ml/min.
 """
 
@@ -130,13 +130,43 @@ def test_gas_leak_rate_axes_read_mbar_l_s_and_pa_m3_s_and_the_title_names_the_co
     assert forward(y) * right_scale == pytest.approx(y * left * PA_M3_PER_MBAR_L, rel=1e-12)
 
 
-def test_pressure_difference_figure_of_a_gas_says_why_it_is_empty(uniform):
+def _dp_curves(results):
+    curves = prediction_curves(results)
+    (sw,) = curves.pressure_difference
+    ax = figure_pressure_difference(curves).axes[0]
+    return sw, ax
 
-    ax = figure_pressure_difference(prediction_curves(uniform)).axes[0]
-    assert not _data_lines(ax)
-    words = " ".join(t.get_text() for t in ax.texts)
-    assert "not linear in ΔP" in words and "leak_rate.png" in words
-    assert "nitrogen" in ax.get_title()
+
+def test_pressure_difference_figure_of_a_gas_draws_q_pv_through_the_records_point(uniform):
+    (r,) = uniform
+    sw, ax = _dp_curves(uniform)
+    assert sw.gas and "mbar·l/s" in ax.get_ylabel() and "Pa·m³/s" in _secondary(ax).get_ylabel()
+    assert "nitrogen" in ax.get_title() and "not linear in ΔP" in ax.get_title()
+    row = int(np.flatnonzero(r.critical_junction.squeeze_pressure == sw.squeeze_pressure)[0])
+    dp_case = 2e5  # P_a - P_b = 3 bar - 1 bar
+    at = int(np.flatnonzero(np.isclose(sw.pressure_difference, dp_case))[0])
+    # the sweep at the case's own ΔP is the record's leak rate (Pa·m³/s; 1 mbar·l/s = 0.1 Pa·m³/s by hand)
+    assert sw.critical_junction[at] == pytest.approx(_records(r, "leak_rate_pv")[row], rel=1e-9)
+    assert sw.effective_medium[at] == pytest.approx(_records(r, "leak_rate_pv_effective_medium")[row], rel=1e-9)
+    assert sw.critical_junction[0] == 0.0
+    drawn = _curve(ax, color(0), "-")  # in mbar·l/s; the point at ΔP = 0 is not drawn on log axes
+    np.testing.assert_allclose(drawn[1:] * PA_M3_PER_MBAR_L, sw.critical_junction[1:], rtol=1e-12)
+    # rarefaction: Kn falls as P_a rises, so Q_pV / Q_pV(no slip) = mean f along the drop falls along the sweep
+    no_slip = ((1e5 + sw.pressure_difference[1:]) ** 2 - 1e5 ** 2) / 2
+    ratio = sw.critical_junction[1:] / no_slip
+    assert np.all(np.diff(ratio) < 0)
+
+
+def test_pressure_difference_figure_no_slip_is_k_times_half_the_difference_of_squares(tmp_path):
+    text = _uniform_text().replace("alpha = 0.2", 'alpha = 0.2\nrarefaction = "no-slip"')
+    results = _run(tmp_path, text)
+    (r,) = results
+    sw, _ax = _dp_curves(results)
+    row = int(np.flatnonzero(r.critical_junction.squeeze_pressure == sw.squeeze_pressure)[0])
+    pb = 1e5
+    for curve, rows in ((sw.critical_junction, r.gas["critical_junction"]), (sw.effective_medium, r.gas["effective_medium"])):
+        k = rows.conductance[row]  # K = Q/ΔP of the liquid-like conductance, m³/(Pa·s)
+        np.testing.assert_allclose(curve, k * ((pb + sw.pressure_difference) ** 2 - pb ** 2) / 2, rtol=1e-9, atol=0)
 
 
 # ------------------------------------------------------------------------------------ band seal

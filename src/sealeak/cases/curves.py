@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.gaps import GapDistribution, gap_distribution
 from .model import Case
-from .run import CaseResult, predict, predict_effective_medium
+from .run import CaseResult, gas_throughput, predict, predict_effective_medium
 
 __all__ = ["PredictionCurves", "CurveSet", "PressureDifferenceSweep", "prediction_curves", "representative_pressures",
            "FULL_CONTACT_GAP_WEIGHT"]
@@ -97,6 +97,10 @@ class CurveSet:
 class PressureDifferenceSweep:
     """Q against ΔP at one squeeze pressure (Pa, m³/s); ``effective_medium`` None unless asked for.
 
+    For a gas case (``gas`` True) the leak rates are pV throughputs Q_pV = K ∫ p f(Kn) dp from P_b to
+    P_b + ΔP (Pa·m³/s) at the case's downstream pressure P_b, with each theory's K and narrowest gap at
+    this squeeze pressure (docs/theory.md §11.5, §11.9): not linear in ΔP.
+
     ``valid``, ``valid_effective_medium``: whether each prediction at this pressure is within the
     continuum theory (docs/theory.md §9.11).
     """
@@ -108,6 +112,7 @@ class PressureDifferenceSweep:
     effective_medium: FloatArray | None
     valid: bool = True
     valid_effective_medium: bool = True
+    gas: bool = False
 
 
 @dataclass(frozen=True)
@@ -125,7 +130,8 @@ class PredictionCurves:
     gap_density
         u·P(u) of each set on ``gap`` (the probability per unit ln u, dimensionless; zeros for a set in full contact).
     pressure_difference
-        One :class:`PressureDifferenceSweep` per case that has a leak channel.
+        One :class:`PressureDifferenceSweep` per case that has a leak channel (of a gas case: only when
+        every case of the run is a gas case, since a pV throughput and a volume flow share no axis).
     """
 
     spectra: list[tuple[FloatArray, FloatArray]]
@@ -177,8 +183,11 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
         u = np.geomspace(lo, hi, 600)
     density = [np.zeros(u.size) if cs.in_full_contact else u * cs.distribution.density(u)[0] for cs in sets]
     sweeps = []
+    all_gas = all(r.case.gas is not None for r in results)
     for r in results:
         res, case = r.critical_junction, r.case
+        if (case.gas is not None) != all_gas:
+            continue
         valid = r.valid if r.valid.size else np.ones(len(res), dtype=bool)
         leaks = res.percolates if r.effective_medium is None else res.percolates | r.effective_medium.percolates
         keep = leaks & valid if (leaks & valid).any() else leaks
@@ -188,6 +197,9 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
         p0 = float(ok[np.argmin(np.abs(np.log(ok / np.sqrt(ok[0] * ok[-1]))))])
         i = int(np.flatnonzero(res.squeeze_pressure == p0)[0])
         dp = np.linspace(0.0, 2.0 * max(case.pressure_difference, 1.0), 21)
+        if all_gas:
+            sweeps.append(_gas_sweep(r, i, dp, bool(valid[i])))
+            continue
         q = predict(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
         q_em = (predict_effective_medium(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
                 if r.effective_medium is not None else None)
@@ -195,3 +207,20 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
         sweeps.append(PressureDifferenceSweep(case, p0, dp, q, q_em, bool(valid[i]),
                                               bool(valid_em[i]) if valid_em is not None and valid_em.size else True))
     return PredictionCurves(spectra, sets, u, density, sweeps)
+
+
+def _gas_sweep(result: CaseResult, row: int, dp: FloatArray, valid: bool) -> PressureDifferenceSweep:
+    """Q_pV against ΔP = P_a − P_b at the case's P_b, each theory's K and gap of row ``row`` (docs/theory.md §11.9)."""
+    case, gas = result.case, result.gas or {}
+
+    def curve(name: str) -> FloatArray | None:
+        rows = gas.get(name)
+        if rows is None:
+            return None
+        return gas_throughput(case, np.full(dp.size, rows.conductance[row]), np.full(dp.size, rows.gap[row]), dp)
+
+    cj, em = curve("critical_junction"), curve("effective_medium")
+    valid_em = result.valid_effective_medium
+    return PressureDifferenceSweep(case, float(result.critical_junction.squeeze_pressure[row]), dp,
+                                   cj if cj is not None else np.full(dp.size, np.nan), em, valid,
+                                   bool(valid_em[row]) if valid_em is not None and valid_em.size else True, gas=True)

@@ -49,7 +49,7 @@ __all__ = [
     "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS", "MODEL_NAMES",
     "fit_models", "FitResult", "run_fit", "LinearityCheck", "linearity", "run_linearity", "RigPrediction", "rig_prediction",
     "rig_readings", "seal_description", "GasRows", "gas_rows", "GAS_UNITS", "HELIUM_UNITS", "HELIUM_TEST",
-    "helium_test_gas",
+    "helium_test_gas", "gas_throughput",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -761,14 +761,20 @@ def _measured_throughput(case: Case, data: LeakData) -> FloatArray:
     return q * data.reference_pressure
 
 
-def _gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -> FloatArray:
-    """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row; NaN where K = 0 (docs/theory.md §11.9)."""
+def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -> FloatArray:
+    """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row (docs/theory.md §11.5, §11.9).
+
+    ``k`` the no-slip conductance K (m³/(Pa·s)), ``gap`` the narrowest gap h (m) and ``dp`` ΔP (Pa) per
+    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0.
+    """
     gas = case.gas
     assert gas is not None
     pb = gas.downstream_pressure
     out = np.full(k.size, np.nan)
     for i in range(k.size):
-        if k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
+        if k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] == 0:
+            out[i] = 0.0
+        elif k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
             with case_keys():
                 out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction)
     return out
@@ -801,7 +807,7 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
     distinct, inverse = np.unique(loads, return_inverse=True)
     at_distinct = models(case, distinct)
-    fits = {name: fit_scale(q, _gas_throughput(case, k[inverse], gap[inverse], dp), name)
+    fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp), name)
             for name, (k, gap) in at_distinct.items()}
     if not any(f.fitted for f in fits.values()):
         reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
@@ -823,7 +829,7 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     else:
         grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
         at_grid = models(case, grid)
-    curves = {name: _gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
+    curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
     load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
                      leak_rate_unit="Pa*m^3/s")

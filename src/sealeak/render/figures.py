@@ -45,6 +45,7 @@ from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
 from .plotstyle import (
     GAS_LEAK_LABEL,
     ML_PER_MIN_PER_M3_PER_S,
+    PA_M3_PER_MBAR_L,
     Series,
     color,
     draw_series,
@@ -494,26 +495,20 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     When the cases' leak rates differ by more than two decades, both axes are logarithmic (Q ∝ ΔP
     is then a line of slope one).
 
-    For gas cases the figure draws nothing and says why: Q_pV = K ∫ p f(Kn) dp from P_b to P_a is
-    not linear in ΔP and needs P_b and the gap at each P0 (docs/theory.md §11.5, §11.9), which the
-    sweep of :func:`~sealeak.cases.prediction_curves` does not carry; the gas leak rate at the case's
-    pressures is in ``leak_rate.png``.
+    For gas cases (every case of the run a gas) it draws the pV throughput Q_pV = K ∫ p f(Kn) dp from P_b
+    to P_b + ΔP at the case's downstream pressure P_b (mbar·l/s, second axis Pa·m³/s; docs/theory.md §11.5,
+    §11.9): curved, since the flow is compressible (no slip: K (P_a² − P_b²)/2) and the Knudsen number
+    falls as the pressure rises; a dotted line marks the case's own ΔP.
     """
     fig, ax = new_figure("Leak rate against fluid pressure difference")
     ax.set_xlabel("pressure difference ΔP = P_a - P_b (kPa)")
-    if curves.sets and all(cs.case.gas is not None for cs in curves.sets):
-        say_nothing(ax, "not drawn for a gas: the gas leak rate Q_pV = K ∫ p f(Kn) dp\n"
-                        "from P_b to P_a is not linear in ΔP (no-slip: K (P_a² − P_b²)/2);\n"
-                        "leak_rate.png shows it at the case's P_a and P_b")
-        ax.set_ylabel(f"{GAS_LEAK_LABEL} (mbar·l/s)")
-        ax.set_xticks([])
-        subtitle(ax, gas_conditions_text(curves.sets[0].case))
-        finish_axes(ax)
-        return fig
+    gas = bool(curves.pressure_difference) and all(sw.gas for sw in curves.pressure_difference)
     sweeps = curves.pressure_difference
+    ylabel = f"{GAS_LEAK_LABEL} (mbar·l/s)" if gas or (curves.sets and all(cs.case.gas is not None for cs in curves.sets)) \
+        else "leak rate Q (m³/s)"
     if not sweeps:
         say_nothing(ax, "no leak channel at any squeeze pressure:\nno leak rate to draw against ΔP")
-        ax.set_ylabel("leak rate Q (m³/s)")
+        ax.set_ylabel(ylabel)
         finish_axes(ax)
         return fig
     several = len({id(sw.case) for sw in sweeps}) > 1
@@ -530,18 +525,23 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
             series.append(Series(dp / 1e3, sw.effective_medium, np.full(dp.size, sw.valid_effective_medium), color(i),
                                  "--" if case.model != "effective-medium" else "-",
                                  ("effective medium, " if case.model != "effective-medium" else "") + label))
+    if gas:  # pV throughputs in the leak-test unit
+        series = [Series(s.x, s.y / PA_M3_PER_MBAR_L, s.valid, s.color, s.style, s.label, s.why) for s in series]
     peaks = series_peaks(series)
     if not peaks and not any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series):
         say_nothing(ax, "the leak rate is zero at every pressure difference")
-        ax.set_ylabel("leak rate Q (m³/s)")
+        ax.set_ylabel(ylabel)
         finish_axes(ax)
         return fig
     log = spans_decades(peaks, 1.0)
-    qscale, qunit = (1.0, "m³/s") if log else power_unit(peaks, "m³/s")
+    base = "mbar·l/s" if gas else "m³/s"
+    qscale, qunit = (1.0, base) if log else power_unit(peaks, base)
     scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]
     draw_series(ax, scaled, logy=log, logx=log, bottom_zero=not log)
     if not log:
         ax.set_xlim(left=0)
+    if gas:
+        return _finish_gas_pressure_difference(ax, fig, sweeps, series, qscale, qunit, log)
     ax.set_ylabel(f"leak rate Q ({qunit})")
     formulas = []
     if any(sw.case.model != "effective-medium" or sw.effective_medium is None for sw in sweeps):
@@ -556,6 +556,27 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
     ml_per_min_axis(ax, qscale)
+    place_legend(ax)
+    return fig
+
+
+def _finish_gas_pressure_difference(ax: Axes, fig: Figure, sweeps: Sequence[Any], series: list[Series], qscale: float,
+                                    qunit: str, log: bool) -> Figure:
+    """Labels, notes, the case's ΔP and the Pa·m³/s axis of the gas version of :func:`figure_pressure_difference`."""
+    ax.set_ylabel(f"{GAS_LEAK_LABEL} ({qunit})")
+    for dp in sorted({sw.case.pressure_difference for sw in sweeps}):
+        ax.axvline(dp / 1e3, color="0.5", lw=0.8, ls=":")
+    cases = {id(sw.case): sw.case for sw in sweeps}
+    conditions = {gas_conditions_text(c) for c in cases.values()}
+    notes = [next(iter(conditions)) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
+             "Q_pV = K ∫ p f(Kn) dp, P_b fixed: not linear in ΔP (no slip: K (P_a² − P_b²)/2); dotted: the case's ΔP"]
+    if log:
+        notes.append("log-log: the leak rates differ by decades")
+    if not all(s.valid.all() for s in series):
+        notes.append("hollow markers: outside the theory's validity at that P0")
+    subtitle(ax, "\n".join(notes))
+    finish_axes(ax)
+    pa_m3_axis(ax, qscale)
     place_legend(ax)
     return fig
 
