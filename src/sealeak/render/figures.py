@@ -569,7 +569,7 @@ def _finish_gas_pressure_difference(ax: Axes, fig: Figure, sweeps: Sequence[Any]
     cases = {id(sw.case): sw.case for sw in sweeps}
     conditions = {gas_conditions_text(c) for c in cases.values()}
     notes = [next(iter(conditions)) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
-             "Q_pV = K ∫ p f(Kn) dp, P_b fixed: not linear in ΔP (no slip: K (P_a² − P_b²)/2); dotted: the case's ΔP"]
+             "Q_pV = K ∫ p f(Kn) dp at fixed P_b: not linear in ΔP (no slip: K (P_a² − P_b²)/2)", "dotted: the case's ΔP"]
     if log:
         notes.append("log-log: the leak rates differ by decades")
     if not all(s.valid.all() for s in series):
