@@ -455,13 +455,13 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
     lines.append(f"agreement within {100 * HERTZ_TOL:g} % at every load: {'yes' if res.smooth_check_passed else 'NO (see the notes)'}")
     lines += ["", "Rough contact and flow across the band",
               f"{label:>16} {'width (mm)':>11} {'A/A0 band':>10} {'perc':>5} {'Q sim (m³/s)':>13} {'± sd':>9} "
-              f"{'Q series α=1':>13} {'α':>8} {'± sd':>7}"]
+              f"{'Q series α=1':>13} {'α':>8} {'± sd':>8}"]
     for i in range(res.loads.size):
         star = "*" if _band_coarse(res, i) and np.isfinite(res.alpha[i]) else " "
         lines.append(f"{res.loads[i] * factor:16.4g} {res.contact_width[i] * 1e3:11.4g} {fmt(res.relative_contact_area[i], '10.3f')} "
                      f"{res.percolating_fraction[i]:5.2f} {fmt(res.leak_rate[i], '13.3e')} {fmt(res.leak_rate_std[i], '9.2e')} "
                      f"{fmt(res.leak_rate_series_resistance[i], '13.3e')} {fmt(res.alpha[i], '8.3g')}{star}"
-                     f"{fmt(res.alpha_std[i], '7.2g')}")
+                     f" {fmt(res.alpha_std[i], '7.2g')}")
     lines += ["",
               "width: extent of the rough contact across the band; A/A0 band: contact fraction inside the Hertz band; "
               "perc: fraction of realisations in which fluid crosses the band",
