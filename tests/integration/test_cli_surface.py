@@ -85,6 +85,25 @@ def test_analyze_instrument_files_with_plot(tmp_path):
     assert data.shape[1] == 2 and np.all(np.diff(data[:, 0]) > 0) and np.all(data[:, 1] > 0)
 
 
+@pytest.mark.parametrize("name, magic", [("c.pdf", b"%PDF"), ("c.svg", b"<?xml"), ("c.PNG", b"\x89PNG")])
+def test_analyze_plot_format_follows_the_file_name(tmp_path, name, magic):
+    h = np.random.default_rng(3).normal(scale=1e-6, size=(64, 64))
+    np.save(tmp_path / "map.npy", h)
+    out = tmp_path / name
+    assert main(["surface", "analyze", str(tmp_path / "map.npy"), "--size", "1 mm", "--height-unit", "m", "--plot", str(out)]) == 0
+    assert out.read_bytes()[:len(magic)] == magic
+
+
+def test_analyze_plot_of_another_format_is_refused_before_anything_is_written(tmp_path, capsys):
+    np.save(tmp_path / "map.npy", np.random.default_rng(3).normal(size=(64, 64)))
+    out, js = tmp_path / "c.jpg", tmp_path / "c.json"
+    assert main(["surface", "analyze", str(tmp_path / "map.npy"), "--size", "1 mm", "--height-unit", "um", "--plot", str(out),
+                 "--json", str(js)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"sealeak: error: --plot = '{out}': must end in .png, .pdf or .svg (the file's format follows its name)"]
+    assert not out.exists() and not js.exists()
+
+
 # ---------------------------------------------------------------------------- synthesize: errors, formats, size
 def _no_traceback(err: str) -> None:
     assert "sealeak: error:" in err and "Traceback" not in err

@@ -13,6 +13,9 @@ import numpy as np
 from ..errors import InputError, SealeakError
 from ._common import inputs, outputs, say
 
+#: The file suffixes ``surface analyze --plot`` writes, each in its own format (matplotlib's).
+PLOT_FORMATS = (".png", ".pdf", ".svg")
+
 __all__ = ["register", "unit_options"]
 
 
@@ -58,6 +61,9 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     from ..render import analysis_json, analysis_text, plot_spectra, spectrum_csv
     from ..topography import analyze, cli_option_names
 
+    if args.plot and Path(args.plot).suffix.lower() not in PLOT_FORMATS:
+        raise InputError("--plot", args.plot, f"must end in {', '.join(PLOT_FORMATS[:-1])} or {PLOT_FORMATS[-1]} "
+                                              "(the file's format follows its name)")
     check_outputs(outputs(args, files=("psd_out", "plot", "json"), folders=()), args.force, inputs=inputs(args, "files"))
     with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments
         an = analyze(args.files, **unit_options(args), **range_options(args))
@@ -75,7 +81,7 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     if args.plot:
         fig = plot_spectra(an)
         with atomic_write(args.plot) as tmp:
-            fig.savefig(tmp, format="png", bbox_inches="tight", dpi=150)
+            fig.savefig(tmp, format=Path(args.plot).suffix.lower()[1:], bbox_inches="tight", dpi=150)
         print(f"wrote {args.plot}", file=sys.stderr)
     return 0
 
@@ -173,7 +179,8 @@ def _add_unit_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", metavar="LEN[,LEN]", help="physical size of a map without metadata: '1 mm' (square) "
                    "or '1 mm, 0.5 mm'")
     p.add_argument("--pixel-size", metavar="LEN[,LEN]", help="grid spacing instead of --size, e.g. '2 um'")
-    p.add_argument("--height-unit", metavar="UNIT", help="unit of the heights in files without one, e.g. um")
+    p.add_argument("--height-unit", metavar="UNIT", help="unit of the heights in files without one, e.g. um, "
+                                                                 "or a scaled unit such as '0.3 nm' (heights in counts of 0.3 nm)")
     p.add_argument("--lateral-unit", metavar="UNIT", help="unit of x (and y) columns in files without one")
     p.add_argument("--periodic", action="store_true", help="the map is periodic: no window, only the mean removed")
     p.add_argument("--channel", help="channel (index or name) of multi-channel instrument files")
@@ -197,7 +204,8 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--resolution-pixels", type=float, default=4.0, metavar="N",
                    help="the reliable range never extends to wavelengths below N pixels (default 4; 2 = Nyquist)")
     p.add_argument("--psd-out", metavar="FILE.csv", help="write C(q) as a two-column table (q in 1/m, C in m^4)")
-    p.add_argument("--plot", metavar="FILE.png", help="draw C(q) of each source and the stitched result")
+    p.add_argument("--plot", metavar="FILE.png", help="draw C(q) of each source and the stitched result "
+                                                      "(.png, or .pdf / .svg for a vector figure)")
     p.add_argument("--json", metavar="FILE", help="write statistics and C(q) as JSON")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.set_defaults(func=_cmd_analyze)
