@@ -119,9 +119,11 @@ def test_study_case_runs_every_variant(tmp_path):
 
 def test_usage_errors_exit_nonzero(capsys):
     assert main(["predict"]) == 2
+    capsys.readouterr()
     with pytest.raises(SystemExit) as e:
         main(["predict", "--bogus"])
     assert e.value.code == 2
+    assert capsys.readouterr().err == "sealeak: error: unrecognized arguments: --bogus (options: sealeak predict --help)\n"
     assert main(["predict", "/no/such/case.toml"]) == 2
     assert "case file not found" in capsys.readouterr().err
 
@@ -206,3 +208,16 @@ def test_length_unit_choice():
     assert length_unit([2e-2, 0.5]) == (1e-3, "mm")  # all at least 1 cm
     assert length_unit([3e-9, 2e-6, np.nan, 0.0]) == (1e-6, "µm")  # mixed: µm; NaN and zero ignored
     assert length_unit([np.nan]) == (1e-6, "µm")
+
+
+@pytest.mark.parametrize("argv, line", [
+    (["simulate", "--example", "o-ring", "--grid", "x"], "--grid = 'x': must be an integer (options: sealeak simulate --help)"),
+    (["simulate", "--example", "o-ring", "--seed"], "--seed: needs a value (options: sealeak simulate --help)"),
+    (["surface", "analyze", "m.npy", "--bogus"], "unrecognized arguments: --bogus (options: sealeak surface analyze --help)"),
+    (["surface", "analyze"], "the following arguments are required: FILE (options: sealeak surface analyze --help)"),
+])
+def test_argument_errors_are_one_line_naming_the_option_and_where_to_read(capsys, argv, line):
+    with pytest.raises(SystemExit) as e:
+        main(argv)
+    assert e.value.code == 2
+    assert capsys.readouterr().err == f"sealeak: error: {line}\n"

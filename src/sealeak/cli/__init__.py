@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from .._version import __version__
 from ..errors import SealeakError
 from . import lab, simulate, surface
-from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, emit, inputs, load_case_file, outputs
+from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, emit, inputs, load_case_file, outputs, usage_message
 
 __all__ = ["main", "build_parser"]
 
@@ -84,7 +84,11 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (0, 2 for a user error, 130 when interrupted)."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # named with the command whose options they are not
+        prog = " ".join(["sealeak"] + [str(v) for v in (getattr(args, "command", None), getattr(args, "surface_command", None)) if v])
+        print(f"sealeak: error: {usage_message('unrecognized arguments: ' + ' '.join(extra), prog)}", file=sys.stderr)
+        raise SystemExit(EXIT_USER_ERROR)
     if not getattr(args, "command", None):
         parser.print_help()
         return EXIT_USER_ERROR

@@ -8,6 +8,7 @@ Heavy imports (the case layer, rendering, matplotlib) stay inside the command fu
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from collections.abc import Iterable
 from pathlib import Path
@@ -26,13 +27,29 @@ EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
 
 
+#: argparse's messages about an option's value, and the project's wording of them (option = 'value': what is allowed).
+_ARGPARSE_VALUE = re.compile(r"^argument (?P<opt>[^:]+): invalid (?P<kind>int|float) value: (?P<value>'.*')$")
+_ARGPARSE_MISSING = re.compile(r"^argument (?P<opt>[^:]+): expected one argument$")
+
+
+def usage_message(message: str, prog: str) -> str:
+    """argparse's ``message`` in the project's wording, with where to read the options (``prog --help``)."""
+    m = _ARGPARSE_VALUE.match(message)
+    if m:
+        allowed = "an integer" if m["kind"] == "int" else "a number"
+        message = f"{m['opt']} = {m['value']}: must be {allowed}"
+    m = _ARGPARSE_MISSING.match(message)
+    if m:
+        message = f"{m['opt']}: needs a value"
+    return f"{message} (options: {prog} --help)"
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse with the project's error convention: usage + one line, exit status 2, no traceback."""
+    """argparse with the project's error convention: one line, exit status 2, no traceback."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        """Print the usage and ``sealeak: error: message``; exit with status 2."""
-        self.print_usage(sys.stderr)
-        print(f"sealeak: error: {message}", file=sys.stderr)
+        """Print ``sealeak: error: message (options: PROG --help)`` on one line; exit with status 2."""
+        print(f"sealeak: error: {usage_message(message, self.prog)}", file=sys.stderr)
         raise SystemExit(EXIT_USER_ERROR)
 
 

@@ -61,10 +61,10 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     from ..render import analysis_json, analysis_text, plot_spectra, spectrum_csv
     from ..topography import analyze, cli_option_names
 
+    check_outputs(outputs(args, files=("psd_out", "plot", "json"), folders=()), args.force, inputs=inputs(args, "files"))
     if args.plot and Path(args.plot).suffix.lower() not in PLOT_FORMATS:
         raise InputError("--plot", args.plot, f"must end in {', '.join(PLOT_FORMATS[:-1])} or {PLOT_FORMATS[-1]} "
                                               "(the file's format follows its name)")
-    check_outputs(outputs(args, files=("psd_out", "plot", "json"), folders=()), args.force, inputs=inputs(args, "files"))
     with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments
         an = analyze(args.files, **unit_options(args), **range_options(args))
     if not an.has_spectrum and (args.psd_out or args.plot):  # before any output: nothing is left behind
