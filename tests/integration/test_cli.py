@@ -211,7 +211,7 @@ def test_length_unit_choice():
 
 
 @pytest.mark.parametrize("argv, line", [
-    (["simulate", "--example", "o-ring", "--grid", "x"], "--grid = 'x': must be an integer (options: sealeak simulate --help)"),
+    (["simulate", "--example", "o-ring", "--seed", "x"], "--seed = 'x': must be an integer (options: sealeak simulate --help)"),
     (["simulate", "--example", "o-ring", "--seed"], "--seed: needs a value (options: sealeak simulate --help)"),
     (["surface", "analyze", "m.npy", "--bogus"], "unrecognized arguments: --bogus (options: sealeak surface analyze --help)"),
     (["surface", "analyze"], "the following arguments are required: FILE (options: sealeak surface analyze --help)"),
