@@ -5,8 +5,6 @@ column), no traceback, and no output file written or replaced.
 """
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -36,12 +34,6 @@ def _refused(capsys, argv, *names, keep=None):
     for p, content in before.items():
         assert (p.read_bytes() if p.exists() else None) == content
     return lines[0]
-
-
-def test_the_bundled_oring_measurements_are_what_the_tool_makes():
-    run = subprocess.run([sys.executable, str(ROOT / "tools" / "make_oring_measured_example.py"), "--check"],
-                         capture_output=True, text=True, cwd=ROOT)
-    assert run.returncode == 0, run.stdout + run.stderr
 
 
 def test_fit_of_the_bundled_oring_measurements(tmp_path, capsys):

@@ -200,9 +200,11 @@ def test_every_key_of_a_bundled_case_is_documented():
     assert not missing, f"keys of bundled cases not in docs/case-files.md: {missing}"
 
 
-def test_bundled_data_file_is_what_its_generator_makes():
-    spec = importlib.util.spec_from_file_location("make_measured_example", ROOT / "tools" / "make_measured_example.py")
+def test_bundled_data_files_are_what_their_generator_makes():
+    spec = importlib.util.spec_from_file_location("make_example_data", ROOT / "tools" / "make_example_data.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    assert "reference-measured.csv" in example_data_names()
-    assert example_text("reference-measured.csv") == module.measured_csv_text()
+    assert set(module.FILES) == {n for n in example_data_names() if n.endswith("-measured.csv")} == {
+        "reference-measured.csv", "o-ring-measured.csv"}
+    for name, make in module.FILES.items():
+        assert example_text(name) == make(), name
