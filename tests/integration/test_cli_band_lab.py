@@ -5,7 +5,6 @@ column), no traceback, and no output file written or replaced.
 """
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,7 +13,6 @@ from sealeak.cases import example_path
 from sealeak.cli import main
 from tests.unit.test_band_lab import RIG, SURFACE, profile_case, series_conductance
 
-ROOT = Path(__file__).resolve().parents[2]
 ORING_DATA = example_path("o-ring").parent / "o-ring-measured.csv"
 EXAMPLES = {"uniform": ["--example", "reference-experiment"], "profile": ["--example", "lip-profile"],
             "o-ring": ["--example", "o-ring", "--variant", "water"]}
