@@ -444,7 +444,11 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
         flags.append(f"{dropped} α value(s) where the theory's critical wavelength spans fewer than {JUNCTION_CELLS} "
                      "cells (marked * per grid) were left out of the extrapolation: they reflect the grid more than "
                      "the seal.")
-    flags.extend(_fit_flags("the threshold", th_fit, th_x, th_se))
+    if th_x:
+        flags.extend(_fit_flags("the threshold", th_fit, th_x, th_se))
+    else:
+        flags.append("no percolation threshold at any grid (the search was skipped with --no-threshold, or found none: "
+                     "see the notes), so there is nothing to extrapolate or to compare with the published values.")
     grouped: dict[str, list[float]] = {}
     for i in range(pressures.size):
         use = [g for g in stats_ if np.isfinite(g.alpha[i]) and g.alpha_resolved[i]]
