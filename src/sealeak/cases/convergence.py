@@ -449,13 +449,29 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
     else:
         flags.append("no percolation threshold at any grid (the search was skipped with --no-threshold, or found none: "
                      "see the notes), so there is nothing to extrapolate or to compare with the published values.")
+    if th_ok is False:
+        flags.append(_FIT_SENTENCES["diverging"].format(name="the threshold"))
     grouped: dict[str, list[float]] = {}
     for i in range(pressures.size):
         use = [g for g in stats_ if np.isfinite(g.alpha[i]) and g.alpha_resolved[i]]
-        for kind in _fit_problems(alpha_fits[i], [g.alpha[i] for g in use], [g.alpha_stderr[i] for g in use]):
+        kinds = _fit_problems(alpha_fits[i], [g.alpha[i] for g in use], [g.alpha_stderr[i] for g in use])
+        for kind in kinds + (["diverging"] if alpha_ok[i] is False else []):
             grouped.setdefault(kind, []).append(float(pressures[i]))
     for kind, ps in grouped.items():
         flags.append(_FIT_SENTENCES[kind].format(name=f"α at {_kpa(ps)}", chi2="far above 1"))
+    if comparison and abs(comparison[0].difference) >= 2.0:
+        first = comparison[0]
+        q_top = finest.q_cut if finest.q_cut is not None else case.spectrum.q_max
+        decades = np.log10(q_top * case.square_side / (2.0 * np.pi) / max(n_rolloff, 1e-300))
+        why = []
+        if finest.q_cut is not None:
+            why.append("the finest grid cuts the spectrum")
+        why.append(f"the resolved self-affine range spans {decades:.2g} decades of q")
+        why.append(f"the square holds {n_rolloff:.3g} roll-off wavelengths")
+        flags.append(f"the finest grid's threshold {first.ours:.3f} is {first.difference:+.2g} standard errors from "
+                     f"{first.source.split(',')[0]}'s {first.published:g}. Their value is for fine resolution, many "
+                     f"decades of self-affine roughness and large systems; here {', '.join(why)}: refine and enlarge "
+                     "before reading the difference as a disagreement with the published value.")
     if th_use and th_fit is not None and np.isfinite(th_fit.stderr):
         for src, val in PUBLISHED_THRESHOLDS[:1]:
             if abs(th_fit.value - val) < th_fit.stderr:
@@ -475,6 +491,9 @@ _FIT_SENTENCES = {
                       "the right model (or the scatter hides the trend); the extrapolated value is not trustworthy."),
     "chi2": ("{name}: the model X∞ + c·a^p does not fit the grids (χ²/dof {chi2}); its standard error was scaled up, "
              "but the extrapolation is doubtful."),
+    "diverging": ("{name}: the finest two grids differ by more than their combined standard error, so it has not "
+                  "converged (NOT converged above); the extrapolation leans on the model X∞ + c·a^p, and a finer grid "
+                  "would tell whether it holds."),
     "unresolved": ("{name}: the change from the coarsest to the finest grid is smaller than its standard error: the "
                    "trend the extrapolation follows is not resolved, and X∞ is no better determined than the finest "
                    "grid's value."),
