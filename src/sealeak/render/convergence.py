@@ -173,7 +173,8 @@ def convergence_figures(case: Case, study: ConvergenceStudy) -> dict[str, Figure
 def _alpha_figure(case: Case, study: ConvergenceStudy) -> Figure:
     """α ± se against A/A0 ± se, one colour per grid, the extrapolated α∞ and the theory's α = 1."""
     fig, ax = new_figure("α against relative contact area, per grid (± standard error)")
-    values = []
+    values: list[float] = []
+    coarse: list[float] = []
     for k, g in enumerate(study.statistics):
         ok = np.isfinite(g.alpha)
         good = ok & g.alpha_resolved
@@ -186,6 +187,7 @@ def _alpha_figure(case: Case, study: ConvergenceStudy) -> Figure:
         if bad.any():
             ax.plot(g.relative_contact_area[bad], g.alpha[bad], "o", mfc="none", ms=4, color=color(k),
                     label=f"N = {g.grid}: λc < 8 cells (grid too coarse)")
+            coarse += list(g.alpha[bad])
     fine = study.statistics[-1]
     ext = np.array([f.value if f is not None else np.nan for f in study.alpha_extrapolation])
     ext_se = np.array([f.stderr if f is not None else np.nan for f in study.alpha_extrapolation])
@@ -202,9 +204,10 @@ def _alpha_figure(case: Case, study: ConvergenceStudy) -> Figure:
         ax.axhline(case.alpha, color="0.5", ls=":", lw=1.0, label=f"case α = {case.alpha:g}")
     if logy:
         ax.set_yscale("log")
-    elif values:
+    elif values:  # coarse-grid α can be absurdly large: shown up to 3 times the resolved values' range
         top = max(1.0, float(np.nanmax(values)))
-        ax.set_ylim(0.0, 1.15 * top)
+        top = max([top] + [v for v in coarse if v <= 3.0 * top])
+        ax.set_ylim(0.0, 1.1 * top)
     if not values:
         ax.text(0.5, 0.5, "no α: no realisation percolates at any squeeze pressure", transform=ax.transAxes,
                 ha="center", va="center")
