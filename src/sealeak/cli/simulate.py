@@ -115,6 +115,8 @@ def _convergence(args: argparse.Namespace, case: Case, grids: tuple[int, ...], r
                            progress=None if args.quiet else _progress_line, note=_note)
 
     def progress_for(grid: int) -> Callable[[int], None]:
+        for done in bars:  # the previous grid's bar is finished
+            done.close()
         bar = tqdm(total=realizations * len(case.squeeze_pressure), desc=f"grid {grid}: contact + flow", unit="solve",
                    disable=args.quiet or None, file=sys.stderr)
         bars.append(bar)

@@ -61,7 +61,11 @@ def convergence_table(case: Case, study: ConvergenceStudy) -> str:
     lines = [f"{case.title}: convergence study of the numerically exact route",
              f"grids {grids} on a square of side {study.size * 1e3:.4g} mm (lattice spacing a = L/N = {spacings} µm), "
              f"{first.realizations} realisation(s) per grid, seed {first.seed}",
-             "± se: standard error of the mean, sd/√n over the n realisations used (for α: the percolating ones)", ""]
+             "± se: standard error of the mean, sd/√n over the n realisations used (for α: the percolating ones)"]
+    if first.gas is not None:
+        lines.append("α here is that of the incompressible formula with the gas's viscosity; α_gas is in each grid's "
+                     "single-grid run (--grid N), not in the study")
+    lines.append("")
     lines.append(f"{'N':>5} {'a (µm)':>7} {'P0 (kPa)':>9} {'A/A0 ± se':>17} {'α ± se':>19} {'n':>3}")
     for g in study.statistics:
         for i, p in enumerate(study.squeeze_pressure):
@@ -257,11 +261,15 @@ def _threshold_figure(study: ConvergenceStudy) -> Figure:
     use = np.isfinite(x)
     if use.any():
         _against_spacing(top, study, x, se, study.threshold_extrapolation, use)
-    lo, hi = min(v for _, v in PUBLISHED_THRESHOLDS), max(v for _, v in PUBLISHED_THRESHOLDS)
-    top.axhspan(lo, hi, color="0.8", zorder=0,
-                label="published: " + ", ".join(f"{v:g} ({s.split(',')[0]})" for s, v in PUBLISHED_THRESHOLDS))
-    if not use.any():
-        top.text(0.5, 0.5, "no percolation threshold found", transform=top.transAxes, ha="center", va="center")
+    if use.any():
+        lo, hi = min(v for _, v in PUBLISHED_THRESHOLDS), max(v for _, v in PUBLISHED_THRESHOLDS)
+        top.axhspan(lo, hi, color="0.8", zorder=0,
+                    label="published: " + ", ".join(f"{v:g} ({s.split(',')[0]})" for s, v in PUBLISHED_THRESHOLDS))
+    else:
+        top.text(0.5, 0.5, "no percolation threshold at any grid\n(--no-threshold, or the search found none)",
+                 transform=top.transAxes, ha="center", va="center", fontsize=9)
+        top.set_yticks([])
+        top.set_xlim(-0.04 * study.statistics[0].spacing * 1e6, study.statistics[0].spacing * 1.12e6)
     top.set_ylabel("threshold A/A0")
     top.set_title("Percolation threshold: contact area at which the non-contact area stops percolating", fontsize=9)
     top.set_xlabel("lattice spacing a = L/N (µm); a = 0: the continuum")
