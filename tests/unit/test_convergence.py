@@ -8,6 +8,8 @@ import pytest
 from sealeak.cases import example_path, load_cases, simulate
 from sealeak.cases.convergence import (
     PUBLISHED_THRESHOLDS,
+    _fit_flags,
+    _spectrum_shape,
     analyse_convergence,
     convergence_study,
     extrapolate,
@@ -164,3 +166,21 @@ def test_flags_say_too_few_realisations_and_two_grids(study, case):
 def test_study_needs_two_grids(case):
     with pytest.raises(InputError, match="at least two grids"):
         convergence_study(case, [32], realizations=1, seed=0)
+
+
+# ---------------------------------------------------------------- flags of a fit, the spectrum's shape
+def test_fit_flags_name_what_is_wrong():
+    se = [0.01, 0.01, 0.01]
+    zigzag = [0.40, 0.46, 0.41]  # not monotonic, and far off any line: χ²/dof = 18 with dof = 1 (p ≈ 2e-5)
+    text = " ".join(_fit_flags("X", extrapolate(A[:3], zigzag, se), zigzag, se))
+    assert "do not change in one direction" in text and "does not fit the grids" in text
+    flat = [0.420, 0.425, 0.428]  # a change of 0.008 against a standard error of 0.014
+    assert "smaller than its standard error" in " ".join(_fit_flags("X", extrapolate(A[:3], flat, se), flat, se))
+    clean = [0.50, 0.45, 0.425]  # an exact line in a, resolved: nothing to say
+    assert _fit_flags("X", extrapolate(A[:3], clean, se), clean, se) == []
+
+
+def test_spectrum_shape_of_the_reference_case(case):
+    hurst, rolloffs = _spectrum_shape(case, case.spectrum.q_max)
+    assert hurst == pytest.approx(0.8, abs=0.01)  # the case's self-affine H
+    assert rolloffs == pytest.approx(case.square_side * 9.1e3 / (2 * np.pi), rel=0.05)  # L/λ_r, q_r = 9.1e3 1/m

@@ -358,12 +358,14 @@ def _fit(spacing: list[float], x: list[float], se: list[float]) -> Extrapolation
 def _spectrum_shape(case: Case, q_top: float) -> tuple[float, float]:
     """(H, L/λ_r): the Hurst exponent fitted to C(q) between the roll-off and ``q_top``, and roll-off wavelengths in L.
 
-    The roll-off q_r is taken as the largest wavevector at which C(q) is still at least half its maximum;
-    H from the slope −2(1 + H) of log C against log q above it (docs/theory.md §1.4).
+    The roll-off q_r is taken as the largest wavevector at which C(q) is still at least 90 % of its maximum
+    (3 % above the knee of a self-affine C ∝ q^(−2(1+H))); H from the slope −2(1 + H) of log C against
+    log q above it (docs/theory.md §1.4). A spectrum that falls from its first wavevector on has q_r = q_min:
+    the square then holds about one roll-off wavelength.
     """
     spec = case.spectrum
     q, c = spec.sample(400)
-    q_r = float(q[c >= 0.5 * c.max()].max())
+    q_r = float(q[c >= 0.9 * c.max()].max())
     keep = (q >= q_r) & (q <= q_top)
     hurst = float("nan")
     if keep.sum() >= 2 and q[keep].max() > 2.0 * q_r:
