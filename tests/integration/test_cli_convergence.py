@@ -98,3 +98,13 @@ def test_o_ring_with_a_grid_list_is_refused(tmp_path, capsys):
     assert main(["simulate", str(tmp_path / "o.toml"), "--grid", "32,64"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("sealeak: error: --grid") and "O-ring takes one grid" in err and len(err.splitlines()) == 1
+
+
+def test_a_list_of_one_grid_is_the_ordinary_run(tmp_path):
+    """`[simulation] grid = [32]` and `--grid 32` write byte for byte the JSON of the plain single-grid run."""
+    (tmp_path / "one.toml").write_text(CASE + "\n[simulation]\ngrid = [32]\nrealizations = 2\n")
+    (tmp_path / "plain.toml").write_text(CASE + "\n[simulation]\ngrid = 32\nrealizations = 2\n")
+    assert main(["simulate", str(tmp_path / "one.toml"), "--json", str(tmp_path / "a.json"), "-q"]) == 0
+    assert main(["simulate", str(tmp_path / "plain.toml"), "--grid", "32", "--json", str(tmp_path / "b.json"), "-q"]) == 0
+    a, b = (tmp_path / "a.json").read_bytes(), (tmp_path / "b.json").read_bytes()
+    assert a.replace(b"one.toml", b"plain.toml") == b and b'"grids"' not in b
