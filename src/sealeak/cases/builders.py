@@ -578,6 +578,8 @@ def parse_grid_list(value: Any, field: str) -> tuple[int, ...]:
     :class:`~sealeak.errors.InputError` naming ``field``.
     """
     allowed = "must be an even integer >= 16, or a comma-separated list of distinct ones (e.g. 64,128,256)"
+    if isinstance(value, str) and value.strip().lstrip("-").isdigit():
+        value = int(value)  # one number is named as a number (--grid = 15), as before lists were allowed
     if isinstance(value, str):
         parts = value.split(",")
         if not all(p.strip().isdigit() for p in parts):
