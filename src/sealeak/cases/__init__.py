@@ -7,6 +7,8 @@
 * :mod:`~sealeak.cases.run`: :func:`run_case` → :class:`CaseResult`, the one way every front end
   runs a case, plus :func:`conductance`, :func:`fit_models`, :func:`linearity`, :func:`rig_prediction`;
 * :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α.
+* :mod:`~sealeak.cases.convergence`: the convergence and validation study of :func:`simulate` over
+  several grids (standard errors, extrapolation to the continuum, the published percolation threshold).
 """
 
 from .builders import register_surface_model

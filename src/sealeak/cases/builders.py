@@ -32,7 +32,7 @@ from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import build_band, is_band_seal
 
-__all__ = ["build_case", "register_surface_model", "SurfaceBuilder"]
+__all__ = ["build_case", "register_surface_model", "SurfaceBuilder", "parse_grid_list"]
 
 #: A ``[surface] model = ...`` builder: (section, case folder, q0) -> (spectrum, description, kind).
 SurfaceBuilder = Callable[[Section, Path, float], tuple[PowerSpectrum, str]]
@@ -550,14 +550,49 @@ def _rig_load(sec: Section, gravity: float) -> tuple[float, str]:
                             "a mass (e.g. '3.4 kg') or a force (e.g. '33 N') with its unit") from None
 
 
-def _simulation(sec: Section) -> dict[str, int]:
-    """The [simulation] section: defaults of ``sealeak simulate`` (its options override them)."""
-    out: dict[str, int] = {}
+def _simulation(sec: Section) -> dict[str, Any]:
+    """The [simulation] section: defaults of ``sealeak simulate`` (its options override them).
+
+    ``grid`` is an integer, or a list of them for a convergence study (kept as a sorted tuple; a list of
+    one is that integer).
+    """
+    out: dict[str, Any] = {}
     for key, low, allowed in (("grid", 16, "an even integer >= 16 (grid points per side)"),
                               ("realizations", 1, "an integer >= 1"), ("seed", 0, "an integer >= 0")):
         if sec.has(key):
             v = sec.raw(key)
+            if key == "grid" and isinstance(v, list):
+                grids = parse_grid_list(v, sec.field(key))
+                out[key] = grids[0] if len(grids) == 1 else grids
+                continue
             if isinstance(v, bool) or not isinstance(v, int) or v < low or (key == "grid" and v % 2):
                 raise InputError(sec.field(key), v, f"must be {allowed}")
             out[key] = v
     return out
+
+
+def parse_grid_list(value: Any, field: str) -> tuple[int, ...]:
+    """Grids N from ``--grid`` text (``"64,128,256"``) or a case file's integer or list; sorted increasing.
+
+    Each must be an even integer >= 16 and appear once; anything else raises
+    :class:`~sealeak.errors.InputError` naming ``field``.
+    """
+    allowed = "must be an even integer >= 16, or a comma-separated list of distinct ones (e.g. 64,128,256)"
+    if isinstance(value, str) and value.strip().lstrip("-").isdigit():
+        value = int(value)  # one number is named as a number (--grid = 15), as before lists were allowed
+    if isinstance(value, str):
+        parts = value.split(",")
+        if not all(p.strip().isdigit() for p in parts):
+            raise InputError(field, value, allowed)
+        grids = [int(p) for p in parts]
+    elif isinstance(value, (list, tuple)):
+        if not value or not all(isinstance(v, int) and not isinstance(v, bool) for v in value):
+            raise InputError(field, value, allowed)
+        grids = list(value)
+    elif isinstance(value, int) and not isinstance(value, bool):
+        grids = [value]
+    else:
+        raise InputError(field, value, allowed)
+    if any(n < 16 or n % 2 for n in grids) or len(set(grids)) != len(grids):
+        raise InputError(field, value, allowed)
+    return tuple(sorted(grids))

@@ -8,6 +8,7 @@ kept by the loader (:class:`~sealeak.cases.loader.CaseFile`) for the report.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -170,7 +171,7 @@ class Case:
     rig
         The water-column rig of the ``[rig]`` section, or None.
     simulation
-        ``[simulation]`` defaults given in the file (grid, realizations, seed).
+        ``[simulation]`` defaults given in the file (grid: an integer, or a tuple of them for a convergence study; realizations, seed).
     label
         The variant's name within a parameter study ('' otherwise).
     source
@@ -216,7 +217,7 @@ class Case:
     model: str = "critical-junction"
     surface_model: str = "self-affine"
     rig: RigSetup | None = None
-    simulation: dict[str, int] = field(default_factory=dict)
+    simulation: dict[str, Any] = field(default_factory=dict)
     label: str = ""
     source: str = ""
     band: BandSeal | None = None

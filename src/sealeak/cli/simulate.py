@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, SealeakError
 from ._common import inputs, load, outputs
@@ -25,10 +25,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from ..cases.ensemble import default_workers, make_runner
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
+    from ..render.convergence import CONVERGENCE_FIGURE_NAMES
     from ..render.simulation import BAND_SIMULATION_FIGURE_NAMES, SIMULATION_GAS_FIGURE_NAMES
 
     # either route's figures, and a gas case's
-    names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES + SIMULATION_GAS_FIGURE_NAMES))
+    names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES + SIMULATION_GAS_FIGURE_NAMES
+                                + CONVERGENCE_FIGURE_NAMES))
     check_outputs(outputs(args, names, folders=("plots", "fields")), args.force, inputs=inputs(args))
     if args.fields:
         _check_fields_folder(Path(args.fields), args.force)
@@ -37,16 +39,26 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         raise SealeakError("simulate takes a case without [study] (one surface)")
     case = cases[0]
     # options override the case's [simulation] section, which overrides the built-in defaults
-    grid, realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
-                                for k, d in (("grid", 256), ("realizations", 4), ("seed", 0)))
+    grids = _grids(args, case)
+    grid = grids[0]
+    realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
+                          for k, d in (("realizations", 4), ("seed", 0)))
     for key, value in (("grid", grid), ("realizations", realizations), ("seed", seed)):  # name the option (or key)
         low = {"grid": 16, "realizations": 1, "seed": 0}[key]
         if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
             where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
             raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+    grid_name = "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid"
+    if len(grids) > 1:
+        if case.band is not None:
+            raise InputError(grid_name, ",".join(map(str, grids)), "a list of grids (a convergence study) applies to "
+                                                                   "uniform seals; an O-ring takes one grid")
+        if args.fields:
+            raise InputError("--fields", args.fields, f"cannot be combined with a list of grids ({grid_name}): "
+                                                      "write field files one grid at a time")
+        return _convergence(args, case, grids, realizations, seed)
     if case.band is not None:
-        return _simulate_band(args, case, grid, realizations, seed,
-                              "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid")
+        return _simulate_band(args, case, grid, realizations, seed, grid_name)
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store yet: a resumed run would lack the "
                                                   "field files of the tasks it takes from the store")
@@ -67,6 +79,61 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         write_text(args.json, simulation_json(case, res))
     if args.plots:
         save_figures(simulation_figures(case, res), args.plots)
+    return 0
+
+
+def _grids(args: argparse.Namespace, case: Case) -> tuple[int, ...]:
+    """The grid(s) N: ``--grid`` (one, or a comma-separated list), else ``[simulation] grid``, else 256."""
+    from ..cases.builders import parse_grid_list
+
+    if args.grid is not None:
+        return parse_grid_list(args.grid, "--grid")
+    value = case.simulation.get("grid", 256)
+    return tuple(value) if isinstance(value, tuple) else (value,)
+
+
+def _convergence(args: argparse.Namespace, case: Case, grids: tuple[int, ...], realizations: int, seed: int) -> int:
+    """``simulate`` at several grids: the convergence and validation study (docs/theory.md §6.8)."""
+    from tqdm import tqdm
+
+    from ..cases.convergence import convergence_study
+    from ..cases.ensemble import default_workers, make_runner
+    from ..io.files import write_text
+    from ..render import save_figures
+    from ..render.convergence import convergence_figures, convergence_json, convergence_table
+
+    bars: list[tqdm] = []
+
+    def runner_for(grid: int) -> Any:
+        workers = default_workers(grid) if args.workers is None else args.workers
+        if not args.quiet:
+            sys.stderr.write(f"simulate: grid {grid}x{grid} ({grids.index(grid) + 1} of {len(grids)})\n")
+        if args.scheduler is None and workers == 0 and args.store is None:
+            return None
+        store = None if args.store is None else Path(args.store) / f"grid-{grid}"
+        return make_runner(workers=workers, scheduler=args.scheduler, store=store,
+                           progress=None if args.quiet else _progress_line, note=_note)
+
+    def progress_for(grid: int) -> Callable[[int], None]:
+        for done in bars:  # the previous grid's bar is finished
+            done.close()
+        bar = tqdm(total=realizations * len(case.squeeze_pressure), desc=f"grid {grid}: contact + flow", unit="solve",
+                   disable=args.quiet or None, file=sys.stderr)
+        bars.append(bar)
+        return bar.update
+
+    try:
+        study = convergence_study(case, grids, realizations=realizations, seed=seed, threshold=not args.no_threshold,
+                                  runner_for=runner_for, progress_for=progress_for)
+    finally:
+        for bar in bars:
+            bar.close()
+    if not args.quiet:
+        sys.stdout.write(convergence_table(case, study))
+    if args.json:
+        write_text(args.json, convergence_json(case, study))
+    if args.plots:
+        save_figures(convergence_figures(case, study), args.plots)
     return 0
 
 
@@ -145,7 +212,10 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                                         "Reynolds flow (an O-ring: the cylinder on the rough surface, flow across "
                                         "its band)")
     add_case_args(p)
-    p.add_argument("--grid", type=int, help="grid points per side N (even; default: [simulation] grid, else 256)")
+    p.add_argument("--grid", metavar="N[,N...]",
+                   help="grid points per side N (even; default: [simulation] grid, else 256); a comma-separated list "
+                        "(e.g. 64,128,256) runs a convergence study: the ensemble at each grid, α and the percolation "
+                        "threshold against grid size, extrapolated to the continuum")
     p.add_argument("--realizations", type=int,
                    help="random surfaces R (default: [simulation] realizations, else 4)")
     p.add_argument("--seed", type=int, help="random seed (default: [simulation] seed, else 0)")

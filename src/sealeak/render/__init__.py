@@ -11,7 +11,8 @@ importing sealeak leaves matplotlib's backend alone.
   pressure-profile seals; :mod:`~sealeak.render.plotstyle`: the shared axes, units and legends); :mod:`~sealeak.render.lab_figures`: fit,
   linearity and rig figures; :mod:`~sealeak.render.spectra`: measured spectra;
 * :mod:`~sealeak.render.lab`, :mod:`~sealeak.render.simulation`, :mod:`~sealeak.render.surface`:
-  text and JSON of the other commands; :mod:`~sealeak.render.report`: the HTML report.
+  text and JSON of the other commands (:mod:`~sealeak.render.convergence`: the convergence study of
+  ``simulate``); :mod:`~sealeak.render.report`: the HTML report.
 """
 
 from .figures import PREDICTION_FIGURE_NAMES, prediction_figures, render_figures, save_figures

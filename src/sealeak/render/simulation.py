@@ -20,7 +20,7 @@ from .figures import pressure_axis
 from .records import case_summary, json_document, json_value
 from .text import fmt
 
-__all__ = ["simulation_json", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
+__all__ = ["simulation_json", "simulation_rows", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
            "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES",
            "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
            "BAND_SIMULATION_FIGURE_NAMES", "BAND_SIMULATION_GAS_UNITS"]
@@ -57,16 +57,9 @@ _GAS_ATTR = {"knudsen_number": "knudsen_critical_junction", "leak_rate_pv": "thr
 
 def simulation_json(case: Case, res: SimulationResult) -> str:
     """The ``sealeak simulate --json`` document: per-pressure results, threshold, settings, case."""
-    keys = [k for k in SIMULATION_UNITS if k not in ("percolation_threshold", "percolation_threshold_std",
-                                          "pressure_difference", "size", "junction_cells", "junction_resolved")]
-    rows = [{k: json_value(getattr(res, k)[i]) for k in keys}
-            | {"pressure_difference": res.pressure_difference,
-               "junction_cells": json_value(res.junction_cells[i]) if res.junction_cells.size else None,
-               "junction_resolved": _resolved(res, i)}
-            for i in range(res.squeeze_pressure.size)]
     doc: dict[str, Any] = {
         "units": SIMULATION_UNITS,
-        "results": rows,
+        "results": simulation_rows(res),
         "percolation_threshold": json_value(res.percolation_threshold),
         "percolation_threshold_std": json_value(res.percolation_threshold_std),
         "settings": {"grid": res.grid, "realizations": res.realizations, "seed": res.seed, "size": res.size,
@@ -82,6 +75,17 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
     if res.gas is not None:
         _gas_json(doc, res)
     return json_document(doc)
+
+
+def simulation_rows(res: SimulationResult) -> list[dict[str, Any]]:
+    """The per-pressure records of ``sealeak simulate --json`` (units :data:`SIMULATION_UNITS`), liquid keys only."""
+    keys = [k for k in SIMULATION_UNITS if k not in ("percolation_threshold", "percolation_threshold_std",
+                                          "pressure_difference", "size", "junction_cells", "junction_resolved")]
+    return [{k: json_value(getattr(res, k)[i]) for k in keys}
+            | {"pressure_difference": res.pressure_difference,
+               "junction_cells": json_value(res.junction_cells[i]) if res.junction_cells.size else None,
+               "junction_resolved": _resolved(res, i)}
+            for i in range(res.squeeze_pressure.size)]
 
 
 def _add_gas_json(doc: dict[str, Any], g: GasSimulation, units: dict[str, str], attrs: dict[str, str]) -> None:
