@@ -48,8 +48,11 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         return _simulate_band(args, case, grid, realizations, seed,
                               "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid")
     if args.store is not None and args.fields:
-        raise InputError("--fields", args.fields, "cannot be combined with --store yet: a resumed run would lack the "
-                                                  "field files of the tasks it takes from the store")
+        raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
+                                                  "files of the tasks it takes from the store): use --store-fields to "
+                                                  "keep the fields in the store")
+    if args.store_fields and args.store is None:
+        raise InputError("--store-fields", None, "needs --store DIR: the fields are kept in the store")
     workers = default_workers(grid) if args.workers is None else args.workers
     if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop, as before Dask
         total = realizations * len(case.squeeze_pressure)
@@ -58,7 +61,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
                            threshold=not args.no_threshold, fields_dir=args.fields, progress=bar.update)
     else:
         runner = make_runner(workers=workers, scheduler=args.scheduler, store=args.store,
-                             progress=None if args.quiet else _progress_line, note=_note)
+                             progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields)
         res = simulate(case, grid=grid, realizations=realizations, seed=seed,
                        threshold=not args.no_threshold, fields_dir=args.fields, runner=runner)
     if not args.quiet:
@@ -163,4 +166,7 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                         "instead of a local one")
     p.add_argument("--store", metavar="DIR",
                    help="keep every finished task in DIR; the same command run again computes only what is missing")
+    p.add_argument("--store-fields", action="store_true",
+                   help="with --store DIR: every task also writes its height, gap and pressure maps into "
+                        "DIR/fields.zarr (Zarr; opens in xarray)")
     p.set_defaults(func=_cmd_simulate)
