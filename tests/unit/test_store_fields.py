@@ -141,6 +141,23 @@ def test_damaged_fields_are_computed_again_with_a_note(case, plain, stored, tmp_
     assert again.names == []
 
 
+def test_fields_without_a_record_are_replaced(case, plain, stored, tmp_path):
+    """A task killed after renaming its group in but before its record was written: the group is there, the
+    record not; the task is computed again and its new group replaces the old one (intact, nothing left aside)."""
+    store = tmp_path / "store"
+    shutil.copytree(stored[0], store)
+    (store / "tasks" / "sweep-r0.json").unlink()
+    a = zarr.open_array(str(store / "fields.zarr" / "r0" / "gap"), mode="r+")
+    a[0, 0, 0] = -1.0  # so that the replacement shows
+    counting = Counting()
+    same_numbers(run(case, store, task_function=counting), plain)
+    assert counting.names == ["sweep-r0"]
+    record = json.loads((store / "tasks" / "sweep-r0.json").read_text())["result"]["fields"]
+    assert fieldstore.fields_intact(store, record)
+    assert zarr.open_array(str(store / "fields.zarr" / "r0" / "gap"), mode="r")[0, 0, 0] >= 0
+    assert not list((store / ".partial").iterdir())
+
+
 def test_interrupted_task_leaves_neither_fields_nor_record(case, plain, tmp_path, monkeypatch):
     """Ctrl-C while a task writes its second map: no group in fields.zarr, no record, nothing in .partial."""
     store = tmp_path / "store"

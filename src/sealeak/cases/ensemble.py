@@ -352,8 +352,8 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         0: the plain loop in this process; N >= 1: a local Dask cluster of N one-thread worker processes.
         Ignored with ``scheduler``.
     scheduler:
-        Address of a running Dask scheduler (``tcp://host:8786``): the tasks run there; field files, if
-        asked, must then be written to a folder the workers share with this machine.
+        Address of a running Dask scheduler (``tcp://host:8786``): the tasks run there; field files, and a
+        store that keeps fields, must then be in a folder the workers share with this machine.
     store:
         Folder of a :class:`TaskStore`: finished results are kept there and reused by the next run.
     progress:
