@@ -24,7 +24,7 @@ from sealeak.cases import example_path, load_cases
 from sealeak.cases.ensemble import make_runner
 from sealeak.cases.simulation import ensemble_tasks, run_task, simulate
 from sealeak.cli import main
-from sealeak.errors import InputError
+from sealeak.errors import InputError, ResourceError
 from sealeak.io.fieldstore import fields_intact
 
 PRESSURES = np.array([2e4, 8e4, 3e5])
@@ -264,3 +264,16 @@ def test_worker_killed_then_client_interrupted_resumes_without_recomputing(tmp_p
         record = json.loads((store / "tasks" / f"sweep-r{r}.json").read_text())["result"]["fields"]
         assert fields_intact(store, record)
     assert not list((store / ".partial").iterdir())
+
+
+def test_only_the_workers_memory_counts_on_a_cluster(two_workers):
+    """With a scheduler, the client's own memory (here declared 100 kB) does not limit the grid: the workers hold it."""
+    case = small_case(PRESSURES[:1])
+    need = estimates(case, 32, 1)
+    cluster = two_workers(small=2 * max(need.values()), big=4 * max(need.values()))
+    with pytest.raises(ResourceError):
+        simulate(case, grid=32, realizations=1, seed=2, threshold=False, memory_limit=1e5)
+    res = simulate(case, grid=32, realizations=1, seed=2, threshold=False, memory_limit=1e5,
+                   runner=make_runner(workers=0, scheduler=cluster.scheduler_address, task_function=located))
+    assert WHERE.keys() == {"sweep-r0"}
+    np.testing.assert_array_equal(res.leak_rate, simulate(case, grid=32, realizations=1, seed=2, threshold=False).leak_rate)

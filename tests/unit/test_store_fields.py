@@ -226,3 +226,15 @@ def test_memory_estimate_bounds_what_a_task_allocates(case, tmp_path):
             tracemalloc.stop()
         estimate = task.memory_bytes() - TASK_BASE_BYTES
         assert peak <= estimate <= 10 * peak, (task.name, peak, estimate)
+
+
+def test_runner_checks_each_task_against_this_machines_memory(case, tmp_path):
+    """simulate leaves its up-front memory check to a make_runner runner, which refuses a task larger than the memory
+    free here (before computing anything, leaving no new store)."""
+    from sealeak.errors import ResourceError
+
+    counting = Counting()
+    with pytest.raises(ResourceError, match="a task of the 4096x4096 grid needs about .* GiB"):
+        simulate(case, grid=4096, realizations=1, seed=0, memory_limit=1e8,
+                 runner=make_runner(workers=0, store=tmp_path / "store", task_function=counting))
+    assert counting.names == [] and not (tmp_path / "store").exists()

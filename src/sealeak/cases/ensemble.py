@@ -26,7 +26,9 @@ the client after the task has returned, holds their checksums, so a record never
 Memory (docs/theory.md §6.7): before a task is submitted its peak memory is estimated
 (:meth:`sealeak.cases.simulation.EnsembleTask.memory_bytes`); a worker is given only tasks it can hold, its
 ``memory_limit`` shared by its threads (each thread may run a task at once). A local cluster runs fewer
-worker processes than asked when a task does not fit the machine's memory divided among them.
+worker processes than asked when a task does not fit the machine's memory divided among them. The plain
+loop and a local cluster refuse a task larger than the memory this machine has free; with a scheduler, only
+the workers' memory counts (``simulate`` leaves its own up-front check to the runner: ``checks_memory``).
 """
 
 from __future__ import annotations
@@ -50,7 +52,8 @@ from typing import Any
 import dask
 from distributed import Client, LocalCluster, as_completed
 
-from ..errors import InputError
+from .. import numerics
+from ..errors import InputError, SealeakError
 from ..io.fieldstore import FIELDS_FOLDER, clear_partial, create_field_store, fields_intact
 from ..io.files import OutputWriteError
 from .simulation import EnsembleTask, run_task
@@ -400,6 +403,20 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         if kept is not None and kept.fields and not fields and any(getattr(tasks[i], "writes_fields", False) for i in todo):
             say(f"{kept.folder} keeps the fields of its tasks: this run writes them too")
         need = {i: _task_memory(tasks[i]) for i in todo}
+
+        def refuse(err: SealeakError) -> SealeakError:
+            """Refused before any task ran: a store this run created is removed again."""
+            if fresh and kept is not None and not any((kept.folder / "tasks").iterdir()):
+                shutil.rmtree(kept.folder, ignore_errors=True)
+            return err
+
+        if scheduler is None and todo:  # this machine runs them: a task must fit what it has free now
+            grid = _grid_of(tasks[0])
+            try:
+                numerics.require_memory(max(need.values()), f"a task of the {grid}x{grid} grid",
+                                        getattr(tasks[0].spec, "memory_limit", None))
+            except SealeakError as err:
+                raise refuse(err) from None
         start = time.monotonic()
         clock = [start]  # when computing began (after a local cluster has started): the time left is rated from it
         computed = 0
@@ -431,12 +448,11 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
                         "one thread each")
                 _run_dask(tasks, todo, finished, n_local, scheduler, task_function, progress, heartbeat, results,
                           start, clock, need, limit)
-            except InputError:
-                if fresh and kept is not None and not any((kept.folder / "tasks").iterdir()):
-                    shutil.rmtree(kept.folder, ignore_errors=True)  # refused before any task ran: leave no store
-                raise
+            except InputError as err:
+                raise refuse(err) from None
         return [results[i] for i in range(len(tasks))]
 
+    run.checks_memory = True  # type: ignore[attr-defined]  # simulate leaves the memory checks to the runner
     return run
 
 
