@@ -179,17 +179,17 @@ store, log, gate = sys.argv[1:4]
 def logged(task):
     with open(log, "a") as fh:
         fh.write(f"start {task.name} {os.getpid()}\\n")
-    if task.realization == 3:  # the last realisation waits for the test: the run cannot end before it is interrupted
+    if task.name == "threshold-r3":  # waits for the test (one worker at most): the run cannot end before it is interrupted
         while not os.path.exists(gate):
             time.sleep(0.05)
-    time.sleep(0.4)
+    time.sleep(0.25)
     out = run_task(task)
     with open(log, "a") as fh:
         fh.write(f"end {task.name} {os.getpid()}\\n")
     return out
 
 (case,) = load_cases(example_path("reference-experiment"))
-case = replace(case, squeeze_pressure=np.array([2e4, 8e4, 3e5]))
+case = replace(case, squeeze_pressure=np.array([2e4, 3e5]))
 try:
     simulate(case, grid=64, realizations=4, seed=3,
              runner=make_runner(workers=2, store=store, fields=True, task_function=logged))
@@ -226,13 +226,13 @@ def test_worker_killed_then_client_interrupted_resumes_without_recomputing(tmp_p
             entries = read_log(log)
             ended = {(n, pid) for k, n, pid in entries if k == "end"}
             busy = [(n, pid) for k, n, pid in entries if k == "start" and (n, pid) not in ended
-                    and not n.endswith("-r3") and n not in records()]
+                    and n != "threshold-r3" and n not in records()]
             return busy[0] if busy else None
 
         victim, pid = wait_for(running, 30, "a task running on a worker")
         os.kill(pid, signal.SIGKILL)  # the worker process dies in the middle of its task
         wait_for(lambda: victim in records(), 60, f"Dask to run {victim} again on another worker")
-        proc.send_signal(signal.SIGINT)  # then Ctrl-C to the client, the last realisation still waiting
+        proc.send_signal(signal.SIGINT)  # then Ctrl-C to the client, the last task still waiting
         _, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
@@ -240,9 +240,9 @@ def test_worker_killed_then_client_interrupted_resumes_without_recomputing(tmp_p
             proc.wait()
     assert proc.returncode == 130, err
     entries = read_log(log)
-    assert [n for k, n, p in entries if k == "start" and p == pid][-1] == victim  # killed while running it
+    assert [n for k, n, p in entries if k == "start"].count(victim) >= 2  # killed while running it, then run again
     kept = {p.name: p.stat().st_mtime_ns for p in (store / "tasks").glob("*.json")}
-    assert 1 <= len(kept) <= 6 and not any(name.endswith("-r3.json") for name in kept)
+    assert 1 <= len(kept) <= 7 and "threshold-r3.json" not in kept
 
     names, notes = [], []
 
@@ -250,7 +250,7 @@ def test_worker_killed_then_client_interrupted_resumes_without_recomputing(tmp_p
         names.append(task.name)
         return run_task(task)
 
-    case = small_case()
+    case = small_case(PRESSURES[::2])
     res = simulate(case, grid=64, realizations=4, seed=3,
                    runner=make_runner(workers=0, store=store, fields=True, task_function=counting, note=notes.append))
     every = {f"{k}-r{r}" for r in range(4) for k in ("sweep", "threshold")}

@@ -50,7 +50,7 @@ from pathlib import Path
 from typing import Any
 
 import dask
-from distributed import Client, LocalCluster, as_completed
+from distributed import Client, LocalCluster, as_completed, system
 
 from .. import numerics
 from ..errors import InputError, SealeakError
@@ -239,8 +239,6 @@ class TaskStore:
 def machine_memory() -> int:
     """Memory of this machine in bytes as Dask counts it (``distributed.system.MEMORY_LIMIT``: the physical
     memory, or a smaller cgroup or rlimit): what a worker without ``memory_limit`` may use."""
-    from distributed import system
-
     return int(system.MEMORY_LIMIT)
 
 
