@@ -18,7 +18,9 @@ DOCS = Path(__file__).resolve().parents[2] / "docs"
 #: Function-level imports allowed outside the command line: an optional extra, imported when used.
 ALLOWED_LAZY = {("sealeak/topography/_external.py", "SurfaceTopography"),
                 # CoolProp takes ~3 s to import; a case whose viscosity is given needs no property lookup
-                ("sealeak/physics/properties.py", "CoolProp")}
+                ("sealeak/physics/properties.py", "CoolProp"),
+                # zarr takes ~0.7 s to import; only a store that keeps fields needs it
+                ("sealeak/io/fieldstore.py", "zarr")}
 
 
 def _modules() -> dict[str, Path]:

@@ -229,6 +229,7 @@ def test_cli_damaged_record_computed_again_with_a_note(tmp_path, capsys):
 @pytest.mark.parametrize("extra, named", [
     (["--workers", "-1"], "--workers"),
     (["--store", "STORE", "--fields", "FIELDS"], "--fields"),
+    (["--store-fields"], "--store-fields"),
     (["--store", "FILE"], "--store"),
     (["--scheduler", "not an address"], "--scheduler"),
 ])

@@ -18,7 +18,17 @@ wall time per computed task times the tasks still to do).
 
 With a store (:class:`TaskStore`), every finished task's result is written at once, atomically, as
 ``DIR/tasks/<task>.json`` with its SHA-256; ``DIR/manifest.json`` names the case, spectrum, grid and seed
-the results belong to. Running the same command again reuses what is there and computes the rest.
+the results belong to. Running the same command again reuses what is there and computes the rest. A store
+that keeps fields (``fields=True``) has every sweep task write its height, gap and pressure maps into
+``DIR/fields.zarr`` itself, from the worker (:mod:`sealeak.io.fieldstore`); the task's record, written by
+the client after the task has returned, holds their checksums, so a record never exists without its fields.
+
+Memory (docs/theory.md §6.7): before a task is submitted its peak memory is estimated
+(:meth:`sealeak.cases.simulation.EnsembleTask.memory_bytes`); a worker is given only tasks it can hold, its
+``memory_limit`` shared by its threads (each thread may run a task at once). A local cluster runs fewer
+worker processes than asked when a task does not fit the machine's memory divided among them. The plain
+loop and a local cluster refuse a task larger than the memory this machine has free; with a scheduler, only
+the workers' memory counts (``simulate`` leaves its own up-front check to the runner: ``checks_memory``).
 """
 
 from __future__ import annotations
@@ -27,11 +37,12 @@ import hashlib
 import json
 import logging
 import os
+import shutil
 import signal
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from importlib.util import find_spec
@@ -39,13 +50,16 @@ from pathlib import Path
 from typing import Any
 
 import dask
-from distributed import Client, LocalCluster, as_completed
+from distributed import Client, LocalCluster, as_completed, system
 
-from ..errors import InputError
+from .. import numerics
+from ..errors import InputError, SealeakError
+from ..io.fieldstore import FIELDS_FOLDER, clear_partial, create_field_store, fields_intact
 from ..io.files import OutputWriteError
 from .simulation import EnsembleTask, run_task
 
-__all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID"]
+__all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID",
+           "machine_memory"]
 
 #: The format tag of a store's manifest.
 STORE_FORMAT = "sealeak-ensemble-store/1"
@@ -121,29 +135,50 @@ class TaskStore:
     never mixed. Each result is ``DIR/tasks/<name>.json``: ``{"sha256": ..., "result": ...}``, the hash
     over the result; one that does not parse or whose hash does not match is reported and computed again.
     The number of realisations is not part of the manifest: a run with more realisations reuses the first.
+
+    Fields: the manifest's ``"fields"`` says whether the store keeps every sweep task's fields in
+    ``DIR/fields.zarr``. It is set by the first run that asks for them (``fields=True``) and stays set: every
+    later run on the store writes the fields of the tasks it computes, asked or not (:attr:`fields`). With
+    fields kept, a record whose fields are missing or damaged (their SHA-256 in the record does not match) is
+    computed again with a note, and so is a record stored before fields were kept (listed in :attr:`lacking`).
     """
 
-    def __init__(self, folder: str | Path, identity: dict[str, Any], note: Callable[[str], None] | None = None) -> None:
+    def __init__(self, folder: str | Path, identity: dict[str, Any], note: Callable[[str], None] | None = None, *,
+                 fields: bool = False) -> None:
         self.folder = Path(folder)
         self.note = note or (lambda _msg: None)
         self.manifest = {"format": STORE_FORMAT, "grid": identity["grid"], "seed": identity["seed"],
-                         "spectrum": _digest(identity["spectrum"]), "case": _digest(identity["case"])}
+                         "spectrum": _digest(identity["spectrum"]), "case": _digest(identity["case"]),
+                         "fields": bool(fields)}
+        #: Names of the records found without fields while fields are kept (:meth:`load`).
+        self.lacking: list[str] = []
         if self.folder.exists() and not self.folder.is_dir():
             raise InputError("--store", str(self.folder), "is a file, not a folder: give a folder for the task results")
         path = self.folder / "manifest.json"
+        had_fields = False
         if path.exists():
-            self._check(path)
+            had_fields = self._check(path)
         elif self.folder.exists() and any(self.folder.iterdir()):
             raise InputError("--store", str(self.folder), "is a folder that holds other files and no sealeak store "
                                                           "(no manifest.json): give an empty or new folder")
+        self.manifest["fields"] = bool(fields) or had_fields
         try:
             (self.folder / "tasks").mkdir(parents=True, exist_ok=True)
-            if not path.exists():
+            if self.fields:
+                create_field_store(self.folder)
+                clear_partial(self.folder)
+            if not path.exists() or (self.fields and not had_fields):
                 _write_atomic(path, json.dumps(self.manifest, indent=1) + "\n")
         except OSError as exc:
             raise OutputWriteError(self.folder, exc) from None
 
-    def _check(self, path: Path) -> None:
+    @property
+    def fields(self) -> bool:
+        """Whether the store keeps the sweep tasks' fields (``DIR/fields.zarr``)."""
+        return bool(self.manifest["fields"])
+
+    def _check(self, path: Path) -> bool:
+        """Refuse a manifest of another run; return whether it keeps fields."""
         try:
             stored = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
@@ -159,12 +194,17 @@ class TaskStore:
                     diff = f"another {what} (its inputs differ from this run's)"
                 raise InputError("--store", str(self.folder), f"holds results for {diff}: results are never mixed; "
                                                               "give another folder (or the same inputs)")
+        return stored.get("fields") is True
 
     def _path(self, name: str) -> Path:
         return self.folder / "tasks" / f"{name}.json"
 
-    def load(self, name: str) -> dict[str, Any] | None:
-        """The stored result of task ``name``; None if missing or damaged (with a note)."""
+    def load(self, name: str, fields: bool = False) -> dict[str, Any] | None:
+        """The stored result of task ``name``; None if missing or damaged (with a note).
+
+        ``fields``: the task writes fields, which must be in the store, intact; a record without them is None
+        (and listed in :attr:`lacking`), one whose fields are missing or damaged None with a note.
+        """
         path = self._path(name)
         if not path.exists():
             return None
@@ -177,6 +217,15 @@ class TaskStore:
         if not ok:
             self.note(f"{path} is damaged (checksum does not match): computing {name} again")
             return None
+        if fields:
+            kept = result.get("fields") if isinstance(result, dict) else None
+            if kept is None:
+                self.lacking.append(name)
+                return None
+            if not fields_intact(self.folder, kept):
+                self.note(f"the fields of {name} in {self.folder / FIELDS_FOLDER} are missing or damaged (checksum "
+                          f"does not match): computing {name} again")
+                return None
         return result  # type: ignore[no-any-return]
 
     def save(self, name: str, result: dict[str, Any]) -> None:
@@ -187,8 +236,82 @@ class TaskStore:
             raise OutputWriteError(self._path(name), exc) from None
 
 
+def machine_memory() -> int:
+    """Memory of this machine in bytes as Dask counts it (``distributed.system.MEMORY_LIMIT``: the physical
+    memory, or a smaller cgroup or rlimit): what a worker without ``memory_limit`` may use."""
+    return int(system.MEMORY_LIMIT)
+
+
+def _gib(n: float) -> str:
+    return f"{n / 2**30:.2f} GiB"
+
+
+def _task_memory(task: Any) -> int:
+    """A task's peak memory estimate in bytes (0 for a task that has none)."""
+    estimate = getattr(task, "memory_bytes", None)
+    return int(estimate()) if callable(estimate) else 0
+
+
+def _grid_of(task: Any) -> Any:
+    spec = getattr(task, "spec", None)
+    return getattr(spec, "grid", None)
+
+
+def _local_workers(workers: int, need: int, grid: Any, say: Callable[[str], None]) -> int:
+    """How many one-thread worker processes of a local cluster can each hold a task of ``need`` bytes.
+
+    Each gets the machine's memory divided by their number (Dask's default ``memory_limit``): fewer workers
+    than asked when a task does not fit that share (with a note); an error when it does not fit the machine.
+    """
+    machine = machine_memory()
+    if need > machine:
+        raise InputError("grid", grid, f"a task needs about {_gib(need)} (estimate, docs/theory.md §6.7), more than "
+                                       f"this machine's {_gib(machine)}: use a smaller grid, or a cluster with bigger "
+                                       "workers (--scheduler)")
+    fit = max(1, int(machine // max(need, 1)))
+    if fit < workers:
+        say(f"a task of the {grid}x{grid} grid needs about {_gib(need)} (estimate): the local cluster runs {fit} "
+            f"worker process{'es' if fit > 1 else ''} of {_gib(machine / fit)} each instead of {workers} of "
+            f"{_gib(machine / workers)}")
+        return fit
+    return workers
+
+
+def _placement(client: Any, tasks: list[Any], todo: list[int], need: dict[int, int]) -> dict[int, list[str] | None]:
+    """The workers each task may run on: those whose memory per thread holds its estimate (None: any worker).
+
+    A worker's ``memory_limit`` (0 or None: the memory of its machine) is shared by its threads, each of which
+    may run a task at the same time, so a task fits a worker when its estimate is at most memory_limit/nthreads.
+    Raises :class:`InputError` (nothing submitted) when a task fits no worker.
+    """
+    try:
+        info = client.scheduler_info(n_workers=-1)
+    except TypeError:  # Dask before 2025: all workers by default
+        info = client.scheduler_info()
+    workers = info.get("workers", {})
+    if not workers:
+        return {i: None for i in todo}
+    unlimited = [a for a, w in workers.items() if not w.get("memory_limit")]
+    machines = client.run(machine_memory, workers=unlimited) if unlimited else {}
+    caps = {a: float(w.get("memory_limit") or machines.get(a, 0)) / max(1, int(w.get("nthreads") or 1))
+            for a, w in workers.items()}
+    largest = max(caps, key=lambda a: caps[a])
+    where: dict[int, list[str] | None] = {}
+    for i in todo:
+        ok = [a for a, cap in caps.items() if cap >= need[i]]
+        if not ok:
+            w = workers[largest]
+            raise InputError("grid", _grid_of(tasks[i]),
+                             f"a task ({tasks[i].name}) needs about {_gib(need[i])} (estimate, docs/theory.md §6.7), "
+                             f"more than the largest Dask worker holds ({largest}: memory_limit "
+                             f"{_gib(caps[largest] * max(1, int(w.get('nthreads') or 1)))} for "
+                             f"{int(w.get('nthreads') or 1)} thread(s)): use a smaller grid or workers with more memory")
+        where[i] = None if len(ok) == len(caps) else sorted(ok)
+    return where
+
+
 @contextmanager
-def _client(workers: int, scheduler: str | None) -> Iterator[Any]:
+def _client(workers: int, scheduler: str | None, memory_limit: int | None = None) -> Iterator[Any]:
     """A ``distributed.Client`` of the running cluster at ``scheduler``, or of a new local cluster."""
     if scheduler is not None:
         try:
@@ -208,7 +331,8 @@ def _client(workers: int, scheduler: str | None) -> Iterator[Any]:
     try:
         with dask.config.set(_WORKER_CONFIG):
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                                   silence_logs=logging.ERROR, env=dict(THREAD_ENV))
+                                   silence_logs=logging.ERROR, env=dict(THREAD_ENV),
+                                   memory_limit=memory_limit if memory_limit is not None else "auto")
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
@@ -220,7 +344,7 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
                 progress: Callable[[TaskEvent], None] | None = None,
                 note: Callable[[str], None] | None = None,
                 task_function: Callable[[EnsembleTask], dict[str, Any]] = run_task,
-                heartbeat: float = HEARTBEAT) -> Callable[[list[EnsembleTask]], list[dict[str, Any]]]:
+                heartbeat: float = HEARTBEAT, fields: bool = False) -> Callable[[list[EnsembleTask]], list[dict[str, Any]]]:
     """A runner for :func:`sealeak.cases.simulation.simulate`'s ``runner`` argument.
 
     Parameters
@@ -229,18 +353,25 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         0: the plain loop in this process; N >= 1: a local Dask cluster of N one-thread worker processes.
         Ignored with ``scheduler``.
     scheduler:
-        Address of a running Dask scheduler (``tcp://host:8786``): the tasks run there; field files, if
-        asked, must then be written to a folder the workers share with this machine.
+        Address of a running Dask scheduler (``tcp://host:8786``): the tasks run there; field files, and a
+        store that keeps fields, must then be in a folder the workers share with this machine.
     store:
         Folder of a :class:`TaskStore`: finished results are kept there and reused by the next run.
     progress:
         Called with a :class:`TaskEvent` for every finished task, and at least every ``heartbeat`` seconds
         while tasks run.
     note:
-        Called with one-line notes (a resumed run, a damaged task file).
+        Called with one-line notes (a resumed run, a damaged task file, fewer local workers for memory).
+    task_function:
+        Computes one task (default :func:`sealeak.cases.simulation.run_task`).
+    fields:
+        Every task that has fields writes them into the store (``DIR/fields.zarr``, :class:`TaskStore`);
+        needs ``store``. A store that keeps fields has them written whether asked or not.
     """
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise InputError("--workers", workers, "must be a whole number >= 0 (0: no Dask, this process alone)")
+    if fields and store is None:
+        raise InputError("--store-fields", None, "needs --store DIR: the fields are kept in the store")
     say = note or (lambda _msg: None)
 
     def run(tasks: list[EnsembleTask]) -> list[dict[str, Any]]:
@@ -248,17 +379,42 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
             return []
         parallel = scheduler is not None or workers >= 1
         if parallel:  # worker processes share the cores: one FFT thread per task
-            tasks = [replace(t, spec=replace(t.spec, fft_workers=1)) for t in tasks]
-        kept = TaskStore(store, tasks[0].spec.identity(), say) if store is not None else None
+            tasks = _with_spec(tasks, fft_workers=1)
+        fresh = store is not None and not Path(store).exists()
+        kept = TaskStore(store, tasks[0].spec.identity(), say, fields=fields) if store is not None else None
+        if kept is not None and kept.fields:
+            tasks = _with_spec(tasks, fields_store=str(kept.folder.resolve()))
         results: dict[int, dict[str, Any]] = {}
         if kept is not None:
             for i, t in enumerate(tasks):
-                found = kept.load(t.name)
+                found = kept.load(t.name, fields=bool(getattr(t, "writes_fields", False)))
                 if found is not None:
                     results[i] = found
             if results:
                 say(f"resumed: {len(results)} of {len(tasks)} tasks from {kept.folder}")
+            if kept.lacking:
+                n = len(kept.lacking)
+                say(f"{n} task{'s' if n > 1 else ''} in {kept.folder} {'were' if n > 1 else 'was'} stored without "
+                    f"fields (before the store kept them): computing {'them' if n > 1 else 'it'} again to write "
+                    f"{'their' if n > 1 else 'its'} fields")
         todo = [i for i in range(len(tasks)) if i not in results]
+        if kept is not None and kept.fields and not fields and any(getattr(tasks[i], "writes_fields", False) for i in todo):
+            say(f"{kept.folder} keeps the fields of its tasks: this run writes them too")
+        need = {i: _task_memory(tasks[i]) for i in todo}
+
+        def refuse(err: SealeakError) -> SealeakError:
+            """Refused before any task ran: a store this run created is removed again."""
+            if fresh and kept is not None and not any((kept.folder / "tasks").iterdir()):
+                shutil.rmtree(kept.folder, ignore_errors=True)
+            return err
+
+        if scheduler is None and todo:  # this machine runs them: a task must fit what it has free now
+            grid = _grid_of(tasks[0])
+            try:
+                numerics.require_memory(max(need.values()), f"a task of the {grid}x{grid} grid",
+                                        getattr(tasks[0].spec, "memory_limit", None))
+            except SealeakError as err:
+                raise refuse(err) from None
         start = time.monotonic()
         clock = [start]  # when computing began (after a local cluster has started): the time left is rated from it
         computed = 0
@@ -279,26 +435,45 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
             for i in todo:
                 finished(i, task_function(tasks[i]))
         elif todo:
-            if progress is not None:
-                say(f"connecting to the Dask scheduler at {scheduler}" if scheduler is not None else
-                    f"starting a local Dask cluster: {workers} worker process{'es' if workers > 1 else ''}, one thread each")
-            _run_dask(tasks, todo, finished, workers, scheduler, task_function, progress, heartbeat, results, start, clock)
+            try:
+                n_local, limit = workers, None
+                if scheduler is None:
+                    n_local = _local_workers(workers, max(need.values()), _grid_of(tasks[0]), say)
+                    limit = machine_memory() // n_local
+                if progress is not None:
+                    say(f"connecting to the Dask scheduler at {scheduler}" if scheduler is not None else
+                        f"starting a local Dask cluster: {n_local} worker process{'es' if n_local > 1 else ''}, "
+                        "one thread each")
+                _run_dask(tasks, todo, finished, n_local, scheduler, task_function, progress, heartbeat, results,
+                          start, clock, need, limit)
+            except InputError as err:
+                raise refuse(err) from None
         return [results[i] for i in range(len(tasks))]
 
+    run.checks_memory = True  # type: ignore[attr-defined]  # simulate leaves the memory checks to the runner
     return run
 
 
-def _run_dask(tasks: list[EnsembleTask], todo: Iterable[int], finished: Callable[[int, dict[str, Any]], None],
+def _with_spec(tasks: list[Any], **changes: Any) -> list[Any]:
+    """The tasks with ``changes`` made to their spec (one new spec per spec shared by several tasks)."""
+    specs: dict[int, Any] = {}
+    return [replace(t, spec=specs.setdefault(id(t.spec), replace(t.spec, **changes))) for t in tasks]
+
+
+def _run_dask(tasks: list[EnsembleTask], todo: list[int], finished: Callable[[int, dict[str, Any]], None],
               workers: int, scheduler: str | None, task_function: Callable[[EnsembleTask], dict[str, Any]],
               progress: Callable[[TaskEvent], None] | None, heartbeat: float, results: dict[int, Any],
-              start: float, clock: list[float]) -> None:
-    """Submit the tasks ``todo`` and hand each result to ``finished`` as soon as it arrives (in any order)."""
-    with _client(workers, scheduler) as client:
+              start: float, clock: list[float], need: dict[int, int], memory_limit: int | None = None) -> None:
+    """Submit the tasks ``todo``, each to the workers that can hold it, and hand each result to ``finished`` as
+    soon as it arrives (in any order)."""
+    with _client(workers, scheduler, memory_limit) as client:
+        where = _placement(client, tasks, todo, need)  # raises before anything is submitted
         clock[0] = time.monotonic()
         link = getattr(client, "dashboard_link", None) if progress is not None else None
         if link and find_spec("bokeh") is not None:
             progress(TaskEvent(len(results), len(tasks), None, clock[0] - start, None, dashboard=link))
-        index = {client.submit(task_function, tasks[i], pure=False): i for i in todo}
+        index = {client.submit(task_function, tasks[i], pure=False, workers=where[i],
+                               allow_other_workers=False if where[i] is not None else None): i for i in todo}
         pending = as_completed(list(index))
         last = time.monotonic()
         try:

@@ -27,11 +27,17 @@ assumption for an O-ring (docs/theory.md §10.4):
    the gap u_c at the peak pressure, the same rarefaction model, as ``predict`` computes a band
    seal's gas leak, docs/theory.md §11.9) and α_gas = Q_pV,num/Q_pV,sr (docs/theory.md §11.10).
    The liquid columns stay: for a gas they are the incompressible formula with the gas's viscosity.
+
+Steps 2–4 and 7 of each realisation form one independent task (:func:`band_tasks`, :func:`run_band_task`:
+``band-r<r>`` draws surface r, presses the cylinder at every load and solves the flows), returning its
+scalars only; a runner (:func:`sealeak.cases.ensemble.make_runner`) runs them in this process or on Dask,
+keeps them in a store and, if asked, has each write its fields there. The statistics are formed in
+realisation order afterwards, so the numbers do not depend on the runner (docs/theory.md §6.7).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -40,7 +46,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import numerics
+from .._version import __version__
 from ..errors import InputError
+from ..io.fieldstore import TaskFields
 from ..numerics.synthesis import synthesize
 from ..physics.profile import PressureProfile
 from .band import run_band
@@ -53,10 +61,15 @@ from .simulation import (
     _mean_std,
     _ratio,
     _StagedFolder,
+    _write_fields,
+    pack_mask,
     resolved_spectrum_cut,
+    task_memory_bytes,
+    unpack_mask,
 )
 
-__all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL"]
+__all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL", "BandSpec", "BandTask", "band_tasks",
+           "run_band_task"]
 
 FloatArray = NDArray[np.float64]
 
@@ -193,6 +206,7 @@ def simulate_band(
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
     grid_name: str = "grid",
+    runner: Callable[[list[BandTask]], Iterable[dict[str, Any]]] | None = None,
 ) -> BandSimulationResult:
     """Numerically exact leak rate of an O-ring case and the α of its series-resistance theory.
 
@@ -213,9 +227,14 @@ def simulate_band(
         If given, write ``r<r>-p<i>.npz`` (height, gap, pressure [x, y] in m, m, Pa; size, period in m).
     progress:
         Called with the number of finished solves (one smooth check per load, then one per
-        realisation and load).
+        realisation and load; with ``runner``, the smooth checks only).
     grid_name:
         How messages name the grid (``--grid`` or ``simulation.grid`` from the command line).
+    runner:
+        Runs the realisations' tasks (:func:`band_tasks`, :func:`run_band_task`) and returns their results
+        in the order given; None runs them one after the other in this process.
+        :func:`sealeak.cases.ensemble.make_runner` (with ``task_function=run_band_task``) runs them on Dask
+        and keeps them in a store.
     """
     d, loads, profiles = _oring_check(case)
     if not isinstance(grid, (int, np.integer)) or isinstance(grid, bool) or grid < 16 or grid % 2:
@@ -225,11 +244,13 @@ def simulate_band(
     if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
         raise InputError("seed", seed, "must be a whole number >= 0")
     n = int(grid)
-    numerics.require_memory(numerics.band_contact_memory_bytes(n, n), f"the {n}x{n} band contact problem", memory_limit)
-    numerics.check_memory(n, "flow", available=memory_limit)
     gas = case.gas
-    if gas is not None:
-        numerics.require_memory(numerics.gas_flow_memory_bytes(n), f"the {n}x{n} gas flow problem", memory_limit)
+    if not getattr(runner, "checks_memory", False):  # a runner of make_runner checks each task where it runs
+        numerics.require_memory(numerics.band_contact_memory_bytes(n, n), f"the {n}x{n} band contact problem",
+                                memory_limit)
+        numerics.check_memory(n, "flow", available=memory_limit)
+        if gas is not None:
+            numerics.require_memory(numerics.gas_flow_memory_bytes(n), f"the {n}x{n} gas flow problem", memory_limit)
     band = case.band
     assert band is not None
     radius = d / 2.0
@@ -329,10 +350,8 @@ def simulate_band(
                      f"{100 * w_err[i]:+.2g} % in width and {100 * p_err[i]:+.2g} % in peak pressure (allowed "
                      f"{100 * HERTZ_TOL:g} %): the band spans only {2 * b_h[i] / dx:.0f} cells; use a larger {grid_name}")
 
-    # the rough contacts and the flow
+    # the rough contacts and the flow: one task per realisation
     n_l = loads.size
-    x = (np.arange(n) + 0.5) * dx
-    in_band = np.abs(x - size / 2.0)[:, None] < b_h[None, :]  # [x, load]
     width = np.zeros((realizations, n_l))
     area = np.zeros((realizations, n_l))
     perc = np.zeros((realizations, n_l), dtype=bool)
@@ -344,35 +363,30 @@ def simulate_band(
     lines: dict[int, FloatArray] = {}
     touched: list[float] = []
     scale = band.faces * band.length / size  # Q of the seal per Q of the W-wide strip
-    eta, dp = case.fluid.viscosity, float(case.pressure_difference)
+    dp = float(case.pressure_difference)
     with _StagedFolder(fields_dir) as fields:
-        for r in range(realizations):
-            h = synthesize(cut, n, size, seed=np.random.default_rng([int(seed), r]))
-            prev = None
-            for i, f in enumerate(force):
-                res = numerics.solve_band_contact(h, size, size, e_star, radius, float(f), tol=contact_tol, initial=prev)
-                prev = res
-                flow = numerics.solve_flow(res.gap, size, eta, dp, contact=res.contact, method=flow_method)
-                width[r, i] = res.contact_width
-                area[r, i] = float(res.contact[in_band[:, i]].mean()) if in_band[:, i].any() else np.nan
-                perc[r, i] = flow.percolates
-                q_num[r, i] = scale * flow.flux
-                if gas is not None:  # P_a at the inlet edge x = 0, P_b at the outlet edge x = W
-                    gflow = numerics.solve_gas_flow(res.gap, size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
-                                                    contact=res.contact, model=gas.rarefaction, method=flow_method,
-                                                    memory_limit=memory_limit)
-                    pv[r, i] = scale * gflow.throughput
-                    pv_no_slip[r, i] = scale * gflow.throughput_no_slip
-                    iterations[r, i] = gflow.iterations
-                if res.touches_edge:
-                    touched.append(float(loads[i]))
-                if r == 0:
-                    contact_maps[i] = res.contact.copy()
-                    lines[i] = res.line_pressure.copy()
-                fields.write(f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(size),
-                             period=np.float64(size))
-                if progress is not None:
-                    progress(1)
+        spec = BandSpec(spectrum=cut, grid=n, size=size, seed=int(seed), e_star=e_star, radius=radius, forces=force,
+                        half_widths=b_h, loads=loads, load_name=band.load_name, scale=float(scale),
+                        viscosity=case.fluid.viscosity, pressure_difference=dp, gas=gas,
+                        flow_method=flow_method, contact_tol=contact_tol, memory_limit=memory_limit,
+                        fields_stage=None if fields.stage is None else str(fields.stage),
+                        fields_target=None if fields.target is None else str(fields.target))
+        tasks = band_tasks(spec, realizations)
+        done = [run_band_task(t, progress=progress) for t in tasks] if runner is None else list(runner(tasks))
+    for task, out in zip(tasks, done, strict=True):  # in realisation order, whatever order they finished in
+        r = task.realization
+        width[r] = out["contact_width"]
+        area[r] = out["relative_contact_area"]
+        perc[r] = out["percolates"]
+        q_num[r] = out["leak_rate"]
+        if gas is not None:
+            pv[r] = out["leak_rate_pv"]
+            pv_no_slip[r] = out["leak_rate_pv_no_slip"]
+            iterations[r] = out["gas_iterations"]
+        touched.extend(float(loads[i]) for i in out["touched_edge"])
+        if r == 0:
+            contact_maps = {i: unpack_mask(m) for i, m in enumerate(out["contact_maps"])}
+            lines = {i: np.asarray(line, dtype=float) for i, line in enumerate(out["line_pressure"])}
     if touched:
         notes.append(f"the rough contact reached the edge of the domain at {_loads_text(band.load_name, np.unique(touched))}: "
                      "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
@@ -406,6 +420,163 @@ def simulate_band(
                          "alpha": alpha_r} | per_gas,
         contact_maps=contact_maps, line_pressure=lines, smooth_line_pressure=smooth_lines, gas=gas_result,
     )
+
+
+@dataclass(frozen=True)
+class BandSpec:
+    """Everything one realisation's task of an O-ring simulation needs, in SI units (shared by all its tasks).
+
+    ``spectrum`` is the cut C(q) the surfaces are drawn from; ``grid`` N and ``size`` W (m) the square
+    domain; ``radius`` the cylinder's d/2 (m); ``forces`` f (N/m) at the ``loads`` (named ``load_name``, in
+    increasing order of force); ``half_widths`` the Hertz half-widths b (m) whose band |x - W/2| < b the
+    relative contact area counts; ``scale`` faces · L_seal/W, the seal's Q per Q of the strip. ``fields_stage``,
+    ``fields_target``, ``fields_store`` and ``fft_workers`` as in :class:`sealeak.cases.simulation.EnsembleSpec`.
+    """
+
+    spectrum: Any
+    grid: int
+    size: float
+    seed: int
+    e_star: float
+    radius: float
+    forces: FloatArray
+    half_widths: FloatArray
+    loads: FloatArray
+    load_name: str
+    scale: float
+    viscosity: float
+    pressure_difference: float
+    gas: Any
+    flow_method: str
+    contact_tol: float
+    memory_limit: float | None = None
+    fields_stage: str | None = None
+    fields_target: str | None = None
+    fft_workers: int = -1
+    fields_store: str | None = None
+
+    def identity(self) -> dict[str, Any]:
+        """The inputs the tasks' numbers depend on, as plain JSON values (the store's manifest hashes them)."""
+        gas = self.gas
+        return {
+            "spectrum": {"q": [float(x) for x in self.spectrum.q], "C": [float(x) for x in self.spectrum.C]},
+            "grid": int(self.grid),
+            "seed": int(self.seed),
+            "case": {"route": "o-ring", "size": float(self.size), "e_star": float(self.e_star),
+                     "radius": float(self.radius), "force_per_length": [float(x) for x in self.forces],
+                     "half_widths": [float(x) for x in self.half_widths], "scale": float(self.scale),
+                     "viscosity": float(self.viscosity), "pressure_difference": float(self.pressure_difference),
+                     "flow_method": self.flow_method, "contact_tol": float(self.contact_tol),
+                     "gas": None if gas is None else {"name": gas.gas.name, "temperature": float(gas.temperature),
+                                                      "upstream_pressure": float(gas.upstream_pressure),
+                                                      "downstream_pressure": float(gas.downstream_pressure),
+                                                      "rarefaction": gas.rarefaction}},
+        }
+
+
+@dataclass(frozen=True)
+class BandTask:
+    """Realisation ``realization`` of an O-ring simulation: its surface pressed at every load, and the flows."""
+
+    realization: int
+    spec: BandSpec
+    kind: str = "band"
+
+    @property
+    def name(self) -> str:
+        """``band-r<r>``: the task's name in the store and in progress lines."""
+        return f"band-r{self.realization}"
+
+    @property
+    def writes_fields(self) -> bool:
+        """Whether the task writes its fields into a store."""
+        return self.spec.fields_store is not None
+
+    def memory_bytes(self) -> int:
+        """Peak memory in bytes (estimate): as a uniform sweep (:meth:`EnsembleTask.memory_bytes`) with the band
+        contact's solver (:func:`sealeak.numerics.band_contact_memory_bytes`) in place of the periodic one."""
+        return task_memory_bytes("sweep", self.spec.grid, self.spec.grid, int(np.size(self.spec.forces)), contact="band",
+                                 gas=self.spec.gas is not None, fields=self.spec.fields_store is not None,
+                                 flow_method=self.spec.flow_method)
+
+
+def band_tasks(spec: BandSpec, realizations: int) -> list[BandTask]:
+    """One task per realisation, in realisation order."""
+    return [BandTask(r, spec) for r in range(int(realizations))]
+
+
+def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+    """Compute one realisation of an O-ring simulation; return its scalars as plain JSON values.
+
+    Realisation r's surface is ``synthesize`` with the seed sequence (seed, r); at each load (increasing f) the
+    cylinder's contact (:func:`sealeak.numerics.solve_band_contact`, warm-started from the previous load) and the
+    flow across the band (:func:`sealeak.numerics.solve_flow`; for a gas also
+    :func:`sealeak.numerics.solve_gas_flow`, P_a at x = 0, P_b at x = W). Per load: the contact width (m), the
+    fraction of the Hertz band in contact, whether fluid crosses, the seal's leak rate scale · Q_W (m³/s), for a
+    gas the pV throughputs (Pa·m³/s) and iterations; the indices of the loads whose contact reached the domain's
+    edge; for realisation 0 the contact maps (packed) and the pressure averaged along the seal line p̄(x) (Pa).
+    Fields, if asked, are written by the task itself (npz files, or the store's Zarr group ``r<r>``).
+    """
+    spec, r = task.spec, task.realization
+    n, size = spec.grid, spec.size
+    h = synthesize(spec.spectrum, n, size, seed=np.random.default_rng([int(spec.seed), r]), workers=spec.fft_workers)
+    x = (np.arange(n) + 0.5) * (size / n)
+    in_band = np.abs(x - size / 2.0)[:, None] < np.asarray(spec.half_widths)[None, :]  # [x, load]
+    gas = spec.gas
+    out: dict[str, Any] = {"kind": "band", "realization": r, "contact_width": [], "relative_contact_area": [],
+                           "percolates": [], "leak_rate": [], "touched_edge": [], "contact_maps": [], "line_pressure": []}
+    if gas is not None:
+        out |= {"leak_rate_pv": [], "leak_rate_pv_no_slip": [], "gas_iterations": []}
+    kept = None
+    if spec.fields_store is not None:
+        kept = TaskFields(spec.fields_store, f"r{r}", grid=n, size=size, period=size, load_name=spec.load_name,
+                          loads=spec.loads, load_unit="1",
+                          attributes={"task": task.name, "realization": int(r), "seed": int(spec.seed), "grid": int(n),
+                                      "size": float(size), "period": float(size), "length_units": "m",
+                                      "e_star": float(spec.e_star), "e_star_units": "Pa", "radius": float(spec.radius),
+                                      "force_per_length": [float(f) for f in spec.forces],
+                                      "force_per_length_units": "N/m", "software": f"sealeak {__version__}"})
+    try:
+        if kept is not None:
+            kept.put_height(h)
+        prev = None
+        for i, f in enumerate(spec.forces):
+            res = numerics.solve_band_contact(h, size, size, spec.e_star, spec.radius, float(f), tol=spec.contact_tol,
+                                              initial=prev, workers=spec.fft_workers)
+            prev = res
+            flow = numerics.solve_flow(res.gap, size, spec.viscosity, spec.pressure_difference, contact=res.contact,
+                                       method=spec.flow_method)
+            out["contact_width"].append(float(res.contact_width))
+            out["relative_contact_area"].append(float(res.contact[in_band[:, i]].mean()) if in_band[:, i].any()
+                                                else float("nan"))
+            out["percolates"].append(bool(flow.percolates))
+            out["leak_rate"].append(float(spec.scale * flow.flux))
+            if gas is not None:
+                gflow = numerics.solve_gas_flow(res.gap, size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                                contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
+                                                memory_limit=spec.memory_limit)
+                out["leak_rate_pv"].append(float(spec.scale * gflow.throughput))
+                out["leak_rate_pv_no_slip"].append(float(spec.scale * gflow.throughput_no_slip))
+                out["gas_iterations"].append(int(gflow.iterations))
+            if res.touches_edge:
+                out["touched_edge"].append(i)
+            if r == 0:
+                out["contact_maps"].append(pack_mask(np.asarray(res.contact, dtype=bool)))
+                out["line_pressure"].append([float(v) for v in res.line_pressure])
+            if spec.fields_stage is not None:
+                _write_fields(spec, f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure,  # type: ignore[arg-type]
+                              size=np.float64(size), period=np.float64(size))
+            if kept is not None:
+                kept.put(i, res.gap, res.pressure)
+            if progress is not None:
+                progress(1)
+        if kept is not None:
+            out["fields"] = kept.commit()
+    except BaseException:
+        if kept is not None:
+            kept.abort()
+        raise
+    return out
 
 
 def _load_text(name: str, value: float) -> str:

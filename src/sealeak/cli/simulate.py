@@ -48,6 +48,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
             where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
             raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+    if args.store is not None and args.fields:
+        raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
+                                                  "files of the tasks it takes from the store): use --store-fields to "
+                                                  "keep the fields in the store")
+    if args.store_fields and args.store is None:
+        raise InputError("--store-fields", None, "needs --store DIR: the fields are kept in the store")
     grid_name = "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid"
     if len(grids) > 1:
         if case.band is not None:
@@ -59,9 +65,6 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         return _convergence(args, case, grids, realizations, seed)
     if case.band is not None:
         return _simulate_band(args, case, grid, realizations, seed, grid_name)
-    if args.store is not None and args.fields:
-        raise InputError("--fields", args.fields, "cannot be combined with --store yet: a resumed run would lack the "
-                                                  "field files of the tasks it takes from the store")
     workers = default_workers(grid) if args.workers is None else args.workers
     if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop, as before Dask
         total = realizations * len(case.squeeze_pressure)
@@ -70,7 +73,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
                            threshold=not args.no_threshold, fields_dir=args.fields, progress=bar.update)
     else:
         runner = make_runner(workers=workers, scheduler=args.scheduler, store=args.store,
-                             progress=None if args.quiet else _progress_line, note=_note)
+                             progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields)
         res = simulate(case, grid=grid, realizations=realizations, seed=seed,
                        threshold=not args.no_threshold, fields_dir=args.fields, runner=runner)
     if not args.quiet:
@@ -112,7 +115,7 @@ def _convergence(args: argparse.Namespace, case: Case, grids: tuple[int, ...], r
             return None
         store = None if args.store is None else Path(args.store) / f"grid-{grid}"
         return make_runner(workers=workers, scheduler=args.scheduler, store=store,
-                           progress=None if args.quiet else _progress_line, note=_note)
+                           progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields)
 
     def progress_for(grid: int) -> Callable[[int], None]:
         for done in bars:  # the previous grid's bar is finished
@@ -141,7 +144,8 @@ def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations
     """``simulate`` on an O-ring case: the cylinder on the rough surface, the flow across its band, α."""
     from tqdm import tqdm
 
-    from ..cases.simulation_band import simulate_band
+    from ..cases.ensemble import default_workers, make_runner
+    from ..cases.simulation_band import run_band_task, simulate_band
     from ..io.files import write_text
     from ..render import save_figures
     from ..render.simulation import band_simulation_figures, band_simulation_json, band_simulation_table
@@ -152,15 +156,20 @@ def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations
         raise InputError("seal.pressure_profile", band.profile_source or "a pressure profile",
                          "simulate solves uniform seals and O-rings; a seal given by its pressure profile has no body "
                          "whose contact could be simulated (use predict)")
-    if (args.scheduler or args.store or args.workers is not None) and not args.quiet:
-        sys.stderr.write("note: --workers, --scheduler and --store apply to uniform seals; an O-ring is simulated in "
-                         "this process, one load after the other\n")
     if args.no_threshold and not args.quiet:
         sys.stderr.write("note: --no-threshold does not apply to an O-ring (no percolation-threshold search is made)\n")
-    total = (realizations + 1) * band.loads.size
-    with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
-        res = simulate_band(case, grid=grid, realizations=realizations, seed=seed,
-                            fields_dir=args.fields, progress=bar.update, grid_name=grid_name)
+    workers = default_workers(grid) if args.workers is None else args.workers
+    if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop
+        total = (realizations + 1) * band.loads.size
+        with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
+            res = simulate_band(case, grid=grid, realizations=realizations, seed=seed,
+                                fields_dir=args.fields, progress=bar.update, grid_name=grid_name)
+    else:  # one task per realisation (after the smooth checks, made here)
+        runner = make_runner(workers=workers, scheduler=args.scheduler, store=args.store,
+                             progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields,
+                             task_function=run_band_task)  # type: ignore[arg-type]
+        res = simulate_band(case, grid=grid, realizations=realizations, seed=seed, fields_dir=args.fields,
+                            grid_name=grid_name, runner=runner)  # type: ignore[arg-type]
     if not args.quiet:
         sys.stdout.write(band_simulation_table(case, res))
     if args.json:
@@ -233,4 +242,7 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                         "instead of a local one")
     p.add_argument("--store", metavar="DIR",
                    help="keep every finished task in DIR; the same command run again computes only what is missing")
+    p.add_argument("--store-fields", action="store_true",
+                   help="with --store DIR: every task also writes its height, gap and pressure maps into "
+                        "DIR/fields.zarr (Zarr; opens in xarray)")
     p.set_defaults(func=_cmd_simulate)
