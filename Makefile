@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.sealeak-installed
-EXTRAS ?= test,formats,dev,docs
+EXTRAS ?= test,formats,dev,docs,web
 
 .PHONY: demo test lint docs docs-check install bench bench-peers clean
 
