@@ -71,12 +71,9 @@ class WebConfig:
     max_jobs: int = 4
 
 
-class _TooLarge(Exception):
-    pass
-
-
 class UploadLimit:
-    """ASGI middleware: a request body over ``limit`` bytes gets 413 (by its Content-Length, or while it streams)."""
+    """ASGI middleware: a request body over ``limit`` bytes gets 413, by its Content-Length before the app
+    reads anything, or (a chunked body without one) while it streams in."""
 
     def __init__(self, app: ASGIApp, limit: int) -> None:
         self.app = app
@@ -91,28 +88,34 @@ class UploadLimit:
         if length is not None and length.isdigit() and int(length) > self.limit:
             await _too_large(self.limit)(scope, receive, send)
             return
+        if length is not None:  # the server stops reading at Content-Length: nothing more can come
+            await self.app(scope, receive, send)
+            return
+        # no Content-Length (a chunked body): read it here, up to the limit, then hand it on
+        chunks: list[bytes] = []
         seen = 0
-        started = False
-
-        async def counted() -> Message:
-            nonlocal seen
+        while True:
             message = await receive()
-            if message["type"] == "http.request":
-                seen += len(message.get("body", b""))
-                if seen > self.limit:
-                    raise _TooLarge()
-            return message
-
-        async def tracked(message: Message) -> None:
-            nonlocal started
-            started = started or message["type"] == "http.response.start"
-            await send(message)
-
-        try:
-            await self.app(scope, counted, tracked)
-        except _TooLarge:
-            if not started:
+            if message["type"] != "http.request":
+                break
+            chunks.append(message.get("body", b""))
+            seen += len(chunks[-1])
+            if seen > self.limit:
                 await _too_large(self.limit)(scope, receive, send)
+                return
+            if not message.get("more_body", False):
+                break
+        body = b"".join(chunks)
+        sent = False
+
+        async def replay() -> Message:
+            nonlocal sent
+            if not sent:
+                sent = True
+                return {"type": "http.request", "body": body, "more_body": False}
+            return await receive()
+
+        await self.app(scope, replay, send)
 
 
 def _too_large(limit: int) -> JSONResponse:
@@ -387,20 +390,36 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         pred = await asyncio.to_thread(cache.predict, data, source, s.uploads)
         return Response(_scrub(prediction_json(pred.results), s, root), media_type="application/json")
 
-    @app.post("/api/surface/analyze")
-    async def api_analyze(request: Request) -> Response:
-        """Uploaded topography files (form field ``files``) and the unit options as form fields → ``surface analyze --json``."""
-        s = session_of(request)
-        form = await request.form()
-        uploads = [f for f in form.getlist("files") if not isinstance(f, str)]
+    async def _save_uploads(s: Session, form: Any, field: str) -> list[str]:
+        uploads = [f for f in form.getlist(field) if not isinstance(f, str)]
         if not uploads:
-            raise FileFormatError("files", "no file uploaded: send one or more files in the form field 'files'")
+            raise FileFormatError(field, f"no file uploaded: send one or more files in the form field '{field}'")
         names = []
         for f in uploads:
             name = upload_name(Path(f.filename or "").name)
             with open(s.uploads / name, "wb") as out:
                 shutil.copyfileobj(f.file, out)
             names.append(name)
+        return names
+
+    @app.post("/api/uploads")
+    async def upload_files(request: Request) -> dict[str, Any]:
+        """Upload files a case may name (form field ``files``): a C(q) table, a pressure profile, topographies."""
+        s = session_of(request)
+        names = await _save_uploads(s, await request.form(), "files")
+        return {"uploaded": names, "uploads": sorted(s.uploaded())}
+
+    @app.get("/api/uploads")
+    def list_uploads(request: Request) -> dict[str, Any]:
+        """The names of the files uploaded in this session."""
+        return {"uploads": sorted(session_of(request).uploaded())}
+
+    @app.post("/api/surface/analyze")
+    async def api_analyze(request: Request) -> Response:
+        """Uploaded topography files (form field ``files``) and the unit options as form fields → ``surface analyze --json``."""
+        s = session_of(request)
+        form = await request.form()
+        names = await _save_uploads(s, form, "files")
         opts = {k: str(v) for k, v in form.items() if isinstance(v, str)}
 
         def number(key: str, default: float) -> float:

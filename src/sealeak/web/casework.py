@@ -26,6 +26,7 @@ import tomli_w
 
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
+from ..cases.schema import SURFACE_KEYS
 from ..errors import InputError
 
 __all__ = ["FILE_KEYS", "form_schema", "doc_fields", "fields_doc", "value_text", "text_value", "toml_text", "check_files",
@@ -38,14 +39,18 @@ _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._ +()-]{0,127}$")
 
 
 def form_schema() -> list[dict[str, Any]]:
-    """The sections of the case form, each key with its kind (:mod:`sealeak.cases.form`), as JSON."""
+    """The sections of the case form, each key with its kind (:mod:`sealeak.cases.form`), as JSON.
+
+    A ``[surface]`` key lists the surface models that read it (``models``): the form hides the
+    empty keys of the other models."""
     out = []
     for section, keys in FORM_SECTIONS.items():
         fields = []
         for key in keys:
             k = field_kind(section, key)
+            models = [m for m, keys in SURFACE_KEYS.items() if key in keys] if section == "surface" else []
             fields.append({"name": f"{section}.{key}" if section else key, "key": key, "kind": k.kind,
-                           "dimension": k.dimension, "choices": list(k.choices), "example": k.example})
+                           "dimension": k.dimension, "choices": list(k.choices), "example": k.example, "models": models})
         out.append({"section": section, "fields": fields})
     return out
 
