@@ -247,8 +247,8 @@ async function pageCase() {
 
 // ---------------------------------------------------------------- Prediction page
 const LAYOUT = {
-  margin: { l: 70, r: 20, t: 40, b: 50 }, font: { size: 12 }, hovermode: "closest",
-  legend: { orientation: "h", y: -0.22 }, paper_bgcolor: "#fff", plot_bgcolor: "#fff",
+  margin: { l: 70, r: 20, t: 40, b: 95 }, font: { size: 12 }, hovermode: "x",
+  legend: { orientation: "h", x: 0, y: -0.32, yanchor: "top" }, paper_bgcolor: "#fff", plot_bgcolor: "#fff",
 };
 const CONFIG = { responsive: true, displaylogo: false, toImageButtonOptions: { format: "png", scale: 2 } };
 
@@ -270,7 +270,8 @@ function plot(id, traces, title, x, y) {
 }
 
 function line(x, y, name, extra = {}) {
-  return { x, y, name, type: "scatter", mode: "lines", hovertemplate: "%{x:.4g}, %{y:.4g}<extra>%{fullData.name}</extra>", ...extra };
+  // hover: both values to 4 significant digits (tiny ones such as leak rates in m³/s with an exponent)
+  return { x, y, name, type: "scatter", mode: "lines", hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>", ...extra };
 }
 
 function drawPrediction(pred) {
