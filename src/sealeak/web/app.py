@@ -151,7 +151,7 @@ def _error(exc: SealeakError, status: int, session: Session | None, root: Path) 
 
 def _scrub(text: str, session: Session | None, root: Path) -> str:
     """``text`` without the server's folders: a session file is named by its upload name only."""
-    for folder in ([session.uploads, session.folder] if session is not None else []) + [root]:
+    for folder in ([session.uploads_path, session.folder] if session is not None else []) + [root]:
         text = text.replace(f"{folder}/", "").replace(str(folder), "")
     return text
 
@@ -251,7 +251,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         if not check and not malformed:
             return out
         try:
-            pred = cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads)
+            pred = cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads_path)
         except SealeakError as exc:
             out["error"] = {"message": _scrub(str(exc), s, root), "field": field_of(exc) if isinstance(exc, InputError) else ""}
             return out
@@ -341,7 +341,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     def _current(s: Session) -> Any:
         if s.case_text is None:
             raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
-        return cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads)
+        return cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads_path)
 
     def _download(content: bytes | str, filename: str, media: str) -> Response:
         return Response(content, media_type=media, headers={"Content-Disposition": f'attachment; filename="{filename}"'})
@@ -357,7 +357,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     @app.get("/download/results.json")
     def download_json(request: Request) -> Response:
         """``predict --json`` of the session's case."""
-        return _download(prediction_json(_current(session_of(request)).results), "results.json", "application/json")
+        s = session_of(request)
+        return _download(_scrub(_current(s).json(), s, root), "results.json", "application/json")
 
     @app.get("/download/results.csv")
     def download_csv(request: Request) -> Response:
@@ -387,8 +388,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         s = session_of(request)
         source = upload_name(name)
         data = await request.body()
-        pred = await asyncio.to_thread(cache.predict, data, source, s.uploads)
-        return Response(_scrub(prediction_json(pred.results), s, root), media_type="application/json")
+        pred = await asyncio.to_thread(cache.predict, data, source, s.uploads_path)
+        return Response(_scrub(pred.json(), s, root), media_type="application/json")
 
     async def _save_uploads(s: Session, form: Any, field: str) -> list[str]:
         uploads = [f for f in form.getlist(field) if not isinstance(f, str)]

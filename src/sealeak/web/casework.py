@@ -18,7 +18,7 @@ import threading
 import tomllib
 from collections import OrderedDict
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +28,7 @@ from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.schema import SURFACE_KEYS
 from ..errors import InputError
+from ..render import prediction_json
 
 __all__ = ["FILE_KEYS", "form_schema", "doc_fields", "fields_doc", "value_text", "text_value", "toml_text", "check_files",
            "file_names", "upload_name", "field_of", "Prediction", "PredictionCache"]
@@ -163,12 +164,12 @@ def upload_name(name: str) -> str:
 
 def check_files(doc: dict[str, Any], uploaded: set[str]) -> None:
     """Refuse a case naming a file that was not uploaded in this session (a server path, ``..``, an unknown name)."""
-    for field, value in file_names(doc):
+    for where, value in file_names(doc):
         for name in value if isinstance(value, list) else [value]:
             if isinstance(name, str) and name in uploaded and _NAME.match(name) and ".." not in name:
                 continue
             allowed = ", ".join(sorted(uploaded)) if uploaded else "none yet"
-            raise InputError(field, name, "must name a file uploaded in this session (on the Surface page, or with "
+            raise InputError(where, name, "must name a file uploaded in this session (on the Surface page, or with "
                                           f"the case); paths on the server are not allowed; uploaded: {allowed}")
 
 
@@ -187,13 +188,21 @@ class Prediction:
 
     case_file: CaseFile
     results: list[CaseResult]
+    rendered: dict[str, str] = field(default_factory=dict, compare=False)
+
+    def json(self) -> str:
+        """The ``sealeak predict --json`` document (rendered once)."""
+        if "json" not in self.rendered:
+            self.rendered["json"] = prediction_json(self.results)
+        return self.rendered["json"]
 
 
 class PredictionCache:
     """Predictions by (case text, source name, uploaded files): a case run once answers again at once.
 
-    The key holds each uploaded file's name, size and modification time, so a file uploaded anew
-    under the same name runs the case again. Thread-safe; keeps the ``size`` most recent. Requests
+    The key holds the name, size and modification time of each uploaded file the case names, so a
+    file uploaded anew under the same name runs the case again; a case that names no file is shared
+    by every session. Thread-safe; keeps the ``size`` most recent. Requests
     for a case being computed wait for that computation instead of repeating it (an error is not
     cached: each of them then computes, and reports, it for itself).
     """
@@ -211,11 +220,13 @@ class PredictionCache:
         except (UnicodeDecodeError, tomllib.TOMLDecodeError):
             doc = None  # the loader below refuses it with the command line's message
         uploaded = {p.name for p in uploads.iterdir() if p.is_file()} if uploads.is_dir() else set()
+        named = set()
         if doc is not None:
             check_files(doc, uploaded)
-        files = tuple(sorted((p.name, p.stat().st_size, p.stat().st_mtime_ns) for p in uploads.iterdir() if p.is_file())) \
-            if uploads.is_dir() else ()
-        key = (data, source, str(uploads), files)
+            named = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
+        # a case that names no file is the same case in every session; one that does depends on the files' contents
+        files = tuple(sorted((n, (uploads / n).stat().st_size, (uploads / n).stat().st_mtime_ns) for n in named))
+        key = (data, source, str(uploads) if named or doc is None else "", files)
         while True:
             with self._lock:
                 hit = self._items.get(key)

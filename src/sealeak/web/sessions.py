@@ -42,6 +42,11 @@ class Session:
         return p
 
     @property
+    def uploads_path(self) -> Path:
+        """Where the uploads are (the folder may not exist yet: nothing was uploaded)."""
+        return self.folder / "uploads"
+
+    @property
     def jobs_folder(self) -> Path:
         """The folder of this session's simulation jobs (created on first use)."""
         p = self.folder / "jobs"
@@ -50,7 +55,8 @@ class Session:
 
     def uploaded(self) -> set[str]:
         """The names of the files uploaded in this session."""
-        return {p.name for p in self.uploads.iterdir() if p.is_file()}
+        up = self.uploads_path
+        return {p.name for p in up.iterdir() if p.is_file()} if up.is_dir() else set()
 
 
 class SessionStore:
@@ -71,11 +77,9 @@ class SessionStore:
             return s
 
     def create(self) -> Session:
-        """A new session with a random 256-bit token and an empty folder."""
+        """A new session with a random 256-bit token (its folder is made when first needed)."""
         token = secrets.token_urlsafe(32)
-        folder = self.root / secrets.token_hex(8)
-        folder.mkdir(parents=True)
-        s = Session(token, folder)
+        s = Session(token, self.root / secrets.token_hex(8))  # its folder is made on its first upload or job
         with self._lock:
             self._sessions[token] = s
         return s
