@@ -282,6 +282,7 @@ def test_case_form_round_trip_and_field_messages(client):
     assert json.loads(r.content)["results"] == good["prediction"]["json"]["results"]
 
 
+@pytest.mark.slow  # every prediction figure drawn twice (~18 s)
 def test_downloads_are_the_cli_renderings(client, tmp_path, monkeypatch, capsys):
     client.post("/api/case/example", json={"name": "reference-experiment"})
     (tmp_path / "c.toml").write_bytes(client.get("/download/case.toml").content)
@@ -292,6 +293,8 @@ def test_downloads_are_the_cli_renderings(client, tmp_path, monkeypatch, capsys)
     import zipfile
     z = zipfile.ZipFile(io.BytesIO(client.get("/download/figures.zip").content))
     assert sorted(z.namelist()) == sorted(p.name for p in (tmp_path / "figs").iterdir())
+    for name in z.namelist():
+        assert z.read(name) == (tmp_path / "figs" / name).read_bytes(), name
     report = client.get("/download/report.html")
     assert report.status_code == 200 and report.text.startswith("<!DOCTYPE html>")
 
@@ -319,11 +322,15 @@ def test_simulation_job_gives_the_cli_result(tmp_path, monkeypatch, capsys):
     (tmp_path / "sim.toml").write_text(text, encoding="utf-8")
     argv = ["simulate", "sim.toml", "--grid", "32", "--realizations", "1", "--json", "cli.json", "-q"]
     assert cli(tmp_path, monkeypatch, capsys, *argv)[0] == 0
-    with TestClient(create_app()) as c:
+    app = create_app()
+    with TestClient(app) as c, TestClient(app) as other:
         fields = c.post("/api/case/upload", files={"file": ("sim.toml", text.encode())}).json()
         assert fields["valid"], fields["error"]
         job = c.post("/api/jobs", json={"grid": "32", "realizations": "1"}).json()
         assert job["state"] in ("starting", "running")
+        assert other.get("/api/jobs").json() == []  # another session sees none of it
+        assert other.get(f"/api/jobs/{job['id']}").status_code == 404
+        assert other.post(f"/api/jobs/{job['id']}/cancel").status_code == 404
         bad = c.post("/api/jobs", json={"grid": "33"})
         assert bad.status_code == 422 and bad.json()["error"].startswith("--grid = '33': must be an even integer >= 16")
         for _ in range(600):
