@@ -34,7 +34,7 @@ def test_prediction_page_shows_the_cli_leak_rate(page, artifacts, tmp_path, monk
     page.goto("/prediction")
     page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
     page.fill('[name="conditions.squeeze_pressure"]', "0.5 MPa")  # re-runs on change, no button
-    page.wait_for_function("document.querySelector('#first-pressure').textContent.startsWith('500 kPa')")
+    page.wait_for_function("document.querySelector('#first-pressure').textContent.startsWith('P0 = 500 kPa')")
     shown = float(page.get_attribute("#leak-rate", "data-si"))
     text = page.inner_text("#leak-rate")
     assert page.inner_text("#leak-rate-unit") == "m³/s"

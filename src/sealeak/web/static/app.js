@@ -282,13 +282,17 @@ function drawPrediction(pred) {
   lr.textContent = fmt(first.leak_rate, 5);
   lr.dataset.si = first.leak_rate === null || first.leak_rate === undefined ? "" : String(first.leak_rate);
   $("#leak-rate-unit").textContent = "m³/s";
-  const x0 = first.squeeze_pressure !== undefined ? `${fmt(first.squeeze_pressure / 1e3)} kPa`
-    : first.compression !== undefined ? `compression ${fmt(100 * first.compression)} %` : "";
+  const x0 = first.squeeze_pressure !== undefined ? `P0 = ${fmt(first.squeeze_pressure / 1e3)} kPa`
+    : first.compression !== undefined ? `compression ${fmt(100 * first.compression)} %`
+      : first.profile_scale !== undefined ? `profile scale ${fmt(first.profile_scale)}` : "";
   $("#first-pressure").textContent = (first.variant ? `${first.variant}, ` : "") + x0;
   const em = first.leak_rate_effective_medium;
   $("#leak-rate-em-line").hidden = em === undefined;
   if (em !== undefined) { $("#leak-rate-em").textContent = `${fmt(em, 5)} m³/s`; $("#leak-rate-em").dataset.si = String(em); }
-  $("#warnings").textContent = [...doc.warnings, ...doc.messages].join(" · ");
+  const notes = [...doc.warnings, ...doc.messages];
+  $("#warnings").hidden = !notes.length;
+  $("#notes-count").textContent = `${notes.length} note${notes.length === 1 ? "" : "s"} on the validity of the results`;
+  $("#notes").innerHTML = notes.map(n => `<li>${esc(n)}</li>`).join("");
 
   // the table: every record, every unit-declared column
   const keys = Object.keys(doc.units).filter(k => k !== "validity");
