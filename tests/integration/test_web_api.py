@@ -364,3 +364,52 @@ def _same(a, b, path="$", skip=()):
         if path.endswith(".elapsed") or path.endswith("seconds"):
             return
         assert a == b, path
+
+
+def test_serve_refuses_a_port_in_use(capsys):
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        port = s.getsockname()[1]
+        assert main(["serve", "--port", str(port)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"sealeak: error: --port = {port}: is in use on 127.0.0.1 (another server?): choose another port\n"
+
+
+def test_serve_prints_its_address_serves_and_stops_on_ctrl_c(tmp_path):
+    import os
+    import signal
+    import urllib.request
+
+    env = dict(os.environ, TMPDIR=str(tmp_path))
+    proc = subprocess.Popen([sys.executable, "-c", "import sys; from sealeak.cli import main; sys.exit(main(sys.argv[1:]))",
+                             "serve", "--port", "0"], stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        line = proc.stderr.readline()
+        m = re.fullmatch(r"sealeak: serving the web app at (http://127\.0\.0\.1:(\d+)/) \(Ctrl-C stops it\)\n", line)
+        assert m, line
+        body = REF.encode()
+        req = urllib.request.Request(m.group(1) + "api/predict?name=ring.toml", data=body, method="POST")
+        answer = json.loads(urllib.request.urlopen(req, timeout=60).read())
+        assert answer["cases"][0]["source"] == "ring.toml"
+        page = urllib.request.urlopen(m.group(1) + "case", timeout=30).read().decode()
+        assert "<title>sealeak — Case</title>" in page
+        assert len(list(tmp_path.glob("sealeak-web-*"))) == 1
+    finally:
+        proc.send_signal(signal.SIGINT)
+        rest = proc.communicate(timeout=30)[1]
+    assert proc.returncode == 0, rest
+    assert "Traceback" not in rest
+    assert list(tmp_path.glob("sealeak-web-*")) == []  # the sessions' folders went with the server
+
+
+def test_sessions_that_stored_nothing_expire_sooner(tmp_path):
+    from sealeak.web.sessions import SessionStore
+
+    store = SessionStore(tmp_path, idle=3600)
+    idle, busy = store.create(), store.create()
+    busy.uploads.joinpath("a.csv").write_text("x")
+    gone = store.expire(now=time.monotonic() + 900)
+    assert gone == [idle] and store.get(busy.token) is busy

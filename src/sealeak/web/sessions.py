@@ -91,8 +91,10 @@ class SessionStore:
     def expire(self, now: float | None = None) -> list[Session]:
         """End the sessions idle for longer than ``idle``: cancel their jobs, remove their folders."""
         now = time.monotonic() if now is None else now
+        # a session that never stored anything (a script's request without the cookie) goes after 10 minutes
         with self._lock:
-            old = [s for s in self._sessions.values() if now - s.last_seen > self.idle]
+            old = [s for s in self._sessions.values()
+                   if now - s.last_seen > (self.idle if s.folder.exists() or s.case_text or s.jobs else min(self.idle, 600.0))]
             for s in old:
                 del self._sessions[s.token]
         for s in old:
