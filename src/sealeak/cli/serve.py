@@ -42,7 +42,9 @@ def _cmd_serve(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.ArgumentParser], None]) -> None:
     """Add ``serve`` to the sub-command parsers."""
-    p = sub.add_parser("serve", help="start the local web app (case form, surfaces, prediction, simulation) and its JSON API")
+    p = sub.add_parser("serve", help="start the local web app (case form, surfaces, prediction, simulation) and its JSON API",
+                       description="Start the local web app and its JSON API (docs/web.md) at http://HOST:PORT/; Ctrl-C "
+                                   "stops it and removes every uploaded file. Needs the web extra: pip install 'sealeak[web]'.")
     p.add_argument("--host", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1: this machine only; 0.0.0.0: every network interface)")
     p.add_argument("--port", type=int, default=8765, help="port to listen on (default 8765)")

@@ -281,7 +281,9 @@ function drawPrediction(pred) {
   const lr = $("#leak-rate");
   lr.textContent = fmt(first.leak_rate, 5);
   lr.dataset.si = first.leak_rate === null || first.leak_rate === undefined ? "" : String(first.leak_rate);
+  // the same volume flow in ml/min, the unit of the command line's table (1 m³/s = 6e7 ml/min)
   $("#leak-rate-unit").textContent = "m³/s";
+  $("#leak-rate-ml").textContent = typeof first.leak_rate === "number" ? `= ${fmt(first.leak_rate * 6e7, 4)} ml/min` : "";
   const x0 = first.squeeze_pressure !== undefined ? `P0 = ${fmt(first.squeeze_pressure / 1e3)} kPa`
     : first.compression !== undefined ? `compression ${fmt(100 * first.compression)} %`
       : first.profile_scale !== undefined ? `profile scale ${fmt(first.profile_scale)}` : "";
@@ -359,7 +361,7 @@ async function pageSurface() {
       drawSurface(an);
       $("#use-surface").disabled = !an.psd;
     } catch (e) {
-      const m = /^(--[a-z-]+)/.exec(e.message);
+      const m = /(--[a-z-]+)/.exec(e.message);  // the option the message names, e.g. "give --height-unit"
       const box = m ? $(`#surface-form [data-field="${m[1]}"]`) : null;
       if (box) { $(".err", box).textContent = e.message; $("input", box).classList.add("invalid"); } else showMessage(e.message);
     } finally {
