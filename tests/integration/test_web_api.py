@@ -59,12 +59,18 @@ def test_predict_of_a_case_naming_an_uploaded_file_equals_the_cli(tmp_path, monk
     (tmp_path / "lip.toml").write_text(text, encoding="utf-8")
     (tmp_path / "lip-profile.csv").write_text(example_text("lip-profile.csv"), encoding="utf-8")
     assert cli(tmp_path, monkeypatch, capsys, "predict", "lip.toml", "--json", "cli.json", "-q")[0] == 0
-    with TestClient(create_app()) as c:
+    app = create_app()
+    with TestClient(app) as c:
         refused = c.post("/api/predict?name=lip.toml", content=text.encode())
         assert refused.status_code == 422 and refused.json()["field"] == "seal.pressure_profile"
         up = c.post("/api/uploads", files=[("files", ("lip-profile.csv", (tmp_path / "lip-profile.csv").read_bytes()))])
         assert up.status_code == 200 and up.json()["uploads"] == ["lip-profile.csv"]
         r = c.post("/api/predict?name=lip.toml", content=text.encode())
+        # the profile's file is named as uploaded, never by its place on the server, in every view of the case
+        c.post("/api/case/upload", files={"file": ("lip.toml", text.encode())})
+        views = [c.get("/api/case?predict=1").text, c.get("/download/results.csv").text, r.text]
+        assert all(str(app.state.root) not in v for v in views)
+        assert '"pressure_profile": "lip-profile.csv"' in r.text
     assert r.status_code == 200, r.text
     # key for key, numbers to 1e-12: the effective medium of a profile seal differs in its last digits between two
     # runs of the command line itself, and its integral's convergence diagnostic by ~1e-9 (so that one is left out)

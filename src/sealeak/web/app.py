@@ -42,7 +42,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from ..cases import example_names, example_text
 from ..cases.loader import example_data_names, example_description
 from ..errors import FileFormatError, InputError, SealeakError
-from ..render import analysis_json, html_report, prediction_csv, prediction_figures, prediction_json, prediction_table, render_figures
+from ..render import analysis_json, html_report, prediction_csv, prediction_figures, render_figures
 from ..render.interactive import prediction_plot_data
 from ..topography import analysis_options, analyze, cli_option_names
 from .casework import PredictionCache, check_files, doc_fields, field_of, fields_doc, file_names, form_schema, toml_text, upload_name
@@ -238,18 +238,16 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         return Response((_STATIC / name).read_bytes(), media_type=kind)
 
     # ------------------------------------------------------------------ the case of the session
-    def case_state(s: Session, check: bool = True, predict: bool = False) -> dict[str, Any]:
+    def case_state(s: Session, predict: bool = False) -> dict[str, Any]:
+        """The session's case for the pages: TOML, form fields, valid or the loader's error, and its prediction."""
         out: dict[str, Any] = {"name": s.case_name, "toml": s.case_text, "fields": {}, "valid": False, "error": None,
                                "uploads": sorted(s.uploaded())}
         if s.case_text is None:
             return out
-        malformed = False
         try:
             out["fields"] = doc_fields(tomllib.loads(s.case_text))
         except tomllib.TOMLDecodeError:  # reported below by the loader, with the CLI's message
-            malformed = True
-        if not check and not malformed:
-            return out
+            pass
         try:
             pred = cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads_path)
         except SealeakError as exc:
@@ -257,12 +255,10 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
             return out
         out["valid"] = True
         if predict:
-            out["prediction"] = _prediction_view(pred.results)
+            if "plots" not in pred.rendered:
+                pred.rendered["plots"] = json.dumps(prediction_plot_data(pred.results))
+            out["prediction"] = {"json": json.loads(_scrub(pred.json(), s, root)), "plots": json.loads(pred.rendered["plots"])}
         return out
-
-    def _prediction_view(results: list[Any]) -> dict[str, Any]:
-        doc = json.loads(prediction_json(results))
-        return {"json": doc, "plots": prediction_plot_data(results), "table": prediction_table(results)}
 
     @app.get("/api/form")
     def form() -> dict[str, Any]:
@@ -363,7 +359,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     @app.get("/download/results.csv")
     def download_csv(request: Request) -> Response:
         """``predict --csv`` of the session's case."""
-        return _download(prediction_csv(_current(session_of(request)).results), "results.csv", "text/csv")
+        s = session_of(request)
+        return _download(_scrub(prediction_csv(_current(s).results), s, root), "results.csv", "text/csv")
 
     @app.get("/download/figures.zip")
     def download_figures(request: Request) -> Response:
@@ -378,8 +375,10 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     @app.get("/download/report.html")
     def download_report(request: Request) -> Response:
         """The HTML report of ``sealeak report``."""
-        pred = _current(session_of(request))
-        return _download(html_report(pred.results, pred.case_file.inputs), "report.html", "text/html; charset=utf-8")
+        s = session_of(request)
+        pred = _current(s)
+        return _download(_scrub(html_report(pred.results, pred.case_file.inputs), s, root), "report.html",
+                         "text/html; charset=utf-8")
 
     # ------------------------------------------------------------------ the JSON API of scripts
     @app.post("/api/predict")

@@ -188,7 +188,7 @@ class Prediction:
 
     case_file: CaseFile
     results: list[CaseResult]
-    rendered: dict[str, str] = field(default_factory=dict, compare=False)
+    rendered: dict[str, str] = field(default_factory=dict, compare=False)  # documents rendered once, by name
 
     def json(self) -> str:
         """The ``sealeak predict --json`` document (rendered once)."""
