@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import re
 import time
 from pathlib import Path
@@ -149,5 +150,13 @@ def test_simulation_runs_and_cancels(page, artifacts, server):
             break
         time.sleep(0.1)
     assert job._proc.poll() is not None
+    for _ in range(50):  # and with it every process of its group (the Dask workers a 512² run starts)
+        try:
+            os.killpg(job._proc.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("processes of the cancelled job are still running")
     assert page.locator("#job-table").inner_text().strip() != ""
     page.screenshot(path=str(artifacts / "simulation-cancelled.png"), full_page=True)
