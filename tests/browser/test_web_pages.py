@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import re
 import time
 from pathlib import Path
@@ -117,6 +116,19 @@ def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypat
     assert page.input_value('[name="surface.model"]') == "topography"
 
 
+def _running_in_group(pgid: int) -> list[int]:
+    """The processes of group ``pgid`` that still run (zombies waiting for their parent to reap them do not)."""
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            out.append(int(stat.parent.name))
+    return out
+
+
 def _job_state(page, job_id: str) -> dict:
     return page.evaluate(f"fetch('/api/jobs/{job_id}').then(r => r.json())")
 
@@ -142,21 +154,24 @@ def test_simulation_runs_and_cancels(page, artifacts, server):
     page.wait_for_selector("#job-figures img")
     assert _job_state(page, long_id)["state"] == "running"  # the short job finished while the long one runs
     page.screenshot(path=str(artifacts / "simulation.png"), full_page=True)
+    job = next(j for s in list(app.state.sessions._sessions.values()) for i, j in s.jobs.items() if i == long_id)
+    for _ in range(300):  # a 512² run starts a local Dask cluster (the CLI's default): cancel it with its workers up
+        if len(_running_in_group(job._proc.pid)) >= 2:
+            break
+        time.sleep(0.1)
+    assert len(_running_in_group(job._proc.pid)) >= 2, "the long job started no worker process"
     page.click(f"#jobs tr[data-job='{long_id}'] .cancel")
     page.wait_for_selector(f"#jobs tr[data-job='{long_id}'] td.state:has-text('cancelled')")
-    job = next(j for s in list(app.state.sessions._sessions.values()) for i, j in s.jobs.items() if i == long_id)
     for _ in range(50):  # the process group is gone (SIGTERM, then SIGKILL after 3 s)
         if job._proc is not None and job._proc.poll() is not None:
             break
         time.sleep(0.1)
     assert job._proc.poll() is not None
     for _ in range(50):  # and with it every process of its group (the Dask workers a 512² run starts)
-        try:
-            os.killpg(job._proc.pid, 0)
-        except ProcessLookupError:
+        if not _running_in_group(job._proc.pid):
             break
         time.sleep(0.1)
     else:
-        pytest.fail("processes of the cancelled job are still running")
+        pytest.fail(f"processes of the cancelled job are still running: {_running_in_group(job._proc.pid)}")
     assert page.locator("#job-table").inner_text().strip() != ""
     page.screenshot(path=str(artifacts / "simulation-cancelled.png"), full_page=True)

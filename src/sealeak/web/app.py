@@ -476,7 +476,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
             names = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
             job = start_job(s.jobs_folder, s.case_text or "", s.case_name, [s.uploads / n for n in sorted(names)],
                             pred.case_file.cases[0].title, opts["grid"], opts["realizations"], opts["seed"],
-                            opts["workers"] or 0)
+                            opts["workers"])
             s.jobs[job.id] = job
         return job.info()
 

@@ -120,11 +120,12 @@ def _kill(proc: subprocess.Popen[bytes]) -> None:
 
 
 def start_job(jobs_folder: Path, case_text: str, case_name: str, files: Iterable[Path], title: str,
-              grid: int | None, realizations: int | None, seed: int | None, workers: int) -> Job:
+              grid: int | None, realizations: int | None, seed: int | None, workers: int | None) -> Job:
     """Start ``sealeak simulate`` on a copy of the case (and the files it names) in a new job folder.
 
     ``grid``, ``realizations``, ``seed`` override the case's ``[simulation]`` (None: the case's value);
-    ``workers`` is ``--workers`` (0: one process, no Dask).
+    ``workers`` is ``--workers`` (0: one process, no Dask; None: the command line's default, a local
+    Dask cluster on every core from a 512² grid up).
     """
     folder = jobs_folder / secrets.token_hex(6)
     folder.mkdir(parents=True)
