@@ -90,6 +90,20 @@ def test_bad_value_shows_the_cli_message_next_to_its_field(page, artifacts, tmp_
     assert "poisson_ratio = 0.5" in Path(dl.value.path()).read_text()
 
 
+def test_uploaded_case_and_the_file_it_names(page, tmp_path):
+    (tmp_path / "lip.toml").write_text(example_text("lip-profile"), encoding="utf-8")
+    (tmp_path / "lip-profile.csv").write_text(example_text("lip-profile.csv"), encoding="utf-8")
+    page.goto("/case")
+    page.set_input_files("#case-file", str(tmp_path / "lip.toml"))
+    box = page.locator('[data-field="seal.pressure_profile"] .err')
+    box.wait_for(state="visible")
+    assert box.inner_text().startswith("seal.pressure_profile = 'lip-profile.csv': must name a file uploaded in this session")
+    assert page.inner_text("#case-name") == "case: lip.toml"
+    page.set_input_files("#data-files", str(tmp_path / "lip-profile.csv"))
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
+    assert page.inner_text("#uploads") == "lip-profile.csv" and box.inner_text() == ""
+
+
 def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypatch, capsys):
     rng = np.random.default_rng(7)
     n = 64

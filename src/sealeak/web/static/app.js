@@ -51,6 +51,8 @@ function markNav() {
 function setCaseName(state) {
   const el = $("#case-name");
   if (el) el.textContent = state && state.toml ? `case: ${state.name}` : "no case yet";
+  const up = $("#uploads");
+  if (up && state && state.uploads) up.textContent = state.uploads.length ? state.uploads.join(", ") : "none";
 }
 
 // ---------------------------------------------------------------- the case form (Case and Prediction pages)
@@ -231,6 +233,15 @@ async function pageCase() {
     try {
       const state = await api("POST", "/api/case/example", { name: sel.value });
       Form.render(state); Form.apply(state);
+    } catch (e) { showMessage(e.message); }
+  });
+  $("#data-files").addEventListener("change", async ev => {
+    if (!ev.target.files.length) return;
+    const body = new FormData();
+    for (const f of ev.target.files) body.append("files", f);
+    try {
+      await api("POST", "/api/uploads", body);
+      Form.apply(await api("GET", "/api/case"));  // checked again: the case may name what just arrived
     } catch (e) { showMessage(e.message); }
   });
   $("#case-file").addEventListener("change", async ev => {
