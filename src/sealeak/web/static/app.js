@@ -339,6 +339,8 @@ async function pagePrediction() {
     const model = $('#case-form [name="theory.model"]');
     if (model) both.checked = model.value === "both";
     if (state.prediction) drawPrediction(state.prediction);
+    // while the case has an error the results shown are those of the last valid case: greyed out
+    $("#results").classList.toggle("stale", !!state.error);
   });
   both.addEventListener("change", () => {
     const model = $('#case-form [name="theory.model"]');
