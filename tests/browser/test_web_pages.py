@@ -22,8 +22,14 @@ def cli(tmp_path: Path, monkeypatch, capsys, *argv: str) -> tuple[int, str]:
     return code, next((ln for ln in err.splitlines() if ln.startswith("sealeak: error:")), "")
 
 
+def goto(page, path: str) -> None:
+    """Open a page and wait until it has loaded what it shows."""
+    page.goto(path)
+    page.wait_for_selector("body[data-ready]", state="attached")
+
+
 def load_example(page, name: str = "reference-experiment") -> None:
-    page.goto("/case")
+    goto(page, "/case")
     page.select_option("#example", name)
     page.click("#load-example")
     page.wait_for_selector("#status:has-text('the case is valid')")
@@ -31,7 +37,7 @@ def load_example(page, name: str = "reference-experiment") -> None:
 
 def test_prediction_page_shows_the_cli_leak_rate(page, artifacts, tmp_path, monkeypatch, capsys):
     load_example(page)
-    page.goto("/prediction")
+    goto(page, "/prediction")
     page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
     page.fill('[name="conditions.squeeze_pressure"]', "0.5 MPa")  # re-runs on change, no button
     page.wait_for_function("document.querySelector('#first-pressure').textContent.startsWith('P0 = 500 kPa')")
@@ -93,9 +99,11 @@ def test_bad_value_shows_the_cli_message_next_to_its_field(page, artifacts, tmp_
 def test_uploaded_case_and_the_file_it_names(page, tmp_path):
     (tmp_path / "lip.toml").write_text(example_text("lip-profile"), encoding="utf-8")
     (tmp_path / "lip-profile.csv").write_text(example_text("lip-profile.csv"), encoding="utf-8")
-    page.goto("/case")
+    goto(page, "/case")
     page.set_input_files("#case-file", str(tmp_path / "lip.toml"))
     box = page.locator('[data-field="seal.pressure_profile"] .err')
+    page.wait_for_function("document.querySelector('#status').textContent === 'the case has an error (below)'")
+    assert page.inner_text("#message") == ""  # the message is by its field, not in the banner
     box.wait_for(state="visible")
     assert box.inner_text().startswith("seal.pressure_profile = 'lip-profile.csv': must name a file uploaded in this session")
     assert page.inner_text("#case-name") == "case: lip.toml"
@@ -112,7 +120,7 @@ def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypat
     f = tmp_path / "map.txt"
     np.savetxt(f, 2.0 * h / h.std())  # µm
     load_example(page)
-    page.goto("/surface")
+    goto(page, "/surface")
     page.set_input_files("#topo-files", str(f))
     page.fill("#opt-size", "0.5 mm")
     page.fill("#opt-height_unit", "um")
@@ -126,7 +134,7 @@ def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypat
     page.click("#use-surface")
     page.wait_for_selector("#used:has-text('measured topography')")
     page.screenshot(path=str(artifacts / "surface.png"), full_page=True)
-    page.goto("/case")
+    goto(page, "/case")
     assert page.input_value('[name="surface.model"]') == "topography"
 
 
@@ -150,10 +158,10 @@ def _job_state(page, job_id: str) -> dict:
 def test_simulation_runs_and_cancels(page, artifacts, server):
     _base, app = server
     load_example(page)
-    page.goto("/case")
+    goto(page, "/case")
     page.fill('[name="conditions.squeeze_pressure"]', '["0.1 MPa", "0.3 MPa"]')
     page.wait_for_selector("#status:has-text('the case is valid')")
-    page.goto("/simulation")
+    goto(page, "/simulation")
     # a long one (cancelled while it runs) and a short one (runs to the end) at the same time
     page.fill("#sim-grid", "512")
     page.fill("#sim-realizations", "8")

@@ -222,13 +222,8 @@ const Form = {
 
 // ---------------------------------------------------------------- Case page
 async function pageCase() {
-  await Form.init(false, null);
+  // the controls answer from the start; the form and the list of examples arrive with Form.init
   const sel = $("#example");
-  for (const ex of Form.examples) {
-    const o = document.createElement("option");
-    o.value = ex.name; o.textContent = `${ex.name} — ${ex.description}`;
-    sel.appendChild(o);
-  }
   $("#load-example").addEventListener("click", async () => {
     try {
       const state = await api("POST", "/api/case/example", { name: sel.value });
@@ -251,9 +246,17 @@ async function pageCase() {
     body.append("file", file);
     try {
       const state = await api("POST", "/api/case/upload", body);
+      if (!Form.schema) await Form.ready;
       Form.render(state); Form.apply(state);
     } catch (e) { showMessage(e.message); }
   });
+  Form.ready = Form.init(false, null);
+  await Form.ready;
+  for (const ex of Form.examples) {
+    const o = document.createElement("option");
+    o.value = ex.name; o.textContent = `${ex.name} — ${ex.description}`;
+    sel.appendChild(o);
+  }
 }
 
 // ---------------------------------------------------------------- Prediction page
@@ -487,5 +490,6 @@ const PAGES = { case: pageCase, prediction: pagePrediction, surface: pageSurface
 document.addEventListener("DOMContentLoaded", () => {
   markNav();
   const run = PAGES[document.body.dataset.page];
-  if (run) run().catch(e => showMessage(e.message));
+  // data-ready: the page has loaded what it shows (the browser tests wait for it)
+  if (run) run().catch(e => showMessage(e.message)).finally(() => { document.body.dataset.ready = "1"; });
 });
