@@ -3,9 +3,9 @@ PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.sealeak-installed
-EXTRAS ?= test,formats,dev,docs
+EXTRAS ?= test,formats,dev,docs,web
 
-.PHONY: demo test lint docs docs-check install bench bench-peers clean
+.PHONY: demo test lint docs docs-check install bench bench-peers clean browser
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -21,8 +21,13 @@ demo: $(STAMP)
 		--table out/table.txt --json out/results.json --csv out/results.csv --plots out --force
 
 # everything CI checks: lint, the layer contracts, types, the documentation site, the test suite
-test: lint docs-check
-	$(PY) -m pytest -q
+# (the web app's browser tests included: they fail, not skip, when Chromium is missing)
+test: lint docs-check browser
+	SEALEAK_REQUIRE_BROWSER=1 $(PY) -m pytest -q
+
+# headless Chromium for the browser tests: Debian's package (Playwright drives it; it downloads no browser)
+browser:
+	@command -v chromium >/dev/null || { apt-get update && apt-get install -y --no-install-recommends chromium; }
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks tools

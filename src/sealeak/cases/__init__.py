@@ -20,6 +20,7 @@ from .loader import (
     example_text,
     load_case,
     load_cases,
+    parse_case_bytes,
     parse_case_file,
     parse_cases,
     read_case_file,
@@ -45,7 +46,7 @@ from .run import (
 from .simulation import SimulationResult, simulate
 
 __all__ = [
-    "Case", "MODELS", "CaseFile", "read_case_file", "parse_case_file", "load_cases", "load_case", "parse_cases",
+    "Case", "MODELS", "CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
     "example_names", "example_text", "example_path", "register_surface_model",
     "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "RESULT_UNITS",
     "EFFECTIVE_MEDIUM_UNITS", "fit_models", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction",

@@ -57,7 +57,7 @@ from .builders import build_case
 from .model import Case
 from .schema import SECTIONS, Section
 
-__all__ = ["CaseFile", "read_case_file", "parse_case_file", "load_cases", "load_case", "parse_cases",
+__all__ = ["CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
            "example_names", "example_text", "example_path", "example_data_names", "example_description"]
 
 @dataclass(frozen=True)
@@ -124,13 +124,19 @@ def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -
 def read_case_file(path: str | Path) -> CaseFile:
     """Read a case file into a :class:`CaseFile` (its cases and its inputs as written)."""
     p = input_file(path, "case file")  # missing, a folder, a FIFO or a device: one line naming it
+    return parse_case_bytes(p.read_bytes(), p.parent, str(p))
+
+
+def parse_case_bytes(data: bytes, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
+    """A case file's bytes (UTF-8, a BOM allowed) into a :class:`CaseFile`: the command line reads a file
+    through this, the web app a request body, so both refuse the same content with the same message."""
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
-        raise FileFormatError(p, "is not UTF-8 text") from None
+        raise FileFormatError(source, "is not UTF-8 text") from None
     if not text.strip():
-        raise FileFormatError(p, "is empty")
-    return parse_case_file(text, p.parent, str(p))
+        raise FileFormatError(source, "is empty")
+    return parse_case_file(text, case_dir, source)
 
 
 def load_cases(path: str | Path) -> list[Case]:

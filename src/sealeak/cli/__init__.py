@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from .._version import __version__
 from ..errors import SealeakError
-from . import lab, simulate, surface
+from . import lab, serve, simulate, surface
 from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, emit, inputs, load_case_file, outputs, usage_message
 
 __all__ = ["main", "build_parser"]
@@ -76,7 +76,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("name", nargs="?", help="example to print")
     p.set_defaults(func=_cmd_examples)
 
-    for module in (surface, simulate, lab):
+    for module in (surface, simulate, lab, serve):
         module.register(sub, add_case_args)
     return parser
 

@@ -19,41 +19,14 @@ PLOT_FORMATS = (".png", ".pdf", ".svg")
 __all__ = ["register", "unit_options"]
 
 
-def _lengths(text: str | None, field: str) -> float | tuple[float, float] | None:
-    """'1 mm' -> 1e-3; '1 mm, 0.5 mm' -> (1e-3, 5e-4)."""
-    from ..io.units import parse_quantity, split_quantities
-
-    if text is None:
-        return None
-    parts = split_quantities(field, text)
-    values = [parse_quantity(field, p, "length") for p in parts]
-    for v, p in zip(values, parts):
-        if v <= 0:
-            raise InputError(field, p, "must be a length > 0")
-    return values[0] if len(values) == 1 else (values[0], values[1])
-
-
 def unit_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The unit keyword arguments of :func:`sealeak.topography.analyze` from CLI options."""
-    if args.size and args.pixel_size:
-        raise InputError("--size", args.size, "give either --size or --pixel-size, not both")
-    return dict(size=_lengths(args.size, "--size"), pixel_size=_lengths(args.pixel_size, "--pixel-size"),
-                height_unit=args.height_unit, lateral_unit=args.lateral_unit, periodic=args.periodic,
-                channel=args.channel)
+    """The unit and reliable-range keyword arguments of :func:`sealeak.topography.analyze` from CLI options."""
+    from ..topography import analysis_options
 
-
-def range_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The reliable-range keyword arguments of :func:`sealeak.topography.analyze` from CLI options."""
-    from ..io.units import parse_quantity
-
-    out: dict[str, Any] = dict(bins_per_decade=args.bins_per_decade, low_cut=args.low_cut,
-                               resolution_pixels=args.resolution_pixels)
-    if args.resolution is not None:
-        value = parse_quantity("--resolution", args.resolution, "length")
-        if not value > 0:
-            raise InputError("--resolution", args.resolution, "must be a length > 0, e.g. '2 um'")
-        out["resolution"] = value
-    return out
+    return analysis_options(size=args.size, pixel_size=args.pixel_size, height_unit=args.height_unit,
+                            lateral_unit=args.lateral_unit, periodic=args.periodic, channel=args.channel,
+                            bins_per_decade=args.bins_per_decade, low_cut=args.low_cut, resolution=args.resolution,
+                            resolution_pixels=args.resolution_pixels)
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
@@ -66,7 +39,7 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
         raise InputError("--plot", args.plot, f"must end in {', '.join(PLOT_FORMATS[:-1])} or {PLOT_FORMATS[-1]} "
                                               "(the file's format follows its name)")
     with cli_option_names():  # messages name --height-unit, --size, ... instead of keyword arguments
-        an = analyze(args.files, **unit_options(args), **range_options(args))
+        an = analyze(args.files, **unit_options(args))
     if not an.has_spectrum and (args.psd_out or args.plot):  # before any output: nothing is left behind
         wanted = " and ".join(o for o, v in (("--psd-out", args.psd_out), ("--plot", args.plot)) if v)
         raise SealeakError(f"{wanted}: no C(q) to write: {an.spectrum_problem}")

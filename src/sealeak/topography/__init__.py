@@ -28,6 +28,7 @@ and :func:`surface_statistics`.
 
 from ._analysis import Analysis, SourceAnalysis, analyze
 from ._fit import SelfAffineFit, fit_self_affine
+from ._options import analysis_options, lengths_option
 from ._preprocess import Prepared, hann_window, prepare
 from ._readers import read_topography
 from ._spectrum import (
@@ -49,6 +50,8 @@ from ._units import MissingUnitsError, case_option_names, cli_option_names, leng
 from ._writers import HEIGHT_MAP_SUFFIXES, height_map_outputs, write_height_map
 
 __all__ = [
+    "analysis_options",
+    "lengths_option",
     "Topography",
     "LineScans",
     "read_topography",

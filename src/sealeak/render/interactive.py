@@ -1,0 +1,56 @@
+"""The data of the interactive prediction plots (the web app draws them with Plotly.js), as JSON.
+
+The same quantities as the prediction figures (:mod:`sealeak.render.figures`): Q against the squeeze
+pressure P0 of both theories (when the case asks for the effective medium), C(q), the contact area
+A(ζ)/A0 and the mean separation ū(ζ) against the magnification ζ at a few pressures, and the gap
+distribution u·P(u). Every array is in SI units (Pa, m³/s, 1/m, m⁴, m); NaN and infinities are
+``null``. The curves come from :func:`sealeak.cases.prediction_curves`: no physics here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..cases import CaseResult, prediction_curves
+from .records import json_value
+
+__all__ = ["prediction_plot_data"]
+
+
+def _list(a: Any) -> list[Any]:
+    return [json_value(x) for x in np.asarray(a, dtype=float).ravel()]
+
+
+def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
+    """Series of the interactive plots of a run (one case, or the variants of a study), SI units.
+
+    ``leak``: per case, P0 (Pa), Q of the critical junction and, when computed, of the effective
+    medium (m³/s); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
+    A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
+    """
+    curves = prediction_curves(list(results))
+    leak = []
+    for r in results:
+        recs = r.records()
+        x = next((k for k in ("squeeze_pressure", "compression", "profile_scale") if recs and k in recs[0]), "squeeze_pressure")
+        leak.append({"label": r.case.label or r.case.title, "x": x, "x_unit": r.units.get(x, ""),
+                     "squeeze_pressure": _list([rec.get(x, np.nan) for rec in recs]),
+                     "leak_rate": _list([rec.get("leak_rate", np.nan) for rec in recs]),
+                     "leak_rate_effective_medium": (_list([rec.get("leak_rate_effective_medium", np.nan) for rec in recs])
+                                                    if any("leak_rate_effective_medium" in rec for rec in recs) else None)})
+    label = len(results) > 1
+    sets = [{"label": (f"{cs.case.label}: " if label and cs.case.label else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",
+             "squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),
+             "zeta_gap": _list(cs.zeta[:-1]), "mean_gap": _list(cs.mean_gap), "zeta_c": json_value(cs.zeta_c)}
+            for cs in curves.sets]
+    return {
+        "leak": leak,
+        "spectra": [{"label": r.case.label or r.case.spectrum.label or r.case.title, "q": _list(q), "C": _list(C)}
+                    for r, (q, C) in zip(results, curves.spectra)],
+        "sets": sets,
+        "gaps": {"u": _list(curves.gap), "density": [_list(d) for d in curves.gap_density],
+                 "labels": [s["label"] for s in sets]},
+    }

@@ -1,0 +1,531 @@
+"""The web app: four pages (case, surface, prediction, simulation) and a JSON API, on FastAPI.
+
+Pages are static HTML with a small script (``static/app.js``) and Plotly.js served from the
+``plotly`` package (no network needed). The API runs cases through :mod:`sealeak.cases` and renders
+with :mod:`sealeak.render`, the functions the command line uses, so ``POST /api/predict`` answers
+with the bytes ``sealeak predict --json`` writes and ``POST /api/surface/analyze`` with those of
+``sealeak surface analyze --json``.
+
+Errors are JSON: ``{"error": message, "field": "section.key", "message": "sealeak: error: ..."}``,
+status 400 (the request is not a case or file at all), 413 (an upload over the limit) or 422 (a
+value refused, with the command line's message). No traceback or server path is ever sent: an
+unexpected error is logged on the server and answered with a generic message.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import json
+import logging
+import re
+import shutil
+import tempfile
+import threading
+import tomllib
+import zipfile
+from collections.abc import AsyncIterator, Awaitable, Callable
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import plotly
+from fastapi import FastAPI, Request, UploadFile
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, RedirectResponse, Response
+from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.middleware.base import BaseHTTPMiddleware
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+from ..cases import example_names, example_text
+from ..cases.loader import example_data_names, example_description
+from ..errors import FileFormatError, InputError, SealeakError
+from ..render import analysis_json, html_report, prediction_csv, prediction_figures, render_figures
+from ..render.interactive import prediction_plot_data
+from ..topography import analysis_options, analyze, cli_option_names
+from .casework import PredictionCache, check_files, doc_fields, field_of, fields_doc, file_names, form_schema, toml_text, upload_name
+from .jobs import Job, start_job
+from .sessions import COOKIE, Session, SessionStore
+
+__all__ = ["WebConfig", "create_app", "DEFAULT_MAX_UPLOAD"]
+
+log = logging.getLogger("sealeak.web")
+
+#: The default upload limit (bytes): 200 MB.
+DEFAULT_MAX_UPLOAD = 200 * 10**6
+_STATIC = resources.files("sealeak") / "web" / "static"
+_PAGES = {"case": "case.html", "surface": "surface.html", "prediction": "prediction.html", "simulation": "simulation.html"}
+
+
+@dataclass(frozen=True)
+class WebConfig:
+    """Settings of one server: the upload limit (bytes), the idle time after which a session ends (s),
+    the folder for session folders (None: a new temporary folder, removed at shutdown), the most
+    simulation jobs running at once per session."""
+
+    max_upload: int = DEFAULT_MAX_UPLOAD
+    session_idle: float = 4 * 3600.0
+    root: Path | None = None
+    max_jobs: int = 4
+
+
+class UploadLimit:
+    """ASGI middleware: a request body over ``limit`` bytes gets 413, by its Content-Length before the app
+    reads anything, or (a chunked body without one) while it streams in."""
+
+    def __init__(self, app: ASGIApp, limit: int) -> None:
+        self.app = app
+        self.limit = limit
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        """Refuse an over-long body before the app reads it, or as soon as the streamed body passes the limit."""
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        length = dict(scope["headers"]).get(b"content-length")
+        if length is not None and length.isdigit() and int(length) > self.limit:
+            await _too_large(self.limit)(scope, receive, send)
+            return
+        if length is not None:  # the server stops reading at Content-Length: nothing more can come
+            await self.app(scope, receive, send)
+            return
+        # no Content-Length (a chunked body): read it here, up to the limit, then hand it on
+        chunks: list[bytes] = []
+        seen = 0
+        while True:
+            message = await receive()
+            if message["type"] != "http.request":
+                break
+            chunks.append(message.get("body", b""))
+            seen += len(chunks[-1])
+            if seen > self.limit:
+                await _too_large(self.limit)(scope, receive, send)
+                return
+            if not message.get("more_body", False):
+                break
+        body = b"".join(chunks)
+        sent = False
+
+        async def replay() -> Message:
+            nonlocal sent
+            if not sent:
+                sent = True
+                return {"type": "http.request", "body": body, "more_body": False}
+            return await receive()
+
+        await self.app(scope, replay, send)
+
+
+def _too_large(limit: int) -> JSONResponse:
+    msg = f"upload: larger than the server's limit of {limit / 1e6:.6g} MB (sealeak serve --max-upload)"
+    return JSONResponse({"error": msg, "field": "upload", "message": f"sealeak: error: {msg}"}, status_code=413)
+
+
+class _Sessions(BaseHTTPMiddleware):
+    """Attach the request's :class:`Session` (a new one, with its cookie, when it has none)."""
+
+    def __init__(self, app: ASGIApp, store: SessionStore) -> None:
+        super().__init__(app)
+        self.store = store
+
+    async def dispatch(self, request: Request, call_next: Callable[[Request], Awaitable[Response]]) -> Response:
+        """Find or create the session, run the request, set the cookie of a new session."""
+        session = self.store.get(request.cookies.get(COOKIE))
+        new = session is None
+        if session is None:
+            session = self.store.create()
+        request.state.session = session
+        response = await call_next(request)
+        if new:
+            response.set_cookie(COOKIE, session.token, httponly=True, samesite="strict", path="/")
+        return response
+
+
+def _error(exc: SealeakError, status: int, session: Session | None, root: Path) -> JSONResponse:
+    msg = _scrub(str(exc), session, root)
+    field = field_of(exc) if isinstance(exc, InputError) else ""
+    return JSONResponse({"error": msg, "field": field, "message": f"sealeak: error: {msg}"}, status_code=status)
+
+
+def _scrub(text: str, session: Session | None, root: Path) -> str:
+    """``text`` without the server's folders: a session file is named by its upload name only."""
+    for folder in ([session.uploads_path, session.folder] if session is not None else []) + [root]:
+        text = text.replace(f"{folder}/", "").replace(str(folder), "")
+    return text
+
+
+def _status(exc: SealeakError) -> int:
+    return 400 if isinstance(exc, FileFormatError) and not isinstance(exc, InputError) and \
+        exc.problem.startswith(("is empty", "is not UTF-8", "malformed TOML")) else 422
+
+
+def create_app(config: WebConfig | None = None) -> FastAPI:
+    """The web app (an ASGI application; ``uvicorn`` serves it, ``sealeak serve`` starts that)."""
+    cfg = config or WebConfig()
+    own_root = cfg.root is None
+    root = Path(tempfile.mkdtemp(prefix="sealeak-web-")) if cfg.root is None else cfg.root
+    root.mkdir(parents=True, exist_ok=True)
+    store = SessionStore(root, cfg.session_idle)
+    cache = PredictionCache()
+    stop = threading.Event()
+
+    def reaper() -> None:
+        while not stop.wait(min(60.0, max(cfg.session_idle / 4, 0.05))):
+            store.expire()
+
+    @contextlib.asynccontextmanager
+    async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
+        thread = threading.Thread(target=reaper, name="sealeak-sessions", daemon=True)
+        thread.start()
+        try:
+            yield
+        finally:
+            stop.set()
+            store.close()
+            if own_root:
+                shutil.rmtree(root, ignore_errors=True)
+
+    app = FastAPI(title="sealeak", lifespan=lifespan, docs_url=None, redoc_url=None, openapi_url=None)
+    app.state.sessions = store
+    app.state.root = root
+    app.add_middleware(_Sessions, store=store)
+    app.add_middleware(UploadLimit, limit=cfg.max_upload)
+
+    def session_of(request: Request) -> Session:
+        return request.state.session  # type: ignore[no-any-return]
+
+    @app.exception_handler(SealeakError)
+    async def _sealeak_error(request: Request, exc: SealeakError) -> JSONResponse:
+        return _error(exc, _status(exc), getattr(request.state, "session", None), root)
+
+    @app.exception_handler(RequestValidationError)
+    async def _bad_request(request: Request, exc: RequestValidationError) -> JSONResponse:
+        first = exc.errors()[0] if exc.errors() else {}
+        where = ".".join(str(x) for x in first.get("loc", ())[1:]) or "request"
+        msg = f"{where}: {first.get('msg', 'malformed request')}"
+        return JSONResponse({"error": msg, "field": where, "message": f"sealeak: error: {msg}"}, status_code=400)
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http_error(request: Request, exc: StarletteHTTPException) -> JSONResponse:
+        msg = str(exc.detail)
+        return JSONResponse({"error": msg, "field": "", "message": f"sealeak: error: {msg}"}, status_code=exc.status_code)
+
+    @app.exception_handler(Exception)
+    async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
+        log.exception("unexpected error in %s %s", request.method, request.url.path)
+        msg = "internal error: the server could not answer this request (its log has the details)"
+        return JSONResponse({"error": msg, "field": "", "message": f"sealeak: error: {msg}"}, status_code=500)
+
+    # ------------------------------------------------------------------ pages and static files
+    @app.get("/", include_in_schema=False)
+    def index() -> RedirectResponse:
+        return RedirectResponse("/case")
+
+    for page, filename in _PAGES.items():
+        def serve_page(filename: str = filename) -> Response:
+            return Response((_STATIC / filename).read_bytes(), media_type="text/html; charset=utf-8")
+        app.get(f"/{page}", include_in_schema=False)(serve_page)
+
+    @app.get("/static/{name}", include_in_schema=False)
+    def static(name: str) -> Response:
+        if name == "plotly.min.js":
+            return FileResponse(Path(plotly.__file__).parent / "package_data" / "plotly.min.js", media_type="text/javascript")
+        if not re.fullmatch(r"[a-z]+\.(js|css)", name) or not (_STATIC / name).is_file():
+            raise StarletteHTTPException(404, f"{name}: no such file")
+        kind = "text/javascript" if name.endswith(".js") else "text/css"
+        return Response((_STATIC / name).read_bytes(), media_type=kind)
+
+    # ------------------------------------------------------------------ the case of the session
+    def case_state(s: Session, predict: bool = False) -> dict[str, Any]:
+        """The session's case for the pages: TOML, form fields, valid or the loader's error, and its prediction."""
+        out: dict[str, Any] = {"name": s.case_name, "toml": s.case_text, "fields": {}, "valid": False, "error": None,
+                               "uploads": sorted(s.uploaded())}
+        if s.case_text is None:
+            return out
+        try:
+            out["fields"] = doc_fields(tomllib.loads(s.case_text))
+        except tomllib.TOMLDecodeError:  # reported below by the loader, with the CLI's message
+            pass
+        try:
+            pred = cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads_path)
+        except SealeakError as exc:
+            out["error"] = {"message": _scrub(str(exc), s, root), "field": field_of(exc) if isinstance(exc, InputError) else ""}
+            return out
+        out["valid"] = True
+        if predict:
+            if "plots" not in pred.rendered:
+                pred.rendered["plots"] = json.dumps(prediction_plot_data(pred.results))
+            out["prediction"] = {"json": json.loads(_scrub(pred.json(), s, root)), "plots": json.loads(pred.rendered["plots"])}
+        return out
+
+    @app.get("/api/form")
+    def form() -> dict[str, Any]:
+        """The case form: sections, keys, each key's kind; the bundled examples."""
+        return {"sections": form_schema(),
+                "examples": [{"name": n, "description": example_description(n)} for n in example_names()]}
+
+    @app.get("/api/case")
+    def get_case(request: Request, predict: bool = False) -> dict[str, Any]:
+        """The session's case: its TOML, its form fields, whether it is valid (and its prediction)."""
+        return case_state(session_of(request), predict=predict)
+
+    @app.post("/api/case/example")
+    def case_example(request: Request, body: dict[str, str]) -> dict[str, Any]:
+        """Start from a bundled example (its data files join the session's uploads)."""
+        s = session_of(request)
+        name = body.get("name", "")
+        text = example_text(name) if name not in example_data_names() else None
+        if text is None or name not in example_names():
+            raise InputError("example", name, f"allowed: {', '.join(example_names())}")
+        for data in example_data_names():  # the files an example names are bundled beside it
+            if data in text:
+                (s.uploads / data).write_text(example_text(data), encoding="utf-8")
+        s.case_text, s.case_name = text, f"{name}.toml"
+        return case_state(s)
+
+    @app.post("/api/case/upload")
+    async def case_upload(request: Request, file: UploadFile) -> dict[str, Any]:
+        """Start from an uploaded case file."""
+        s = session_of(request)
+        data = await file.read()
+        name = upload_name(Path(file.filename or "case.toml").name)
+        try:
+            text = data.decode("utf-8-sig")
+        except UnicodeDecodeError:
+            raise FileFormatError(name, "is not UTF-8 text") from None
+        s.case_text, s.case_name = text, name
+        return case_state(s)
+
+    @app.put("/api/case/fields")
+    def case_fields(request: Request, body: dict[str, Any]) -> dict[str, Any]:
+        """Replace the session's case by the form's fields; answer whether it is valid (and its prediction)."""
+        s = session_of(request)
+        fields = body.get("fields", {})
+        if not isinstance(fields, dict):
+            raise InputError("fields", type(fields).__name__, "must be an object of 'section.key': text")
+        try:
+            doc = fields_doc({str(k): v for k, v in fields.items()})
+        except InputError as exc:
+            return {"valid": False, "error": {"message": str(exc), "field": field_of(exc)}, "toml": s.case_text,
+                    "fields": fields, "name": s.case_name, "uploads": sorted(s.uploaded())}
+        s.case_text = toml_text(doc)
+        return case_state(s, predict=bool(body.get("predict")))
+
+    @app.put("/api/case/surface")
+    def case_surface(request: Request, body: dict[str, Any]) -> dict[str, Any]:
+        """Make uploaded topography files (and their unit options) the case's ``[surface]``."""
+        s = session_of(request)
+        files = body.get("files")
+        if not isinstance(files, list) or not files:
+            raise InputError("surface.files", files, "give the names of one or more uploaded files")
+        doc = tomllib.loads(s.case_text or example_text("reference-experiment"))
+        if s.case_text is None:
+            s.case_name = "reference-experiment.toml"
+        surface: dict[str, Any] = {"model": "topography", "files": [str(f) for f in files]}
+        for key, value in (body.get("options") or {}).items():
+            if value not in (None, "", False) and key in ("size", "pixel_size", "height_unit", "lateral_unit", "periodic",
+                                                          "channel", "bins_per_decade", "low_cut", "resolution",
+                                                          "resolution_pixels"):
+                surface[key] = value
+        check_files({"surface": surface}, s.uploaded())
+        doc["surface"] = surface
+        s.case_text = toml_text(doc)
+        return case_state(s)
+
+    def _current(s: Session) -> Any:
+        if s.case_text is None:
+            raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
+        return cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads_path)
+
+    def _download(content: bytes | str, filename: str, media: str) -> Response:
+        return Response(content, media_type=media, headers={"Content-Disposition": f'attachment; filename="{filename}"'})
+
+    @app.get("/download/case.toml")
+    def download_case(request: Request) -> Response:
+        """The session's case file as TOML."""
+        s = session_of(request)
+        if s.case_text is None:
+            raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
+        return _download(s.case_text, s.case_name, "application/toml")
+
+    @app.get("/download/results.json")
+    def download_json(request: Request) -> Response:
+        """``predict --json`` of the session's case."""
+        s = session_of(request)
+        return _download(_scrub(_current(s).json(), s, root), "results.json", "application/json")
+
+    @app.get("/download/results.csv")
+    def download_csv(request: Request) -> Response:
+        """``predict --csv`` of the session's case."""
+        s = session_of(request)
+        return _download(_scrub(prediction_csv(_current(s).results), s, root), "results.csv", "text/csv")
+
+    @app.get("/download/figures.zip")
+    def download_figures(request: Request) -> Response:
+        """The PNG figures of ``predict --plots``, zipped."""
+        pngs = render_figures(prediction_figures(_current(session_of(request)).results))
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+            for name, data in pngs.items():
+                z.writestr(name, data)
+        return _download(buf.getvalue(), "figures.zip", "application/zip")
+
+    @app.get("/download/report.html")
+    def download_report(request: Request) -> Response:
+        """The HTML report of ``sealeak report``."""
+        s = session_of(request)
+        pred = _current(s)
+        return _download(_scrub(html_report(pred.results, pred.case_file.inputs), s, root), "report.html",
+                         "text/html; charset=utf-8")
+
+    # ------------------------------------------------------------------ the JSON API of scripts
+    @app.post("/api/predict")
+    async def api_predict(request: Request, name: str = "case.toml") -> Response:
+        """The body is a case file (TOML); the answer is what ``sealeak predict --json`` writes for it."""
+        s = session_of(request)
+        source = upload_name(name)
+        data = await request.body()
+        pred = await asyncio.to_thread(cache.predict, data, source, s.uploads_path)
+        return Response(_scrub(pred.json(), s, root), media_type="application/json")
+
+    async def _save_uploads(s: Session, form: Any, field: str) -> list[str]:
+        uploads = [f for f in form.getlist(field) if not isinstance(f, str)]
+        if not uploads:
+            raise FileFormatError(field, f"no file uploaded: send one or more files in the form field '{field}'")
+        names = []
+        for f in uploads:
+            name = upload_name(Path(f.filename or "").name)
+            with open(s.uploads / name, "wb") as out:
+                shutil.copyfileobj(f.file, out)
+            names.append(name)
+        return names
+
+    @app.post("/api/uploads")
+    async def upload_files(request: Request) -> dict[str, Any]:
+        """Upload files a case may name (form field ``files``): a C(q) table, a pressure profile, topographies."""
+        s = session_of(request)
+        names = await _save_uploads(s, await request.form(), "files")
+        return {"uploaded": names, "uploads": sorted(s.uploaded())}
+
+    @app.get("/api/uploads")
+    def list_uploads(request: Request) -> dict[str, Any]:
+        """The names of the files uploaded in this session."""
+        return {"uploads": sorted(session_of(request).uploaded())}
+
+    @app.post("/api/surface/analyze")
+    async def api_analyze(request: Request) -> Response:
+        """Uploaded topography files (form field ``files``) and the unit options as form fields → ``surface analyze --json``."""
+        s = session_of(request)
+        form = await request.form()
+        names = await _save_uploads(s, form, "files")
+        opts = {k: str(v) for k, v in form.items() if isinstance(v, str)}
+
+        def number(key: str, default: float) -> float:
+            text = opts.get(key, "").strip()
+            if not text:
+                return default
+            try:
+                return float(text)
+            except ValueError:
+                raise SealeakError(f"--{key.replace('_', '-')} = '{text}': must be a number") from None
+
+        def work() -> str:
+            with cli_option_names():  # the messages name --height-unit, --size, ... as the command line's do
+                kwargs = analysis_options(
+                    size=opts.get("size") or None, pixel_size=opts.get("pixel_size") or None,
+                    height_unit=opts.get("height_unit") or None, lateral_unit=opts.get("lateral_unit") or None,
+                    periodic=opts.get("periodic", "").lower() in ("1", "true", "on", "yes"),
+                    channel=opts.get("channel") or None, bins_per_decade=number("bins_per_decade", 10.0),
+                    low_cut=number("low_cut", 3.0), resolution=opts.get("resolution") or None,
+                    resolution_pixels=number("resolution_pixels", 4.0))
+                an = analyze([s.uploads / n for n in names], **kwargs)
+            return analysis_json(an)
+
+        text = await asyncio.to_thread(work)
+        return Response(_scrub(text, s, root), media_type="application/json")
+
+    # ------------------------------------------------------------------ simulation jobs
+    @app.post("/api/jobs")
+    def start(request: Request, body: dict[str, Any]) -> dict[str, Any]:
+        """Start ``simulate`` on the session's case (options: grid, realizations, seed, workers)."""
+        s = session_of(request)
+        pred = _current(s)  # refused here, with the loader's message, before any process starts
+        if len(pred.case_file.cases) != 1:
+            raise SealeakError("simulate takes a case without [study] (one surface)")
+        opts: dict[str, int | None] = {}
+        for key, low in (("grid", 16), ("realizations", 1), ("seed", 0), ("workers", 0)):
+            value = body.get(key)
+            if value in (None, ""):
+                opts[key] = None
+                continue
+            try:
+                number = int(str(value).strip())
+            except ValueError:
+                raise InputError(f"--{key}", value, "must be an integer") from None
+            if number < low or (key == "grid" and number % 2):
+                raise InputError(f"--{key}", value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+            opts[key] = number
+        with s.lock:
+            running = sum(1 for j in s.jobs.values() if j.state in ("starting", "running"))
+            if running >= cfg.max_jobs:
+                raise SealeakError(f"{running} simulations are running in this session already (at most {cfg.max_jobs}): "
+                                   "wait for one to finish or cancel one")
+            doc = tomllib.loads(s.case_text or "")
+            names = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
+            job = start_job(s.jobs_folder, s.case_text or "", s.case_name, [s.uploads / n for n in sorted(names)],
+                            pred.case_file.cases[0].title, opts["grid"], opts["realizations"], opts["seed"],
+                            opts["workers"])
+            s.jobs[job.id] = job
+        return job.info()
+
+    def _job(s: Session, job_id: str) -> Job:
+        job = s.jobs.get(job_id)
+        if job is None:
+            raise StarletteHTTPException(404, f"job {job_id}: no such job in this session")
+        return job  # type: ignore[no-any-return]
+
+    @app.get("/api/jobs")
+    def jobs(request: Request) -> list[dict[str, Any]]:
+        """This session's jobs, newest first."""
+        return [j.info() for j in sorted(session_of(request).jobs.values(), key=lambda j: -j.started)]
+
+    @app.get("/api/jobs/{job_id}")
+    def job(request: Request, job_id: str) -> dict[str, Any]:
+        """One job's state and progress."""
+        return _job(session_of(request), job_id).info()
+
+    @app.post("/api/jobs/{job_id}/cancel")
+    def cancel(request: Request, job_id: str) -> dict[str, Any]:
+        """Cancel a running job (its process group is killed)."""
+        j = _job(session_of(request), job_id)
+        j.cancel()
+        return j.info()
+
+    @app.get("/api/jobs/{job_id}/result.json")
+    def job_json(request: Request, job_id: str) -> Response:
+        """``simulate --json`` of a finished job."""
+        j = _job(session_of(request), job_id)
+        p = j.folder / "result.json"
+        if j.state != "done" or not p.is_file():
+            raise StarletteHTTPException(409, f"job {job_id}: not finished ({j.state})")
+        return Response(_scrub(p.read_text(encoding="utf-8"), session_of(request), root), media_type="application/json")
+
+    @app.get("/api/jobs/{job_id}/table.txt")
+    def job_table(request: Request, job_id: str) -> PlainTextResponse:
+        """The table ``simulate`` printed."""
+        j = _job(session_of(request), job_id)
+        p = j.folder / "table.txt"
+        return PlainTextResponse(_scrub(p.read_text(encoding="utf-8", errors="replace") if p.is_file() else "",
+                                        session_of(request), root))
+
+    @app.get("/api/jobs/{job_id}/figures/{name}")
+    def job_figure(request: Request, job_id: str, name: str) -> Response:
+        """One figure of a finished job (PNG)."""
+        j = _job(session_of(request), job_id)
+        if not re.fullmatch(r"[A-Za-z0-9_.-]+\.png", name) or not (j.folder / "figures" / name).is_file():
+            raise StarletteHTTPException(404, f"{name}: no such figure")
+        return Response((j.folder / "figures" / name).read_bytes(), media_type="image/png")
+
+    return app

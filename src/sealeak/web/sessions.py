@@ -1,0 +1,117 @@
+"""Browser sessions of the web app: a random token (cookie), a private temporary folder, its jobs.
+
+Each session has its own folder under the server's temporary root: ``uploads/`` (the files a case
+may name) and ``jobs/<id>/`` (simulation runs). The folder is removed when the session has been
+idle for ``idle`` seconds and when the server stops; its running jobs are cancelled first. A
+session never sees another's files or jobs: everything is looked up through its own token.
+"""
+
+from __future__ import annotations
+
+import secrets
+import shutil
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = ["Session", "SessionStore", "COOKIE"]
+
+#: The name of the session cookie.
+COOKIE = "sealeak_session"
+
+
+@dataclass
+class Session:
+    """One browser session: its folder, its current case (TOML text and name) and its jobs."""
+
+    token: str
+    folder: Path
+    last_seen: float = field(default_factory=time.monotonic)
+    case_text: str | None = None
+    case_name: str = "case.toml"
+    jobs: dict[str, Any] = field(default_factory=dict)
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    @property
+    def uploads(self) -> Path:
+        """The folder of the files uploaded in this session (created on first use)."""
+        p = self.folder / "uploads"
+        p.mkdir(parents=True, exist_ok=True)
+        return p
+
+    @property
+    def uploads_path(self) -> Path:
+        """Where the uploads are (the folder may not exist yet: nothing was uploaded)."""
+        return self.folder / "uploads"
+
+    @property
+    def jobs_folder(self) -> Path:
+        """The folder of this session's simulation jobs (created on first use)."""
+        p = self.folder / "jobs"
+        p.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def uploaded(self) -> set[str]:
+        """The names of the files uploaded in this session."""
+        up = self.uploads_path
+        return {p.name for p in up.iterdir() if p.is_file()} if up.is_dir() else set()
+
+
+class SessionStore:
+    """The sessions of one server, in folders under ``root``; idle ones expire after ``idle`` seconds."""
+
+    def __init__(self, root: Path, idle: float = 4 * 3600.0) -> None:
+        self.root = root
+        self.idle = idle
+        self._sessions: dict[str, Session] = {}
+        self._lock = threading.Lock()
+
+    def get(self, token: str | None) -> Session | None:
+        """The live session of ``token`` (its idle clock restarted), or None."""
+        with self._lock:
+            s = self._sessions.get(token or "")
+            if s is not None:
+                s.last_seen = time.monotonic()
+            return s
+
+    def create(self) -> Session:
+        """A new session with a random 256-bit token (its folder is made when first needed)."""
+        token = secrets.token_urlsafe(32)
+        s = Session(token, self.root / secrets.token_hex(8))  # its folder is made on its first upload or job
+        with self._lock:
+            self._sessions[token] = s
+        return s
+
+    def __len__(self) -> int:
+        with self._lock:
+            return len(self._sessions)
+
+    def expire(self, now: float | None = None) -> list[Session]:
+        """End the sessions idle for longer than ``idle``: cancel their jobs, remove their folders."""
+        now = time.monotonic() if now is None else now
+        # a session that never stored anything (a script's request without the cookie) goes after 10 minutes
+        with self._lock:
+            old = [s for s in self._sessions.values()
+                   if now - s.last_seen > (self.idle if s.folder.exists() or s.case_text or s.jobs else min(self.idle, 600.0))]
+            for s in old:
+                del self._sessions[s.token]
+        for s in old:
+            _end(s)
+        return old
+
+    def close(self) -> None:
+        """End every session (server shutdown)."""
+        with self._lock:
+            sessions = list(self._sessions.values())
+            self._sessions.clear()
+        for s in sessions:
+            _end(s)
+
+
+def _end(s: Session) -> None:
+    for job in list(s.jobs.values()):
+        job.cancel()
+    shutil.rmtree(s.folder, ignore_errors=True)
+

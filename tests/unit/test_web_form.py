@@ -1,0 +1,92 @@
+"""The case form: every case-file key has a field, the choices are the loader's, fields round-trip to TOML."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+
+import pytest
+
+from sealeak.cases import example_names, example_text, parse_case_file
+from sealeak.cases.form import FIELD_KINDS, FORM_SECTIONS
+from sealeak.cases.rig_builders import RIG_KEYS
+from sealeak.cases.schema import SECTIONS, TOP_LEVEL
+from sealeak.errors import InputError
+
+pytest.importorskip("fastapi", reason="the web extra (sealeak[web]) is not installed")
+from sealeak.web.casework import check_files, doc_fields, fields_doc, text_value  # noqa: E402
+
+REF = example_text("reference-experiment")
+
+
+def test_every_case_file_key_has_exactly_one_field():
+    keys = set(TOP_LEVEL) | {f"{s}.{k}" for s, ks in SECTIONS.items() for k in ks}
+    keys |= {f"rig.{k}" for ks in RIG_KEYS.values() for k in ks}
+    assert set(FIELD_KINDS) == keys
+    in_form = [f"{s}.{k}" if s else k for s, ks in FORM_SECTIONS.items() for k in ks]
+    assert sorted(in_form) == sorted(keys) and len(in_form) == len(set(in_form))
+
+
+@pytest.mark.parametrize("name, old", [("surface.model", 'model = "self-affine"'), ("seal.shape", 'shape = "ring"'),
+                                       ("theory.model", None), ("theory.rarefaction", None)])
+def test_the_choices_are_the_ones_the_loader_allows(name, old):
+    section, key = name.split(".")
+    text = REF.replace(old, f'{key} = "nonsense"') if old else REF.replace(f"[{section}]", f'[{section}]\n{key} = "nonsense"')
+    with pytest.raises(InputError) as err:
+        parse_case_file(text)
+    assert err.value.field == name
+    allowed = re.findall(r"'([^']+)'", err.value.allowed)
+    assert allowed == list(FIELD_KINDS[name].choices)
+
+
+def test_rig_kinds_are_the_rig_builders():
+    assert FIELD_KINDS["rig.kind"].choices == tuple(RIG_KEYS)
+
+
+@pytest.mark.parametrize("example", example_names())
+def test_every_bundled_case_round_trips_through_the_form(example):
+    doc = tomllib.loads(example_text(example))
+    fields = doc_fields(doc)
+    assert all(isinstance(v, str) for v in fields.values())
+    assert fields_doc(fields) == doc
+
+
+def test_field_texts_become_toml_values():
+    assert text_value("rubber.youngs_modulus", "2.3 MPa") == "2.3 MPa"
+    assert text_value("rubber.youngs_modulus", "2.3") == 2.3  # a bare number stays a number: the loader says what it lacks
+    assert text_value("surface.hurst", "0.8") == 0.8
+    assert text_value("simulation.grid", "64") == 64
+    assert text_value("conditions.helium_equivalent", "true") is True
+    assert text_value("conditions.squeeze_pressure", '["1 kPa", "2 kPa"]') == ["1 kPa", "2 kPa"]
+    assert text_value("conditions.squeeze_pressure", '{start = "1 kPa", stop = "1 MPa", num = 3}') == \
+        {"start": "1 kPa", "stop": "1 MPa", "num": 3}
+    assert text_value("title", "42") == "42" and text_value("surface.label", "true") == "true"  # text stays text
+    assert text_value("surface.files", '["a.txt", "b.txt"]') == ["a.txt", "b.txt"]
+    with pytest.raises(InputError) as err:
+        text_value("conditions.squeeze_pressure", '["1 kPa", ')
+    assert err.value.field == "conditions.squeeze_pressure"
+
+
+def test_unknown_field_is_refused_naming_it():
+    with pytest.raises(InputError) as err:
+        fields_doc({"rubber.colour": "red"})
+    assert err.value.field == "rubber.colour"
+
+
+@pytest.mark.parametrize("doc, field", [
+    ({"surface": {"file": "/etc/passwd"}}, "surface.file"),
+    ({"surface": {"files": ["a.txt", "../a.txt"]}}, "surface.files"),
+    ({"surface": {"file": "sub/a.txt"}}, "surface.file"),
+    ({"seal": {"pressure_profile": "b.csv"}}, "seal.pressure_profile"),
+    ({"study": {"vary": "surface.file", "values": ["a.txt", "/etc/hosts"]}}, "study.values[1]"),
+    ({"study": {"vary": "seal", "values": [{"pressure_profile": "/x"}]}}, "study.values[0].pressure_profile"),
+])
+def test_a_case_may_name_only_uploaded_files(doc, field):
+    with pytest.raises(InputError) as err:
+        check_files(doc, {"a.txt"})
+    assert err.value.field == field and "uploaded in this session" in err.value.allowed
+
+
+def test_uploaded_names_pass():
+    check_files({"surface": {"files": ["a.txt", "b b.txt"]}, "study": {"vary": "surface.file", "values": ["a.txt"]}},
+                {"a.txt", "b b.txt"})
