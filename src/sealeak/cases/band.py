@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.interpolate import BarycentricInterpolator
 
 from ..physics.contact import PerssonContact
 from ..physics.critical_junction import critical_junction
@@ -173,6 +172,33 @@ def _em_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], Flo
     return sigma
 
 
+def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: FloatArray) -> FloatArray:
+    """The polynomial through ``values`` at the Chebyshev–Lobatto ``nodes`` (s_k = m − h cos(πk/(n−1))), at ``x``.
+
+    The barycentric formula of the second kind with the weights of these nodes, w_k = (−1)^k, halved
+    at both ends (Berrut & Trefethen, SIAM Review 46 (2004) 501, eq. 5.4): p(x) = Σ w_k f_k/(x − s_k) /
+    Σ w_k/(x − s_k), exact at a node. The sums are added term by term in a fixed order (not by a
+    BLAS product, whose rounding may depend on the arrays' alignment), so equal inputs give equal bits.
+    """
+    x = np.asarray(x, dtype=float)
+    weights = (-1.0) ** np.arange(nodes.size)
+    weights[[0, -1]] *= 0.5
+    num = np.zeros(x.shape)
+    den = np.zeros(x.shape)
+    hit = np.full(x.shape, -1)
+    for k in range(nodes.size):
+        d = x - nodes[k]
+        at = d == 0
+        hit[at] = k
+        c = weights[k] / np.where(at, 1.0, d)
+        num += c * values[k]
+        den += c
+    out = num / den
+    exact = hit >= 0
+    out[exact] = values[hit[exact]]
+    return out
+
+
 class _Table:
     """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind)."""
 
@@ -184,7 +210,7 @@ class _Table:
         self.s = s
         self.values = exact(np.exp(s))
         self.ok = bool(np.all(self.values > 0))
-        self.interp = BarycentricInterpolator(s, np.log(np.where(self.values > 0, self.values, 1.0)))
+        self.log_values = np.log(np.where(self.values > 0, self.values, 1.0))
 
     def refine(self, exact: Callable[[FloatArray], FloatArray]) -> _Table:
         """The table on twice the intervals (the old points are reused)."""
@@ -199,12 +225,12 @@ class _Table:
         values[1::2] = exact(np.exp(s[1::2]))
         new.s, new.values = s, values
         new.ok = bool(np.all(values > 0))
-        new.interp = BarycentricInterpolator(s, np.log(np.where(values > 0, values, 1.0)))
+        new.log_values = np.log(np.where(values > 0, values, 1.0))
         return new
 
     def __call__(self, p: FloatArray) -> FloatArray:
         s = np.clip(np.log(p), self.lo, self.hi)
-        return np.exp(self.interp(s))
+        return np.exp(chebyshev_lobatto_interpolate(self.s, self.log_values, s))
 
 
 def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile) -> tuple[BandIntegral, float, bool]:

@@ -40,12 +40,28 @@ def _k_integrand(x: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.where(x > 0, special.erf(xs) ** 2 * np.exp(-(xs**2)) / xs, 0.0)
 
 
+def weighted_sum(values: NDArray[np.float64], weights: NDArray[np.float64], axis: int = -1) -> NDArray[np.float64]:
+    """Σ_j w_j v_j over the first (``axis = 0``) or last (``axis = -1``) axis of ``values``, added in a fixed order.
+
+    The quadrature sums of the physics use this rather than a matrix product: BLAS kernels may add
+    in an order that depends on the arrays' alignment in memory, so the same inputs could give
+    results that differ in the last bit from one call (or run) to the next. Here each term is an
+    element-wise product added element-wise, j = 0, 1, ...: the same bits every time.
+    """
+    w = np.asarray(weights, dtype=float)
+    v = np.moveaxis(np.asarray(values, dtype=float), axis, 0)
+    out = v[0] * w[0]
+    for j in range(1, w.size):
+        out += v[j] * w[j]
+    return out
+
+
 def _build_table() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     nodes, weights = np.polynomial.legendre.leggauss(12)
     edges = np.linspace(0.0, _Y_MAX, _N + 1)
     a, b = edges[:-1, None], edges[1:, None]
     x = 0.5 * (b - a) * nodes[None, :] + 0.5 * (a + b)
-    piece = 0.5 * (b[:, 0] - a[:, 0]) * (_k_integrand(x) @ weights)
+    piece = 0.5 * (b[:, 0] - a[:, 0]) * weighted_sum(_k_integrand(x), weights)
     tail = 0.5 * special.exp1(_Y_MAX**2)
     values = tail + np.concatenate([np.cumsum(piece[::-1])[::-1], [0.0]])
     slopes = -_k_integrand(edges)

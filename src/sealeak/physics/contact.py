@@ -357,13 +357,13 @@ class PerssonContact:
                     f, p = _kernels.f_and_slope(y2, s, self.gamma)
                     ratio *= np.sqrt(t, out=y2)  # √t q_k/q
                 factor_b = np.take(factor, blk)
-                ubar[blk] = (wg @ (f * ratio)) * factor_b
+                ubar[blk] = _kernels.weighted_sum(f * ratio, wg, axis=0) * factor_b
                 if dubar is not None:
-                    two = wg @ (p * ratio)
+                    two = _kernels.weighted_sum(p * ratio, wg, axis=0)
                     f = f - p
                     ratio /= t  # q_k/(q √t)
                     f *= ratio
-                    dubar[blk] = (np.take(d_half, blk) * (wg @ f) - np.take(pz_kappa, blk) * two) * factor_b  # type: ignore[arg-type]
+                    dubar[blk] = (np.take(d_half, blk) * _kernels.weighted_sum(f, wg, axis=0) - np.take(pz_kappa, blk) * two) * factor_b  # type: ignore[arg-type]
         return _row_sums(ubar, count), None if dubar is None else _row_sums(dubar, count)
 
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ._kernels import weighted_sum
 
 __all__ = ["PressureProfile", "BandIntegral", "series_resistance", "resistance_band"]
 
@@ -252,8 +253,8 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
             return BandIntegral(float("inf"), True, True, 0.0, evaluations, x.ravel(), (dxdt * half[:, None]).ravel(),
                                 p.ravel(), sigma.ravel())
         f = np.where(pressed, dxdt / np.where(sigma > 0, sigma, 1.0), 0.0)
-        k = half * (f @ KRONROD_WEIGHTS)
-        g = half * (f @ GAUSS_WEIGHTS)
+        k = half * weighted_sum(f, KRONROD_WEIGHTS)  # fixed order of addition: the same bits on every call
+        g = half * weighted_sum(f, GAUSS_WEIGHTS)
         e = np.abs(k - g)
         total = r_const + float(done_k.sum() + k.sum())
         error = float(done_e.sum() + e.sum())
