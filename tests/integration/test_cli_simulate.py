@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 from sealeak.cases import example_path, load_cases, simulate
+from sealeak.cases.simulation import JUNCTION_CELLS
 from sealeak.cli import main
 from sealeak.render import simulation_json, simulation_table
+from sealeak.render.simulation import simulation_figures
 
 
 @pytest.fixture(scope="module")
@@ -174,3 +176,21 @@ def test_fields_written_complete_and_in_place(tmp_path):
     (case,) = load_cases(example_path("reference-experiment"))
     names = sorted(p.name for p in folder.iterdir())
     assert names == sorted(f"r{r}-p{i}.npz" for r in range(2) for i in range(len(case.squeeze_pressure)))
+
+
+def test_alpha_figure_with_only_coarse_rows_draws_every_flagged_alpha(tmp_path):
+    """No α the grid resolves, so no range to clip the flagged ones to: each is drawn (hollow), none off scale."""
+    text = example_path("reference-experiment").read_text()
+    text = "\n".join('squeeze_pressure = ["100 kPa", "300 kPa"]' if ln.startswith("squeeze_pressure =") else ln
+                     for ln in text.splitlines())
+    (tmp_path / "c.toml").write_text(text)
+    (case,) = load_cases(tmp_path / "c.toml")
+    res = simulate(case, grid=32, realizations=1, seed=0, threshold=False)
+    coarse = np.isfinite(res.junction_cells) & (res.junction_cells < JUNCTION_CELLS)
+    flagged = np.isfinite(res.alpha) & coarse
+    assert flagged.any() and not (np.isfinite(res.alpha) & ~coarse).any()
+    ax = simulation_figures(case, res)["simulate_alpha.png"].axes[0]
+    hollow = [ln for ln in ax.get_lines() if ln.get_marker() == "o" and ln.get_markerfacecolor() == "none"]
+    assert len(hollow) == 1 and "off scale" not in hollow[0].get_label()
+    np.testing.assert_array_equal(hollow[0].get_ydata(), res.alpha[flagged])
+    assert ax.get_ylim()[1] >= res.alpha[flagged].max()

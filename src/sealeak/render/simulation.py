@@ -260,11 +260,13 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
 
 def _coarse_alpha(ax: Any, x: NDArray[np.float64], alpha: NDArray[np.float64], coarse: NDArray[np.bool_], top: float) -> None:
     """Draw the α of rows whose junction the grid resolves too coarsely hollow, clipped to 3 × ``top`` (the resolved
-    values' range: their α can be absurdly large), with how many fall off scale."""
+    values' range: their α can be absurdly large), with how many fall off scale; when no row is resolved there is no
+    range to clip to, and every flagged α is drawn."""
     flagged = np.isfinite(alpha) & coarse
     if not flagged.any():
         return
-    limit = 3.0 * top
+    resolved = np.isfinite(alpha) & ~coarse
+    limit = 3.0 * top if resolved.any() else float(np.max(alpha[flagged]))
     inside = flagged & (alpha <= limit)
     off = int(flagged.sum() - inside.sum())
     ax.plot(x[inside], alpha[inside], "o", mfc="none", color="C0",
