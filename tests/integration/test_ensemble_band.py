@@ -15,28 +15,8 @@ from sealeak.cases.ensemble import make_runner
 from sealeak.cases.simulation_band import run_band_task, simulate_band
 from sealeak.cli import main
 from sealeak.numerics.synthesis import synthesize
+from tests.integration.test_cli_simulate_oring import ORING
 
-ORING = """
-title = "O-ring on a rough face"
-[surface]
-model = "self-affine"
-h_rms = "20 um"
-hurst = 0.8
-rolloff_wavelength = "0.3 mm"
-cutoff_wavelength = "5 um"
-[rubber]
-youngs_modulus = "5 MPa"
-poisson_ratio = 0.5
-[seal]
-shape = "o-ring"
-cross_section_diameter = "2.62 mm"
-inner_diameter = "20 mm"
-[fluid]
-viscosity = "1 mPa*s"
-[conditions]
-compression = ["3 %", "5 %"]
-pressure_difference = "1 bar"
-"""
 GRID, REALIZATIONS, SEED = 32, 3, 3
 
 

@@ -47,7 +47,7 @@ from ..io.fieldstore import TaskFields
 from ..io.files import OutputWriteError, check_replaceable
 from ..numerics.synthesis import synthesize
 from ..physics.gas import MOLAR_GAS_CONSTANT
-from .model import Case
+from .model import Case, GasConditions
 from .run import gas_rows, predict
 
 __all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
@@ -323,6 +323,14 @@ def simulate(
     )
 
 
+def gas_identity(gas: GasConditions | None) -> dict[str, Any] | None:
+    """A gas case's conditions as plain JSON values for a store's manifest (None for a liquid)."""
+    if gas is None:
+        return None
+    return {"name": gas.gas.name, "temperature": float(gas.temperature), "upstream_pressure": float(gas.upstream_pressure),
+            "downstream_pressure": float(gas.downstream_pressure), "rarefaction": gas.rarefaction}
+
+
 @dataclass(frozen=True)
 class EnsembleSpec:
     """Everything one task of an ensemble needs, in SI units (shared by all tasks of a run).
@@ -371,10 +379,7 @@ class EnsembleSpec:
                      "pressure_difference": float(self.pressure_difference), "aspect": float(self.aspect),
                      "flow_method": self.flow_method, "contact_tol": float(self.contact_tol),
                      "threshold_anchor": float(self.threshold_anchor),
-                     "gas": None if gas is None else {"name": gas.gas.name, "temperature": float(gas.temperature),
-                                                      "upstream_pressure": float(gas.upstream_pressure),
-                                                      "downstream_pressure": float(gas.downstream_pressure),
-                                                      "rarefaction": gas.rarefaction}},
+                     "gas": gas_identity(gas)},
         }
 
 

@@ -62,6 +62,7 @@ from .simulation import (
     _ratio,
     _StagedFolder,
     _write_fields,
+    gas_identity,
     pack_mask,
     resolved_spectrum_cut,
     task_memory_bytes,
@@ -467,10 +468,7 @@ class BandSpec:
                      "half_widths": [float(x) for x in self.half_widths], "scale": float(self.scale),
                      "viscosity": float(self.viscosity), "pressure_difference": float(self.pressure_difference),
                      "flow_method": self.flow_method, "contact_tol": float(self.contact_tol),
-                     "gas": None if gas is None else {"name": gas.gas.name, "temperature": float(gas.temperature),
-                                                      "upstream_pressure": float(gas.upstream_pressure),
-                                                      "downstream_pressure": float(gas.downstream_pressure),
-                                                      "rarefaction": gas.rarefaction}},
+                     "gas": gas_identity(gas)},
         }
 
 
