@@ -541,42 +541,29 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     if not log:
         ax.set_xlim(left=0)
     if gas:
-        return _finish_gas_pressure_difference(ax, fig, sweeps, series, qscale, qunit, log)
-    ax.set_ylabel(f"leak rate Q ({qunit})")
-    formulas = []
-    if any(sw.case.model != "effective-medium" or sw.effective_medium is None for sw in sweeps):
-        formulas.append("Q = α (Ly/Lx) u_c³ ΔP/(12η)")
-    if any(sw.effective_medium is not None for sw in sweeps):
-        formulas.append("Q = (Ly/Lx) σ_eff ΔP (effective medium)")
-    notes = [", ".join(formulas) + ": linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
-    if log:
-        notes.append("log-log: the cases' leak rates differ by decades (Q ∝ ΔP has slope one)")
+        ax.set_ylabel(f"{GAS_LEAK_LABEL} ({qunit})")
+        for dp in sorted({sw.case.pressure_difference for sw in sweeps}):
+            ax.axvline(dp / 1e3, color="0.5", lw=0.8, ls=":")
+        conditions = {gas_conditions_text(sw.case) for sw in sweeps}
+        notes = [next(iter(conditions)) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
+                 "Q_pV = K ∫ p f(Kn) dp at fixed P_b: not linear in ΔP (no slip: K (P_a² − P_b²)/2)", "dotted: the case's ΔP"]
+        if log:
+            notes.append("log-log: the leak rates differ by decades")
+    else:
+        ax.set_ylabel(f"leak rate Q ({qunit})")
+        formulas = []
+        if any(sw.case.model != "effective-medium" or sw.effective_medium is None for sw in sweeps):
+            formulas.append("Q = α (Ly/Lx) u_c³ ΔP/(12η)")
+        if any(sw.effective_medium is not None for sw in sweeps):
+            formulas.append("Q = (Ly/Lx) σ_eff ΔP (effective medium)")
+        notes = [", ".join(formulas) + ": linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
+        if log:
+            notes.append("log-log: the cases' leak rates differ by decades (Q ∝ ΔP has slope one)")
     if not all(s.valid.all() for s in series):
         notes.append("hollow markers: outside the theory's validity at that P0")
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
-    ml_per_min_axis(ax, qscale)
-    place_legend(ax)
-    return fig
-
-
-def _finish_gas_pressure_difference(ax: Axes, fig: Figure, sweeps: Sequence[Any], series: list[Series], qscale: float,
-                                    qunit: str, log: bool) -> Figure:
-    """Labels, notes, the case's ΔP and the Pa·m³/s axis of the gas version of :func:`figure_pressure_difference`."""
-    ax.set_ylabel(f"{GAS_LEAK_LABEL} ({qunit})")
-    for dp in sorted({sw.case.pressure_difference for sw in sweeps}):
-        ax.axvline(dp / 1e3, color="0.5", lw=0.8, ls=":")
-    cases = {id(sw.case): sw.case for sw in sweeps}
-    conditions = {gas_conditions_text(c) for c in cases.values()}
-    notes = [next(iter(conditions)) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
-             "Q_pV = K ∫ p f(Kn) dp at fixed P_b: not linear in ΔP (no slip: K (P_a² − P_b²)/2)", "dotted: the case's ΔP"]
-    if log:
-        notes.append("log-log: the leak rates differ by decades")
-    if not all(s.valid.all() for s in series):
-        notes.append("hollow markers: outside the theory's validity at that P0")
-    subtitle(ax, "\n".join(notes))
-    finish_axes(ax)
-    pa_m3_axis(ax, qscale)
+    (pa_m3_axis if gas else ml_per_min_axis)(ax, qscale)
     place_legend(ax)
     return fig
 
