@@ -506,10 +506,10 @@ def _rig(raw: Any, fluid: Fluid, band: BandSeal | None = None, doc: dict[str, An
                                                                  "(in [conditions]) sets the contact; remove load")
         if band is None and not sec.has("load"):
             raise InputError(sec.field("load"), None, "is required: the mass (e.g. '3.4 kg') or force (e.g. '33 N') on the seal")
-        load = None if band is not None else _rig_load(sec, gravity)
+        decay_load = None if band is not None else _rig_load(sec, gravity)
         fluid_doc, theory_doc = doc.get("fluid", {}), doc.get("theory", {})
         return decay_rig_setup(sec, fluid, fluid_doc if isinstance(fluid_doc, dict) else {},
-                               theory_doc if isinstance(theory_doc, dict) else {}, band, load)
+                               theory_doc if isinstance(theory_doc, dict) else {}, band, decay_load)
     if band is not None:
         what = "an O-ring's compression" if band.kind == "o-ring" else "a pressure profile's profile_scale"
         if sec.has("load"):

@@ -122,7 +122,7 @@ def _linear_fit(s: FloatArray, x: FloatArray, w: FloatArray, p: float) -> tuple[
     cov = np.linalg.inv(normal)
     beta = cov @ (design.T @ (w * x))
     r = x - design @ beta
-    return beta, cov, float(np.sum(w * r**2))
+    return beta, np.asarray(cov, dtype=float), float(np.sum(w * r**2))
 
 
 def extrapolate(spacing: Sequence[float] | FloatArray, values: Sequence[float] | FloatArray,
@@ -455,8 +455,8 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
         flags.append(_FIT_SENTENCES["diverging"].format(name="the threshold"))
     grouped: dict[str, list[float]] = {}
     for i in range(pressures.size):
-        use = [g for g in stats_ if np.isfinite(g.alpha[i]) and g.alpha_resolved[i]]
-        kinds = _fit_problems(alpha_fits[i], [g.alpha[i] for g in use], [g.alpha_stderr[i] for g in use])
+        fitted = [g for g in stats_ if np.isfinite(g.alpha[i]) and g.alpha_resolved[i]]
+        kinds = _fit_problems(alpha_fits[i], [g.alpha[i] for g in fitted], [g.alpha_stderr[i] for g in fitted])
         for kind in kinds + (["diverging"] if alpha_ok[i] is False else []):
             grouped.setdefault(kind, []).append(float(pressures[i]))
     for kind, ps in grouped.items():

@@ -470,7 +470,7 @@ def _run_dask(tasks: list[EnsembleTask], todo: list[int], finished: Callable[[in
         where = _placement(client, tasks, todo, need)  # raises before anything is submitted
         clock[0] = time.monotonic()
         link = getattr(client, "dashboard_link", None) if progress is not None else None
-        if link and find_spec("bokeh") is not None:
+        if link and progress is not None and find_spec("bokeh") is not None:
             progress(TaskEvent(len(results), len(tasks), None, clock[0] - start, None, dashboard=link))
         index = {client.submit(task_function, tasks[i], pure=False, workers=where[i],
                                allow_other_workers=False if where[i] is not None else None): i for i in todo}

@@ -11,6 +11,7 @@ line). ``docs/case-files.md`` documents every key.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..physics.gas import RAREFACTION_MODELS
@@ -91,11 +92,20 @@ FIELD_KINDS: dict[str, FieldKind] = {
     "simulation.seed": FieldKind("integer", example="0"),
 }
 
+def _documented_order(section: str) -> Callable[[str], int]:
+    """Sort key of a section's keys: their order in :data:`FIELD_KINDS` (that of ``docs/case-files.md``), others last."""
+    order = list(FIELD_KINDS)
+
+    def key(k: str) -> int:
+        return order.index(f"{section}.{k}") if f"{section}.{k}" in FIELD_KINDS else 999
+    return key
+
+
 #: The form's sections in the order of ``docs/case-files.md`` ("" holds the top-level keys), each with its keys.
 FORM_SECTIONS: dict[str, list[str]] = {
     "": sorted(TOP_LEVEL, reverse=True),
     **{name: sorted(SECTIONS[name] | (set().union(*RIG_KEYS.values()) if name == "rig" else set()),
-                    key=lambda k, s=name: list(FIELD_KINDS).index(f"{s}.{k}") if f"{s}.{k}" in FIELD_KINDS else 999)
+                    key=_documented_order(name))
        for name in ("surface", "rubber", "substrate", "seal", "fluid", "conditions", "theory", "rig", "simulation", "study")},
 }
 

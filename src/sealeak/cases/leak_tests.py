@@ -184,7 +184,7 @@ def decay_prediction(case: Case) -> DecayPrediction:
 
             leak: GasLeak | None = gas_leak(k, gap, gas, test.initial_pressure, test.outside_pressure, rig.rarefaction_model)
         else:
-            def throughput(p: float, p2: float) -> float:
+            def throughput(p: float, p2: float, k: float = 0.0, gap: float = 0.0) -> float:
                 return 0.0
 
             leak = None

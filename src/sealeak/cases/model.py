@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..lab.rig import RigSetup
+from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
 from ..physics.gas import Gas
@@ -216,7 +216,7 @@ class Case:
     q0_note: str = ""
     model: str = "critical-junction"
     surface_model: str = "self-affine"
-    rig: RigSetup | None = None
+    rig: RigSetup | DecayRigSetup | None = None
     simulation: dict[str, Any] = field(default_factory=dict)
     label: str = ""
     source: str = ""

@@ -411,7 +411,7 @@ class CaseResult:
     case: Case
     critical_junction: CriticalJunctionResult
     effective_medium: EffectiveMediumResult | None = None
-    rig: RigPrediction | None = None
+    rig: RigPrediction | DecayPrediction | None = None
     messages: tuple[str, ...] = ()
     valid: NDArray[np.bool_] = field(default_factory=lambda: np.ones(0, dtype=bool))
     validity: tuple[str, ...] = ()
@@ -1033,6 +1033,13 @@ class RigPrediction:
     band: BandResult | None = None
 
 
+def _linear_leak(k: float) -> Callable[[ArrayLike], FloatArray]:
+    """Q(ΔP) = K ΔP (m³/s) of a seal of conductance ``k`` (m³/(Pa·s))."""
+    def leak(dp: ArrayLike) -> FloatArray:
+        return k * np.asarray(dp, dtype=float)
+    return leak
+
+
 def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model`` (docs/theory.md §4.2).
 
@@ -1076,7 +1083,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     for name, k in k_of.items():
         if k == 0:
             messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
-        columns[name] = water_column(rig, lambda dp, k=k: k * np.asarray(dp, dtype=float))
+        columns[name] = water_column(rig, _linear_leak(k))
         tau[name] = area / (k * rig.density * rig.gravity) if k > 0 else float("inf")
         t_final[name] = drain_time(rig, k, columns[name].final_height)
     dp0 = float(rig.pressure_difference(rig.initial_height))

@@ -34,7 +34,7 @@ import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -58,6 +58,8 @@ POINTS_PER_WAVELENGTH = 4
 #: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
 JUNCTION_CELLS = 8
 FloatArray = NDArray[np.float64]
+#: The Reynolds solver's method (:func:`sealeak.numerics.solve_flow`).
+FlowMethod = Literal["auto", "direct", "amg"]
 
 
 def resolved_spectrum_cut(grid: int, size: float) -> float:
@@ -177,7 +179,7 @@ def simulate(
     threshold: bool = True,
     fields_dir: str | Path | None = None,
     contact_tol: float = 1e-8,
-    flow_method: str = "auto",
+    flow_method: FlowMethod = "auto",
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
     runner: Callable[[list[EnsembleTask]], Iterable[dict[str, Any]]] | None = None,
@@ -354,7 +356,7 @@ class EnsembleSpec:
     pressure_difference: float
     aspect: float
     gas: Any
-    flow_method: str
+    flow_method: FlowMethod
     contact_tol: float
     threshold_anchor: float
     memory_limit: float | None = None

@@ -56,6 +56,7 @@ from .model import Case
 from .simulation import (
     JUNCTION_CELLS,
     POINTS_PER_WAVELENGTH,
+    FlowMethod,
     GasSimulation,
     _gas_statistics,
     _mean_std,
@@ -203,7 +204,7 @@ def simulate_band(
     seed: int,
     fields_dir: str | Path | None = None,
     contact_tol: float = 1e-8,
-    flow_method: str = "auto",
+    flow_method: FlowMethod = "auto",
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
     grid_name: str = "grid",
@@ -448,7 +449,7 @@ class BandSpec:
     viscosity: float
     pressure_difference: float
     gas: Any
-    flow_method: str
+    flow_method: FlowMethod
     contact_tol: float
     memory_limit: float | None = None
     fields_stage: str | None = None

@@ -132,7 +132,7 @@ def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # 
 
 # ---------------------------------------------------------------------- rig
 def _cmd_rig(args: argparse.Namespace) -> int:
-    from ..cases import rig_prediction, rig_readings
+    from ..cases import RigPrediction, rig_prediction, rig_readings
     from ..io.files import check_outputs
     from ..lab import read_rig_readings
     from ..render import figure_readings, figure_rig, render_figures, rig_json, rig_text
@@ -148,6 +148,7 @@ def _cmd_rig(args: argparse.Namespace) -> int:
     if case.rig.kind == "pressure-decay":
         return _decay_rig(args, case)
     pred = rig_prediction(case)
+    assert isinstance(pred, RigPrediction)  # a pressure-decay [rig] went to _decay_rig above
     analysis = None
     if args.readings:
         t, h = read_rig_readings(args.readings)

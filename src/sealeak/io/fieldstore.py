@@ -184,11 +184,13 @@ def fields_intact(folder: str | Path, record: Any) -> bool:
         for name in FIELD_UNITS:
             h = hashlib.sha256()
             a = g[name]
+            if not isinstance(a, zarr.Array):
+                return False
             if a.ndim == 2:
-                _digest_update(h, a[...])
+                _digest_update(h, np.asarray(a[...]))
             else:
                 for i in range(a.shape[0]):
-                    _digest_update(h, a[i])
+                    _digest_update(h, np.asarray(a[i]))
             if h.hexdigest() != record["sha256"].get(name):
                 return False
     except Exception:  # noqa: BLE001 - anything unreadable (missing chunk folder, bad metadata, ...) is damaged

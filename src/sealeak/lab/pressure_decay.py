@@ -145,7 +145,7 @@ def viscous_decay_time(setup: PressureDecaySetup, conductance: float, pressure_l
         raise InputError("pressure_loss", pressure_loss, f"must be below P1 − P2 = {p1 - p2:.6g} Pa")
     if k == 0:
         return math.inf
-    return 2.0 * setup.volume * (_potential(pf, p2) - _potential(p1, p2)) / k
+    return float(2.0 * setup.volume * (_potential(pf, p2) - _potential(p1, p2)) / k)
 
 
 def _potential(p: ArrayLike, p2: float) -> FloatArray:

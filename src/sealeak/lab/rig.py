@@ -202,8 +202,8 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
     def reach(t, y):
         return y[0] - h1
 
-    reach.terminal = False
-    reach.direction = -1
+    reach.terminal = False  # type: ignore[attr-defined]  # scipy's event attributes
+    reach.direction = -1  # type: ignore[attr-defined]
     if t_eval is None:
         t_eval = np.linspace(0.0, t_end, 401)
     sol = solve_ivp(rhs, (0.0, float(t_end)), [rig.initial_height], method="Radau", t_eval=np.asarray(t_eval, float),

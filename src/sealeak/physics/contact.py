@@ -363,7 +363,7 @@ class PerssonContact:
                     f = f - p
                     ratio /= t  # q_k/(q √t)
                     f *= ratio
-                    dubar[blk] = (np.take(d_half, blk) * _kernels.weighted_sum(f, wg, axis=0) - np.take(pz_kappa, blk) * two) * factor_b  # type: ignore[arg-type]
+                    dubar[blk] = (np.take(d_half, blk) * _kernels.weighted_sum(f, wg, axis=0) - np.take(pz_kappa, blk) * two) * factor_b  # type: ignore[arg-type, operator]
         return _row_sums(ubar, count), None if dubar is None else _row_sums(dubar, count)
 
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:

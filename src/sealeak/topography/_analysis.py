@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -163,7 +164,7 @@ def analyze(
             channel = f" or channel ({option_name('channel')})" if " [channel" in label else ""
             raise FileFormatError(name, f"{flat}: there is no roughness to analyze (no C(q), no height distribution); "
                                         f"is it the right file{channel}?")
-        opts = dict(bins_per_decade=bins_per_decade, low_cut=low_cut, resolution_pixels=resolution_pixels,
+        opts: dict[str, Any] = dict(bins_per_decade=bins_per_decade, low_cut=low_cut, resolution_pixels=resolution_pixels,
                     resolution=resolution)
         profile = None
         binned: BinnedSpectrum | None = None

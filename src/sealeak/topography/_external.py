@@ -176,7 +176,7 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
             positions = None if topo.is_uniform else topo.positions()
     except Exception as exc:
         raise FileFormatError(path, f"channel {index} cannot be read ({_why(exc)})") from None
-    h = np.ma.filled(np.ma.asarray(heights, dtype=float), np.nan)
+    h: np.ndarray = np.asarray(np.ma.filled(np.ma.asarray(heights, dtype=float), np.nan), dtype=float)
     if h.size == 0:
         raise FileFormatError(path, "channel holds no data points")
     if np.isnan(h).all():
@@ -248,7 +248,7 @@ def _resolution(topo: Any, lateral_factor: float | None, notes: list[str]) -> fl
     value = float(cutoff) * lateral_factor
     if not (np.isfinite(value) and value > 0):
         return None
-    params = {}
+    params: dict[str, Any] = {}
     try:
         params = (topo.info.get("instrument", {}) or {}).get("parameters", {}) or {}
     except Exception:

@@ -207,6 +207,7 @@ def _fit(q: FloatArray, lq: FloatArray, lC: FloatArray, sigma: FloatArray, H0: f
             r = solve(residuals, p0, [_H_LO, lo_q - 1.0, lC.min() - 20.0], [_H_HI, hi_q, lC.max() + 20.0])
             if best is None or r.cost < best.cost:
                 best = r
+        assert best is not None
         res = best
         resolved = bool(res.x[1] > lo_q + 1e-6) or rolloff is True
         above = int(np.sum(lq > res.x[1] + 1e-9))
@@ -223,6 +224,7 @@ def _fit(q: FloatArray, lq: FloatArray, lC: FloatArray, sigma: FloatArray, H0: f
         params = np.array([res.x[0], lo_q, res.x[1]])
         idx = [0, 2]
     else:
+        assert res is not None  # a resolved roll-off comes from the fit above
         params = np.array(res.x)
         idx = [0, 1, 2]
     H = float(params[0])

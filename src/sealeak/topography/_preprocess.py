@@ -140,7 +140,7 @@ def prepare(surface: Surface, *, detrend: Detrend = "auto", window: Window = "au
     is_map = isinstance(surface, Topography)
     if order >= 0:
         if is_map:
-            h = _subtract(h, defined, _basis_2d(*h.shape, order))
+            h = _subtract(h, defined, _basis_2d(h.shape[0], h.shape[1], order))
         else:
             terms = _basis_1d(h.shape[1], order)
             for k in range(h.shape[0]):

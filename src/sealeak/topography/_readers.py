@@ -251,8 +251,9 @@ def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_u
                 notes.append(note)
             return LineScans(h * hf, length * lf, periodic=periodic, source=str(path), notes=tuple(notes),
                              warnings=warned)
-        dx = float(np.diff(raw.x).mean())  # type: ignore[arg-type]
-        dy = float(np.diff(raw.y).mean())  # type: ignore[arg-type]
+        assert raw.x is not None and raw.y is not None  # an x y h table
+        dx = float(np.diff(raw.x).mean())
+        dy = float(np.diff(raw.y).mean())
         nx, ny = heights.shape
         return Topography(heights * hf, (nx * dx * lf, ny * dy * lf), periodic=periodic,
                           source=str(path), notes=tuple(notes), warnings=warned)

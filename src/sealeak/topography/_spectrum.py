@@ -262,7 +262,7 @@ def _upper_limit(side: float, pixel: float, low_cut: float, resolution_pixels: f
 
 
 # ---------------------------------------------------------------------------- 2D
-def power_spectrum_map(prepared: Prepared) -> tuple[FloatArray, FloatArray, FloatArray, float]:
+def power_spectrum_map(prepared: Prepared) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Discrete C(q) of every Fourier mode of a prepared map, before binning.
 
     Returns ``(qx, qy, C, weight)`` in the ``rfft2`` layout: qx (nx,), qy (ny//2+1,) in 1/m, C[i, j]

@@ -89,6 +89,7 @@ def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None
         if not stripped or stripped.startswith(_COMMENT):
             m = _HEADER.match(stripped) if meta is not None else None
             if m:
+                assert meta is not None  # m is only matched when headers are kept
                 key = m.group(1).lower().replace(" ", "_")
                 if key in meta:
                     raise FileFormatError(path, f"line {lineno}: header {key!r} given twice (first on line "
