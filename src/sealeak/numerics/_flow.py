@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
@@ -102,6 +102,10 @@ class FlowResult:
         Wall time of the solve (assembly included).
     conductance:
         Q/ΔP of the square (m³/(Pa·s)).
+    phase_seconds:
+        Wall time of each step (s): "clusters" (validation, conductances, the spanning cluster),
+        "assembly" (faces, matrix), "setup" (LU factorisation or AMG hierarchy), "iterations"
+        (back-end solves), "check" (extended-precision residuals); empty when nothing was solved.
     """
 
     flux: float
@@ -116,6 +120,7 @@ class FlowResult:
     unknowns: int
     seconds: float
     conductance: float
+    phase_seconds: dict[str, float] = field(default_factory=dict)
 
 
 def flow_memory_bytes(n: int, method: Method = "auto") -> int:
@@ -397,13 +402,18 @@ class _AmgSolver:
         self.max_iter = max_iter
         self._gauss_seidel = gauss_seidel
 
-    def _vcycle(self, b: FloatArray, lvl: int = 0) -> FloatArray:
-        """One V-cycle for A_lvl x = b from x = 0 (the preconditioner M⁻¹ b)."""
+    def _vcycle(self, b: FloatArray, lvl: int = 0, out: FloatArray | None = None) -> FloatArray:
+        """One V-cycle for A_lvl x = b from x = 0 (the preconditioner M⁻¹ b), into ``out`` if given
+        (a reused buffer: a fresh array of the fine size costs page faults at every cycle)."""
         gauss_seidel = self._gauss_seidel
         if lvl == len(self.levels):
             return self.coarse_inverse @ b
         A, U, P, R = self.levels[lvl]
-        x = np.zeros_like(b)
+        if out is None:
+            x = np.zeros_like(b)
+        else:
+            x = out
+            x.fill(0.0)
         gauss_seidel(A, x, b, sweep="forward")
         # a forward sweep from x = 0 solves (D + L) x = b exactly, so b - A x = -U x (half a matvec)
         x += P @ self._vcycle(-(R @ (U @ x)), lvl + 1)
@@ -425,7 +435,8 @@ class _AmgSolver:
         bs = rhs / sq
         x = np.zeros_like(bs)
         r = bs.copy()
-        z = self._vcycle(r)
+        zbuf = np.empty_like(r)  # z of each cycle (not needed past the update of pdir)
+        z = self._vcycle(r, 0, zbuf)
         pdir = z.copy()
         rz = dot(r, z)
         work = np.empty_like(r)
@@ -445,9 +456,12 @@ class _AmgSolver:
             it += 1
             Ap = self.As @ pdir
             alpha = rz / dot(pdir, Ap)
-            x += alpha * pdir
-            r -= alpha * Ap
-            z = self._vcycle(r)
+            np.multiply(pdir, alpha, out=work)  # x += alpha pdir, r -= alpha Ap without temporaries
+            x += work
+            np.multiply(Ap, alpha, out=Ap)
+            r -= Ap
+            del Ap
+            z = self._vcycle(r, 0, zbuf)
             rz_new = dot(r, z)
             pdir *= rz_new / rz
             pdir += z
@@ -503,6 +517,7 @@ def solve_flow(
         ``flux`` is Q = (conductance of the square) × ΔP in m³/s.
     """
     t0 = time.perf_counter()
+    clock: dict[str, float] = {}
     g = _validate(gap, size, viscosity, pressure_difference)
     if method not in ("auto", "direct", "amg"):
         raise InputError("method", method, "allowed: 'auto', 'direct', 'amg'")
@@ -528,43 +543,83 @@ def solve_flow(
     m = int(np.count_nonzero(fluid))
     pressure = np.full(g.shape, np.nan)
     if m == 0:
-        return _result(0.0, 0.0, 0.0, pressure, False, "none", 0.0, 0.0, 0, 0, t0, 0.0)
+        return _result(0.0, 0.0, 0.0, pressure, False, "none", 0.0, 0.0, 0, 0, t0, 0.0, {})
     chosen = method if method != "auto" else ("direct" if m <= AUTO_DIRECT_MAX_UNKNOWNS else "amg")
     require_memory(flow_memory_bytes(n, chosen), f"the {n}x{n} flow problem ({chosen})", memory_limit)
+    clock["clusters"] = time.perf_counter() - t0
+    t = time.perf_counter()
     cx, cy, sf = _faces(s, fluid)
-    A, b_in, b_out = _assemble(cx, cy, sf, fluid)
+    del s
+    A, b_in, _b_out = _assemble(cx, cy, sf, fluid)
     grid = _Grid(cx, cy, sf, fluid)
-    del cx, cy, sf
-    b = b_in.copy()
+    del cx, cy, sf, _b_out
+    clock["assembly"] = time.perf_counter() - t
+    t = time.perf_counter()
     solver = _DirectSolver(A) if chosen == "direct" else _AmgSolver(A, max_iter)
     del A
-    # mixed-precision iterative refinement: φ and the residual in long double, corrections in
-    # double precision from the chosen back-end, until the flux checks hold
-    inlet = np.flatnonzero(b_in)
-    w_in = b_in[inlet]
+    clock["setup"] = time.perf_counter() - t
     phi = np.zeros(g.shape, dtype=np.longdouble)
-    rhs = b
-    its = 0
-    for _ in range(8):
-        flux = _Flux(inlet, w_in, phi[fluid][inlet].astype(np.float64))
-        delta, k = solver(rhs, 0.5 * rtol, 0.1 * CONSERVATION_TOL, flux)
-        its += k
-        phi[fluid] += delta.astype(np.longdouble)
-        r, inflow, outflow, res, bound, cons = _checks(grid, phi)
-        if bound <= rtol and cons <= CONSERVATION_TOL:
-            break
-        rhs = r[fluid].astype(np.float64)
+    its, (r, inflow, outflow, res, bound, cons) = _refine(solver, grid, phi, b_in, rtol, clock, rhs=b_in)
     if not (np.isfinite(phi[fluid]).all() and bound <= rtol and cons <= CONSERVATION_TOL and inflow > 0):
         raise SolutionCheckError(
             f"flow solution ({chosen}, {m} unknowns) failed its check: flux-error bound ||r||_1/Q = "
             f"{bound:.3g} (allowed {rtol:.3g}), |inflow - outflow|/Q = {cons:.3g} (allowed {CONSERVATION_TOL:.0e})"
             f"; estimate |φᵀr|/Q = {res:.3g}")
+    del r, grid, solver
     unit = gmax**3 / (12.0 * viscosity) * pressure_difference  # m³/s per unit dimensionless flux
     pressure[fluid] = outlet_pressure + pressure_difference * phi[fluid].astype(np.float64)
     cond = inflow * gmax**3 / (12.0 * viscosity)
-    return _result(inflow * unit, inflow * unit, outflow * unit, pressure, True, chosen, bound, cons, its, m, t0, cond)
+    return _result(inflow * unit, inflow * unit, outflow * unit, pressure, True, chosen, bound, cons, its, m, t0, cond,
+                   clock)
+
+
+def _refine(solver: _DirectSolver | _AmgSolver, grid: _Grid, phi: NDArray[np.longdouble], b_in: FloatArray,
+            rtol: float, clock: dict[str, float], rhs: FloatArray | None = None
+            ) -> tuple[int, tuple[FloatArray, float, float, float, float, float]]:
+    """Mixed-precision iterative refinement (docs/theory.md §6.3), shared by the liquid and the gas solver.
+
+    φ (long double, ``phi``, updated in place) and the residual b - A φ (extended precision,
+    :meth:`_Grid.residual`) against corrections in double precision from the back-end, until the
+    flux-error bound ||r||_1/Q <= ``rtol`` and the conservation error <= ``CONSERVATION_TOL`` hold, at
+    most 8 corrections. ``rhs``: the residual of the starting φ when it is known (b for φ = 0),
+    else it is computed first. Adds the seconds of the back-end's iterations and of the checks to
+    ``clock`` ("iterations", "check"). Returns the iterations (CG, or 0 per direct solve) and the
+    last :func:`_checks`; the caller judges them.
+    """
+    fluid = grid.fluid
+    inlet = np.flatnonzero(b_in)
+    w_in = b_in[inlet]
+    its = 0
+    clock.setdefault("iterations", 0.0)
+    clock.setdefault("check", 0.0)
+    checks = None
+    if rhs is None:
+        t = time.perf_counter()
+        checks = _checks(grid, phi)
+        clock["check"] += time.perf_counter() - t
+    for _ in range(8):
+        if checks is not None:
+            r, _qin, _qout, _res, bound, cons = checks
+            if bound <= rtol and cons <= CONSERVATION_TOL:
+                break
+            rhs = r[fluid]
+            del r, checks
+        assert rhs is not None  # given, or the residual of the last check
+        t = time.perf_counter()
+        flux = _Flux(inlet, w_in, phi[fluid][inlet].astype(np.float64))
+        delta, k = solver(rhs, 0.5 * rtol, 0.1 * CONSERVATION_TOL, flux)
+        its += k
+        phi[fluid] += delta.astype(np.longdouble)
+        del delta
+        clock["iterations"] += time.perf_counter() - t
+        t = time.perf_counter()
+        checks = _checks(grid, phi)
+        clock["check"] += time.perf_counter() - t
+    assert checks is not None
+    return its, checks
 
 
 def _result(q: float, qin: float, qout: float, pressure: FloatArray, perc: bool, method: str, res: float,
-            cons: float, its: int, m: int, t0: float, cond: float) -> FlowResult:
-    return FlowResult(q, qin, qout, pressure, perc, method, res, cons, its, m, time.perf_counter() - t0, cond)
+            cons: float, its: int, m: int, t0: float, cond: float, clock: dict[str, float]) -> FlowResult:
+    return FlowResult(q, qin, qout, pressure, perc, method, res, cons, its, m, time.perf_counter() - t0, cond,
+                      dict(clock))

@@ -61,10 +61,9 @@ from ._flow import (
     Method,
     _AmgSolver,
     _assemble,
-    _checks,
     _DirectSolver,
-    _Flux,
     _Grid,
+    _refine,
     flow_memory_bytes,
     solve_flow,
 )
@@ -441,17 +440,8 @@ def _solve_linear(cx: FloatArray, cy: FloatArray, sb: FloatArray, fluid: NDArray
     grid = _Grid(cx, cy, sb, fluid)
     solver = _DirectSolver(A) if chosen == "direct" else _AmgSolver(A, cg_max_iter)
     del A
-    inlet = np.flatnonzero(b_in)
-    w_in = b_in[inlet]
     phi = phi.copy()
-    r, inflow, outflow, res, bound, cons = _checks(grid, phi)
-    for _ in range(8):
-        if bound <= rtol and cons <= CONSERVATION_TOL:
-            break
-        flux = _Flux(inlet, w_in, phi[fluid][inlet].astype(np.float64))
-        delta, _k = solver(r[fluid].astype(np.float64), 0.5 * rtol, 0.1 * CONSERVATION_TOL, flux)
-        phi[fluid] += delta.astype(np.longdouble)
-        r, inflow, outflow, res, bound, cons = _checks(grid, phi)
+    _its, (_r, inflow, outflow, res, bound, cons) = _refine(solver, grid, phi, b_in, rtol, {})
     if not (np.isfinite(phi[fluid]).all() and bound <= rtol and cons <= CONSERVATION_TOL and inflow > 0):
         raise SolutionCheckError(
             f"gas flow solution ({chosen}, {int(np.count_nonzero(fluid))} unknowns) failed its check: flux-error bound "
