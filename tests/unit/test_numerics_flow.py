@@ -281,10 +281,12 @@ def test_phase_times_add_up_to_the_wall_time() -> None:
     assert sum(res.phase_seconds.values()) <= res.seconds
 
 
-def test_memory_estimate_bounds_the_measured_peak() -> None:
+def test_memory_estimate_bounds_the_measured_peak_and_blas_threads_change_no_digit() -> None:
     """flow_memory_bytes (AMG) is above the peak resident set the solve adds, measured in a fresh process
-    (ru_maxrss after the solve minus before it) on a 512² log-normal conductance field."""
+    (ru_maxrss after the solve minus before it) on a 512² log-normal conductance field; and the AMG
+    solution has the same digits with one BLAS thread (as in a Dask worker) and with two (the plain loop)."""
     import json
+    import os
     import subprocess
     import sys
 
@@ -300,9 +302,15 @@ def test_memory_estimate_bounds_the_measured_peak() -> None:
         "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024\n"
         "res = solve_flow(gap, 1.0, 1e-3, 1e4, method='amg')\n"
         "after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024\n"
-        "print(json.dumps([after - before, flow_memory_bytes(512, 'amg'), res.unknowns]))\n"
+        "print(json.dumps([after - before, flow_memory_bytes(512, 'amg'), res.unknowns, res.flux.hex(),\n"
+        "                  float(np.nansum(res.pressure)).hex()]))\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    used, estimate, unknowns = json.loads(out.stdout.strip().splitlines()[-1])
+    runs = []
+    for threads in ("1", "2"):
+        env = dict(os.environ, OPENBLAS_NUM_THREADS=threads, OMP_NUM_THREADS=threads, MKL_NUM_THREADS=threads)
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+        runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
+    used, estimate, unknowns, _flux, _psum = runs[0]
     assert unknowns > 0.5 * 512**2
     assert used < estimate
+    assert runs[0][2:] == runs[1][2:]

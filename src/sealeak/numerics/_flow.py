@@ -340,18 +340,20 @@ def _smooth_prolongator(T: sparse.csr_matrix, AT: sparse.csr_matrix, weight: Flo
 class _AmgSolver:
     """CG on D^-1/2 A D^-1/2 preconditioned by a smoothed-aggregation V-cycle (module docstring).
 
-    The hierarchy is built here from pyamg's kernels (classical strength of connection, standard
-    aggregation, Gauss–Seidel sweeps), in CSR throughout, deterministically:
+    The hierarchy is built here from pyamg's kernels (standard aggregation, Gauss–Seidel sweeps) and
+    scipy's sparse products, in CSR throughout, deterministically:
 
     * strength: classical, θ = 0.7 (relative to each cell's strongest face), so aggregates do not
-      straddle constrictions;
+      straddle constrictions (:func:`_strong_pattern`, vectorised: the pattern of pyamg's
+      ``classical_strength_of_connection``);
     * tentative prolongator T: one candidate, B = D^1/2·1 on the finest level (the constant of the
       unscaled matrix), normalised per aggregate; the coarse candidate is the aggregate norm;
     * prolongator P = (I - ω W A) T with ω = 4/3 and W the local Gershgorin weight
       1 / Σ_j |a_ij| of each row (no spectral-radius estimate, which in pyamg is a randomly
       started Arnoldi iteration: its results, and the CG iteration count, varied from run to run);
       R = Pᵀ, A_c = R (A P);
-    * coarsening stops at <= 500 unknowns, solved with the pseudo-inverse (pinvh);
+    * coarsening stops at <= 500 unknowns, solved by a sparse LU (SuperLU; digits independent of the
+      number of BLAS threads), or with the pseudo-inverse (pinvh) if that matrix is singular;
     * V(1,1) cycle: one forward Gauss–Seidel sweep before, one backward sweep after the coarse
       correction (a symmetric preconditioner, as CG needs); the residual after the forward sweep
       from x = 0 is -U x (U the strictly upper triangle of A), half the work of b - A x.
@@ -404,7 +406,16 @@ class _AmgSolver:
         if level_a.shape[0] > 20 * self.MAX_COARSE:  # a dense coarse solve would not fit: say so
             raise ConvergenceError(f"flow solver (amg): coarsening stalled at {level_a.shape[0]} unknowns "
                                    f"after {len(self.levels)} levels; use method='direct'")
-        self.coarse_inverse = pinvh(level_a.toarray())
+        # the coarsest level by a sparse LU: SuperLU's digits do not depend on the number of BLAS threads
+        # (LAPACK's eigh behind a pseudo-inverse, and a threaded dgemv, do), so a task gives the same
+        # numbers in a one-thread Dask worker as in the plain loop (docs/theory.md §6.7); the
+        # pseudo-inverse only if the coarse matrix is singular
+        try:
+            lu = spla.splu(level_a.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+            self._coarse_solve = lu.solve
+        except RuntimeError:  # exactly singular
+            inverse = pinvh(level_a.toarray())
+            self._coarse_solve = lambda b: np.einsum("ij,j->i", inverse, b)
         self.max_iter = max_iter
         self._gauss_seidel = gauss_seidel
 
@@ -413,7 +424,7 @@ class _AmgSolver:
         (a reused buffer: a fresh array of the fine size costs page faults at every cycle)."""
         gauss_seidel = self._gauss_seidel
         if lvl == len(self.levels):
-            return self.coarse_inverse @ b
+            return self._coarse_solve(b)
         A, U, P, R = self.levels[lvl]
         if out is None:
             x = np.zeros_like(b)
