@@ -212,3 +212,105 @@ def test_matrix_against_a_loop_assembly(shape) -> None:
     ref += np.diag(ref_in + ref_out)
     assert np.allclose(A.toarray(), ref, rtol=1e-14, atol=0)
     assert np.array_equal(b_in, ref_in) and np.array_equal(b_out, ref_out)
+
+
+@pytest.mark.parametrize("shape", [(1, 5), (5, 1), (7, 6), (9, 4)])
+def test_blockwise_residual_equals_the_whole_grid_formula(shape, monkeypatch) -> None:
+    """The extended-precision residual formed in blocks of rows (here 2 or 3 rows, so blocks meet
+    everywhere) equals, digit for digit, b - A φ written out on the whole grid in long double, and
+    the flux sums match; it also equals b - A φ from the sparse matrix to double precision."""
+    from sealeak.numerics import _flow
+
+    rng = np.random.default_rng(shape[0] * 10 + shape[1])
+    s = rng.uniform(0.1, 1.0, shape)
+    fluid = rng.uniform(size=shape) < 0.85
+    cx, cy, sf = _flow._faces(s, fluid)
+    phi = np.where(fluid, rng.uniform(size=shape), 0.0).astype(np.longdouble)
+    ld = np.longdouble
+    fx = cx.astype(ld) * (phi[:-1, :] - phi[1:, :])
+    fy = cy.astype(ld) * (phi - np.roll(phi, -1, axis=1))
+    ref = np.zeros_like(phi)
+    ref[:-1, :] -= fx
+    ref[1:, :] += fx
+    ref -= fy
+    ref += np.roll(fy, 1, axis=1)
+    qin = (2.0 * sf[0, :]).astype(ld) * (1.0 - phi[0, :])
+    qout = (2.0 * sf[-1, :]).astype(ld) * phi[-1, :]
+    ref[0, :] += qin
+    ref[-1, :] -= qout
+    ref[~fluid] = 0.0
+    A, b_in, _ = _flow._assemble(cx, cy, sf, fluid)
+    for rows in (2, 3):
+        monkeypatch.setattr(_flow._Grid, "ROWS_PER_BLOCK", rows)
+        r, q_in, q_out, l1, phir, net = _flow._Grid(cx, cy, sf, fluid).residual(phi)
+        assert np.array_equal(r, ref.astype(np.float64))
+        assert q_in == float(qin.sum()) and q_out == float(qout.sum())
+        assert l1 == pytest.approx(float(np.abs(ref).sum()), rel=1e-15)
+        assert phir == pytest.approx(abs(float((phi * ref).sum())), rel=1e-12, abs=1e-300)
+        assert net == pytest.approx(float(ref.sum()), rel=1e-12, abs=1e-15)
+        sparse_r = b_in - A @ phi[fluid].astype(np.float64)
+        assert np.allclose(r[fluid], sparse_r, rtol=0, atol=1e-14)
+
+
+def test_strength_pattern_equals_pyamg_classical_strength(hard_field) -> None:
+    """The vectorised strength of connection gives, on the fine level and on a coarse level of a
+    contact gap field near the percolation threshold, exactly the pattern of pyamg's classical
+    strength of connection (θ = 0.7), so the aggregates are the same."""
+    from pyamg.strength import classical_strength_of_connection
+
+    from sealeak.numerics import _flow
+    from sealeak.numerics._percolation import spanning_mask
+
+    c, _L = hard_field
+    g = np.where(c.contact, 0.0, c.gap) / c.gap.max()
+    fluid = spanning_mask(g > 0)
+    A, _, _ = _flow._assemble(*_flow._faces(g**3, fluid), fluid)
+    solver = _flow._AmgSolver(A, 10)
+    assert len(solver.levels) >= 3
+    for level in (solver.levels[0][0], solver.levels[2][0]):
+        ours = _flow._strong_pattern(level, _flow._row_of_entries(level), _flow._AmgSolver.THETA)
+        theirs = classical_strength_of_connection(level, theta=_flow._AmgSolver.THETA)
+        assert np.array_equal(ours.indptr, theirs.indptr) and np.array_equal(ours.indices, theirs.indices)
+
+
+def test_phase_times_add_up_to_the_wall_time() -> None:
+    gap = np.exp(_lognormal_field(64, seed=3) / 3)
+    res = solve_flow(gap, 1.0, ETA, DP, method="amg")
+    assert set(res.phase_seconds) == {"clusters", "assembly", "setup", "iterations", "check"}
+    assert all(v >= 0 for v in res.phase_seconds.values())
+    assert sum(res.phase_seconds.values()) <= res.seconds
+
+
+def test_memory_estimate_bounds_the_measured_peak_and_blas_threads_change_no_digit() -> None:
+    """flow_memory_bytes (AMG) is above the peak resident set the solve adds, measured in a fresh process
+    (ru_maxrss after the solve minus before it) on a 512² log-normal conductance field; and the AMG
+    solution has the same digits with one BLAS thread (as in a Dask worker) and with two (the plain loop)."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import json, resource, numpy as np\n"
+        "from sealeak.numerics import solve_flow, flow_memory_bytes\n"
+        "from sealeak.numerics.synthesis import synthesize\n"
+        "from sealeak.physics.spectrum import PowerSpectrum\n"
+        "q0 = 2 * np.pi\n"
+        "spec = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=6 * q0, q_cutoff=40 * q0, q_lowest=q0, h_rms=1.0)\n"
+        "gap = np.exp(synthesize(spec, 512, 1.0, seed=4) / 3)\n"
+        "gap[synthesize(spec, 512, 1.0, seed=5) > 1.2] = 0.0\n"
+        "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024\n"
+        "res = solve_flow(gap, 1.0, 1e-3, 1e4, method='amg')\n"
+        "after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024\n"
+        "print(json.dumps([after - before, flow_memory_bytes(512, 'amg'), res.unknowns, res.flux.hex(),\n"
+        "                  float(np.nansum(res.pressure)).hex()]))\n"
+    )
+    runs = []
+    for threads in ("1", "2"):
+        env = dict(os.environ, OPENBLAS_NUM_THREADS=threads, OMP_NUM_THREADS=threads, MKL_NUM_THREADS=threads)
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+        runs.append(json.loads(out.stdout.strip().splitlines()[-1]))
+    used, estimate, unknowns, _flux, _psum = runs[0]
+    assert unknowns > 0.5 * 512**2
+    assert used < estimate
+    assert runs[0][2:] == runs[1][2:]

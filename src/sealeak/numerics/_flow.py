@@ -49,14 +49,13 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pyamg.aggregation import standard_aggregation
 from pyamg.relaxation.relaxation import gauss_seidel
-from pyamg.strength import classical_strength_of_connection
 from scipy import sparse
 from scipy.linalg import pinvh
 from scipy.sparse import linalg as spla
@@ -103,6 +102,10 @@ class FlowResult:
         Wall time of the solve (assembly included).
     conductance:
         Q/ΔP of the square (m³/(Pa·s)).
+    phase_seconds:
+        Wall time of each step (s): "clusters" (validation, conductances, the spanning cluster),
+        "assembly" (faces, matrix), "setup" (LU factorisation or AMG hierarchy), "iterations"
+        (back-end solves), "check" (extended-precision residuals); empty when nothing was solved.
     """
 
     flux: float
@@ -117,13 +120,16 @@ class FlowResult:
     unknowns: int
     seconds: float
     conductance: float
+    phase_seconds: dict[str, float] = field(default_factory=dict)
 
 
 def flow_memory_bytes(n: int, method: Method = "auto") -> int:
-    """Peak memory of :func:`solve_flow` on an n×n grid in bytes (estimate).
+    """Peak memory of :func:`solve_flow` on an n×n grid in bytes (estimate, an upper bound of what was measured).
 
-    ``"amg"``: the 5-point matrix (CSR), its scaled copy, the AMG hierarchy, long-double
-    residual fields and CG vectors: ~700 B/unknown (tracemalloc peak 2.4 GiB at 2048², 10 %).
+    ``"amg"``: the 5-point matrix (CSR, scaled in place), the AMG hierarchy (operator complexity
+    ~1.7), the double-precision face conductances, the long-double solution, the CG vectors, plus a
+    fixed 64 MiB: 400 B/cell. Measured (peak resident set of a fresh process minus the one before the
+    solve, 10 % and 25 % contact): 335 B/cell at 1024², 314 at 2048², 291 at 4096² (4.9 GB).
     ``"direct"``: the LU factors grow like n² log n; 7.6 GB were measured at 2048² and 10 %
     contact, i.e. ~1800 B/unknown there, used as ~150 log2(n) B/unknown.
     ``"auto"``: the estimate of the back-end ``"auto"`` would choose for a fully open n×n cell.
@@ -133,7 +139,7 @@ def flow_memory_bytes(n: int, method: Method = "auto") -> int:
     if method == "auto":
         method = "direct" if cells <= AUTO_DIRECT_MAX_UNKNOWNS else "amg"
     if method == "amg":
-        return int(700 * cells)
+        return int(400 * cells + 64 * 2**20)
     return int(150 * max(math.log2(max(n, 2)), 1.0) * cells + 200 * cells)
 
 
@@ -199,7 +205,11 @@ def _assemble(cx: FloatArray, cy: FloatArray, sf: FloatArray, fluid: NDArray[np.
     keep = vals != 0.0
     keep[:, 2] = True
     indptr = np.zeros(m + 1, dtype=itype)
-    np.cumsum(np.count_nonzero(keep, axis=1), out=indptr[1:])
+    count = keep[:, 0].astype(itype)  # entries per row (column by column: count_nonzero(axis=1) is slow)
+    for k in range(1, 5):
+        count += keep[:, k]
+    np.cumsum(count, out=indptr[1:])
+    del count
     A = sparse.csr_matrix((vals[keep], cols[keep], indptr), shape=(m, m))
     if n1 == 2:  # the neighbours j-1 and j+1 are the same cell: sum them
         A.sum_duplicates()
@@ -207,42 +217,62 @@ def _assemble(cx: FloatArray, cy: FloatArray, sf: FloatArray, fluid: NDArray[np.
 
 
 class _Grid:
-    """Face conductances on the structured grid, for residuals in extended precision."""
+    """Face conductances on the structured grid, for residuals in extended precision.
+
+    The conductances are kept in double precision (the values the matrix was built from, exact in
+    long double) and the residual is formed block by block of rows, in long double, so only a block's
+    extended-precision temporaries are alive at once (memory ~ 8 B per cell per field, not 16).
+    """
+
+    ROWS_PER_BLOCK = 256
 
     def __init__(self, cx: FloatArray, cy: FloatArray, sf: FloatArray, fluid: NDArray[np.bool_]) -> None:
-        ld = np.longdouble
-        self.cx = cx.astype(ld)
-        self.cy = cy.astype(ld)
-        self.bin = (2.0 * sf[0, :]).astype(ld)
-        self.bout = (2.0 * sf[-1, :]).astype(ld)
+        self.cx = cx
+        self.cy = cy
+        self.bin = 2.0 * sf[0, :]
+        self.bout = 2.0 * sf[-1, :]
         self.fluid = fluid
 
-    def residual(self, phi: NDArray[np.longdouble]) -> tuple[NDArray[np.longdouble], float, float]:
-        """Net volume inflow of every cell (b - A φ) and the inlet/outlet fluxes, in long double."""
-        fx = self.cx * (phi[:-1, :] - phi[1:, :])  # flux i -> i+1
-        fy = self.cy * (phi - np.roll(phi, -1, axis=1))  # flux j -> j+1 (periodic)
-        r = np.zeros_like(phi)
-        r[:-1, :] -= fx
-        r[1:, :] += fx
-        r -= fy
-        r += np.roll(fy, 1, axis=1)
-        qin = self.bin * (1.0 - phi[0, :])
-        qout = self.bout * phi[-1, :]
-        r[0, :] += qin
-        r[-1, :] -= qout
-        r[~self.fluid] = 0.0
-        return r, float(qin.sum()), float(qout.sum())
+    def residual(self, phi: NDArray[np.longdouble]) -> tuple[FloatArray, float, float, float, float, float]:
+        """Net volume inflow of every cell, b - A φ, formed in long double and returned rounded to
+        double, with the inflow, the outflow, Σ|r|, |Σ φ r| and Σ r (sums in long double)."""
+        ld = np.longdouble
+        n0 = phi.shape[0]
+        r_out = np.empty(phi.shape)
+        l1 = ld(0.0)
+        phir = ld(0.0)
+        qin = (self.bin.astype(ld) * (1.0 - phi[0, :])).sum()
+        qout = (self.bout.astype(ld) * phi[-1, :]).sum()
+        for a in range(0, n0, self.ROWS_PER_BLOCK):
+            b = min(a + self.ROWS_PER_BLOCK, n0)
+            lo, hi = max(a - 1, 0), min(b, n0 - 1)  # faces i -> i+1 for i in [lo, hi) touch the block
+            fx = self.cx[lo:hi, :].astype(ld) * (phi[lo:hi, :] - phi[lo + 1:hi + 1, :])  # flux i -> i+1
+            blk = phi[a:b, :]
+            fy = self.cy[a:b, :].astype(ld) * (blk - np.roll(blk, -1, axis=1))  # flux j -> j+1 (periodic)
+            r = np.zeros_like(blk)
+            # the same operations, in the same order, as on the whole grid: r[:-1] -= fx; r[1:] += fx
+            r[: hi - a, :] -= fx[a - lo:, :]  # out through the face below (rows a .. hi-1)
+            r[lo + 1 - a:, :] += fx[: b - lo - 1, :]  # in through the face above (rows lo+1 .. b-1)
+            r -= fy
+            r += np.roll(fy, 1, axis=1)
+            if a == 0:
+                r[0, :] += self.bin.astype(ld) * (1.0 - phi[0, :])
+            if b == n0:
+                r[-1, :] -= self.bout.astype(ld) * phi[-1, :]
+            r[~self.fluid[a:b, :]] = 0.0
+            l1 += np.abs(r).sum()
+            phir += (blk * r).sum()
+            r_out[a:b, :] = r
+        return r_out, float(qin), float(qout), float(l1), abs(float(phir)), float(r_out.sum())
 
 
-def _checks(grid: _Grid, phi: NDArray[np.longdouble]) -> tuple[NDArray[np.longdouble], float, float, float, float, float]:
-    """residual field, inflow, outflow, estimate |φᵀr|/Q, bound ||r||_1/Q, conservation error."""
-    r, qin, qout = grid.residual(phi)
+def _checks(grid: _Grid, phi: NDArray[np.longdouble]) -> tuple[FloatArray, float, float, float, float, float]:
+    """residual field (double), inflow, outflow, estimate |φᵀr|/Q, bound ||r||_1/Q, conservation error."""
+    r, qin, qout, l1, phir, _net = grid.residual(phi)
     q = max(abs(qin), abs(qout))
     if not q > 0:
         return r, qin, qout, math.inf, math.inf, math.inf
-    est = abs(float(np.sum(phi * r))) / q
-    bound = float(np.abs(r).sum()) / q
-    return r, qin, qout, est, bound, abs(qin - qout) / q
+    return r, qin, qout, phir / q, l1 / q, abs(qin - qout) / q
 
 
 @dataclass(frozen=True)
@@ -280,21 +310,50 @@ def _upper(A: sparse.csr_matrix, rows: NDArray[np.intp]) -> sparse.csr_matrix:
     return sparse.csr_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
 
 
+def _strong_pattern(M: sparse.csr_matrix, rows: NDArray[np.intp], theta: float) -> sparse.csr_matrix:
+    """Pattern of the classical strength of connection (Ruge & Stüben; pyamg's
+    ``classical_strength_of_connection`` with its default 'abs' norm): entry (i, j), j ≠ i, is strong
+    when |a_ij| >= θ max_{k≠i} |a_ik| and a_ij ≠ 0; the diagonal is always kept. Vectorised over the
+    entries (``rows``: :func:`_row_of_entries`); the data are ones (aggregation uses the pattern)."""
+    off = M.indices != rows
+    mag = np.abs(M.data)
+    mag[~off] = 0.0
+    nonempty = np.diff(M.indptr) > 0
+    rowmax = np.zeros(M.shape[0])
+    rowmax[nonempty] = np.maximum.reduceat(mag, M.indptr[:-1][nonempty])
+    keep = (mag >= theta * rowmax[rows]) & (mag != 0.0)
+    keep |= ~off
+    del mag, off
+    indptr = np.zeros(M.shape[0] + 1, dtype=M.indptr.dtype)
+    np.cumsum(np.bincount(rows[keep], minlength=M.shape[0]), out=indptr[1:])
+    return sparse.csr_matrix((np.ones(int(indptr[-1])), M.indices[keep], indptr), shape=M.shape)
+
+
+def _smooth_prolongator(T: sparse.csr_matrix, AT: sparse.csr_matrix, weight: FloatArray) -> sparse.csr_matrix:
+    """P = T - diag(weight) (A T) (``AT`` is consumed): p_ij = t_ij - w_i (AT)_ij, with the row scaling
+    done on ``AT``'s entries in place instead of a sparse product with the diagonal matrix (the same
+    digits; (AT)_ij can vanish where T has an entry, so the sum is a sparse addition)."""
+    AT.data *= -weight[_row_of_entries(AT)]
+    return (T + AT).tocsr()
+
+
 class _AmgSolver:
     """CG on D^-1/2 A D^-1/2 preconditioned by a smoothed-aggregation V-cycle (module docstring).
 
-    The hierarchy is built here from pyamg's kernels (classical strength of connection, standard
-    aggregation, Gauss–Seidel sweeps), in CSR throughout, deterministically:
+    The hierarchy is built here from pyamg's kernels (standard aggregation, Gauss–Seidel sweeps) and
+    scipy's sparse products, in CSR throughout, deterministically:
 
     * strength: classical, θ = 0.7 (relative to each cell's strongest face), so aggregates do not
-      straddle constrictions;
+      straddle constrictions (:func:`_strong_pattern`, vectorised: the pattern of pyamg's
+      ``classical_strength_of_connection``);
     * tentative prolongator T: one candidate, B = D^1/2·1 on the finest level (the constant of the
       unscaled matrix), normalised per aggregate; the coarse candidate is the aggregate norm;
     * prolongator P = (I - ω W A) T with ω = 4/3 and W the local Gershgorin weight
       1 / Σ_j |a_ij| of each row (no spectral-radius estimate, which in pyamg is a randomly
       started Arnoldi iteration: its results, and the CG iteration count, varied from run to run);
       R = Pᵀ, A_c = R (A P);
-    * coarsening stops at <= 500 unknowns, solved with the pseudo-inverse (pinvh);
+    * coarsening stops at <= 500 unknowns, solved by a sparse LU (SuperLU; digits independent of the
+      number of BLAS threads), or with the pseudo-inverse (pinvh) if that matrix is singular;
     * V(1,1) cycle: one forward Gauss–Seidel sweep before, one backward sweep after the coarse
       correction (a symmetric preconditioner, as CG needs); the residual after the forward sweep
       from x = 0 is -U x (U the strictly upper triangle of A), half the work of b - A x.
@@ -310,46 +369,68 @@ class _AmgSolver:
     MAX_LEVELS = 16
 
     def __init__(self, A: sparse.csr_matrix, max_iter: int) -> None:
-        d = A.diagonal()
-        self.sq = np.sqrt(d)
-        Dm = sparse.diags(1.0 / self.sq)
-        As = (Dm @ A @ Dm).tocsr()  # unit diagonal
+        """Build the hierarchy of ``A`` (CSR, float64), which is scaled in place to D^-1/2 A D^-1/2:
+        the caller must not use ``A`` afterwards (it is the fine-level matrix, no copy is kept)."""
+        self.sq = np.sqrt(A.diagonal())
+        inv = 1.0 / self.sq
+        rows = _row_of_entries(A)
+        A.data *= inv[rows]  # (a_ij / √d_i) / √d_j: the digits of Dm @ A @ Dm; unit diagonal
+        A.data *= inv[A.indices]
+        del inv
+        As = A
         self.As = As
         # per level: A, its strictly upper triangle U (for the residual after a forward sweep), P, R
         self.levels: list[tuple[sparse.csr_matrix, ...]] = []
-        level_a, cand = As, self.sq.copy()
+        level_a, cand, row_of = As, self.sq.copy(), rows
         while level_a.shape[0] > self.MAX_COARSE and len(self.levels) < self.MAX_LEVELS - 1:
-            strength = classical_strength_of_connection(level_a, theta=self.THETA)
-            agg = standard_aggregation(sparse.csr_matrix(strength))[0].tocsr()
+            agg = standard_aggregation(_strong_pattern(level_a, row_of, self.THETA))[0].tocsr()
             n, nc = agg.shape
             if nc == 0 or nc >= n:  # nothing left to coarsen
                 break
-            rows = _row_of_entries(agg)
             cols = agg.indices
-            norm = np.sqrt(np.bincount(cols, weights=cand[rows] ** 2, minlength=nc))
-            T = sparse.csr_matrix((cand[rows] / norm[cols], (rows, cols)), shape=(n, nc))
-            row_of = _row_of_entries(level_a)
+            c_agg = cand[_row_of_entries(agg)]
+            norm = np.sqrt(np.bincount(cols, weights=c_agg**2, minlength=nc))
+            T = sparse.csr_matrix((c_agg / norm[cols], cols, agg.indptr), shape=(n, nc))
+            del c_agg
             weight = self.OMEGA / np.bincount(row_of, weights=np.abs(level_a.data), minlength=n)
-            P = (T - sparse.diags(weight) @ (level_a @ T)).tocsr()
+            P = _smooth_prolongator(T, level_a @ T, weight)
+            del T, agg
             R = P.T.tocsr()
-            coarse = (R @ (level_a @ P)).tocsr()
+            AP = level_a @ P
+            coarse = (R @ AP).tocsr()
+            del AP
             coarse.sum_duplicates()
             self.levels.append((level_a, _upper(level_a, row_of), P, R))
             level_a, cand = coarse, norm
+            row_of = _row_of_entries(level_a)
         if level_a.shape[0] > 20 * self.MAX_COARSE:  # a dense coarse solve would not fit: say so
             raise ConvergenceError(f"flow solver (amg): coarsening stalled at {level_a.shape[0]} unknowns "
                                    f"after {len(self.levels)} levels; use method='direct'")
-        self.coarse_inverse = pinvh(level_a.toarray())
+        # the coarsest level by a sparse LU: SuperLU's digits do not depend on the number of BLAS threads
+        # (LAPACK's eigh behind a pseudo-inverse, and a threaded dgemv, do), so a task gives the same
+        # numbers in a one-thread Dask worker as in the plain loop (docs/theory.md §6.7); the
+        # pseudo-inverse only if the coarse matrix is singular
+        try:
+            lu = spla.splu(level_a.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+            self._coarse_solve = lu.solve
+        except RuntimeError:  # exactly singular
+            inverse = pinvh(level_a.toarray())
+            self._coarse_solve = lambda b: np.einsum("ij,j->i", inverse, b)
         self.max_iter = max_iter
         self._gauss_seidel = gauss_seidel
 
-    def _vcycle(self, b: FloatArray, lvl: int = 0) -> FloatArray:
-        """One V-cycle for A_lvl x = b from x = 0 (the preconditioner M⁻¹ b)."""
+    def _vcycle(self, b: FloatArray, lvl: int = 0, out: FloatArray | None = None) -> FloatArray:
+        """One V-cycle for A_lvl x = b from x = 0 (the preconditioner M⁻¹ b), into ``out`` if given
+        (a reused buffer: a fresh array of the fine size costs page faults at every cycle)."""
         gauss_seidel = self._gauss_seidel
         if lvl == len(self.levels):
-            return self.coarse_inverse @ b
+            return self._coarse_solve(b)
         A, U, P, R = self.levels[lvl]
-        x = np.zeros_like(b)
+        if out is None:
+            x = np.zeros_like(b)
+        else:
+            x = out
+            x.fill(0.0)
         gauss_seidel(A, x, b, sweep="forward")
         # a forward sweep from x = 0 solves (D + L) x = b exactly, so b - A x = -U x (half a matvec)
         x += P @ self._vcycle(-(R @ (U @ x)), lvl + 1)
@@ -371,7 +452,8 @@ class _AmgSolver:
         bs = rhs / sq
         x = np.zeros_like(bs)
         r = bs.copy()
-        z = self._vcycle(r)
+        zbuf = np.empty_like(r)  # z of each cycle (not needed past the update of pdir)
+        z = self._vcycle(r, 0, zbuf)
         pdir = z.copy()
         rz = dot(r, z)
         work = np.empty_like(r)
@@ -391,9 +473,12 @@ class _AmgSolver:
             it += 1
             Ap = self.As @ pdir
             alpha = rz / dot(pdir, Ap)
-            x += alpha * pdir
-            r -= alpha * Ap
-            z = self._vcycle(r)
+            np.multiply(pdir, alpha, out=work)  # x += alpha pdir, r -= alpha Ap without temporaries
+            x += work
+            np.multiply(Ap, alpha, out=Ap)
+            r -= Ap
+            del Ap
+            z = self._vcycle(r, 0, zbuf)
             rz_new = dot(r, z)
             pdir *= rz_new / rz
             pdir += z
@@ -449,6 +534,7 @@ def solve_flow(
         ``flux`` is Q = (conductance of the square) × ΔP in m³/s.
     """
     t0 = time.perf_counter()
+    clock: dict[str, float] = {}
     g = _validate(gap, size, viscosity, pressure_difference)
     if method not in ("auto", "direct", "amg"):
         raise InputError("method", method, "allowed: 'auto', 'direct', 'amg'")
@@ -474,43 +560,83 @@ def solve_flow(
     m = int(np.count_nonzero(fluid))
     pressure = np.full(g.shape, np.nan)
     if m == 0:
-        return _result(0.0, 0.0, 0.0, pressure, False, "none", 0.0, 0.0, 0, 0, t0, 0.0)
+        return _result(0.0, 0.0, 0.0, pressure, False, "none", 0.0, 0.0, 0, 0, t0, 0.0, {})
     chosen = method if method != "auto" else ("direct" if m <= AUTO_DIRECT_MAX_UNKNOWNS else "amg")
     require_memory(flow_memory_bytes(n, chosen), f"the {n}x{n} flow problem ({chosen})", memory_limit)
+    clock["clusters"] = time.perf_counter() - t0
+    t = time.perf_counter()
     cx, cy, sf = _faces(s, fluid)
-    A, b_in, b_out = _assemble(cx, cy, sf, fluid)
+    del s
+    A, b_in, _b_out = _assemble(cx, cy, sf, fluid)
     grid = _Grid(cx, cy, sf, fluid)
-    del cx, cy, sf
-    b = b_in.copy()
+    del cx, cy, sf, _b_out
+    clock["assembly"] = time.perf_counter() - t
+    t = time.perf_counter()
     solver = _DirectSolver(A) if chosen == "direct" else _AmgSolver(A, max_iter)
     del A
-    # mixed-precision iterative refinement: φ and the residual in long double, corrections in
-    # double precision from the chosen back-end, until the flux checks hold
-    inlet = np.flatnonzero(b_in)
-    w_in = b_in[inlet]
+    clock["setup"] = time.perf_counter() - t
     phi = np.zeros(g.shape, dtype=np.longdouble)
-    rhs = b
-    its = 0
-    for _ in range(8):
-        flux = _Flux(inlet, w_in, phi[fluid][inlet].astype(np.float64))
-        delta, k = solver(rhs, 0.5 * rtol, 0.1 * CONSERVATION_TOL, flux)
-        its += k
-        phi[fluid] += delta.astype(np.longdouble)
-        r, inflow, outflow, res, bound, cons = _checks(grid, phi)
-        if bound <= rtol and cons <= CONSERVATION_TOL:
-            break
-        rhs = r[fluid].astype(np.float64)
+    its, (r, inflow, outflow, res, bound, cons) = _refine(solver, grid, phi, b_in, rtol, clock, rhs=b_in)
     if not (np.isfinite(phi[fluid]).all() and bound <= rtol and cons <= CONSERVATION_TOL and inflow > 0):
         raise SolutionCheckError(
             f"flow solution ({chosen}, {m} unknowns) failed its check: flux-error bound ||r||_1/Q = "
             f"{bound:.3g} (allowed {rtol:.3g}), |inflow - outflow|/Q = {cons:.3g} (allowed {CONSERVATION_TOL:.0e})"
             f"; estimate |φᵀr|/Q = {res:.3g}")
+    del r, grid, solver
     unit = gmax**3 / (12.0 * viscosity) * pressure_difference  # m³/s per unit dimensionless flux
     pressure[fluid] = outlet_pressure + pressure_difference * phi[fluid].astype(np.float64)
     cond = inflow * gmax**3 / (12.0 * viscosity)
-    return _result(inflow * unit, inflow * unit, outflow * unit, pressure, True, chosen, bound, cons, its, m, t0, cond)
+    return _result(inflow * unit, inflow * unit, outflow * unit, pressure, True, chosen, bound, cons, its, m, t0, cond,
+                   clock)
+
+
+def _refine(solver: _DirectSolver | _AmgSolver, grid: _Grid, phi: NDArray[np.longdouble], b_in: FloatArray,
+            rtol: float, clock: dict[str, float], rhs: FloatArray | None = None
+            ) -> tuple[int, tuple[FloatArray, float, float, float, float, float]]:
+    """Mixed-precision iterative refinement (docs/theory.md §6.3), shared by the liquid and the gas solver.
+
+    φ (long double, ``phi``, updated in place) and the residual b - A φ (extended precision,
+    :meth:`_Grid.residual`) against corrections in double precision from the back-end, until the
+    flux-error bound ||r||_1/Q <= ``rtol`` and the conservation error <= ``CONSERVATION_TOL`` hold, at
+    most 8 corrections. ``rhs``: the residual of the starting φ when it is known (b for φ = 0),
+    else it is computed first. Adds the seconds of the back-end's iterations and of the checks to
+    ``clock`` ("iterations", "check"). Returns the iterations (CG, or 0 per direct solve) and the
+    last :func:`_checks`; the caller judges them.
+    """
+    fluid = grid.fluid
+    inlet = np.flatnonzero(b_in)
+    w_in = b_in[inlet]
+    its = 0
+    clock.setdefault("iterations", 0.0)
+    clock.setdefault("check", 0.0)
+    checks = None
+    if rhs is None:
+        t = time.perf_counter()
+        checks = _checks(grid, phi)
+        clock["check"] += time.perf_counter() - t
+    for _ in range(8):
+        if checks is not None:
+            r, _qin, _qout, _res, bound, cons = checks
+            if bound <= rtol and cons <= CONSERVATION_TOL:
+                break
+            rhs = r[fluid]
+            del r, checks
+        assert rhs is not None  # given, or the residual of the last check
+        t = time.perf_counter()
+        flux = _Flux(inlet, w_in, phi[fluid][inlet].astype(np.float64))
+        delta, k = solver(rhs, 0.5 * rtol, 0.1 * CONSERVATION_TOL, flux)
+        its += k
+        phi[fluid] += delta.astype(np.longdouble)
+        del delta
+        clock["iterations"] += time.perf_counter() - t
+        t = time.perf_counter()
+        checks = _checks(grid, phi)
+        clock["check"] += time.perf_counter() - t
+    assert checks is not None
+    return its, checks
 
 
 def _result(q: float, qin: float, qout: float, pressure: FloatArray, perc: bool, method: str, res: float,
-            cons: float, its: int, m: int, t0: float, cond: float) -> FlowResult:
-    return FlowResult(q, qin, qout, pressure, perc, method, res, cons, its, m, time.perf_counter() - t0, cond)
+            cons: float, its: int, m: int, t0: float, cond: float, clock: dict[str, float]) -> FlowResult:
+    return FlowResult(q, qin, qout, pressure, perc, method, res, cons, its, m, time.perf_counter() - t0, cond,
+                      dict(clock))
