@@ -11,8 +11,10 @@ realisation's contact sweep and flow solves (``sealeak.cases.simulation.ensemble
     ``workers=1`` and ``workers=2`` (a local Dask cluster of one-thread worker processes, started and
     stopped by the runner: its start-up is inside these times): wall times and speed-ups against the
     plain loop.
-(b) One realisation: the plain loop, the plain loop with the one FFT thread per task that the Dask workers
-    use ("plain, 1 FFT thread": the same computation as on a worker), and ``workers=1``. The cluster
+(b) One realisation (one task): the plain loop, the plain loop with the one FFT thread per task that the Dask
+    workers use ("plain, 1 FFT thread": the same computation as on a worker), the default runner (``workers=2``,
+    which computes a single task in this process, ``CLUSTER_FROM_TASKS``), and ``workers=1`` with the cluster
+    forced (``cluster_from=1``). The cluster
     start-up and shut-down are measured apart, by the same runner on the same task list with a task that
     returns at once; the overhead is (t_dask1 - t_plain)/t_plain with the start-up included, and with it
     subtracted.
@@ -100,15 +102,17 @@ def main() -> None:
 
     p = timed("plain loop", 1, capturing)
     p1 = timed("plain loop, 1 FFT thread", 1, _one_fft_thread)
-    d = timed("Dask, 1 worker", 1, make_runner(workers=1))
-    tasks_runner = make_runner(workers=1, task_function=_instant)
+    auto = timed("default runner (workers=2: 1 task)", 1, make_runner(workers=2))
+    d = timed("Dask, 1 worker (cluster forced)", 1, make_runner(workers=1, cluster_from=1))
+    tasks_runner = make_runner(workers=1, task_function=_instant, cluster_from=1)
     startup = float("inf")
     for _ in range(repeat):
         t = time.perf_counter()
         tasks_runner(captured)  # the same task list, each task returning at once
         startup = min(startup, time.perf_counter() - t)
     print(f"  {'cluster start-up + shut-down':<34} {startup:8.2f} s")
-    print(f"  overhead (t_dask1 - t_plain)/t_plain: {100 * (d - p) / p:+.1f} % with the start-up, "
+    print(f"  overhead of the default runner, which computes a single task in this process: {100 * (auto - p) / p:+.1f} %")
+    print(f"  overhead of a forced one-worker cluster (t_dask1 - t_plain)/t_plain: {100 * (d - p) / p:+.1f} % with the start-up, "
           f"{100 * (d - startup - p) / p:+.1f} % without; against the plain loop with 1 FFT thread: "
           f"{100 * (d - p1) / p1:+.1f} % / {100 * (d - startup - p1) / p1:+.1f} %")
     print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")

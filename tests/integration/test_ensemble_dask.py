@@ -285,3 +285,27 @@ def test_ctrl_c_stops_client_and_workers_with_one_line(tmp_path):
     else:
         os.killpg(proc.pid, signal.SIGKILL)
         pytest.fail("worker processes still running 15 s after the client exited")
+
+
+def test_a_single_task_runs_in_this_process_with_the_serial_numbers(tmp_path, monkeypatch):
+    """One task to compute (1 realisation, no threshold search): no cluster is started (it would add its start-up and
+    no parallelism), the numbers are the plain loop's, and a note says so; two tasks do start one."""
+    import sealeak.cases.ensemble as ensemble
+
+    started = []
+    real_client = ensemble._client
+
+    def spy(*args, **kwargs):
+        started.append(args)
+        return real_client(*args, **kwargs)
+
+    monkeypatch.setattr(ensemble, "_client", spy)
+    (case,) = load_cases(case_file(tmp_path))
+    serial = simulate(case, grid=32, realizations=1, seed=4, threshold=False)
+    notes = []
+    one = simulate(case, grid=32, realizations=1, seed=4, threshold=False, runner=make_runner(workers=2, note=notes.append))
+    assert started == [] and any("running in this process" in n for n in notes)
+    for key in serial.per_realization:
+        np.testing.assert_array_equal(serial.per_realization[key], one.per_realization[key], err_msg=key)
+    simulate(case, grid=32, realizations=2, seed=4, threshold=False, runner=make_runner(workers=2))
+    assert len(started) == 1

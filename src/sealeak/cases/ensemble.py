@@ -59,7 +59,7 @@ from ..io.files import OutputWriteError
 from .simulation import EnsembleTask, run_task
 
 __all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID",
-           "machine_memory"]
+           "machine_memory", "CLUSTER_FROM_TASKS"]
 
 #: The format tag of a store's manifest.
 STORE_FORMAT = "sealeak-ensemble-store/1"
@@ -70,6 +70,9 @@ THREAD_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THRE
 #: array afresh, which made the contact solves 2-3 times slower on this machine: sealeak's workers keep glibc's
 #: own, adaptive threshold.
 _WORKER_CONFIG = {"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}
+#: Fewest tasks left to compute for which a runner with ``workers >= 1`` starts a local Dask cluster: a single task
+#: gains no parallelism, only the cluster's start-up and the cost of a worker process (benchmarks/bench_dask.py).
+CLUSTER_FROM_TASKS = 2
 #: Seconds without a finished task after which the runner reports that it is still working.
 HEARTBEAT = 5.0
 
@@ -344,14 +347,16 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
                 progress: Callable[[TaskEvent], None] | None = None,
                 note: Callable[[str], None] | None = None,
                 task_function: Callable[[EnsembleTask], dict[str, Any]] = run_task,
-                heartbeat: float = HEARTBEAT, fields: bool = False) -> Callable[[list[EnsembleTask]], list[dict[str, Any]]]:
+                heartbeat: float = HEARTBEAT, fields: bool = False,
+                cluster_from: int = CLUSTER_FROM_TASKS) -> Callable[[list[EnsembleTask]], list[dict[str, Any]]]:
     """A runner for :func:`sealeak.cases.simulation.simulate`'s ``runner`` argument.
 
     Parameters
     ----------
     workers:
-        0: the plain loop in this process; N >= 1: a local Dask cluster of N one-thread worker processes.
-        Ignored with ``scheduler``.
+        0: the plain loop in this process; N >= 1: a local Dask cluster of N one-thread worker processes,
+        when at least ``cluster_from`` tasks are left to compute (fewer run in this process: one task gains
+        nothing from a cluster but its start-up). Ignored with ``scheduler``.
     scheduler:
         Address of a running Dask scheduler (``tcp://host:8786``): the tasks run there; field files, and a
         store that keeps fields, must then be in a folder the workers share with this machine.
@@ -377,9 +382,6 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
     def run(tasks: list[EnsembleTask]) -> list[dict[str, Any]]:
         if not tasks:
             return []
-        parallel = scheduler is not None or workers >= 1
-        if parallel:  # worker processes share the cores: one FFT thread per task
-            tasks = _with_spec(tasks, fft_workers=1)
         fresh = store is not None and not Path(store).exists()
         kept = TaskStore(store, tasks[0].spec.identity(), say, fields=fields) if store is not None else None
         if kept is not None and kept.fields:
@@ -400,6 +402,12 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         todo = [i for i in range(len(tasks)) if i not in results]
         if kept is not None and kept.fields and not fields and any(getattr(tasks[i], "writes_fields", False) for i in todo):
             say(f"{kept.folder} keeps the fields of its tasks: this run writes them too")
+        parallel = scheduler is not None or (workers >= 1 and len(todo) >= cluster_from)
+        if workers >= 1 and scheduler is None and todo and not parallel:
+            say(f"{len(todo)} task{'s' if len(todo) > 1 else ''} to compute: running in this process (a local Dask "
+                "cluster would add its start-up and no parallelism)")
+        if parallel:  # worker processes share the cores: one FFT thread per task
+            tasks = _with_spec(tasks, fft_workers=1)
         need = {i: _task_memory(tasks[i]) for i in todo}
 
         def refuse(err: SealeakError) -> SealeakError:
