@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 import time
 from pathlib import Path
 
@@ -54,3 +55,13 @@ def contact_gap(n: int, fraction: float, seed: int = 1) -> tuple[np.ndarray, np.
     np.savez(tmp, gap=c.gap, contact=c.contact, info=json.dumps(info))
     os.replace(tmp, path)
     return c.gap, c.contact, info
+
+
+def take_option(name: str, default: str) -> str:
+    """The value after ``name`` on the command line (removed from ``sys.argv``), or ``default``."""
+    if name in sys.argv:
+        i = sys.argv.index(name)
+        value = sys.argv[i + 1]
+        del sys.argv[i:i + 2]
+        return value
+    return default

@@ -33,8 +33,10 @@ from typing import Any
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
+from _common import take_option  # noqa: E402
 from sealeak.cases import example_path, load_cases, simulate  # noqa: E402
 from sealeak.cases.ensemble import make_runner  # noqa: E402
 from sealeak.cases.simulation import EnsembleTask, run_task  # noqa: E402
@@ -50,18 +52,9 @@ def _one_fft_thread(tasks: list[EnsembleTask]) -> list[dict[str, Any]]:
     return [run_task(replace(t, spec=replace(t.spec, fft_workers=1))) for t in tasks]
 
 
-def _option(name: str, default: str) -> str:
-    if name in sys.argv:
-        i = sys.argv.index(name)
-        value = sys.argv[i + 1]
-        del sys.argv[i:i + 2]
-        return value
-    return default
-
-
 def main() -> None:
-    realizations = int(_option("--realizations", "4"))
-    repeat = int(_option("--repeat", "2"))
+    realizations = int(take_option("--realizations", "4"))
+    repeat = int(take_option("--repeat", "2"))
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 512
     (case,) = load_cases(example_path("reference-experiment"))
     case = replace(case, squeeze_pressure=np.geomspace(2e4, 2.5e5, 10))

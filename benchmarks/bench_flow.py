@@ -29,6 +29,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
+from _common import take_option  # noqa: E402
+
 FRACTIONS = (0.1, 0.25, 0.3, 0.4)  # 0.3: near the percolation threshold, the hardest case
 PHASES = ("clusters", "assembly", "setup", "iterations", "check")
 
@@ -50,22 +52,13 @@ def one(n: int, fraction: float, method: str) -> dict:
                 maxrss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
 
 
-def _option(name: str, default: str) -> str:
-    if name in sys.argv:
-        i = sys.argv.index(name)
-        value = sys.argv[i + 1]
-        del sys.argv[i:i + 2]
-        return value
-    return default
-
-
 def main() -> None:
     if len(sys.argv) == 5 and sys.argv[1] == "--case":
         print(json.dumps(one(int(sys.argv[2]), float(sys.argv[3]), sys.argv[4])))
         return
-    fractions = [float(f) for f in _option("--fractions", ",".join(map(str, FRACTIONS))).split(",")]
-    methods_opt = _option("--methods", "")
-    repeat = int(_option("--repeat", "1"))
+    fractions = [float(f) for f in take_option("--fractions", ",".join(map(str, FRACTIONS))).split(",")]
+    methods_opt = take_option("--methods", "")
+    repeat = int(take_option("--repeat", "1"))
     sizes = [int(a) for a in sys.argv[1:]] or [256, 512, 1024, 2048]
     print(f"{'N':>5} {'A/A0':>6} {'method':>6} {'unknowns':>9} " + " ".join(f"{p[:6]:>6}" for p in PHASES)
           + f" {'total':>6} {'iter':>4} {'flux m3/s':>9} {'bound':>7} {'conserv':>7} {'rss0 MB':>7} {'peak MB':>7}"
