@@ -113,22 +113,33 @@ def _gas_json(doc: dict[str, Any], res: SimulationResult) -> None:
                        "leak_rate, alpha: the incompressible formula with the gas's viscosity, for comparison")
 
 
+def _gas_rows(g: Any, label: tuple[str, int], rows: list[str], theory: tuple[str, int], coarse: list[bool]) -> list[str]:
+    """The header and rows of a gas table: ``rows`` the formatted first column (header ``label``, its width), then
+    Kn, regime, Q_pV ± sd (Pa·m³/s and mbar·l/s), ṁ, slip gain, the theory's Q_pV (header ``theory``), α_gas ± sd
+    (``*`` where ``coarse``: the grid resolves the junction poorly), and the fixed-point iterations."""
+    (name, width), (theory_name, theory_width) = label, theory
+    lines = [f"{name:>{width}} {'Kn at u_c':>9} {'regime':>14} {'Q_pV sim (Pa·m³/s)':>19} {'± sd':>9} {'Q (mbar·l/s)':>12} "
+             f"{'ṁ (kg/s)':>10} {'slip gain':>9} {theory_name:>{theory_width}} {'α_gas':>7} {'± sd':>8} {'iter':>4}"]
+    for i, first in enumerate(rows):
+        star = "*" if coarse[i] and np.isfinite(g.alpha[i]) else " "
+        lines.append(f"{first} {fmt(g.knudsen_critical_junction[i], '9.3g')} "
+                     f"{g.regime_critical_junction[i] or '—':>14} {fmt(g.throughput[i], '19.3e')} {fmt(g.throughput_std[i], '9.2e')} "
+                     f"{fmt(g.throughput[i] / 0.1, '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
+                     f"{fmt(g.throughput_critical_junction[i], f'{theory_width}.3e')} {fmt(g.alpha[i], '7.3g')}{star} "
+                     f"{fmt(g.alpha_std[i], '7.2g')} {g.iterations[i]:4d}")
+    return lines
+
+
 def _gas_lines(res: SimulationResult) -> list[str]:
     """The gas table of ``sealeak simulate`` and what its columns mean."""
     g = res.gas
     assert g is not None
     lines = ["", f"gas leak of {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa "
                  f"(absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}:",
-             f"{'P0 (kPa)':>9} {'Kn at u_c':>9} {'regime':>14} {'Q_pV sim (Pa·m³/s)':>19} {'± sd':>9} {'Q (mbar·l/s)':>12} "
-             f"{'ṁ (kg/s)':>10} {'slip gain':>9} {'Q_pV cj α=1':>12} {'α_gas':>7} {'± sd':>7} {'iter':>4}"]
-    for i in range(res.squeeze_pressure.size):
-        star = "*" if _coarse(res, i) and np.isfinite(g.alpha[i]) else " "
-        lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {fmt(g.knudsen_critical_junction[i], '9.3g')} "
-                     f"{g.regime_critical_junction[i] or '—':>14} {fmt(g.throughput[i], '19.3e')} {fmt(g.throughput_std[i], '9.2e')} "
-                     f"{fmt(g.throughput[i] / 0.1, '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
-                     f"{fmt(g.throughput_critical_junction[i], '12.3e')} {fmt(g.alpha[i], '7.3g')}{star}"
-                     f"{fmt(g.alpha_std[i], '7.2g')} {g.iterations[i]:4d}")
-    lines += ["",
+             *_gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
+                        [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
+             ""]
+    lines += [
               "Q_pV sim: isothermal gas flow through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, counted at the gas "
               "temperature; ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
               f"Q_pV cj α=1: the critical-junction gas leak (gap u_c, the same rarefaction; as predict); α_gas = Q_pV sim / "
@@ -419,16 +430,10 @@ def _band_gas_lines(res: BandSimulationResult) -> list[str]:
     label, factor = _load_label(res)
     lines = ["", f"Gas leak across the band: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → "
                  f"{g.downstream_pressure / 1e3:.4g} kPa (absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}",
-             f"{label:>16} {'Kn at u_c':>9} {'regime':>14} {'Q_pV sim (Pa·m³/s)':>19} {'± sd':>9} {'Q (mbar·l/s)':>12} "
-             f"{'ṁ (kg/s)':>10} {'slip gain':>9} {'Q_pV series α=1':>15} {'α_gas':>7} {'± sd':>7} {'iter':>4}"]
-    for i in range(res.loads.size):
-        star = "*" if _band_coarse(res, i) and np.isfinite(g.alpha[i]) else " "
-        lines.append(f"{res.loads[i] * factor:16.4g} {fmt(g.knudsen_critical_junction[i], '9.3g')} "
-                     f"{g.regime_critical_junction[i] or '—':>14} {fmt(g.throughput[i], '19.3e')} {fmt(g.throughput_std[i], '9.2e')} "
-                     f"{fmt(g.throughput[i] / 0.1, '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
-                     f"{fmt(g.throughput_critical_junction[i], '15.3e')} {fmt(g.alpha[i], '7.3g')}{star}"
-                     f"{fmt(g.alpha_std[i], '7.2g')} {g.iterations[i]:4d}")
-    lines += ["",
+             *_gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
+                        [_band_coarse(res, i) for i in range(res.loads.size)]),
+             ""]
+    lines += [
               "Q_pV sim: isothermal gas flow across the band through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, P_a at "
               "the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim, counted at the gas temperature; "
               "ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
