@@ -499,7 +499,8 @@ def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list
 
 def _bottom_band(ax: Axes) -> float:
     """The y (data) of the band below the lowest value of a log axis: the band of the ▽ markers, or a new one."""
-    below = [float(np.nanmin(line.get_ydata())) for line in ax.get_lines() if line.get_marker() == "v" and len(line.get_ydata())]
+    below = [float(np.nanmin(np.asarray(line.get_ydata()))) for line in ax.get_lines()
+             if line.get_marker() == "v" and len(np.asarray(line.get_ydata()))]
     if below:
         return min(below)
     lo, hi = ax.get_ylim()

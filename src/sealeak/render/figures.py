@@ -542,8 +542,8 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
         ax.set_xlim(left=0)
     if gas:
         ax.set_ylabel(f"{GAS_LEAK_LABEL} ({qunit})")
-        for dp in sorted({sw.case.pressure_difference for sw in sweeps}):
-            ax.axvline(dp / 1e3, color="0.5", lw=0.8, ls=":")
+        for dp_case in sorted({sw.case.pressure_difference for sw in sweeps}):
+            ax.axvline(dp_case / 1e3, color="0.5", lw=0.8, ls=":")
         conditions = {gas_conditions_text(sw.case) for sw in sweeps}
         notes = [next(iter(conditions)) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
                  "Q_pV = K ∫ p f(Kn) dp at fixed P_b: not linear in ΔP (no slip: K (P_a² − P_b²)/2)", "dotted: the case's ΔP"]

@@ -13,7 +13,7 @@ import numpy as np
 from ..cases import Case, FitResult, LinearityCheck, RigPrediction
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
 from ..lab.data import LeakData
-from ..lab.rig import ReadingsAnalysis
+from ..lab.rig import ReadingsAnalysis, RigSetup
 from .records import json_document, json_value
 from .text import fmt
 
@@ -200,7 +200,7 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
              readings_source: str = "") -> str:
     """What ``sealeak rig`` prints: load and cylinder, then K, Q at H0, τ and the drain time per model."""
     rig = case.rig
-    assert rig is not None
+    assert isinstance(rig, RigSetup)  # the water column (a pressure-decay rig has its own text)
     area = rig.cylinder_area
     dp0 = float(rig.pressure_difference(rig.initial_height))
     lines = [case.title, "virtual water-column rig (Lorenz & Persson, EPL 86 (2009) 44006)", "",

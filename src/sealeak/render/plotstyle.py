@@ -33,7 +33,7 @@ P = ParamSpec("P")
 #: Characters of a title line at 9 pt that fit the figure's 6.4 in width.
 _TITLE_CHARS = 92
 
-STYLE = {"figure.figsize": (6.4, 4.6), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
+STYLE: Any = {"figure.figsize": (6.4, 4.6), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
           "axes.titlesize": 10, "legend.fontsize": 8}
 
 #: ml/min per m³/s (the command-line table's second leak-rate unit).
@@ -106,12 +106,12 @@ def log_axis(axis: Axis, lo: float | None = None, hi: float | None = None) -> No
     if not (lo > 0 and hi > lo and np.isfinite(hi)):
         return
     decades = float(np.log10(hi / lo))
-    subs: Sequence[float] = np.arange(1.0, 10.0) if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
+    subs: Sequence[float] = [float(s) for s in range(1, 10)] if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
     axis.set_major_locator(LogLocator(base=10.0, subs=subs, numticks=12))
     plain = lo >= 1e-3 and hi < 1e4  # one style per axis: plain numbers where they are all short
     axis.set_major_formatter(FuncFormatter(lambda v, _pos: _log_label(v, plain)))
     # minor ticks at 2..9 while they can be told apart; beyond six decades they are noise (and slow to draw)
-    axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(2.0, 10.0), numticks=12) if decades <= 6.0 else NullLocator())
+    axis.set_minor_locator(LogLocator(base=10.0, subs=[float(s) for s in range(2, 10)], numticks=12) if decades <= 6.0 else NullLocator())
     axis.set_minor_formatter(NullFormatter())
 
 
@@ -132,6 +132,16 @@ def finish_axes(ax: Axes) -> None:
             _plain_axis(axis)
 
 
+def scale_functions(k: float) -> tuple[Callable[[Any], Any], Callable[[Any], Any]]:
+    """(y ↦ k·y, m ↦ m/k): the forward and inverse maps of a second axis that reads the first in a unit k times smaller."""
+    def forward(y: Any) -> Any:
+        return np.asarray(y) * k
+
+    def inverse(m: Any) -> Any:
+        return np.asarray(m) / k
+    return forward, inverse
+
+
 def second_leak_axis(ax: Axes, factor: float, unit: str, quantity: str = "leak rate Q", scale: float = 1.0) -> Any:
     """A right-hand axis that reads the left axis's leak rate times ``factor`` in ``unit``.
 
@@ -142,13 +152,13 @@ def second_leak_axis(ax: Axes, factor: float, unit: str, quantity: str = "leak r
     lo, hi = ax.get_ylim()
     if ax.get_yscale() == "log":
         k = factor
-        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
+        sec = ax.secondary_yaxis("right", functions=scale_functions(k))
         sec.set_ylabel(f"{quantity} ({unit})")
         log_axis(sec.yaxis, lo * k, hi * k)
     else:
         mscale, munit = power_unit([hi * scale * factor], unit)
         k = scale * factor / mscale
-        sec = ax.secondary_yaxis("right", functions=(lambda y: y * k, lambda m: m / k))
+        sec = ax.secondary_yaxis("right", functions=scale_functions(k))
         sec.set_ylabel(f"{quantity} ({munit})")
         _plain_axis(sec.yaxis)
     return sec
@@ -316,7 +326,7 @@ def _drawn_points(ax: Axes) -> np.ndarray:
             i = np.repeat(np.arange(len(a)), n)
             out.append(a[i] + (b[i] - a[i]) * t[:, None])
     for coll in ax.collections:
-        offsets = coll.get_offsets()
+        offsets = np.asarray(coll.get_offsets())
         if len(offsets):
             out.append(coll.get_offset_transform().transform(offsets))
     pts = np.concatenate(out)
@@ -339,6 +349,7 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
     """
     if handles is None or labels is None:
         handles, labels = ax.get_legend_handles_labels()
+    handles, labels = list(handles), list(labels)
     if not handles:
         return None
     fig = ax.get_figure()
@@ -350,7 +361,7 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
     points = _drawn_points(ax)
     texts = [t.get_window_extent() for t in ax.texts if t.get_visible() and t.get_text()]
     for loc in _INSIDE:
-        leg = ax.legend(handles, labels, loc=loc, **kwargs)
+        leg = ax.legend(handles, labels, loc=loc, **kwargs)  # type: ignore[call-overload]  # the stubs reject **kwargs here
         if not _covers(leg, points, texts):
             if engine is not None:
                 fig.set_layout_engine("none")  # a legend inside the axes leaves the layout as it is: keep it

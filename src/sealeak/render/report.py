@@ -28,6 +28,7 @@ from matplotlib.figure import Figure
 from .._version import __version__
 from ..cases import CaseResult
 from ..cases.leak_tests import DecayPrediction
+from ..lab.rig import RigSetup
 from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, prediction_figures
 from .lab import decay_condition, decay_text
@@ -208,6 +209,7 @@ def _rig_section(result: CaseResult, number: int) -> list[str]:
         return []
     if isinstance(pred, DecayPrediction):
         return _decay_section(result, pred, number)
+    assert isinstance(rig, RigSetup)  # the water column
     parts = ["<h2 id=\"rig\">Virtual water-column rig</h2>"]
     dp0 = float(rig.pressure_difference(rig.initial_height))
     parts.append(f"<p>Load {rig.load:.4g} N ({_e(rig.load_note)}) on the seal: P0 = {pred.squeeze_pressure / 1e3:.4g} kPa; "

@@ -17,6 +17,7 @@ from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
 from .figures import pressure_axis
+from .plotstyle import scale_functions
 from .records import case_summary, json_document, json_value
 from .text import fmt
 
@@ -257,7 +258,8 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
 
     fig, ax = _axes((5.6, 5.2))
     if res.contact_maps:
-        pick, contact = _contact_map(ax, res.contact_maps, res.per_realization["percolates"], res.size, res.size)
+        pick, contact = _contact_map(ax, res.contact_maps, np.asarray(res.per_realization["percolates"], dtype=bool), res.size,
+                                     res.size)
         ax.set_xlabel("x (mm), flow from inlet x = 0 to outlet →")
         ax.set_ylabel("y, periodic (mm)")
         ax.set_title(f"Contact map, realisation 0, P0 = {res.squeeze_pressure[pick] / scale:.3g} {unit}\n"
@@ -324,7 +326,7 @@ def _gas_figure(case: Case, res: SimulationResult, coarse: NDArray[np.bool_]) ->
     if shown.size:
         ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
         ax.set_yscale("log")
-        ax.secondary_yaxis("right", functions=(lambda q: q * 10.0, lambda q: q / 10.0)).set_ylabel("Q (mbar·l/s)")
+        ax.secondary_yaxis("right", functions=scale_functions(10.0)).set_ylabel("Q (mbar·l/s)")
     else:
         ax.text(0.5, 0.5, "no leak channel at any squeeze pressure", transform=ax.transAxes, ha="center", va="center")
     ax.set_xlabel(f"squeeze pressure P0 ({unit})")
@@ -542,7 +544,8 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
 
     fig, ax = _axes((6.4, 5.4))
     if res.contact_maps:
-        pick, contact = _contact_map(ax, res.contact_maps, res.per_realization["percolates"], res.size, res.period)
+        pick, contact = _contact_map(ax, res.contact_maps, np.asarray(res.per_realization["percolates"], dtype=bool), res.size,
+                                     res.period)
         half = res.hertz_contact_width[pick] / 2.0
         for xe in (res.size / 2.0 - half, res.size / 2.0 + half):
             ax.axvline(xe * 1e3, color="C3", ls="--", lw=1.0)
@@ -615,7 +618,7 @@ def _band_gas_figure(res: BandSimulationResult, coarse: NDArray[np.bool_]) -> Fi
             ax.plot(loads[~ok], np.full(int((~ok).sum()), shown.min() / 2.0), "v", mfc="none", color="C0",
                     label="numerical: no channel crosses the band (Q = 0)")
         ax.set_yscale("log")
-        ax.secondary_yaxis("right", functions=(lambda q: q * 10.0, lambda q: q / 10.0)).set_ylabel("Q (mbar·l/s)")
+        ax.secondary_yaxis("right", functions=scale_functions(10.0)).set_ylabel("Q (mbar·l/s)")
         ax.legend(fontsize=7)
     else:  # nothing to draw: the loads on the axis, the reason in the middle, no empty legend
         pad = 0.05 * max(float(np.ptp(loads)), float(np.abs(loads).max()), 1e-12)

@@ -72,7 +72,7 @@ def _log_ticks(axis: Axis, lo: float, hi: float) -> None:
     subs: Sequence[float] = (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
     axis.set_major_locator(LogLocator(base=10.0, subs=subs, numticks=15))
     axis.set_major_formatter(FuncFormatter(_power_label))
-    axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(2.0, 10.0), numticks=15) if decades <= 8.0
+    axis.set_minor_locator(LogLocator(base=10.0, subs=[float(s) for s in range(2, 10)], numticks=15) if decades <= 8.0
                            else NullLocator())
     axis.set_minor_formatter(NullFormatter())
 

@@ -35,6 +35,13 @@ def _source_size(surface: Topography | LineScans) -> list[float]:
     return list(surface.size) if hasattr(surface, "size") else [surface.length]
 
 
+def _binned(src: Any) -> Any:
+    """A source's binned spectrum: its 2D C(q), or the profile C1D(q) of line scans that have no 2D one."""
+    binned = src.spectrum or src.profile_spectrum
+    assert binned is not None  # every analysed source has one of them
+    return binned
+
+
 def analysis_text(an: Analysis) -> str:
     """What ``sealeak surface analyze`` prints: sources, statistics, C(q) range, fit, what was done."""
     lines = []
@@ -45,6 +52,7 @@ def analysis_text(an: Analysis) -> str:
         extent = " x ".join(f"{v * 1e6:.4g}" for v in _source_size(s))
         lines.append(f"        {type(s).__name__} {shape} points, {extent} µm")
         if src.spectrum_problem is None:
+            assert src.spectrum is not None  # a reliable C(q) exists when there is no problem
             lo, hi = src.spectrum.q_reliable
             lines.append(f"        reliable range q = {lo:.4g} .. {hi:.4g} 1/m")
         elif len(an.sources) > 1:
@@ -118,7 +126,7 @@ def analysis_json(an: Analysis) -> str:
             "grid": list(np.shape(s.surface.heights)),
             "size": _source_size(s.surface),
             "periodic": bool(s.surface.periodic),
-            "reliable_range": list((s.spectrum or s.profile_spectrum).q_reliable),
+            "reliable_range": list(_binned(s).q_reliable),
             "spectrum_problem": s.spectrum_problem,
             "statistics": {**{k: json_value(getattr(s.statistics, k)) for k in _STAT_KEYS + _SPECTRAL_KEYS},
                            "method": s.statistics.method},

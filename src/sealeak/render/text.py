@@ -26,7 +26,7 @@ def _setting_lines(case: Case, em: EffectiveMediumResult | None) -> dict[str, li
     """Text lines describing the rubber, seal, fluid and theory of a case (for the table header)."""
     seal = case.seal
     geom = (f"ring Di = {seal.inner_diameter * 1e3:.4g} mm, Do = {seal.outer_diameter * 1e3:.4g} mm"
-            if seal.shape == "ring" else "rectangle")
+            if seal.shape == "ring" and seal.inner_diameter is not None and seal.outer_diameter is not None else "rectangle")
     theory = [f"theory    critical junction, α = {case.alpha:g}, p_c = {case.percolation_threshold:g} "
               f"(A/A0 = {1 - case.percolation_threshold:.3g} at ζc), γ = {case.gamma:g}, "
               f"q0 = {case.q0:.4g} 1/m ({case.q0_note})"]
@@ -255,7 +255,7 @@ def validity_notes(result: CaseResult) -> list[str]:
     """One line per model and kind of invalid rows: which pressures, why, and where d comes from (docs/theory.md §9.11)."""
     fluid = result.case.fluid
     d = f"d = {fluid.molecular_length * 1e9:.3g} nm ({fluid.molecular_length_note}; fluid.molecular_size sets it)"
-    out = []
+    out: list[str] = []
     if result.band is not None:
         b = result.band
         name = "compression" if b.band.load_name == "compression" else "profile scale"
