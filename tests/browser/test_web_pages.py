@@ -74,6 +74,24 @@ def test_prediction_page_shows_the_cli_leak_rate(page, artifacts, tmp_path, monk
     assert Path(dl.value.path()).read_text().startswith("squeeze_pressure (Pa),")
 
 
+def test_a_gas_case_shows_its_leak_rate_in_mbar_l_s(page, artifacts, tmp_path, monkeypatch, capsys):
+    """The helium leak test: the page shows the pV throughput in the leak-test unit, as the CLI's records."""
+    load_example(page, "helium-test")
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    assert page.inner_text("#leak-rate-what") == "Gas leak rate Q_pV"
+    assert page.inner_text("#leak-rate-unit") == "mbar·l/s"
+    shown, text = float(page.get_attribute("#leak-rate", "data-si")), page.inner_text("#leak-rate")
+    (tmp_path / "he.toml").write_text(example_text("helium-test"), encoding="utf-8")
+    assert cli(tmp_path, monkeypatch, capsys, "predict", "he.toml", "--json", "out.json", "-q")[0] == 0
+    row = json.loads((tmp_path / "out.json").read_text())["results"][0]
+    assert shown == pytest.approx(row["leak_rate_pv"], rel=1e-12)  # data-si: Pa·m³/s
+    assert float(text) == pytest.approx(row["leak_rate_mbar_l_s"], rel=1e-4)  # 1 mbar·l/s = 0.1 Pa·m³/s
+    assert float(text) == pytest.approx(shown / 0.1, rel=1e-4)
+    assert "mbar·l/s" in page.evaluate("document.getElementById('plot-leak').layout.yaxis.title.text")
+    page.screenshot(path=str(artifacts / "prediction-gas.png"), full_page=False)
+
+
 def test_bad_value_shows_the_cli_message_next_to_its_field(page, artifacts, tmp_path, monkeypatch, capsys):
     load_example(page)
     page.screenshot(path=str(artifacts / "case.png"), full_page=False)

@@ -3,7 +3,7 @@
 The same quantities as the prediction figures (:mod:`sealeak.render.figures`): Q against the squeeze
 pressure P0 of both theories (when the case asks for the effective medium), C(q), the contact area
 A(ζ)/A0 and the mean separation ū(ζ) against the magnification ζ at a few pressures, and the gap
-distribution u·P(u). Every array is in SI units (Pa, m³/s, 1/m, m⁴, m); NaN and infinities are
+distribution u·P(u). Every array is in SI units (Pa, m³/s, 1/m, m⁴, m; a gas's leak rate in mbar·l/s); NaN and infinities are
 ``null``. The curves come from :func:`sealeak.cases.prediction_curves`: no physics here.
 """
 
@@ -28,7 +28,8 @@ def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
     """Series of the interactive plots of a run (one case, or the variants of a study), SI units.
 
     ``leak``: per case, P0 (Pa), Q of the critical junction and, when computed, of the effective
-    medium (m³/s); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
+    medium (m³/s; for a gas case, ``gas`` true, the pV throughput Q_pV in mbar·l/s, the unit of leak tests:
+    the records' ``leak_rate_mbar_l_s``); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
     A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
     """
     curves = prediction_curves(list(results))
@@ -36,11 +37,14 @@ def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
     for r in results:
         recs = r.records()
         x = next((k for k in ("squeeze_pressure", "compression", "profile_scale") if recs and k in recs[0]), "squeeze_pressure")
-        leak.append({"label": r.case.label or r.case.title, "x": x, "x_unit": r.units.get(x, ""),
+        gas = r.case.gas is not None  # a gas: the pV throughput in the leak-test unit (docs/theory.md §11.6)
+        key = "leak_rate_mbar_l_s" if gas else "leak_rate"
+        leak.append({"label": r.case.label or r.case.title, "x": x, "x_unit": r.units.get(x, ""), "gas": gas,
+                     "unit": "mbar·l/s" if gas else "m³/s",
                      "squeeze_pressure": _list([rec.get(x, np.nan) for rec in recs]),
-                     "leak_rate": _list([rec.get("leak_rate", np.nan) for rec in recs]),
-                     "leak_rate_effective_medium": (_list([rec.get("leak_rate_effective_medium", np.nan) for rec in recs])
-                                                    if any("leak_rate_effective_medium" in rec for rec in recs) else None)})
+                     "leak_rate": _list([rec.get(key, np.nan) for rec in recs]),
+                     "leak_rate_effective_medium": (_list([rec.get(f"{key}_effective_medium", np.nan) for rec in recs])
+                                                    if any(f"{key}_effective_medium" in rec for rec in recs) else None)})
     label = len(results) > 1
     sets = [{"label": (f"{cs.case.label}: " if label and cs.case.label else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",
              "squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),

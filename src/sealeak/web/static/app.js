@@ -293,18 +293,25 @@ function drawPrediction(pred) {
   const rows = doc.results;
   const first = rows[0] || {};
   const lr = $("#leak-rate");
-  lr.textContent = fmt(first.leak_rate, 5);
-  lr.dataset.si = first.leak_rate === null || first.leak_rate === undefined ? "" : String(first.leak_rate);
-  // the same volume flow in ml/min, the unit of the command line's table (1 m³/s = 6e7 ml/min)
-  $("#leak-rate-unit").textContent = "m³/s";
-  $("#leak-rate-ml").textContent = typeof first.leak_rate === "number" ? `= ${fmt(first.leak_rate * 6e7, 4)} ml/min` : "";
+  // a gas: the pV throughput in mbar·l/s (the leak-test unit) and in Pa·m³/s; a liquid: m³/s and ml/min
+  const gas = first.leak_rate_mbar_l_s !== undefined;
+  const shown = gas ? first.leak_rate_mbar_l_s : first.leak_rate;
+  const si = gas ? first.leak_rate_pv : first.leak_rate;
+  $("#leak-rate-what").textContent = gas ? "Gas leak rate Q_pV" : "Leak rate Q";
+  lr.textContent = fmt(shown, 5);
+  lr.dataset.si = si === null || si === undefined ? "" : String(si);
+  $("#leak-rate-unit").textContent = gas ? "mbar·l/s" : "m³/s";
+  // the same leak in the other unit: ml/min for a liquid (the command line's table; 1 m³/s = 6e7 ml/min), Pa·m³/s for a gas
+  $("#leak-rate-ml").textContent = typeof si !== "number" ? ""
+    : gas ? `= ${fmt(si, 4)} Pa·m³/s` : `= ${fmt(si * 6e7, 4)} ml/min`;
   const x0 = first.squeeze_pressure !== undefined ? `P0 = ${fmt(first.squeeze_pressure / 1e3)} kPa`
     : first.compression !== undefined ? `compression ${fmt(100 * first.compression)} %`
       : first.profile_scale !== undefined ? `profile scale ${fmt(first.profile_scale)}` : "";
   $("#first-pressure").textContent = (first.variant ? `${first.variant}, ` : "") + x0;
-  const em = first.leak_rate_effective_medium;
+  const em = gas ? first.leak_rate_mbar_l_s_effective_medium : first.leak_rate_effective_medium;
+  const emSi = gas ? first.leak_rate_pv_effective_medium : first.leak_rate_effective_medium;
   $("#leak-rate-em-line").hidden = em === undefined;
-  if (em !== undefined) { $("#leak-rate-em").textContent = `${fmt(em, 5)} m³/s`; $("#leak-rate-em").dataset.si = String(em); }
+  if (em !== undefined) { $("#leak-rate-em").textContent = `${fmt(em, 5)} ${gas ? "mbar·l/s" : "m³/s"}`; $("#leak-rate-em").dataset.si = String(emSi); }
   const notes = [...doc.warnings, ...doc.messages];
   $("#warnings").hidden = !notes.length;
   $("#notes-count").textContent = `${notes.length} note${notes.length === 1 ? "" : "s"} on the validity of the results`;
@@ -319,15 +326,17 @@ function drawPrediction(pred) {
 
   const p = pred.plots;
   const leak = [];
+  const units = new Set(p.leak.map(c => c.unit));  // a study of liquids and gases: each curve names its unit
   for (const c of p.leak) {
-    const tag = p.leak.length > 1 ? `${c.label}: ` : "";
+    const tag = (p.leak.length > 1 ? `${c.label}: ` : "") + (units.size > 1 ? `(${c.unit}) ` : "");
     leak.push(line(c.squeeze_pressure, c.leak_rate, `${tag}critical junction`, { mode: "lines+markers", marker: { size: 4 } }));
     if (c.leak_rate_effective_medium) leak.push(line(c.squeeze_pressure, c.leak_rate_effective_medium, `${tag}effective medium`, { mode: "lines+markers", marker: { size: 4 }, line: { dash: "dash" } }));
   }
   const xname = p.leak[0] ? p.leak[0].x : "squeeze_pressure";
   const xunit = p.leak[0] && p.leak[0].x_unit && p.leak[0].x_unit !== "1" ? ` (${p.leak[0].x_unit})` : "";
   plot("plot-leak", leak, "Leak rate", axis(xname === "squeeze_pressure" ? "squeeze pressure P0 (Pa)" : xname + xunit, true),
-    { ...axis("leak rate Q (m³/s)", true), range: topDecades(leak, 8) });
+    { ...axis(units.size > 1 ? "leak rate (the unit of each curve in its legend)"
+      : p.leak[0] && p.leak[0].gas ? "gas leak rate Q_pV (mbar·l/s)" : "leak rate Q (m³/s)", true), range: topDecades(leak, 8) });
   plot("plot-psd", p.spectra.map(s => line(s.q, s.C, s.label)), "Power spectrum C(q)", axis("wavevector q (1/m)", true), axis("C(q) (m⁴)", true));
   plot("plot-area", p.sets.map(s => line(s.zeta, s.area, s.label)), "Contact area A(ζ)/A0", axis("magnification ζ", true), axis("A(ζ)/A0", false));
   const gaps = p.sets.map(s => line(s.zeta_gap, s.mean_gap.map(v => v === null ? null : v * 1e6), s.label));
