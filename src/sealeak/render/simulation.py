@@ -207,19 +207,8 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     p = res.squeeze_pressure / scale
     coarse = np.array([_coarse(res, i) for i in range(p.size)], dtype=bool)
     fig, ax = _axes((6.4, 4.4))
-    ok = res.leak_rate > 0
-    std = np.nan_to_num(res.leak_rate_std[ok])
-    lower = np.minimum(std, 0.9 * res.leak_rate[ok])  # keep the bar above zero on the log axis
-    ax.errorbar(p[ok], res.leak_rate[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
-                label=f"numerical (BEM + Reynolds), {res.realizations} realisation(s), ± sd")
-    q_cj = res.leak_rate_critical_junction
-    good = np.where(coarse, np.nan, q_cj)
-    ax.plot(p, good, "-", color="C1", label="critical junction, α = 1")
-    if case.alpha != 1.0:
-        ax.plot(p, case.alpha * good, "--", color="C2", label=f"critical junction, α = {case.alpha:g}")
-    if coarse.any():  # the junction spans fewer than JUNCTION_CELLS cells: drawn faint, clipped to the data's range
-        edge = np.where(coarse | np.roll(coarse, -1), q_cj, np.nan)
-        ax.plot(p, edge, ":", color="C1", label=f"critical junction where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    ok = _numerical_points(ax, p, res.leak_rate, res.leak_rate_std, f"numerical (BEM + Reynolds), {res.realizations} realisation(s), ± sd")
+    good = _theory_line(ax, p, res.leak_rate_critical_junction, coarse, "critical junction", case.alpha)
     shown = np.concatenate([res.leak_rate[ok], good[np.isfinite(good) & (good > 0)]])
     if shown.size:
         ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
@@ -302,6 +291,30 @@ def _contact_map(ax: Any, maps: dict[int, NDArray[np.bool_]], percolates: NDArra
     return pick, contact
 
 
+def _numerical_points(ax: Any, x: NDArray[np.float64], q: NDArray[np.float64], q_std: NDArray[np.float64],
+                      label: str) -> NDArray[np.bool_]:
+    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis); which were drawn."""
+    ok = q > 0
+    std = np.nan_to_num(q_std[ok])
+    ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, label=label)
+    return np.asarray(ok, dtype=bool)
+
+
+def _theory_line(ax: Any, x: NDArray[np.float64], q: NDArray[np.float64], coarse: NDArray[np.bool_], name: str,
+                 alpha: float = 1.0, label: str | None = None, skip_empty: bool = False) -> NDArray[np.float64]:
+    """The theory's leak rate with α = 1 (and the case's α when it differs) where the grid resolves the junction, and
+    dotted where λc spans fewer than JUNCTION_CELLS cells (joined to its resolved neighbour); returns the resolved part."""
+    good = np.where(coarse, np.nan, q)
+    if not skip_empty or np.isfinite(good).any():
+        ax.plot(x, good, "-", color="C1", label=label or f"{name}, α = 1")
+    if alpha != 1.0:
+        ax.plot(x, alpha * good, "--", color="C2", label=f"{name}, α = {alpha:g}")
+    if coarse.any():
+        edge = np.where(coarse | np.roll(coarse, -1), q, np.nan)
+        ax.plot(x, edge, ":", color="C1", label=f"{name} where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    return np.asarray(good, dtype=float)
+
+
 def _gas_figure(case: Case, res: SimulationResult, coarse: NDArray[np.bool_]) -> Figure:
     """The gas case's leak rate: the simulated pV throughput against the critical-junction gas leak (α = 1, and the case's α)."""
     g = res.gas
@@ -309,19 +322,9 @@ def _gas_figure(case: Case, res: SimulationResult, coarse: NDArray[np.bool_]) ->
     scale, unit = pressure_axis(res.squeeze_pressure)
     p = res.squeeze_pressure / scale
     fig, ax = _axes((6.4, 4.4))
-    ok = g.throughput > 0
-    std = np.nan_to_num(g.throughput_std[ok])
-    lower = np.minimum(std, 0.9 * g.throughput[ok])
-    ax.errorbar(p[ok], g.throughput[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
-                label=f"numerical (BEM + gas flow in p²), {res.realizations} realisation(s), ± sd")
-    q_cj = g.throughput_critical_junction
-    good = np.where(coarse, np.nan, q_cj)
-    ax.plot(p, good, "-", color="C1", label="critical junction, α = 1")
-    if case.alpha != 1.0:
-        ax.plot(p, case.alpha * good, "--", color="C2", label=f"critical junction, α = {case.alpha:g}")
-    if coarse.any():
-        edge = np.where(coarse | np.roll(coarse, -1), q_cj, np.nan)
-        ax.plot(p, edge, ":", color="C1", label=f"critical junction where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    ok = _numerical_points(ax, p, g.throughput, g.throughput_std,
+                           f"numerical (BEM + gas flow in p²), {res.realizations} realisation(s), ± sd")
+    good = _theory_line(ax, p, g.throughput_critical_junction, coarse, "critical junction", case.alpha)
     shown = np.concatenate([g.throughput[ok], good[np.isfinite(good) & (good > 0)]])
     if shown.size:
         ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
@@ -496,17 +499,10 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
     coarse = np.array([_band_coarse(res, i) for i in range(loads.size)], dtype=bool)
 
     fig, ax = _axes((6.4, 4.4))
-    ok = res.leak_rate > 0
-    std = np.nan_to_num(res.leak_rate_std[ok])
-    lower = np.minimum(std, 0.9 * res.leak_rate[ok])
-    ax.errorbar(loads[ok], res.leak_rate[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
-                label=f"numerical (cylinder on rough surface + Reynolds), {res.realizations} realisation(s), ± sd")
+    ok = _numerical_points(ax, loads, res.leak_rate, res.leak_rate_std,
+                           f"numerical (cylinder on rough surface + Reynolds), {res.realizations} realisation(s), ± sd")
     q_sr = res.leak_rate_series_resistance
-    good = np.where(coarse, np.nan, q_sr)
-    ax.plot(loads, good, "-", color="C1", label="series resistance, critical junction, α = 1")
-    if coarse.any():
-        edge = np.where(coarse | np.roll(coarse, -1), q_sr, np.nan)
-        ax.plot(loads, edge, ":", color="C1", label=f"series resistance where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    good = _theory_line(ax, loads, q_sr, coarse, "series resistance", label="series resistance, critical junction, α = 1")
     blocked = ~ok
     shown = np.concatenate([res.leak_rate[ok], good[np.isfinite(good) & (good > 0)]])  # the flagged theory may leave the axis
     if shown.size:
@@ -598,18 +594,11 @@ def _band_gas_figure(res: BandSimulationResult, coarse: NDArray[np.bool_]) -> Fi
     label, factor = _load_label(res)
     loads = res.loads * factor
     fig, ax = _axes((6.4, 4.4))
-    ok = g.throughput > 0
-    std = np.nan_to_num(g.throughput_std[ok])
-    lower = np.minimum(std, 0.9 * g.throughput[ok])
-    ax.errorbar(loads[ok], g.throughput[ok], yerr=[lower, std], fmt="o", ms=4, capsize=3,
-                label=f"numerical (cylinder on rough surface + gas flow in p²), {res.realizations} realisation(s), ± sd")
+    ok = _numerical_points(ax, loads, g.throughput, g.throughput_std,
+                           f"numerical (cylinder on rough surface + gas flow in p²), {res.realizations} realisation(s), ± sd")
     q_sr = g.throughput_critical_junction
-    good = np.where(coarse, np.nan, q_sr)
-    if np.isfinite(good).any():
-        ax.plot(loads, good, "-", color="C1", label="series resistance, critical junction, α = 1")
-    if coarse.any():
-        edge = np.where(coarse | np.roll(coarse, -1), q_sr, np.nan)
-        ax.plot(loads, edge, ":", color="C1", label=f"series resistance where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    _theory_line(ax, loads, q_sr, coarse, "series resistance", label="series resistance, critical junction, α = 1",
+                 skip_empty=True)
     # the flagged theory stays on the axis: its distance from the points is what the figure shows
     shown = np.concatenate([g.throughput[ok], q_sr[np.isfinite(q_sr) & (q_sr > 0)]])
     if shown.size:
