@@ -58,7 +58,7 @@ from .model import Case
 from .schema import SECTIONS, Section
 
 __all__ = ["CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
-           "example_names", "example_text", "example_path", "example_data_names", "example_description"]
+           "example_names", "example_text", "example_path", "example_data_names", "example_description", "named_files"]
 
 @dataclass(frozen=True)
 class CaseFile:
@@ -68,6 +68,27 @@ class CaseFile:
     cases: list[Case]
     inputs: dict[str, Any]
     source: str
+    #: The data files the case names (``surface.file``/``files``, ``seal.pressure_profile``), of every
+    #: study variant, as paths (relative names joined to the case file's folder): inputs that no output
+    #: of a run may replace.
+    files: tuple[Path, ...] = ()
+
+
+#: The keys whose values name data files, (section, key).
+_FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"))
+
+
+def named_files(doc: dict[str, Any], case_dir: Path) -> list[Path]:
+    """The data files a parsed case document names (relative names joined to ``case_dir``); values
+    that are not file names are left to the builders, which refuse them with the key's name."""
+    out: list[Path] = []
+    for section, key in _FILE_KEYS:
+        table = doc.get(section)
+        value = table.get(key) if isinstance(table, dict) else None
+        for name in value if isinstance(value, list) else [value]:
+            if isinstance(name, str) and name and "\x00" not in name:
+                out.append(Path(name) if Path(name).is_absolute() else case_dir / name)
+    return out
 
 
 def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
@@ -80,7 +101,7 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
     inputs = copy.deepcopy(doc)
     study = doc.pop("study", None)
     if study is None:
-        return CaseFile([build_case(doc, case_dir, source)], inputs, source)
+        return CaseFile([build_case(doc, case_dir, source)], inputs, source, tuple(named_files(doc, case_dir)))
     sec = Section("study", study)
     vary = sec.raw("vary")
     whole = isinstance(vary, str) and vary in SECTIONS and vary not in ("study", "simulation")
@@ -102,18 +123,19 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
                                 for i, v in enumerate(values)])
     if not isinstance(labels, list) or len(labels) != len(values):
         raise InputError("study.labels", labels, f"must be a list of {len(values)} names")
-    cases = []
+    cases, files = [], named_files(doc, case_dir)
     for value, label in zip(values, labels):
         variant = copy.deepcopy(doc)
         if whole:  # the table's keys replace the section's
             variant[section] = {**variant.get(section, {}), **value}
         else:
             variant.setdefault(section, {})[key] = value
+        files += named_files(variant, case_dir)
         try:
             cases.append(build_case(variant, case_dir, source, label=str(label)))
         except InputError as exc:
             raise InputError(f"{exc.field} (study value {value!r})", exc.value, exc.allowed) from None
-    return CaseFile(cases, inputs, source)
+    return CaseFile(cases, inputs, source, tuple(dict.fromkeys(files)))
 
 
 def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:

@@ -62,17 +62,23 @@ def add_case_args(p: argparse.ArgumentParser) -> None:
 
 
 def load_case_file(args: argparse.Namespace) -> CaseFile:
-    """The case file named by ``args.case`` or ``--example`` (exactly one of them)."""
+    """The case file named by ``args.case`` or ``--example`` (exactly one of them), read once per run
+    (:func:`inputs` reads it for the files it names, the command for its cases)."""
     from ..cases import example_path, read_case_file
 
+    cached = vars(args).get("_case_file")
+    if cached is not None:
+        return cached
     if args.example and args.case:
         raise SealeakError("give a case file or --example NAME, not both")
     if args.example:
-        return read_case_file(example_path(args.example))
-    if not args.case:
+        case_file = read_case_file(example_path(args.example))
+    elif not args.case:
         raise SealeakError("give a case file (CASE.toml) or --example NAME; `sealeak examples` lists the examples")
-    # read_case_file reads regular files only (a FIFO or /dev/zero as the case would never end)
-    return read_case_file(args.case)
+    else:  # read_case_file reads regular files only (a FIFO or /dev/zero as the case would never end)
+        case_file = read_case_file(args.case)
+    args._case_file = case_file
+    return case_file
 
 
 def load(args: argparse.Namespace) -> list[Case]:
@@ -136,11 +142,15 @@ def outputs(args: argparse.Namespace, figure_names: Iterable[str] = (), files: I
 
 
 def inputs(args: argparse.Namespace, *attrs: str) -> list[str]:
-    """The files a command reads (the case file and the options ``attrs``), for ``check_outputs(inputs=...)``."""
+    """The files a command reads, for ``check_outputs(inputs=...)``: the case file, every data file it
+    names (a C(q) table, topographies, a pressure profile: reading the case for them), and the files of
+    the options ``attrs``."""
     out: list[str] = []
     for attr in ("case", *attrs):
         value = getattr(args, attr, None)
         out += value if isinstance(value, list) else [value] if value else []
+    if getattr(args, "case", None) or getattr(args, "example", None):
+        out += [str(p) for p in load_case_file(args).files]
     return out
 
 

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, SealeakError
-from ._common import inputs, outputs, say
+from ._common import inputs, load, outputs, say
 
 #: The file suffixes ``surface analyze --plot`` writes, each in its own format (matplotlib's).
 PLOT_FORMATS = (".png", ".pdf", ".svg")
@@ -60,7 +60,6 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 
 
 def _spectrum_for_synthesis(args: argparse.Namespace):
-    from ..cases import example_path, load_cases
     from ..physics import PowerSpectrum
 
     given = [x for x in (args.case, args.example, args.psd) if x]
@@ -68,7 +67,7 @@ def _spectrum_for_synthesis(args: argparse.Namespace):
         raise SealeakError("give exactly one source of C(q): a case file, --example NAME or --psd TABLE.csv")
     if args.psd:
         return PowerSpectrum.from_table(args.psd, label=Path(args.psd).name), None
-    cases = load_cases(example_path(args.example) if args.example else args.case)
+    cases = load(args)  # read once: check_outputs has read it for the files it names
     return cases[0].spectrum, cases[0].seal.width
 
 
