@@ -13,23 +13,12 @@ command line :mod:`sealeak.cli` on top. The names below are the public API, re-e
     result.critical_junction.leak_rate      # m³/s, one per squeeze pressure
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from ._version import __version__
-from .cases import (
-    Case,
-    CaseFile,
-    CaseResult,
-    conductance,
-    fit_models,
-    load_case,
-    load_cases,
-    parse_cases,
-    predict,
-    predict_effective_medium,
-    read_case_file,
-    rig_prediction,
-    run_case,
-    simulate,
-)
 from .errors import (
     ConvergenceError,
     FileFormatError,
@@ -39,17 +28,70 @@ from .errors import (
     SolutionCheckError,
     UnitError,
 )
-from .lab import water_column
-from .numerics import synthesize
-from .physics import (
-    PerssonContact,
-    PowerSpectrum,
-    Seal,
-    contact_modulus,
-    critical_junction,
-    effective_medium,
-    gap_distribution,
-)
+
+#: The public names of the layers below, and the sub-package each comes from. They are imported on
+#: first use (PEP 562), so that ``import sealeak`` and ``sealeak --help`` load neither pint, SciPy's
+#: integrators, matplotlib nor Dask.
+_LAZY: dict[str, str] = {
+    **dict.fromkeys(("Case", "CaseFile", "CaseResult", "conductance", "fit_models", "load_case", "load_cases",
+                     "parse_cases", "predict", "predict_effective_medium", "read_case_file", "rig_prediction",
+                     "run_case", "simulate"), "cases"),
+    "water_column": "lab",
+    "synthesize": "numerics",
+    **dict.fromkeys(("PerssonContact", "PowerSpectrum", "Seal", "contact_modulus", "critical_junction",
+                     "effective_medium", "gap_distribution"), "physics"),
+}
+
+if TYPE_CHECKING:  # the names as the type checker and the API pages see them
+    from .cases import (
+        Case,
+        CaseFile,
+        CaseResult,
+        conductance,
+        fit_models,
+        load_case,
+        load_cases,
+        parse_cases,
+        predict,
+        predict_effective_medium,
+        read_case_file,
+        rig_prediction,
+        run_case,
+        simulate,
+    )
+    from .lab import water_column
+    from .numerics import synthesize
+    from .physics import (
+        PerssonContact,
+        PowerSpectrum,
+        Seal,
+        contact_modulus,
+        critical_junction,
+        effective_medium,
+        gap_distribution,
+    )
+
+
+#: The sub-packages, also imported on first use (``sealeak.physics`` after a bare ``import sealeak``).
+_SUBPACKAGES = frozenset({"cases", "cli", "io", "lab", "numerics", "physics", "render", "topography", "web"})
+
+
+def __getattr__(name: str) -> Any:
+    """A public name of a lower layer, or a sub-package, imported on first use (PEP 562)."""
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"{__name__}.{name}")
+    package = _LAZY.get(name)
+    if package is None:
+        raise AttributeError(f"module 'sealeak' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{package}"), name)
+    globals()[name] = value  # later look-ups are plain attribute reads
+    return value
+
+
+def __dir__() -> list[str]:
+    """The module's names and the lazily imported public ones."""
+    return sorted(set(globals()) | set(__all__))
+
 
 __all__ = [
     "__version__",

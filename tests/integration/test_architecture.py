@@ -154,3 +154,28 @@ def test_nothing_users_have_not_got_is_referred_to(folder):
     bad = [str(p) for p in folder.rglob("*") if p.suffix in (".py", ".md", ".toml")
            and ("../shared" in (t := p.read_text(encoding="utf-8")) or "THEORY.md" in t)]
     assert not bad
+
+
+# ------------------------------------------------------------------ start-up: the facades import lazily (PEP 562)
+HEAVY = ("pint", "scipy.integrate", "matplotlib", "dask", "distributed", "zarr")
+
+
+@pytest.mark.parametrize("code", ["import sealeak",
+                                  "from sealeak.cli import main\ntry:\n    main(['--help'])\nexcept SystemExit:\n    pass",
+                                  "from sealeak.cli import main\ntry:\n    main(['predict', '--help'])\nexcept SystemExit:\n    pass"],
+                         ids=["import", "help", "predict-help"])
+def test_start_up_imports_none_of_the_heavy_libraries(code):
+    probe = f"import sys\n{code}\nprint(' '.join(m for m in {HEAVY!r} if m in sys.modules), file=sys.stderr)"
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert run.stderr.strip() == "", f"imported at start-up: {run.stderr.strip()}"
+
+
+def test_the_lazy_facade_gives_every_public_name_and_sub_package():
+    import sealeak
+
+    for name in sealeak.__all__:
+        assert getattr(sealeak, name) is not None, name
+    assert sealeak.run_case is sealeak.cases.run_case and sealeak.PowerSpectrum is sealeak.physics.PowerSpectrum
+    assert set(sealeak.__all__) <= set(dir(sealeak))
+    with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
+        sealeak.nonesuch  # noqa: B018

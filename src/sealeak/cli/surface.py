@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from ..errors import InputError, SealeakError
 from ._common import inputs, load, outputs, say
@@ -83,18 +82,20 @@ def _captured_warning(spectrum, n: int, size: float, size_flag: str) -> str | No
     share = map_variance(spectrum, n, size) / spectrum.h_rms**2
     if share >= CAPTURED_WARN:
         return None
-    q_long, q_short = 2.0 * np.pi / size, np.pi * n / size
+    q_long, q_short = 2.0 * math.pi / size, math.pi * n / size
     lost = []
     if spectrum.q_min < q_long:
         lost.append(f"the wavelengths longer than the map's side (a larger {size_flag} keeps them)")
     if spectrum.q_max > q_short:
         lost.append("the wavelengths shorter than two pixels (a larger --grid keeps them)")
     return (f"warning: the map holds only {100 * share:.3g} % of the spectrum's h_rms² (C(q) spans wavelengths "
-            f"{length_text(2 * np.pi / spectrum.q_max)} .. {length_text(2 * np.pi / spectrum.q_min)}, the map "
+            f"{length_text(2 * math.pi / spectrum.q_max)} .. {length_text(2 * math.pi / spectrum.q_min)}, the map "
             f"{length_text(2 * size / n)} .. {length_text(size)}); left out: {' and '.join(lost)}")
 
 
 def _cmd_synthesize(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from ..io.files import check_outputs
     from ..io.units import parse_quantity
     from ..numerics import require_memory, synthesis_memory_bytes, synthesize
@@ -126,7 +127,7 @@ def _cmd_synthesize(args: argparse.Namespace) -> int:
     if empty is not None:  # the map would be flat: refused before anything is written
         raise InputError(size_flag, args.size or length_text(size), empty)
     warning = _captured_warning(spectrum, n, size, "--size")
-    q_nyquist = np.pi * n / size
+    q_nyquist = math.pi * n / size
     h = synthesize(spectrum, n, size, seed=args.seed, amplitudes=args.amplitudes)
     source = f"--psd {Path(args.psd).name}" if args.psd else (f"--example {args.example}" if args.example
                                                                else f"case {Path(args.case).name}")
