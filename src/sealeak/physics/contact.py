@@ -34,7 +34,7 @@ How the ζ-integrals are computed (docs/theory.md §2.9; exact to ~1e-9 relative
   takes that segment's constants once per panel; ln y² = ln κ² - s needs no logarithm; F(y) = E1(y²)/2 comes
   from a table of eˣE1(x) (:func:`sealeak.physics._kernels.exp1`, 5e-15 relative) and shares e^(-y²) with
   F'(y). The result equals the point-by-point evaluation with scipy.special.exp1 to ~1e-15
-  (tests/unit/test_emperf.py).
+  (tests/unit/test_effective_medium_fast_vs_plain.py).
 * ū'(ζ) is the analytic ζ-derivative under the integral (the boundary term at q = ζq0 vanishes):
   ū' = ∫ ds [ D (F(y) + y F'(y)) / (2 q √t) + p'(ζ) F'(y) / (√π E* q) ],  D = q0 (ζq0)³ C(ζq0).
 """

@@ -1,3 +1,7 @@
+"""The critical-junction leak rate: the Poiseuille formula through the critical constriction, its
+linearity in ΔP and α, its trends with the squeeze pressure and the percolation threshold, the ring
+geometry, and the refusal of invalid arguments (Lorenz & Persson 2009)."""
+
 import numpy as np
 import pytest
 
