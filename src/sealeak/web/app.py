@@ -166,7 +166,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     own_root = cfg.root is None
     if own_root:  # the folders of servers that crashed go first
         for orphan in remove_orphans(Path(tempfile.gettempdir())):
-            log.warning("removed %s, the folder of a server that no longer runs", orphan)
+            log.info("removed %s, the folder of a server that no longer runs", orphan)
     root = Path(tempfile.mkdtemp(prefix=ROOT_PREFIX)) if cfg.root is None else cfg.root
     root.mkdir(parents=True, exist_ok=True)
     if own_root:

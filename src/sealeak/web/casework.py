@@ -238,6 +238,10 @@ class PredictionCache:
         self._lock = threading.Lock()
         self._running: dict[tuple[Any, ...], threading.Event] = {}
 
+    def __len__(self) -> int:
+        with self._lock:
+            return len(self._items)
+
     def predict(self, data: bytes, source: str, uploads: Path) -> Prediction:
         """Check the case's file names against ``uploads``, build the case(s) and run them (or take them from the cache)."""
         try:

@@ -171,8 +171,12 @@ class Guard:
             await self.app(scope, receive, send)
             return
 
+        started = False
+
         async def send_headers(message: Message) -> None:
+            nonlocal started
             if message["type"] == "http.response.start":
+                started = True
                 present = {k.lower() for k, _ in message.get("headers", [])}
                 message["headers"] = [*message.get("headers", []), *[h for h in self.headers if h[0] not in present]]
             await send(message)
@@ -188,11 +192,17 @@ class Guard:
         if length is not None and (len(length) > 15 or int(length) > limit):
             await _refusal(413, _limit_message(limit, multipart), "upload" if multipart else "body")(scope, receive, send_headers)
             return
-        if multipart:
-            await self.app(scope, _counted(receive, limit, multipart), send_headers)
+        if multipart:  # streamed on: the app's parser writes it to disk as it comes
+            counted = _Counted(receive, limit, multipart)
+            try:
+                await self.app(scope, counted, send_headers)
+            except BaseException:  # the limit, raised inside the app's task groups, comes back wrapped
+                if counted.over is None or started:
+                    raise
+                await _refusal(413, str(counted.over.detail), counted.over.field)(scope, receive, send_headers)
             return
         body = b""  # a JSON or case body: read here (it is small), checked, handed on
-        counted = _counted(receive, limit, multipart)
+        counted = _Counted(receive, limit, multipart)
         while True:
             try:
                 message = await counted()
@@ -251,20 +261,25 @@ def _limit_message(limit: int, multipart: bool) -> str:
     return f"request body: larger than the server's limit of {limit / 1e6:.6g} MB for a case file or a JSON request"
 
 
-def _counted(receive: Receive, limit: int, multipart: bool) -> Receive:
-    """``receive`` that raises :class:`BodyTooLarge` as soon as the bytes read pass ``limit``."""
-    seen = 0
+class _Counted:
+    """``receive`` that raises :class:`BodyTooLarge` (kept as ``over``) as soon as the bytes read pass ``limit``."""
 
-    async def counted() -> Message:
-        nonlocal seen
-        message = await receive()
+    def __init__(self, receive: Receive, limit: int, multipart: bool) -> None:
+        self.receive = receive
+        self.limit = limit
+        self.multipart = multipart
+        self.seen = 0
+        self.over: BodyTooLarge | None = None
+
+    async def __call__(self) -> Message:
+        """The next message of the request, its body counted."""
+        message = await self.receive()
         if message["type"] == "http.request":
-            seen += len(message.get("body", b""))
-            if seen > limit:
-                raise BodyTooLarge(_limit_message(limit, multipart), "upload" if multipart else "body")
+            self.seen += len(message.get("body", b""))
+            if self.seen > self.limit:
+                self.over = BodyTooLarge(_limit_message(self.limit, self.multipart), "upload" if self.multipart else "body")
+                raise self.over
         return message
-
-    return counted
 
 
 def write_pid(root: Path) -> None:

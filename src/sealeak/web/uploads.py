@@ -155,7 +155,7 @@ def check_expansion(path: Path, name: str, limit: int) -> None:
 
     A zip archive (``.npz``; instrument formats such as ``.x3p``) counts the sizes its members declare
     (reading a member stops there) and, for each ``.npy`` member, the bytes its header's shape and
-    type need; a ``.npy`` file counts its header's. A damaged file is left to the reader's message.
+    type need; a ``.npy`` file (by its magic bytes) counts its header's. A damaged file is left to the reader's message.
     """
     try:
         if zipfile.is_zipfile(path):
@@ -166,11 +166,12 @@ def check_expansion(path: Path, name: str, limit: int) -> None:
                     if m.filename.endswith(".npy") and size <= limit:
                         with z.open(m) as f:
                             size = max(size, _npy_bytes(f))
-        elif path.suffix.lower() == ".npy":
-            with open(path, "rb") as f:
-                size = _npy_bytes(f)
         else:
-            return
+            with open(path, "rb") as f:
+                if f.read(6) != b"\x93NUMPY":
+                    return
+                f.seek(0)
+                size = _npy_bytes(f)
     except (zipfile.BadZipFile, ValueError, OSError, EOFError, NotImplementedError, RuntimeError):
         return
     if size > limit:
