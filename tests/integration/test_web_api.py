@@ -319,6 +319,8 @@ def test_predict_does_not_import_the_web_libraries():
     (["serve", "--max-upload", "lots"], "--max-upload = 'lots': must be a size > 0"),
     (["serve", "--port", "70000"], "--port = 70000: must be a port number"),
     (["serve", "--session-timeout", "0"], "--session-timeout = 0: must be > 0"),
+    (["serve", "--session-quota", "-1 GB"], "--session-quota = '-1 GB': must be a size > 0"),
+    (["serve", "--allow-host", "http://evil.example.com/"], "--allow-host = 'http://evil.example.com/': must be a host name"),
 ])
 def test_serve_refuses_bad_options(capsys, argv, message):
     assert main(argv) == 2

@@ -14,7 +14,7 @@ import sys
 import threading
 import time
 import warnings
-from pathlib import Path
+import zipfile
 
 import numpy as np
 import pytest
@@ -64,6 +64,16 @@ def test_a_host_the_server_does_not_answer_to_is_refused(client, host, status):
 @pytest.mark.parametrize("host", ["127.0.0.1:8765", "localhost:8765", "[::1]:8765", "LOCALHOST:8765"])
 def test_the_loopback_names_are_served(client, host):
     assert client.get("/api/form", headers={"host": host}).status_code == 200
+
+
+def test_allowed_names_and_a_server_on_every_interface():
+    with web_client(create_app(WebConfig(allow_hosts=("lab.example",)))) as c:
+        assert c.get("/api/form", headers={"host": "lab.example:8765"}).status_code == 200
+        assert c.get("/api/form", headers={"host": "192.168.1.5:8765"}).status_code == 421  # 127.0.0.1 only
+    with web_client(create_app(WebConfig(host="0.0.0.0"))) as c:
+        for host in ("192.168.1.5:8765", "[fe80::1]:8765", f"{socket.gethostname()}:8765"):
+            assert c.get("/api/form", headers={"host": host}).status_code == 200, host
+        assert c.get("/api/form", headers={"host": "evil.example.com:8765"}).status_code == 421
 
 
 @pytest.mark.parametrize("method, path", [("POST", "/api/predict"), ("PUT", "/api/case/fields"), ("POST", "/api/uploads"),
@@ -201,8 +211,6 @@ def test_an_npy_header_claiming_a_huge_array_is_refused():
 
 
 def _zip(members: dict[str, bytes]) -> bytes:
-    import zipfile
-
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w") as z:
         for name, data in members.items():

@@ -14,7 +14,7 @@ import secrets
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import BinaryIO
+from typing import IO, BinaryIO
 
 import numpy as np
 from python_multipart import MultipartParser
@@ -179,7 +179,7 @@ def check_expansion(path: Path, name: str, limit: int) -> None:
                            f"{limit / 1e6:.6g} MB (sealeak serve --max-upload)")
 
 
-def _npy_bytes(f: BinaryIO) -> int:
+def _npy_bytes(f: IO[bytes]) -> int:
     """The bytes of the array a ``.npy`` stream's header declares."""
     version = np.lib.format.read_magic(f)
     read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
