@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import base64
 import hashlib
 import ipaddress
@@ -29,7 +30,6 @@ import os
 import re
 import shutil
 import socket
-import time
 from collections.abc import Iterable
 from importlib import resources
 from pathlib import Path
@@ -201,7 +201,7 @@ class Guard:
                     raise
                 await _refusal(413, str(counted.over.detail), counted.over.field)(scope, receive, send_headers)
             return
-        body = b""  # a JSON or case body: read here (it is small), checked, handed on
+        buffer = bytearray()  # a JSON or case body: read here (it is small), checked, handed on
         counted = _Counted(receive, limit, multipart)
         while True:
             try:
@@ -211,10 +211,11 @@ class Guard:
                 return
             if message["type"] != "http.request":
                 break
-            body += message.get("body", b"")
+            buffer += message.get("body", b"")
             if not message.get("more_body", False):
                 break
-        why = check_nesting(body) if body else None
+        body = bytes(buffer)
+        why = await asyncio.to_thread(check_nesting, body) if body else None  # up to about a second for 2 MB
         if why is not None:
             await _refusal(400, f"request body {why}", "body")(scope, receive, send_headers)
             return
@@ -297,24 +298,21 @@ def _alive(pid: int) -> bool:
     return True
 
 
-def remove_orphans(parent: Path, grace: float = 600.0) -> list[Path]:
+def remove_orphans(parent: Path) -> list[Path]:
     """Remove the ``sealeak-web-*`` folders in ``parent`` left by servers that no longer run; return them.
 
-    A folder goes when the process its :data:`PID_FILE` names is gone, or, without that file (a server
-    of an older version, or one that stopped right after making the folder), when it has not changed
-    for ``grace`` seconds. Folders of other users are left alone.
+    A folder goes when the process its :data:`PID_FILE` names is gone. A folder without that file
+    (a server of an older version, which may still run) and the folders of other users are left alone.
     """
     gone = []
     for folder in parent.glob(f"{ROOT_PREFIX}*"):
         try:
-            info = folder.stat()
-            if not folder.is_dir() or folder.is_symlink() or info.st_uid != os.getuid():
+            if not folder.is_dir() or folder.is_symlink() or folder.stat().st_uid != os.getuid():
                 continue
             text = (folder / PID_FILE).read_text(encoding="ascii").strip() if (folder / PID_FILE).is_file() else ""
         except OSError:
             continue
-        orphan = not _alive(int(text)) if text.isdigit() else time.time() - info.st_mtime > grace
-        if orphan:
+        if text.isdigit() and not _alive(int(text)):
             shutil.rmtree(folder, ignore_errors=True)
             gone.append(folder)
     return gone
