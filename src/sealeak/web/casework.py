@@ -224,7 +224,8 @@ class PredictionCache:
     The key holds the name, size and modification time of each uploaded file the case names, so a
     file uploaded anew under the same name runs the case again; a case that names no file is shared
     by every session. Thread-safe; keeps the ``size`` most recent, and at most ``max_bytes`` bytes
-    (the case texts and the arrays and texts of their results, :func:`footprint`). Requests
+    (the case texts, the arrays and texts of their results, :func:`footprint`, and the documents
+    rendered from them, counted when the next case is added). Requests
     for a case being computed wait for that computation instead of repeating it (an error is not
     cached: each of them then computes, and reports, it for itself).
     """
@@ -232,8 +233,7 @@ class PredictionCache:
     def __init__(self, size: int = 64, max_bytes: int = DEFAULT_CACHE_BYTES) -> None:
         self.size = size
         self.max_bytes = max_bytes
-        self.bytes = 0
-        self._sizes: dict[tuple[Any, ...], int] = {}
+        self._sizes: dict[tuple[Any, ...], int] = {}  # the case text and results of each entry (bytes)
         self._items: OrderedDict[tuple[Any, ...], Prediction] = OrderedDict()
         self._lock = threading.Lock()
         self._running: dict[tuple[Any, ...], threading.Event] = {}
@@ -241,6 +241,15 @@ class PredictionCache:
     def __len__(self) -> int:
         with self._lock:
             return len(self._items)
+
+    @property
+    def bytes(self) -> int:
+        """The bytes held: the case texts, their results and the documents rendered from them since."""
+        with self._lock:
+            return self._bytes()
+
+    def _bytes(self) -> int:
+        return sum(self._sizes[k] + sum(len(v) for v in list(p.rendered.values())) for k, p in self._items.items())
 
     def predict(self, data: bytes, source: str, uploads: Path) -> Prediction:
         """Check the case's file names against ``uploads``, build the case(s) and run them (or take them from the cache)."""
@@ -274,10 +283,9 @@ class PredictionCache:
             with self._lock:
                 if size <= self.max_bytes:
                     self._items[key], self._sizes[key] = result, size
-                    self.bytes += size
-                while len(self._items) > self.size or self.bytes > self.max_bytes:
+                while len(self._items) > self.size or self._bytes() > self.max_bytes:
                     old, _ = self._items.popitem(last=False)
-                    self.bytes -= self._sizes.pop(old)
+                    del self._sizes[old]
             return result
         finally:
             with self._lock:
