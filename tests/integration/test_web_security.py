@@ -233,18 +233,18 @@ def test_the_prediction_cache_is_bounded_by_bytes(tmp_path):
              for n in (200, 201, 202)]
     one = PredictionCache()
     one.predict(cases[0].encode(), "a.toml", tmp_path)
-    assert one.bytes > 200 * 8  # the results' arrays are counted
-    cache = PredictionCache(max_bytes=int(1.5 * one.bytes))
+    assert one.nbytes > 200 * 8  # the results' arrays are counted
+    cache = PredictionCache(max_bytes=int(1.5 * one.nbytes))
     for text in cases:
         cache.predict(text.encode(), "a.toml", tmp_path)
-        assert cache.bytes <= cache.max_bytes
+        assert cache.nbytes <= cache.max_bytes
     assert len(cache) == 1  # the older ones went to make room
     # a rendered document counts too: the JSON of the kept case pushes it out when the next one comes
-    cache = PredictionCache(max_bytes=int(2.5 * one.bytes))  # two cases fit, without documents
+    cache = PredictionCache(max_bytes=int(2.5 * one.nbytes))  # two cases fit, without documents
     first = cache.predict(cases[0].encode(), "a.toml", tmp_path)
-    first.rendered["json"] = "x" * one.bytes
+    first.rendered["json"] = "x" * one.nbytes
     cache.predict(cases[1].encode(), "a.toml", tmp_path)
-    assert len(cache) == 1 and cache.bytes <= cache.max_bytes
+    assert len(cache) == 1 and cache.nbytes <= cache.max_bytes
 
 
 # ------------------------------------------------------------------ per-server caps

@@ -243,7 +243,7 @@ class PredictionCache:
             return len(self._items)
 
     @property
-    def bytes(self) -> int:
+    def nbytes(self) -> int:
         """The bytes held: the case texts, their results and the documents rendered from them since."""
         with self._lock:
             return self._bytes()
