@@ -42,10 +42,10 @@ def server():
     try:
         import uvicorn
 
-        from sealeak.web import create_app
+        from sealeak.web import WebConfig, create_app
     except ImportError as exc:
         _missing(f"the web extra is not installed ({exc.name})")
-    app = create_app()
+    app = create_app(WebConfig(max_running=2))  # the simulation test runs two jobs at once (a 2-core machine allows one)
     sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     sock.bind(("127.0.0.1", 0))
@@ -84,7 +84,10 @@ def browser():
 def page(browser, server):
     """A fresh browser context (a new session) and page; the test fails on any console error or page error."""
     base, _app = server
-    context = browser.new_context(base_url=base, viewport={"width": 1400, "height": 1000}, accept_downloads=True)
+    # Playwright evaluates the predicates of wait_for_function with eval, which the app's Content-Security-Policy
+    # forbids; test_web_security_pages.py opens the pages under that policy
+    context = browser.new_context(base_url=base, viewport={"width": 1400, "height": 1000}, accept_downloads=True,
+                                  bypass_csp=True)
     pg = context.new_page()
     problems: list[str] = []
     pg.on("console", lambda m: problems.append(f"console {m.type}: {m.text}") if m.type in ("error", "warning") else None)

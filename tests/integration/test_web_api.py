@@ -26,9 +26,14 @@ from sealeak.web import WebConfig, create_app
 REF = example_text("reference-experiment")
 
 
+def web_client(app, **kwargs) -> TestClient:
+    """A test client that names the server as a browser on this machine does (Host 127.0.0.1:8765)."""
+    return TestClient(app, base_url="http://127.0.0.1:8765", **kwargs)
+
+
 @pytest.fixture(scope="module")
 def client():
-    with TestClient(create_app()) as c:
+    with web_client(create_app()) as c:
         yield c
 
 
@@ -60,7 +65,7 @@ def test_predict_of_a_case_naming_an_uploaded_file_equals_the_cli(tmp_path, monk
     (tmp_path / "lip-profile.csv").write_text(example_text("lip-profile.csv"), encoding="utf-8")
     assert cli(tmp_path, monkeypatch, capsys, "predict", "lip.toml", "--json", "cli.json", "-q")[0] == 0
     app = create_app()
-    with TestClient(app) as c:
+    with web_client(app) as c:
         refused = c.post("/api/predict?name=lip.toml", content=text.encode())
         assert refused.status_code == 422 and refused.json()["field"] == "seal.pressure_profile"
         up = c.post("/api/uploads", files=[("files", ("lip-profile.csv", (tmp_path / "lip-profile.csv").read_bytes()))])
@@ -128,7 +133,7 @@ def test_study_values_naming_files_are_checked_too(client):
 
 
 def test_no_server_path_in_messages_about_uploaded_files(tmp_path):
-    with TestClient(create_app(WebConfig(root=tmp_path / "root"))) as c:
+    with web_client(create_app(WebConfig(root=tmp_path / "root"))) as c:
         c.post("/api/uploads", files=[("files", ("psd.csv", b"q (1/m), C (m^4)\n1e3, -1\n"))])
         text = REF.replace('model = "self-affine"', 'model = "table"\nfile = "psd.csv"')
         text = re.sub(r"\n(h_rms|hurst|rolloff_wavevector|cutoff_wavelength|label) = [^\n]*", "", text)
@@ -145,7 +150,7 @@ def test_unexpected_errors_send_no_traceback_and_no_path(monkeypatch):
         raise RuntimeError("/srv/secret/path went wrong")
 
     monkeypatch.setattr(casework, "run_case", boom)
-    with TestClient(create_app(), raise_server_exceptions=False) as c:
+    with web_client(create_app(), raise_server_exceptions=False) as c:
         r = c.post("/api/predict", content=REF.replace("44 um", "45 um").encode())
     assert r.status_code == 500
     assert "internal error" in r.json()["error"]
@@ -153,7 +158,7 @@ def test_unexpected_errors_send_no_traceback_and_no_path(monkeypatch):
 
 
 def test_upload_over_the_limit_gets_413():
-    with TestClient(create_app(WebConfig(max_upload=10_000))) as c:
+    with web_client(create_app(WebConfig(max_upload=10_000))) as c:
         big = b"0" * 20_000
         r = c.post("/api/surface/analyze", files=[("files", ("big.txt", big))])
         assert r.status_code == 413 and "limit" in r.json()["error"]
@@ -225,7 +230,7 @@ def test_surface_analyze_refuses_what_the_cli_refuses(client, tmp_path, monkeypa
 
 def test_sessions_do_not_see_each_other():
     app = create_app()
-    with TestClient(app) as a, TestClient(app) as b:
+    with web_client(app) as a, web_client(app) as b:
         a.post("/api/uploads", files=[("files", ("lip-profile.csv", example_text("lip-profile.csv").encode()))])
         assert a.get("/api/uploads").json()["uploads"] == ["lip-profile.csv"]
         assert b.get("/api/uploads").json()["uploads"] == []
@@ -240,7 +245,7 @@ def test_sessions_do_not_see_each_other():
 
 def test_sessions_expire_and_their_folders_go(tmp_path):
     app = create_app(WebConfig(root=tmp_path / "root", session_idle=3600))
-    with TestClient(app) as c:
+    with web_client(app) as c:
         c.post("/api/uploads", files=[("files", ("a.csv", b"x"))])
         store = app.state.sessions
         (folder,) = [p for p in (tmp_path / "root").iterdir()]
@@ -255,7 +260,7 @@ def test_sessions_expire_and_their_folders_go(tmp_path):
 
 def test_the_temporary_root_is_removed_at_shutdown():
     app = create_app()
-    with TestClient(app) as c:
+    with web_client(app) as c:
         c.post("/api/uploads", files=[("files", ("a.csv", b"x"))])
         root = app.state.root
         assert root.is_dir()
@@ -314,6 +319,8 @@ def test_predict_does_not_import_the_web_libraries():
     (["serve", "--max-upload", "lots"], "--max-upload = 'lots': must be a size > 0"),
     (["serve", "--port", "70000"], "--port = 70000: must be a port number"),
     (["serve", "--session-timeout", "0"], "--session-timeout = 0: must be > 0"),
+    (["serve", "--session-quota", "-1 GB"], "--session-quota = '-1 GB': must be a size > 0"),
+    (["serve", "--allow-host", "http://evil.example.com/"], "--allow-host = 'http://evil.example.com/': must be a host name"),
 ])
 def test_serve_refuses_bad_options(capsys, argv, message):
     assert main(argv) == 2
@@ -328,7 +335,7 @@ def test_simulation_job_gives_the_cli_result(tmp_path, monkeypatch, capsys):
     argv = ["simulate", "sim.toml", "--grid", "32", "--realizations", "1", "--json", "cli.json", "-q"]
     assert cli(tmp_path, monkeypatch, capsys, *argv)[0] == 0
     app = create_app()
-    with TestClient(app) as c, TestClient(app) as other:
+    with web_client(app) as c, web_client(app) as other:
         fields = c.post("/api/case/upload", files={"file": ("sim.toml", text.encode())}).json()
         assert fields["valid"], fields["error"]
         job = c.post("/api/jobs", json={"grid": "32", "realizations": "1"}).json()

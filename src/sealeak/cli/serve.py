@@ -10,7 +10,7 @@ from ..errors import InputError, SealeakError
 __all__ = ["register"]
 
 
-def _size(text: str) -> int:
+def _size(text: str, option: str = "--max-upload") -> int:
     """``"200 MB"`` → 200000000 bytes (B, kB, MB, GB; kiB, MiB, GiB; a bare number is bytes)."""
     units = {"": 1, "b": 1, "kb": 10**3, "mb": 10**6, "gb": 10**9, "kib": 2**10, "mib": 2**20, "gib": 2**30}
     t = text.strip().lower().replace(" ", "")
@@ -21,7 +21,7 @@ def _size(text: str) -> int:
     except ValueError:
         value = float("nan")
     if unit not in units or not value > 0 or value * units[unit] > 2**50:
-        raise InputError("--max-upload", text, "must be a size > 0 such as '200 MB', '1 GB' or '500 kB'")
+        raise InputError(option, text, "must be a size > 0 such as '200 MB', '1 GB' or '500 kB'")
     return int(value * units[unit])
 
 
@@ -35,7 +35,11 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         raise InputError("--port", args.port, "must be a port number 0..65535")
     if not args.session_timeout > 0:
         raise InputError("--session-timeout", args.session_timeout, "must be > 0 (minutes)")
-    config = WebConfig(max_upload=_size(args.max_upload), session_idle=60.0 * args.session_timeout)
+    for name in args.allow_host:
+        if not name or any(c in name for c in "/:@ \t") and not name.startswith("["):
+            raise InputError("--allow-host", name, "must be a host name or address, without port or path (e.g. myhost.lab)")
+    config = WebConfig(max_upload=_size(args.max_upload), session_idle=60.0 * args.session_timeout,
+                       session_quota=_size(args.session_quota, "--session-quota"), allow_hosts=tuple(args.allow_host))
     serve(args.host, args.port, config, quiet=args.quiet)
     return 0
 
@@ -50,6 +54,11 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--port", type=int, default=8765, help="port to listen on (default 8765)")
     p.add_argument("--max-upload", default="200 MB", metavar="SIZE",
                    help="largest request body, e.g. an uploaded topography file (default '200 MB')")
+    p.add_argument("--session-quota", default="1 GB", metavar="SIZE",
+                   help="most disk a browser session's uploaded files may take (default '1 GB')")
+    p.add_argument("--allow-host", action="append", default=[], metavar="NAME",
+                   help="a further host name the app answers to (repeatable; the Host header of every request must be "
+                        "127.0.0.1, localhost, [::1], the --host or such a name)")
     p.add_argument("--session-timeout", type=float, default=240.0, metavar="MINUTES",
                    help="a browser session idle this long ends and its files are removed (default 240)")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")

@@ -9,7 +9,8 @@ with the bytes ``sealeak predict --json`` writes and ``POST /api/surface/analyze
 Errors are JSON: ``{"error": message, "field": "section.key", "message": "sealeak: error: ..."}``,
 status 400 (the request is not a case or file at all), 413 (an upload over the limit) or 422 (a
 value refused, with the command line's message). No traceback or server path is ever sent: an
-unexpected error is logged on the server and answered with a generic message.
+unexpected error is logged on the server and answered with a generic message. The limits and checks
+in front of every request (Host, Origin, body sizes, headers) are :mod:`sealeak.web.security`'s.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import contextlib
 import io
 import json
 import logging
+import os
 import re
 import shutil
 import tempfile
@@ -26,18 +28,18 @@ import threading
 import tomllib
 import zipfile
 from collections.abc import AsyncIterator, Awaitable, Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import plotly
-from fastapi import FastAPI, Request, UploadFile
+from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse, JSONResponse, PlainTextResponse, RedirectResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.middleware.base import BaseHTTPMiddleware
-from starlette.types import ASGIApp, Message, Receive, Scope, Send
+from starlette.types import ASGIApp
 
 from ..cases import example_names, example_text
 from ..cases.loader import example_data_names, example_description
@@ -45,9 +47,23 @@ from ..errors import FileFormatError, InputError, SealeakError
 from ..render import analysis_json, html_report, prediction_csv, prediction_figures, render_figures
 from ..render.interactive import prediction_plot_data
 from ..topography import analysis_options, analyze, cli_option_names
-from .casework import PredictionCache, check_files, doc_fields, field_of, fields_doc, file_names, form_schema, toml_text, upload_name
+from .casework import (
+    DEFAULT_CACHE_BYTES,
+    PredictionCache,
+    check_files,
+    doc_fields,
+    field_of,
+    fields_doc,
+    file_names,
+    form_schema,
+    load_toml,
+    toml_text,
+    upload_name,
+)
 from .jobs import Job, start_job
-from .sessions import COOKIE, Session, SessionStore
+from .security import DEFAULT_MAX_BODY, ROOT_PREFIX, Guard, allowed_hosts, remove_orphans, write_pid
+from .sessions import COOKIE, DEFAULT_MAX_SESSIONS, Session, SessionsFull, SessionStore
+from .uploads import Form, check_expansion, folder_bytes, read_form
 
 __all__ = ["WebConfig", "create_app", "DEFAULT_MAX_UPLOAD"]
 
@@ -59,68 +75,47 @@ _STATIC = resources.files("sealeak") / "web" / "static"
 _PAGES = {"case": "case.html", "surface": "surface.html", "prediction": "prediction.html", "simulation": "simulation.html"}
 
 
+#: The default disk quota of a session (bytes of its uploaded files): 1 GB.
+DEFAULT_SESSION_QUOTA = 10**9
+#: The default most realizations of one simulation job.
+DEFAULT_MAX_REALIZATIONS = 1000
+#: The paths that take multipart uploads (up to ``max_upload``); every other body is a case or JSON (``max_body``).
+UPLOAD_PATHS = ("/api/uploads", "/api/surface/analyze", "/api/case/upload")
+
+
+def _cores() -> int:
+    return os.cpu_count() or 1
+
+
 @dataclass(frozen=True)
 class WebConfig:
-    """Settings of one server: the upload limit (bytes), the idle time after which a session ends (s),
-    the folder for session folders (None: a new temporary folder, removed at shutdown), the most
-    simulation jobs running at once per session."""
+    """Settings of one server (``docs/web.md``, "Safety").
+
+    ``max_upload``: the largest upload (bytes; also the most a compressed file may expand to);
+    ``max_body``: the largest case file or JSON request (bytes); ``session_idle``: the idle time after
+    which a session ends (s); ``root``: the folder for session folders (None: a new temporary folder,
+    removed at shutdown); ``max_jobs``: simulations running at once per session; ``max_running``:
+    per server (default half the cores, at least 1); ``max_workers``, ``max_realizations``: the most a
+    job may ask for; ``session_quota``: the bytes of the files a session may hold; ``max_sessions``:
+    sessions at once; ``cache_bytes``: the prediction cache's size; ``host``, ``port``,
+    ``allow_hosts``: the address the server listens on and further names it answers to (``port``
+    None: any port, for an app not bound to a socket yet).
+    """
 
     max_upload: int = DEFAULT_MAX_UPLOAD
     session_idle: float = 4 * 3600.0
     root: Path | None = None
     max_jobs: int = 4
-
-
-class UploadLimit:
-    """ASGI middleware: a request body over ``limit`` bytes gets 413, by its Content-Length before the app
-    reads anything, or (a chunked body without one) while it streams in."""
-
-    def __init__(self, app: ASGIApp, limit: int) -> None:
-        self.app = app
-        self.limit = limit
-
-    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        """Refuse an over-long body before the app reads it, or as soon as the streamed body passes the limit."""
-        if scope["type"] != "http":
-            await self.app(scope, receive, send)
-            return
-        length = dict(scope["headers"]).get(b"content-length")
-        if length is not None and length.isdigit() and int(length) > self.limit:
-            await _too_large(self.limit)(scope, receive, send)
-            return
-        if length is not None:  # the server stops reading at Content-Length: nothing more can come
-            await self.app(scope, receive, send)
-            return
-        # no Content-Length (a chunked body): read it here, up to the limit, then hand it on
-        chunks: list[bytes] = []
-        seen = 0
-        while True:
-            message = await receive()
-            if message["type"] != "http.request":
-                break
-            chunks.append(message.get("body", b""))
-            seen += len(chunks[-1])
-            if seen > self.limit:
-                await _too_large(self.limit)(scope, receive, send)
-                return
-            if not message.get("more_body", False):
-                break
-        body = b"".join(chunks)
-        sent = False
-
-        async def replay() -> Message:
-            nonlocal sent
-            if not sent:
-                sent = True
-                return {"type": "http.request", "body": body, "more_body": False}
-            return await receive()
-
-        await self.app(scope, replay, send)
-
-
-def _too_large(limit: int) -> JSONResponse:
-    msg = f"upload: larger than the server's limit of {limit / 1e6:.6g} MB (sealeak serve --max-upload)"
-    return JSONResponse({"error": msg, "field": "upload", "message": f"sealeak: error: {msg}"}, status_code=413)
+    max_body: int = DEFAULT_MAX_BODY
+    max_running: int = field(default_factory=lambda: max(1, _cores() // 2))
+    max_workers: int = field(default_factory=_cores)
+    max_realizations: int = DEFAULT_MAX_REALIZATIONS
+    session_quota: int = DEFAULT_SESSION_QUOTA
+    max_sessions: int = DEFAULT_MAX_SESSIONS
+    cache_bytes: int = DEFAULT_CACHE_BYTES
+    host: str = "127.0.0.1"
+    port: int | None = None
+    allow_hosts: tuple[str, ...] = ()
 
 
 class _Sessions(BaseHTTPMiddleware):
@@ -135,7 +130,11 @@ class _Sessions(BaseHTTPMiddleware):
         session = self.store.get(request.cookies.get(COOKIE))
         new = session is None
         if session is None:
-            session = self.store.create()
+            try:
+                session = self.store.create()
+            except SessionsFull as exc:
+                msg = str(exc)
+                return JSONResponse({"error": msg, "field": "", "message": f"sealeak: error: {msg}"}, status_code=503)
         request.state.session = session
         response = await call_next(request)
         if new:
@@ -165,11 +164,17 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     """The web app (an ASGI application; ``uvicorn`` serves it, ``sealeak serve`` starts that)."""
     cfg = config or WebConfig()
     own_root = cfg.root is None
-    root = Path(tempfile.mkdtemp(prefix="sealeak-web-")) if cfg.root is None else cfg.root
+    if own_root:  # the folders of servers that crashed go first
+        for orphan in remove_orphans(Path(tempfile.gettempdir())):
+            log.info("removed %s, the folder of a server that no longer runs", orphan)
+    root = Path(tempfile.mkdtemp(prefix=ROOT_PREFIX)) if cfg.root is None else cfg.root
     root.mkdir(parents=True, exist_ok=True)
-    store = SessionStore(root, cfg.session_idle)
-    cache = PredictionCache()
+    if own_root:
+        write_pid(root)
+    store = SessionStore(root, cfg.session_idle, cfg.max_sessions)
+    cache = PredictionCache(max_bytes=cfg.cache_bytes)
     stop = threading.Event()
+    starting = threading.Lock()  # one job start at a time: the server's cap is checked and taken together
 
     def reaper() -> None:
         while not stop.wait(min(60.0, max(cfg.session_idle / 4, 0.05))):
@@ -191,7 +196,9 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     app.state.sessions = store
     app.state.root = root
     app.add_middleware(_Sessions, store=store)
-    app.add_middleware(UploadLimit, limit=cfg.max_upload)
+    app.add_middleware(Guard, hosts=allowed_hosts(cfg.host, cfg.allow_hosts), port=cfg.port,
+                       any_address=cfg.host in ("0.0.0.0", "::", ""), max_body=cfg.max_body, max_upload=cfg.max_upload,
+                       upload_paths=UPLOAD_PATHS)
 
     def session_of(request: Request) -> Session:
         return request.state.session  # type: ignore[no-any-return]
@@ -210,7 +217,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     @app.exception_handler(StarletteHTTPException)
     async def _http_error(request: Request, exc: StarletteHTTPException) -> JSONResponse:
         msg = str(exc.detail)
-        return JSONResponse({"error": msg, "field": "", "message": f"sealeak: error: {msg}"}, status_code=exc.status_code)
+        return JSONResponse({"error": msg, "field": getattr(exc, "field", ""), "message": f"sealeak: error: {msg}"},
+                            status_code=exc.status_code)
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
@@ -245,8 +253,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         if s.case_text is None:
             return out
         try:
-            out["fields"] = doc_fields(tomllib.loads(s.case_text))
-        except tomllib.TOMLDecodeError:  # reported below by the loader, with the CLI's message
+            out["fields"] = doc_fields(load_toml(s.case_text, s.case_name))
+        except (tomllib.TOMLDecodeError, InputError):  # reported below by the loader, with the CLI's message
             pass
         try:
             pred = cache.predict(s.case_text.encode("utf-8"), s.case_name, s.uploads_path)
@@ -286,15 +294,23 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         return case_state(s)
 
     @app.post("/api/case/upload")
-    async def case_upload(request: Request, file: UploadFile) -> dict[str, Any]:
-        """Start from an uploaded case file."""
+    async def case_upload(request: Request) -> dict[str, Any]:
+        """Start from an uploaded case file (form field ``file``; at most ``max_body`` bytes)."""
         s = session_of(request)
-        data = await file.read()
-        name = upload_name(Path(file.filename or "case.toml").name)
+        form = await _receive(request, s, cfg.max_body)
+        try:
+            name, path = _files(form, "file")[0]
+            data = path.read_bytes()
+        finally:
+            form.discard()
         try:
             text = data.decode("utf-8-sig")
         except UnicodeDecodeError:
             raise FileFormatError(name, "is not UTF-8 text") from None
+        try:
+            load_toml(text, name)  # too deep or too long a key: refused here, before the session keeps it
+        except tomllib.TOMLDecodeError:
+            pass  # the form shows the loader's message
         s.case_text, s.case_name = text, name
         return case_state(s)
 
@@ -320,7 +336,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         files = body.get("files")
         if not isinstance(files, list) or not files:
             raise InputError("surface.files", files, "give the names of one or more uploaded files")
-        doc = tomllib.loads(s.case_text or example_text("reference-experiment"))
+        doc = load_toml(s.case_text or example_text("reference-experiment"), s.case_name)
         if s.case_text is None:
             s.case_name = "reference-experiment.toml"
         surface: dict[str, Any] = {"model": "topography", "files": [str(f) for f in files]}
@@ -390,23 +406,35 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         pred = await asyncio.to_thread(cache.predict, data, source, s.uploads_path)
         return Response(_scrub(pred.json(), s, root), media_type="application/json")
 
-    async def _save_uploads(s: Session, form: Any, field: str) -> list[str]:
-        uploads = [f for f in form.getlist(field) if not isinstance(f, str)]
-        if not uploads:
-            raise FileFormatError(field, f"no file uploaded: send one or more files in the form field '{field}'")
-        names = []
-        for f in uploads:
-            name = upload_name(Path(f.filename or "").name)
-            with open(s.uploads / name, "wb") as out:
-                shutil.copyfileobj(f.file, out)
-            names.append(name)
-        return names
+    async def _receive(request: Request, s: Session, file_limit: int) -> Form:
+        """The request's form, its files streamed into the session's folder (within the session's quota)."""
+        return await read_form(request, s.folder / "incoming", file_limit=file_limit, quota=cfg.session_quota,
+                               used=folder_bytes(s.uploads_path))
+
+    def _files(form: Form, name: str) -> list[tuple[str, Path]]:
+        files = [(upload, path) for f, upload, path in form.files if f == name]
+        if not files:
+            raise FileFormatError(name, f"no file uploaded: send one or more files in the form field '{name}'")
+        return files
+
+    def _save_uploads(s: Session, form: Form, name: str) -> list[str]:
+        """Keep the files of the form field ``name`` as the session's uploads (a compressed file that expands too far: 413)."""
+        try:
+            files = _files(form, name)
+            for upload, path in files:
+                check_expansion(path, upload, cfg.max_upload)
+            s.uploads.mkdir(parents=True, exist_ok=True)
+            for upload, path in files:
+                os.replace(path, s.uploads / upload)
+            return [upload for upload, _ in files]
+        finally:
+            form.discard()
 
     @app.post("/api/uploads")
     async def upload_files(request: Request) -> dict[str, Any]:
         """Upload files a case may name (form field ``files``): a C(q) table, a pressure profile, topographies."""
         s = session_of(request)
-        names = await _save_uploads(s, await request.form(), "files")
+        names = _save_uploads(s, await _receive(request, s, cfg.max_upload), "files")
         return {"uploaded": names, "uploads": sorted(s.uploaded())}
 
     @app.get("/api/uploads")
@@ -418,9 +446,9 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     async def api_analyze(request: Request) -> Response:
         """Uploaded topography files (form field ``files``) and the unit options as form fields → ``surface analyze --json``."""
         s = session_of(request)
-        form = await request.form()
-        names = await _save_uploads(s, form, "files")
-        opts = {k: str(v) for k, v in form.items() if isinstance(v, str)}
+        form = await _receive(request, s, cfg.max_upload)
+        names = _save_uploads(s, form, "files")
+        opts = form.fields
 
         def number(key: str, default: float) -> float:
             text = opts.get(key, "").strip()
@@ -455,6 +483,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         if len(pred.case_file.cases) != 1:
             raise SealeakError("simulate takes a case without [study] (one surface)")
         opts: dict[str, int | None] = {}
+        high = {"realizations": cfg.max_realizations, "workers": cfg.max_workers}
         for key, low in (("grid", 16), ("realizations", 1), ("seed", 0), ("workers", 0)):
             value = body.get(key)
             if value in (None, ""):
@@ -466,13 +495,23 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
                 raise InputError(f"--{key}", value, "must be an integer") from None
             if number < low or (key == "grid" and number % 2):
                 raise InputError(f"--{key}", value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+            if key in high and number > high[key]:
+                raise InputError(f"--{key}", value, f"must be an integer from {low} to {high[key]} (this server's limit)")
             opts[key] = number
-        with s.lock:
+        given = pred.case_file.cases[0].simulation.get("realizations")
+        if opts["realizations"] is None and isinstance(given, int) and given > cfg.max_realizations:
+            raise InputError("simulation.realizations", given,
+                             f"must be at most {cfg.max_realizations} in the web app (this server's limit)")
+        with starting, s.lock:
             running = sum(1 for j in s.jobs.values() if j.state in ("starting", "running"))
             if running >= cfg.max_jobs:
-                raise SealeakError(f"{running} simulations are running in this session already (at most {cfg.max_jobs}): "
-                                   "wait for one to finish or cancel one")
-            doc = tomllib.loads(s.case_text or "")
+                raise StarletteHTTPException(429, f"{running} simulations are running in this session already (at most "
+                                                  f"{cfg.max_jobs}): wait for one to finish or cancel one")
+            everywhere = store.running_jobs()
+            if everywhere >= cfg.max_running:
+                raise StarletteHTTPException(429, f"{everywhere} simulations are running on this server already (at most "
+                                                  f"{cfg.max_running} at once): try again when one has finished")
+            doc = load_toml(s.case_text or "", s.case_name)
             names = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
             job = start_job(s.jobs_folder, s.case_text or "", s.case_name, [s.uploads / n for n in sorted(names)],
                             pred.case_file.cases[0].title, opts["grid"], opts["realizations"], opts["seed"],

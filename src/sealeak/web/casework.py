@@ -11,6 +11,7 @@ upload name: never a path on the server (``/etc/passwd``, ``../x``, ``sub/x``).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import re
@@ -22,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import tomli_w
 
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
@@ -29,9 +31,13 @@ from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.schema import SURFACE_KEYS
 from ..errors import InputError
 from ..render import prediction_json
+from .security import MAX_NESTING, check_nesting
 
 __all__ = ["FILE_KEYS", "form_schema", "doc_fields", "fields_doc", "value_text", "text_value", "toml_text", "check_files",
-           "file_names", "upload_name", "field_of", "Prediction", "PredictionCache"]
+           "file_names", "upload_name", "field_of", "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES"]
+
+#: The most bytes the prediction cache holds (case texts and their results): 256 MB.
+DEFAULT_CACHE_BYTES = 256 * 2**20
 
 #: The keys whose values are file names (each must be a file uploaded in the session).
 FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"))
@@ -97,11 +103,26 @@ def text_value(name: str, text: str) -> Any:
     if kind in ("text", "choice", "file") and not literal:
         return text
     try:
-        return tomllib.loads(f"v = {t}")["v"]
+        return load_toml(f"v = {t}", name)["v"]
     except tomllib.TOMLDecodeError:
         if literal:
             raise InputError(name, text, "is not a valid TOML list, table or quoted text, e.g. [\"20 kPa\", \"60 kPa\"]") from None
         return text
+
+
+def load_toml(text: str, field: str) -> dict[str, Any]:
+    """``tomllib.loads(text)`` of user text, its nesting and dotted keys checked first (:func:`~sealeak.web.security.check_nesting`).
+
+    Too deep, or a key of too many parts: :class:`~sealeak.errors.InputError` naming ``field``;
+    malformed TOML: ``tomllib.TOMLDecodeError`` as from tomllib.
+    """
+    why = check_nesting(text.encode("utf-8", "replace"))
+    if why is not None:
+        raise InputError(field, None, why)
+    try:
+        return tomllib.loads(text)
+    except RecursionError:  # a structure the scan did not see (it cannot parse TOML exactly)
+        raise InputError(field, None, f"is nested too deeply: at most {MAX_NESTING} levels are allowed") from None
 
 
 def doc_fields(doc: dict[str, Any]) -> dict[str, str]:
@@ -202,21 +223,38 @@ class PredictionCache:
 
     The key holds the name, size and modification time of each uploaded file the case names, so a
     file uploaded anew under the same name runs the case again; a case that names no file is shared
-    by every session. Thread-safe; keeps the ``size`` most recent. Requests
+    by every session. Thread-safe; keeps the ``size`` most recent, and at most ``max_bytes`` bytes
+    (the case texts, the arrays and texts of their results, :func:`footprint`, and the documents
+    rendered from them, counted when the next case is added). Requests
     for a case being computed wait for that computation instead of repeating it (an error is not
     cached: each of them then computes, and reports, it for itself).
     """
 
-    def __init__(self, size: int = 64) -> None:
+    def __init__(self, size: int = 64, max_bytes: int = DEFAULT_CACHE_BYTES) -> None:
         self.size = size
+        self.max_bytes = max_bytes
+        self._sizes: dict[tuple[Any, ...], int] = {}  # the case text and results of each entry (bytes)
         self._items: OrderedDict[tuple[Any, ...], Prediction] = OrderedDict()
         self._lock = threading.Lock()
         self._running: dict[tuple[Any, ...], threading.Event] = {}
 
+    def __len__(self) -> int:
+        with self._lock:
+            return len(self._items)
+
+    @property
+    def nbytes(self) -> int:
+        """The bytes held: the case texts, their results and the documents rendered from them since."""
+        with self._lock:
+            return self._bytes()
+
+    def _bytes(self) -> int:
+        return sum(self._sizes[k] + sum(len(v) for v in list(p.rendered.values())) for k, p in self._items.items())
+
     def predict(self, data: bytes, source: str, uploads: Path) -> Prediction:
         """Check the case's file names against ``uploads``, build the case(s) and run them (or take them from the cache)."""
         try:
-            doc = tomllib.loads(data.decode("utf-8-sig"))
+            doc = load_toml(data.decode("utf-8-sig"), source)
         except (UnicodeDecodeError, tomllib.TOMLDecodeError):
             doc = None  # the loader below refuses it with the command line's message
         uploaded = {p.name for p in uploads.iterdir() if p.is_file()} if uploads.is_dir() else set()
@@ -241,12 +279,34 @@ class PredictionCache:
         try:
             case_file = parse_case_bytes(data, uploads, source)
             result = Prediction(case_file, [run_case(c) for c in case_file.cases])
+            size = len(data) + footprint(result.results)
             with self._lock:
-                self._items[key] = result
-                while len(self._items) > self.size:
-                    self._items.popitem(last=False)
+                if size <= self.max_bytes:
+                    self._items[key], self._sizes[key] = result, size
+                while len(self._items) > self.size or self._bytes() > self.max_bytes:
+                    old, _ = self._items.popitem(last=False)
+                    del self._sizes[old]
             return result
         finally:
             with self._lock:
                 del self._running[key]
             running.set()
+
+
+def footprint(obj: Any, _seen: set[int] | None = None) -> int:
+    """About the bytes ``obj`` holds: its NumPy arrays, texts and bytes, through dataclasses, lists, tuples and dicts."""
+    seen = set() if _seen is None else _seen
+    if id(obj) in seen:
+        return 0
+    seen.add(id(obj))
+    if isinstance(obj, np.ndarray):
+        return int(obj.nbytes)
+    if isinstance(obj, (str, bytes, bytearray)):
+        return len(obj)
+    if isinstance(obj, dict):
+        return sum(footprint(k, seen) + footprint(v, seen) for k, v in obj.items())
+    if isinstance(obj, (list, tuple, set, frozenset)):
+        return 8 * len(obj) + sum(footprint(v, seen) for v in obj)
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return sum(footprint(getattr(obj, f.name, None), seen) for f in dataclasses.fields(obj))
+    return 8

@@ -5,6 +5,7 @@ from __future__ import annotations
 import errno
 import socket
 import sys
+from dataclasses import replace
 
 import uvicorn
 
@@ -40,10 +41,12 @@ def serve(host: str = "127.0.0.1", port: int = 8765, config: WebConfig | None = 
     """Serve the app on ``host:port`` until interrupted (Ctrl-C); prints the address first.
 
     The socket is bound before anything is printed, so a port in use is one line naming ``--port``.
+    The app answers only to requests naming ``host`` (or a loopback name) at this port in their Host
+    header (``config.allow_hosts`` adds names; :mod:`sealeak.web.security`).
     """
     sock = listen(host, port)
     port = sock.getsockname()[1]
-    app = create_app(config)
+    app = create_app(replace(config or WebConfig(), host=host, port=port))  # the Host names it answers to
     shown = f"[{host}]" if ":" in host else host
     if not quiet:
         print(f"sealeak: serving the web app at http://{shown}:{port}/ (Ctrl-C stops it)", file=sys.stderr, flush=True)

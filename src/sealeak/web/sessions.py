@@ -16,7 +16,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Session", "SessionStore", "COOKIE"]
+from ..errors import SealeakError
+
+__all__ = ["Session", "SessionStore", "SessionsFull", "COOKIE", "DEFAULT_MAX_SESSIONS"]
+
+#: The most sessions one server holds at once.
+DEFAULT_MAX_SESSIONS = 100
 
 #: The name of the session cookie.
 COOKIE = "sealeak_session"
@@ -59,12 +64,21 @@ class Session:
         return {p.name for p in up.iterdir() if p.is_file()} if up.is_dir() else set()
 
 
-class SessionStore:
-    """The sessions of one server, in folders under ``root``; idle ones expire after ``idle`` seconds."""
+class SessionsFull(SealeakError):
+    """The server holds its most sessions, each with files, a case or jobs (status 503)."""
 
-    def __init__(self, root: Path, idle: float = 4 * 3600.0) -> None:
+
+class SessionStore:
+    """The sessions of one server, in folders under ``root``; idle ones expire after ``idle`` seconds.
+
+    At most ``limit`` sessions at once: a new one then replaces the least recently seen session that
+    stored nothing (no case, file or job); when every session holds something, :class:`SessionsFull`.
+    """
+
+    def __init__(self, root: Path, idle: float = 4 * 3600.0, limit: int = DEFAULT_MAX_SESSIONS) -> None:
         self.root = root
         self.idle = idle
+        self.limit = limit
         self._sessions: dict[str, Session] = {}
         self._lock = threading.Lock()
 
@@ -81,8 +95,20 @@ class SessionStore:
         token = secrets.token_urlsafe(32)
         s = Session(token, self.root / secrets.token_hex(8))  # its folder is made on its first upload or job
         with self._lock:
+            if len(self._sessions) >= self.limit:
+                empty = [o for o in self._sessions.values() if not _holds(o)]
+                if not empty:
+                    raise SessionsFull(f"the server holds {len(self._sessions)} sessions, its most: try again when one "
+                                       "has ended (after --session-timeout minutes idle)")
+                del self._sessions[min(empty, key=lambda o: o.last_seen).token]
             self._sessions[token] = s
         return s
+
+    def running_jobs(self) -> int:
+        """The simulations running (or starting) in all sessions."""
+        with self._lock:
+            sessions = list(self._sessions.values())
+        return sum(1 for s in sessions for j in list(s.jobs.values()) if j.state in ("starting", "running"))
 
     def __len__(self) -> int:
         with self._lock:
@@ -93,8 +119,7 @@ class SessionStore:
         now = time.monotonic() if now is None else now
         # a session that never stored anything (a script's request without the cookie) goes after 10 minutes
         with self._lock:
-            old = [s for s in self._sessions.values()
-                   if now - s.last_seen > (self.idle if s.folder.exists() or s.case_text or s.jobs else min(self.idle, 600.0))]
+            old = [s for s in self._sessions.values() if now - s.last_seen > (self.idle if _holds(s) else min(self.idle, 600.0))]
             for s in old:
                 del self._sessions[s.token]
         for s in old:
@@ -108,6 +133,11 @@ class SessionStore:
             self._sessions.clear()
         for s in sessions:
             _end(s)
+
+
+def _holds(s: Session) -> bool:
+    """Whether a session stored anything: a folder (uploads, jobs), a case or a job."""
+    return bool(s.folder.exists() or s.case_text or s.jobs)
 
 
 def _end(s: Session) -> None:

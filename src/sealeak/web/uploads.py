@@ -1,0 +1,187 @@
+"""Uploads streamed to disk: a multipart form read chunk by chunk, each file written into the session's folder.
+
+Nothing of an upload is held in memory beyond one chunk of the request: every file part goes to a
+temporary file in the session's ``incoming/`` folder as it arrives and is moved to ``uploads/``
+under its upload name once the whole request has been read and checked (a refused or broken
+request leaves nothing behind). The session's quota (the sum of the bytes of its files) is checked on the bytes
+written, so a request over it stops at once with 413.
+"""
+
+from __future__ import annotations
+
+import math
+import secrets
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import IO, BinaryIO
+
+import numpy as np
+from python_multipart import MultipartParser
+from python_multipart.exceptions import FormParserError
+from python_multipart.multipart import parse_options_header
+from starlette.exceptions import HTTPException
+from starlette.requests import Request
+
+from .casework import upload_name
+from .security import BodyTooLarge
+
+__all__ = ["Form", "read_form", "folder_bytes", "check_expansion"]
+
+#: The most file parts and text fields a form may have, and the most bytes of all its text fields.
+MAX_PARTS = 64
+MAX_FIELD_BYTES = 64 * 1024
+
+
+@dataclass
+class Form:
+    """A parsed form: its text fields (the first value of each name) and its files, (field, upload name, temporary path)."""
+
+    fields: dict[str, str] = field(default_factory=dict)
+    files: list[tuple[str, str, Path]] = field(default_factory=list)
+
+    def discard(self) -> None:
+        """Remove the temporary files (those not moved elsewhere)."""
+        for _field, _name, path in self.files:
+            path.unlink(missing_ok=True)
+
+
+def folder_bytes(folder: Path) -> int:
+    """The bytes of the files in ``folder`` and its sub-folders (0 when it does not exist)."""
+    return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file() and not p.is_symlink()) if folder.is_dir() else 0
+
+
+async def read_form(request: Request, incoming: Path, *, file_limit: int, quota: int, used: int) -> Form:
+    """Parse the multipart body of ``request``, writing each file into ``incoming`` as it streams in.
+
+    ``file_limit``: the most bytes one file may have; ``quota``: the most bytes the session may hold,
+    of which ``used`` are taken already. Over either: :class:`BodyTooLarge` (413), the files written
+    so far removed. Not a multipart form: 400.
+    """
+    kind, options = parse_options_header(request.headers.get("content-type", ""))
+    if kind != b"multipart/form-data" or b"boundary" not in options:
+        raise HTTPException(400, "request: not a multipart form (send the files as multipart/form-data)")
+    form = Form()
+    part = _Part()
+    pending = [b"", b""]  # the header name and value being read
+    written = 0
+    field_bytes = 0
+
+    def on_part_begin() -> None:
+        nonlocal part
+        part = _Part()
+
+    def on_header_field(data: bytes, start: int, end: int) -> None:
+        pending[0] += data[start:end]
+
+    def on_header_value(data: bytes, start: int, end: int) -> None:
+        pending[1] += data[start:end]
+
+    def on_header_end() -> None:
+        part.headers.append((pending[0].lower(), pending[1]))
+        pending[0] = pending[1] = b""
+
+    def on_headers_finished() -> None:
+        disposition = next((v for k, v in part.headers if k == b"content-disposition"), b"")
+        _kind, opts = parse_options_header(disposition)
+        if len(form.files) + len(form.fields) >= MAX_PARTS:
+            raise HTTPException(400, f"request: more than {MAX_PARTS} files and fields in one form")
+        part.name = opts.get(b"name", b"").decode("utf-8", "replace")
+        if b"filename" in opts:
+            name = upload_name(Path(opts[b"filename"].decode("utf-8", "replace")).name)
+            incoming.mkdir(parents=True, exist_ok=True)
+            path = incoming / f"{secrets.token_hex(8)}.part"
+            form.files.append((part.name, name, path))
+            part.file = open(path, "wb")  # noqa: SIM115 - closed in on_part_end, or on an error
+            opened.append(part.file)
+
+    def on_part_data(data: bytes, start: int, end: int) -> None:
+        nonlocal written, field_bytes
+        chunk = data[start:end]
+        if part.file is None:
+            field_bytes += len(chunk)
+            if field_bytes > MAX_FIELD_BYTES:
+                raise HTTPException(400, f"request: the form's text fields hold more than {MAX_FIELD_BYTES // 1024} kB")
+            part.text += chunk
+            return
+        part.size += len(chunk)
+        written += len(chunk)
+        if part.size > file_limit:
+            raise BodyTooLarge(f"upload: {form.files[-1][1]} is larger than the server's limit of {file_limit / 1e6:.6g} MB "
+                               "for this kind of file")
+        if used + written > quota:
+            raise BodyTooLarge(f"upload: the session's files would take more than its quota of {quota / 1e6:.6g} MB "
+                               "(sealeak serve --session-quota)")
+        part.file.write(chunk)
+
+    def on_part_end() -> None:
+        if part.file is not None:
+            part.file.close()
+        else:
+            form.fields.setdefault(part.name, part.text.decode("utf-8", "replace"))
+
+    opened: list[BinaryIO] = []
+    parser = MultipartParser(options[b"boundary"], {
+        "on_part_begin": on_part_begin, "on_header_field": on_header_field, "on_header_value": on_header_value,
+        "on_header_end": on_header_end, "on_headers_finished": on_headers_finished, "on_part_data": on_part_data,
+        "on_part_end": on_part_end})
+    try:
+        async for chunk in request.stream():
+            parser.write(chunk)
+        parser.finalize()
+    except BaseException as exc:
+        for f in opened:
+            f.close()
+        form.discard()
+        if isinstance(exc, FormParserError):
+            raise HTTPException(400, "request: malformed multipart form") from None
+        raise
+    return form
+
+
+@dataclass
+class _Part:
+    """The part of a form being read: its headers, field name, and its file or text."""
+
+    headers: list[tuple[bytes, bytes]] = field(default_factory=list)
+    name: str = ""
+    file: BinaryIO | None = None
+    size: int = 0
+    text: bytearray = field(default_factory=bytearray)
+
+
+def check_expansion(path: Path, name: str, limit: int) -> None:
+    """Refuse (413) an uploaded archive that expands past ``limit`` bytes, before anything reads it.
+
+    A zip archive (``.npz``; instrument formats such as ``.x3p``) counts the sizes its members declare
+    (reading a member stops there) and, for each ``.npy`` member, the bytes its header's shape and
+    type need; a ``.npy`` file (by its magic bytes) counts its header's. A damaged file is left to the reader's message.
+    """
+    try:
+        if zipfile.is_zipfile(path):
+            with zipfile.ZipFile(path) as z:
+                members = z.infolist()
+                size = sum(m.file_size for m in members)
+                for m in members:
+                    if m.filename.endswith(".npy") and size <= limit:
+                        with z.open(m) as f:
+                            size = max(size, _npy_bytes(f))
+        else:
+            with open(path, "rb") as f:
+                if f.read(6) != b"\x93NUMPY":
+                    return
+                f.seek(0)
+                size = _npy_bytes(f)
+    except (zipfile.BadZipFile, ValueError, OSError, EOFError, NotImplementedError, RuntimeError):
+        return
+    if size > limit:
+        raise BodyTooLarge(f"upload: {name} expands to {size / 1e6:.6g} MB, more than the server's limit of "
+                           f"{limit / 1e6:.6g} MB (sealeak serve --max-upload)")
+
+
+def _npy_bytes(f: IO[bytes]) -> int:
+    """The bytes of the array a ``.npy`` stream's header declares."""
+    version = np.lib.format.read_magic(f)
+    read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    shape, _fortran, dtype = read_header(f)
+    return math.prod(int(n) for n in shape) * dtype.itemsize

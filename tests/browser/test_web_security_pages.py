@@ -1,0 +1,48 @@
+"""The pages under the app's own Content-Security-Policy and headers: they work, and the browser reports no violation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+
+@pytest.fixture
+def strict_page(browser, server):
+    """A page that enforces the app's Content-Security-Policy (the ``page`` fixture bypasses it for Playwright's sake)."""
+    base, _app = server
+    context = browser.new_context(base_url=base, viewport={"width": 1400, "height": 1000})
+    pg = context.new_page()
+    problems: list[str] = []
+    pg.on("console", lambda m: problems.append(f"console {m.type}: {m.text}") if m.type in ("error", "warning") else None)
+    pg.on("pageerror", lambda e: problems.append(f"page error: {e}"))
+    pg.set_default_timeout(30_000)
+    yield pg
+    context.close()
+    assert not problems, "the browser reported:\n" + "\n".join(problems)
+
+
+def test_the_pages_work_under_their_content_security_policy(strict_page, tmp_path):
+    page = strict_page
+    answer = page.goto("/case")
+    assert "frame-ancestors 'none'" in answer.headers["content-security-policy"]
+    page.wait_for_selector("body[data-ready]", state="attached")
+    page.select_option("#example", "reference-experiment")
+    page.click("#load-example")
+    page.wait_for_selector("#status:has-text('the case is valid')")
+    page.fill('[name="conditions.squeeze_pressure"]', "0.5 MPa")  # a PUT from the page itself: its Origin is served
+    page.wait_for_selector("#status:has-text('the case is valid')")
+    page.goto("/prediction")
+    page.wait_for_selector("body[data-ready]", state="attached")
+    page.wait_for_selector("#plot-leak .main-svg", state="attached")  # Plotly draws (its inline styles are allowed)
+    assert page.get_attribute("#leak-rate", "data-si")
+    rng = np.random.default_rng(0)
+    np.savetxt(tmp_path / "map.txt", rng.standard_normal((32, 32)))
+    page.goto("/surface")
+    page.wait_for_selector("body[data-ready]", state="attached")
+    page.set_input_files("#surface-form input[type=file]", str(tmp_path / "map.txt"))
+    page.fill("#opt-size", "0.5 mm")
+    page.fill("#opt-height_unit", "um")
+    page.click("#analyze")
+    page.wait_for_selector("#plot-psd .main-svg", state="attached")
+    page.goto("/simulation")
+    page.wait_for_selector("body[data-ready]", state="attached")
