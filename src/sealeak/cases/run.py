@@ -360,14 +360,17 @@ def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
         if theory is None or theory.leak_rate is None:
             continue
         k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
-        if name == "critical_junction":
-            gap = band.critical_gap_at_max_pressure
-        else:
-            gap = np.array([float(np.cbrt(12.0 * case.fluid.viscosity * np.min(g.conductance[g.conductance > 0])))
-                            if ok and np.any(g.conductance > 0) else np.nan
-                            for g, ok in zip(theory.integrals, theory.percolates)])
+        gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
         out[name] = gas_rows(case, k, gap)
     return out
+
+
+def _band_effective_gap(case: Case, theory: BandTheory) -> FloatArray:
+    """u_e = (12 μ σ_min)^(1/3) (m) per load: the effective medium's narrowest constriction along the band, σ_min the
+    smallest sheet conductance of its quadrature; NaN where the band holds no leak channel (docs/theory.md §11.9)."""
+    return np.array([float(np.cbrt(12.0 * case.fluid.viscosity * np.min(g.conductance[g.conductance > 0])))
+                     if ok and np.any(g.conductance > 0) else np.nan
+                     for g, ok in zip(theory.integrals, theory.percolates)])
 
 
 # ---------------------------------------------------------------------- one result for every front end
@@ -507,6 +510,10 @@ class CaseResult:
                     rec[key] = bool(self.valid[i])
                 elif key == "validity":
                     rec[key] = self.validity[i]
+                elif key == "valid_effective_medium" and self.valid_effective_medium is not None:
+                    rec[key] = bool(self.valid_effective_medium[i])
+                elif key == "validity_effective_medium" and self.validity_effective_medium is not None:
+                    rec[key] = self.validity_effective_medium[i]
                 else:
                     v = values[key][i]
                     rec[key] = bool(v) if isinstance(v, np.bool_) else v if isinstance(v, str) else float(v)
@@ -556,15 +563,7 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
     messages = list(band.critical_junction.messages)
     if band.effective_medium is not None:
         messages += list(band.effective_medium.messages)
-    d = case.fluid.molecular_length
-    valid, validity = continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
-                                        band.critical_wavelength_at_max_pressure, "λc")
-    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference)
-    flag = lifted & band.critical_junction.percolates & valid
-    validity = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
-                     f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
-                     "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(validity))
-    valid = valid & ~flag
+    valid, validity, valid_em, validity_em = _band_verdicts(case, band)
     # the rig runs at one load (rig_prediction refuses several): a sweep's report shows no rig
     rig_result = rig_prediction(case) if rig and case.rig is not None and band.band.loads.size == 1 else None
     warnings = assumption_warnings(
@@ -572,8 +571,39 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     gas = _band_gas(case, band) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, None, None,
+    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
                       case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band, gas)
+
+
+def _band_verdicts(case: Case, band: BandResult) -> tuple[NDArray[np.bool_], tuple[str, ...],
+                                                         NDArray[np.bool_] | None, tuple[str, ...] | None]:
+    """The validity verdicts of a band seal per load (docs/theory.md §9.11, §10.1): (valid, reasons) of the critical
+    junction, and of the effective medium (None, None when it was not run).
+
+    Each judges the band's narrowest constriction: u_c and λc at the peak contact pressure (critical junction),
+    or u_e = (12 μ σ_min)^(1/3) against the contact width w (effective medium), against the fluid's molecular
+    size; and ΔP against the peak contact pressure p_max/2. A load without a leak channel is valid.
+    """
+    d = case.fluid.molecular_length
+    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference)
+
+    def judged(valid: NDArray[np.bool_], reasons: tuple[str, ...], percolates: NDArray[np.bool_]
+               ) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+        flag = lifted & percolates & valid
+        reasons = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
+                        f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
+                        "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(reasons))
+        return valid & ~flag, reasons
+
+    cj = band.critical_junction
+    valid, validity = judged(*continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
+                                                band.critical_wavelength_at_max_pressure, "λc"), cj.percolates)
+    em = band.effective_medium
+    if em is None:
+        return valid, validity, None, None
+    valid_em, validity_em = judged(*continuum_verdict(_band_effective_gap(case, em), d, "u_e at the peak pressure",
+                                                      band.contact_width, "w (contact width)"), em.percolates)
+    return valid, validity, valid_em, validity_em
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
