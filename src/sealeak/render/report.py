@@ -245,9 +245,9 @@ def _gas_assumptions(cases: Sequence[Case], band: bool) -> list[str]:
     slip = ("no slip: f = 1 at every Kn, the continuum law (to show how much rarefaction adds)" if gas.rarefaction == "no-slip"
             else f"{gas.rarefaction}: slip and, at large Kn, free-molecular flow through the factor f(Kn) on the slit "
                  "conductance (Beskok &amp; Karniadakis 1999, diffuse walls; docs/theory.md §11.4)")
-    gap = ("u_c at the peak contact pressure for the whole band, which errs towards a larger leak rate" if band
-           else "u_c (the effective medium: u_e)")
-    out = [f"<li>The gas: an ideal gas (p = ρ R_s T) in compressible, isothermal, laminar flow (Reynolds and Mach numbers "
+    gap = ("u_c at the peak contact pressure (the effective medium: its u_e there) for the whole band, which errs "
+           "towards a larger leak rate" if band else "u_c (the effective medium: u_e)")
+    out = ["<li>The gas: an ideal gas (p = ρ R_s T) in compressible, isothermal, laminar flow (Reynolds and Mach numbers "
            "≪ 1, the walls hold it at T), docs/theory.md §11.3: its leak rate is the pV throughput Q_pV = K ∫ p f(Kn) dp "
            "from P_b to P_a, not K ΔP, with K the seal's no-slip conductance computed with the gas's viscosity (one "
            "viscosity for the whole pressure drop: a dilute gas's does not depend on pressure, §11.1); the contact "
