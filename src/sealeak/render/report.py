@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import base64
 import html
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -70,7 +71,7 @@ def figure_to_data_uri(fig: Figure) -> str:
 
 def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1,
            row_classes: Sequence[str] | None = None, values: Sequence[Sequence[Any]] | None = None) -> str:
-    """An HTML table; ``values[n][i]``, where given and not None, is cell (n, i)'s number in full precision
+    """An HTML table; ``values[n][i]``, where given and a finite float, is cell (n, i)'s number in full precision
     (its ``data-value`` attribute: the cell shows it rounded)."""
     out = ["<div class=\"wide\"><table>",
            "<tr>" + "".join(f"<th class=\"k\">{_e(h)}</th>" if i < left else f"<th>{_e(h)}</th>"
@@ -80,7 +81,7 @@ def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1,
         cells = []
         for i, c in enumerate(row):
             v = values[n][i] if values is not None else None
-            attrs = (" class=\"k\"" if i < left else "") + (f" data-value=\"{v!r}\"" if isinstance(v, float) else "")
+            attrs = (" class=\"k\"" if i < left else "") + (f" data-value=\"{v!r}\"" if isinstance(v, float) and math.isfinite(v) else "")
             cells.append(f"<td{attrs}>{_e(c)}</td>")
         out.append(f"<tr{cls}>" + "".join(cells) + "</tr>")
     out.append("</table></div>")
