@@ -18,6 +18,7 @@ import pytest
 
 from sealeak.cases.loader import example_text
 from sealeak.cli import main
+from tests.casefiles import edit
 
 RTOL = 1e-9
 
@@ -214,3 +215,25 @@ def test_fit_names_the_rows_predict_marks_invalid(tmp_path, capsys):
         assert f"{n} (compression {lines[n - 1].split(',')[0]} %)" in note
     assert "outside the theory's validity" in note and "kept in the fit" in note
     assert "note: " + note in printed
+
+
+def test_fit_of_a_uniform_seal_names_the_rows_predict_marks_invalid(tmp_path, capsys):
+    # near the percolation threshold u_c falls below a molecule (850 kPa), far from it not (100, 400 kPa)
+    case = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
+                'squeeze_pressure = ["100 kPa", "400 kPa", "850 kPa"]', edit("alpha = 0.2", 'alpha = 0.2\nmodel = "both"'))
+    (tmp_path / "c.toml").write_text(case, encoding="utf-8")
+    (tmp_path / "m.csv").write_text("squeeze_pressure (kPa), leak_rate (m^3/s)\n100, 1e-7\n400, 1e-10\n850, 1e-40\n",
+                                    encoding="utf-8")
+    assert main(["predict", str(tmp_path / "c.toml"), "--json", str(tmp_path / "p.json"), "-q"]) == 0
+    assert main(["fit", str(tmp_path / "c.toml"), "--data", str(tmp_path / "m.csv"), "--json", str(tmp_path / "f.json"),
+                 "-q"]) == 0
+    capsys.readouterr()
+    predicted = json.loads((tmp_path / "p.json").read_text())["results"]
+    fit = json.loads((tmp_path / "f.json").read_text())
+    for model, key in (("critical_junction", "valid"), ("effective_medium", "valid_effective_medium")):
+        # data line n + 2 is predict's row n (a header line first)
+        assert fit[model]["outside_validity_lines"] == [n + 2 for n, r in enumerate(predicted) if not r[key]]
+    assert fit["critical_junction"]["outside_validity_lines"] == [4]
+    assert fit["critical_junction"]["points_used"] == 3
+    assert any(m.startswith("critical junction: line 4 (P0 = 850000 Pa) outside the theory's validity")
+               for m in fit["messages"])
