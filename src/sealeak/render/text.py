@@ -286,8 +286,8 @@ def _em_columns(r: CaseResult) -> list[Column]:
         (f"<u>_P ({u_unit})", 11, [fmt(em.gap_distribution_mean[i] / u_scale, ".4g") for i in n]),
         (f"u_e ({u_unit})", 10, [fmt(em.effective_gap[i] / u_scale if em.percolates[i] else np.nan, ".4g") for i in n]),
         ("σ_eff (m³/Pa/s)", 16, [fmt(em.effective_conductivity[i] if em.percolates[i] else np.nan, ".4e") for i in n]),
-        ("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
-        ("Q_EM (ml/min)", 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n]),
+        (_q_head(r)("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
+        (_q_head(r)("Q_EM", "ml/min"), 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n]),
         ("valid", 6, [_verdict(bool(em.percolates[i]), bool(valid[i])) for i in n]),
     ]
 
