@@ -392,8 +392,8 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     parts.append("<h2 id=\"results\">Results</h2>")
     if band:
         parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. Q_CJ: Q "
-                     f"critical junction; Q_EM: Q effective medium; {_e(band_legend(results[0]))}; valid: yes, NO (outside "
-                     "the theory's validity where the pressure is highest: the row's numbers are the formula's, not a "
+                     f"critical junction; Q_EM: Q effective medium; {_e(band_legend(results[0]))}; a verdict: yes, NO "
+                     "(outside the theory's validity where the pressure is highest: the row's numbers are the formula's, not a "
                      "prediction; highlighted) or — (no leak channel: the band seals).</p>")
     else:
         parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
