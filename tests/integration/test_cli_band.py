@@ -139,7 +139,7 @@ def test_profile_file_and_its_scale(tmp_path, capsys):
 def test_predict_table_names_the_band_columns(tmp_path, capsys):
     assert main(["predict", str(_case(tmp_path, ORING))]) == 0
     out = capsys.readouterr().out
-    assert "ε (%)" in out and "p_max" in out and "Q(p_mean)" in out and "90% of R" in out
+    assert "ε (%)" in out and "p_max" in out and "Q_u(p_mean) (m³/s)" in out and "90% of R" in out
     assert "O-ring, cross-section d = 2.62 mm" in out
     assert "no leak channel at compression 30 %" in out
 

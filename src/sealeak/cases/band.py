@@ -67,6 +67,8 @@ BAND_EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
     "leak_rate_effective_medium_uniform_mean_pressure": "m^3/s",
     "resistance_band_width_effective_medium": "m",
     "integral_relative_change_effective_medium": "1",
+    "valid_effective_medium": "1",
+    "validity_effective_medium": "",
 }
 
 

@@ -360,14 +360,17 @@ def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
         if theory is None or theory.leak_rate is None:
             continue
         k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
-        if name == "critical_junction":
-            gap = band.critical_gap_at_max_pressure
-        else:
-            gap = np.array([float(np.cbrt(12.0 * case.fluid.viscosity * np.min(g.conductance[g.conductance > 0])))
-                            if ok and np.any(g.conductance > 0) else np.nan
-                            for g, ok in zip(theory.integrals, theory.percolates)])
+        gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
         out[name] = gas_rows(case, k, gap)
     return out
+
+
+def _band_effective_gap(case: Case, theory: BandTheory) -> FloatArray:
+    """u_e = (12 μ σ_min)^(1/3) (m) per load: the effective medium's narrowest constriction along the band, σ_min the
+    smallest sheet conductance of its quadrature; NaN where the band holds no leak channel (docs/theory.md §11.9)."""
+    return np.array([float(np.cbrt(12.0 * case.fluid.viscosity * np.min(g.conductance[g.conductance > 0])))
+                     if ok and np.any(g.conductance > 0) else np.nan
+                     for g, ok in zip(theory.integrals, theory.percolates)])
 
 
 # ---------------------------------------------------------------------- one result for every front end
@@ -507,6 +510,10 @@ class CaseResult:
                     rec[key] = bool(self.valid[i])
                 elif key == "validity":
                     rec[key] = self.validity[i]
+                elif key == "valid_effective_medium" and self.valid_effective_medium is not None:
+                    rec[key] = bool(self.valid_effective_medium[i])
+                elif key == "validity_effective_medium" and self.validity_effective_medium is not None:
+                    rec[key] = self.validity_effective_medium[i]
                 else:
                     v = values[key][i]
                     rec[key] = bool(v) if isinstance(v, np.bool_) else v if isinstance(v, str) else float(v)
@@ -533,20 +540,35 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     messages = list(res.messages)
     if em is not None:
         messages += ["effective medium: " + m for m in em.messages]
+    valid, validity, valid_em, validity_em = _uniform_verdicts(case, res, em)
+    gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
+    return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
+                      case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
+
+
+#: Verdicts per row: (valid, reasons) of the critical junction, and of the effective medium (None, None if not run).
+Verdicts = tuple[NDArray[np.bool_], tuple[str, ...], NDArray[np.bool_] | None, tuple[str, ...] | None]
+
+
+def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None,
+                      pressure_difference: bool = True) -> Verdicts:
+    """The validity verdicts of a uniform seal per squeeze pressure (docs/theory.md §9.11): u_c against the fluid's
+    molecular size and λc, u_e against the molecular size and the seal width Lx; with ``pressure_difference`` also
+    ΔP against P0/2 (the fit notes that one on its own)."""
     d = case.fluid.molecular_length
     valid, validity = continuum_verdict(res.critical_gap, d, "u_c", res.critical_wavelength, "λc")
     valid_em = validity_em = None
     if em is not None:
         valid_em, validity_em = continuum_verdict(np.where(em.percolates, em.effective_gap, np.nan), d, "u_e",
-                                               case.seal.width, "Lx (seal width)")
+                                                  case.seal.width, "Lx (seal width)")
+    if not pressure_difference:
+        return valid, validity, valid_em, validity_em
     # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2)
     lifted = pressure_difference_not_small(res.squeeze_pressure, res.pressure_difference)
     valid, validity = _lifted(valid, validity, lifted, res.percolates, res)
     if em is not None and valid_em is not None and validity_em is not None:
         valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
-    gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
+    return valid, validity, valid_em, validity_em
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
@@ -556,15 +578,7 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
     messages = list(band.critical_junction.messages)
     if band.effective_medium is not None:
         messages += list(band.effective_medium.messages)
-    d = case.fluid.molecular_length
-    valid, validity = continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
-                                        band.critical_wavelength_at_max_pressure, "λc")
-    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference)
-    flag = lifted & band.critical_junction.percolates & valid
-    validity = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
-                     f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
-                     "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(validity))
-    valid = valid & ~flag
+    valid, validity, valid_em, validity_em = _band_verdicts(case, band)
     # the rig runs at one load (rig_prediction refuses several): a sweep's report shows no rig
     rig_result = rig_prediction(case) if rig and case.rig is not None and band.band.loads.size == 1 else None
     warnings = assumption_warnings(
@@ -572,8 +586,39 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     gas = _band_gas(case, band) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, None, None,
+    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
                       case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band, gas)
+
+
+def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = True) -> Verdicts:
+    """The validity verdicts of a band seal per load (docs/theory.md §9.11, §10.1): (valid, reasons) of the critical
+    junction, and of the effective medium (None, None when it was not run).
+
+    Each judges the band's narrowest constriction: u_c and λc at the peak contact pressure (critical junction),
+    or u_e = (12 μ σ_min)^(1/3) against the contact width w (effective medium), against the fluid's molecular
+    size; and, with ``pressure_difference``, ΔP against the peak contact pressure p_max/2 (the fit notes that one
+    on its own). A load without a leak channel is valid.
+    """
+    d = case.fluid.molecular_length
+    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference) & pressure_difference
+
+    def judged(valid: NDArray[np.bool_], reasons: tuple[str, ...], percolates: NDArray[np.bool_]
+               ) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+        flag = lifted & percolates & valid
+        reasons = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
+                        f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
+                        "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(reasons))
+        return valid & ~flag, reasons
+
+    cj = band.critical_junction
+    valid, validity = judged(*continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
+                                                band.critical_wavelength_at_max_pressure, "λc"), cj.percolates)
+    em = band.effective_medium
+    if em is None:
+        return valid, validity, None, None
+    valid_em, validity_em = judged(*continuum_verdict(_band_effective_gap(case, em), d, "u_e at the peak pressure",
+                                                      band.contact_width, "w (contact width)"), em.percolates)
+    return valid, validity, valid_em, validity_em
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
@@ -612,11 +657,16 @@ def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: Arr
     q = np.asarray(leak_rate, dtype=float)
     if case.band is not None:
         return _band_fit(case, squeeze_pressure, dp, q)[0]
-    p0 = np.asarray(squeeze_pressure, dtype=float)
-    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=dp).leak_rate
-    em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp).leak_rate
-    return {"critical_junction": fit_scale(q, cj, "critical_junction"),
-            "effective_medium": fit_scale(q, em, "effective_medium")}
+    return _uniform_fit(case, np.asarray(squeeze_pressure, dtype=float), dp, q)[0]
+
+
+def _uniform_fit(case: Case, p0: FloatArray, dp: FloatArray, q: FloatArray) -> tuple[dict[str, ScaleFit], Verdicts]:
+    """:func:`fit_models` of a uniform seal, with each row's validity verdicts (without the ΔP one)."""
+    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=dp)
+    em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp)
+    return ({"critical_junction": fit_scale(q, cj.leak_rate, "critical_junction"),
+             "effective_medium": fit_scale(q, em.leak_rate, "effective_medium")},
+            _uniform_verdicts(case, cj, em, pressure_difference=False))
 
 
 def _band_fit(case: Case, loads: ArrayLike, dp: FloatArray, q: FloatArray
@@ -669,6 +719,10 @@ class FitResult:
     leak_rate_unit
         The unit of ``measured`` and ``curves``: "m^3/s" (a volume flow; liquids), or for a gas
         case "Pa*m^3/s" (the pV throughput the data and the models are compared in, docs/theory.md §11.9).
+    outside_validity
+        Per model, the data rows (from 0) in its fit at which ``sealeak predict`` would mark that theory
+        outside its validity (valid = NO: the gap below the fluid's molecular size, or not a thin film;
+        docs/theory.md §9.11). They stay in the fit, named in ``messages``.
     """
 
     case: Case
@@ -683,6 +737,34 @@ class FitResult:
     load_name: str = "squeeze_pressure"
     curve_grids: dict[str, FloatArray] = field(default_factory=dict)
     leak_rate_unit: str = "m^3/s"
+    outside_validity: dict[str, tuple[int, ...]] = field(default_factory=dict)
+
+
+def _outside_validity(data: LeakData, fits: dict[str, ScaleFit], verdicts: Verdicts, rows: NDArray[np.int_] | None,
+                      where: Callable[[int], str]) -> tuple[list[str], dict[str, tuple[int, ...]]]:
+    """The rows in each model's fit that ``predict`` marks outside the theory's validity: a note per model naming their
+    lines, loads and the first reason, and the rows (from 0) per model.
+
+    ``verdicts`` are per row, or per distinct load with ``rows`` each row's index into them. The rows stay in the
+    fit (the measurement is real; the theory's number there is the formula's, not a prediction): the note says so.
+    """
+    valid_cj, why_cj, valid_em, why_em = verdicts
+    judged = {"critical_junction": (valid_cj, why_cj)}
+    if valid_em is not None and why_em is not None:
+        judged["effective_medium"] = (valid_em, why_em)
+    at = np.arange(len(data)) if rows is None else rows
+    notes, out = [], {}
+    for name, (valid, why) in judged.items():
+        bad = tuple(int(i) for i in np.flatnonzero(~np.asarray(valid)[at] & fits[name].used))
+        out[name] = bad
+        if not bad:
+            continue
+        lines = ", ".join(f"{data.line_of(i)} ({where(i)})" for i in bad)
+        notes.append(f"{name.replace('_', ' ')}: line{'s' if len(bad) > 1 else ''} {lines} outside the theory's validity "
+                     f"(predict's valid = NO: {why[int(at[bad[0]])]}); kept in the fit, though the theory's value there "
+                     f"is the formula's, not a prediction (remove the line{'s' if len(bad) > 1 else ''} from the data file "
+                     f"to fit without {'them' if len(bad) > 1 else 'it'})")
+    return notes, out
 
 
 def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], where: Callable[[int], str]) -> list[str]:
@@ -713,9 +795,15 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
                                          "'ml/min'), or name the gas in the case ([fluid] name, absolute pressures)")
     if case.band is not None:
         return _run_band_fit(case, data)
-    fits = fit_models(case, data.squeeze_pressure, data.pressure_difference, data.leak_rate)
-    messages = _fit_messages(data, fits, lambda i: f"P0 = {data.squeeze_pressure[i]:.6g} Pa")
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    fits, verdicts = _uniform_fit(case, data.squeeze_pressure, dp_used, data.leak_rate)
+
+    def where(i: int) -> str:
+        return f"P0 = {data.squeeze_pressure[i]:.6g} Pa"
+
+    messages = _fit_messages(data, fits, where)
+    notes, outside = _outside_validity(data, fits, verdicts, None, where)
+    messages += notes
     large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
     if large.any():
         i = int(np.argmax(large))
@@ -732,7 +820,7 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
                                      pressure_difference=ref_dp).leak_rate,
         "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
     }
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages))
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), outside_validity=outside)
 
 
 #: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.units`).
@@ -793,27 +881,37 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     unit = ("load", "") if case.band is not None else ("P0", " Pa")
 
-    def models(at: Case, loads: FloatArray) -> dict[str, tuple[FloatArray, FloatArray]]:
-        """(K at α = 1, gap) of both theories at ``loads``."""
+    def models(at: Case, loads: FloatArray) -> tuple[dict[str, tuple[FloatArray, FloatArray]], Verdicts]:
+        """(K at α = 1, gap) of both theories at ``loads`` (the gaps of :func:`gas_rows`), and their verdicts there."""
         if at.band is not None:
             ks, res = _band_conductance(replace(at, alpha=1.0), loads, ("critical-junction", "effective-medium"))
-            gap = res.critical_gap_at_max_pressure
-            return {"critical_junction": (ks["critical-junction"][0], gap), "effective_medium": (ks["effective-medium"][0], gap)}
+            assert res.effective_medium is not None
+            return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure),
+                     "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium))},
+                    _band_verdicts(at, res, pressure_difference=False))
         cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=1.0)
         em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=1.0)
-        return {"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap),
-                "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0), np.where(em.percolates, em.effective_gap, np.nan))}
+        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap),
+                 "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0),
+                                      np.where(em.percolates, em.effective_gap, np.nan))},
+                _uniform_verdicts(at, cj, em, pressure_difference=False))
 
     loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
     distinct, inverse = np.unique(loads, return_inverse=True)
-    at_distinct = models(case, distinct)
+    at_distinct, verdicts = models(case, distinct)
     fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp), name)
             for name, (k, gap) in at_distinct.items()}
     if not any(f.fitted for f in fits.values()):
         reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
         raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+
+    def where(i: int) -> str:
+        return _load_text(case.band.load_name, loads[i]) if case.band is not None else f"P0 = {loads[i]:.6g} Pa"
+
     messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({unit[0]} = {loads[i]:.6g}{unit[1]}) excluded: {reason}"
                 for name, f in fits.items() for i, reason in f.excluded]
+    notes, outside = _outside_validity(data, fits, verdicts, inverse, where)
+    messages += notes
     messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {gas.temperature - 273.15:.4g} °C "
                     f"(Pa·m³/s), P_b = {gas.downstream_pressure:.6g} Pa and P_a = P_b + ΔP of each row")
     if not any(f.n_used > 1 for f in fits.values()):
@@ -828,11 +926,11 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
         at_grid = at_distinct
     else:
         grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
-        at_grid = models(case, grid)
+        at_grid = models(case, grid)[0]
     curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
     load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
-                     leak_rate_unit="Pa*m^3/s")
+                     leak_rate_unit="Pa*m^3/s", outside_validity=outside)
 
 
 def _run_band_fit(case: Case, data: LeakData) -> FitResult:
@@ -855,7 +953,13 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
                                                  f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
         raise
     fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
-    messages = _fit_messages(data, fits, lambda i: _load_text(band.load_name, loads[i]))
+
+    def where(i: int) -> str:
+        return _load_text(band.load_name, loads[i])
+
+    messages = _fit_messages(data, fits, where)
+    notes, outside = _outside_validity(data, fits, _band_verdicts(case, res, pressure_difference=False), inverse, where)
+    messages += notes
     if res.band.oring is not None:
         messages += list(res.band.oring.warnings)
     # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
@@ -875,7 +979,7 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     curves = {"critical_junction": np.where(ks_grid["critical-junction"][0] > 0, ks_grid["critical-junction"][0], np.nan) * ref_dp,
               "effective_medium": np.where(k_em > 0, k_em, np.nan) * ref_dp}
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), band.load_name,
-                     {"effective_medium": distinct})
+                     {"effective_medium": distinct}, outside_validity=outside)
 
 
 @dataclass(frozen=True)

@@ -463,7 +463,7 @@ def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list
     """(every series to draw, (solid series, sealed mask) of each theory through the band).
 
     Per case and theory a solid series (the band) and a dashed one (a uniform seal at the mean
-    pressure) in one colour; the critical junction's rows carry the band's verdicts. With ``gas``
+    pressure) in one colour; each theory's rows carry its own verdicts (valid, valid_effective_medium). With ``gas``
     the solid series is the gas leak rate Q_pV through the band in mbar·l/s (the records'
     ``leak_rate_mbar_l_s``) and the dashed one its helium equivalent, when computed (docs/theory.md §11.9).
     """
@@ -476,20 +476,20 @@ def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list
         x, _ = _load_axis(b.band)
         theories = []
         if r.shows_critical_junction:
-            theories.append(("critical junction", b.critical_junction, r.valid))
+            theories.append(("critical junction", b.critical_junction, r.valid, r.validity))
         if b.effective_medium is not None:
-            theories.append(("effective medium", b.effective_medium, np.ones(len(b), dtype=bool)))
-        for name, theory, valid in theories:
+            valid_em = r.valid_effective_medium if r.valid_effective_medium is not None else np.ones(len(b), dtype=bool)
+            theories.append(("effective medium", b.effective_medium, valid_em, r.validity_effective_medium or ()))
+        for name, theory, valid, why in theories:
             label = f"{r.case.label}, {name}" if several and r.case.label else name
             if gas:
                 rows = (r.gas or {})[name.replace(" ", "_")]
-                drawn = gas_series(x, rows, np.asarray(valid, dtype=bool), r.validity if name == "critical junction" else (),
-                                   color(k), label)
+                drawn = gas_series(x, rows, np.asarray(valid, dtype=bool), why, color(k), label)
                 out += drawn
                 solid.append((drawn[0], ~theory.percolates))
                 k += 1
                 continue
-            s = Series(x, theory.leak_rate, np.asarray(valid, dtype=bool), color(k), "-", label, r.validity if name == "critical junction" else ())
+            s = Series(x, theory.leak_rate, np.asarray(valid, dtype=bool), color(k), "-", label, why)
             out.append(s)
             out.append(Series(x, theory.uniform_mean_pressure, np.ones(len(b), dtype=bool), color(k), "--", None))
             solid.append((s, ~theory.percolates))

@@ -99,7 +99,8 @@ def fit_text(result: FitResult) -> str:
 
 
 def fit_json(result: FitResult) -> str:
-    """The ``sealeak fit --json`` document (α, its standard error and the excluded rows per model)."""
+    """The ``sealeak fit --json`` document (α, its standard error, the excluded rows and the rows outside the theory's
+    validity per model)."""
     data = result.data
     doc: dict[str, Any] = {"case": result.case.title, "data": data.path, "load_column": result.load_name,
                            "reference_pressure": data.reference_pressure,
@@ -123,7 +124,9 @@ def fit_json(result: FitResult) -> str:
                      "log10_alpha_std": json_value(f.log10_alpha_std),
                      "rms_log10_residual": json_value(f.rms_log10_residual), "points_used": f.n_used,
                      "excluded_rows": [i + 1 for i, _ in f.excluded],
-                     "excluded_lines": [data.line_of(i) for i, _ in f.excluded]}
+                     "excluded_lines": [data.line_of(i) for i, _ in f.excluded],
+                     "outside_validity_rows": [i + 1 for i in result.outside_validity.get(name, ())],
+                     "outside_validity_lines": [data.line_of(i) for i in result.outside_validity.get(name, ())]}
     return json_document(doc)
 
 

@@ -71,6 +71,12 @@ def figure_fit(result: FitResult) -> Figure:
     ax.set_yscale("log")
     pos = np.isfinite(q) & (q > 0)
     ax.plot(load[pos] / scale, q[pos], "ks", ms=4, label="measured")
+    outside = {n: rows for n, rows in result.outside_validity.items() if rows}
+    if outside:  # rows the theory there does not describe (predict's valid = NO), kept in the fit
+        rows = np.array(sorted({i for r in outside.values() for i in r}), dtype=int)
+        rows = rows[pos[rows]]
+        ax.plot(load[rows] / scale, q[rows], "o", mfc="none", mec="0.3", ms=9, mew=1.0,
+                label=f"outside the validity of the {' and the '.join(_NAMES[n] for n in outside)} (kept in the fit)")
     measured_at = {"compression": "compressions", "profile_scale": "profile scales"}.get(result.load_name, "loads")
     for i, (name, curve) in enumerate(models.items()):
         fit = fits[name]

@@ -395,8 +395,8 @@ def _invalid_label(reasons: Sequence[str]) -> str:
     """Legend text of the hollow markers, from the verdicts' reasons (docs/theory.md §9.11)."""
     kinds = []
     if any("molecular" in r for r in reasons):
-        gap = next((r.split(" ", 1)[0] for r in reasons if "molecular" in r), "u_c")
-        kinds.append(f"{gap} below molecular size: outside the continuum theory")
+        gaps = dict.fromkeys(r.split(" ", 1)[0] for r in reasons if "molecular" in r)  # u_c, u_e: each theory's gap
+        kinds.append(f"{', '.join(gaps)} below molecular size: outside the continuum theory")
     if any(r and "molecular" not in r for r in reasons):
         kinds.append("not a thin film: outside the theory")
     return "; ".join(kinds) or "outside the theory's validity"

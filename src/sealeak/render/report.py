@@ -20,20 +20,21 @@ from __future__ import annotations
 
 import base64
 import html
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 from matplotlib.figure import Figure
 
 from .._version import __version__
-from ..cases import CaseResult
+from ..cases import Case, CaseResult
 from ..cases.leak_tests import DecayPrediction
 from ..lab.rig import RigSetup
 from .band import is_band_run
-from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, prediction_figures
+from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
 from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
-from .text import fmt, prediction_columns, validity_notes
+from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
@@ -69,14 +70,20 @@ def figure_to_data_uri(fig: Figure) -> str:
 
 
 def _table(header: Sequence[str], rows: Sequence[Sequence[Any]], left: int = 1,
-           row_classes: Sequence[str] | None = None) -> str:
+           row_classes: Sequence[str] | None = None, values: Sequence[Sequence[Any]] | None = None) -> str:
+    """An HTML table; ``values[n][i]``, where given and a finite float, is cell (n, i)'s number in full precision
+    (its ``data-value`` attribute: the cell shows it rounded)."""
     out = ["<div class=\"wide\"><table>",
            "<tr>" + "".join(f"<th class=\"k\">{_e(h)}</th>" if i < left else f"<th>{_e(h)}</th>"
                             for i, h in enumerate(header)) + "</tr>"]
     for n, row in enumerate(rows):
         cls = f" class=\"{row_classes[n]}\"" if row_classes and row_classes[n] else ""
-        out.append(f"<tr{cls}>" + "".join(f"<td class=\"k\">{_e(c)}</td>" if i < left else f"<td>{_e(c)}</td>"
-                                         for i, c in enumerate(row)) + "</tr>")
+        cells = []
+        for i, c in enumerate(row):
+            v = values[n][i] if values is not None else None
+            attrs = (" class=\"k\"" if i < left else "") + (f" data-value=\"{v!r}\"" if isinstance(v, float) and math.isfinite(v) else "")
+            cells.append(f"<td{attrs}>{_e(c)}</td>")
+        out.append(f"<tr{cls}>" + "".join(cells) + "</tr>")
     out.append("</table></div>")
     return "\n".join(out)
 
@@ -147,15 +154,54 @@ _HOLLOW = (" Hollow markers are results outside the theory's validity (see the v
 _WITH_VERDICTS = {"leak_rate.png", "leak_rate_log.png", "critical_junction.png", "critical_magnification.png"}
 
 
-def _caption(name: str, any_invalid: bool, band: bool = False) -> str:
-    text = (BAND_CAPTIONS if band else CAPTIONS).get(name, name)
+#: The captions of a gas case's leak-rate figures, which draw the pV throughput Q_pV (docs/theory.md §11.9.1).
+GAS_CAPTIONS = {
+    "leak_rate.png": "Gas leak rate Q_pV against squeeze pressure P0 (log scale when the curves differ by decades), in "
+                     "mbar·l/s on the left and Pa·m³/s on the right: the pV throughput of each theory (solid) and, dashed "
+                     "where computed and not the same numbers, its helium-equivalent leak rate.",
+    "leak_rate_log.png": "Gas leak rate Q_pV against squeeze pressure P0 on a log scale, in mbar·l/s on the left and "
+                         "Pa·m³/s on the right: the pV throughput of each theory (solid) and, dashed where computed and "
+                         "not the same numbers, its helium-equivalent leak rate.",
+    "leak_rate_vs_pressure_difference.png": "Gas leak rate Q_pV against the pressure difference ΔP = P_a − P_b at the "
+                                            "case's downstream pressure P_b and one squeeze pressure per case, in "
+                                            "mbar·l/s on the left and Pa·m³/s on the right: not a straight line, the gas "
+                                            "expands along the channel (without slip K (P_a² − P_b²)/2); dotted: the "
+                                            "case's ΔP.",
+}
+GAS_BAND_CAPTIONS = {
+    "leak_rate.png": "Gas leak rate Q_pV through the band against the load (log scale), in mbar·l/s on the left and "
+                     "Pa·m³/s on the right: solid the case's gas through the band (strips in series), dashed in the same "
+                     "colour its helium-equivalent leak rate where computed and not the same numbers; × at the bottom: no "
+                     "leak channel, the band seals.",
+}
+
+
+def _caption(name: str, any_invalid: bool, band: bool = False, gas: bool = False) -> str:
+    text = ((GAS_BAND_CAPTIONS if band else GAS_CAPTIONS).get(name) if gas else None) or \
+        (BAND_CAPTIONS if band else CAPTIONS).get(name, name)
     return text + (_HOLLOW if any_invalid and name in _WITH_VERDICTS else "")
 
 
 def _result_table(r: CaseResult, which: str) -> str:
     header, rows = prediction_columns(r, which)
-    classes = ["invalid" if row[-1].strip().startswith("NO") or "/NO" in row[-1] else "" for row in rows]
+    verdicts = [i for i, h in enumerate(header) if h.startswith("valid")]
+    classes = ["invalid" if any(row[i].strip().startswith("NO") or "/NO" in row[i] for i in verdicts) else ""
+               for row in rows]
     return _table(header, rows, left=0, row_classes=classes)
+
+
+def _gas_tables(r: CaseResult) -> list[str]:
+    """The gas tables of ``sealeak predict`` (:func:`~sealeak.render.text.gas_tables`); each cell's ``data-value`` is
+    the ``predict --json`` record's value."""
+    records = r.records()
+    parts = []
+    for title, cols in gas_tables(r):
+        parts.append(f"<p><b>{_e(title[0].upper() + title[1:])}</b></p>")
+        rows = [[c[2][i] for c in cols] for i in range(len(records))]
+        values = [[records[i].get(c[3]) if c[3] else None for c in cols] for i in range(len(records))]
+        parts.append(_table([c[0] for c in cols], rows, left=0, values=values))
+    parts += [f"<p class=\"legend\">{_e(n)}</p>" for n in gas_notes(r)]
+    return parts
 
 
 def _band_section(results: Sequence[CaseResult]) -> list[str]:
@@ -190,6 +236,35 @@ def _band_section(results: Sequence[CaseResult]) -> list[str]:
             parts.append(f"<h3>{_e(', '.join(label for label in labels if label))}</h3>")
         parts.append(text)
     return parts
+
+
+def _gas_assumptions(cases: Sequence[Case], band: bool) -> list[str]:
+    """What the gas model assumes (docs/theory.md §11.1–§11.5, §11.9), for the gas cases among ``cases``."""
+    gas = next((c.gas for c in cases if c.gas is not None), None)
+    if gas is None:
+        return [] if not any(c.helium_equivalent for c in cases) else [_HELIUM_ASSUMPTION]
+    slip = ("no slip: f = 1 at every Kn, the continuum law (to show how much rarefaction adds)" if gas.rarefaction == "no-slip"
+            else f"{gas.rarefaction}: slip and, at large Kn, free-molecular flow through the factor f(Kn) on the slit "
+                 "conductance (Beskok &amp; Karniadakis 1999, diffuse walls; docs/theory.md §11.4)")
+    gap = ("u_c at the peak contact pressure (the effective medium: its u_e there) for the whole band, which errs "
+           "towards a larger leak rate" if band else "u_c (the effective medium: u_e)")
+    out = ["<li>The gas: an ideal gas (p = ρ R_s T) in compressible, isothermal, laminar flow (Reynolds and Mach numbers "
+           "≪ 1, the walls hold it at T), docs/theory.md §11.3: its leak rate is the pV throughput Q_pV = K ∫ p f(Kn) dp "
+           "from P_b to P_a, not K ΔP, with K the seal's no-slip conductance computed with the gas's viscosity (one "
+           "viscosity for the whole pressure drop: a dilute gas's does not depend on pressure, §11.1); the contact "
+           "does not depend on the fluid.</li>",
+           f"<li>Rarefaction {slip}; Kn = λ/h at the gap h of the narrowest constriction, {_e(gap)} (§11.9), integrated "
+           "along the pressure drop (§11.5); Kn and the flow regime in the gas tables are those at the mean pressure "
+           "(P_a + P_b)/2.</li>"]
+    if any(c.helium_equivalent for c in cases):
+        out.append(_HELIUM_ASSUMPTION)
+    return out
+
+
+#: The helium equivalent's conditions (docs/theory.md §11.9).
+_HELIUM_ASSUMPTION = ("<li>The helium-equivalent leak rate (He-eq) is helium through the same seal in the standard test, "
+                      "1 bar (absolute) against vacuum at 20 °C: the seal's K scaled by μ_case/μ_He, the same gap, "
+                      "helium's rarefaction (docs/theory.md §11.9).</li>")
 
 
 def _decay_section(result: CaseResult, pred: DecayPrediction, number: int) -> list[str]:
@@ -267,6 +342,9 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     parts.append(_table(("variant", "spectrum", "kind", "h_rms (µm)", "slope_rms (1)", "curvature_rms (1/m)",
                          "A_true/A0 (1)", "q_min (1/m)", "q1 (1/m)", "q0 (1/m)"), rows, left=3))
 
+    gases = sum(c.gas is not None for c in cases)
+    flow = ("the gas flows as described below" if gases == len(cases) else
+            "incompressible Newtonian fluid, laminar flow" + (" (the liquids; the gases as described below)" if gases else ""))
     parts.append("<h2 id=\"assumptions\">Assumptions</h2><ul>")
     theories = {"critical-junction": "critical-junction theory (the reference paper)",
                 "effective-medium": "effective-medium theory (2D Bruggeman over the gap distribution P(u))",
@@ -286,14 +364,13 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
                      "a uniform seal at that pressure (sheet conductance σ(p)), and the strips are in series, "
                      "Q = Ly ΔP / ∫dx/σ(p(x)); a strip that does not percolate seals the whole band. This holds while "
                      "the band is wide against the roughness' longest wavelengths.</li>")
-        parts.append(f"<li>{_e(first.q0_note)} (the seal table gives each load's q0); incompressible "
-                     "Newtonian fluid, laminar flow; p ≫ ΔP where the contact pressure is highest (the fluid pressure does not "
-                     "change the contact); the validity verdict judges the band where the pressure is highest; rigid substrate "
-                     "unless [substrate] is given.</li>")
+        parts.append(f"<li>{_e(first.q0_note)} (the seal table gives each load's q0); {flow}; p ≫ ΔP where the "
+                     "contact pressure is highest (the fluid pressure does not change the contact); the validity verdict "
+                     "judges the band where the pressure is highest; rigid substrate unless [substrate] is given.</li>")
     else:
-        parts.append(f"<li>q0 = 2π/L = {first.q0:.4g} 1/m ({_e(first.q0_note)}); incompressible Newtonian fluid, "
-                     "laminar flow; P0 ≫ ΔP (the fluid pressure does not change the contact); rigid substrate "
-                     "unless [substrate] is given.</li>")
+        parts.append(f"<li>q0 = 2π/L = {first.q0:.4g} 1/m ({_e(first.q0_note)}); {flow}; P0 ≫ ΔP (the fluid "
+                     "pressure does not change the contact); rigid substrate unless [substrate] is given.</li>")
+    parts += _gas_assumptions(cases, band)
     fluid = first.fluid
     parts.append(f"<li>Continuum flow: a result is valid only where the flow channel is wider than the fluid's molecular "
                  f"size d = {fluid.molecular_length * 1e9:.3g} nm ({_e(fluid.molecular_length_note)}) and thin against "
@@ -314,21 +391,22 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
 
     parts.append("<h2 id=\"results\">Results</h2>")
     if band:
-        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. w: contact "
-                     "width; p_mean, p_max: mean and peak contact pressure; Q_CJ: Q critical junction; Q_EM: Q effective "
-                     "medium; Q(p_mean): a uniform seal at the mean pressure, for comparison; 90% of R: the width of the "
-                     "band holding 90 % of the flow resistance; valid: yes, NO (outside the theory's validity where the "
-                     "pressure is highest: the row's numbers are the formula's, not a prediction; highlighted) or — (no "
-                     "leak channel: the band seals).</p>")
+        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. Q_CJ: Q "
+                     f"critical junction; Q_EM: Q effective medium; {_e(band_legend(results[0]))}; a verdict: yes, NO "
+                     "(outside the theory's validity where the pressure is highest: the row's numbers are the formula's, not a "
+                     "prediction; highlighted) or — (no leak channel: the band seals).</p>")
     else:
         parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
                      "Q_EM: Q effective medium; valid: yes, NO (outside the theory's validity: the row's numbers are the "
                      "formula's, not a prediction; highlighted) or — (no leak channel).</p>")
+    if gases:
+        parts.append(f"<p class=\"legend\">{_e(GAS_INCOMPRESSIBLE_NOTE[0].upper() + GAS_INCOMPRESSIBLE_NOTE[1:])}.</p>")
     for r in results:
         if r.band is not None:
             if r.case.label:
                 parts.append(f"<h3>{_e(r.case.label)}</h3>")
             parts.append(_result_table(r, "critical-junction"))  # the band table (prediction_columns)
+            parts += _gas_tables(r)
             parts += [f"<p class=\"note\">{_e(m)}</p>" for m in r.messages]
             parts += [f"<p class=\"warning\">{_e(m)}</p>" for m in validity_notes(r)]
             continue
@@ -341,6 +419,7 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
             parts.append("<p>Effective medium (2D Bruggeman): Q effective medium = (Ly/Lx) σ_eff ΔP; ū(1): mean "
                          "separation, &lt;u&gt;_P: mean of P(u), u_e: the gap whose u³/(12η) equals σ_eff.</p>")
             parts.append(_result_table(r, "effective-medium"))
+        parts += _gas_tables(r)
         notes = (list(res.messages) if r.shows_critical_junction else []) + (
             [f"effective medium: {m}" for m in em.messages] if em is not None else [])
         for m in notes:
@@ -352,8 +431,9 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     any_invalid = any((~r.shown_valid).any() for r in results)
     parts.append("<div class=\"figures\">")
     figures = prediction_figures(results)
+    gas = is_gas_run(results)
     for number, (name, fig) in enumerate(figures.items(), start=1):
-        parts.append(_figure(name, number, fig, _caption(name, any_invalid, band)))
+        parts.append(_figure(name, number, fig, _caption(name, any_invalid, band, gas)))
     parts.append("</div>")
 
     if len(cases) == 1:

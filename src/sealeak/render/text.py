@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -11,7 +11,8 @@ from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import pressures_text
 
-__all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt"]
+__all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt", "gas_tables", "gas_notes", "band_legend",
+           "GAS_INCOMPRESSIBLE_NOTE"]
 
 
 def fmt(x: float | None, spec: str = ".4g") -> str:
@@ -69,46 +70,65 @@ def _fluid_lines(case: Case) -> list[str]:
     return lines
 
 
-def _gas_columns(r: CaseResult, theory: str) -> list[tuple[str, int, list[str]]]:
-    """(header, width, cells) of the gas table of one theory ("critical_junction" or "effective_medium")."""
+#: A table's column: (header, width, cells), and for a gas table the record field each cell shows ("" if none).
+Column = tuple[str, int, list[str]]
+GasColumn = tuple[str, int, list[str], str]
+
+
+def _gas_columns(r: CaseResult, theory: str) -> list[GasColumn]:
+    """(header, width, cells, record field) of the gas table of one theory ("critical_junction" or "effective_medium")."""
     assert r.gas is not None
     rows = r.gas[theory]
     n = range(rows.conductance.size)
+    suffix = "_effective_medium" if theory == "effective_medium" else ""
     if r.band is not None:
         b = r.band.band
-        first = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.loads]) if b.load_name == "compression"
-                 else ("scale", 7, [f"{v:.4g}" for v in b.loads]))
+        first = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.loads], "") if b.load_name == "compression"
+                 else ("scale", 7, [f"{v:.4g}" for v in b.loads], ""))
     else:
-        first = ("P0 (kPa)", 10, [f"{p / 1e3:.4g}" for p in r.critical_junction.squeeze_pressure])
+        first = ("P0 (kPa)", 10, [f"{p / 1e3:.4g}" for p in r.critical_junction.squeeze_pressure], "")
     g_scale, g_unit = length_unit(rows.gap[np.isfinite(rows.gap)] if np.isfinite(rows.gap).any() else np.array([1e-6]))
-    cols = [first, (f"gap ({g_unit})", 10, [fmt(rows.gap[i] / g_scale, ".4g") for i in n])]
+    cols: list[GasColumn] = [first, (f"gap ({g_unit})", 10, [fmt(rows.gap[i] / g_scale, ".4g") for i in n], "")]
     f = rows.fields()
+
+    def col(head: str, width: int, key: str, spec: str) -> GasColumn:
+        return head, width, [fmt(f[key][i], spec) for i in n], key + suffix
+
     if rows.leaks is not None:
-        cols += [("Kn", 9, [fmt(f["knudsen_number"][i], ".3g") for i in n]),
-                 ("regime", 15, [f["flow_regime"][i] or "—" for i in n]),
-                 ("Q_pV (Pa·m³/s)", 15, [fmt(f["leak_rate_pv"][i], ".3e") for i in n]),
-                 ("Q (mbar·l/s)", 13, [fmt(f["leak_rate_mbar_l_s"][i], ".3e") for i in n]),
-                 ("ṁ (kg/s)", 10, [fmt(f["leak_rate_mass"][i], ".3e") for i in n]),
-                 ("ṅ (mol/s)", 10, [fmt(f["leak_rate_molar"][i], ".3e") for i in n]),
-                 ("Q (sccm)", 10, [fmt(f["leak_rate_sccm"][i], ".3e") for i in n])]
+        cols += [col("Kn", 9, "knudsen_number", ".3g"),
+                 ("regime", 15, [f["flow_regime"][i] or "—" for i in n], "flow_regime" + suffix),
+                 col("Q_pV (Pa·m³/s)", 15, "leak_rate_pv", ".3e"),
+                 col("Q (mbar·l/s)", 13, "leak_rate_mbar_l_s", ".3e"),
+                 col("ṁ (kg/s)", 10, "leak_rate_mass", ".3e"),
+                 col("ṅ (mol/s)", 10, "leak_rate_molar", ".3e"),
+                 col("Q (sccm)", 10, "leak_rate_sccm", ".3e")]
     if rows.helium is not None:
-        cols.append(("He-eq (mbar·l/s)", 17, [fmt(f["leak_rate_helium_mbar_l_s"][i], ".3e") for i in n]))
+        cols.append(col("He-eq (mbar·l/s)", 17, "leak_rate_helium_mbar_l_s", ".3e"))
     return cols
 
 
-def _gas_block(r: CaseResult) -> list[str]:
-    """The gas tables (one per theory) and what their columns mean."""
+def gas_tables(r: CaseResult) -> list[tuple[str, list[GasColumn]]]:
+    """The gas tables of ``sealeak predict`` (the report shows the same): (title, columns) per theory shown.
+
+    Each column is (header, width, cells, record field): the cells show the record's field (the
+    ``predict --json`` value) in the header's unit, formatted; the field is "" for the load and gap columns.
+    Empty for a case without gas rows (a liquid without ``conditions.helium_equivalent``).
+    """
     if r.gas is None:
         return []
-    lines: list[str] = []
     gap_of = {"critical_junction": "u_c at the peak contact pressure" if r.band is not None else "u_c",
-              "effective_medium": "u_c at the peak contact pressure" if r.band is not None else "u_e"}
+              "effective_medium": "u_e at the peak contact pressure" if r.band is not None else "u_e"}
+    out = []
     for theory, rows in r.gas.items():
         if theory == "critical_junction" and not r.shows_critical_junction:
             continue
         what = "gas leak" if rows.leaks is not None else "helium-equivalent leak"
-        lines += ["", f"{what}, {theory.replace('_', ' ')} (gap: {gap_of[theory]}):"]
-        lines += _table_lines(_gas_columns(r, theory))
+        out.append((f"{what}, {theory.replace('_', ' ')} (gap: {gap_of[theory]})", _gas_columns(r, theory)))
+    return out
+
+
+def gas_notes(r: CaseResult) -> list[str]:
+    """What the gas tables' columns mean: where Kn is taken, the temperature of Q_pV, the helium test's conditions."""
     case = r.case
     notes = []
     if case.gas is not None:
@@ -116,7 +136,16 @@ def _gas_block(r: CaseResult) -> list[str]:
                      f"{case.temperature - 273.15:.4g} °C; sccm: cm³/min at 0 °C and 101.325 kPa")
     if case.helium_equivalent:
         notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
-    return lines + ["          " + n for n in notes]
+    return notes
+
+
+def _gas_block(r: CaseResult) -> list[str]:
+    """The gas tables (one per theory) and what their columns mean."""
+    lines: list[str] = []
+    for title, cols in gas_tables(r):
+        lines += ["", f"{title}:"]
+        lines += _table_lines(cols)
+    return lines + ["          " + n for n in gas_notes(r)] if lines else []
 
 
 def _settings(r: CaseResult) -> dict[str, list[str]]:
@@ -131,7 +160,7 @@ def _settings(r: CaseResult) -> dict[str, list[str]]:
     return blocks
 
 
-def _cj_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
+def _cj_columns(r: CaseResult) -> list[Column]:
     """(header, width, cells) of the critical-junction table (with Q_EM beside Q_CJ for model "both")."""
     res, em = r.critical_junction, r.effective_medium
     lam_scale, lam_unit = length_unit(res.critical_wavelength)
@@ -143,14 +172,15 @@ def _cj_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
         (f"λc ({lam_unit})", 10, [fmt(res.critical_wavelength[i] / lam_scale, ".4g") for i in n]),
         (f"u_c ({gap_unit})", 10, [fmt(res.critical_gap[i] / gap_scale, ".4g") for i in n]),
     ]
+    q = _q_head(r)
     if em is not None:
-        cols += [("Q_CJ (m³/s)", 12, [fmt(res.leak_rate[i], ".3e") for i in n]),
-                 ("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
-                 ("Q_CJ (ml/min)", 14, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n]),
-                 ("Q_EM (ml/min)", 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n])]
+        cols += [(q("Q_CJ", "m³/s"), 12, [fmt(res.leak_rate[i], ".3e") for i in n]),
+                 (q("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
+                 (q("Q_CJ", "ml/min"), 14, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n]),
+                 (q("Q_EM", "ml/min"), 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n])]
     else:
-        cols += [("Q (m³/s)", 11, [fmt(res.leak_rate[i], ".3e") for i in n]),
-                 ("Q (ml/min)", 11, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n])]
+        cols += [(q("Q", "m³/s"), 11, [fmt(res.leak_rate[i], ".3e") for i in n]),
+                 (q("Q", "ml/min"), 11, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n])]
     cols.append(("A(ζ1)/A0", 9, [f"{res.contact_area_at_cutoff[i]:.3f}" for i in n]))
     valid_em = r.valid_effective_medium
     cols.append(("valid", 6, [_verdict(bool(res.percolates[i]), bool(r.valid[i]))
@@ -159,12 +189,22 @@ def _cj_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
     return cols
 
 
+def _q_head(r: CaseResult) -> Callable[[str, str], str]:
+    """The header of a column of the incompressible Q = K ΔP: "Q_CJ (m³/s)", or for a gas case "Q_CJ incompr. (m³/s)"
+    (the liquid formula with the gas's viscosity, shown for comparison; the gas's leak rate is in the gas table)."""
+    mark = " incompr." if r.case.gas is not None else ""
+
+    def head(name: str, unit: str) -> str:
+        return f"{name}{mark} ({unit})"
+    return head
+
+
 def _pressure_unit(values: np.ndarray) -> tuple[float, str]:
     top = float(np.nanmax(values)) if np.isfinite(values).any() else 1e6
     return (1e6, "MPa") if top >= 1e6 else (1e3, "kPa")
 
 
-def _band_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
+def _band_columns(r: CaseResult) -> list[Column]:
     """(header, width, cells) of the table of an O-ring or pressure-profile seal, one row per load."""
     b = r.band
     assert b is not None
@@ -179,17 +219,39 @@ def _band_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
             (f"w ({w_unit})", 9, [fmt(b.contact_width[i] / w_scale, ".4g") for i in n]),
             (f"p_mean ({p_unit})", 13, [fmt(b.mean_contact_pressure[i] / p_scale, ".4g") for i in n]),
             (f"p_max ({p_unit})", 12, [fmt(b.max_contact_pressure[i] / p_scale, ".4g") for i in n])]
+    q = _q_head(r)
+    both = em is not None and r.shows_critical_junction
     if cj.leak_rate is not None and r.shows_critical_junction:
-        cols += [("Q (m³/s)" if em is None else "Q_CJ (m³/s)", 12, [fmt(cj.leak_rate[i], ".3e") for i in n]),
-                 ("Q (ml/min)" if em is None else "Q_CJ (ml/min)", 14, [fmt(cj.leak_rate[i] * 6e7, ".4g") for i in n])]
+        cols += [(q("Q_CJ" if both else "Q", "m³/s"), 12, [fmt(cj.leak_rate[i], ".3e") for i in n]),
+                 (q("Q_CJ" if both else "Q", "ml/min"), 14, [fmt(cj.leak_rate[i] * 6e7, ".4g") for i in n])]
     if em is not None:
-        cols += [("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n])]
+        cols += [(q("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n])]
     main = cj if r.shows_critical_junction else em
     assert main is not None
-    cols += [("Q(p_mean) (m³/s)", 17, [fmt(main.uniform_mean_pressure[i], ".3e") for i in n]),
-             (f"90% of R ({w_unit})", 15, [fmt(main.resistance_band_width[i] / w_scale, ".3g") for i in n]),
-             ("valid", 6, [_verdict(bool(cj.percolates[i]), bool(r.valid[i])) for i in n])]
+    cols += [(q("Q_u,CJ(p_mean)" if both else "Q_u(p_mean)", "m³/s"), 17, [fmt(main.uniform_mean_pressure[i], ".3e") for i in n]),
+             (f"90% of R ({w_unit})", 15, [fmt(main.resistance_band_width[i] / w_scale, ".3g") for i in n])]
+    if r.shows_critical_junction:
+        cols.append(("valid CJ" if both else "valid", 6, [_verdict(bool(cj.percolates[i]), bool(r.valid[i])) for i in n]))
+    if em is not None:
+        valid_em = r.valid_effective_medium if r.valid_effective_medium is not None else np.ones(len(b), bool)
+        cols.append(("valid EM" if both else "valid", 6, [_verdict(bool(em.percolates[i]), bool(valid_em[i])) for i in n]))
     return cols
+
+
+def band_legend(r: CaseResult) -> str:
+    """What the columns of a band table mean (``sealeak predict`` prints it under the table, the report above it)."""
+    both = r.band is not None and r.band.effective_medium is not None and r.shows_critical_junction
+    return ("w: contact width; p_mean, p_max: mean and peak contact pressure; "
+            + ("Q_u,CJ(p_mean)" if both else "Q_u(p_mean)")
+            + ": the leak rate of a uniform seal of the same width and length at the mean contact pressure p_mean = f/w"
+            + (" (critical junction)" if both else "") + ", for comparison (docs/theory.md §10.1); 90% of R: the width "
+            "of the band holding 90 % of the flow resistance"
+            + ("; valid CJ, valid EM: the verdicts of the critical junction and of the effective medium" if both else ""))
+
+
+#: Under the main table of a gas case: what its Q columns are.
+GAS_INCOMPRESSIBLE_NOTE = ("columns marked incompr.: the incompressible formula K ΔP with the gas's viscosity, for "
+                           "comparison only; the gas's leak rate is the pV throughput Q_pV of the gas tables below")
 
 
 def _band_setting(r: CaseResult) -> list[str]:
@@ -210,7 +272,7 @@ def _verdict(percolates: bool, valid: bool) -> str:
     return "—" if not percolates else "yes" if valid else "NO"
 
 
-def _em_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
+def _em_columns(r: CaseResult) -> list[Column]:
     """(header, width, cells) of the effective-medium table."""
     em = r.effective_medium
     assert em is not None
@@ -224,8 +286,8 @@ def _em_columns(r: CaseResult) -> list[tuple[str, int, list[str]]]:
         (f"<u>_P ({u_unit})", 11, [fmt(em.gap_distribution_mean[i] / u_scale, ".4g") for i in n]),
         (f"u_e ({u_unit})", 10, [fmt(em.effective_gap[i] / u_scale if em.percolates[i] else np.nan, ".4g") for i in n]),
         ("σ_eff (m³/Pa/s)", 16, [fmt(em.effective_conductivity[i] if em.percolates[i] else np.nan, ".4e") for i in n]),
-        ("Q_EM (m³/s)", 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
-        ("Q_EM (ml/min)", 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n]),
+        (_q_head(r)("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
+        (_q_head(r)("Q_EM", "ml/min"), 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n]),
         ("valid", 6, [_verdict(bool(em.percolates[i]), bool(valid[i])) for i in n]),
     ]
 
@@ -244,10 +306,11 @@ def prediction_columns(result: CaseResult, table: str = "critical-junction") -> 
     return headers, rows
 
 
-def _table_lines(cols: list[tuple[str, int, list[str]]]) -> list[str]:
-    lines = [" ".join(h.rjust(w) for h, w, _ in cols)]
+def _table_lines(cols: Sequence[Column | GasColumn]) -> list[str]:
+    widths = [max(c[1], len(c[0]) + 1) for c in cols]
+    lines = [" ".join(c[0].rjust(w) for c, w in zip(cols, widths))]
     for i in range(len(cols[0][2])):
-        lines.append(" ".join(c[2][i].rjust(c[1]) for c in cols))
+        lines.append(" ".join(c[2][i].rjust(w) for c, w in zip(cols, widths)))
     return lines
 
 
@@ -260,9 +323,19 @@ def validity_notes(result: CaseResult) -> list[str]:
         b = result.band
         name = "compression" if b.band.load_name == "compression" else "profile scale"
         values = b.band.loads * (100 if name == "compression" else 1)
-        out = []
-        for i in np.flatnonzero(~result.valid & b.critical_junction.percolates):
-            out.append(f"{name} {values[i]:.4g}{' %' if name == 'compression' else ''}: valid = NO: {result.validity[i]}")
+        unit = " %" if name == "compression" else ""
+        both = b.effective_medium is not None and result.shows_critical_junction
+        verdicts = [("critical junction", b.critical_junction.percolates, result.valid, result.validity)]
+        if (b.effective_medium is not None and result.valid_effective_medium is not None
+                and result.validity_effective_medium is not None):
+            verdicts.append(("effective medium", b.effective_medium.percolates, result.valid_effective_medium,
+                             result.validity_effective_medium))
+        for theory, percolates, valid, reasons in verdicts:
+            if theory == "critical junction" and not result.shows_critical_junction:
+                continue
+            column = f"valid {'CJ' if theory == 'critical junction' else 'EM'}" if both else "valid"
+            for i in np.flatnonzero(~valid & percolates):
+                out.append(f"{name} {values[i]:.4g}{unit}: {column} = NO ({theory}): {reasons[i]}")
         return out
     checks = [("critical junction", result.valid, result.critical_junction.squeeze_pressure, "u_c", result.validity)]
     if (result.effective_medium is not None and result.valid_effective_medium is not None
@@ -314,12 +387,9 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
         if r.band is not None:
             lines.append("")
             lines.extend(_table_lines(_band_columns(r)))
-            lines.append("          w: contact width; p_mean, p_max: mean and peak contact pressure; Q(p_mean): a uniform seal "
-                         "at the mean pressure, for comparison; 90% of R: the width of the band holding 90 % of the flow "
-                         "resistance")
+            lines.append("          " + band_legend(r))
             if case.gas is not None:
-                lines.append("          Q in m³/s and ml/min: the incompressible formula K ΔP with the gas's viscosity, for "
-                             "comparison; the gas's leak rate is in the gas table below")
+                lines.append("          " + GAS_INCOMPRESSIBLE_NOTE)
             lines.extend(_gas_block(r))
             lines.extend("note: " + m for m in r.messages)
             lines.extend("note: " + m for m in validity_notes(r))
@@ -328,8 +398,7 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
             lines.append("")
             lines.extend(_table_lines(_cj_columns(r)))
             if case.gas is not None:
-                lines.append("          Q in m³/s and ml/min: the incompressible formula K ΔP with the gas's viscosity, for "
-                             "comparison; the gas's leak rate is in the gas tables below")
+                lines.append("          " + GAS_INCOMPRESSIBLE_NOTE)
             for m in res.messages:
                 lines.append("note: " + m)
         if em is not None:
