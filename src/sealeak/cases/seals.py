@@ -25,19 +25,28 @@ from ..physics.seal import Seal
 from .model import BandSeal
 from .schema import Section, case_keys
 
-__all__ = ["is_band_seal", "build_band", "with_loads", "read_pressure_profile", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
+__all__ = ["SEAL_SHAPES", "is_band_seal", "build_band", "with_loads", "read_pressure_profile", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
 
 #: [seal] keys of each band seal, and the [conditions] keys that replace squeeze_pressure.
 BAND_SEAL_KEYS = {"o-ring": {"shape", "cross_section_diameter", "inner_diameter", "mean_diameter", "faces"},
                   "profile": {"pressure_profile", "length", "faces"}}
 BAND_CONDITION_KEYS = {"o-ring": ("compression", "groove_depth"), "profile": ("profile_scale",)}
 
+#: The values of [seal] shape (a seal with a pressure_profile takes none).
+SEAL_SHAPES = ("ring", "rectangle", "o-ring")
+
 _X_NAMES = ("x", "position", "distance")
 _P_NAMES = ("pressure", "p", "contact_pressure")
 
 
 def is_band_seal(seal: Section) -> str | None:
-    """"o-ring" or "profile" when the [seal] section describes a band seal, else None."""
+    """"o-ring" or "profile" when the [seal] section describes a band seal, else None.
+
+    A ``shape`` that is none of :data:`SEAL_SHAPES` is refused here, naming ``seal.shape`` (with
+    "did you mean 'o-ring'?" for "O-ring", "oring", "o_ring"), before any other key of [seal] is read.
+    """
+    if seal.has("shape") and not seal.has("pressure_profile"):
+        seal.choice("shape", SEAL_SHAPES)
     if seal.has("pressure_profile"):
         if seal.has("shape"):
             raise InputError(seal.field("shape"), seal.raw("shape"),
