@@ -280,6 +280,12 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         q0_fixed = (theory.quantity("lowest_wavevector", "wavevector") if theory.has("lowest_wavevector") else
                     2.0 * np.pi / theory.quantity("square_side", "length") if theory.has("square_side") else None)
         band, seal, p0 = build_band(band_kind, seal_section, cond, rubber, youngs, nu, case_dir, q0_fixed)
+        if theory.has("square_side"):
+            w = np.array([p.width for p in band.profiles])
+            input_warnings += (f"theory.square_side = {theory.raw('square_side')!r}: {'an O-ring' if band_kind == 'o-ring' else 'a band seal'} "
+                               f"has no square side; the key sets q0 = 2π/L for every load in place of 2π/w (w, the contact "
+                               f"width, is {w.min() * 1e6:.4g} … {w.max() * 1e6:.4g} µm here), the longest roughness wavelength "
+                               "the contact sees; remove it unless you mean that (theory.lowest_wavevector sets q0 directly)",)
     dp = fl.pressure_difference
     alpha = theory.number("alpha", 1.0, low=0.0)
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)

@@ -37,7 +37,7 @@ from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.gas import MOLAR_GAS_CONSTANT, Gas, GasLeak, gas_leak, pressure_integral
 from ..physics.properties import fluid_state
 from ..physics.seal import Seal
-from ..physics.validity import assumption_warnings, continuum_verdict
+from ..physics.validity import assumption_warnings, continuum_verdict, strain_warning
 from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, BandTheory, run_band
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
@@ -1074,6 +1074,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         p0 = float(band.mean_contact_pressure[0])
     else:
         p0 = rig.squeeze_pressure(case.seal)
+        strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
+        messages += [strained + "; check [rig] load"] if strained else []
         for model in models:
             ks, notes = _conductance(case, [p0], model)
             k_of[_model_name(case, model)] = float(ks[0])
