@@ -835,13 +835,11 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                      leak_rate_unit="Pa*m^3/s")
 
 
-def _run_band_fit(case: Case, data: LeakData) -> FitResult:
-    """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
+def _check_file_loads(case: Case, data: LeakData, loads: NDArray[np.float64]) -> None:
+    """The band seal at a data file's loads; a load its relations refuse raises a FileFormatError naming the line and column."""
     band = case.band
-    assert band is not None and data.band_load is not None
-    loads = data.band_load
+    assert band is not None
     column = data.columns.get(band.load_name, band.load_name)
-    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     distinct = np.unique(loads)
     try:
         _band_at(case, distinct)
@@ -854,6 +852,15 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
                 raise FileFormatError(data.path, f"line {data.line_of(row)}, column '{column}': "
                                                  f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
         raise
+
+
+def _run_band_fit(case: Case, data: LeakData) -> FitResult:
+    """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
+    band = case.band
+    assert band is not None and data.band_load is not None
+    loads = data.band_load
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    _check_file_loads(case, data, loads)
     fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
     messages = _fit_messages(data, fits, lambda i: _load_text(band.load_name, loads[i]))
     if res.band.oring is not None:
@@ -966,6 +973,8 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
         if not np.allclose(load, load[0], rtol=1e-6):
             what = {"squeeze_pressure": "squeeze pressure", "compression": "compression", "profile_scale": "profile scale"}
             raise SealeakError(f"{data.path}: a linearity check is at one {what[data.load_name]}; the file has several")
+        if case.band is not None:
+            _check_file_loads(case, data, load[:1])
         squeeze_pressure, squeeze_pressure_source = float(load[0]), "the data file"
     return linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
 
