@@ -925,6 +925,13 @@ class LinearityCheck:
         return abs(ln.intercept / ln.intercept_std) if ln.intercept_std > 0 else float("nan")
 
 
+#: Why a gas case has no linearity check (docs/theory.md §11.3-11.5).
+_GAS_LINEARITY = ("is for a liquid: it checks Q = K ΔP; the case's fluid is a gas, whose pV throughput between two absolute pressures is "
+                  "Q_pV = K ∫ p f(Kn) dp from P_b to P_a (K (P_a² − P_b²)/2 without rarefaction, docs/theory.md §11.3, "
+                  "§11.5), not linear in ΔP, so a straight line through the readings tests nothing: fit α without "
+                  "--linearity, which applies the gas law row by row (P_a = downstream_pressure + ΔP of each row)")
+
+
 def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
               squeeze_pressure: float | None = None, squeeze_pressure_source: str = "") -> LinearityCheck:
     """Fit Q = slope ΔP + intercept and compare the slope with both models at P0 (docs/theory.md §8).
@@ -934,6 +941,8 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     profile scale, 1; None: the case's single load) and the models' slopes are the band's
     K = faces · Ly / ∫dx/σ there (docs/theory.md §10.5).
     """
+    if case.gas is not None:
+        raise InputError("--linearity", None, _GAS_LINEARITY)
     line = fit_line(pressure_difference, leak_rate)
     if case.band is not None:
         return _band_linearity(case, line, squeeze_pressure, squeeze_pressure_source)
@@ -967,6 +976,8 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
     column if it has one (one value: the check is at one load), else the case's single load (or its
     [rig] load). A load column that does not fit the case's seal is a FileFormatError.
     """
+    if case.gas is not None:
+        raise InputError("--linearity", None, _GAS_LINEARITY)
     _check_load_column(case, data, required=False)
     if squeeze_pressure is None and data.load_name:
         load = data.load
