@@ -45,6 +45,7 @@ Every unknown section or key, missing field, wrong unit or out-of-range value ra
 from __future__ import annotations
 
 import copy
+import re
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -168,11 +169,17 @@ def example_data_names() -> list[str]:
 
 
 def example_description(name: str) -> str:
-    """One line saying what a bundled example is: a case's ``title``, a data file's first comment line."""
+    """What a bundled example is: a case's ``title``; a data file's first sentence of its leading comment
+    (which may run over several comment lines), whole."""
     text = example_text(name)
     if name in example_data_names():
-        first = next((ln for ln in text.splitlines() if ln.startswith("#")), "# example data")
-        return first.lstrip("# ").rstrip(".")
+        comment = []
+        for line in text.splitlines():
+            if not line.startswith("#"):
+                break
+            comment.append(line.lstrip("# ").strip())
+        joined = " ".join(comment) or "example data"
+        return re.split(r"(?<=\.)\s", joined, maxsplit=1)[0].rstrip(".")
     title = next((ln for ln in text.splitlines() if ln.startswith("title")), "")
     return title.split("=", 1)[1].strip().strip('"') if "=" in title else ""
 

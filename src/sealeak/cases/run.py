@@ -861,6 +861,7 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     loads = data.band_load
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     _check_file_loads(case, data, loads)
+    distinct = np.unique(loads)
     fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
     messages = _fit_messages(data, fits, lambda i: _load_text(band.load_name, loads[i]))
     if res.band.oring is not None:
