@@ -17,7 +17,7 @@ from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
 from .figures import pressure_axis
-from .plotstyle import scale_functions
+from .plotstyle import literal_text, scale_functions
 from .records import case_summary, json_document, json_value
 from .text import fmt
 
@@ -200,6 +200,7 @@ def _spread_legend(realizations: int) -> str:
             f"the standard error of a mean is sd/√{realizations}")
 
 
+@literal_text
 def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     """The figures of ``sealeak simulate --plots``: leak rate, α and a contact map, by file name."""
     figs = {}
@@ -491,6 +492,7 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
     return "\n".join(lines) + "\n"
 
 
+@literal_text
 def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, Figure]:
     """The figures of ``sealeak simulate --plots`` for an O-ring: leak rate, α, a contact map, the pressure across the band."""
     figs: dict[str, Figure] = {}
