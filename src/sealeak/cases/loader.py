@@ -59,7 +59,8 @@ from .model import Case
 from .schema import SECTIONS, Section
 
 __all__ = ["CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
-           "example_names", "example_text", "example_path", "example_data_names", "example_description"]
+           "example_names", "example_text", "example_path", "example_data_names", "example_description",
+           "shown_source"]
 
 @dataclass(frozen=True)
 class CaseFile:
@@ -156,6 +157,21 @@ def load_case(path: str | Path) -> Case:
 # ---------------------------------------------------------------------- bundled examples
 def _examples_dir() -> Any:
     return resources.files("sealeak") / "examples"
+
+
+def shown_source(source: str) -> str:
+    """A case's (or its data file's) path as a report shows it: a bundled example as ``--example NAME`` (or its
+    file name, for data it reads), never the install path; any other path as given."""
+    path = Path(source)
+    try:
+        bundled = path.resolve().parent == Path(str(_examples_dir())).resolve()
+    except OSError:  # pragma: no cover - an unreadable path: show it as given
+        bundled = False
+    if not bundled:
+        return source
+    if path.suffix == ".toml":
+        return f"--example {path.stem}"
+    return f"{path.name} (bundled example data)"
 
 
 def example_names() -> list[str]:

@@ -25,7 +25,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLoca
 
 __all__ = ["pressure_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
-           "literal_text", "LITERAL_TEXT",
+           "literal_text", "LITERAL_TEXT", "wrap_phrases",
            "invalid_note", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
            "gas_conditions_text", "gas_regime_text", "gas_series"]
 
@@ -310,10 +310,40 @@ def laid_out(make: Callable[P, Figure]) -> Callable[P, Figure]:
 
 
 def subtitle(ax: Axes, text: str) -> None:
-    """Set the axes title to its heading plus ``text`` on the lines below (long lines wrapped to the figure's width)."""
+    """Set the axes title to its heading plus ``text`` on the lines below (long lines wrapped to the figure's width,
+    at phrase boundaries: :func:`wrap_phrases`)."""
     heading = getattr(ax, "_sealeak_heading", "")
-    lines = [w for line in text.splitlines() for w in (textwrap.wrap(line, _TITLE_CHARS) or [""])] if text else []
+    lines = [w for line in text.splitlines() for w in (wrap_phrases(line, _TITLE_CHARS) or [""])] if text else []
     ax.set_title("\n".join([heading, *lines]), fontsize=9)
+
+
+def _phrases(line: str) -> list[str]:
+    """``line`` cut after each ", " and "; " outside brackets, the separators kept with the phrase before them."""
+    out, start, depth = [], 0, 0
+    for i, ch in enumerate(line):
+        depth += (ch in "([{") - (ch in ")]}")
+        if ch in ",;" and depth <= 0 and line[i + 1:i + 2] == " ":
+            out.append(line[start:i + 2])
+            start = i + 2
+    return out + [line[start:]] if line[start:] else out
+
+
+def wrap_phrases(line: str, width: int) -> list[str]:
+    """``line`` wrapped to ``width`` characters between phrases (after ", " or "; " outside brackets); a phrase
+    longer than a line is wrapped between words. Never breaks "η = 19.6 µPa·s" or "(free molecular)" apart."""
+    lines: list[str] = []
+    current = ""
+    for phrase in _phrases(line):
+        if current and len(current + phrase.rstrip()) > width:
+            lines.append(current.rstrip())
+            current = ""
+        if len(phrase.rstrip()) > width:
+            *full, current = textwrap.wrap(phrase, width, break_on_hyphens=False) or [""]
+            lines += full
+            current += " "
+        else:
+            current += phrase
+    return lines + [current.rstrip()] if current.strip() else lines
 
 
 def say_nothing(ax: Axes, text: str) -> None:

@@ -294,10 +294,17 @@ def _contact_map(ax: Any, maps: dict[int, NDArray[np.bool_]], percolates: NDArra
 
 def _numerical_points(ax: Any, x: NDArray[np.float64], q: NDArray[np.float64], q_std: NDArray[np.float64],
                       label: str) -> NDArray[np.bool_]:
-    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis); which were drawn."""
+    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis), and the
+    loads where no realisation leaks (no channel percolates: Q = 0, off a log axis) as × at the bottom edge of the
+    axes, with a legend entry; returns which leak rates were drawn as points."""
     ok = q > 0
     std = np.nan_to_num(q_std[ok])
-    ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, label=label)
+    bars = ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, label=label)
+    sealed = q == 0
+    if sealed.any():  # y in axes units: on the bottom edge whatever the leak-rate range
+        ax.plot(x[sealed], np.full(int(sealed.sum()), 0.0), "x", ms=6, mew=1.5, color=bars[0].get_color(),
+                transform=ax.get_xaxis_transform(), clip_on=False,
+                label="numerical: no leak channel in any realisation (Q = 0), × at the bottom")
     return np.asarray(ok, dtype=bool)
 
 
