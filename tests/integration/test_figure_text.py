@@ -3,15 +3,18 @@ file name is no matplotlib mathtext, so no figure fails to render and the text a
 
 from pathlib import Path
 
+import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.text import Text
 
-from sealeak.cases import read_case_file, rig_prediction, run_case, run_fit
+from sealeak.cases import parse_case_file, read_case_file, rig_prediction, run_case, run_fit, simulate
 from sealeak.cli import main
 from sealeak.lab.data import read_leak_data
 from sealeak.render import figure_fit, figure_rig, prediction_figures
 from sealeak.render.figures import figure_png
+from sealeak.render.plotstyle import wrap_phrases
 from sealeak.render.report import html_report
+from sealeak.render.simulation import simulation_figures
 from tests.casefiles import edit
 
 TITLE = "$\\foo$"
@@ -88,3 +91,31 @@ def test_cli_plots_of_a_case_titled_with_dollars(tmp_path, capsys):
     assert main(["predict", str(case), "--plots", str(tmp_path / "plots"), "-q"]) == 0
     assert "Traceback" not in capsys.readouterr().err
     assert len(list((tmp_path / "plots").glob("*.png"))) >= 9
+
+
+def test_subtitles_wrap_between_phrases():
+    line = ("Q_pV = K ∫ p f(Kn) dp over P_b…P_a, K through the band (strips in series), Ly = 71.06 mm, η = 19.62 µPa·s, "
+            "α = 1")
+    lines = wrap_phrases(line, 92)
+    assert len(lines) == 2 and all(len(s) <= 92 for s in lines)
+    assert lines[1] == "η = 19.62 µPa·s, α = 1"  # not "η" on one line and "= 19.62 µPa·s" on the next
+    assert " ".join(lines) == line
+    assert wrap_phrases("a (b, c), d", 10) == ["a (b, c),", "d"]  # no break inside brackets
+
+
+def test_simulated_loads_without_a_leak_channel_are_marked_at_the_axis_bottom():
+    case = parse_case_file(edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
+                                'squeeze_pressure = ["20 kPa", "1 MPa", "3 MPa"]')).cases[0]
+    res = simulate(case, grid=32, realizations=1, seed=0)
+    sealed = res.leak_rate == 0
+    assert sealed.any() and not sealed.all()
+    fig = simulation_figures(case, res)["simulate_leak_rate.png"]
+    ax = fig.axes[0]
+    marks = [ln for ln in ax.get_lines() if ln.get_marker() == "x"]
+    assert len(marks) == 1 and "no leak channel" in marks[0].get_label()
+    scale = res.squeeze_pressure[sealed] / np.asarray(marks[0].get_xdata())
+    assert np.allclose(scale, scale[0], rtol=1e-9)  # one × per sealed load, at its pressure
+    assert np.allclose(marks[0].get_ydata(), 0.0)  # the bottom edge (axes units)
+    lo, hi = ax.get_xlim()
+    assert lo <= float(np.min(marks[0].get_xdata())) and float(np.max(marks[0].get_xdata())) <= hi
+    assert any("no leak channel" in t.get_text() for t in ax.get_legend().get_texts())
