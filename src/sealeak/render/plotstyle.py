@@ -272,7 +272,7 @@ def new_figure(title: str, figsize: tuple[float, float] | None = None) -> tuple[
 #: Every text of a sealeak figure is drawn as written: user text (titles, labels, study labels, file names) may
 #: hold '$' ("$\\foo$", "h_rms $h_{rms$"), which matplotlib's mathtext would parse (and fail on, or change).
 #: No figure of the project uses mathtext (units are written with Unicode: m³/s, µm, ΔP).
-LITERAL_TEXT = {"text.parse_math": False}
+LITERAL_TEXT: Any = {"text.parse_math": False}
 
 
 def literal_text(make: Callable[P, R]) -> Callable[P, R]:
