@@ -14,9 +14,13 @@ prints the message and exits non-zero without a traceback. Anything else escapin
 
 from __future__ import annotations
 
+import difflib
+import re
+from collections.abc import Iterable
 from typing import Any
 
 __all__ = [
+    "did_you_mean",
     "SealeakError",
     "InputError",
     "UnitError",
@@ -86,3 +90,27 @@ def _show(value: Any) -> str:
         return f"{value:.6g}"
     text = repr(value)
     return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _spelling(text: str) -> str:
+    """A name with case, ``-``, ``_`` and white space ignored: "O-ring", "o_ring", " oring " -> "oring"."""
+    return re.sub(r"[\s_\-]+", "", text).lower()
+
+
+def did_you_mean(value: Any, options: Iterable[str]) -> str:
+    """" (did you mean 'o-ring'?)" when text ``value`` is a near miss of one of ``options``, else "".
+
+    A near miss is the same name but for case, ``-``, ``_`` and spaces ("O-ring", "o_ring",
+    "o-ring "), or a close spelling by :func:`difflib.get_close_matches` (ratio >= 0.75, e.g.
+    "helum" for "helium"). The value is never corrected silently: the caller refuses it and shows
+    this hint.
+    """
+    if not isinstance(value, str) or not value.strip():
+        return ""
+    names = list(options)
+    same = [n for n in names if _spelling(n) == _spelling(value)]
+    close = same or difflib.get_close_matches(_spelling(value), [_spelling(n) for n in names], n=2, cutoff=0.75)
+    if not same:
+        by_spelling = {_spelling(n): n for n in names}
+        close = [by_spelling[c] for c in close]
+    return f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""

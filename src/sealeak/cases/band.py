@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import InputError
 from ..physics.contact import PerssonContact
 from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
@@ -302,6 +303,15 @@ def _loads_text(band: BandSeal, mask: NDArray[np.bool_]) -> str:
     return "profile scale " + ", ".join(f"{v:.4g}" for v in band.loads[mask])
 
 
+def _load_error(band: BandSeal, i: int, profile: PressureProfile, exc: InputError) -> InputError:
+    """An error of the physics about a contact pressure, named as the load (conditions.profile_scale[i]) that gave it."""
+    field = f"conditions.{band.load_name}" + (f"[{i}]" if band.loads.size > 1 else "")
+    value = f"{100 * band.loads[i]:.6g} %" if band.load_name == "compression" else float(band.loads[i])
+    return InputError(field, value, f"gives a mean contact pressure of {profile.mean_pressure:.4g} Pa (peak "
+                                    f"{profile.max_pressure:.4g} Pa), which the theory cannot use: "
+                                    + exc.allowed.replace("a larger squeeze pressure (Pa)", f"a larger {band.load_name}"))
+
+
 def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     """Both theories (as ``case.model`` asks, or ``effective``) over the loads of a band seal (docs/theory.md §10.1)."""
     band = case.band
@@ -316,25 +326,30 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     em_ok: list[bool] = []
     cj_mean, em_mean, uc_max, lc_max = [], [], [], []
     with case_keys():
-        for profile, q0 in zip(band.profiles, band.q0):
-            contact = _contact(case, float(q0))
-            sigma = _cj_sigma(case, contact)
-            g = series_resistance(profile, sigma)
-            cj_int.append(g)
-            cj_change.append(g.change)
-            cj_ok.append(g.converged)
-            cj_mean.append(float(sigma(np.array([profile.mean_pressure]))[0]))
-            top = critical_junction(contact, squeeze_pressure=[profile.max_pressure], pressure_difference=1.0,
-                                    viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
-                                    percolation_threshold=case.percolation_threshold)
-            uc_max.append(float(top.critical_gap[0]) if top.percolates[0] else np.nan)
-            lc_max.append(float(top.critical_wavelength[0]) if top.percolates[0] else np.nan)
-            if want_em:
-                ge, change, ok = _em_integral(case, contact, profile)
-                em_int.append(ge)
-                em_change.append(change)
-                em_ok.append(ok)
-                em_mean.append(float(_em_exact(case, contact)(np.array([profile.mean_pressure]))[0]))
+        for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
+            try:
+                contact = _contact(case, float(q0))
+                sigma = _cj_sigma(case, contact)
+                g = series_resistance(profile, sigma)
+                cj_int.append(g)
+                cj_change.append(g.change)
+                cj_ok.append(g.converged)
+                cj_mean.append(float(sigma(np.array([profile.mean_pressure]))[0]))
+                top = critical_junction(contact, squeeze_pressure=[profile.max_pressure], pressure_difference=1.0,
+                                        viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
+                                        percolation_threshold=case.percolation_threshold)
+                uc_max.append(float(top.critical_gap[0]) if top.percolates[0] else np.nan)
+                lc_max.append(float(top.critical_wavelength[0]) if top.percolates[0] else np.nan)
+                if want_em:
+                    ge, change, ok = _em_integral(case, contact, profile)
+                    em_int.append(ge)
+                    em_change.append(change)
+                    em_ok.append(ok)
+                    em_mean.append(float(_em_exact(case, contact)(np.array([profile.mean_pressure]))[0]))
+            except InputError as exc:  # the physics names the pressure; the case file gave the load
+                if exc.field.partition("[")[0] != "squeeze_pressure":
+                    raise
+                raise _load_error(band, i, profile, exc) from None
     cj = _theory(case, band, cj_int, cj_change, cj_ok, "critical junction", np.array(cj_mean))
     em = _theory(case, band, em_int, em_change, em_ok, "effective medium", np.array(em_mean)) if want_em else None
     profiles = band.profiles

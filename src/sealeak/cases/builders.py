@@ -17,20 +17,20 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, UnitError
-from ..io.units import STANDARD_PRESSURE, parse_quantity, parse_temperature
+from ..io.units import STANDARD_PRESSURE, format_quantity, parse_quantity, parse_temperature
 from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
 from ..physics.gas import RAREFACTION_MODELS, Gas, check_pressures
 from ..physics.oring import shore_a_warnings, youngs_modulus_from_shore_a
-from ..physics.properties import FluidState, canonical_fluid_name, fluid_state, vapour_pressure_note
+from ..physics.properties import FluidState, canonical_fluid_name, close_fluid_name, fluid_state, vapour_pressure_note
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
 from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
-from .seals import build_band, is_band_seal
+from .seals import SEAL_SHAPES, build_band, is_band_seal
 
 __all__ = ["build_case", "register_surface_model", "SurfaceBuilder", "parse_grid_list"]
 
@@ -63,7 +63,7 @@ def _seal(sec: Section) -> Seal:
     for key in ("cross_section_diameter", "mean_diameter", "faces"):
         if sec.has(key):
             raise InputError(sec.field(key), sec.raw(key), "is for an O-ring (shape = \"o-ring\") or a pressure-profile seal")
-    shape = sec.choice("shape", ("ring", "rectangle", "o-ring"))
+    shape = sec.choice("shape", SEAL_SHAPES)
     if sec.has("height"):  # the ring's cross-section height: described, not used by the theory
         sec.quantity("height", "length")
     if shape == "ring":
@@ -280,6 +280,12 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         q0_fixed = (theory.quantity("lowest_wavevector", "wavevector") if theory.has("lowest_wavevector") else
                     2.0 * np.pi / theory.quantity("square_side", "length") if theory.has("square_side") else None)
         band, seal, p0 = build_band(band_kind, seal_section, cond, rubber, youngs, nu, case_dir, q0_fixed)
+        if theory.has("square_side"):
+            w = np.array([p.width for p in band.profiles])
+            input_warnings += (f"theory.square_side = {theory.raw('square_side')!r}: {'an O-ring' if band_kind == 'o-ring' else 'a band seal'} "
+                               f"has no square side; the key sets q0 = 2π/L for every load in place of 2π/w (w, the contact "
+                               f"width, is {w.min() * 1e6:.4g} … {w.max() * 1e6:.4g} µm here), the longest roughness wavelength "
+                               "the contact sees; remove it unless you mean that (theory.lowest_wavevector sets q0 directly)",)
     dp = fl.pressure_difference
     alpha = theory.number("alpha", 1.0, low=0.0)
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
@@ -425,18 +431,20 @@ def _fluid(fsec: Section, cond: Section, theory: Section) -> _FluidInputs:
     dp = _pressure_difference(cond, absolute)
     keys = {"fluid": fsec.field("name"), "temperature": fsec.field("temperature"), "pressure": cond.field("upstream_pressure")}
     known = None
+    warnings: list[str] = []
     if name.strip():
         try:
             with case_keys(keys):
                 known = canonical_fluid_name(name)
-        except InputError:
+        except InputError as exc:
             if viscosity is None:
                 raise
+            warnings += _unknown_fluid(fsec, name, absolute, exc)
     elif viscosity is None:
         raise InputError(fsec.field("viscosity"), None, "is required: give the viscosity with its unit (e.g. \"1 mPa*s\"), "
                                                         "or fluid.name, a fluid of the property library (e.g. \"water\", \"helium\")")
     lookup = known is not None and (viscosity is None or absolute is not None or known not in _LIQUIDS_AT_ROOM)
-    warnings: list[str] = []
+    given_viscosity, given_density = viscosity, density
     state = gas = None
     if lookup:
         assert known is not None
@@ -464,6 +472,8 @@ def _fluid(fsec: Section, cond: Section, theory: Section) -> _FluidInputs:
                 note = vapour_pressure_note(state, *absolute)
                 warnings += [note] if note else []
         name = known
+    if known is not None:
+        warnings += _property_warnings(fsec, known, state, temperature, given_viscosity, given_density)
     assert viscosity is not None
     if gas is None and theory.has("rarefaction") and not helium:
         raise InputError(theory.field("rarefaction"), theory.raw("rarefaction"), "is for gas flow: the fluid is a liquid "
@@ -471,6 +481,66 @@ def _fluid(fsec: Section, cond: Section, theory: Section) -> _FluidInputs:
     with case_keys():
         fluid = Fluid(viscosity, density, name, molecular)
     return _FluidInputs(fluid, dp, temperature, absolute, state, gas, helium or gas is not None, rarefaction, tuple(warnings))
+
+
+#: A given fluid.viscosity or fluid.density this many times above or below the property library's value
+#: for the named fluid gets a warning (the library's correlations are good to a few percent).
+PROPERTY_FACTOR = 2.0
+
+
+def _property_warnings(fsec: Section, known: str, state: FluidState | None, temperature: float,
+                       viscosity: float | None, density: float | None) -> list[str]:
+    """Warnings for a given viscosity or density far (:data:`PROPERTY_FACTOR`) from the library's for the named fluid.
+
+    ``state`` is the looked-up state; a liquid of :data:`_LIQUIDS_AT_ROOM` with its viscosity given
+    and no absolute pressures is not looked up, and is compared (at 1 atm) only when fluid.temperature
+    is given: a liquid's viscosity at 20 °C is then often kept by mistake (water: 1 mPa·s at 20 °C,
+    0.13 mPa·s at 200 °C, where at 1 atm it is steam).
+    """
+    if viscosity is None and density is None:
+        return []
+    if state is None:
+        if not fsec.has("temperature"):
+            return []
+        try:
+            state = fluid_state(known, temperature, STANDARD_PRESSURE)
+        except InputError:  # outside the library's range: nothing to compare with
+            return []
+        if state.is_gas:
+            return [f"{fsec.field('temperature')} = {fsec.raw('temperature')!r}: {known} is a gas at "
+                    f"{temperature - 273.15:.4g} °C and 1 atm, yet the case runs it as a liquid with the given "
+                    f"{fsec.field('viscosity')}; give the absolute conditions.upstream_pressure and downstream_pressure "
+                    "for the library's phase and properties"]
+    where = f"{known} ({state.phase}) at {temperature - 273.15:.4g} °C and {format_quantity(state.pressure, 'pressure', 4)}"
+    out = []
+    for key, given, library, unit, scale in (("viscosity", viscosity, state.viscosity, "mPa·s", 1e3),
+                                             ("density", density, state.density, "kg/m³", 1.0)):
+        if given is not None and library > 0 and not 1 / PROPERTY_FACTOR <= given / library <= PROPERTY_FACTOR:
+            liquid = " (a liquid's?)" if state.is_gas and given > 20 * library else ""
+            out.append(f"{fsec.field(key)} = {fsec.raw(key)!r}{liquid} is {given / library:.3g} times the property "
+                       f"library's {library * scale:.3g} {unit} for {where}: the given value is used; check it")
+    return out
+
+
+def _unknown_fluid(fsec: Section, name: str, absolute: tuple[float, float] | None, exc: InputError) -> list[str]:
+    """A fluid.name outside the property library, with its viscosity given: it runs as an incompressible liquid.
+
+    A near miss of a library name ("helum") is refused when the case gives absolute pressures (a gas
+    test, where a typo would silently turn the gas into a liquid), and warned about otherwise; any
+    other unknown name with absolute pressures gets a warning that it is taken as a liquid.
+    """
+    hint = close_fluid_name(name)
+    if hint and absolute is not None:
+        raise InputError(fsec.field("name"), name, f"unknown fluid{hint}: a fluid outside the property library runs as an "
+                         "incompressible liquid with its fluid.viscosity, never as a gas; use the library's name, or another "
+                         "name for a liquid of your own")
+    if hint:
+        return [f"fluid.name = {name!r} is not in the property library{hint}: it runs as an incompressible liquid with the "
+                "given fluid.viscosity"]
+    if absolute is not None and "oils are not" not in exc.allowed:
+        return [f"fluid.name = {name!r} is not in the property library: it runs as an incompressible liquid with the given "
+                "fluid.viscosity (no gas flow, no vapour-pressure check); a gas must be one of the library's fluids"]
+    return []
 
 
 def _q0_error(seal_section: Section, theory: Section, seal: Seal, q0: float, why: str) -> InputError:

@@ -173,7 +173,8 @@ class TaskStore:
             if not path.exists() or (self.fields and not had_fields):
                 _write_atomic(path, json.dumps(self.manifest, indent=1) + "\n")
         except OSError as exc:
-            raise OutputWriteError(self.folder, exc) from None
+            raise InputError("--store", str(self.folder), f"cannot be written ({exc.strerror or exc}): give a folder "
+                                                          "you may create and write into") from None
 
     @property
     def fields(self) -> bool:
@@ -378,6 +379,12 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
     if fields and store is None:
         raise InputError("--store-fields", None, "needs --store DIR: the fields are kept in the store")
     say = note or (lambda _msg: None)
+    cores = default_workers()
+    if scheduler is None and workers > cores:
+        say(f"--workers {workers} is more than the {cores} core{'s' if cores > 1 else ''} this process may use: a local "
+            f"cluster runs {cores} worker process{'es' if cores > 1 else ''} (more would only share the cores and "
+            "multiply the memory)")
+        workers = cores
 
     def run(tasks: list[EnsembleTask]) -> list[dict[str, Any]]:
         if not tasks:

@@ -33,6 +33,7 @@ from ..lab.rig import DecayRigSetup
 from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
 from ..physics.gas import GasLeak, gas_leak, pressure_integral
+from ..physics.validity import strain_warning
 from .band import BandResult, run_band
 from .model import Case
 from .schema import case_keys
@@ -171,6 +172,8 @@ def decay_prediction(case: Case) -> DecayPrediction:
     else:
         found = {m: _uniform(case, rig, m) for m in models}
         p0 = rig.squeeze_pressure(case.seal)
+        strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
+        messages += [strained + "; check [rig] load"] if strained else []
     scale = case.fluid.viscosity / gas.viscosity  # K ∝ 1/μ: the case's K at the gas's viscosity at T
     out: dict[str, DecayModel] = {}
     for model in models:

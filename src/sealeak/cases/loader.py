@@ -45,6 +45,7 @@ Every unknown section or key, missing field, wrong unit or out-of-range value ra
 from __future__ import annotations
 
 import copy
+import re
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -58,7 +59,8 @@ from .model import Case
 from .schema import SECTIONS, Section
 
 __all__ = ["CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
-           "example_names", "example_text", "example_path", "example_data_names", "example_description", "named_files"]
+           "example_names", "example_text", "example_path", "example_data_names", "example_description", "named_files",
+           "shown_source"]
 
 @dataclass(frozen=True)
 class CaseFile:
@@ -179,6 +181,21 @@ def _examples_dir() -> Any:
     return resources.files("sealeak") / "examples"
 
 
+def shown_source(source: str) -> str:
+    """A case's (or its data file's) path as a report shows it: a bundled example as ``--example NAME`` (or its
+    file name, for data it reads), never the install path; any other path as given."""
+    path = Path(source)
+    try:
+        bundled = path.resolve().parent == Path(str(_examples_dir())).resolve()
+    except OSError:  # pragma: no cover - an unreadable path: show it as given
+        bundled = False
+    if not bundled:
+        return source
+    if path.suffix == ".toml":
+        return f"--example {path.stem}"
+    return f"{path.name} (bundled example data)"
+
+
 def example_names() -> list[str]:
     """Names of the bundled example cases (``--example NAME``)."""
     return sorted(p.name[:-5] for p in _examples_dir().iterdir() if p.name.endswith(".toml"))
@@ -190,11 +207,17 @@ def example_data_names() -> list[str]:
 
 
 def example_description(name: str) -> str:
-    """One line saying what a bundled example is: a case's ``title``, a data file's first comment line."""
+    """What a bundled example is: a case's ``title``; a data file's first sentence of its leading comment
+    (which may run over several comment lines), whole."""
     text = example_text(name)
     if name in example_data_names():
-        first = next((ln for ln in text.splitlines() if ln.startswith("#")), "# example data")
-        return first.lstrip("# ").rstrip(".")
+        comment = []
+        for line in text.splitlines():
+            if not line.startswith("#"):
+                break
+            comment.append(line.lstrip("# ").strip())
+        joined = " ".join(comment) or "example data"
+        return re.split(r"(?<=\.)\s", joined, maxsplit=1)[0].rstrip(".")
     title = next((ln for ln in text.splitlines() if ln.startswith("title")), "")
     return title.split("=", 1)[1].strip().strip('"') if "=" in title else ""
 

@@ -37,7 +37,7 @@ from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.gas import MOLAR_GAS_CONSTANT, Gas, GasLeak, gas_leak, pressure_integral
 from ..physics.properties import fluid_state
 from ..physics.seal import Seal
-from ..physics.validity import assumption_warnings, continuum_verdict
+from ..physics.validity import assumption_warnings, continuum_verdict, strain_warning
 from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, BandTheory, run_band
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
@@ -933,13 +933,11 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                      leak_rate_unit="Pa*m^3/s", outside_validity=outside)
 
 
-def _run_band_fit(case: Case, data: LeakData) -> FitResult:
-    """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
+def _check_file_loads(case: Case, data: LeakData, loads: NDArray[np.float64]) -> None:
+    """The band seal at a data file's loads; a load its relations refuse raises a FileFormatError naming the line and column."""
     band = case.band
-    assert band is not None and data.band_load is not None
-    loads = data.band_load
+    assert band is not None
     column = data.columns.get(band.load_name, band.load_name)
-    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     distinct = np.unique(loads)
     try:
         _band_at(case, distinct)
@@ -952,6 +950,16 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
                 raise FileFormatError(data.path, f"line {data.line_of(row)}, column '{column}': "
                                                  f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
         raise
+
+
+def _run_band_fit(case: Case, data: LeakData) -> FitResult:
+    """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
+    band = case.band
+    assert band is not None and data.band_load is not None
+    loads = data.band_load
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    _check_file_loads(case, data, loads)
+    distinct = np.unique(loads)
     fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
 
     def where(i: int) -> str:
@@ -1022,6 +1030,13 @@ class LinearityCheck:
         return abs(ln.intercept / ln.intercept_std) if ln.intercept_std > 0 else float("nan")
 
 
+#: Why a gas case has no linearity check (docs/theory.md §11.3-11.5).
+_GAS_LINEARITY = ("is for a liquid: it checks Q = K ΔP; the case's fluid is a gas, whose pV throughput between two absolute pressures is "
+                  "Q_pV = K ∫ p f(Kn) dp from P_b to P_a (K (P_a² − P_b²)/2 without rarefaction, docs/theory.md §11.3, "
+                  "§11.5), not linear in ΔP, so a straight line through the readings tests nothing: fit α without "
+                  "--linearity, which applies the gas law row by row (P_a = downstream_pressure + ΔP of each row)")
+
+
 def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
               squeeze_pressure: float | None = None, squeeze_pressure_source: str = "") -> LinearityCheck:
     """Fit Q = slope ΔP + intercept and compare the slope with both models at P0 (docs/theory.md §8).
@@ -1031,6 +1046,8 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     profile scale, 1; None: the case's single load) and the models' slopes are the band's
     K = faces · Ly / ∫dx/σ there (docs/theory.md §10.5).
     """
+    if case.gas is not None:
+        raise InputError("--linearity", None, _GAS_LINEARITY)
     line = fit_line(pressure_difference, leak_rate)
     if case.band is not None:
         return _band_linearity(case, line, squeeze_pressure, squeeze_pressure_source)
@@ -1064,12 +1081,16 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
     column if it has one (one value: the check is at one load), else the case's single load (or its
     [rig] load). A load column that does not fit the case's seal is a FileFormatError.
     """
+    if case.gas is not None:
+        raise InputError("--linearity", None, _GAS_LINEARITY)
     _check_load_column(case, data, required=False)
     if squeeze_pressure is None and data.load_name:
         load = data.load
         if not np.allclose(load, load[0], rtol=1e-6):
             what = {"squeeze_pressure": "squeeze pressure", "compression": "compression", "profile_scale": "profile scale"}
             raise SealeakError(f"{data.path}: a linearity check is at one {what[data.load_name]}; the file has several")
+        if case.band is not None:
+            _check_file_loads(case, data, load[:1])
         squeeze_pressure, squeeze_pressure_source = float(load[0]), "the data file"
     return linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
 
@@ -1178,6 +1199,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         p0 = float(band.mean_contact_pressure[0])
     else:
         p0 = rig.squeeze_pressure(case.seal)
+        strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
+        messages += [strained + "; check [rig] load"] if strained else []
         for model in models:
             ks, notes = _conductance(case, [p0], model)
             k_of[_model_name(case, model)] = float(ks[0])

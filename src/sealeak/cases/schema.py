@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..io.units import parse_quantity
 
 __all__ = ["SECTIONS", "SURFACE_KEYS", "TOP_LEVEL", "REQUIRED", "Section", "CASE_KEYS", "case_keys"]
@@ -114,8 +114,11 @@ class Section:
         value = self.data.get(key, default)
         if value is None:
             raise InputError(self.field(key), None, f"is required; allowed: {', '.join(options)}")
+        if not isinstance(value, str):
+            raise InputError(self.field(key), value, f"must be text; allowed: {', '.join(repr(o) for o in options)}")
         if value not in options:
-            raise InputError(self.field(key), value, f"allowed: {', '.join(repr(o) for o in options)}")
+            raise InputError(self.field(key), value,
+                             f"allowed: {', '.join(repr(o) for o in options)}{did_you_mean(value, options)}")
         return value
 
     def one_of(self, keys: tuple[str, str], dims: tuple[str, str], required: bool = True) -> tuple[str, float] | None:

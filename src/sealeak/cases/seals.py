@@ -18,26 +18,35 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError, UnitError
 from ..io.tables import read_unit_table
-from ..io.units import parse_quantity, unit_factor
-from ..physics.oring import compression_from_groove_depth, oring_contact
+from ..io.units import format_quantity, parse_quantity, unit_factor
+from ..physics.oring import MIN_COMPRESSION, compression_from_groove_depth, oring_contact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
 from .model import BandSeal
 from .schema import Section, case_keys
 
-__all__ = ["is_band_seal", "build_band", "with_loads", "read_pressure_profile", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
+__all__ = ["SEAL_SHAPES", "is_band_seal", "build_band", "with_loads", "read_pressure_profile", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
 
 #: [seal] keys of each band seal, and the [conditions] keys that replace squeeze_pressure.
 BAND_SEAL_KEYS = {"o-ring": {"shape", "cross_section_diameter", "inner_diameter", "mean_diameter", "faces"},
                   "profile": {"pressure_profile", "length", "faces"}}
 BAND_CONDITION_KEYS = {"o-ring": ("compression", "groove_depth"), "profile": ("profile_scale",)}
 
+#: The values of [seal] shape (a seal with a pressure_profile takes none).
+SEAL_SHAPES = ("ring", "rectangle", "o-ring")
+
 _X_NAMES = ("x", "position", "distance")
 _P_NAMES = ("pressure", "p", "contact_pressure")
 
 
 def is_band_seal(seal: Section) -> str | None:
-    """"o-ring" or "profile" when the [seal] section describes a band seal, else None."""
+    """"o-ring" or "profile" when the [seal] section describes a band seal, else None.
+
+    A ``shape`` that is none of :data:`SEAL_SHAPES` is refused here, naming ``seal.shape`` (with
+    "did you mean 'o-ring'?" for "O-ring", "oring", "o_ring"), before any other key of [seal] is read.
+    """
+    if seal.has("shape") and not seal.has("pressure_profile"):
+        seal.choice("shape", SEAL_SHAPES)
     if seal.has("pressure_profile"):
         if seal.has("shape"):
             raise InputError(seal.field("shape"), seal.raw("shape"),
@@ -136,9 +145,10 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
         if has_c:
             eps, raw = _values(cond, "compression", "dimensionless")
             for i, e in enumerate(eps):
-                if not 0 < e < 1:
+                if not MIN_COMPRESSION <= e < 1:
                     raise InputError(f"conditions.compression[{i}]" if len(eps) > 1 else "conditions.compression", raw[i],
-                                     "must lie between 0 and 100 % (ε = squeeze / cross-section diameter)")
+                                     f"must lie between {100 * MIN_COMPRESSION:g} % (a smaller squeeze is below any roughness) "
+                                     "and 100 % (ε = squeeze / cross-section diameter)")
         else:
             depth, raw = _values(cond, "groove_depth", "length")
             with case_keys({"groove_depth": "conditions.groove_depth"}):
@@ -166,9 +176,11 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
                                      raw[i], "must be > 0 (a factor on the file's pressures)")
         else:
             loads = np.ones(1)
+        _check_scales(cond, loads, raw, base)
         profiles = tuple(base.scaled(float(f)) for f in loads)
         notes = (f"pressure profile from {path.name}: {base.x.size} points over w = {base.width * 1e3:.4g} mm, "
-                 f"mean {base.mean_pressure / 1e6:.4g} MPa, max {base.max_pressure / 1e6:.4g} MPa (before profile_scale)",)
+                 f"mean {base.mean_pressure / 1e6:.4g} MPa, max {base.max_pressure / 1e6:.4g} MPa (before profile_scale)",
+                 *_profile_warnings(seal, path, base, length))
         band_args = dict(profile_source=str(path))
         load_name = "profile_scale"
     widths = np.array([p.width for p in profiles])
@@ -178,6 +190,38 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
     with case_keys():
         rect = Seal(width=float(widths.max()), length=length, shape=kind)
     return band, rect, np.array([p.mean_pressure for p in profiles])
+
+
+#: A pressure profile wider than this (m) gets a warning: seal contact bands are some µm to a few cm wide.
+PROFILE_WIDTH_LIMIT = 0.1
+
+#: The largest peak contact pressure (Pa) profile_scale may give: a thousand GPa, beyond any solid's modulus
+#: (the theory's own warning starts at half the rubber's modulus); larger ones overflow the numbers.
+MAX_CONTACT_PRESSURE = 1e12
+
+
+def _check_scales(cond: Section, loads: NDArray[np.float64], raw: list[object], base: PressureProfile) -> None:
+    """Each profile_scale gives a peak pressure that a float holds and the physics can use (<= MAX_CONTACT_PRESSURE)."""
+    with np.errstate(over="ignore"):
+        peaks = loads * base.max_pressure
+    for i, peak in enumerate(peaks):
+        if not (np.isfinite(peak) and peak <= MAX_CONTACT_PRESSURE):
+            raise InputError(f"conditions.profile_scale[{i}]" if len(loads) > 1 else "conditions.profile_scale", raw[i],
+                             f"gives a peak contact pressure of {peak:.3g} Pa: at most {MAX_CONTACT_PRESSURE:.0e} Pa "
+                             f"(the file's peak is {base.max_pressure:.4g} Pa), far beyond any seal")
+
+
+def _profile_warnings(seal: Section, path: Path, base: PressureProfile, length: float) -> tuple[str, ...]:
+    """Warnings on a profile seal's size: a band wider than :data:`PROFILE_WIDTH_LIMIT`, a seal line shorter than its band."""
+    out = []
+    if base.width > PROFILE_WIDTH_LIMIT:
+        out.append(f"the pressure profile {path.name} spans x over {format_quantity(base.width, 'length', 4)}: a seal's contact band is µm to a few "
+                   f"cm wide (warned above {PROFILE_WIDTH_LIMIT * 100:g} cm); check the unit of its x column")
+    if length < base.width:
+        out.append(f"{seal.field('length')} = {seal.raw('length')!r} is shorter than the band's width w = "
+                   f"{format_quantity(base.width, 'length', 4)}: "
+                   "the theory treats the band as a strip much longer than wide (leak channels run across it); check both")
+    return tuple(out)
 
 
 def read_pressure_profile(path: Path) -> PressureProfile:

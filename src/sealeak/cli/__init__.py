@@ -9,7 +9,9 @@ the command line only (``import sealeak`` never touches the backend).
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
+import textwrap
 from collections.abc import Sequence
 
 from .._version import __version__
@@ -44,16 +46,22 @@ def _cmd_examples(args: argparse.Namespace) -> int:
     if args.name:
         sys.stdout.write(example_text(args.name))
         return 0
+    width = max(60, shutil.get_terminal_size((100, 24)).columns - 1)
+
+    def show(name: str) -> None:  # the whole description, wrapped under its name
+        print(textwrap.fill(example_description(name), width, initial_indent=f"  {name:24s} ",
+                            subsequent_indent=" " * 27, break_on_hyphens=False))
+
     print("Bundled example cases (print one with `sealeak examples NAME`, run it with "
           "`sealeak predict --example NAME`):")
     for name in example_names():
-        print(f"  {name:24s} {example_description(name)}")
+        show(name)
     data = example_data_names()
     if data:
         print("Bundled example data (save one with `sealeak examples NAME > NAME`, then e.g. "
               "`sealeak fit --example reference-experiment --data NAME`):")
         for name in data:
-            print(f"  {name:24s} {example_description(name)}")
+            show(name)
     return 0
 
 

@@ -287,6 +287,8 @@ def _pint_unit_text(unit: str) -> str:
         raise _Unreadable("unbalanced brackets")
     if state != "after":
         raise _Unreadable("the unit ends with an operator")
+    if "percent" in out and len(out) > 1:  # "10 % %" would be 0.1 % (percent squared), "5 %/%" 5
+        raise _Unreadable("'%' stands alone in a quantity: write one number, then '%' (e.g. '10 %')")
     return "".join(out)
 
 
@@ -550,6 +552,7 @@ LEAK_RATE_KINDS = {
 _STANDARD_FLOWS = {"sccm": 1e-6 / 60.0, "sccs": 1e-6, "slm": 1e-3 / 60.0, "slpm": 1e-3 / 60.0, "scch": 1e-6 / 3600.0}
 _LEAK_UNITS_ALLOWED = ("a leak rate: a pV throughput ('mbar*l/s', 'Pa*m^3/s', 'Torr*l/s'), a standard volume flow ('sccm', "
                        "'slm'), a molar flow ('mol/s') or a mass flow ('kg/s', 'g/a')")
+_ABSOLUTE_TEMPERATURE_UNITS = "K (kelvin, also mK), degC (°C), degF (°F), degR (rankine)"
 _TEMPERATURE_ALLOWED = "a temperature with its unit, e.g. '20 degC', '20 °C', '293.15 K', '68 degF'"
 
 
@@ -585,6 +588,10 @@ def parse_temperature(field: str, value: Any) -> float:
     if u.dimensionality != ureg.get_dimensionality("[temperature]"):
         hint = " (for degrees Celsius write 'degC' or '°C')" if unit.strip() in ("C", "c", "deg C", "deg") else ""
         raise UnitError(field, value, f"its unit '{unit}' is not a temperature{hint}; give {_TEMPERATURE_ALLOWED}")
+    if "delta" in str(u) or len(unit.split()) > 1 or any(c in unit for c in "*/^()"):
+        # pint's delta_degC (a temperature difference) would read "20 delta_degC" as 20 K = -253 °C
+        raise UnitError(field, value, f"'{unit}' is not the unit of an absolute temperature (a temperature difference or a "
+                                      f"compound unit); allowed units: {_ABSOLUTE_TEMPERATURE_UNITS}; give {_TEMPERATURE_ALLOWED}")
     try:
         kelvin = float(ureg.Quantity(magnitude, u).to("kelvin").magnitude)
     except Exception as exc:  # e.g. a temperature difference unit pint cannot place on the absolute scale

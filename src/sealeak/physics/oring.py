@@ -41,7 +41,8 @@ from .profile import PressureProfile
 
 __all__ = [
     "ORingContact", "oring_contact", "compression_from_groove_depth", "youngs_modulus_from_shore_a", "shore_a_warnings",
-    "HERTZ_UPTO", "LINDLEY_FROM", "LINDLEY_CHECKED_UPTO", "MAX_COMPRESSION", "SHORE_A_CHECKED",
+    "HERTZ_UPTO", "LINDLEY_FROM", "LINDLEY_CHECKED_UPTO", "MAX_COMPRESSION", "MIN_COMPRESSION",
+    "SHORE_A_CHECKED",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -54,6 +55,10 @@ LINDLEY_FROM = 0.10
 LINDLEY_CHECKED_UPTO = 0.30
 #: Compressions from this one on are refused.
 MAX_COMPRESSION = 0.5
+
+#: The smallest compression ε accepted: a squeeze of a millionth of the diameter (2.6 nm on a 2.6 mm ring) is
+#: below any roughness, and much smaller ones underflow the Hertz and Lindley relations.
+MIN_COMPRESSION = 1e-6
 #: Shore A range in which Gent's relation is supported (Gent 1958 for >= 40; ASTM D2240 for <= 90); warned outside.
 SHORE_A_CHECKED = (40.0, 90.0)
 
@@ -260,6 +265,9 @@ def _compressions(compression: ArrayLike) -> FloatArray:
         if not (np.isfinite(e) and e > 0):
             raise InputError(name, float(e), "must be > 0: ε = squeeze/cross-section diameter, and an O-ring that is not squeezed "
                                              "does not seal")
+        if e < MIN_COMPRESSION:
+            raise InputError(name, float(e), f"must be at least {MIN_COMPRESSION:g} ({100 * MIN_COMPRESSION:g} %): a smaller "
+                                             "squeeze is below any roughness, and the O-ring relations underflow there")
         if e >= MAX_COMPRESSION:
             raise InputError(name, float(e), f"must be below {MAX_COMPRESSION:g} ({100 * MAX_COMPRESSION:.0f} %): the published "
                                              f"O-ring relations are checked to about {100 * LINDLEY_CHECKED_UPTO:.0f} %, and a "

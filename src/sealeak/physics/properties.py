@@ -21,10 +21,11 @@ from functools import lru_cache
 from types import ModuleType
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from .gas import MOLAR_GAS_CONSTANT, Gas
 
-__all__ = ["KNOWN_FLUIDS", "FluidState", "fluid_state", "canonical_fluid_name", "known_fluid_names", "property_library",
+__all__ = ["KNOWN_FLUIDS", "FluidState", "fluid_state", "canonical_fluid_name", "close_fluid_name", "known_fluid_names",
+           "property_library",
            "vapour_pressure_note"]
 
 #: name → (CoolProp's name, aliases). Gases at room conditions first, then refrigerants, then liquids.
@@ -97,8 +98,15 @@ def canonical_fluid_name(fluid: str) -> str:
     if _OIL.search(fluid):
         raise InputError("fluid", fluid, "oils are not in the property library: give the oil's viscosity at the seal's "
                                          "temperature by hand (fluid.viscosity, e.g. '46 mPa*s'; from its data sheet)")
-    raise InputError("fluid", fluid, f"unknown fluid; known: {known_fluid_names()}; for any other fluid give its viscosity "
-                                     "(fluid.viscosity)")
+    raise InputError("fluid", fluid, f"unknown fluid{close_fluid_name(fluid)}; known: {known_fluid_names()}; for any other "
+                                     "fluid give its viscosity (fluid.viscosity)")
+
+
+def close_fluid_name(fluid: str) -> str:
+    """" (did you mean 'helium'?)" when ``fluid`` is a near miss of a known name or alias ("helum"), else ""."""
+    spellings = [spelling for name, (_, aliases) in KNOWN_FLUIDS.items() for spelling in (name, *aliases)]
+    hint = did_you_mean(fluid, [s for s in spellings if len(s) > 3])  # "H2", "Ar": any short word is near one
+    return hint
 
 
 def property_library() -> str:

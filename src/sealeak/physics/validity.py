@@ -24,7 +24,7 @@ from ..io.units import format_quantity
 
 __all__ = [
     "MOLECULAR_SIZES", "DEFAULT_MOLECULAR_SIZE", "ATOMIC_SIZE", "SLOPE_LIMIT", "STRAIN_LIMIT", "ALPHA_RANGE",
-    "FULL_CONTACT", "pressures_text", "no_channel_note", "molecular_size", "continuum_verdict", "assumption_warnings",
+    "FULL_CONTACT", "RUBBER_MODULUS_LIMIT", "strain_warning", "pressures_text", "no_channel_note", "molecular_size", "continuum_verdict", "assumption_warnings",
 ]
 
 #: Molecular size d (m) of common fluids, by lower-case name: the kinetic (collision) diameter for
@@ -60,6 +60,11 @@ SLOPE_LIMIT = 1.0
 
 #: P0/E above which the rubber's nominal strain is too large for linear elasticity.
 STRAIN_LIMIT = 0.5
+
+#: Young's modulus (Pa) above which the seal is taken for no rubber: rubbers lie at about 1-100 MPa, hard
+#: elastomers and PTFE below 1 GPa; metals and ceramics at 50-400 GPa neither seal this way nor follow
+#: the O-ring relations.
+RUBBER_MODULUS_LIMIT = 1e9
 
 #: Range of the shape factor α beyond which it is taken for a mistake (it is of order one).
 ALPHA_RANGE = (0.01, 100.0)
@@ -164,12 +169,14 @@ def assumption_warnings(
         out.append(f"the roughness cut-off wavelength 2π/q1 = {cutoff:.3g} m is below atomic size "
                    f"({ATOMIC_SIZE * 1e9:g} nm): no surface is rough on that scale; check the cut-off")
     p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
-    strained = p0 > STRAIN_LIMIT * youngs_modulus
-    if strained.any():
-        p = float(p0[strained].min())
-        out.append(f"at P0 >= {format_quantity(p, 'pressure', 3)} the squeeze pressure exceeds {STRAIN_LIMIT:g} E "
-                   f"(E = {format_quantity(youngs_modulus, 'pressure', 3)}): "
-                   "the rubber's strain is far beyond the linear elasticity the theory assumes")
+    if youngs_modulus > RUBBER_MODULUS_LIMIT:
+        out.append(f"E = {format_quantity(youngs_modulus, 'pressure', 3)} is no rubber's Young's modulus (rubbers: about "
+                   "1 to 100 MPa, hard plastics a few GPa, metals 50 to 400 GPa): the "
+                   "theory assumes a soft elastic seal, and an O-ring's force and contact width follow rubber relations; "
+                   "check rubber.youngs_modulus and its unit")
+    strained = strain_warning(p0, youngs_modulus)
+    if strained:
+        out.append(strained)
     if not ALPHA_RANGE[0] <= alpha <= ALPHA_RANGE[1]:
         out.append(f"α = {alpha:.3g} is far from one: α is a shape factor of the critical constriction, of order one "
                    "(fits to experiment give 0.2 to 1); a value outside 0.01 … 100 points to a mistake, and Q ∝ α")
@@ -182,3 +189,18 @@ def assumption_warnings(
         out.append(f"at P0 >= {format_quantity(float(p0[full].min()), 'pressure', 3)} the rubber is in full contact (A/A0 >= {FULL_CONTACT:g} at "
                    "the roughness cut-off): no leak channel there")
     return out
+
+
+def strain_warning(squeeze_pressure: ArrayLike, youngs_modulus: float, what: str = "the squeeze pressure") -> str:
+    """A warning where a squeeze pressure P0 (Pa) exceeds :data:`STRAIN_LIMIT` × E (Pa), else "".
+
+    ``what`` names where P0 comes from (e.g. "the rig's load gives P0 = 1.78 GPa, which").
+    """
+    p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
+    strained = p0 > STRAIN_LIMIT * youngs_modulus
+    if not strained.any():
+        return ""
+    p = float(p0[strained].min())
+    return (f"at P0 >= {format_quantity(p, 'pressure', 3)} {what} exceeds {STRAIN_LIMIT:g} E "
+            f"(E = {format_quantity(youngs_modulus, 'pressure', 3)}, P0/E = {p / youngs_modulus:.3g}): "
+            "the rubber's strain is far beyond the linear elasticity the theory assumes")

@@ -11,7 +11,7 @@ import functools
 import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, ParamSpec
+from typing import Any, ParamSpec, TypeVar
 
 import matplotlib as mpl
 import numpy as np
@@ -25,10 +25,12 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLoca
 
 __all__ = ["pressure_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
+           "literal_text", "LITERAL_TEXT", "wrap_phrases",
            "invalid_note", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
            "gas_conditions_text", "gas_regime_text", "gas_series"]
 
 P = ParamSpec("P")
+R = TypeVar("R")
 
 #: Characters of a title line at 9 pt that fit the figure's 6.4 in width.
 _TITLE_CHARS = 92
@@ -267,14 +269,36 @@ def new_figure(title: str, figsize: tuple[float, float] | None = None) -> tuple[
     return fig, ax
 
 
+#: Every text of a sealeak figure is drawn as written: user text (titles, labels, study labels, file names) may
+#: hold '$' ("$\\foo$", "h_rms $h_{rms$"), which matplotlib's mathtext would parse (and fail on, or change).
+#: No figure of the project uses mathtext (units are written with Unicode: m³/s, µm, ΔP).
+LITERAL_TEXT: Any = {"text.parse_math": False}
+
+
+def literal_text(make: Callable[P, R]) -> Callable[P, R]:
+    """Decorate a function that makes figures: every text it creates is literal (:data:`LITERAL_TEXT`, no mathtext).
+
+    matplotlib fixes a text's ``parse_math`` when the text is created, so the figure's titles, labels,
+    legends and tick labels set by the function are literal whenever and wherever it is drawn (PNG,
+    report, web). :func:`laid_out` includes this; the other figure functions are decorated with it.
+    """
+    @functools.wraps(make)
+    def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
+        with mpl.rc_context(LITERAL_TEXT):
+            return make(*args, **kwargs)
+    return wrapper
+
+
 def laid_out(make: Callable[P, Figure]) -> Callable[P, Figure]:
     """Decorate a figure function: lay the finished figure out once (constrained layout), then keep that layout.
 
     Constrained layout fits labels, a second axis and a legend below the axes inside the figure, but
     it costs two extra layout passes on every draw; the figures are finished when their function
-    returns, so the layout is computed once and frozen (later draws and savefig reuse it).
+    returns, so the layout is computed once and frozen (later draws and savefig reuse it). Its texts are
+    literal (:func:`literal_text`).
     """
     @functools.wraps(make)
+    @literal_text
     def wrapper(*args: P.args, **kwargs: P.kwargs) -> Figure:
         fig = make(*args, **kwargs)
         engine = fig.get_layout_engine()
@@ -286,10 +310,40 @@ def laid_out(make: Callable[P, Figure]) -> Callable[P, Figure]:
 
 
 def subtitle(ax: Axes, text: str) -> None:
-    """Set the axes title to its heading plus ``text`` on the lines below (long lines wrapped to the figure's width)."""
+    """Set the axes title to its heading plus ``text`` on the lines below (long lines wrapped to the figure's width,
+    at phrase boundaries: :func:`wrap_phrases`)."""
     heading = getattr(ax, "_sealeak_heading", "")
-    lines = [w for line in text.splitlines() for w in (textwrap.wrap(line, _TITLE_CHARS) or [""])] if text else []
+    lines = [w for line in text.splitlines() for w in (wrap_phrases(line, _TITLE_CHARS) or [""])] if text else []
     ax.set_title("\n".join([heading, *lines]), fontsize=9)
+
+
+def _phrases(line: str) -> list[str]:
+    """``line`` cut after each ", " and "; " outside brackets, the separators kept with the phrase before them."""
+    out, start, depth = [], 0, 0
+    for i, ch in enumerate(line):
+        depth += (ch in "([{") - (ch in ")]}")
+        if ch in ",;" and depth <= 0 and line[i + 1:i + 2] == " ":
+            out.append(line[start:i + 2])
+            start = i + 2
+    return out + [line[start:]] if line[start:] else out
+
+
+def wrap_phrases(line: str, width: int) -> list[str]:
+    """``line`` wrapped to ``width`` characters between phrases (after ", " or "; " outside brackets); a phrase
+    longer than a line is wrapped between words. Never breaks "η = 19.6 µPa·s" or "(free molecular)" apart."""
+    lines: list[str] = []
+    current = ""
+    for phrase in _phrases(line):
+        if current and len(current + phrase.rstrip()) > width:
+            lines.append(current.rstrip())
+            current = ""
+        if len(phrase.rstrip()) > width:
+            *full, current = textwrap.wrap(phrase, width, break_on_hyphens=False) or [""]
+            lines += full
+            current += " "
+        else:
+            current += phrase
+    return lines + [current.rstrip()] if current.strip() else lines
 
 
 def say_nothing(ax: Axes, text: str) -> None:

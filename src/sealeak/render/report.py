@@ -29,6 +29,7 @@ from matplotlib.figure import Figure
 from .._version import __version__
 from ..cases import Case, CaseResult
 from ..cases.leak_tests import DecayPrediction
+from ..cases.loader import shown_source
 from ..lab.rig import RigSetup
 from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
@@ -221,7 +222,7 @@ def _band_section(results: Sequence[CaseResult]) -> list[str]:
                     f"diameter {(band.mean_diameter or 0) * 1e3:.4g} mm: seal line length Ly = {band.length * 1e3:.4g} mm; "
                     f"{_e(faces)}.</p>"]
         else:
-            part = [f"<p>Pressure profile from <code>{_e(band.profile_source or '—')}</code>, seal line length "
+            part = [f"<p>Pressure profile from <code>{_e(shown_source(band.profile_source) if band.profile_source else '—')}</code>, seal line length "
                     f"Ly = {band.length * 1e3:.4g} mm; {_e(faces)}.</p>"]
         part += [f"<p class=\"note\">{_e(note)}</p>" for note in band.notes[:1]]
         load_head = "compression ε (%)" if band.load_name == "compression" else "profile scale (1)"
@@ -324,7 +325,7 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
                         "<body>", f"<h1>{_e(first.title)}</h1>",
                         f"<p>sealeak {_e(__version__)} — leak rate of a rubber seal from surface roughness "
                         "(Persson contact mechanics, percolation, Poiseuille flow; Lorenz &amp; Persson, "
-                        f"EPL 86 (2009) 44006). Case file: <code>{_e(first.source or '—')}</code>"
+                        f"EPL 86 (2009) 44006). Case file: <code>{_e(shown_source(first.source) if first.source else '—')}</code>"
                         + (f"; a study of {len(cases)} variants." if len(cases) > 1 else ".") + "</p>"]
 
     parts.append("<h2 id=\"inputs\">Inputs</h2>")

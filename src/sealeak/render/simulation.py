@@ -17,7 +17,7 @@ from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
 from .figures import pressure_axis
-from .plotstyle import scale_functions
+from .plotstyle import literal_text, scale_functions
 from .records import case_summary, json_document, json_value
 from .text import fmt
 
@@ -200,6 +200,7 @@ def _spread_legend(realizations: int) -> str:
             f"the standard error of a mean is sd/√{realizations}")
 
 
+@literal_text
 def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     """The figures of ``sealeak simulate --plots``: leak rate, α and a contact map, by file name."""
     figs = {}
@@ -293,10 +294,17 @@ def _contact_map(ax: Any, maps: dict[int, NDArray[np.bool_]], percolates: NDArra
 
 def _numerical_points(ax: Any, x: NDArray[np.float64], q: NDArray[np.float64], q_std: NDArray[np.float64],
                       label: str) -> NDArray[np.bool_]:
-    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis); which were drawn."""
+    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis), and the
+    loads where no realisation leaks (no channel percolates: Q = 0, off a log axis) as × at the bottom edge of the
+    axes, with a legend entry; returns which leak rates were drawn as points."""
     ok = q > 0
     std = np.nan_to_num(q_std[ok])
-    ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, label=label)
+    bars = ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, label=label)
+    sealed = q == 0
+    if sealed.any():  # y in axes units: on the bottom edge whatever the leak-rate range
+        ax.plot(x[sealed], np.full(int(sealed.sum()), 0.0), "x", ms=6, mew=1.5, color=bars[0].get_color(),
+                transform=ax.get_xaxis_transform(), clip_on=False,
+                label="numerical: no leak channel in any realisation (Q = 0), × at the bottom")
     return np.asarray(ok, dtype=bool)
 
 
@@ -491,6 +499,7 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
     return "\n".join(lines) + "\n"
 
 
+@literal_text
 def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, Figure]:
     """The figures of ``sealeak simulate --plots`` for an O-ring: leak rate, α, a contact map, the pressure across the band."""
     figs: dict[str, Figure] = {}

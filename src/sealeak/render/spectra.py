@@ -20,6 +20,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLoca
 
 from ..errors import InputError
 from ..topography import Analysis, BinnedSpectrum
+from .plotstyle import literal_text
 
 __all__ = ["plot_spectra", "spectrum_gaps"]
 
@@ -77,6 +78,7 @@ def _log_ticks(axis: Axis, lo: float, hi: float) -> None:
     axis.set_minor_formatter(NullFormatter())
 
 
+@literal_text
 def plot_spectra(analysis: Analysis | Sequence[BinnedSpectrum], path: str | Path | None = None,
                  *, title: str | None = None) -> Figure:
     """Log-log figure of each source's binned C(q) (reliable bins filled, others faint, with a legend
