@@ -34,7 +34,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     if not 0 <= args.port <= 65535:
         raise InputError("--port", args.port, "must be a port number 0..65535")
     if not args.session_timeout > 0:
-        raise InputError("--session-timeout", args.session_timeout, "must be > 0 (minutes)")
+        shown = int(args.session_timeout) if args.session_timeout.is_integer() else args.session_timeout  # as typed: 0, not 0.0
+        raise InputError("--session-timeout", shown, "must be > 0 (minutes)")
     config = WebConfig(max_upload=_size(args.max_upload), session_idle=60.0 * args.session_timeout)
     serve(args.host, args.port, config, quiet=args.quiet)
     return 0

@@ -45,7 +45,19 @@ from ..errors import FileFormatError, InputError, SealeakError
 from ..render import analysis_json, html_report, prediction_csv, prediction_figures, render_figures
 from ..render.interactive import prediction_plot_data
 from ..topography import analysis_options, analyze, cli_option_names
-from .casework import PredictionCache, check_files, doc_fields, field_of, fields_doc, file_names, form_schema, toml_text, upload_name
+from .casework import (
+    PredictionCache,
+    check_files,
+    doc_fields,
+    edit_text,
+    field_of,
+    file_names,
+    form_schema,
+    resolve_files,
+    syntax_error,
+    toml_text,
+    upload_name,
+)
 from .jobs import Job, start_job
 from .sessions import COOKIE, Session, SessionStore
 
@@ -240,8 +252,9 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     # ------------------------------------------------------------------ the case of the session
     def case_state(s: Session, predict: bool = False) -> dict[str, Any]:
         """The session's case for the pages: TOML, form fields, valid or the loader's error, and its prediction."""
+        uploads = sorted(s.uploaded())
         out: dict[str, Any] = {"name": s.case_name, "toml": s.case_text, "fields": {}, "valid": False, "error": None,
-                               "uploads": sorted(s.uploaded())}
+                               "uploads": uploads, "upload_names": {n: s.upload_names.get(n, n) for n in uploads}}
         if s.case_text is None:
             return out
         try:
@@ -285,32 +298,75 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         s.case_text, s.case_name = text, f"{name}.toml"
         return case_state(s)
 
-    @app.post("/api/case/upload")
-    async def case_upload(request: Request, file: UploadFile) -> dict[str, Any]:
-        """Start from an uploaded case file."""
+    def _syntax(text: str, source: str) -> JSONResponse | None:
+        """400 naming the line and column where ``text`` stops being TOML (the session's case unchanged), else None."""
+        where = syntax_error(text)
+        if where is None:
+            return None
+        msg = f"{source}: {where['message']}"
+        return JSONResponse({"error": msg, "field": "toml", "message": f"sealeak: error: {msg}", "line": where["line"],
+                             "column": where["column"]}, status_code=400)
+
+    @app.post("/api/case/upload", response_model=None)
+    async def case_upload(request: Request, file: UploadFile) -> dict[str, Any] | JSONResponse:
+        """Start from an uploaded case file (one that is not TOML is refused naming its line; the case stays)."""
         s = session_of(request)
         data = await file.read()
-        name = upload_name(Path(file.filename or "case.toml").name)
+        name = upload_name(file.filename or "case.toml")
         try:
             text = data.decode("utf-8-sig")
         except UnicodeDecodeError:
             raise FileFormatError(name, "is not UTF-8 text") from None
+        bad = _syntax(text, name)
+        if bad is not None:
+            return bad
         s.case_text, s.case_name = text, name
         return case_state(s)
 
+    def _body(body: dict[str, Any], allowed: dict[str, type]) -> None:
+        """Refuse (400) a request body with a member it does not take, or one of the wrong type, naming it."""
+        for key, value in body.items():
+            want = allowed.get(key)
+            if want is None:
+                raise InputError(str(key), value, "is not a member of this request; it takes " +
+                                 ", ".join(f"'{k}'" for k in allowed))
+            if not isinstance(value, want):
+                raise InputError(str(key), value, f"must be {'an object' if want is dict else want.__name__}")
+
     @app.put("/api/case/fields")
     def case_fields(request: Request, body: dict[str, Any]) -> dict[str, Any]:
-        """Replace the session's case by the form's fields; answer whether it is valid (and its prediction)."""
+        """Apply the form's fields to the session's case (its comments kept); answer whether it is valid (and its prediction).
+
+        The body is ``{"fields": {"section.key": "text", ...}, "predict": false}``; a member of another
+        name or type, or a field that is not text, is refused (400, the case unchanged)."""
         s = session_of(request)
+        _body(body, {"fields": dict, "predict": bool})
         fields = body.get("fields", {})
-        if not isinstance(fields, dict):
-            raise InputError("fields", type(fields).__name__, "must be an object of 'section.key': text")
+        for name, value in fields.items():
+            if not isinstance(value, str):
+                raise InputError(str(name), value, "must be text: every form field is sent as text, e.g. \"0.8\" or "
+                                                   "\"2.3 MPa\"")
         try:
-            doc = fields_doc({str(k): v for k, v in fields.items()})
+            text = edit_text(s.case_text, fields)
         except InputError as exc:
             return {"valid": False, "error": {"message": str(exc), "field": field_of(exc)}, "toml": s.case_text,
-                    "fields": fields, "name": s.case_name, "uploads": sorted(s.uploaded())}
-        s.case_text = toml_text(doc)
+                    "fields": fields, "name": s.case_name, "uploads": sorted(s.uploaded()),
+                    "upload_names": {n: s.upload_names.get(n, n) for n in s.uploaded()}}
+        s.case_text = text
+        return case_state(s, predict=bool(body.get("predict")))
+
+    @app.put("/api/case/toml", response_model=None)
+    def case_toml(request: Request, body: dict[str, Any]) -> dict[str, Any] | JSONResponse:
+        """Replace the session's case by TOML text (the editor): ``{"toml": "...", "predict": false}``.
+
+        Text that is not TOML is refused (400, with its line and column) and the case stays as it was."""
+        s = session_of(request)
+        _body(body, {"toml": str, "predict": bool})
+        text = body.get("toml", "")
+        bad = _syntax(text, s.case_name)
+        if bad is not None:
+            return bad
+        s.case_text = text
         return case_state(s, predict=bool(body.get("predict")))
 
     @app.put("/api/case/surface")
@@ -349,6 +405,28 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         if s.case_text is None:
             raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
         return _download(s.case_text, s.case_name, "application/toml")
+
+    @app.get("/download/bundle.zip")
+    def download_bundle(request: Request) -> Response:
+        """The case file and the uploaded files it names, zipped: ``sealeak predict`` runs it as it is unzipped."""
+        s = session_of(request)
+        if s.case_text is None:
+            raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
+        stem = s.case_name[:-5] if s.case_name.endswith(".toml") else s.case_name
+        try:
+            doc = tomllib.loads(s.case_text)
+        except tomllib.TOMLDecodeError:
+            doc = {}
+        uploaded = s.uploaded()
+        check_files(doc, uploaded)  # a case naming a file not uploaded here cannot be bundled (the loader says which)
+        resolved = resolve_files(doc, uploaded)
+        text = s.case_text if resolved is doc else toml_text(resolved)  # names the files as they are in the zip
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
+            z.writestr(f"{stem}/{s.case_name}", text)
+            for name in sorted({n for _, v in file_names(resolved) for n in (v if isinstance(v, list) else [v])}):
+                z.write(s.uploads_path / name, f"{stem}/{name}")
+        return _download(buf.getvalue(), f"{stem}.zip", "application/zip")
 
     @app.get("/download/results.json")
     def download_json(request: Request) -> Response:
@@ -396,9 +474,10 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
             raise FileFormatError(field, f"no file uploaded: send one or more files in the form field '{field}'")
         names = []
         for f in uploads:
-            name = upload_name(Path(f.filename or "").name)
+            name = upload_name(f.filename or "")  # the user's name is shown; the file is stored under a safe one
             with open(s.uploads / name, "wb") as out:
                 shutil.copyfileobj(f.file, out)
+            s.upload_names[name] = str(f.filename or name)
             names.append(name)
         return names
 
@@ -407,7 +486,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         """Upload files a case may name (form field ``files``): a C(q) table, a pressure profile, topographies."""
         s = session_of(request)
         names = await _save_uploads(s, await request.form(), "files")
-        return {"uploaded": names, "uploads": sorted(s.uploaded())}
+        return {"uploaded": names, "uploads": sorted(s.uploaded()),
+                "upload_names": {n: s.upload_names.get(n, n) for n in s.uploaded()}}
 
     @app.get("/api/uploads")
     def list_uploads(request: Request) -> dict[str, Any]:
@@ -473,8 +553,9 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
                 raise SealeakError(f"{running} simulations are running in this session already (at most {cfg.max_jobs}): "
                                    "wait for one to finish or cancel one")
             doc = tomllib.loads(s.case_text or "")
-            names = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
-            job = start_job(s.jobs_folder, s.case_text or "", s.case_name, [s.uploads / n for n in sorted(names)],
+            resolved = resolve_files(doc, s.uploaded())  # the files as they are stored, the case naming them so
+            names = {n for _, v in file_names(resolved) for n in (v if isinstance(v, list) else [v])}
+            job = start_job(s.jobs_folder, (s.case_text or "") if resolved is doc else toml_text(resolved), s.case_name, [s.uploads / n for n in sorted(names)],
                             pred.case_file.cases[0].title, opts["grid"], opts["realizations"], opts["seed"],
                             opts["workers"])
             s.jobs[job.id] = job
