@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import re
 import tomllib
+from pathlib import Path
 
 import pytest
 
 from sealeak.cases import example_names, example_text, parse_case_file
 from sealeak.cases.form import FIELD_KINDS, FORM_SECTIONS
+from sealeak.cases.form_help import FIELD_HELP
 from sealeak.cases.rig_builders import RIG_KEYS
 from sealeak.cases.schema import SECTIONS, TOP_LEVEL
 from sealeak.errors import InputError
@@ -132,3 +134,26 @@ def test_editing_fields_changes_only_what_changed():
     assert "[rubber]" not in removed and "# notes" in removed
     added = edit_text(text, dict(fields, **{"conditions.squeeze_pressure": '{start = "1 kPa", stop = "1 MPa", num = 3}'}))
     assert tomllib.loads(added)["conditions"] == {"squeeze_pressure": {"start": "1 kPa", "stop": "1 MPa", "num": 3}}
+
+
+def _documented_rows() -> dict[str, tuple[str, str]]:
+    """Each key's first row in docs/case-files.md: (its meaning without links and code marks, its section's anchor)."""
+    text = (Path(__file__).resolve().parents[2] / "docs" / "case-files.md").read_text(encoding="utf-8")
+    rows: dict[str, tuple[str, str]] = {}
+    anchor = ""
+    for line in text.splitlines():
+        if line.startswith("## "):  # MkDocs' anchor of the heading: lower case, no punctuation, words joined by -
+            anchor = re.sub(r"[-\s]+", "-", re.sub(r"[^\w\s-]", "", line[3:].replace("`", "").strip().lower())).strip("-")
+        m = re.match(r"\| `([A-Za-z0-9_.]+)(?: = [^`]*)?` \| (.*?) \|", line)
+        if m and m.group(1) in FIELD_KINDS and m.group(1) not in rows:
+            rows[m.group(1)] = (re.sub(r"\[([^\]]+)\]\([^)]+\)", r"\1", m.group(2)).replace("`", ""), anchor)
+    return rows
+
+
+def test_every_key_has_a_label_and_the_help_of_the_reference():
+    rows = _documented_rows()
+    assert set(FIELD_HELP) == set(FIELD_KINDS) == set(rows)
+    for name, h in FIELD_HELP.items():
+        assert h.label and h.label[0].isupper() or h.label.startswith("rms"), name
+        assert (h.help, h.anchor) == rows[name], f"{name}: its help differs from docs/case-files.md"
+    assert len({h.label for n, h in FIELD_HELP.items() if n.startswith("surface.")}) == len(FORM_SECTIONS["surface"])

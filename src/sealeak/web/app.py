@@ -1,4 +1,4 @@
-"""The web app: four pages (case, surface, prediction, simulation) and a JSON API, on FastAPI.
+"""The web app: five pages (case, surface, prediction, simulation, help on every case-file key) and a JSON API, on FastAPI.
 
 Pages are static HTML with a small script (``static/app.js``) and Plotly.js served from the
 ``plotly`` package (no network needed). The API runs cases through :mod:`sealeak.cases` and renders
@@ -48,6 +48,7 @@ from ..topography import analysis_options, analyze, cli_option_names
 from .casework import (
     PredictionCache,
     check_files,
+    display_units,
     doc_fields,
     edit_text,
     field_of,
@@ -68,7 +69,8 @@ log = logging.getLogger("sealeak.web")
 #: The default upload limit (bytes): 200 MB.
 DEFAULT_MAX_UPLOAD = 200 * 10**6
 _STATIC = resources.files("sealeak") / "web" / "static"
-_PAGES = {"case": "case.html", "surface": "surface.html", "prediction": "prediction.html", "simulation": "simulation.html"}
+_PAGES = {"case": "case.html", "surface": "surface.html", "prediction": "prediction.html", "simulation": "simulation.html",
+          "help": "help.html"}
 
 
 @dataclass(frozen=True)
@@ -275,8 +277,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
 
     @app.get("/api/form")
     def form() -> dict[str, Any]:
-        """The case form: sections, keys, each key's kind; the bundled examples."""
-        return {"sections": form_schema(),
+        """The case form: sections, keys, each key's kind, label and help; the display units; the bundled examples."""
+        return {"sections": form_schema(), "units": display_units(),
                 "examples": [{"name": n, "description": example_description(n)} for n in example_names()]}
 
     @app.get("/api/case")
@@ -298,18 +300,18 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         s.case_text, s.case_name = text, f"{name}.toml"
         return case_state(s)
 
-    def _syntax(text: str, source: str) -> JSONResponse | None:
-        """400 naming the line and column where ``text`` stops being TOML (the session's case unchanged), else None."""
+    def _rejected(s: Session, text: str, source: str) -> dict[str, Any] | None:
+        """None if ``text`` is TOML; else the session's case as it is (unchanged) with ``rejected``: where the text
+        stops being TOML (``message``, ``line``, ``column``), for the page to show in place."""
         where = syntax_error(text)
         if where is None:
             return None
         msg = f"{source}: {where['message']}"
-        return JSONResponse({"error": msg, "field": "toml", "message": f"sealeak: error: {msg}", "line": where["line"],
-                             "column": where["column"]}, status_code=400)
+        return case_state(s) | {"rejected": {"message": msg, "field": "toml", "line": where["line"], "column": where["column"]}}
 
-    @app.post("/api/case/upload", response_model=None)
-    async def case_upload(request: Request, file: UploadFile) -> dict[str, Any] | JSONResponse:
-        """Start from an uploaded case file (one that is not TOML is refused naming its line; the case stays)."""
+    @app.post("/api/case/upload")
+    async def case_upload(request: Request, file: UploadFile) -> dict[str, Any]:
+        """Start from an uploaded case file (one that is not TOML is answered with ``rejected``; the case stays)."""
         s = session_of(request)
         data = await file.read()
         name = upload_name(file.filename or "case.toml")
@@ -317,7 +319,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
             text = data.decode("utf-8-sig")
         except UnicodeDecodeError:
             raise FileFormatError(name, "is not UTF-8 text") from None
-        bad = _syntax(text, name)
+        bad = _rejected(s, text, name)
         if bad is not None:
             return bad
         s.case_text, s.case_name = text, name
@@ -355,15 +357,15 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         s.case_text = text
         return case_state(s, predict=bool(body.get("predict")))
 
-    @app.put("/api/case/toml", response_model=None)
-    def case_toml(request: Request, body: dict[str, Any]) -> dict[str, Any] | JSONResponse:
+    @app.put("/api/case/toml")
+    def case_toml(request: Request, body: dict[str, Any]) -> dict[str, Any]:
         """Replace the session's case by TOML text (the editor): ``{"toml": "...", "predict": false}``.
 
-        Text that is not TOML is refused (400, with its line and column) and the case stays as it was."""
+        Text that is not TOML is answered with ``rejected`` (its line and column); the case stays as it was."""
         s = session_of(request)
         _body(body, {"toml": str, "predict": bool})
         text = body.get("toml", "")
-        bad = _syntax(text, s.case_name)
+        bad = _rejected(s, text, s.case_name)
         if bad is not None:
             return bad
         s.case_text = text

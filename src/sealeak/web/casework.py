@@ -28,11 +28,13 @@ import tomlkit
 
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
+from ..cases.form_help import FIELD_HELP
 from ..cases.schema import SURFACE_KEYS
 from ..errors import InputError
+from ..io.units import STANDARD_PRESSURE, leak_rate_unit, unit_factor
 from ..render import prediction_json
 
-__all__ = ["FILE_KEYS", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text", "text_value", "toml_text",
+__all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text", "text_value", "toml_text",
            "syntax_error", "check_files", "file_names", "upload_name", "resolve_files", "field_of", "Prediction",
            "PredictionCache"]
 
@@ -53,9 +55,34 @@ def form_schema() -> list[dict[str, Any]]:
         for key in keys:
             k = field_kind(section, key)
             models = [m for m, keys in SURFACE_KEYS.items() if key in keys] if section == "surface" else []
-            fields.append({"name": f"{section}.{key}" if section else key, "key": key, "kind": k.kind,
-                           "dimension": k.dimension, "choices": list(k.choices), "example": k.example, "models": models})
+            name = f"{section}.{key}" if section else key
+            h = FIELD_HELP[name]
+            fields.append({"name": name, "key": key, "kind": k.kind, "dimension": k.dimension, "choices": list(k.choices),
+                           "example": k.example, "models": models, "label": h.label, "help": h.help, "anchor": h.anchor})
         out.append({"section": section, "fields": fields})
+    return out
+
+
+#: The units a user may show results in, per dimension (the first is SI, the unit of the JSON records).
+DISPLAY_UNITS = {
+    "pressure": ["Pa", "kPa", "bar", "psi", "MPa"],
+    "length": ["m", "mm", "µm", "nm"],
+    "volume_flow": ["m³/s", "ml/min", "mm³/s", "l/h"],
+    "throughput": ["Pa·m³/s", "mbar·l/s"],
+}
+
+
+def display_units() -> dict[str, list[dict[str, Any]]]:
+    """Each dimension's display units with the factor from SI (value shown = value in SI / factor), taken from
+    :mod:`sealeak.io.units` (the library's unit tables). A gas's standard volume flow (``sccm``) is listed with
+    the throughput: its factor depends on the gas temperature, so the page takes it from the results' own
+    ``leak_rate_sccm`` column; its factor here is that of 0 °C."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for dimension, names in DISPLAY_UNITS.items():
+        out[dimension] = [{"name": n, "factor": unit_factor("unit", n.replace("·", "*").replace("³", "^3").replace("µ", "u"),
+                                                            dimension)} for n in names]
+    _kind, sccm = leak_rate_unit("unit", "sccm")  # m³/s at 0 °C and 101325 Pa per sccm
+    out["throughput"].append({"name": "sccm", "factor": sccm * STANDARD_PRESSURE, "column": "leak_rate_sccm"})
     return out
 
 
