@@ -794,9 +794,10 @@ async function refreshJobs() {
       : j.state === "done" ? `<button class="secondary show" data-id="${j.id}">Show result</button>` : "";
     return `<tr data-job="${j.id}"><td>${j.id}</td><td>${esc(j.title)}</td><td>${esc(opts)}</td>
       <td class="state state-${j.state}">${j.state}${j.message && j.state !== "cancelled" ? `: ${esc(j.message)}` : ""}</td>
-      <td><span class="progress"><div style="width:${pct}%"></div></span> ${j.total ? `${j.done}/${j.total} tasks` : ""}</td>
+      <td><span class="progress"><div data-pct="${pct}"></div></span> ${j.total ? `${j.done}/${j.total} tasks` : ""}</td>
       <td>${j.elapsed} s</td><td>${action}</td></tr>`;
   }).join("") || '<tr><td colspan="7" class="muted">no simulation yet</td></tr>';
+  $$("#jobs .progress > div").forEach(d => { d.style.width = `${d.dataset.pct}%`; });  // CSSOM: no style attribute (CSP)
   $$("#jobs .cancel").forEach(b => b.addEventListener("click", async () => {
     try { await api("POST", `/api/jobs/${b.dataset.id}/cancel`); } catch (e) { showMessage(e.message); }
     refreshJobs();
