@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 import zipfile
 from pathlib import Path
 
@@ -112,6 +113,9 @@ def test_results_in_the_units_the_user_chooses(page, artifacts, tmp_path, monkey
     assert "(ml/min)" in page.evaluate("document.getElementById('plot-leak').layout.yaxis.title.text")
     x = page.evaluate("document.getElementById('plot-leak').data[0].x")
     assert x == pytest.approx([r["squeeze_pressure"] / 1e5 for r in row], rel=1e-9)
+    names = page.evaluate("document.getElementById('plot-area').data.map(t => t.name)")
+    assert names and all(re.fullmatch(r"P0 = [0-9.e+-]+ bar", n) for n in names), names
+    assert "P0 = 0.2 bar" in names  # the first pressure of the sweep, 20 kPa
     page.screenshot(path=str(artifacts / "prediction-units.png"), full_page=False)
     goto(page, "/prediction")  # the choice is kept
     assert page.input_value("#unit-pressure") == "bar"

@@ -557,8 +557,15 @@ function leakCurves(p, rows, tagAll, style = {}) {
   return { traces, marks };
 }
 
+// a set's label ("P0 = 20 kPa", after a study's label) with its pressure in the chosen unit
+function setLabel(s) {
+  return s.label.replace(/P0 = .*$/, `P0 = ${fmt(Units.show(s.squeeze_pressure, "pressure"))} ${Units.name("pressure")}`);
+}
+
 function drawPlots(pred) {
-  const p = pred.plots;
+  const p = { ...pred.plots };
+  p.sets = p.sets.map(s => ({ ...s, label: setLabel(s) }));
+  p.gaps = { ...p.gaps, labels: p.sets.map(s => s.label) };
   const rows = pred.json.results;
   const { traces: leak, marks } = leakCurves(p, rows, false);
   const pinned = Pins.curves();
