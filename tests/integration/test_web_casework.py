@@ -168,3 +168,10 @@ def test_a_bundle_of_a_case_without_files_is_its_toml(client):
     z = zipfile.ZipFile(io.BytesIO(client.get("/download/bundle.zip").content))
     assert z.namelist() == ["reference-experiment/reference-experiment.toml"]
     assert z.read("reference-experiment/reference-experiment.toml").decode() == REF
+
+
+def test_a_simulation_option_given_as_a_float_is_named_as_given(client):
+    client.post("/api/case/example", json={"name": "reference-experiment"})
+    r = client.post("/api/jobs", json={"grid": 64.0})
+    assert r.status_code == 422 and r.json()["error"] == "--grid = 64.0: must be an integer"
+    assert client.get("/api/jobs").json() == []  # refused before any process started
