@@ -234,3 +234,16 @@ def test_the_case_bundle_holds_the_case_and_its_files(page, tmp_path):
     z = zipfile.ZipFile(io.BytesIO(Path(dl.value.path()).read_bytes()))
     assert sorted(z.namelist()) == ["lip/lip-profile.csv", "lip/lip.toml"]
     assert z.read("lip/lip-profile.csv").decode() == example_text("lip-profile.csv")
+
+
+def test_an_instrument_file_name_is_accepted_and_shown_with_its_stored_name(page, tmp_path):
+    name = "Lippe Ø5 µm #3;Prüfung.csv"
+    (tmp_path / name).write_text(example_text("lip-profile.csv"), encoding="utf-8")
+    (tmp_path / "lip.toml").write_text(example_text("lip-profile").replace("lip-profile.csv", name), encoding="utf-8")
+    goto(page, "/case")
+    page.set_input_files("#data-files", str(tmp_path / name))
+    page.wait_for_selector("#uploads:has-text('uploaded as')")
+    page.set_input_files("#case-file", str(tmp_path / "lip.toml"))
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
+    assert page.inner_text("#uploads") == f"Lippe O5 um _3_Prufung.csv (uploaded as {name})"
+    assert page.input_value('[name="seal.pressure_profile"]') == name
