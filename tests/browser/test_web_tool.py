@@ -79,18 +79,23 @@ def test_the_toml_editor_and_the_form_stay_in_step_and_comments_are_kept(page, a
     assert Path(dl.value.path()).read_text(encoding="utf-8") == text
 
 
-def test_an_uploaded_case_with_a_syntax_error_keeps_the_form(page, tmp_path):
+def test_an_uploaded_case_with_a_syntax_error_keeps_the_form(page, artifacts, tmp_path):
     load_example(page)
     bad = example_text("reference-experiment").replace("hurst = 0.8", "hurst = 0.8 0.9")
     (tmp_path / "broken.toml").write_text(bad, encoding="utf-8")
     page.set_input_files("#case-file", str(tmp_path / "broken.toml"))
-    page.wait_for_selector("#message:has-text('broken.toml was not loaded')")
+    page.wait_for_selector("#message:has-text('Not loaded: the form keeps the current case')")
     line = bad.splitlines().index("hurst = 0.8 0.9") + 1
     assert f"line {line}" in page.inner_text("#message")
     assert page.input_value('[name="surface.hurst"]') == "0.8"  # the form keeps the current case
     assert page.inner_text("#case-name") == "case: reference-experiment.toml"
     assert page.input_value("#toml-editor") == bad  # the file waits in the editor, its error marked
     assert page.inner_text("#toml-error").startswith(f"line {line}, column")
+    page.screenshot(path=str(artifacts / "case-upload-syntax-error.png"), full_page=False)
+    page.fill("#toml-editor", bad.replace("hurst = 0.8 0.9", "hurst = 0.9"))  # fixed in the editor: now it is the case
+    page.wait_for_function("document.querySelector('[name=\"surface.hurst\"]').value === '0.9'")
+    assert page.inner_text("#case-name") == "case: broken.toml"
+    assert page.is_hidden("#toml-error")
 
 
 def test_results_in_the_units_the_user_chooses(page, artifacts, tmp_path, monkeypatch, capsys):

@@ -98,6 +98,9 @@ def test_the_toml_editor_replaces_the_case_or_names_the_line_of_its_error(client
     assert bad.status_code == 200 and bad.json()["rejected"]["line"] == 1 and bad.json()["toml"] == text
     assert client.get("/api/case").json()["toml"] == text
     assert client.put("/api/case/toml", json={"toml": 5}).status_code == 422
+    assert client.put("/api/case/toml", json={"toml": text, "nmae": "x.toml"}).json()["field"] == "nmae"
+    fixed = client.put("/api/case/toml", json={"toml": text, "name": "Prüfung Ø5.toml"}).json()  # a fixed upload, named
+    assert fixed["name"] == "Prufung O5.toml" and fixed["toml"] == text
 
 
 @pytest.mark.parametrize("body, field", [

@@ -359,16 +359,18 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
 
     @app.put("/api/case/toml")
     def case_toml(request: Request, body: dict[str, Any]) -> dict[str, Any]:
-        """Replace the session's case by TOML text (the editor): ``{"toml": "...", "predict": false}``.
+        """Replace the session's case by TOML text (the editor): ``{"toml": "...", "predict": false}``, and
+        ``"name"`` (the file's name) for a file that was uploaded with a syntax error and fixed in the editor.
 
         Text that is not TOML is answered with ``rejected`` (its line and column); the case stays as it was."""
         s = session_of(request)
-        _body(body, {"toml": str, "predict": bool})
+        _body(body, {"toml": str, "predict": bool, "name": str})
         text = body.get("toml", "")
-        bad = _rejected(s, text, s.case_name)
+        name = upload_name(body["name"]) if "name" in body else s.case_name
+        bad = _rejected(s, text, name)
         if bad is not None:
             return bad
-        s.case_text = text
+        s.case_text, s.case_name = text, name
         return case_state(s, predict=bool(body.get("predict")))
 
     @app.put("/api/case/surface")

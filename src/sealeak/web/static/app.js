@@ -315,14 +315,16 @@ const Editor = {
   async submit() {
     const ed = this.el();
     try {
-      const state = await Form.send("PUT", "/api/case/toml", { toml: ed.value, predict: Form.predict });
+      const body = { toml: ed.value, predict: Form.predict };
+      if (this.held) body.name = this.held;  // an uploaded file fixed here becomes the case, under its name
+      const state = await Form.send("PUT", "/api/case/toml", body);
       if (state.rejected) {  // not TOML: the case (and the form) stay as they were
         this.error(state.rejected);
         const st = $("#status");
         if (st) st.textContent = "the TOML has an error (under the editor); the form keeps the last valid case";
         return;
       }
-      this.held = false;
+      this.held = null;
       this.error(null);
       Form.render(state); Form.apply(state);
     } catch (e) {
@@ -331,12 +333,14 @@ const Editor = {
   },
 
   // text that is not TOML: shown in the editor with the message, the line and a caret under the column; the case is unchanged
-  hold(text, err) {
+  hold(text, err, name) {
     const ed = this.el();
     if (!ed) return;
     ed.value = text;
-    this.held = true;  // the form's answers do not overwrite it until it is fixed
+    this.held = name;  // the form's answers do not overwrite it until it is fixed
     this.error(err);
+    const lh = parseFloat(getComputedStyle(ed).lineHeight) || 16;  // the error's line in view
+    ed.scrollTop = Math.max(0, (err.line - 4) * lh);
   },
 
   error(e) {
@@ -361,7 +365,7 @@ async function pageCase() {
   $("#load-example").addEventListener("click", async () => {
     try {
       const state = await api("POST", "/api/case/example", { name: sel.value });
-      Editor.held = false;
+      Editor.held = null;
       Form.render(state); Form.apply(state);
     } catch (e) { showMessage(e.message); }
   });
@@ -384,11 +388,11 @@ async function pageCase() {
       if (!Form.schema) await Form.ready;
       if (state.rejected) {
         // not TOML: the form keeps the current case; the file goes into the editor, its error marked, to be fixed there
-        Editor.hold(await file.text(), state.rejected);
-        showMessage(`${file.name} was not loaded (the form keeps the current case): ${state.rejected.message}. Fix it in the TOML editor.`);
+        Editor.hold(await file.text(), state.rejected, file.name);
+        showMessage(`${state.rejected.message}. Not loaded: the form keeps the current case; fix the file in the TOML editor.`);
         return;
       }
-      Editor.held = false;
+      Editor.held = null;
       Form.render(state); Form.apply(state);
     } catch (e) { showMessage(e.message); }
   });
