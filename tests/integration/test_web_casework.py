@@ -178,3 +178,11 @@ def test_a_simulation_option_given_as_a_float_is_named_as_given(client):
     r = client.post("/api/jobs", json={"grid": 64.0})
     assert r.status_code == 422 and r.json()["error"] == "--grid = 64.0: must be an integer"
     assert client.get("/api/jobs").json() == []  # refused before any process started
+
+
+def test_toml_the_form_could_not_edit_is_rejected_with_its_line(client):
+    client.post("/api/case/example", json={"name": "reference-experiment"})
+    deep = 'title = "x"\n[conditions]\nsqueeze_pressure = ' + "[" * 150 + "]" * 150 + "\n"
+    r = client.put("/api/case/toml", json={"toml": deep})
+    assert r.status_code == 200 and r.json()["rejected"]["line"] == 3
+    assert r.json()["toml"] == REF

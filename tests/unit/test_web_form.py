@@ -157,3 +157,10 @@ def test_every_key_has_a_label_and_the_help_of_the_reference():
         assert h.label and h.label[0].isupper() or h.label.startswith("rms"), name
         assert (h.help, h.anchor) == rows[name], f"{name}: its help differs from docs/case-files.md"
     assert len({h.label for n, h in FIELD_HELP.items() if n.startswith("surface.")}) == len(FORM_SECTIONS["surface"])
+
+
+@pytest.mark.parametrize("depth", [17, 300, 5000])
+def test_a_field_nested_too_deeply_is_refused_naming_it(depth):
+    with pytest.raises(InputError) as err:
+        text_value("conditions.squeeze_pressure", "[" * depth + '"1 kPa"' + "]" * depth)
+    assert err.value.field == "conditions.squeeze_pressure" and len(str(err.value)) < 300

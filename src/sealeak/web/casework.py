@@ -25,6 +25,7 @@ from typing import Any
 
 import tomli_w
 import tomlkit
+from tomlkit.exceptions import TOMLKitError
 
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
@@ -127,11 +128,29 @@ def text_value(name: str, text: str) -> Any:
     t = text.strip()
     literal = t[:1] in "[{\"" if t else False
     try:
-        return tomllib.loads(f"v = {t}")["v"]
+        value = tomllib.loads(f"v = {t}")["v"]
     except (tomllib.TOMLDecodeError, RecursionError):
         if literal:
             raise InputError(name, text, "is not a valid TOML list, table or quoted text, e.g. [\"20 kPa\", \"60 kPa\"]") from None
         return text
+    if _depth(value) > MAX_DEPTH:
+        raise InputError(name, text, f"is nested more than {MAX_DEPTH} lists or tables deep (a case file needs at most 3)")
+    return value
+
+
+#: The deepest nesting of lists and tables a form field may hold (a case file needs 3: a study's list of tables of lists).
+MAX_DEPTH = 16
+
+
+def _depth(value: Any) -> int:
+    """How deeply lists and tables nest in ``value`` (0: a plain value); iterative, so any depth is safe."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        v, d = stack.pop()
+        if isinstance(v, (list, dict)):
+            deepest = max(deepest, d + 1)
+            stack.extend((x, d + 1) for x in (v.values() if isinstance(v, dict) else v))
+    return deepest
 
 
 def doc_fields(doc: dict[str, Any]) -> dict[str, str]:
@@ -227,6 +246,10 @@ def syntax_error(text: str) -> dict[str, Any] | None:
         return {"message": f"malformed TOML: {exc}", "line": int(m.group(1)) if m else 0, "column": int(m.group(2)) if m else 0}
     except RecursionError:
         return {"message": "malformed TOML: nested too deeply", "line": 0, "column": 0}
+    try:  # what the form's edits go through: it refuses what tomllib reads but nests too deeply
+        tomlkit.parse(text)
+    except TOMLKitError as exc:
+        return {"message": f"malformed TOML: {exc}", "line": getattr(exc, "line", 0), "column": getattr(exc, "col", 0)}
     return None
 
 
