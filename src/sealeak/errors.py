@@ -14,7 +14,9 @@ prints the message and exits non-zero without a traceback. Anything else escapin
 
 from __future__ import annotations
 
+import datetime
 import difflib
+import json
 import re
 from collections.abc import Iterable
 from typing import Any
@@ -28,6 +30,7 @@ __all__ = [
     "ConvergenceError",
     "SolutionCheckError",
     "ResourceError",
+    "show_value",
 ]
 
 
@@ -55,7 +58,7 @@ class InputError(SealeakError, ValueError):
         if value is None:  # a missing field: "surface.hurst is required", not "= None"
             super().__init__(f"{field} {allowed}" if allowed.startswith("is ") else f"{field}: {allowed}")
         else:
-            super().__init__(f"{field} = {_show(value)}: {allowed}")
+            super().__init__(f"{field} = {show_value(value)}: {allowed}")
 
 
 class UnitError(InputError):
@@ -83,12 +86,9 @@ class ResourceError(SealeakError, RuntimeError):
     """A job was refused up front because it would need more memory than is available."""
 
 
-def _show(value: Any) -> str:
-    if isinstance(value, str):
-        return repr(value)
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    text = repr(value)
+def show_value(value: Any) -> str:
+    """A value in a message as the user wrote it, in TOML syntax (never a Python repr), cut at 80 characters."""
+    text = _toml(value, 0)
     return text if len(text) <= 80 else text[:77] + "..."
 
 
@@ -114,3 +114,42 @@ def did_you_mean(value: Any, options: Iterable[str]) -> str:
         by_spelling = {_spelling(n): n for n in names}
         close = [by_spelling[c] for c in close]
     return f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""
+
+
+def _toml(value: Any, depth: int) -> str:
+    """``value`` written as a TOML value: ``'text'``, ``64.0``, ``true``, ``[1, 'a']``, ``{foo = 1}``, ``1979-05-27``.
+
+    Floats keep a decimal point (64.0, not 64: an integer was expected), to six significant digits;
+    nesting deeper than a few levels and long containers are shortened (a message is one line)."""
+    if isinstance(value, str):
+        return f"'{value}'" if "'" not in value and value.isprintable() else _basic(value)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        text = f"{value:.6g}"
+        return text if any(c in text for c in ".eni") else text + ".0"
+    if isinstance(value, (datetime.datetime, datetime.date, datetime.time)):
+        return value.isoformat()
+    if isinstance(value, (list, tuple, dict)) and depth >= 8:
+        return "[...]" if not isinstance(value, dict) else "{...}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v, depth + 1) for v in value[:20]) + (", ...]" if len(value) > 20 else "]")
+    if isinstance(value, dict):
+        items = list(value.items())
+        inner = ", ".join(f"{_bare_key(str(k))} = {_toml(v, depth + 1)}" for k, v in items[:20])
+        return "{" + inner + (", ...}" if len(items) > 20 else "}")
+    if value is None:
+        return "nothing"
+    text = str(value)
+    return text if text.isprintable() else _basic(text)
+
+
+def _basic(text: str) -> str:
+    """A TOML basic string (double quotes, escapes)."""
+    return json.dumps(text, ensure_ascii=False)
+
+
+def _bare_key(key: str) -> str:
+    return key if key and all(c.isascii() and (c.isalnum() or c in "_-") for c in key) else _basic(key)

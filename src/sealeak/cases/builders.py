@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputError, UnitError
+from ..errors import InputError, UnitError, show_value
 from ..io.units import STANDARD_PRESSURE, format_quantity, parse_quantity, parse_temperature
 from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import contact_modulus
@@ -138,7 +138,7 @@ def _self_affine(sec: Section, q0: float) -> tuple[PowerSpectrum, str]:
         c_key = _written(sec, "cutoff")
         raise InputError(sec.field(r_key), sec.raw(r_key),
                          f"the roll-off (q_r = {q_r:.4g} 1/m) must lie at longer wavelengths than the cut-off "
-                         f"{sec.field(c_key)} = {sec.raw(c_key)!r} (q1 = {q_1:.4g} 1/m); check both")
+                         f"{sec.field(c_key)} = {show_value(sec.raw(c_key))} (q1 = {q_1:.4g} 1/m); check both")
     if q_l is not None and not q_l < q_1 and (sec.has("lowest_wavevector") or sec.has("lowest_wavelength")):
         l_key = _written(sec, "lowest")
         raise InputError(sec.field(l_key), sec.raw(l_key),

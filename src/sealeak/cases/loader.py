@@ -52,7 +52,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..errors import FileFormatError, InputError, SealeakError
+from ..errors import FileFormatError, InputError, SealeakError, show_value
 from ..io.files import input_file
 from .builders import build_case
 from .model import Case
@@ -136,7 +136,7 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
         try:
             cases.append(build_case(variant, case_dir, source, label=str(label)))
         except InputError as exc:
-            raise InputError(f"{exc.field} (study value {value!r})", exc.value, exc.allowed) from None
+            raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
     return CaseFile(cases, inputs, source, tuple(dict.fromkeys(files)))
 
 

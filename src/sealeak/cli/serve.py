@@ -34,7 +34,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
     if not 0 <= args.port <= 65535:
         raise InputError("--port", args.port, "must be a port number 0..65535")
     if not args.session_timeout > 0:
-        raise InputError("--session-timeout", args.session_timeout, "must be > 0 (minutes)")
+        shown = int(args.session_timeout) if args.session_timeout.is_integer() else args.session_timeout  # as typed: 0, not 0.0
+        raise InputError("--session-timeout", shown, "must be > 0 (minutes)")
     for name in args.allow_host:
         if not name or any(c in name for c in "/:@ \t") and not name.startswith("["):
             raise InputError("--allow-host", name, "must be a host name or address, without port or path (e.g. myhost.lab)")

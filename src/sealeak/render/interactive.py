@@ -29,7 +29,8 @@ def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
 
     ``leak``: per case, P0 (Pa), Q of the critical junction and, when computed, of the effective
     medium (m³/s; for a gas case, ``gas`` true, the pV throughput Q_pV in mbar·l/s, the unit of leak tests:
-    the records' ``leak_rate_mbar_l_s``); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
+    the records' ``leak_rate_mbar_l_s``), ``valid`` the verdict of each point (false: outside the theory; a sealed
+    point has Q = NaN, null in JSON); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
     A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
     """
     curves = prediction_curves(list(results))
@@ -42,6 +43,7 @@ def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
         leak.append({"label": r.case.label or r.case.title, "x": x, "x_unit": r.units.get(x, ""), "gas": gas,
                      "unit": "mbar·l/s" if gas else "m³/s",
                      "squeeze_pressure": _list([rec.get(x, np.nan) for rec in recs]),
+                     "valid": [bool(rec.get("valid", True)) for rec in recs],  # the validity verdict of each point
                      "leak_rate": _list([rec.get(key, np.nan) for rec in recs]),
                      "leak_rate_effective_medium": (_list([rec.get(f"{key}_effective_medium", np.nan) for rec in recs])
                                                     if any(f"{key}_effective_medium" in rec for rec in recs) else None)})

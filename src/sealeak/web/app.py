@@ -1,4 +1,4 @@
-"""The web app: four pages (case, surface, prediction, simulation) and a JSON API, on FastAPI.
+"""The web app: five pages (case, surface, prediction, simulation, help on every case-file key) and a JSON API, on FastAPI.
 
 Pages are static HTML with a small script (``static/app.js``) and Plotly.js served from the
 ``plotly`` package (no network needed). The API runs cases through :mod:`sealeak.cases` and renders
@@ -51,12 +51,15 @@ from .casework import (
     DEFAULT_CACHE_BYTES,
     PredictionCache,
     check_files,
+    display_units,
     doc_fields,
+    edit_text,
     field_of,
-    fields_doc,
     file_names,
     form_schema,
     load_toml,
+    resolve_files,
+    syntax_error,
     toml_text,
     upload_name,
 )
@@ -72,7 +75,8 @@ log = logging.getLogger("sealeak.web")
 #: The default upload limit (bytes): 200 MB.
 DEFAULT_MAX_UPLOAD = 200 * 10**6
 _STATIC = resources.files("sealeak") / "web" / "static"
-_PAGES = {"case": "case.html", "surface": "surface.html", "prediction": "prediction.html", "simulation": "simulation.html"}
+_PAGES = {"case": "case.html", "surface": "surface.html", "prediction": "prediction.html", "simulation": "simulation.html",
+          "help": "help.html"}
 
 
 #: The default disk quota of a session (bytes of its uploaded files): 1 GB.
@@ -248,8 +252,9 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     # ------------------------------------------------------------------ the case of the session
     def case_state(s: Session, predict: bool = False) -> dict[str, Any]:
         """The session's case for the pages: TOML, form fields, valid or the loader's error, and its prediction."""
+        uploads = sorted(s.uploaded())
         out: dict[str, Any] = {"name": s.case_name, "toml": s.case_text, "fields": {}, "valid": False, "error": None,
-                               "uploads": sorted(s.uploaded())}
+                               "uploads": uploads, "upload_names": {n: s.upload_names.get(n, n) for n in uploads}}
         if s.case_text is None:
             return out
         try:
@@ -270,8 +275,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
 
     @app.get("/api/form")
     def form() -> dict[str, Any]:
-        """The case form: sections, keys, each key's kind; the bundled examples."""
-        return {"sections": form_schema(),
+        """The case form: sections, keys, each key's kind, label and help; the display units; the bundled examples."""
+        return {"sections": form_schema(), "units": display_units(),
                 "examples": [{"name": n, "description": example_description(n)} for n in example_names()]}
 
     @app.get("/api/case")
@@ -293,9 +298,19 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         s.case_text, s.case_name = text, f"{name}.toml"
         return case_state(s)
 
+    def _rejected(s: Session, text: str, source: str) -> dict[str, Any] | None:
+        """None if ``text`` is TOML; else the session's case as it is (unchanged) with ``rejected``: where the text
+        stops being TOML (``message``, ``line``, ``column``), for the page to show in place."""
+        where = syntax_error(text)
+        if where is None:
+            return None
+        msg = f"{source}: {where['message']}"
+        return case_state(s) | {"rejected": {"message": msg, "field": "toml", "line": where["line"], "column": where["column"]}}
+
     @app.post("/api/case/upload")
     async def case_upload(request: Request) -> dict[str, Any]:
-        """Start from an uploaded case file (form field ``file``; at most ``max_body`` bytes)."""
+        """Start from an uploaded case file (form field ``file``; at most ``max_body`` bytes). A file that is not
+        TOML is answered with ``rejected`` (where it stops being TOML) and the session's case stays."""
         s = session_of(request)
         form = await _receive(request, s, cfg.max_body)
         try:
@@ -310,23 +325,59 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         try:
             load_toml(text, name)  # too deep or too long a key: refused here, before the session keeps it
         except tomllib.TOMLDecodeError:
-            pass  # the form shows the loader's message
+            pass  # answered below, with where the text stops being TOML
+        bad = _rejected(s, text, name)
+        if bad is not None:
+            return bad
         s.case_text, s.case_name = text, name
         return case_state(s)
 
+    def _body(body: dict[str, Any], allowed: dict[str, type]) -> None:
+        """Refuse (400) a request body with a member it does not take, or one of the wrong type, naming it."""
+        for key, value in body.items():
+            want = allowed.get(key)
+            if want is None:
+                raise InputError(str(key), value, "is not a member of this request; it takes " +
+                                 ", ".join(f"'{k}'" for k in allowed))
+            if not isinstance(value, want):
+                raise InputError(str(key), value, f"must be {'an object' if want is dict else want.__name__}")
+
     @app.put("/api/case/fields")
     def case_fields(request: Request, body: dict[str, Any]) -> dict[str, Any]:
-        """Replace the session's case by the form's fields; answer whether it is valid (and its prediction)."""
+        """Apply the form's fields to the session's case (its comments kept); answer whether it is valid (and its prediction).
+
+        The body is ``{"fields": {"section.key": "text", ...}, "predict": false}``; a member of another
+        name or type, or a field that is not text, is refused (400, the case unchanged)."""
         s = session_of(request)
+        _body(body, {"fields": dict, "predict": bool})
         fields = body.get("fields", {})
-        if not isinstance(fields, dict):
-            raise InputError("fields", type(fields).__name__, "must be an object of 'section.key': text")
+        for name, value in fields.items():
+            if not isinstance(value, str):
+                raise InputError(str(name), value, "must be text: every form field is sent as text, e.g. \"0.8\" or "
+                                                   "\"2.3 MPa\"")
         try:
-            doc = fields_doc({str(k): v for k, v in fields.items()})
+            text = edit_text(s.case_text, fields)
         except InputError as exc:
             return {"valid": False, "error": {"message": str(exc), "field": field_of(exc)}, "toml": s.case_text,
-                    "fields": fields, "name": s.case_name, "uploads": sorted(s.uploaded())}
-        s.case_text = toml_text(doc)
+                    "fields": fields, "name": s.case_name, "uploads": sorted(s.uploaded()),
+                    "upload_names": {n: s.upload_names.get(n, n) for n in s.uploaded()}}
+        s.case_text = text
+        return case_state(s, predict=bool(body.get("predict")))
+
+    @app.put("/api/case/toml")
+    def case_toml(request: Request, body: dict[str, Any]) -> dict[str, Any]:
+        """Replace the session's case by TOML text (the editor): ``{"toml": "...", "predict": false}``, and
+        ``"name"`` (the file's name) for a file that was uploaded with a syntax error and fixed in the editor.
+
+        Text that is not TOML is answered with ``rejected`` (its line and column); the case stays as it was."""
+        s = session_of(request)
+        _body(body, {"toml": str, "predict": bool, "name": str})
+        text = body.get("toml", "")
+        name = upload_name(body["name"]) if "name" in body else s.case_name
+        bad = _rejected(s, text, name)
+        if bad is not None:
+            return bad
+        s.case_text, s.case_name = text, name
         return case_state(s, predict=bool(body.get("predict")))
 
     @app.put("/api/case/surface")
@@ -365,6 +416,28 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         if s.case_text is None:
             raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
         return _download(s.case_text, s.case_name, "application/toml")
+
+    @app.get("/download/bundle.zip")
+    def download_bundle(request: Request) -> Response:
+        """The case file and the uploaded files it names, zipped: ``sealeak predict`` runs it as it is unzipped."""
+        s = session_of(request)
+        if s.case_text is None:
+            raise SealeakError("no case yet: choose an example or upload a case file on the Case page")
+        stem = s.case_name[:-5] if s.case_name.endswith(".toml") else s.case_name
+        try:
+            doc = tomllib.loads(s.case_text)
+        except tomllib.TOMLDecodeError:
+            doc = {}
+        uploaded = s.uploaded()
+        check_files(doc, uploaded)  # a case naming a file not uploaded here cannot be bundled (the loader says which)
+        resolved = resolve_files(doc, uploaded)
+        text = s.case_text if resolved is doc else toml_text(resolved)  # names the files as they are in the zip
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
+            z.writestr(f"{stem}/{s.case_name}", text)
+            for name in sorted({n for _, v in file_names(resolved) for n in (v if isinstance(v, list) else [v])}):
+                z.write(s.uploads_path / name, f"{stem}/{name}")
+        return _download(buf.getvalue(), f"{stem}.zip", "application/zip")
 
     @app.get("/download/results.json")
     def download_json(request: Request) -> Response:
@@ -418,7 +491,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         return files
 
     def _save_uploads(s: Session, form: Form, name: str) -> list[str]:
-        """Keep the files of the form field ``name`` as the session's uploads (a compressed file that expands too far: 413)."""
+        """Keep the files of the form field ``name`` as the session's uploads, under their safe names (the name
+        the user gave is kept for display); a compressed file that expands too far: 413."""
         try:
             files = _files(form, name)
             for upload, path in files:
@@ -426,6 +500,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
             s.uploads.mkdir(parents=True, exist_ok=True)
             for upload, path in files:
                 os.replace(path, s.uploads / upload)
+                s.upload_names[upload] = form.given.get(upload, upload)
             return [upload for upload, _ in files]
         finally:
             form.discard()
@@ -435,7 +510,8 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
         """Upload files a case may name (form field ``files``): a C(q) table, a pressure profile, topographies."""
         s = session_of(request)
         names = _save_uploads(s, await _receive(request, s, cfg.max_upload), "files")
-        return {"uploaded": names, "uploads": sorted(s.uploaded())}
+        return {"uploaded": names, "uploads": sorted(s.uploaded()),
+                "upload_names": {n: s.upload_names.get(n, n) for n in s.uploaded()}}
 
     @app.get("/api/uploads")
     def list_uploads(request: Request) -> dict[str, Any]:
@@ -512,8 +588,10 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
                 raise StarletteHTTPException(429, f"{everywhere} simulations are running on this server already (at most "
                                                   f"{cfg.max_running} at once): try again when one has finished")
             doc = load_toml(s.case_text or "", s.case_name)
-            names = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
-            job = start_job(s.jobs_folder, s.case_text or "", s.case_name, [s.uploads / n for n in sorted(names)],
+            resolved = resolve_files(doc, s.uploaded())  # the files as they are stored, the case naming them so
+            names = {n for _, v in file_names(resolved) for n in (v if isinstance(v, list) else [v])}
+            job = start_job(s.jobs_folder, (s.case_text or "") if resolved is doc else toml_text(resolved), s.case_name,
+                            [s.uploads / n for n in sorted(names)],
                             pred.case_file.cases[0].title, opts["grid"], opts["realizations"], opts["seed"],
                             opts["workers"])
             s.jobs[job.id] = job

@@ -17,6 +17,7 @@ import math
 import re
 import threading
 import tomllib
+import unicodedata
 from collections import OrderedDict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -25,16 +26,21 @@ from typing import Any
 
 import numpy as np
 import tomli_w
+import tomlkit
+from tomlkit.exceptions import TOMLKitError
 
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
+from ..cases.form_help import FIELD_HELP
 from ..cases.schema import SURFACE_KEYS
 from ..errors import InputError
+from ..io.units import STANDARD_PRESSURE, leak_rate_unit, unit_factor
 from ..render import prediction_json
 from .security import MAX_NESTING, check_nesting
 
-__all__ = ["FILE_KEYS", "form_schema", "doc_fields", "fields_doc", "value_text", "text_value", "toml_text", "check_files",
-           "file_names", "upload_name", "field_of", "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES"]
+__all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text",
+           "text_value", "toml_text", "syntax_error", "check_files", "file_names", "upload_name", "resolve_files", "field_of",
+           "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES"]
 
 #: The most bytes the prediction cache holds (case texts and their results): 256 MB.
 DEFAULT_CACHE_BYTES = 256 * 2**20
@@ -56,9 +62,34 @@ def form_schema() -> list[dict[str, Any]]:
         for key in keys:
             k = field_kind(section, key)
             models = [m for m, keys in SURFACE_KEYS.items() if key in keys] if section == "surface" else []
-            fields.append({"name": f"{section}.{key}" if section else key, "key": key, "kind": k.kind,
-                           "dimension": k.dimension, "choices": list(k.choices), "example": k.example, "models": models})
+            name = f"{section}.{key}" if section else key
+            h = FIELD_HELP[name]
+            fields.append({"name": name, "key": key, "kind": k.kind, "dimension": k.dimension, "choices": list(k.choices),
+                           "example": k.example, "models": models, "label": h.label, "help": h.help, "anchor": h.anchor})
         out.append({"section": section, "fields": fields})
+    return out
+
+
+#: The units a user may show results in, per dimension (the first is SI, the unit of the JSON records).
+DISPLAY_UNITS = {
+    "pressure": ["Pa", "kPa", "bar", "psi", "MPa"],
+    "length": ["m", "mm", "µm", "nm"],
+    "volume_flow": ["m³/s", "ml/min", "mm³/s", "l/h"],
+    "throughput": ["Pa·m³/s", "mbar·l/s"],
+}
+
+
+def display_units() -> dict[str, list[dict[str, Any]]]:
+    """Each dimension's display units with the factor from SI (value shown = value in SI / factor), taken from
+    :mod:`sealeak.io.units` (the library's unit tables). A gas's standard volume flow (``sccm``) is listed with
+    the throughput: its factor depends on the gas temperature, so the page takes it from the results' own
+    ``leak_rate_sccm`` column; its factor here is that of 0 °C."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for dimension, names in DISPLAY_UNITS.items():
+        out[dimension] = [{"name": n, "factor": unit_factor("unit", n.replace("·", "*").replace("³", "^3").replace("µ", "u"),
+                                                            dimension)} for n in names]
+    _kind, sccm = leak_rate_unit("unit", "sccm")  # m³/s at 0 °C and 101325 Pa per sccm
+    out["throughput"].append({"name": "sccm", "factor": sccm * STANDARD_PRESSURE, "column": "leak_rate_sccm"})
     return out
 
 
@@ -91,23 +122,24 @@ def value_text(value: Any) -> str:
 def text_value(name: str, text: str) -> Any:
     """The TOML value of a form field's text.
 
-    Text, choice and file fields keep the text as it is, unless it starts with ``[``, ``{`` or
-    ``"`` (a list, a table or a quoted string in TOML syntax). Other fields read TOML literals
-    (``0.8``, ``true``, ``["20 kPa", "60 kPa"]``, ``{start = "10 kPa", stop = "1 MPa", num = 20}``)
-    and otherwise keep the text (``"2.3 MPa"``). A malformed list or table is refused naming the field.
+    Text, choice and file fields keep the text as it is (a title ``[Rev B] my ring`` is text).
+    Other fields read TOML literals (``0.8``, ``true``, ``["20 kPa", "60 kPa"]``,
+    ``{start = "10 kPa", stop = "1 MPa", num = 20}``, ``"2.3 MPa"``) and otherwise keep the text
+    (``2.3 MPa``). A malformed list, table or quoted text is refused naming the field.
     """
     section, _, key = name.rpartition(".")
     kind = field_kind(section, key).kind
+    if kind in ("text", "choice", "file"):
+        return text
     t = text.strip()
     literal = t[:1] in "[{\"" if t else False
-    if kind in ("text", "choice", "file") and not literal:
-        return text
     try:
-        return load_toml(f"v = {t}", name)["v"]
+        value = load_toml(f"v = {t}", name)["v"]
     except tomllib.TOMLDecodeError:
         if literal:
             raise InputError(name, text, "is not a valid TOML list, table or quoted text, e.g. [\"20 kPa\", \"60 kPa\"]") from None
         return text
+    return value
 
 
 def load_toml(text: str, field: str) -> dict[str, Any]:
@@ -159,6 +191,73 @@ def toml_text(doc: dict[str, Any]) -> str:
     return tomli_w.dumps(doc)
 
 
+def _item(value: Any) -> Any:
+    """A value as a tomlkit item: tables inline (``{start = ..., num = 20}``), as a form shows them."""
+    if isinstance(value, dict):
+        table = tomlkit.inline_table()
+        for k, v in value.items():
+            table[k] = _item(v)
+        return table
+    if isinstance(value, list):
+        array = tomlkit.array()
+        for v in value:
+            array.append(_item(v))
+        return array
+    return tomlkit.item(value)
+
+
+def edit_text(text: str | None, fields: dict[str, str]) -> str:
+    """The case text ``text`` with the form's ``fields`` applied, its comments and order kept.
+
+    A field whose text is what the form showed for the current value keeps that value exactly (its
+    type, its quoting); a changed field takes :func:`text_value`; a field left out or emptied removes
+    its key (and a section left empty). An unknown or malformed changed field is an InputError naming it.
+    """
+    old = tomllib.loads(text) if text else {}
+    shown = doc_fields(old)
+    given = {k: v for k, v in fields.items() if isinstance(v, str) and v.strip()}
+    changed = fields_doc({k: v for k, v in given.items() if shown.get(k) != v})
+    doc = tomlkit.parse(text) if text else tomlkit.document()
+    for name in shown:
+        if name not in given:
+            section, _, key = name.rpartition(".")
+            if section and section in FORM_SECTIONS:
+                del doc[section][key]  # type: ignore[union-attr]
+                if not doc[section]:
+                    del doc[section]
+            else:
+                del doc[name]
+    for name, value in changed.items():
+        if isinstance(value, dict) and name in FORM_SECTIONS and name:
+            if name not in doc:
+                doc[name] = tomlkit.table()
+            for key, v in value.items():
+                doc[name][key] = _item(v)  # type: ignore[index]
+        else:
+            doc[name] = _item(value)
+    return tomlkit.dumps(doc)
+
+
+_AT = re.compile(r"\(at line (\d+), column (\d+)\)")
+
+
+def syntax_error(text: str) -> dict[str, Any] | None:
+    """None if ``text`` is TOML, else where it is not: ``{"message", "line", "column"}`` (1-based; 0 if unknown).
+    Text nested too deeply or with too long a dotted key is refused first (:func:`load_toml`, an InputError)."""
+    try:
+        load_toml(text, "case")
+    except tomllib.TOMLDecodeError as exc:
+        m = _AT.search(str(exc))
+        return {"message": f"malformed TOML: {exc}", "line": int(m.group(1)) if m else 0, "column": int(m.group(2)) if m else 0}
+    except RecursionError:
+        return {"message": "malformed TOML: nested too deeply", "line": 0, "column": 0}
+    try:  # what the form's edits go through: it refuses what tomllib reads but nests too deeply
+        tomlkit.parse(text)
+    except TOMLKitError as exc:
+        return {"message": f"malformed TOML: {exc}", "line": getattr(exc, "line", 0), "column": getattr(exc, "col", 0)}
+    return None
+
+
 def file_names(doc: dict[str, Any]) -> Iterator[tuple[str, Any]]:
     """Every (field, value) of ``doc`` that names a file, also in a ``[study]``'s values."""
     for section, key in FILE_KEYS:
@@ -176,18 +275,95 @@ def file_names(doc: dict[str, Any]) -> Iterator[tuple[str, Any]]:
                     yield f"study.values[{i}].{key}", value[key]
 
 
+#: Letters NFKD does not decompose into ASCII, as an engineer would write them in a file name.
+_ASCII = str.maketrans({"\u00b5": "u", "\u03bc": "u", "\u00d8": "O", "\u00f8": "o", "\u00df": "ss", "\u00c6": "AE",
+                        "\u00e6": "ae", "\u0152": "OE", "\u0153": "oe", "\u0141": "L", "\u0142": "l", "\u00d0": "D",
+                        "\u0111": "d", "\u00b0": "deg"})
+
+
 def upload_name(name: str) -> str:
-    """``name`` if it can be the name of an uploaded file (a plain file name, no folder, no ``..``), else InputError."""
-    if not isinstance(name, str) or not _NAME.match(name) or ".." in name:
-        raise InputError("file", name, "must be a plain file name (letters, digits, . _ - + ( ) and spaces; no folder)")
-    return name
+    """The safe name under which an uploaded file is stored: ``name`` without any folder, its letters
+    folded to ASCII (NFKC, then accents dropped: ``ü`` → ``u``, ``µ`` → ``u``, ``Ø`` → ``O``), every
+    other character outside ``A-Z a-z 0-9 . _ - + ( )`` and space replaced by ``_``, no leading dot or
+    ``..``, at most 128 characters (the suffix kept). Never refused: ``Probe Ø5 µm #3;b.csv`` is
+    stored as ``Probe O5 um _3_b.csv``; the user's name is only ever shown, never used as a path."""
+    base = str(name).replace("\\", "/").rsplit("/", 1)[-1]
+    text = unicodedata.normalize("NFKC", base).translate(_ASCII)
+    text = "".join(c for c in unicodedata.normalize("NFKD", text) if not unicodedata.combining(c))
+    text = re.sub(r"[^A-Za-z0-9._ +()-]+", "_", text)
+    text = re.sub(r"\.{2,}", ".", text).strip(" ._")
+    stem, dot, suffix = text.rpartition(".")
+    if len(text) > 128:
+        text = (stem[: 127 - len(suffix)] + dot + suffix) if dot and len(suffix) <= 16 else text[:128]
+    if not text or not text[0].isalnum():
+        text = "file" + ("" if not text else "_" + text)
+    return text
+
+
+def _plain(name: Any) -> bool:
+    """A plain file name (no folder, not hidden, printable): a case may name an upload by it."""
+    return isinstance(name, str) and bool(name) and "/" not in name and "\\" not in name and not name.startswith(".") \
+        and name.isprintable() and len(name) <= 255
+
+
+def _stored(name: Any, uploaded: set[str]) -> str | None:
+    """The uploaded file a case's file name refers to (the name itself, or its safe stored name), or None."""
+    if not _plain(name):
+        return None
+    if name in uploaded and _NAME.match(name) and ".." not in name:
+        return str(name)
+    safe = upload_name(name)
+    return safe if safe in uploaded else None
+
+
+def resolve_files(doc: dict[str, Any], uploaded: set[str]) -> dict[str, Any]:
+    """``doc`` with each file name replaced by the name the upload is stored under (a copy; ``doc`` if none changes).
+
+    A case may name ``Probe Ø5 µm.csv``: the file uploaded under that name is stored as
+    ``Probe O5 um.csv`` (:func:`upload_name`), which the loader then reads."""
+    renames = {n: _stored(n, uploaded) for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])
+               if isinstance(n, str)}
+    renames = {k: v for k, v in renames.items() if v is not None and v != k}
+    if not renames:
+        return doc
+
+    def swap(value: Any) -> Any:
+        return [renames.get(v, v) if isinstance(v, str) else v for v in value] if isinstance(value, list) \
+            else renames.get(value, value) if isinstance(value, str) else value
+    out = _copy(doc)
+    for section, key in FILE_KEYS:
+        if isinstance(out.get(section), dict) and key in out[section]:
+            out[section][key] = swap(out[section][key])
+    study = out.get("study")
+    if isinstance(study, dict) and isinstance(study.get("values"), list):
+        vary = study.get("vary")
+        for i, value in enumerate(study["values"]):
+            if vary in {f"{s}.{k}" for s, k in FILE_KEYS}:
+                study["values"][i] = swap(value)
+            elif isinstance(value, dict):
+                for section, key in FILE_KEYS:
+                    if vary == section and key in value:
+                        value[key] = swap(value[key])
+    return out
+
+
+def _copy(doc: dict[str, Any]) -> dict[str, Any]:
+    """A copy of the tables a rename touches (the sections and the study's values; other values shared)."""
+    out = dict(doc)
+    for section in {s for s, _ in FILE_KEYS} | {"study"}:
+        if isinstance(out.get(section), dict):
+            out[section] = dict(out[section])
+    study = out.get("study")
+    if isinstance(study, dict) and isinstance(study.get("values"), list):
+        study["values"] = [dict(v) if isinstance(v, dict) else v for v in study["values"]]
+    return out
 
 
 def check_files(doc: dict[str, Any], uploaded: set[str]) -> None:
     """Refuse a case naming a file that was not uploaded in this session (a server path, ``..``, an unknown name)."""
     for where, value in file_names(doc):
         for name in value if isinstance(value, list) else [value]:
-            if isinstance(name, str) and name in uploaded and _NAME.match(name) and ".." not in name:
+            if _stored(name, uploaded) is not None:
                 continue
             allowed = ", ".join(sorted(uploaded)) if uploaded else "none yet"
             raise InputError(where, name, "must name a file uploaded in this session (on the Surface page, or with "
@@ -259,9 +435,11 @@ class PredictionCache:
             doc = None  # the loader below refuses it with the command line's message
         uploaded = {p.name for p in uploads.iterdir() if p.is_file()} if uploads.is_dir() else set()
         named = set()
+        resolved = doc
         if doc is not None:
             check_files(doc, uploaded)
-            named = {n for _, v in file_names(doc) for n in (v if isinstance(v, list) else [v])}
+            resolved = resolve_files(doc, uploaded)
+            named = {n for _, v in file_names(resolved) for n in (v if isinstance(v, list) else [v])}
         # a case that names no file is the same case in every session; one that does depends on the files' contents
         files = tuple(sorted((n, (uploads / n).stat().st_size, (uploads / n).stat().st_mtime_ns) for n in named))
         key = (data, source, str(uploads) if named or doc is None else "", files)
@@ -277,7 +455,9 @@ class PredictionCache:
                     break
             running.wait()
         try:
-            case_file = parse_case_bytes(data, uploads, source)
+            # a case naming "Probe Ø5.csv" is read with the name its upload is stored under
+            loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
+            case_file = parse_case_bytes(loaded, uploads, source)
             result = Prediction(case_file, [run_case(c) for c in case_file.cases])
             size = len(data) + footprint(result.results)
             with self._lock:

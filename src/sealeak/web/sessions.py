@@ -37,6 +37,8 @@ class Session:
     case_text: str | None = None
     case_name: str = "case.toml"
     jobs: dict[str, Any] = field(default_factory=dict)
+    #: uploaded files: the name each is stored under → the name the user gave it (shown, never a path)
+    upload_names: dict[str, str] = field(default_factory=dict)
     lock: threading.Lock = field(default_factory=threading.Lock)
 
     @property

@@ -35,10 +35,12 @@ MAX_FIELD_BYTES = 64 * 1024
 
 @dataclass
 class Form:
-    """A parsed form: its text fields (the first value of each name) and its files, (field, upload name, temporary path)."""
+    """A parsed form: its text fields (the first value of each name), its files (field, safe upload name,
+    temporary path), and the name each file was uploaded as (safe name → given name, for display only)."""
 
     fields: dict[str, str] = field(default_factory=dict)
     files: list[tuple[str, str, Path]] = field(default_factory=list)
+    given: dict[str, str] = field(default_factory=dict)
 
     def discard(self) -> None:
         """Remove the temporary files (those not moved elsewhere)."""
@@ -88,7 +90,9 @@ async def read_form(request: Request, incoming: Path, *, file_limit: int, quota:
             raise HTTPException(400, f"request: more than {MAX_PARTS} files and fields in one form")
         part.name = opts.get(b"name", b"").decode("utf-8", "replace")
         if b"filename" in opts:
-            name = upload_name(Path(opts[b"filename"].decode("utf-8", "replace")).name)
+            given = opts[b"filename"].decode("utf-8", "replace").replace("\\", "/").rsplit("/", 1)[-1]
+            name = upload_name(given)
+            form.given[name] = given
             incoming.mkdir(parents=True, exist_ok=True)
             path = incoming / f"{secrets.token_hex(8)}.part"
             form.files.append((part.name, name, path))

@@ -12,8 +12,8 @@ class ApiError extends Error {
   }
 }
 
-async function api(method, url, body) {
-  const opts = { method, headers: {} };
+async function api(method, url, body, signal) {
+  const opts = { method, headers: {}, signal };
   if (body instanceof FormData) opts.body = body;
   else if (body !== undefined) { opts.body = JSON.stringify(body); opts.headers["Content-Type"] = "application/json"; }
   const r = await fetch(url, opts);
@@ -34,6 +34,12 @@ function esc(s) {
   return String(s).replace(/[&<>"']/g, c => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&#39;" }[c]));
 }
 
+// a long title cut for a legend or a column head (the whole of it on hover)
+function short(text, n = 40) {
+  const t = String(text);
+  return t.length > n ? `${t.slice(0, n - 1)}…` : t;
+}
+
 function fmt(x, digits = 4) {
   if (x === null || x === undefined || x === "") return "—";
   if (typeof x === "boolean") return x ? "yes" : "no";
@@ -52,8 +58,41 @@ function setCaseName(state) {
   const el = $("#case-name");
   if (el) el.textContent = state && state.toml ? `case: ${state.name}` : "no case yet";
   const up = $("#uploads");
-  if (up && state && state.uploads) up.textContent = state.uploads.length ? state.uploads.join(", ") : "none";
+  if (up && state && state.uploads) {
+    // each file under the name it is stored (and named in the case) by, with the name it was uploaded as
+    const names = state.upload_names || {};
+    up.textContent = state.uploads.length ? state.uploads.map(n => names[n] && names[n] !== n ? `${n} (uploaded as ${names[n]})` : n).join(", ") : "none";
+  }
 }
+
+// ---------------------------------------------------------------- display units (one place: every conversion goes through here)
+// The factors come from the server (sealeak.io.units); a value shown = value in SI / factor. The choice is kept in the browser.
+const Units = {
+  table: null,
+  chosen: JSON.parse(localStorage.getItem("sealeak.units") || "{}"),
+  DEFAULT: { pressure: "kPa", length: "µm", volume_flow: "m³/s", throughput: "mbar·l/s" },
+  // the unit of a JSON column (its records' unit string) → the dimension it is shown in
+  OF: { "Pa": "pressure", "m": "length", "m^3/s": "volume_flow", "Pa*m^3/s": "throughput" },
+
+  init(table) { this.table = table; },
+  unit(dim) {
+    const list = (this.table || {})[dim] || [];
+    const name = this.chosen[dim] || this.DEFAULT[dim];
+    return list.find(u => u.name === name) || list[0] || { name: "", factor: 1 };
+  },
+  choose(dim, name) { this.chosen[dim] = name; localStorage.setItem("sealeak.units", JSON.stringify(this.chosen)); },
+  // the factor of ``dim``'s chosen unit; a gas's sccm depends on its temperature: taken from the records' own column
+  factor(dim, rows) {
+    const u = this.unit(dim);
+    if (u.column && rows) {
+      const r = rows.find(x => typeof x[u.column] === "number" && x[u.column] > 0 && typeof x.leak_rate_pv === "number");
+      if (r) return r.leak_rate_pv / r[u.column];
+    }
+    return u.factor;
+  },
+  show(si, dim, rows) { return typeof si === "number" ? si / this.factor(dim, rows) : si; },
+  name(dim) { return this.unit(dim).name; },
+};
 
 // ---------------------------------------------------------------- the case form (Case and Prediction pages)
 const Form = {
@@ -65,13 +104,20 @@ const Form = {
     const form = await api("GET", "/api/form");
     this.schema = form.sections;
     this.examples = form.examples;
+    Units.init(form.units);
     const state = await api("GET", `/api/case?predict=${predict ? 1 : 0}`);
     this.render(state);
     this.apply(state);
     return state;
   },
 
+  // the key's meaning and what it takes; beside the results (Prediction page) only what it takes, the meaning on hover and Help
   hint(f) {
+    const what = this.kindHint(f);
+    return f.help && !this.predict ? `${f.help} — ${what}` : what;
+  },
+
+  kindHint(f) {
     if (f.kind === "quantity") return `${f.dimension}${f.example ? `, e.g. ${f.example}` : ""}`;
     if (f.kind === "choice") return `one of: ${f.choices.join(", ")}`;
     if (f.kind === "bool") return "true or false";
@@ -134,8 +180,19 @@ const Form = {
     const id = `f-${f.name.replace(/\./g, "-")}`;
     const label = document.createElement("label");
     label.htmlFor = id;
-    label.textContent = f.key;
-    label.title = f.name;
+    label.title = f.help ? `${f.name}: ${f.help}` : f.name;
+    const text = document.createElement("span");
+    text.className = "label-text";
+    text.textContent = f.label || f.key;
+    const key = document.createElement("code");
+    key.textContent = f.key;
+    label.append(text, " ", key);
+    if (f.anchor) {  // the key on the Help page (which names the documentation's section)
+      const more = document.createElement("a");
+      more.className = "doc-link"; more.href = `/help#${encodeURIComponent(f.name)}`; more.target = "_blank";
+      more.textContent = "?"; more.title = `${f.name}: what it means, in the reference (docs/case-files.md#${f.anchor})`;
+      label.append(" ", more);
+    }
     div.appendChild(label);
     let input;
     if (f.kind === "choice" || f.kind === "bool") {
@@ -181,18 +238,29 @@ const Form = {
     this.timer = setTimeout(() => this.submit(), 350);
   },
 
-  async submit() {
-    const seq = (this.seq = (this.seq || 0) + 1);
+  // one request at a time: a newer edit aborts the request of the older one (its answer would be stale)
+  async send(method, url, body) {
+    if (this.pending) this.pending.abort();
+    const ctl = (this.pending = new AbortController());
+    document.body.classList.add("busy");
     try {
-      const state = await api("PUT", "/api/case/fields", { fields: this.values(), predict: this.predict });
-      if (seq === this.seq) this.apply(state);
+      return await api(method, url, body, ctl.signal);
+    } finally {
+      if (this.pending === ctl) { this.pending = null; document.body.classList.remove("busy"); }
+    }
+  },
+
+  async submit() {
+    try {
+      this.apply(await this.send("PUT", "/api/case/fields", { fields: this.values(), predict: this.predict }));
     } catch (e) {
-      if (seq === this.seq) showMessage(e.message);
+      if (e.name !== "AbortError") showMessage(e.message);
     }
   },
 
   apply(state) {
     setCaseName(state);
+    Editor.show(state);
     $$("#case-form .err").forEach(e => { e.textContent = ""; });
     $$("#case-form .invalid").forEach(e => e.classList.remove("invalid"));
     const status = $("#status");
@@ -220,13 +288,84 @@ const Form = {
   },
 };
 
+// ---------------------------------------------------------------- the TOML editor (Case page), in step with the form
+const Editor = {
+  timer: null,
+  el() { return $("#toml-editor"); },
+
+  // the case's TOML, unless the user is typing in the editor (the form's edits arrive here with their comments kept)
+  show(state) {
+    const ed = this.el();
+    if (!ed || document.activeElement === ed || this.held) return;
+    ed.value = state.toml || "";
+    this.error(null);
+  },
+
+  init() {
+    const ed = this.el();
+    if (!ed) return;
+    ed.addEventListener("input", () => {
+      clearTimeout(this.timer);
+      const status = $("#status");
+      if (status) status.textContent = "checking…";
+      this.timer = setTimeout(() => this.submit(), 500);
+    });
+  },
+
+  async submit() {
+    const ed = this.el();
+    try {
+      const body = { toml: ed.value, predict: Form.predict };
+      if (this.held) body.name = this.held;  // an uploaded file fixed here becomes the case, under its name
+      const state = await Form.send("PUT", "/api/case/toml", body);
+      if (state.rejected) {  // not TOML: the case (and the form) stay as they were
+        this.error(state.rejected);
+        const st = $("#status");
+        if (st) st.textContent = "the TOML has an error (under the editor); the form keeps the last valid case";
+        return;
+      }
+      this.held = null;
+      this.error(null);
+      Form.render(state); Form.apply(state);
+    } catch (e) {
+      if (e.name !== "AbortError") showMessage(e.message);
+    }
+  },
+
+  // text that is not TOML: shown in the editor with the message, the line and a caret under the column; the case is unchanged
+  hold(text, err, name) {
+    const ed = this.el();
+    if (!ed) return;
+    ed.value = text;
+    this.held = name;  // the form's answers do not overwrite it until it is fixed
+    this.error(err);
+    const lh = parseFloat(getComputedStyle(ed).lineHeight) || 16;  // the error's line in view
+    ed.scrollTop = Math.max(0, (err.line - 4) * lh);
+  },
+
+  error(e) {
+    const box = $("#toml-error"), ed = this.el();
+    if (!box || !ed) return;
+    ed.classList.toggle("invalid", !!e);
+    if (!e) { box.hidden = true; box.textContent = ""; return; }
+    const text = ed.value.split("\n")[e.line - 1] ?? "";
+    const gutter = `${e.line} | `;
+    // "case.toml: malformed TOML: Unclosed array (at line 3, column 5)" → "line 3, column 5: Unclosed array"
+    const why = e.message.replace(/^.*?malformed TOML: /, "").replace(/ \(at line \d+, column \d+\)$/, "");
+    box.hidden = false;
+    box.textContent = `line ${e.line}, column ${e.column}: ${why}\n${gutter}${text}\n${" ".repeat(gutter.length + Math.max(0, e.column - 1))}^`;
+  },
+};
+
 // ---------------------------------------------------------------- Case page
 async function pageCase() {
   // the controls answer from the start; the form and the list of examples arrive with Form.init
   const sel = $("#example");
+  Editor.init();
   $("#load-example").addEventListener("click", async () => {
     try {
       const state = await api("POST", "/api/case/example", { name: sel.value });
+      Editor.held = null;
       Form.render(state); Form.apply(state);
     } catch (e) { showMessage(e.message); }
   });
@@ -247,6 +386,13 @@ async function pageCase() {
     try {
       const state = await api("POST", "/api/case/upload", body);
       if (!Form.schema) await Form.ready;
+      if (state.rejected) {
+        // not TOML: the form keeps the current case; the file goes into the editor, its error marked, to be fixed there
+        Editor.hold(await file.text(), state.rejected, file.name);
+        showMessage(`${state.rejected.message}. Not loaded: the form keeps the current case; fix the file in the TOML editor.`);
+        return;
+      }
+      Editor.held = null;
       Form.render(state); Form.apply(state);
     } catch (e) { showMessage(e.message); }
   });
@@ -256,6 +402,43 @@ async function pageCase() {
     const o = document.createElement("option");
     o.value = ex.name; o.textContent = `${ex.name} — ${ex.description}`;
     sel.appendChild(o);
+  }
+}
+
+// ---------------------------------------------------------------- Help page: every key, its label, meaning and what it takes
+async function pageHelp() {
+  const form = await api("GET", "/api/form");
+  const out = $("#help");
+  for (const sec of form.sections) {
+    const h = document.createElement("h2");
+    const anchor = sec.fields[0] ? sec.fields[0].anchor : "";
+    h.textContent = sec.section ? `[${sec.section}]` : "Top level";
+    h.id = `section-${sec.section || "top"}`;
+    const where = document.createElement("span");
+    where.className = "muted doc-ref";
+    where.textContent = ` docs/case-files.md#${anchor}`;
+    h.appendChild(where);
+    out.appendChild(h);
+    const table = document.createElement("table");
+    table.className = "data help";
+    table.innerHTML = "<thead><tr><th>key</th><th>label</th><th>meaning</th><th>takes</th></tr></thead>";
+    const body = document.createElement("tbody");
+    for (const f of sec.fields) {
+      const tr = document.createElement("tr");
+      tr.id = f.name;
+      for (const [text, code] of [[f.name, true], [f.label, false], [f.help, false], [Form.kindHint(f), false]]) {
+        const td = document.createElement("td");
+        if (code) { const c = document.createElement("code"); c.textContent = text; td.appendChild(c); } else td.textContent = text;
+        tr.appendChild(td);
+      }
+      body.appendChild(tr);
+    }
+    table.appendChild(body);
+    out.appendChild(table);
+  }
+  if (location.hash) {
+    const row = document.getElementById(decodeURIComponent(location.hash.slice(1)));
+    if (row) { row.classList.add("target"); row.scrollIntoView({ block: "center" }); }
   }
 }
 
@@ -270,11 +453,18 @@ function axis(title, log) {
   return { title: { text: title }, type: log ? "log" : "linear", exponentformat: "power", gridcolor: "#e6e9ef", zeroline: false };
 }
 
-// a log axis over the top ``decades`` of the data (a leak rate or a gap that vanishes would stretch it over 40 decades)
-function topDecades(traces, decades) {
-  let max = 0;
-  for (const t of traces) for (const v of t.y) if (v > max) max = v;
-  return max > 0 ? [Math.log10(max) - decades, Math.log10(max) + 0.3] : undefined;
+// an axis range fitted to the data: log axes over at most ``decades`` below the largest value (a leak rate or a gap
+// that vanishes would stretch it over 40 decades), a margin of 5 % of the span (linear) or 0.15 decades (log)
+function fitRange(values, log, decades = 8) {
+  const v = values.filter(x => typeof x === "number" && isFinite(x) && (!log || x > 0));
+  if (!v.length) return undefined;
+  if (log) {
+    const hi = Math.log10(Math.max(...v)), lo = Math.max(Math.log10(Math.min(...v)), hi - decades);
+    const pad = Math.max(0.15, (hi - lo) * 0.04);
+    return [lo - pad, hi + pad];
+  }
+  const hi = Math.max(...v), lo = Math.min(...v), pad = (hi - lo) * 0.05 || Math.abs(hi) * 0.05 || 1;
+  return [lo - pad, hi + pad];
 }
 
 function plot(id, traces, title, x, y) {
@@ -288,61 +478,193 @@ function line(x, y, name, extra = {}) {
   return { x, y, name, type: "scatter", mode: "lines", hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>", ...extra };
 }
 
+// the x of a leak curve as shown: a squeeze pressure in the chosen unit, a compression in %, a profile scale as it is
+const X_AXES = {
+  squeeze_pressure: { dim: "pressure", title: () => `squeeze pressure P0 (${Units.name("pressure")})`, log: true },
+  compression: { percent: true, title: () => "compression ε (%)", log: false },
+  profile_scale: { title: () => "profile scale", log: false },
+};
+
+function showX(c) {
+  const ax = X_AXES[c.x] || X_AXES.profile_scale;
+  return c.squeeze_pressure.map(v => v === null ? null : ax.percent ? 100 * v : ax.dim ? Units.show(v, ax.dim) : v);
+}
+
+// a leak curve's values in SI (m³/s; a gas: Pa·m³/s from the records' mbar·l/s)
+function leakSI(c, values) {
+  const mbar = c.gas ? Units.table.throughput.find(u => u.name === "mbar·l/s").factor : 1;
+  return values ? values.map(v => v === null ? null : v * mbar) : null;
+}
+
+let lastPrediction = null;
+
 function drawPrediction(pred) {
+  lastPrediction = pred;
   const doc = pred.json;
   const rows = doc.results;
   const first = rows[0] || {};
   const lr = $("#leak-rate");
-  // a gas: the pV throughput in mbar·l/s (the leak-test unit) and in Pa·m³/s; a liquid: m³/s and ml/min
-  const gas = first.leak_rate_mbar_l_s !== undefined;
-  const shown = gas ? first.leak_rate_mbar_l_s : first.leak_rate;
+  // a gas: the pV throughput (leak-test units: mbar·l/s, Pa·m³/s, sccm); a liquid: a volume flow (m³/s, ml/min, ...)
+  const gas = first.leak_rate_pv !== undefined;
+  const dim = gas ? "throughput" : "volume_flow";
   const si = gas ? first.leak_rate_pv : first.leak_rate;
   $("#leak-rate-what").textContent = gas ? "Gas leak rate Q_pV" : "Leak rate Q";
-  lr.textContent = fmt(shown, 5);
+  lr.textContent = typeof si === "number" ? fmt(Units.show(si, dim, rows), 5) : "sealed";
   lr.dataset.si = si === null || si === undefined ? "" : String(si);
-  $("#leak-rate-unit").textContent = gas ? "mbar·l/s" : "m³/s";
-  // the same leak in the other unit: ml/min for a liquid (the command line's table; 1 m³/s = 6e7 ml/min), Pa·m³/s for a gas
-  $("#leak-rate-ml").textContent = typeof si !== "number" ? ""
-    : gas ? `= ${fmt(si, 4)} Pa·m³/s` : `= ${fmt(si * 6e7, 4)} ml/min`;
-  const x0 = first.squeeze_pressure !== undefined ? `P0 = ${fmt(first.squeeze_pressure / 1e3)} kPa`
+  $("#leak-rate-unit").textContent = typeof si === "number" ? Units.name(dim) : "";
+  // the same leak in a second unit: ml/min for a liquid (1 m³/s = 6e7 ml/min) unless chosen, the SI unit otherwise
+  const other = gas ? (Units.name(dim) === "Pa·m³/s" ? "mbar·l/s" : "Pa·m³/s") : (Units.name(dim) === "ml/min" ? "m³/s" : "ml/min");
+  const otherUnit = Units.table[dim].find(u => u.name === other);
+  $("#leak-rate-ml").textContent = typeof si !== "number" ? "" : `= ${fmt(si / otherUnit.factor, 4)} ${other}`;
+  const x0 = first.squeeze_pressure !== undefined ? `P0 = ${fmt(Units.show(first.squeeze_pressure, "pressure"))} ${Units.name("pressure")}`
     : first.compression !== undefined ? `compression ${fmt(100 * first.compression)} %`
       : first.profile_scale !== undefined ? `profile scale ${fmt(first.profile_scale)}` : "";
   $("#first-pressure").textContent = (first.variant ? `${first.variant}, ` : "") + x0;
-  const em = gas ? first.leak_rate_mbar_l_s_effective_medium : first.leak_rate_effective_medium;
   const emSi = gas ? first.leak_rate_pv_effective_medium : first.leak_rate_effective_medium;
-  $("#leak-rate-em-line").hidden = em === undefined;
-  if (em !== undefined) { $("#leak-rate-em").textContent = `${fmt(em, 5)} ${gas ? "mbar·l/s" : "m³/s"}`; $("#leak-rate-em").dataset.si = String(emSi); }
+  $("#leak-rate-em-line").hidden = emSi === undefined;
+  if (emSi !== undefined) {
+    $("#leak-rate-em").textContent = typeof emSi === "number" ? `${fmt(Units.show(emSi, dim, rows), 5)} ${Units.name(dim)}` : "sealed";
+    $("#leak-rate-em").dataset.si = String(emSi);
+  }
   const notes = [...doc.warnings, ...doc.messages];
   $("#warnings").hidden = !notes.length;
   $("#notes-count").textContent = `${notes.length} note${notes.length === 1 ? "" : "s"} on the validity of the results`;
   $("#notes").innerHTML = notes.map(n => `<li>${esc(n)}</li>`).join("");
 
-  // the table: every record, every unit-declared column
+  // the table: every record, every unit-declared column, in the chosen units (data-si: the record's own value)
   const keys = Object.keys(doc.units).filter(k => k !== "validity");
   if (rows.some(r => r.variant)) keys.unshift("variant");
-  const head = `<thead><tr>${keys.map(k => `<th>${esc(k)}${doc.units[k] && doc.units[k] !== "1" ? ` (${doc.units[k]})` : ""}</th>`).join("")}</tr></thead>`;
-  const body = rows.map(r => `<tr>${keys.map(k => `<td data-key="${esc(k)}" data-si="${esc(r[k] ?? "")}">${esc(fmt(r[k], 5))}</td>`).join("")}</tr>`).join("");
+  const unitOf = k => k === "compression" ? "%" : Units.OF[doc.units[k]] ? Units.name(Units.OF[doc.units[k]])
+    : doc.units[k] && doc.units[k] !== "1" ? doc.units[k] : "";
+  const cell = (k, v) => k === "compression" && typeof v === "number" ? 100 * v : Units.OF[doc.units[k]] ? Units.show(v, Units.OF[doc.units[k]], rows) : v;
+  const head = `<thead><tr>${keys.map(k => `<th>${esc(k)}${unitOf(k) ? ` (${esc(unitOf(k))})` : ""}</th>`).join("")}</tr></thead>`;
+  const body = rows.map(r => `<tr class="${r.valid === false ? "invalid-row" : ""}">${keys.map(k => `<td data-key="${esc(k)}" data-si="${esc(r[k] ?? "")}">${esc(fmt(cell(k, r[k]), 5))}</td>`).join("")}</tr>`).join("");
   $("#results-table").innerHTML = head + `<tbody>${body}</tbody>`;
+  drawPlots(pred);
+}
 
-  const p = pred.plots;
-  const leak = [];
-  const units = new Set(p.leak.map(c => c.unit));  // a study of liquids and gases: each curve names its unit
+// the leak-rate curves of a prediction (and the pinned ones, dotted): sealed points at the axis' foot, invalid ones crossed
+function leakCurves(p, rows, tagAll, style = {}) {
+  const traces = [], marks = [];
+  const kinds = new Set(p.leak.map(c => c.gas));
   for (const c of p.leak) {
-    const tag = (p.leak.length > 1 ? `${c.label}: ` : "") + (units.size > 1 ? `(${c.unit}) ` : "");
-    leak.push(line(c.squeeze_pressure, c.leak_rate, `${tag}critical junction`, { mode: "lines+markers", marker: { size: 4 } }));
-    if (c.leak_rate_effective_medium) leak.push(line(c.squeeze_pressure, c.leak_rate_effective_medium, `${tag}effective medium`, { mode: "lines+markers", marker: { size: 4 }, line: { dash: "dash" } }));
+    const tag = (tagAll || p.leak.length > 1 ? `${c.label}: ` : "") + (kinds.size > 1 ? `(${Units.name(c.gas ? "throughput" : "volume_flow")}) ` : "");
+    const dim = c.gas ? "throughput" : "volume_flow";
+    const x = showX(c);
+    const show = v => v === null ? null : Units.show(v, dim, rows);
+    const cj = leakSI(c, c.leak_rate).map(show);
+    traces.push(line(x, cj, `${tag}critical junction`, { mode: "lines+markers", marker: { size: 5 }, ...style }));
+    const em = leakSI(c, c.leak_rate_effective_medium);
+    if (em) traces.push(line(x, em.map(show), `${tag}effective medium`, { mode: "lines+markers", marker: { size: 5 }, line: { dash: "dash" }, ...style }));
+    marks.push({ x, y: cj, valid: c.valid || [] });
   }
-  const xname = p.leak[0] ? p.leak[0].x : "squeeze_pressure";
-  const xunit = p.leak[0] && p.leak[0].x_unit && p.leak[0].x_unit !== "1" ? ` (${p.leak[0].x_unit})` : "";
-  plot("plot-leak", leak, "Leak rate", axis(xname === "squeeze_pressure" ? "squeeze pressure P0 (Pa)" : xname + xunit, true),
-    { ...axis(units.size > 1 ? "leak rate (the unit of each curve in its legend)"
-      : p.leak[0] && p.leak[0].gas ? "gas leak rate Q_pV (mbar·l/s)" : "leak rate Q (m³/s)", true), range: topDecades(leak, 8) });
-  plot("plot-psd", p.spectra.map(s => line(s.q, s.C, s.label)), "Power spectrum C(q)", axis("wavevector q (1/m)", true), axis("C(q) (m⁴)", true));
-  plot("plot-area", p.sets.map(s => line(s.zeta, s.area, s.label)), "Contact area A(ζ)/A0", axis("magnification ζ", true), axis("A(ζ)/A0", false));
-  const gaps = p.sets.map(s => line(s.zeta_gap, s.mean_gap.map(v => v === null ? null : v * 1e6), s.label));
-  plot("plot-gap", gaps, "Mean separation ū(ζ)", axis("magnification ζ", true), { ...axis("ū(ζ) (µm)", true), range: topDecades(gaps, 4) });
-  plot("plot-gaps", p.gaps.density.map((d, i) => line(p.gaps.u.map(v => v * 1e6), d, p.gaps.labels[i])), "Gap distribution u·P(u)",
-    axis("gap u (µm)", true), axis("u·P(u)", false));
+  return { traces, marks };
+}
+
+// a set's label ("P0 = 20 kPa", after a study's label) with its pressure in the chosen unit
+function setLabel(s) {
+  return s.label.replace(/P0 = .*$/, `P0 = ${fmt(Units.show(s.squeeze_pressure, "pressure"))} ${Units.name("pressure")}`);
+}
+
+function drawPlots(pred) {
+  const p = { ...pred.plots };
+  p.sets = p.sets.map(s => ({ ...s, label: setLabel(s) }));
+  p.gaps = { ...p.gaps, labels: p.sets.map(s => s.label) };
+  const rows = pred.json.results;
+  const { traces: leak, marks } = leakCurves(p, rows, false);
+  const pinned = Pins.curves();
+  const all = [...leak, ...pinned];
+  const yr = fitRange(all.flatMap(t => t.y), true);
+  // sealed points (no leak path: Q = 0) sit at the foot of the axis; points outside the theory (valid = NO) are crossed
+  const foot = yr ? Math.pow(10, yr[0] + 0.1) : 1e-30;
+  const sx = [], ix = [], iy = [];
+  const sealedX = [];
+  for (const m of marks) m.x.forEach((x, i) => {
+    if (m.y[i] === null || !(m.y[i] > 0)) sealedX.push(x);
+    else if (m.valid[i] === false) { ix.push(x); iy.push(m.y[i]); }
+  });
+  sx.push(...sealedX);
+  if (sx.length) all.push({ x: sx, y: sx.map(() => foot), name: "sealed (no leak path)", type: "scatter", mode: "markers",
+    marker: { symbol: "triangle-down", size: 10, color: "#1e7d3a" }, hovertemplate: "%{x:.4~g}: sealed<extra></extra>" });
+  if (ix.length) all.push({ x: ix, y: iy, name: "outside the theory (valid = NO)", type: "scatter", mode: "markers",
+    marker: { symbol: "x-thin-open", size: 12, color: "#b3261e", line: { width: 2 } }, hovertemplate: "%{x:.4~g}, %{y:.4~e}: outside the theory<extra></extra>" });
+  const c0 = p.leak[0] || { x: "squeeze_pressure" };
+  const xa = X_AXES[c0.x] || X_AXES.profile_scale;
+  const kinds = new Set(p.leak.map(c => c.gas));
+  const ytitle = kinds.size > 1 ? "leak rate (the unit of each curve in its legend)"
+    : c0.gas ? `gas leak rate${Units.name("throughput") === "sccm" ? "" : " Q_pV"} (${Units.name("throughput")})`
+      : `leak rate Q (${Units.name("volume_flow")})`;
+  plot("plot-leak", all, "Leak rate", { ...axis(xa.title(), xa.log), range: fitRange(all.flatMap(t => t.x), xa.log) },
+    { ...axis(ytitle, true), range: yr });
+  plot("plot-psd", p.spectra.map(s => line(s.q, s.C, s.label)), "Power spectrum C(q)",
+    { ...axis("wavevector q (1/m)", true), range: fitRange(p.spectra.flatMap(s => s.q), true, 12) },
+    { ...axis("C(q) (m⁴)", true), range: fitRange(p.spectra.flatMap(s => s.C), true, 30) });
+  plot("plot-area", p.sets.map(s => line(s.zeta, s.area, s.label)), "Contact area A(ζ)/A0",
+    { ...axis("magnification ζ", true), range: fitRange(p.sets.flatMap(s => s.zeta), true, 12) }, axis("A(ζ)/A0", false));
+  const lu = Units.name("length");
+  const gaps = p.sets.map(s => line(s.zeta_gap, s.mean_gap.map(v => v === null ? null : Units.show(v, "length")), s.label));
+  plot("plot-gap", gaps, "Mean separation ū(ζ)", { ...axis("magnification ζ", true), range: fitRange(p.sets.flatMap(s => s.zeta_gap), true, 12) },
+    { ...axis(`ū(ζ) (${lu})`, true), range: fitRange(gaps.flatMap(t => t.y), true, 4) });
+  const u = p.gaps.u.map(v => Units.show(v, "length"));
+  plot("plot-gaps", p.gaps.density.map((d, i) => line(u, d, p.gaps.labels[i])), "Gap distribution u·P(u)",
+    { ...axis(`gap u (${lu})`, true), range: fitRange(u, true, 6) }, axis("u·P(u)", false));
+}
+
+// ---------------------------------------------------------------- pinned results: their curves overlaid, their inputs compared
+const Pins = {
+  list: JSON.parse(sessionStorage.getItem("sealeak.pins") || "[]"),
+  save() { sessionStorage.setItem("sealeak.pins", JSON.stringify(this.list)); },
+
+  pin(state) {
+    if (!state || !state.prediction) return;
+    const p = state.prediction.plots;
+    const n = this.list.length ? Math.max(...this.list.map(x => x.n)) + 1 : 1;
+    const title = (state.prediction.json.cases[0] || {}).title || state.name;
+    this.list.push({ n, title, name: state.name, fields: state.fields, rows: state.prediction.json.results.slice(0, 1),
+      leak: p.leak.map(c => ({ label: c.label, x: c.x, gas: c.gas, squeeze_pressure: c.squeeze_pressure, leak_rate: c.leak_rate,
+        leak_rate_effective_medium: c.leak_rate_effective_medium })) });
+    this.save();
+  },
+  unpin(n) { this.list = this.list.filter(x => x.n !== n); this.save(); },
+
+  // the pinned leak curves in the current units, dotted and grey-blue, named "#n title"
+  curves() {
+    const out = [];
+    for (const pin of this.list) {
+      const { traces } = leakCurves({ leak: pin.leak.map(c => ({ ...c, label: `#${pin.n} ${short(pin.title)}` })) }, pin.rows, true,
+        { line: { dash: "dot", width: 1.5 }, marker: { size: 4, symbol: "circle-open" }, opacity: 0.8 });
+      out.push(...traces);
+    }
+    return out;
+  },
+
+  // the table: the first leak rate of each case, then every input in which the current case and the pinned ones differ
+  table(state) {
+    const box = $("#compare");
+    if (!box) return;
+    box.hidden = !this.list.length;
+    if (!this.list.length) return;
+    const cases = [{ n: 0, title: "current case", fields: state.fields || {}, rows: state.prediction ? state.prediction.json.results : [] }, ...this.list];
+    const keys = [...new Set(cases.flatMap(c => Object.keys(c.fields)))].sort();
+    const differ = keys.filter(k => new Set(cases.map(c => c.fields[k] ?? "")).size > 1);
+    const first = c => {
+      const r = c.rows[0] || {};
+      const gas = r.leak_rate_pv !== undefined, si = gas ? r.leak_rate_pv : r.leak_rate, dim = gas ? "throughput" : "volume_flow";
+      return typeof si === "number" ? `${fmt(Units.show(si, dim, c.rows), 4)} ${Units.name(dim)}` : "sealed";
+    };
+    const head = `<thead><tr><th>input</th>${cases.map(c => `<th title="${esc(c.title)}">${c.n ? `#${c.n} ` : ""}${esc(short(c.title))}${c.n ? ` <button class="secondary unpin" data-n="${c.n}" title="unpin">×</button>` : ""}</th>`).join("")}</tr></thead>`;
+    const lead = `<tr class="lead"><td>leak rate at the first point</td>${cases.map(c => `<td>${esc(first(c))}</td>`).join("")}</tr>`;
+    const body = differ.map(k => `<tr data-key="${esc(k)}"><td><code>${esc(k)}</code></td>${cases.map(c => `<td>${esc(c.fields[k] ?? "(default)")}</td>`).join("")}</tr>`).join("");
+    $("#compare-table").innerHTML = head + `<tbody>${lead}${body || `<tr><td colspan="${cases.length + 1}" class="muted">the inputs are the same</td></tr>`}</tbody>`;
+    $$("#compare-table .unpin").forEach(b => b.addEventListener("click", () => { this.unpin(Number(b.dataset.n)); refresh(); }));
+  },
+};
+
+let lastState = null;
+
+function refresh() {
+  if (lastState && lastState.prediction) drawPrediction(lastState.prediction);
+  if (lastState) Pins.table(lastState);
 }
 
 async function pagePrediction() {
@@ -350,10 +672,21 @@ async function pagePrediction() {
   await Form.init(true, state => {
     const model = $('#case-form [name="theory.model"]');
     if (model) both.checked = model.value === "both";
-    if (state.prediction) drawPrediction(state.prediction);
+    if (state.prediction) { lastState = state; refresh(); }
     // while the case has an error the results shown are those of the last valid case: greyed out
     $("#results").classList.toggle("stale", !!state.error);
   });
+  for (const sel of $$("#units select")) {
+    const dim = sel.dataset.dim;
+    for (const u of Units.table[dim]) {
+      const o = document.createElement("option");
+      o.value = u.name; o.textContent = u.name;
+      sel.appendChild(o);
+    }
+    sel.value = Units.name(dim);
+    sel.addEventListener("change", () => { Units.choose(dim, sel.value); refresh(); });
+  }
+  $("#pin").addEventListener("click", () => { Pins.pin(lastState); refresh(); });
   both.addEventListener("change", () => {
     const model = $('#case-form [name="theory.model"]');
     if (!model) return;
@@ -472,9 +805,10 @@ async function refreshJobs() {
       : j.state === "done" ? `<button class="secondary show" data-id="${j.id}">Show result</button>` : "";
     return `<tr data-job="${j.id}"><td>${j.id}</td><td>${esc(j.title)}</td><td>${esc(opts)}</td>
       <td class="state state-${j.state}">${j.state}${j.message && j.state !== "cancelled" ? `: ${esc(j.message)}` : ""}</td>
-      <td><span class="progress"><div style="width:${pct}%"></div></span> ${j.total ? `${j.done}/${j.total} tasks` : ""}</td>
+      <td><span class="progress"><div data-pct="${pct}"></div></span> ${j.total ? `${j.done}/${j.total} tasks` : ""}</td>
       <td>${j.elapsed} s</td><td>${action}</td></tr>`;
   }).join("") || '<tr><td colspan="7" class="muted">no simulation yet</td></tr>';
+  $$("#jobs .progress > div").forEach(d => { d.style.width = `${d.dataset.pct}%`; });  // CSSOM: no style attribute (CSP)
   $$("#jobs .cancel").forEach(b => b.addEventListener("click", async () => {
     try { await api("POST", `/api/jobs/${b.dataset.id}/cancel`); } catch (e) { showMessage(e.message); }
     refreshJobs();
@@ -495,9 +829,11 @@ async function showJob(job) {
 }
 
 // ----------------------------------------------------------------
-const PAGES = { case: pageCase, prediction: pagePrediction, surface: pageSurface, simulation: pageSimulation };
+const PAGES = { case: pageCase, prediction: pagePrediction, surface: pageSurface, simulation: pageSimulation, help: pageHelp };
 document.addEventListener("DOMContentLoaded", () => {
   markNav();
+  // no form is ever submitted: each field is sent as it changes (no inline handlers: the pages' CSP forbids them)
+  $$("form").forEach(f => f.addEventListener("submit", ev => ev.preventDefault()));
   const run = PAGES[document.body.dataset.page];
   // data-ready: the page has loaded what it shows (the browser tests wait for it)
   if (run) run().catch(e => showMessage(e.message)).finally(() => { document.body.dataset.ready = "1"; });
