@@ -14,6 +14,7 @@ prints the message and exits non-zero without a traceback. Anything else escapin
 
 from __future__ import annotations
 
+import reprlib
 from typing import Any
 
 __all__ = [
@@ -24,6 +25,7 @@ __all__ = [
     "ConvergenceError",
     "SolutionCheckError",
     "ResourceError",
+    "show",
 ]
 
 
@@ -51,7 +53,7 @@ class InputError(SealeakError, ValueError):
         if value is None:  # a missing field: "surface.hurst is required", not "= None"
             super().__init__(f"{field} {allowed}" if allowed.startswith("is ") else f"{field}: {allowed}")
         else:
-            super().__init__(f"{field} = {_show(value)}: {allowed}")
+            super().__init__(f"{field} = {show(value)}: {allowed}")
 
 
 class UnitError(InputError):
@@ -79,10 +81,21 @@ class ResourceError(SealeakError, RuntimeError):
     """A job was refused up front because it would need more memory than is available."""
 
 
-def _show(value: Any) -> str:
-    if isinstance(value, str):
-        return repr(value)
+#: How a value appears in a message: the first items and levels only, so that a message is one short line
+#: whatever the value's size or nesting (reprlib never recurses deeper than ``maxlevel``).
+_REPR = reprlib.Repr()
+_REPR.maxlevel = 3
+_REPR.maxstring = _REPR.maxother = _REPR.maxlong = 72
+_REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = _REPR.maxfrozenset = _REPR.maxdeque = 8
+_SHOW_MAX = 80
+
+
+def show(value: Any) -> str:
+    """``value`` as a message shows it: a string quoted, a float to 6 digits, anything else as its ``repr``;
+    at most about 80 characters on one line (long or deep values elided with ``...``)."""
     if isinstance(value, float):
         return f"{value:.6g}"
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
+    text = _REPR.repr(value)
+    if isinstance(value, str) and len(value) <= _SHOW_MAX:
+        return text  # a path or a quantity shown whole
+    return text if len(text) <= _SHOW_MAX else text[:_SHOW_MAX - 3] + "..."

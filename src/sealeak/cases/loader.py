@@ -45,15 +45,16 @@ Every unknown section or key, missing field, wrong unit or out-of-range value ra
 from __future__ import annotations
 
 import copy
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from ..errors import FileFormatError, InputError, SealeakError
+from ..errors import FileFormatError, InputError, SealeakError, show
 from ..io.files import input_file
+from ..io.tomlscan import parse_toml
 from .builders import build_case
+from .limits import MAX_CASE_FILE_BYTES, MAX_STUDY_VALUES, at_most
 from .model import Case
 from .schema import SECTIONS, Section
 
@@ -71,11 +72,12 @@ class CaseFile:
 
 
 def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
-    """Read TOML text into a :class:`CaseFile` (relative file names are relative to ``case_dir``)."""
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(source, f"malformed TOML: {exc}") from None
+    """Read TOML text into a :class:`CaseFile` (relative file names are relative to ``case_dir``).
+
+    The text is pre-scanned (:func:`sealeak.io.tomlscan.parse_toml`): keys of too many parts, nesting
+    too deep and over-long bare words are refused before tomllib reads it.
+    """
+    doc = parse_toml(text, source)
     case_dir = Path(case_dir)
     inputs = copy.deepcopy(doc)
     study = doc.pop("study", None)
@@ -93,6 +95,7 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
     values = sec.raw("values")
     if not isinstance(values, list) or not values:
         raise InputError("study.values", values, "must be a non-empty list of values for " + vary)
+    at_most("study.values", values, MAX_STUDY_VALUES, "values (one case each)")
     if whole:
         for i, v in enumerate(values):
             if not isinstance(v, dict):
@@ -112,7 +115,7 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
         try:
             cases.append(build_case(variant, case_dir, source, label=str(label)))
         except InputError as exc:
-            raise InputError(f"{exc.field} (study value {value!r})", exc.value, exc.allowed) from None
+            raise InputError(f"{exc.field} (study value {show(value)})", exc.value, exc.allowed) from None
     return CaseFile(cases, inputs, source)
 
 
@@ -124,12 +127,27 @@ def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -
 def read_case_file(path: str | Path) -> CaseFile:
     """Read a case file into a :class:`CaseFile` (its cases and its inputs as written)."""
     p = input_file(path, "case file")  # missing, a folder, a FIFO or a device: one line naming it
-    return parse_case_bytes(p.read_bytes(), p.parent, str(p))
+    _check_size(str(p), p.stat().st_size)  # before reading: a file of gigabytes is not read at all
+    with p.open("rb") as f:
+        data = f.read(MAX_CASE_FILE_BYTES + 1)  # one byte more tells a file that grew since
+    return parse_case_bytes(data, p.parent, str(p))
+
+
+def _check_size(source: str, size: int) -> None:
+    """Refuse a case file of more than :data:`~sealeak.cases.limits.MAX_CASE_FILE_BYTES` bytes."""
+    if size > MAX_CASE_FILE_BYTES:
+        raise FileFormatError(source, f"is {size} bytes: a case file may have at most {MAX_CASE_FILE_BYTES} bytes "
+                                      "(1 MB; data such as profiles or tables go in files of their own)")
 
 
 def parse_case_bytes(data: bytes, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
     """A case file's bytes (UTF-8, a BOM allowed) into a :class:`CaseFile`: the command line reads a file
-    through this, the web app a request body, so both refuse the same content with the same message."""
+    through this, the web app a request body, so both refuse the same content with the same message.
+
+    More than :data:`~sealeak.cases.limits.MAX_CASE_FILE_BYTES` bytes are refused before anything is parsed
+    (data files the case names have their own limits).
+    """
+    _check_size(source, len(data))
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:

@@ -23,6 +23,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
     from ..cases import simulate
     from ..cases.ensemble import default_workers, make_runner
+    from ..cases.limits import MAX_REALIZATIONS, whole_number
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
     from ..render.convergence import CONVERGENCE_FIGURE_NAMES
@@ -44,9 +45,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
                           for k, d in (("realizations", 4), ("seed", 0)))
     for key, value in (("grid", grid), ("realizations", realizations), ("seed", seed)):  # name the option (or key)
-        low = {"grid": 16, "realizations": 1, "seed": 0}[key]
+        where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
+        if key == "realizations":
+            whole_number(where, value, 1, MAX_REALIZATIONS)
+            continue
+        low = {"grid": 16, "seed": 0}[key]
         if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
-            where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
             raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
