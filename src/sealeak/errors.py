@@ -50,10 +50,11 @@ class InputError(SealeakError, ValueError):
         self.field = field
         self.value = value
         self.allowed = allowed
+        name = _one_line(field)  # a key is the user's text too: "a\nb" or 100 000 characters stay one short line
         if value is None:  # a missing field: "surface.hurst is required", not "= None"
-            super().__init__(f"{field} {allowed}" if allowed.startswith("is ") else f"{field}: {allowed}")
+            super().__init__(f"{name} {allowed}" if allowed.startswith("is ") else f"{name}: {allowed}")
         else:
-            super().__init__(f"{field} = {show(value)}: {allowed}")
+            super().__init__(f"{name} = {show(value)}: {allowed}")
 
 
 class UnitError(InputError):
@@ -66,7 +67,7 @@ class FileFormatError(SealeakError, ValueError):
     def __init__(self, path: Any, problem: str) -> None:
         self.path = str(path)
         self.problem = problem
-        super().__init__(f"{self.path}: {problem}")
+        super().__init__(f"{_one_line(self.path)}: {problem}")
 
 
 class ConvergenceError(SealeakError, RuntimeError):
@@ -88,6 +89,13 @@ _REPR.maxlevel = 3
 _REPR.maxstring = _REPR.maxother = _REPR.maxlong = 72
 _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = _REPR.maxfrozenset = _REPR.maxdeque = 8
 _SHOW_MAX = 80
+
+
+def _one_line(text: str, limit: int = 200) -> str:
+    """``text`` as a message names it: escapes for what does not print (a newline), at most ``limit`` characters."""
+    if not text.isprintable():
+        text = text.encode("unicode_escape").decode("ascii")
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def show(value: Any) -> str:

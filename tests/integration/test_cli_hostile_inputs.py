@@ -63,7 +63,7 @@ CASES = {  # name: (case text, what the error names)
     "inline tables 5000 deep": (_with_theory_key("x = " + "{a = " * 5_000 + "1" + "}" * 5_000),
                                 [f"case.toml: line {THEORY}", "nested", "32"]),
     "arrays 100000 deep": (_with_theory_key("x = " + "[" * 100_000 + "]" * 100_000), [f"case.toml: line {THEORY}", "nested"]),
-    "integer of 5000 digits": (edit("alpha = 0.2", "alpha = " + "2" * 5_000), [f"case.toml: line {_line(BASE, 'alpha')}", "128"]),
+    "integer of 5000 digits": (edit("alpha = 0.2", "alpha = " + "2" * 5_000), [f"case.toml: line {_line(BASE, 'alpha')}", "5000 characters", "at most 1000"]),
     "range of 100000 points": (edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
                                     'squeeze_pressure = {start = "20 kPa", stop = "1 MPa", num = 100000}'),
                                ["conditions.squeeze_pressure.num = 100000", "10000"]),
@@ -141,3 +141,12 @@ def test_a_study_value_that_fails_is_shown_short():
     with pytest.raises(InputError) as err:
         parse_case_bytes(text.encode(), ".", "s.toml")
     assert "\n" not in str(err.value) and len(str(err.value)) < 400, str(err.value)
+
+
+@pytest.mark.parametrize("key", ['"' + "k" * 100_000 + '"', '"a\\nb"'], ids=["long key", "key with a newline"])
+def test_an_unknown_key_is_named_in_one_short_line(key):
+    with pytest.raises(InputError) as err:
+        parse_case_bytes(edit("[rubber]\n", f"[rubber]\n{key} = 1\n").encode(), ".", "k.toml")
+    message = str(err.value)
+    assert message.startswith("rubber.") and "unknown key in [rubber]" in message, message
+    assert "\n" not in message and len(message) < 400, message

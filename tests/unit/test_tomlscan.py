@@ -69,7 +69,7 @@ def test_up_to_the_limit_is_accepted(limit):
 
 
 def test_an_integer_too_long_for_python_is_a_format_error_not_a_traceback():
-    with pytest.raises(FileFormatError, match="at most 128"):
+    with pytest.raises(FileFormatError, match=f"at most {MAX_BARE}"):
         parse_toml("x = " + "9" * 4400)
 
 

@@ -31,8 +31,8 @@ __all__ = ["MAX_KEY_PARTS", "MAX_DEPTH", "MAX_BARE", "scan_toml", "parse_toml"]
 MAX_KEY_PARTS = 32
 #: Deepest nesting of tables and arrays: the keys and indices on the path from the document to a value.
 MAX_DEPTH = 32
-#: Longest bare word (bare key, number, date, boolean) in characters.
-MAX_BARE = 128
+#: Longest bare word (bare key, number, date, boolean) in characters: below the 4300 digits Python converts to an int.
+MAX_BARE = 1000
 
 _TOKEN = re.compile(r"""
       (?P<space>[ \t\r]+)
