@@ -13,7 +13,7 @@ import time
 
 import pytest
 
-from sealeak.cases import example_text, parse_case_bytes
+from sealeak.cases import example_text, parse_case_bytes, parse_case_file
 from sealeak.cases.limits import MAX_CASE_FILE_BYTES, MAX_REALIZATIONS
 from sealeak.errors import FileFormatError, InputError
 from tests.casefiles import BASE, edit
@@ -118,6 +118,8 @@ def test_the_shared_parser_refuses_too_many_bytes_naming_the_source():
     with pytest.raises(FileFormatError, match=r"^upload\.toml: is \d+ bytes: a case file may have at most"):
         parse_case_bytes(data, ".", "upload.toml")
     assert parse_case_bytes(BASE.encode() + b"#" * (MAX_CASE_FILE_BYTES - len(BASE) - 1), ".", "ok.toml").cases
+    with pytest.raises(FileFormatError, match=r"^text\.toml: is \d+ bytes"):  # the text parser too
+        parse_case_file(data.decode(), ".", "text.toml")
 
 
 def test_the_shared_parser_refuses_deep_nesting_naming_the_source():
@@ -150,3 +152,11 @@ def test_an_unknown_key_is_named_in_one_short_line(key):
     message = str(err.value)
     assert message.startswith("rubber.") and "unknown key in [rubber]" in message, message
     assert "\n" not in message and len(message) < 400, message
+
+
+def test_a_topography_of_thousands_of_files_is_refused_before_any_is_read(tmp_path):
+    (tmp_path / "h.txt").write_text("0 1\n1 0\n")  # a file that exists: without the limit it would be read 5000 times
+    surface = '[surface]\nmodel = "topography"\npixel_size = "1 um"\nfiles = [' + '"h.txt", ' * 5_000 + "]\n"
+    text = BASE.replace(BASE[BASE.index("[surface]"):BASE.index("[rubber]")], surface)
+    with pytest.raises(InputError, match=r"^surface\.files = \['h\.txt', .*: 5000 files: at most 100 "):
+        parse_case_bytes(text.encode(), tmp_path, "t.toml")

@@ -27,7 +27,7 @@ from ..physics.properties import FluidState, canonical_fluid_name, fluid_state, 
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
-from .limits import MAX_GRIDS, MAX_PRESSURES, MAX_REALIZATIONS, at_most, whole_number
+from .limits import MAX_GRIDS, MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
@@ -167,6 +167,7 @@ def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum,
     names = [files] if isinstance(files, str) else files
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
         raise InputError(sec.field("file"), files, "is required for model = 'topography': a file name or a list")
+    at_most(sec.field("files"), names, MAX_TOPOGRAPHY_FILES, "files")
     paths = [Path(n) if Path(n).is_absolute() else case_dir / n for n in names]
 
     def lengths(key: str) -> float | tuple[float, float] | None:

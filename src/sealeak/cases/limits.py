@@ -16,7 +16,7 @@ import numpy as np
 from ..errors import InputError
 
 __all__ = ["MAX_CASE_FILE_BYTES", "MAX_PRESSURES", "MAX_LOADS", "MAX_STUDY_VALUES", "MAX_REALIZATIONS",
-           "MAX_WORKERS", "MAX_GRIDS", "at_most", "whole_number"]
+           "MAX_WORKERS", "MAX_GRIDS", "MAX_TOPOGRAPHY_FILES", "at_most", "whole_number"]
 
 #: Bytes of a case file (1 MB); data files it names (profiles, C(q) tables, topographies) have their own limits.
 MAX_CASE_FILE_BYTES = 1_000_000
@@ -30,6 +30,8 @@ MAX_STUDY_VALUES = 100
 MAX_REALIZATIONS = 10_000
 #: Worker processes of a local Dask cluster (``--workers``).
 MAX_WORKERS = 1_024
+#: Measured topography files stitched into one spectrum (``surface.files``); each file has its own size limit.
+MAX_TOPOGRAPHY_FILES = 100
 #: Grids of one convergence study (``--grid 64,128,256``, ``[simulation] grid = [...]``).
 MAX_GRIDS = 16
 

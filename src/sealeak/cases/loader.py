@@ -74,9 +74,12 @@ class CaseFile:
 def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
     """Read TOML text into a :class:`CaseFile` (relative file names are relative to ``case_dir``).
 
-    The text is pre-scanned (:func:`sealeak.io.tomlscan.parse_toml`): keys of too many parts, nesting
-    too deep and over-long bare words are refused before tomllib reads it.
+    Text of more than :data:`~sealeak.cases.limits.MAX_CASE_FILE_BYTES` bytes is refused; the rest is
+    pre-scanned (:func:`sealeak.io.tomlscan.parse_toml`): keys of too many parts, nesting too deep and
+    over-long bare words are refused before tomllib reads it.
     """
+    if len(text) > MAX_CASE_FILE_BYTES:  # characters: never more than the bytes they take in UTF-8
+        _check_size(source, len(text.encode("utf-8", "surrogatepass")))
     doc = parse_toml(text, source)
     case_dir = Path(case_dir)
     inputs = copy.deepcopy(doc)
