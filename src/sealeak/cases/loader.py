@@ -39,7 +39,8 @@ Format (``docs/case-files.md`` lists every key)::
     values = ["1 um", "2 um", "4 um"]
 
 Every unknown section or key, missing field, wrong unit or out-of-range value raises a
-:class:`~sealeak.errors.SealeakError` naming the field (``section.key``) and the value.
+:class:`~sealeak.errors.SealeakError` naming the field (``section.key``) and the value. What a case
+may ask for is bounded before any work (:mod:`sealeak.cases.limits`, :mod:`sealeak.io.tomlscan`).
 """
 
 from __future__ import annotations

@@ -104,8 +104,8 @@ class _Scan:
                 return  # a string that never ends: tomllib stops here
             if kind == "newline":
                 self.line += 1
-                if self.header or (self.stack and self.stack[-1][0] == "{"):
-                    return  # a header or inline table across lines: tomllib stops here
+                if self.header:
+                    return  # a table header across lines: tomllib stops here
                 if not self.stack:
                     self.state = _KEY
                     self.dots, self.key_at = 0, -1
