@@ -558,16 +558,15 @@ def _simulation(sec: Section) -> dict[str, Any]:
     one is that integer).
     """
     out: dict[str, Any] = {}
+    if sec.has("realizations"):
+        out["realizations"] = whole_number(sec.field("realizations"), sec.raw("realizations"), 1, MAX_REALIZATIONS)
     for key, low, allowed in (("grid", 16, "an even integer >= 16 (grid points per side)"),
-                              ("realizations", 1, ""), ("seed", 0, "an integer >= 0")):
+                              ("seed", 0, "an integer >= 0")):
         if sec.has(key):
             v = sec.raw(key)
             if key == "grid" and isinstance(v, list):
                 grids = parse_grid_list(v, sec.field(key))
                 out[key] = grids[0] if len(grids) == 1 else grids
-                continue
-            if key == "realizations":
-                out[key] = whole_number(sec.field(key), v, low, MAX_REALIZATIONS)
                 continue
             if isinstance(v, bool) or not isinstance(v, int) or v < low or (key == "grid" and v % 2):
                 raise InputError(sec.field(key), v, f"must be {allowed}")

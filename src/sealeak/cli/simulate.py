@@ -44,14 +44,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     grid = grids[0]
     realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
                           for k, d in (("realizations", 4), ("seed", 0)))
-    for key, value in (("grid", grid), ("realizations", realizations), ("seed", seed)):  # name the option (or key)
-        where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
-        if key == "realizations":
-            whole_number(where, value, 1, MAX_REALIZATIONS)
-            continue
-        low = {"grid": 16, "seed": 0}[key]
+    def where(key: str) -> str:  # name the option (or the case file's key)
+        return f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
+
+    whole_number(where("realizations"), realizations, 1, MAX_REALIZATIONS)
+    for key, value, low in (("grid", grid, 16), ("seed", seed, 0)):
         if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
-            raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+            raise InputError(where(key), value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
                                                   "files of the tasks it takes from the store): use --store-fields to "
