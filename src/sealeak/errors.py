@@ -67,7 +67,7 @@ class FileFormatError(SealeakError, ValueError):
     def __init__(self, path: Any, problem: str) -> None:
         self.path = str(path)
         self.problem = problem
-        super().__init__(f"{_one_line(self.path)}: {problem}")
+        super().__init__(f"{_one_line(self.path, 4096)}: {problem}")  # a path whole (its name is at its end)
 
 
 class ConvergenceError(SealeakError, RuntimeError):
@@ -89,9 +89,12 @@ _REPR.maxlevel = 3
 _REPR.maxstring = _REPR.maxother = _REPR.maxlong = 72
 _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = _REPR.maxfrozenset = _REPR.maxdeque = 8
 _SHOW_MAX = 80
+#: Text (a path, a quantity) is shown whole up to this many characters, else its start and end.
+_TEXT = reprlib.Repr()
+_TEXT.maxstring = 120
 
 
-def _one_line(text: str, limit: int = 200) -> str:
+def _one_line(text: str, limit: int = 120) -> str:
     """``text`` as a message names it: escapes for what does not print (a newline), at most ``limit`` characters."""
     if not text.isprintable():
         text = text.encode("unicode_escape").decode("ascii")
@@ -99,11 +102,11 @@ def _one_line(text: str, limit: int = 200) -> str:
 
 
 def show(value: Any) -> str:
-    """``value`` as a message shows it: a string quoted, a float to 6 digits, anything else as its ``repr``;
-    at most about 80 characters on one line (long or deep values elided with ``...``)."""
+    """``value`` as a message shows it: text quoted (a long one by its start and end), a float to 6 digits,
+    anything else as its ``repr`` of at most 80 characters (long or deep values elided with ``...``)."""
     if isinstance(value, float):
         return f"{value:.6g}"
+    if isinstance(value, str):
+        return _TEXT.repr(value)
     text = _REPR.repr(value)
-    if isinstance(value, str) and len(value) <= _SHOW_MAX:
-        return text  # a path or a quantity shown whole
     return text if len(text) <= _SHOW_MAX else text[:_SHOW_MAX - 3] + "..."
