@@ -1,6 +1,7 @@
 """The TOML pre-scan: refuses long dotted keys, deep nesting and long bare words before tomllib reads the text,
 in time and memory linear in the text; refuses nothing valid within the limits (strings, comments, dates)."""
 
+import ast
 import random
 import time
 import tomllib
@@ -11,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from sealeak.cases import example_names, example_path
+from sealeak.cases import example_names, example_text
 from sealeak.errors import FileFormatError
 from sealeak.io import tomlscan
 from sealeak.io.tomlscan import MAX_BARE, MAX_DEPTH, MAX_KEY_PARTS, parse_toml, scan_toml
@@ -105,12 +106,23 @@ def test_brackets_dots_and_hashes_in_strings_and_comments_count_for_nothing(text
     assert parse_toml(text) == doc
 
 
-def test_every_bundled_example_and_test_case_file_passes():
-    files = [example_path(n) for n in example_names()] + sorted(TESTS.rglob("*.toml"))
-    assert len(files) >= len(example_names())
-    for f in files:
-        text = f.read_text(encoding="utf-8")
-        assert parse_toml(text, str(f)) == tomllib.loads(text), f
+def _case_texts_in_tests():
+    """Every multi-line string constant of the test modules that tomllib reads as TOML (found with ast)."""
+    for path in sorted(TESTS.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and "\n" in node.value and "=" in node.value:
+                try:
+                    yield path.name, node.value, tomllib.loads(node.value)
+                except tomllib.TOMLDecodeError:  # a fragment, edited before use
+                    continue
+
+
+def test_every_bundled_example_and_every_case_text_of_the_tests_passes():
+    texts = [(n, example_text(n), tomllib.loads(example_text(n))) for n in example_names()]
+    texts += list(_case_texts_in_tests())
+    assert len(texts) > len(example_names()) + 40
+    for name, text, doc in texts:
+        assert parse_toml(text, name) == doc, name
 
 
 # ----------------------------------------------------- the scanner's depth is the document's, on random TOML
