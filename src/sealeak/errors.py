@@ -55,10 +55,11 @@ class InputError(SealeakError, ValueError):
         self.field = field
         self.value = value
         self.allowed = allowed
+        name = _one_line(field)  # a key is the user's text too: "a\nb" or 100 000 characters stay one short line
         if value is None:  # a missing field: "surface.hurst is required", not "= None"
-            super().__init__(f"{field} {allowed}" if allowed.startswith("is ") else f"{field}: {allowed}")
+            super().__init__(f"{name} {allowed}" if allowed.startswith("is ") else f"{name}: {allowed}")
         else:
-            super().__init__(f"{field} = {show_value(value)}: {allowed}")
+            super().__init__(f"{name} = {show_value(value)}: {allowed}")
 
 
 class UnitError(InputError):
@@ -71,7 +72,7 @@ class FileFormatError(SealeakError, ValueError):
     def __init__(self, path: Any, problem: str) -> None:
         self.path = str(path)
         self.problem = problem
-        super().__init__(f"{self.path}: {problem}")
+        super().__init__(f"{_one_line(self.path, 4096)}: {problem}")  # a path whole (its name is at its end)
 
 
 class ConvergenceError(SealeakError, RuntimeError):
@@ -153,3 +154,10 @@ def _basic(text: str) -> str:
 
 def _bare_key(key: str) -> str:
     return key if key and all(c.isascii() and (c.isalnum() or c in "_-") for c in key) else _basic(key)
+
+
+def _one_line(text: str, limit: int = 120) -> str:
+    """``text`` as a message names it: escapes for what does not print (a newline), at most ``limit`` characters."""
+    if not text.isprintable():
+        text = text.encode("unicode_escape").decode("ascii")
+    return text if len(text) <= limit else text[:limit - 3] + "..."

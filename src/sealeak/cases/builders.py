@@ -27,6 +27,7 @@ from ..physics.properties import FluidState, canonical_fluid_name, close_fluid_n
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
+from .limits import MAX_GRIDS, MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
@@ -99,9 +100,7 @@ def _squeeze(sec: Section) -> np.ndarray:
         sub.name, sub.data = field, value
         start = sub.quantity("start", "pressure")
         stop = sub.quantity("stop", "pressure")
-        num = value.get("num", 20)
-        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
-            raise InputError(f"{field}.num", num, "must be a whole number from 1 to 100000")
+        num = whole_number(f"{field}.num", value.get("num", 20), 1, MAX_PRESSURES)
         spacing = value.get("spacing", "log")
         if spacing not in ("log", "linear"):
             raise InputError(f"{field}.spacing", spacing, "allowed: 'log', 'linear'")
@@ -112,6 +111,7 @@ def _squeeze(sec: Section) -> np.ndarray:
         raise InputError(field, value, "must be a list of pressures or a {start, stop, num} range")
     if not values:
         raise InputError(field, [], "is empty: give at least one squeeze pressure")
+    at_most(field, values, MAX_PRESSURES, "pressures")
     out = np.array([parse_quantity(f"{field}[{i}]", v, "pressure") for i, v in enumerate(values)])
     bad = out <= 0
     if bad.any():
@@ -167,6 +167,7 @@ def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum,
     names = [files] if isinstance(files, str) else files
     if not isinstance(names, list) or not names or not all(isinstance(n, str) and n for n in names):
         raise InputError(sec.field("file"), files, "is required for model = 'topography': a file name or a list")
+    at_most(sec.field("files"), names, MAX_TOPOGRAPHY_FILES, "files")
     paths = [Path(n) if Path(n).is_absolute() else case_dir / n for n in names]
 
     def lengths(key: str) -> float | tuple[float, float] | None:
@@ -627,8 +628,10 @@ def _simulation(sec: Section) -> dict[str, Any]:
     one is that integer).
     """
     out: dict[str, Any] = {}
+    if sec.has("realizations"):
+        out["realizations"] = whole_number(sec.field("realizations"), sec.raw("realizations"), 1, MAX_REALIZATIONS)
     for key, low, allowed in (("grid", 16, "an even integer >= 16 (grid points per side)"),
-                              ("realizations", 1, "an integer >= 1"), ("seed", 0, "an integer >= 0")):
+                              ("seed", 0, "an integer >= 0")):
         if sec.has(key):
             v = sec.raw(key)
             if key == "grid" and isinstance(v, list):
@@ -644,18 +647,21 @@ def _simulation(sec: Section) -> dict[str, Any]:
 def parse_grid_list(value: Any, field: str) -> tuple[int, ...]:
     """Grids N from ``--grid`` text (``"64,128,256"``) or a case file's integer or list; sorted increasing.
 
-    Each must be an even integer >= 16 and appear once; anything else raises
-    :class:`~sealeak.errors.InputError` naming ``field``.
+    Each must be an even integer >= 16 and appear once, at most :data:`~sealeak.cases.limits.MAX_GRIDS` of
+    them; anything else raises :class:`~sealeak.errors.InputError` naming ``field``. (How large a grid may
+    be is the memory's to say: ``simulate`` checks it before it starts.)
     """
     allowed = "must be an even integer >= 16, or a comma-separated list of distinct ones (e.g. 64,128,256)"
     if isinstance(value, str) and value.strip().lstrip("-").isdigit():
         value = int(value)  # one number is named as a number (--grid = 15), as before lists were allowed
     if isinstance(value, str):
         parts = value.split(",")
+        at_most(field, parts, MAX_GRIDS, "grids", shown=value)
         if not all(p.strip().isdigit() for p in parts):
             raise InputError(field, value, allowed)
         grids = [int(p) for p in parts]
     elif isinstance(value, (list, tuple)):
+        at_most(field, value, MAX_GRIDS, "grids")
         if not value or not all(isinstance(v, int) and not isinstance(v, bool) for v in value):
             raise InputError(field, value, allowed)
         grids = list(value)

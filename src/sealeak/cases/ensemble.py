@@ -56,6 +56,7 @@ from .. import numerics
 from ..errors import InputError, SealeakError
 from ..io.fieldstore import FIELDS_FOLDER, clear_partial, create_field_store, fields_intact
 from ..io.files import OutputWriteError
+from .limits import MAX_WORKERS, whole_number
 from .simulation import EnsembleTask, run_task
 
 __all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID",
@@ -374,8 +375,7 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         Every task that has fields writes them into the store (``DIR/fields.zarr``, :class:`TaskStore`);
         needs ``store``. A store that keeps fields has them written whether asked or not.
     """
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
-        raise InputError("--workers", workers, "must be a whole number >= 0 (0: no Dask, this process alone)")
+    whole_number("--workers", workers, 0, MAX_WORKERS, " (0: no Dask, this process alone)")
     if fields and store is None:
         raise InputError("--store-fields", None, "needs --store DIR: the fields are kept in the store")
     say = note or (lambda _msg: None)

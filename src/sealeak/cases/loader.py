@@ -39,14 +39,14 @@ Format (``docs/case-files.md`` lists every key)::
     values = ["1 um", "2 um", "4 um"]
 
 Every unknown section or key, missing field, wrong unit or out-of-range value raises a
-:class:`~sealeak.errors.SealeakError` naming the field (``section.key``) and the value.
+:class:`~sealeak.errors.SealeakError` naming the field (``section.key``) and the value. What a case
+may ask for is bounded before any work (:mod:`sealeak.cases.limits`, :mod:`sealeak.io.tomlscan`).
 """
 
 from __future__ import annotations
 
 import copy
 import re
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -54,7 +54,9 @@ from typing import Any
 
 from ..errors import FileFormatError, InputError, SealeakError, show_value
 from ..io.files import input_file
+from ..io.tomlscan import parse_toml
 from .builders import build_case
+from .limits import MAX_CASE_FILE_BYTES, MAX_STUDY_VALUES, at_most
 from .model import Case
 from .schema import SECTIONS, Section
 
@@ -94,11 +96,15 @@ def named_files(doc: dict[str, Any], case_dir: Path) -> list[Path]:
 
 
 def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
-    """Read TOML text into a :class:`CaseFile` (relative file names are relative to ``case_dir``)."""
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise FileFormatError(source, f"malformed TOML: {exc}") from None
+    """Read TOML text into a :class:`CaseFile` (relative file names are relative to ``case_dir``).
+
+    Text of more than :data:`~sealeak.cases.limits.MAX_CASE_FILE_BYTES` bytes is refused; the rest is
+    pre-scanned (:func:`sealeak.io.tomlscan.parse_toml`): keys of too many parts, nesting too deep and
+    over-long bare words are refused before tomllib reads it.
+    """
+    if len(text) > MAX_CASE_FILE_BYTES:  # characters: never more than the bytes they take in UTF-8
+        _check_size(source, len(text.encode("utf-8", "surrogatepass")))
+    doc = parse_toml(text, source)
     case_dir = Path(case_dir)
     inputs = copy.deepcopy(doc)
     study = doc.pop("study", None)
@@ -116,6 +122,7 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
     values = sec.raw("values")
     if not isinstance(values, list) or not values:
         raise InputError("study.values", values, "must be a non-empty list of values for " + vary)
+    at_most("study.values", values, MAX_STUDY_VALUES, "values (one case each)")
     if whole:
         for i, v in enumerate(values):
             if not isinstance(v, dict):
@@ -148,12 +155,27 @@ def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -
 def read_case_file(path: str | Path) -> CaseFile:
     """Read a case file into a :class:`CaseFile` (its cases and its inputs as written)."""
     p = input_file(path, "case file")  # missing, a folder, a FIFO or a device: one line naming it
-    return parse_case_bytes(p.read_bytes(), p.parent, str(p))
+    _check_size(str(p), p.stat().st_size)  # before reading: a file of gigabytes is not read at all
+    with p.open("rb") as f:
+        data = f.read(MAX_CASE_FILE_BYTES + 1)  # one byte more tells a file that grew since
+    return parse_case_bytes(data, p.parent, str(p))
+
+
+def _check_size(source: str, size: int) -> None:
+    """Refuse a case file of more than :data:`~sealeak.cases.limits.MAX_CASE_FILE_BYTES` bytes."""
+    if size > MAX_CASE_FILE_BYTES:
+        raise FileFormatError(source, f"is {size} bytes: a case file may have at most {MAX_CASE_FILE_BYTES} bytes "
+                                      "(1 MB; data such as profiles or tables go in files of their own)")
 
 
 def parse_case_bytes(data: bytes, case_dir: Path | str = ".", source: str = "<text>") -> CaseFile:
     """A case file's bytes (UTF-8, a BOM allowed) into a :class:`CaseFile`: the command line reads a file
-    through this, the web app a request body, so both refuse the same content with the same message."""
+    through this, the web app a request body, so both refuse the same content with the same message.
+
+    More than :data:`~sealeak.cases.limits.MAX_CASE_FILE_BYTES` bytes are refused before anything is parsed
+    (data files the case names have their own limits).
+    """
+    _check_size(source, len(data))
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:

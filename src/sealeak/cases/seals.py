@@ -22,6 +22,7 @@ from ..io.units import format_quantity, parse_quantity, unit_factor
 from ..physics.oring import MIN_COMPRESSION, compression_from_groove_depth, oring_contact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
+from .limits import MAX_LOADS, at_most, whole_number
 from .model import BandSeal
 from .schema import Section, case_keys
 
@@ -66,9 +67,7 @@ def _values(cond: Section, key: str, dimension: str) -> tuple[NDArray[np.float64
             raise InputError(f"{field}.{k}", value[k], "unknown key; a range takes start, stop, num, spacing")
         start = parse_quantity(f"{field}.start", value.get("start"), dimension)
         stop = parse_quantity(f"{field}.stop", value.get("stop"), dimension)
-        num = value.get("num", 20)
-        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
-            raise InputError(f"{field}.num", num, "must be a whole number from 1 to 100000")
+        num = whole_number(f"{field}.num", value.get("num", 20), 1, MAX_LOADS)
         spacing = value.get("spacing", "linear")
         if spacing not in ("log", "linear"):
             raise InputError(f"{field}.spacing", spacing, "allowed: 'log', 'linear'")
@@ -81,6 +80,7 @@ def _values(cond: Section, key: str, dimension: str) -> tuple[NDArray[np.float64
     items = value if isinstance(value, list) else [value]
     if not items:
         raise InputError(field, [], "is empty: give at least one value")
+    at_most(field, items, MAX_LOADS, "values (each a contact solution of its own)")
     return np.array([parse_quantity(f"{field}[{i}]" if isinstance(value, list) else field, v, dimension)
                      for i, v in enumerate(items)]), items
 

@@ -47,6 +47,7 @@ from ..io.fieldstore import TaskFields
 from ..io.files import OutputWriteError, check_replaceable
 from ..numerics.synthesis import synthesize
 from ..physics.gas import MOLAR_GAS_CONSTANT
+from .limits import MAX_REALIZATIONS, whole_number
 from .model import Case, GasConditions
 from .run import gas_rows, predict
 
@@ -216,8 +217,7 @@ def simulate(
 
     if not isinstance(grid, (int, np.integer)) or grid < 16 or grid % 2:
         raise InputError("grid", grid, "must be an even integer >= 16")
-    if not isinstance(realizations, (int, np.integer)) or realizations < 1:
-        raise InputError("realizations", realizations, "must be a whole number >= 1")
+    whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
     if not isinstance(seed, (int, np.integer)) or seed < 0:
         raise InputError("seed", seed, "must be a whole number >= 0")
     gas = case.gas

@@ -52,6 +52,7 @@ from ..io.fieldstore import TaskFields
 from ..numerics.synthesis import synthesize
 from ..physics.profile import PressureProfile
 from .band import run_band
+from .limits import MAX_REALIZATIONS, whole_number
 from .model import Case
 from .simulation import (
     JUNCTION_CELLS,
@@ -241,8 +242,7 @@ def simulate_band(
     d, loads, profiles = _oring_check(case)
     if not isinstance(grid, (int, np.integer)) or isinstance(grid, bool) or grid < 16 or grid % 2:
         raise InputError(grid_name, grid, "must be an even integer >= 16")
-    if not isinstance(realizations, (int, np.integer)) or isinstance(realizations, bool) or realizations < 1:
-        raise InputError("realizations", realizations, "must be a whole number >= 1")
+    whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
     if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
         raise InputError("seed", seed, "must be a whole number >= 0")
     n = int(grid)

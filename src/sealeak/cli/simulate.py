@@ -23,6 +23,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
     from ..cases import simulate
     from ..cases.ensemble import default_workers, make_runner
+    from ..cases.limits import MAX_REALIZATIONS, whole_number
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
     from ..render.convergence import CONVERGENCE_FIGURE_NAMES
@@ -43,11 +44,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     grid = grids[0]
     realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
                           for k, d in (("realizations", 4), ("seed", 0)))
-    for key, value in (("grid", grid), ("realizations", realizations), ("seed", seed)):  # name the option (or key)
-        low = {"grid": 16, "realizations": 1, "seed": 0}[key]
+    def where(key: str) -> str:  # name the option (or the case file's key)
+        return f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
+
+    whole_number(where("realizations"), realizations, 1, MAX_REALIZATIONS)
+    for key, value, low in (("grid", grid, 16), ("seed", seed, 0)):
         if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
-            where = f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
-            raise InputError(where, value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+            raise InputError(where(key), value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
                                                   "files of the tasks it takes from the store): use --store-fields to "

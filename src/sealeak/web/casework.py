@@ -33,10 +33,10 @@ from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.form_help import FIELD_HELP
 from ..cases.schema import SURFACE_KEYS
-from ..errors import InputError
+from ..errors import FileFormatError, InputError
+from ..io.tomlscan import MAX_DEPTH, scan_toml
 from ..io.units import STANDARD_PRESSURE, leak_rate_unit, unit_factor
 from ..render import prediction_json
-from .security import MAX_NESTING, check_nesting
 
 __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text",
            "text_value", "toml_text", "syntax_error", "check_files", "file_names", "upload_name", "resolve_files", "field_of",
@@ -143,18 +143,24 @@ def text_value(name: str, text: str) -> Any:
 
 
 def load_toml(text: str, field: str) -> dict[str, Any]:
-    """``tomllib.loads(text)`` of user text, its nesting and dotted keys checked first (:func:`~sealeak.web.security.check_nesting`).
+    """``tomllib.loads(text)`` of user text, after the case loader's linear pre-scan of its keys, nesting and
+    bare words (:func:`sealeak.io.tomlscan.scan_toml`, the same limits as a case file on the command line).
 
-    Too deep, or a key of too many parts: :class:`~sealeak.errors.InputError` naming ``field``;
-    malformed TOML: ``tomllib.TOMLDecodeError`` as from tomllib.
+    Too deep, a key of too many parts, too long a bare word: :class:`~sealeak.errors.InputError` naming
+    ``field``; malformed TOML: ``tomllib.TOMLDecodeError`` as from tomllib.
     """
-    why = check_nesting(text.encode("utf-8", "replace"))
-    if why is not None:
-        raise InputError(field, None, why)
+    try:
+        scan_toml(text, field)
+    except FileFormatError as exc:
+        raise InputError(field, None, exc.problem) from None
     try:
         return tomllib.loads(text)
-    except RecursionError:  # a structure the scan did not see (it cannot parse TOML exactly)
-        raise InputError(field, None, f"is nested too deeply: at most {MAX_NESTING} levels are allowed") from None
+    except RecursionError:  # cannot happen after the scan; kept so that no traceback can ever reach a page
+        raise InputError(field, None, f"is nested too deeply: at most {MAX_DEPTH} levels are allowed") from None
+    except ValueError as exc:
+        if isinstance(exc, tomllib.TOMLDecodeError):
+            raise
+        raise InputError(field, None, f"malformed TOML: {exc}") from None  # e.g. an integer of over 4300 digits
 
 
 def doc_fields(doc: dict[str, Any]) -> dict[str, str]:
