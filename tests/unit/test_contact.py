@@ -1,8 +1,11 @@
+import warnings
+
 import numpy as np
 import pytest
 from scipy import special
 
 from sealeak import InputError, PowerSpectrum
+from sealeak.cases import example_text, parse_cases
 from sealeak.physics.contact import PerssonContact, contact_modulus
 from tests.reference import PerssonReference, loglog_table, self_affine
 
@@ -172,3 +175,17 @@ def test_invalid_parameters(model, kwargs, field):
     args.update(kwargs)
     with pytest.raises(InputError, match=field.replace("*", r"\*")):  # the physics names its own parameters
         PerssonContact(**args)
+
+
+def test_u1_goes_to_infinity_near_zeta_one_without_a_warning():
+    """u1 = ū + ū' A/A' -> +inf as A'(ζ) -> 0 near ζ = 1: for a steeper spectrum (H = 0.75, the reference
+    ring at 73 kPa) A' underflows to 0 at the first ζ above 1 and the quotient overflows. That is the
+    limit, not an error: the curve is +inf there, finite and positive further on, and no RuntimeWarning
+    (an error under this suite's settings) escapes."""
+    case = parse_cases(example_text("reference-experiment").replace("hurst = 0.8", "hurst = 0.75"))[0]
+    contact = case.contact()
+    z = np.geomspace(1.0, case.spectrum.q_max / case.q0, 200)[1:-1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        u1 = contact.u1(z, 73037.84505136892)
+    assert np.isposinf(u1[0]) and np.all(np.isfinite(u1[5:])) and np.all(u1[5:] > 0)

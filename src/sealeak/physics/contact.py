@@ -388,5 +388,6 @@ class PerssonContact:
         ubar, dubar = self._integrals(zeta, squeeze_pressure, derivative=True)
         a = self.area(zeta, squeeze_pressure)
         da = self.area_derivative(zeta, squeeze_pressure)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        # where A'(ζ) is tiny (ζ -> 1, or a steep spectrum) u1 -> +inf: the quotient overflows to inf, as it should
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             return ubar + dubar * a / da  # type: ignore[operator]
