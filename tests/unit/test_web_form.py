@@ -14,6 +14,7 @@ from sealeak.cases.form_help import FIELD_HELP
 from sealeak.cases.rig_builders import RIG_KEYS
 from sealeak.cases.schema import SECTIONS, TOP_LEVEL
 from sealeak.errors import InputError
+from sealeak.io.tomlscan import MAX_DEPTH
 
 pytest.importorskip("fastapi", reason="the web extra (sealeak[web]) is not installed")
 from sealeak.web.casework import check_files, doc_fields, edit_text, fields_doc, resolve_files, text_value, upload_name  # noqa: E402
@@ -159,7 +160,7 @@ def test_every_key_has_a_label_and_the_help_of_the_reference():
     assert len({h.label for n, h in FIELD_HELP.items() if n.startswith("surface.")}) == len(FORM_SECTIONS["surface"])
 
 
-@pytest.mark.parametrize("depth", [17, 300, 5000])
+@pytest.mark.parametrize("depth", [MAX_DEPTH + 1, 300, 5000])
 def test_a_field_nested_too_deeply_is_refused_naming_it(depth):
     with pytest.raises(InputError) as err:
         text_value("conditions.squeeze_pressure", "[" * depth + '"1 kPa"' + "]" * depth)

@@ -90,7 +90,7 @@ FIELD_HELP: dict[str, FieldHelp] = {
     "substrate.name": FieldHelp("Material", "substrate-an-elastic-substrate-optional",
                      "name of the material; listed in the report's inputs, not used in any calculation"),
     "seal.shape": FieldHelp("Seal shape", "seal-the-seal-geometry",
-                     "\"ring\" or \"rectangle\""),
+                     "\"ring\" or \"rectangle\" (or \"o-ring\", below)"),
     "seal.inner_diameter": FieldHelp("Inner diameter", "seal-the-seal-geometry",
                      "ring: inner diameter Di"),
     "seal.outer_diameter": FieldHelp("Outer diameter", "seal-the-seal-geometry",
@@ -111,8 +111,8 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "file with columns x and pressure, each with its unit (x (mm), pressure (MPa)), the nominal contact pressure across the band, e.g. "
                      "from a finite-element model; relative to the case file; no shape"),
     "fluid.name": FieldHelp("Fluid", "fluid-the-fluid",
-                     "a fluid of the property library (CoolProp; below), or any name (e.g. \"oil\") with fluid.viscosity; picks the default "
-                     "fluid.molecular_size"),
+                     "a fluid of the property library (CoolProp; below), or any name (e.g. \"oil\") with fluid.viscosity, "
+                     "which then runs as an incompressible liquid; picks the default fluid.molecular_size"),
     "fluid.viscosity": FieldHelp("Viscosity η", "fluid-the-fluid",
                      "dynamic viscosity η (Newtonian); overrides the library's value"),
     "fluid.density": FieldHelp("Density ρ", "fluid-the-fluid",

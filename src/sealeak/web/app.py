@@ -322,11 +322,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
             text = data.decode("utf-8-sig")
         except UnicodeDecodeError:
             raise FileFormatError(name, "is not UTF-8 text") from None
-        try:
-            load_toml(text, name)  # too deep or too long a key: refused here, before the session keeps it
-        except tomllib.TOMLDecodeError:
-            pass  # answered below, with where the text stops being TOML
-        bad = _rejected(s, text, name)
+        bad = _rejected(s, text, name)  # not TOML, or too deep or too long a key: named in place, the case stays
         if bad is not None:
             return bad
         s.case_text, s.case_name = text, name

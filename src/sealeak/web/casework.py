@@ -248,10 +248,16 @@ _AT = re.compile(r"\(at line (\d+), column (\d+)\)")
 
 
 def syntax_error(text: str) -> dict[str, Any] | None:
-    """None if ``text`` is TOML, else where it is not: ``{"message", "line", "column"}`` (1-based; 0 if unknown).
-    Text nested too deeply or with too long a dotted key is refused first (:func:`load_toml`, an InputError)."""
+    """None if ``text`` is TOML the app can read and edit, else where it is not: ``{"message", "line", "column"}``
+    (1-based; 0 if unknown). Text nested too deeply, with too long a dotted key or bare word is named by the
+    case loader's pre-scan (:func:`sealeak.io.tomlscan.scan_toml`) before any parser reads it."""
     try:
-        load_toml(text, "case")
+        scan_toml(text, "case")
+    except FileFormatError as exc:
+        at = re.match(r"line (\d+): ", exc.problem)
+        return {"message": exc.problem, "line": int(at.group(1)) if at else 0, "column": 0}
+    try:
+        tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = _AT.search(str(exc))
         return {"message": f"malformed TOML: {exc}", "line": int(m.group(1)) if m else 0, "column": int(m.group(2)) if m else 0}
