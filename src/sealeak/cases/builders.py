@@ -566,7 +566,7 @@ def _rig(raw: Any, fluid: Fluid, band: BandSeal | None = None, doc: dict[str, An
 
     For an O-ring or pressure-profile seal (``band``) the compression or profile scale sets the
     contact, so ``load`` is refused; the rig's load is then the band's contact force f·Ly (N) at
-    its first load (the rig itself runs at one load only, :func:`sealeak.cases.run.rig_prediction`).
+    its first load (the rig itself runs at one load only, :func:`sealeak.cases.rig.rig_prediction`).
     """
     sec = RigSection(raw)
     gravity = sec.quantity("gravity", "acceleration") if sec.has("gravity") else STANDARD_GRAVITY
