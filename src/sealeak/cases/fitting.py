@@ -16,11 +16,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import FileFormatError, InputError, SealeakError
-from ..io.units import molar_flow_factor
+from ..io.leak_units import celsius, pv_throughput
 from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
-from ..physics.gas import MOLAR_GAS_CONSTANT
 from .band import BandResult
 from .gas import gas_throughput
 from .model import Case
@@ -249,30 +248,8 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), outside_validity=outside)
 
 
-#: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.units`).
+#: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.leak_units`).
 _GAS_ONLY_KINDS = ("standard_volume_flow", "molar_flow", "mass_flow")
-
-
-def _measured_throughput(case: Case, data: LeakData) -> FloatArray:
-    """The data's leak rates as pV throughputs (Pa·m³/s) of the case's gas at its temperature (docs/theory.md §11.6).
-
-    Throughput as is; molar flow ṅ R T; mass flow ṁ R T/M; standard volume flow ṅ = P0 V̇/(R T0)
-    first; a plain volume flow p V̇ with p the data's reference pressure (``--at-pressure``).
-    """
-    gas = case.gas
-    assert gas is not None and data.leak_rate_si is not None
-    rt = MOLAR_GAS_CONSTANT * gas.temperature
-    q = data.leak_rate_si
-    kind = data.leak_rate_kind
-    if kind == "throughput":
-        return q
-    if kind == "molar_flow":
-        return q * rt
-    if kind == "mass_flow":
-        return q / gas.gas.molar_mass * rt
-    if kind == "standard_volume_flow":
-        return q * molar_flow_factor("leak_rate", "m^3/s", temperature=273.15, molar_mass=1.0, pressure=101325.0) * rt
-    return q * data.reference_pressure
 
 
 def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
@@ -284,7 +261,10 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     """
     gas = case.gas
     assert gas is not None
-    q = _measured_throughput(case, data)
+    assert data.leak_rate_si is not None
+    # the data's leak rates as pV throughputs of the case's gas at its temperature (docs/theory.md §11.6)
+    q = pv_throughput(data.leak_rate_si, data.leak_rate_kind, temperature=gas.temperature, molar_mass=gas.gas.molar_mass,
+                      pressure=data.reference_pressure)
     dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     unit = ("load", "") if case.band is not None else ("P0", " Pa")
 
@@ -319,7 +299,7 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                 for name, f in fits.items() for i, reason in f.excluded]
     notes, outside = _outside_validity(data, fits, verdicts, inverse, where)
     messages += notes
-    messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {gas.temperature - 273.15:.4g} °C "
+    messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {celsius(gas.temperature):.4g} °C "
                     f"(Pa·m³/s), P_b = {gas.downstream_pressure:.6g} Pa and P_a = P_b + ΔP of each row")
     if not any(f.n_used > 1 for f in fits.values()):
         messages.append("with one usable point α has no standard error")

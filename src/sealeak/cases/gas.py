@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..io.units import molar_flow_factor
+from ..io.leak_units import to_mbar_l_per_s, to_sccm
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral
@@ -42,9 +42,6 @@ HELIUM_UNITS: dict[str, str] = {"leak_rate_helium_pv": "Pa*m^3/s", "leak_rate_he
 
 #: The standard helium leak test: helium at 1 bar (absolute) against vacuum, 20 °C (docs/theory.md §11.9).
 HELIUM_TEST = {"upstream_pressure": 1e5, "downstream_pressure": 0.0, "temperature": 293.15}
-
-#: 1 mbar·l/s in Pa·m³/s.
-MBAR_LITRE_PER_SECOND = 0.1
 
 
 def helium_test_gas() -> Gas:
@@ -88,13 +85,12 @@ class GasRows:
 
             pv = pick("throughput")
             molar = pick("molar_flow")
-            sccm = molar / molar_flow_factor("leak_rate", "sccm", temperature=1.0, molar_mass=1.0)
             out |= {"knudsen_number": np.array([g.knudsen_mean if g is not None else np.nan for g in self.leaks]),
                     "flow_regime": [g.regime if g is not None else "" for g in self.leaks],
-                    "leak_rate_pv": pv, "leak_rate_mbar_l_s": pv / MBAR_LITRE_PER_SECOND, "leak_rate_mass": pick("mass_flow"),
-                    "leak_rate_molar": molar, "leak_rate_sccm": sccm}
+                    "leak_rate_pv": pv, "leak_rate_mbar_l_s": to_mbar_l_per_s(pv), "leak_rate_mass": pick("mass_flow"),
+                    "leak_rate_molar": molar, "leak_rate_sccm": to_sccm(molar)}
         if self.helium is not None:
-            out |= {"leak_rate_helium_pv": self.helium, "leak_rate_helium_mbar_l_s": self.helium / MBAR_LITRE_PER_SECOND}
+            out |= {"leak_rate_helium_pv": self.helium, "leak_rate_helium_mbar_l_s": to_mbar_l_per_s(self.helium)}
         return {k + suffix: v for k, v in out.items()}
 
 

@@ -45,8 +45,8 @@ from .._version import __version__
 from ..errors import InputError
 from ..io.fieldstore import TaskFields
 from ..io.files import OutputWriteError, check_replaceable
+from ..io.leak_units import MOLAR_GAS_CONSTANT
 from ..numerics.synthesis import synthesize
-from ..physics.gas import MOLAR_GAS_CONSTANT
 from .gas import gas_rows
 from .limits import MAX_REALIZATIONS, whole_number
 from .model import Case, GasConditions
