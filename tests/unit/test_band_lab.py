@@ -14,7 +14,10 @@ import pytest
 from sealeak import FileFormatError, InputError
 from sealeak.cases import parse_cases, predict
 from sealeak.cases.band import run_band
-from sealeak.cases.run import conductance, fit_models, linearity, rig_prediction, run_fit
+from sealeak.cases.fitting import fit_models, run_fit
+from sealeak.cases.linearity_check import linearity
+from sealeak.cases.prediction import conductance
+from sealeak.cases.rig import rig_prediction
 from sealeak.lab.data import read_leak_data
 from sealeak.lab.rig import drain_time, exponential_height
 

@@ -12,9 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from sealeak.errors import FileFormatError, UnitError
+from sealeak.io.leak_units import ATMOSPHERE, leak_rate_factor
 from sealeak.io.tables import read_spectrum_table, read_unit_table
 from sealeak.io.units import DIMENSIONS, comma_advice, parse_number, parse_quantity, split_quantities, unit_dimension, unit_factor
-from sealeak.lab.data import ATMOSPHERE, leak_rate_factor, read_leak_data
+from sealeak.lab.data import read_leak_data
 
 FIELD = "rubber.youngs_modulus"
 

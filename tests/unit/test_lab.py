@@ -7,7 +7,8 @@ import pytest
 
 from sealeak import FileFormatError, UnitError
 from sealeak.cases import fit_models, predict
-from sealeak.lab.data import leak_rate_factor, read_leak_data
+from sealeak.io.leak_units import leak_rate_factor
+from sealeak.lab.data import read_leak_data
 from sealeak.lab.fitting import fit_line, fit_scale
 from sealeak.lab.rig import RigSetup, drain_time, exponential_height, leak_rate_from_readings, water_column
 from sealeak.physics.seal import Seal

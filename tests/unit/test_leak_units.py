@@ -1,21 +1,36 @@
 """Leak-rate units of gas leak tests and temperatures with their unit (docs/theory.md §Leak-rate units)."""
 
+import ast
 import itertools
 import math
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 from sealeak.errors import UnitError
-from sealeak.io.units import (
+from sealeak.io.leak_units import (
+    ATMOSPHERE,
+    M3_PER_S_PER_ML_PER_MIN,
+    MBAR_L_PER_PA_M3,
+    ML_PER_MIN_PER_M3_PER_S,
+    MOL_PER_STANDARD_M3,
+    MOLAR_GAS_CONSTANT,
+    PA_M3_PER_MBAR_L,
     STANDARD_PRESSURE,
     STANDARD_TEMPERATURE,
+    ZERO_CELSIUS,
+    celsius,
     convert_leak_rate,
     leak_rate_unit,
     molar_flow_factor,
     parse_leak_rate,
-    parse_quantity,
-    parse_temperature,
+    pv_throughput,
+    to_mbar_l_per_s,
+    to_ml_per_min,
+    to_sccm,
 )
+from sealeak.io.units import parse_quantity, parse_temperature, registry
 
 R = 6.02214076e23 * 1.380649e-23  # 8.31446261815324 J/(mol K)
 M_HE = 4.002602e-3
@@ -141,3 +156,60 @@ def test_temperature_in_the_wrong_unit_is_refused_naming_the_field(text, why):
     with pytest.raises(UnitError, match=why) as exc:
         parse_temperature("fluid.temperature", text)
     assert exc.value.field == "fluid.temperature"
+
+
+# ---------------------------------------------------------------------- the one leak-rate unit module
+def test_named_factors_agree_with_pint():
+    """The factors front ends print with, against pint's own conversion (an independent path)."""
+    q = registry().Quantity
+    assert M3_PER_S_PER_ML_PER_MIN == pytest.approx(q(1.0, "ml/min").to("m**3/s").magnitude, rel=1e-14)
+    assert ML_PER_MIN_PER_M3_PER_S == pytest.approx(q(1.0, "m**3/s").to("ml/min").magnitude, rel=1e-14)
+    assert PA_M3_PER_MBAR_L == pytest.approx(q(1.0, "mbar*l/s").to("Pa*m**3/s").magnitude, rel=1e-14)
+    assert MBAR_L_PER_PA_M3 == pytest.approx(q(1.0, "Pa*m**3/s").to("mbar*l/s").magnitude, rel=1e-14)
+    assert ATMOSPHERE == pytest.approx(q(1.0, "atm").to("Pa").magnitude, rel=1e-14)
+    assert ZERO_CELSIUS == pytest.approx(q(0.0, "degC").to("K").magnitude, rel=1e-14)
+
+
+def test_constants_are_the_si_definitions():
+    """R = N_A k_B exactly (2019 SI), 0 °C = 273.15 K, 1 atm = 101325 Pa: the standard conditions of sccm."""
+    assert MOLAR_GAS_CONSTANT == pytest.approx(6.02214076e23 * 1.380649e-23, rel=1e-15)
+    assert (STANDARD_TEMPERATURE, STANDARD_PRESSURE) == (ZERO_CELSIUS, ATMOSPHERE)
+    assert MOL_PER_STANDARD_M3 == pytest.approx(101325.0 / (8.31446261815324 * 273.15), rel=1e-14)  # 44.6150 mol/m³
+    assert MOL_PER_STANDARD_M3 == pytest.approx(44.6150, rel=1e-5)
+
+
+def test_display_conversions_by_hand():
+    assert to_ml_per_min(1e-6 / 60) == pytest.approx(1.0, rel=1e-14)
+    assert to_mbar_l_per_s(0.1) == pytest.approx(1.0, rel=1e-14)
+    assert to_sccm(7.43583e-7) == pytest.approx(1.0, rel=1e-5)       # test_sccm_by_hand
+    assert celsius(293.15) == pytest.approx(20.0, rel=1e-12)
+    assert np.allclose(to_mbar_l_per_s(np.array([0.1, 1.0])), [1.0, 10.0], rtol=1e-14)
+
+
+@pytest.mark.parametrize("unit", ["Pa*m^3/s", "mbar*l/s", "sccm", "slm", "mol/s", "kg/s", "g/a", "ml/min"])
+def test_pv_throughput_of_every_kind_is_the_converted_leak_rate(unit):
+    """pv_throughput (a data file's leak rates in their kind's SI unit → Pa·m³/s) against convert_leak_rate."""
+    kw = {"temperature": 310.0, "molar_mass": 28.0134e-3, "pressure": 1.5e5}
+    kind, factor = leak_rate_unit("leak_rate", unit)
+    values = np.array([1e-9, 3.7e-3, 42.0])
+    expected = [convert_leak_rate(v, unit, "Pa*m^3/s", **kw) for v in values]
+    assert np.allclose(pv_throughput(values * factor, kind, **kw), expected, rtol=1e-12, atol=0)
+
+
+#: Source files that still write a unit constant by hand (the simulate figures, issue 22 item 7, rework them).
+_LITERALS_ALLOWED = {"render/simulation.py"}
+
+
+def test_no_module_but_the_unit_module_writes_the_unit_constants():
+    """273.15, 101325, R and ml/min per m³/s live in sealeak.io.leak_units alone (docstrings and comments aside)."""
+    src = Path(__file__).resolve().parents[2] / "src" / "sealeak"
+    banned = {273.15, 101325.0, 6e7, 6.02214076e23, 8.31446261815324, 8.314}
+    found = []
+    for path in sorted(src.rglob("*.py")):
+        rel = path.relative_to(src).as_posix()
+        if rel in _LITERALS_ALLOWED | {"io/leak_units.py"}:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Constant) and type(node.value) in (int, float) and float(node.value) in banned:
+                found.append(f"{rel}:{node.lineno}: {node.value!r}")
+    assert not found, found

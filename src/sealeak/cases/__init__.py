@@ -5,7 +5,11 @@
 * :mod:`~sealeak.cases.builders`: sections → spectrum, seal, fluid, rig, ... (errors name ``section.key``);
 * :mod:`~sealeak.cases.loader`: :func:`load_cases`, :func:`read_case_file`, the bundled examples;
 * :mod:`~sealeak.cases.run`: :func:`run_case` → :class:`CaseResult`, the one way every front end
-  runs a case, plus :func:`conductance`, :func:`fit_models`, :func:`linearity`, :func:`rig_prediction`;
+  runs a case, made of :mod:`~sealeak.cases.prediction` (:func:`predict`, :func:`conductance`),
+  :mod:`~sealeak.cases.verdicts` (validity per row), :mod:`~sealeak.cases.gas` (a gas's leak and the
+  helium equivalent) and :mod:`~sealeak.cases.rig` (:func:`rig_prediction`, :func:`rig_readings`);
+* the laboratory workflows on a case: :mod:`~sealeak.cases.fitting` (:func:`run_fit`, :func:`fit_models`) and
+  :mod:`~sealeak.cases.linearity_check` (:func:`linearity`);
 * :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α.
 * :mod:`~sealeak.cases.convergence`: the convergence and validation study of :func:`simulate` over
   several grids (standard errors, extrapolation to the continuum, the published percolation threshold).
@@ -13,6 +17,8 @@
 
 from .builders import register_surface_model
 from .curves import CurveSet, PredictionCurves, PressureDifferenceSweep, prediction_curves, representative_pressures
+from .fitting import FitResult, fit_models, run_fit
+from .linearity_check import LinearityCheck, linearity
 from .loader import (
     CaseFile,
     example_names,
@@ -26,23 +32,9 @@ from .loader import (
     read_case_file,
 )
 from .model import MODELS, Case
-from .run import (
-    EFFECTIVE_MEDIUM_UNITS,
-    RESULT_UNITS,
-    CaseResult,
-    FitResult,
-    LinearityCheck,
-    RigPrediction,
-    conductance,
-    fit_models,
-    linearity,
-    predict,
-    predict_effective_medium,
-    rig_prediction,
-    rig_readings,
-    run_case,
-    run_fit,
-)
+from .prediction import conductance, predict, predict_effective_medium
+from .rig import RigPrediction, rig_prediction, rig_readings
+from .run import EFFECTIVE_MEDIUM_UNITS, RESULT_UNITS, CaseResult, run_case
 from .simulation import SimulationResult, simulate
 
 __all__ = [

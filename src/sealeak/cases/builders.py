@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, UnitError, show_value
-from ..io.units import STANDARD_PRESSURE, format_quantity, parse_quantity, parse_temperature
+from ..io.leak_units import STANDARD_PRESSURE, celsius
+from ..io.units import format_quantity, parse_quantity, parse_temperature
 from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import contact_modulus
 from ..physics.fluid import Fluid
@@ -452,13 +453,13 @@ def _fluid(fsec: Section, cond: Section, theory: Section) -> _FluidInputs:
         with case_keys(keys):
             state = fluid_state(known, temperature, absolute[0] if absolute is not None else STANDARD_PRESSURE)
         if state.phase not in ("gas", "supercritical", "liquid"):
-            raise InputError(fsec.field("name"), name, f"is {state.phase} at {temperature - 273.15:.4g} °C and "
+            raise InputError(fsec.field("name"), name, f"is {state.phase} at {celsius(temperature):.4g} °C and "
                              f"{state.pressure:.6g} Pa (on its saturation line): choose a temperature or upstream pressure "
                              "where it is a gas or a liquid")
         if state.is_gas:
             if absolute is None:
                 raise InputError(cond.field("upstream_pressure"), None,
-                                 f"is required for a gas ({known} is a gas at {temperature - 273.15:.4g} °C): give "
+                                 f"is required for a gas ({known} is a gas at {celsius(temperature):.4g} °C): give "
                                  "conditions.upstream_pressure and conditions.downstream_pressure (absolute, e.g. \"1 bar\" "
                                  "and \"0 Pa\" for vacuum); a gas's leak rate depends on both, not on ΔP alone")
             mu = viscosity if viscosity is not None else state.viscosity
@@ -509,10 +510,10 @@ def _property_warnings(fsec: Section, known: str, state: FluidState | None, temp
             return []
         if state.is_gas:
             return [f"{fsec.field('temperature')} = {fsec.raw('temperature')!r}: {known} is a gas at "
-                    f"{temperature - 273.15:.4g} °C and 1 atm, yet the case runs it as a liquid with the given "
+                    f"{celsius(temperature):.4g} °C and 1 atm, yet the case runs it as a liquid with the given "
                     f"{fsec.field('viscosity')}; give the absolute conditions.upstream_pressure and downstream_pressure "
                     "for the library's phase and properties"]
-    where = f"{known} ({state.phase}) at {temperature - 273.15:.4g} °C and {format_quantity(state.pressure, 'pressure', 4)}"
+    where = f"{known} ({state.phase}) at {celsius(temperature):.4g} °C and {format_quantity(state.pressure, 'pressure', 4)}"
     out = []
     for key, given, library, unit, scale in (("viscosity", viscosity, state.viscosity, "mPa·s", 1e3),
                                              ("density", density, state.density, "kg/m³", 1.0)):
@@ -566,7 +567,7 @@ def _rig(raw: Any, fluid: Fluid, band: BandSeal | None = None, doc: dict[str, An
 
     For an O-ring or pressure-profile seal (``band``) the compression or profile scale sets the
     contact, so ``load`` is refused; the rig's load is then the band's contact force f·Ly (N) at
-    its first load (the rig itself runs at one load only, :func:`sealeak.cases.run.rig_prediction`).
+    its first load (the rig itself runs at one load only, :func:`sealeak.cases.rig.rig_prediction`).
     """
     sec = RigSection(raw)
     gravity = sec.quantity("gravity", "acceleration") if sec.has("gravity") else STANDARD_GRAVITY

@@ -13,8 +13,10 @@ from numpy.typing import NDArray
 
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.gaps import GapDistribution, gap_distribution
+from .gas import gas_throughput
 from .model import Case
-from .run import CaseResult, gas_throughput, predict, predict_effective_medium
+from .prediction import predict, predict_effective_medium
+from .run import CaseResult
 
 __all__ = ["PredictionCurves", "CurveSet", "PressureDifferenceSweep", "prediction_curves", "representative_pressures",
            "FULL_CONTACT_GAP_WEIGHT"]

@@ -13,6 +13,7 @@ import math
 from typing import Any
 
 from ..errors import InputError, UnitError
+from ..io.leak_units import celsius
 from ..io.units import parse_quantity, parse_temperature
 from ..lab.pressure_decay import PressureDecaySetup
 from ..lab.rig import RIG_KINDS, DecayRigSetup
@@ -108,7 +109,7 @@ def decay_rig_setup(sec: RigSection, fluid: Fluid, fluid_doc: dict[str, Any], th
     with case_keys({"fluid": "fluid.name", "temperature": t_field, "pressure": "rig.initial_pressure"}):
         state = fluid_state(name, t, p1)
     if not state.is_gas:
-        raise InputError("fluid.name", name, f"is a {state.phase} at {t - 273.15:.4g} °C and {p1:.6g} Pa: rig.kind = "
+        raise InputError("fluid.name", name, f"is a {state.phase} at {celsius(t):.4g} °C and {p1:.6g} Pa: rig.kind = "
                                              "'pressure-decay' needs a gas (air, nitrogen, helium, ...); a liquid leaks in "
                                              "the water-column rig (kind = 'water-column')")
     by_hand = "viscosity" in fluid_doc
@@ -116,7 +117,7 @@ def decay_rig_setup(sec: RigSection, fluid: Fluid, fluid_doc: dict[str, Any], th
     rarefaction = theory_doc.get("rarefaction", "beskok-karniadakis") if isinstance(theory_doc, dict) else "beskok-karniadakis"
     if rarefaction not in RAREFACTION_MODELS:
         raise InputError("theory.rarefaction", rarefaction, f"allowed: {', '.join(repr(m) for m in RAREFACTION_MODELS)}")
-    note = (f"{state.name} at {t - 273.15:.4g} °C ({t_note}): μ = {viscosity:.4g} Pa·s "
+    note = (f"{state.name} at {celsius(t):.4g} °C ({t_note}): μ = {viscosity:.4g} Pa·s "
             f"({'fluid.viscosity' if by_hand else state.source}), M = {state.molar_mass * 1e3:.4g} g/mol")
     if not math.isclose(state.compressibility, 1.0, rel_tol=0.01):
         note += f"; Z = {state.compressibility:.4g} at P1 (the flow formulas take an ideal gas)"

@@ -16,7 +16,7 @@ The reference paper could only fit α; this pipeline computes it (docs/theory.md
 6. for a gas case, also the isothermal gas flow through each gap field between the case's absolute
    pressures with its rarefaction model (:func:`sealeak.numerics.solve_gas_flow`: the p² problem,
    with slip a checked fixed point), the critical-junction gas leak of the same spectrum with α = 1
-   and the same rarefaction model (:func:`sealeak.cases.run.gas_rows`, as ``predict``), and
+   and the same rarefaction model (:func:`sealeak.cases.gas.gas_rows`, as ``predict``), and
    α_gas = Q_pV,sim/Q_pV,cj (docs/theory.md §11.10). The liquid columns stay:
    for a gas they are the incompressible formula with the gas's viscosity.
 
@@ -45,11 +45,12 @@ from .._version import __version__
 from ..errors import InputError
 from ..io.fieldstore import TaskFields
 from ..io.files import OutputWriteError, check_replaceable
+from ..io.leak_units import MOLAR_GAS_CONSTANT
 from ..numerics.synthesis import synthesize
-from ..physics.gas import MOLAR_GAS_CONSTANT
+from .gas import gas_rows
 from .limits import MAX_REALIZATIONS, whole_number
 from .model import Case, GasConditions
-from .run import gas_rows, predict
+from .prediction import predict
 
 __all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
            "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "ensemble_tasks", "run_task", "task_memory_bytes",
@@ -563,7 +564,7 @@ def _gas_statistics(case: Case, q_cj: FloatArray, u_c: FloatArray, perc: NDArray
                     pv_no_slip: FloatArray, iterations: NDArray[np.int64]) -> GasSimulation:
     """Means over realisations of the gas leak, the critical-junction gas leak (α = 1) and α_gas.
 
-    The theory is ``predict``'s (:func:`sealeak.cases.run.gas_rows`): the channel of conductance
+    The theory is ``predict``'s (:func:`sealeak.cases.gas.gas_rows`): the channel of conductance
     K = Q_cj/ΔP (α = 1, the gas's viscosity) whose gap is u_c, integrated along the pressure drop with the
     case's rarefaction model (docs/theory.md §11.5).
     """

@@ -109,7 +109,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 
 def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # type: ignore[no-untyped-def]
-    from ..cases.run import run_linearity, seal_description
+    from ..cases.fitting import seal_description
+    from ..cases.linearity_check import run_linearity
     from ..lab import read_leak_data
     from ..render import figure_linearity, linearity_json, linearity_text, render_figures
 

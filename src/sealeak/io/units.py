@@ -24,8 +24,8 @@ the field, the value and what is allowed.
 (``write 2.3 MPa: use a decimal point; ',' is not allowed in numbers``), never read as 23 MPa.
 Data files use the same rule for their cells (:mod:`sealeak.io.tables`).
 
-Leak-test throughputs ("mbar*l/s", "Pa*m^3/s"), which need a reference pressure to become volume
-flows, are converted in :func:`sealeak.lab.data.leak_rate_factor` (with :func:`unit_dimension`).
+Leak-rate units (volume flows, pV throughputs such as "mbar*l/s", standard volume flows, molar and
+mass flows) and the conversions between them are :mod:`sealeak.io.leak_units`.
 """
 
 from __future__ import annotations
@@ -527,40 +527,12 @@ def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
     return f"{value / chosen[0]:.{digits}g} {chosen[1]}"
 
 
-# ---------------------------------------------------------------------------------------- gases: temperature and leak rates
-# Temperatures (offset units: °C, °F) and the leak-rate units of gas leak tests: pV throughput
-# (Pa·m³/s, mbar·l/s, Torr·l/s, atm·cc/s), standard volume flow (sccm, slm), molar flow (mol/s) and
-# mass flow (kg/s, g/a). Converting between them needs the gas's molar mass and temperature
-# (docs/theory.md §11.6).
-__all__ += ["STANDARD_TEMPERATURE", "STANDARD_PRESSURE", "LEAK_RATE_KINDS", "parse_temperature", "leak_rate_unit",
-            "molar_flow_factor", "convert_leak_rate", "parse_leak_rate"]
+# ---------------------------------------------------------------------------------------- temperatures
+# Absolute temperatures in offset units (°C, °F). Leak-rate units are :mod:`sealeak.io.leak_units`.
+__all__ += ["parse_temperature"]
 
-#: Standard conditions of standard volume flows (sccm, slm): 0 °C and 101325 Pa (DIN 1343, SEMI E12), ideal gas.
-STANDARD_TEMPERATURE = 273.15
-STANDARD_PRESSURE = 101325.0
-_MOLAR_GAS_CONSTANT = 6.02214076e23 * 1.380649e-23  # R = N_A k_B, J/(mol K), exact
-
-#: Kinds of leak rate → (SI unit, pint dimensionality, examples).
-LEAK_RATE_KINDS = {
-    "throughput": ("Pa*m^3/s", "[mass] * [length] ** 2 / [time] ** 3", "'mbar*l/s', 'Pa*m^3/s'"),
-    "standard_volume_flow": ("m^3/s at 0 °C and 101325 Pa", "", "'sccm', 'slm'"),
-    "molar_flow": ("mol/s", "[substance] / [time]", "'mol/s'"),
-    "mass_flow": ("kg/s", "[mass] / [time]", "'kg/s', 'g/a'"),
-    "volume_flow": ("m^3/s", "[length] ** 3 / [time]", "'ml/min' (at a stated pressure)"),
-}
-#: Standard volume flows: unit name → m³/s (at STANDARD_TEMPERATURE and STANDARD_PRESSURE) per unit.
-_STANDARD_FLOWS = {"sccm": 1e-6 / 60.0, "sccs": 1e-6, "slm": 1e-3 / 60.0, "slpm": 1e-3 / 60.0, "scch": 1e-6 / 3600.0}
-_LEAK_UNITS_ALLOWED = ("a leak rate: a pV throughput ('mbar*l/s', 'Pa*m^3/s', 'Torr*l/s'), a standard volume flow ('sccm', "
-                       "'slm'), a molar flow ('mol/s') or a mass flow ('kg/s', 'g/a')")
 _ABSOLUTE_TEMPERATURE_UNITS = "K (kelvin, also mK), degC (°C), degF (°F), degR (rankine)"
 _TEMPERATURE_ALLOWED = "a temperature with its unit, e.g. '20 degC', '20 °C', '293.15 K', '68 degF'"
-
-
-def _leak_text(unit: str) -> str:
-    """Normalised leak-rate unit text: also 'mbar.l/s' (a dot between two unit names is a product) and 'Torr'."""
-    text = _normalise(unit)
-    text = re.sub(r"(?<=[A-Za-z])\.(?=[A-Za-z])", "*", text)
-    return re.sub(r"\bTorr\b", "torr", text)
 
 
 def parse_temperature(field: str, value: Any) -> float:
@@ -599,89 +571,3 @@ def parse_temperature(field: str, value: Any) -> float:
     if not (math.isfinite(kelvin) and kelvin > 0):
         raise UnitError(field, value, f"is at or below absolute zero ({kelvin:.6g} K); give {_TEMPERATURE_ALLOWED}")
     return kelvin
-
-
-def leak_rate_unit(field: str, unit: str) -> tuple[str, float]:
-    """(kind, factor) of a leak-rate unit: the kind (a key of :data:`LEAK_RATE_KINDS`) and the factor to its SI unit.
-
-    ``"mbar*l/s"`` (also ``"mbar l/s"``, ``"mbar·l/s"``, ``"mbar.l/s"``) → ``("throughput", 0.1)``;
-    ``"sccm"`` → ``("standard_volume_flow", 1e-6/60)``; ``"mol/s"`` → ``("molar_flow", 1.0)``;
-    ``"g/a"`` → ``("mass_flow", 1e-3/31557600)`` (a Julian year of 365.25 days). Raises
-    :class:`UnitError` naming ``field`` for anything else.
-    """
-    if not isinstance(unit, str) or not unit.strip():
-        raise UnitError(field, unit, f"missing: give {_LEAK_UNITS_ALLOWED}")
-    text = _leak_text(unit)
-    if text.lower() in _STANDARD_FLOWS:
-        return "standard_volume_flow", _STANDARD_FLOWS[text.lower()]
-    if "," in text:
-        raise UnitError(field, unit, comma_advice(text))
-    try:
-        u = _unit(text)
-    except _Unreadable as exc:
-        raise UnitError(field, unit, f"{exc}; give {_LEAK_UNITS_ALLOWED}") from None
-    ureg = registry()
-    for kind, (si, dims, _examples) in LEAK_RATE_KINDS.items():
-        if dims and u.dimensionality == ureg.get_dimensionality(dims):
-            factor = float(ureg.Quantity(1.0, u).to(ureg.parse_units(si.replace("^", "**"))).magnitude)
-            return kind, factor
-    raise UnitError(field, unit, f"its unit '{unit}' is not a leak rate; give {_LEAK_UNITS_ALLOWED}")
-
-
-def molar_flow_factor(field: str, unit: str, *, temperature: float, molar_mass: float, pressure: float | None = None) -> float:
-    """mol/s per one ``unit`` of leak rate of a gas of ``molar_mass`` M (kg/mol) at ``temperature`` T (K).
-
-    pV throughput: ṅ = Q_pV/(R T) (the pV counted at the gas temperature T); standard volume flow:
-    ṅ = P0 V̇0/(R T0) with T0 = 273.15 K, P0 = 101325 Pa; mass flow: ṅ = ṁ/M; a plain volume flow
-    needs the absolute ``pressure`` p (Pa) it is counted at: ṅ = p V̇/(R T). Ideal gas throughout
-    (docs/theory.md §11.6).
-    """
-    kind, factor = leak_rate_unit(field, unit)
-    if not (math.isfinite(temperature) and temperature > 0):
-        raise UnitError("temperature", temperature, "must be an absolute temperature > 0 K")
-    if not (math.isfinite(molar_mass) and molar_mass > 0):
-        raise UnitError("molar_mass", molar_mass, "must be a molar mass > 0 (kg/mol)")
-    if kind == "throughput":
-        return factor / (_MOLAR_GAS_CONSTANT * temperature)
-    if kind == "standard_volume_flow":
-        return factor * STANDARD_PRESSURE / (_MOLAR_GAS_CONSTANT * STANDARD_TEMPERATURE)
-    if kind == "molar_flow":
-        return factor
-    if kind == "mass_flow":
-        return factor / molar_mass
-    if pressure is None or not (math.isfinite(pressure) and pressure > 0):
-        raise UnitError(field, unit, "a volume flow of a gas needs the absolute pressure it is counted at; give a pV "
-                                     "throughput ('mbar*l/s') or a standard volume flow ('sccm') instead")
-    return factor * pressure / (_MOLAR_GAS_CONSTANT * temperature)
-
-
-def convert_leak_rate(value: float, from_unit: str, to_unit: str, *, temperature: float, molar_mass: float,
-                      pressure: float | None = None, field: str = "leak rate") -> float:
-    """``value`` in ``from_unit`` converted to ``to_unit`` for a gas of ``molar_mass`` (kg/mol) at ``temperature`` (K).
-
-    Through the molar flow: value · n(from_unit)/n(to_unit), with :func:`molar_flow_factor`; e.g.
-    1 mbar·l/s of helium at 20 °C is 0.1/(R · 293.15 K) mol/s = 4.1e-5 mol/s.
-    """
-    n_from = molar_flow_factor(field, from_unit, temperature=temperature, molar_mass=molar_mass, pressure=pressure)
-    n_to = molar_flow_factor(field, to_unit, temperature=temperature, molar_mass=molar_mass, pressure=pressure)
-    return float(value) * n_from / n_to
-
-
-def parse_leak_rate(field: str, value: Any, *, temperature: float, molar_mass: float, pressure: float | None = None) -> float:
-    """A leak rate written with its unit (``"1e-6 mbar*l/s"``, ``"2 sccm"``, ``"5 g/a"``) as a molar flow in mol/s.
-
-    Number syntax as :func:`parse_quantity`; the unit as :func:`leak_rate_unit`; the conversion as
-    :func:`molar_flow_factor`. Raises :class:`UnitError` naming ``field``.
-    """
-    if isinstance(value, bool) or isinstance(value, (int, float)):
-        raise UnitError(field, value, f"a bare number has no unit; give {_LEAK_UNITS_ALLOWED}")
-    if not isinstance(value, str) or not value.strip():
-        raise UnitError(field, value, f"give {_LEAK_UNITS_ALLOWED}")
-    try:
-        number, unit = _split(_leak_text(value))
-        magnitude = _finite(number)
-    except (_Unreadable, ValueError) as exc:
-        raise UnitError(field, value, _with_allowed(str(exc), _LEAK_UNITS_ALLOWED)) from None
-    if not unit:
-        raise UnitError(field, value, f"it has no unit; give {_LEAK_UNITS_ALLOWED}")
-    return magnitude * molar_flow_factor(field, unit, temperature=temperature, molar_mass=molar_mass, pressure=pressure)

@@ -23,10 +23,11 @@ volume flow (``ml/min``, ``l/h``, ``m^3/s``, ...) or a leak-test pV throughput (
 
 Leak-test units. A throughput in mbar·l/s or Pa·m³/s is pressure × volume per time: the volume
 flow is throughput / p, at the pressure p the volume is measured at. That pressure is stated by the
-user (``sealeak fit --at-pressure "1 atm"``); the default is 1 atm = 101325 Pa (ambient). E.g.
+user (``sealeak fit --at-pressure "1 atm"``); the default is 1 atm = 101325 Pa (ambient). The conversion
+is :func:`sealeak.io.leak_units.leak_rate_factor`. E.g.
 1 mbar·l/s = 0.1 Pa·m³/s = 0.1/101325 m³/s = 9.869e-7 m³/s at 1 atm.
 
-Gas leak units. Every leak-rate unit of :func:`sealeak.io.units.leak_rate_unit` is read: besides
+Gas leak units. Every leak-rate unit of :func:`sealeak.io.leak_units.leak_rate_unit` is read: besides
 volume flows and pV throughputs, standard volume flows (``sccm``, ``slm``), molar flows (``mol/s``)
 and mass flows (``kg/s``, ``g/a``). :attr:`LeakData.leak_rate_kind` and
 :attr:`LeakData.leak_rate_si` keep the leak rates as written (in the kind's SI unit), for a gas case
@@ -43,15 +44,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
+from ..io.leak_units import ATMOSPHERE, leak_rate_factor, leak_rate_unit
 from ..io.tables import read_unit_table
-from ..io.units import leak_rate_unit, unit_dimension, unit_factor
+from ..io.units import unit_factor
 
-__all__ = ["ATMOSPHERE", "LOAD_COLUMNS", "leak_rate_factor", "LeakData", "read_leak_data", "read_rig_readings"]
+__all__ = ["LOAD_COLUMNS", "LeakData", "read_leak_data", "read_rig_readings"]
 
 FloatArray = NDArray[np.float64]
-
-#: Default pressure at which leak-test throughputs (mbar·l/s, Pa·m³/s) are converted to volume flows.
-ATMOSPHERE = 101325.0
 
 #: The columns that give a row's load: a uniform squeeze pressure, an O-ring's compression, a profile's scale factor.
 LOAD_COLUMNS = ("squeeze_pressure", "compression", "profile_scale")
@@ -66,23 +65,6 @@ _ALIASES = {
     "height": {"height", "h", "level", "water_height"},
 }
 _DIMENSION = {"squeeze_pressure": "pressure", "pressure_difference": "pressure", "time": "time", "height": "length"}
-
-
-def leak_rate_factor(unit: str, reference_pressure: float = ATMOSPHERE, field_name: str = "leak_rate unit") -> float:
-    """Factor converting numbers in ``unit`` to a volume flow in m³/s.
-
-    Volume flows convert directly; pV throughputs (pressure × volume / time, e.g. ``mbar*l/s``, ``Pa*m^3/s``)
-    are divided by ``reference_pressure`` (Pa), the pressure at which the volume is counted.
-    """
-
-    allowed = ("a volume flow (e.g. 'ml/min', 'm^3/s') or a leak-test throughput (e.g. 'mbar*l/s', "
-               "'Pa*m^3/s')")
-    if not isinstance(unit, str) or not unit.strip():
-        raise UnitError(field_name, unit, f"missing: give {allowed}")
-    if not (np.isfinite(reference_pressure) and reference_pressure > 0):
-        raise UnitError("reference pressure (--at-pressure)", reference_pressure, "must be a pressure > 0")
-    dimension, factor = unit_dimension(field_name, unit, ("volume_flow", "throughput"))
-    return factor if dimension == "volume_flow" else factor / reference_pressure
 
 
 @dataclass(frozen=True)
@@ -105,7 +87,7 @@ class LeakData:
     lines: tuple[int, ...] = ()  # line number in the file of each data row
     load_name: str = "squeeze_pressure"
     band_load: FloatArray | None = None
-    leak_rate_kind: str = "volume_flow"  # a key of sealeak.io.units.LEAK_RATE_KINDS
+    leak_rate_kind: str = "volume_flow"  # a key of sealeak.io.leak_units.LEAK_RATE_KINDS
     leak_rate_si: FloatArray | None = None  # the leak rates as written, in the SI unit of their kind
 
     @property

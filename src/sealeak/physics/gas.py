@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import quad
 
 from ..errors import InputError
+from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
 
 __all__ = [
     "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
@@ -34,9 +35,6 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
-
-#: Molar gas constant R = N_A k_B in J/(mol·K) (exact in the SI since 2019).
-MOLAR_GAS_CONSTANT = 6.02214076e23 * 1.380649e-23
 
 #: Rarefaction models of :func:`slip_factor`: the unified model of Beskok & Karniadakis (1999), or
 #: none (no-slip continuum flow at every Kn, the liquid law with the gas's viscosity).

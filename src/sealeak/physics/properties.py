@@ -22,6 +22,7 @@ from types import ModuleType
 from typing import Any
 
 from ..errors import InputError, did_you_mean
+from ..io.leak_units import ATMOSPHERE, celsius
 from .gas import MOLAR_GAS_CONSTANT, Gas
 
 __all__ = ["KNOWN_FLUIDS", "FluidState", "fluid_state", "canonical_fluid_name", "close_fluid_name", "known_fluid_names",
@@ -172,7 +173,7 @@ def _prop(output: str, cp_name: str, temperature: float, pressure: float) -> flo
     return float(_coolprop()[1].PropsSI(output, "T", temperature, "P", pressure, cp_name))
 
 
-def fluid_state(fluid: str, temperature: float, pressure: float = 101325.0) -> FluidState:
+def fluid_state(fluid: str, temperature: float, pressure: float = ATMOSPHERE) -> FluidState:
     """The properties of the known fluid ``fluid`` at ``temperature`` T (K) and absolute ``pressure`` p (Pa).
 
     Raises :class:`InputError` naming ``fluid`` (unknown name, an oil), ``temperature`` (not a
@@ -230,6 +231,6 @@ def vapour_pressure_note(state: FluidState, upstream: float, downstream: float) 
     low = min(float(upstream), float(downstream))
     if low >= state.vapour_pressure:
         return None
-    return (f"{state.name} at {state.temperature - 273.15:.4g} °C has a vapour pressure of {state.vapour_pressure:.4g} Pa; "
+    return (f"{state.name} at {celsius(state.temperature):.4g} °C has a vapour pressure of {state.vapour_pressure:.4g} Pa; "
             f"the pressure {low:.4g} Pa at the seal is below it: the liquid may boil (flash to vapour) in the leak path, "
             "and the liquid leak rate assumes it does not")

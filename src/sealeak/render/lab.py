@@ -12,6 +12,7 @@ import numpy as np
 
 from ..cases import Case, FitResult, LinearityCheck, RigPrediction
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
+from ..io.leak_units import MBAR_L_PER_PA_M3, to_ml_per_min
 from ..lab.data import LeakData
 from ..lab.rig import ReadingsAnalysis, RigSetup
 from .records import json_document, json_value
@@ -20,9 +21,6 @@ from .text import fmt
 __all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition", "load_label",
            "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3",
            "is_gas_fit", "FIT_UNIT_TEXT"]
-
-#: 1 Pa·m³/s = 10 mbar·l/s (100 Pa × 1000 l/m³: the leak-test unit; docs/theory.md §11.6).
-MBAR_L_PER_PA_M3 = 10.0
 
 
 #: How a :attr:`~sealeak.cases.FitResult.leak_rate_unit` reads in text and on figures.
@@ -215,7 +213,7 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     lines.append(f"{'model':<32} {'K = Q/ΔP (m³/(s·Pa))':>22} {'Q at H0 (ml/min)':>17} {'τ (min)':>10} "
                  f"{'t to H = ' + format(h1 * 100, '.3g') + ' cm (min)':>26}")
     for name, k in pred.conductance.items():
-        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(k * dp0 * 6e7, '17.4g')} "
+        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(to_ml_per_min(k * dp0), '17.4g')} "
                      f"{fmt(pred.time_constant[name] / 60, '10.4g')} {fmt(pred.drain_time[name] / 60, '26.4g')}")
     lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
     if readings is not None:
@@ -223,7 +221,7 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
         lines += ["", f"readings from {readings_source}: {t.size} points over {t[-1] - t[0]:.4g} s", "",
                   f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}"]
         for dpi, qi in zip(readings.interval_pressure_difference, readings.interval_leak_rate):
-            lines.append(f"{dpi / 1e3:10.4g} {qi:12.4e} {qi * 6e7:11.4g}")
+            lines.append(f"{dpi / 1e3:10.4g} {qi:12.4e} {to_ml_per_min(qi):11.4g}")
         rising = int(np.count_nonzero(readings.interval_leak_rate < 0))
         if rising:
             lines.append(f"note: the level rises in {rising} of {readings.interval_leak_rate.size} intervals "

@@ -13,6 +13,7 @@ from matplotlib.figure import Figure
 
 from ..cases import FitResult, LinearityCheck
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult
+from ..io.leak_units import celsius
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, RigSetup, WaterColumn
 from .figures import (
     color,
@@ -92,7 +93,7 @@ def figure_fit(result: FitResult) -> Figure:
     note = f"ΔP = {ref_dp / 1e3:.3g} kPa" + ("" if same else " (measurements scaled to it, Q ∝ ΔP)")
     if gas and result.case.gas is not None:
         g = result.case.gas
-        note = (f"{g.gas.name}, T = {g.temperature - 273.15:.4g} °C, P_b = {g.downstream_pressure / 1e5:.4g} bar, "
+        note = (f"{g.gas.name}, T = {celsius(g.temperature):.4g} °C, P_b = {g.downstream_pressure / 1e5:.4g} bar, "
                 f"P_a = P_b + ΔP, ΔP = {ref_dp / 1e3:.4g} kPa"
                 + ("" if same else " (measurements scaled to it with P_a² − P_b²)"))
         note += f"; rarefaction {g.rarefaction}"
@@ -260,7 +261,7 @@ def figure_decay(rig: DecayRigSetup, pred: DecayPrediction, condition: str = "")
         ax.set_xlabel(f"time t ({tunit})")
         ax.set_xlim(left=0)
     subtitle(ax, f"{condition}\n{rig.gas.name}, V = {test.volume * 1e3:.3g} l, P2 = {test.outside_pressure / 100:.4g} mbar "
-                 f"outside, T = {test.temperature - 273.15:.3g} °C, rarefaction: {rig.rarefaction_model}")
+                 f"outside, T = {celsius(test.temperature):.3g} °C, rarefaction: {rig.rarefaction_model}")
     if not pred.models:
         say_nothing(ax, "no model to simulate")
     finish_axes(ax)

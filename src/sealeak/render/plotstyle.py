@@ -23,6 +23,8 @@ from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.legend import Legend
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLocator, ScalarFormatter
 
+from ..io.leak_units import ML_PER_MIN_PER_M3_PER_S, PA_M3_PER_MBAR_L, celsius
+
 __all__ = ["pressure_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
            "literal_text", "LITERAL_TEXT", "wrap_phrases",
@@ -37,9 +39,6 @@ _TITLE_CHARS = 92
 
 STYLE: Any = {"figure.figsize": (6.4, 4.6), "figure.dpi": 150, "axes.grid": True, "grid.alpha": 0.3,
           "axes.titlesize": 10, "legend.fontsize": 8}
-
-#: ml/min per m³/s (the command-line table's second leak-rate unit).
-ML_PER_MIN_PER_M3_PER_S = 6e7
 
 #: Values spanning more than this many decades are drawn on a log axis.
 _LOG_DECADES = 2.0
@@ -184,9 +183,6 @@ def pa_m3_axis(ax: Axes, scale: float = 1.0) -> Any:
 
 
 # ---------------------------------------------------------------------- gas cases (docs/theory.md §11.9)
-#: Pa·m³/s per mbar·l/s (100 Pa × 1 l = 0.1 Pa·m³; docs/theory.md §11.6).
-PA_M3_PER_MBAR_L = 0.1
-
 #: The y label of a gas leak rate: the pV throughput in the leak-test unit.
 GAS_LEAK_LABEL = "gas leak rate Q_pV"
 
@@ -208,7 +204,7 @@ def gas_conditions_text(case: Any) -> str:
     ``case`` is a :class:`~sealeak.cases.Case` with ``case.gas`` set (a gas case, docs/theory.md §11.9).
     """
     gas = case.gas
-    return (f"{gas.gas.name}, T = {gas.temperature - 273.15:.4g} °C, absolute P_a = {_pressure_text(gas.upstream_pressure)}, "
+    return (f"{gas.gas.name}, T = {celsius(gas.temperature):.4g} °C, absolute P_a = {_pressure_text(gas.upstream_pressure)}, "
             f"P_b = {_pressure_text(gas.downstream_pressure)}; rarefaction {gas.rarefaction}")
 
 

@@ -7,6 +7,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..cases import Case, CaseResult
+from ..io.leak_units import celsius, to_ml_per_min
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import pressures_text
@@ -52,7 +53,7 @@ def _fluid_lines(case: Case) -> list[str]:
     """The fluid: its viscosity and ΔP; for a named fluid its temperature and absolute pressures; for a gas its properties."""
     fluid = case.fluid
     name = f"{fluid.name}, " if fluid.name and case.fluid_state is not None else ""
-    temp = f"T = {case.temperature - 273.15:.4g} °C, " if case.fluid_state is not None else ""
+    temp = f"T = {celsius(case.temperature):.4g} °C, " if case.fluid_state is not None else ""
     if case.absolute_pressures is not None:
         pa, pb = case.absolute_pressures
         pressures = f"P_a = {_kpa(pa)} → P_b = {_kpa(pb)} (absolute), ΔP = {_kpa(case.pressure_difference)}"
@@ -133,7 +134,7 @@ def gas_notes(r: CaseResult) -> list[str]:
     notes = []
     if case.gas is not None:
         notes.append(f"Kn = λ/gap at the mean pressure {_kpa(case.gas.mean_pressure)}; Q_pV counted at "
-                     f"{case.temperature - 273.15:.4g} °C; sccm: cm³/min at 0 °C and 101.325 kPa")
+                     f"{celsius(case.temperature):.4g} °C; sccm: cm³/min at 0 °C and 101.325 kPa")
     if case.helium_equivalent:
         notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
     return notes
@@ -176,11 +177,11 @@ def _cj_columns(r: CaseResult) -> list[Column]:
     if em is not None:
         cols += [(q("Q_CJ", "m³/s"), 12, [fmt(res.leak_rate[i], ".3e") for i in n]),
                  (q("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
-                 (q("Q_CJ", "ml/min"), 14, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n]),
-                 (q("Q_EM", "ml/min"), 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n])]
+                 (q("Q_CJ", "ml/min"), 14, [fmt(to_ml_per_min(res.leak_rate[i]), ".4g") for i in n]),
+                 (q("Q_EM", "ml/min"), 14, [fmt(to_ml_per_min(em.leak_rate[i]), ".4g") for i in n])]
     else:
         cols += [(q("Q", "m³/s"), 11, [fmt(res.leak_rate[i], ".3e") for i in n]),
-                 (q("Q", "ml/min"), 11, [fmt(res.leak_rate[i] * 6e7, ".4g") for i in n])]
+                 (q("Q", "ml/min"), 11, [fmt(to_ml_per_min(res.leak_rate[i]), ".4g") for i in n])]
     cols.append(("A(ζ1)/A0", 9, [f"{res.contact_area_at_cutoff[i]:.3f}" for i in n]))
     valid_em = r.valid_effective_medium
     cols.append(("valid", 6, [_verdict(bool(res.percolates[i]), bool(r.valid[i]))
@@ -223,7 +224,7 @@ def _band_columns(r: CaseResult) -> list[Column]:
     both = em is not None and r.shows_critical_junction
     if cj.leak_rate is not None and r.shows_critical_junction:
         cols += [(q("Q_CJ" if both else "Q", "m³/s"), 12, [fmt(cj.leak_rate[i], ".3e") for i in n]),
-                 (q("Q_CJ" if both else "Q", "ml/min"), 14, [fmt(cj.leak_rate[i] * 6e7, ".4g") for i in n])]
+                 (q("Q_CJ" if both else "Q", "ml/min"), 14, [fmt(to_ml_per_min(cj.leak_rate[i]), ".4g") for i in n])]
     if em is not None:
         cols += [(q("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n])]
     main = cj if r.shows_critical_junction else em
@@ -287,7 +288,7 @@ def _em_columns(r: CaseResult) -> list[Column]:
         (f"u_e ({u_unit})", 10, [fmt(em.effective_gap[i] / u_scale if em.percolates[i] else np.nan, ".4g") for i in n]),
         ("σ_eff (m³/Pa/s)", 16, [fmt(em.effective_conductivity[i] if em.percolates[i] else np.nan, ".4e") for i in n]),
         (_q_head(r)("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
-        (_q_head(r)("Q_EM", "ml/min"), 14, [fmt(em.leak_rate[i] * 6e7, ".4g") for i in n]),
+        (_q_head(r)("Q_EM", "ml/min"), 14, [fmt(to_ml_per_min(em.leak_rate[i]), ".4g") for i in n]),
         ("valid", 6, [_verdict(bool(em.percolates[i]), bool(valid[i])) for i in n]),
     ]
 

@@ -34,8 +34,9 @@ from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.form_help import FIELD_HELP
 from ..cases.schema import SURFACE_KEYS
 from ..errors import FileFormatError, InputError
+from ..io.leak_units import STANDARD_PRESSURE, leak_rate_unit
 from ..io.tomlscan import MAX_DEPTH, scan_toml
-from ..io.units import STANDARD_PRESSURE, leak_rate_unit, unit_factor
+from ..io.units import unit_factor
 from ..render import prediction_json
 
 __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text",

@@ -1,0 +1,377 @@
+"""Fitting α of both models to measured leak rates (docs/theory.md §8, §10.5, §11.9).
+
+:func:`run_fit` of a data file → :class:`FitResult`, in three variants: a uniform seal (Q against
+P0), an O-ring or pressure-profile seal (Q at each measured compression or profile scale), and a gas
+case (pV throughputs, the gas law row by row). :func:`fit_models` fits arrays. The checks of a data
+file against the case's seal (its load column and loads) live here too and are shared with
+:mod:`sealeak.cases.linearity_check`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import FileFormatError, InputError, SealeakError
+from ..io.leak_units import celsius, pv_throughput
+from ..lab.data import LeakData
+from ..lab.fitting import ScaleFit, fit_scale
+from ..physics.critical_junction import pressure_difference_not_small
+from .band import BandResult
+from .gas import gas_throughput
+from .model import Case
+from .prediction import FloatArray, _band_at, _band_conductance, _band_effective_gap, _band_k, predict, predict_effective_medium
+from .verdicts import Verdicts, _band_verdicts, _uniform_verdicts
+
+__all__ = ["fit_models", "FitResult", "run_fit", "seal_description"]
+
+#: Points of a band seal's critical-junction curve in the fit figure (about 30 ms each).
+BAND_CURVE_POINTS = 30
+
+
+# ---------------------------------------------------------------------- a data file against the case's seal
+def _load_text(load_name: str, value: float) -> str:
+    """"compression 20 %", "profile scale 1.5" or "P0 = 30000 Pa" for one load."""
+    if load_name == "compression":
+        return f"compression {100 * value:.4g} %"
+    if load_name == "profile_scale":
+        return f"profile scale {value:.4g}"
+    return f"P0 = {value:.6g} Pa"
+
+
+def seal_description(case: Case) -> str:
+    """The case's seal in a few words, for messages about a data file that does not fit it."""
+    band = case.band
+    if band is None:
+        return f"a {case.seal.shape} pressed by a uniform squeeze pressure"
+    if band.kind == "o-ring":
+        d = f" of {band.cross_section_diameter * 1e3:.4g} mm cross-section" if band.cross_section_diameter else ""
+        return f"an O-ring{d}, whose contact follows from its compression"
+    return "a pressure-profile seal, whose load is a scale factor on the profile file's pressures"
+
+
+def _check_load_column(case: Case, data: LeakData, required: bool = True) -> None:
+    """The data file's load column must be the one the case's seal takes; one line naming both if not."""
+    want = case.band.load_name if case.band is not None else "squeeze_pressure"
+    if data.load_name == want or (not required and not data.load_name):
+        return
+    example = {"squeeze_pressure": "'squeeze_pressure (kPa)'", "compression": "'compression (%)'",
+               "profile_scale": "'profile_scale'"}[want]
+    if not data.load_name:
+        raise FileFormatError(data.path, f"no {want} column: the case's seal is {seal_description(case)}; give a column {example}")
+    raise FileFormatError(data.path, f"column '{data.columns.get(data.load_name, data.load_name)}' does not fit the case's "
+                                     f"seal, {seal_description(case)}: give a column {example} instead")
+
+
+# ---------------------------------------------------------------------- fitting α
+def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: ArrayLike,
+               leak_rate: ArrayLike) -> dict[str, ScaleFit]:
+    """α of the critical-junction and of the effective-medium model for measured (P0, ΔP, Q) (SI).
+
+    Rows without a pressure difference (NaN) use the case's. Least squares in ln Q
+    (docs/theory.md §8); keys "critical_junction" and "effective_medium". For an O-ring or
+    pressure-profile seal (``case.band``) ``squeeze_pressure`` holds each row's load instead, a
+    compression ε (1) or a profile scale (1), and the model is the band's leak rate there
+    (docs/theory.md §10.5); the effective medium costs 1–2 s per distinct load.
+    """
+    dp = np.asarray(pressure_difference, dtype=float)
+    dp = np.where(np.isfinite(dp), dp, case.pressure_difference)
+    q = np.asarray(leak_rate, dtype=float)
+    if case.band is not None:
+        return _band_fit(case, squeeze_pressure, dp, q)[0]
+    return _uniform_fit(case, np.asarray(squeeze_pressure, dtype=float), dp, q)[0]
+
+
+def _uniform_fit(case: Case, p0: FloatArray, dp: FloatArray, q: FloatArray) -> tuple[dict[str, ScaleFit], Verdicts]:
+    """:func:`fit_models` of a uniform seal, with each row's validity verdicts (without the ΔP one)."""
+    cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=dp)
+    em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp)
+    return ({"critical_junction": fit_scale(q, cj.leak_rate, "critical_junction"),
+             "effective_medium": fit_scale(q, em.leak_rate, "effective_medium")},
+            _uniform_verdicts(case, cj, em, pressure_difference=False))
+
+
+def _band_fit(case: Case, loads: ArrayLike, dp: FloatArray, q: FloatArray
+              ) -> tuple[dict[str, ScaleFit], BandResult, NDArray[np.int_]]:
+    """:func:`fit_models` of a band seal: Q_i = α K(load_i) ΔP_i with K at α = 1 (docs/theory.md §10.5).
+
+    Both theories are linear in ΔP (and the critical junction in α), so the band is run once per
+    distinct load at the case's ΔP and scaled to each row's. Returns the fits, the band result at the
+    distinct loads and each row's index into them.
+    """
+    distinct, inverse = np.unique(np.asarray(loads, dtype=float), return_inverse=True)
+    ks, res = _band_conductance(replace(case, alpha=1.0), distinct, ("critical-junction", "effective-medium"))
+    fits = {}
+    for model, name in (("critical-junction", "critical_junction"), ("effective-medium", "effective_medium")):
+        k = ks[model][0]
+        prediction = np.where(k > 0, k, np.nan)[inverse] * dp  # NaN: no leak channel at that load
+        fits[name] = fit_scale(q, prediction, name)
+    return fits, res, inverse
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """α of both models fitted to measured leak rates, with what the fit figure draws (SI units).
+
+    Attributes
+    ----------
+    case, data
+        The case and the measured (P0, ΔP, Q) rows.
+    fits
+        The :class:`~sealeak.lab.fitting.ScaleFit` of "critical_junction" and "effective_medium"
+        (docs/theory.md §8.1).
+    reference_pressure_difference
+        ΔP of the figure (Pa; the data's, if all rows share one; else the case's).
+    same_pressure_difference
+        Whether all rows share one ΔP.
+    measured
+        The measured Q scaled to the reference ΔP (Q ∝ ΔP), m³/s.
+    grid
+        Squeeze pressures of the model curves (Pa).
+    curves
+        Each model at α = 1 on ``grid`` (m³/s), or on its own grid in ``curve_grids``.
+    messages
+        Excluded rows, a single usable point, ΔP not small against P0.
+    load_name
+        What the x axis is: "squeeze_pressure" (P0, Pa), or for a band seal "compression" (ε, 1)
+        or "profile_scale" (1); ``grid`` and the data's :attr:`~sealeak.lab.data.LeakData.load` hold it.
+    curve_grids
+        A model's own grid, where it is not ``grid``: a band seal's effective medium is drawn
+        through its values at the measured loads only (1–2 s each).
+    leak_rate_unit
+        The unit of ``measured`` and ``curves``: "m^3/s" (a volume flow; liquids), or for a gas
+        case "Pa*m^3/s" (the pV throughput the data and the models are compared in, docs/theory.md §11.9).
+    outside_validity
+        Per model, the data rows (from 0) in its fit at which ``sealeak predict`` would mark that theory
+        outside its validity (valid = NO: the gap below the fluid's molecular size, or not a thin film;
+        docs/theory.md §9.11). They stay in the fit, named in ``messages``.
+    """
+
+    case: Case
+    data: LeakData
+    fits: dict[str, ScaleFit]
+    reference_pressure_difference: float
+    same_pressure_difference: bool
+    measured: FloatArray
+    grid: FloatArray
+    curves: dict[str, FloatArray]
+    messages: tuple[str, ...]
+    load_name: str = "squeeze_pressure"
+    curve_grids: dict[str, FloatArray] = field(default_factory=dict)
+    leak_rate_unit: str = "m^3/s"
+    outside_validity: dict[str, tuple[int, ...]] = field(default_factory=dict)
+
+
+def _outside_validity(data: LeakData, fits: dict[str, ScaleFit], verdicts: Verdicts, rows: NDArray[np.int_] | None,
+                      where: Callable[[int], str]) -> tuple[list[str], dict[str, tuple[int, ...]]]:
+    """The rows in each model's fit that ``predict`` marks outside the theory's validity: a note per model naming their
+    lines, loads and the first reason, and the rows (from 0) per model.
+
+    ``verdicts`` are per row, or per distinct load with ``rows`` each row's index into them. The rows stay in the
+    fit (the measurement is real; the theory's number there is the formula's, not a prediction): the note says so.
+    """
+    valid_cj, why_cj, valid_em, why_em = verdicts
+    judged = {"critical_junction": (valid_cj, why_cj)}
+    if valid_em is not None and why_em is not None:
+        judged["effective_medium"] = (valid_em, why_em)
+    at = np.arange(len(data)) if rows is None else rows
+    notes, out = [], {}
+    for name, (valid, why) in judged.items():
+        bad = tuple(int(i) for i in np.flatnonzero(~np.asarray(valid)[at] & fits[name].used))
+        out[name] = bad
+        if not bad:
+            continue
+        lines = ", ".join(f"{data.line_of(i)} ({where(i)})" for i in bad)
+        notes.append(f"{name.replace('_', ' ')}: line{'s' if len(bad) > 1 else ''} {lines} outside the theory's validity "
+                     f"(predict's valid = NO: {why[int(at[bad[0]])]}); kept in the fit, though the theory's value there "
+                     f"is the formula's, not a prediction (remove the line{'s' if len(bad) > 1 else ''} from the data file "
+                     f"to fit without {'them' if len(bad) > 1 else 'it'})")
+    return notes, out
+
+
+def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], where: Callable[[int], str]) -> list[str]:
+    """Refuse a fit of no point at all; else the notes on excluded rows (each with ``where(row)``) and a lone point."""
+    if not any(f.fitted for f in fits.values()):
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+    messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({where(i)}) excluded: {reason}"
+                for name, f in fits.items() for i, reason in f.excluded]
+    if not any(f.n_used > 1 for f in fits.values()):
+        messages.append("with one usable point α has no standard error")
+    return messages
+
+
+def run_fit(case: Case, data: LeakData) -> FitResult:
+    """Fit α of both models to measured leak rates (docs/theory.md §8); raises if no row can be used.
+
+    The data file's load column must be the case's (squeeze_pressure for a uniform seal,
+    compression for an O-ring, profile_scale for a pressure profile); a mismatch is a
+    :class:`~sealeak.errors.FileFormatError` naming the column and the seal.
+    """
+    _check_load_column(case, data)
+    if case.gas is not None:
+        return _run_gas_fit(case, data)
+    if data.leak_rate_kind in _GAS_ONLY_KINDS:
+        raise FileFormatError(data.path, f"column '{data.columns.get('leak_rate', 'leak_rate')}': a {data.leak_rate_kind.replace('_', ' ')} "
+                                         "is a gas's leak rate, and the case's fluid is a liquid: give a volume flow (e.g. "
+                                         "'ml/min'), or name the gas in the case ([fluid] name, absolute pressures)")
+    if case.band is not None:
+        return _run_band_fit(case, data)
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    fits, verdicts = _uniform_fit(case, data.squeeze_pressure, dp_used, data.leak_rate)
+
+    def where(i: int) -> str:
+        return f"P0 = {data.squeeze_pressure[i]:.6g} Pa"
+
+    messages = _fit_messages(data, fits, where)
+    notes, outside = _outside_validity(data, fits, verdicts, None, where)
+    messages += notes
+    large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
+    if large.any():
+        i = int(np.argmax(large))
+        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = "
+                        f"{data.squeeze_pressure[i]:.6g} Pa ({int(large.sum())} row(s) like it): both theories "
+                        "assume P0 >> ΔP")
+    p0 = data.squeeze_pressure
+    same = bool(np.allclose(dp_used, dp_used[0]))
+    ref_dp = float(dp_used[0]) if same else case.pressure_difference
+    measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))
+    grid = np.geomspace(p0.min(), p0.max(), 40) if p0.max() > p0.min() else np.array([p0.min()])
+    curves = {
+        "critical_junction": predict(replace(case, alpha=1.0), squeeze_pressure=grid,
+                                     pressure_difference=ref_dp).leak_rate,
+        "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
+    }
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), outside_validity=outside)
+
+
+#: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.leak_units`).
+_GAS_ONLY_KINDS = ("standard_volume_flow", "molar_flow", "mass_flow")
+
+
+def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
+    """:func:`run_fit` of a gas case: measured and predicted pV throughputs (Pa·m³/s), α scaling K (docs/theory.md §11.9).
+
+    Each theory's prediction at a row is K(α = 1) ∫ p f(Kn(p)) dp from P_b to P_b + ΔP_row with the
+    gap of :func:`gas_rows` (u_c, u_e, or u_c at the band's peak pressure), which does not depend on
+    α: the throughput is proportional to α, and :func:`~sealeak.lab.fitting.fit_scale` applies.
+    """
+    gas = case.gas
+    assert gas is not None
+    assert data.leak_rate_si is not None
+    # the data's leak rates as pV throughputs of the case's gas at its temperature (docs/theory.md §11.6)
+    q = pv_throughput(data.leak_rate_si, data.leak_rate_kind, temperature=gas.temperature, molar_mass=gas.gas.molar_mass,
+                      pressure=data.reference_pressure)
+    dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    unit = ("load", "") if case.band is not None else ("P0", " Pa")
+
+    def models(at: Case, loads: FloatArray) -> tuple[dict[str, tuple[FloatArray, FloatArray]], Verdicts]:
+        """(K at α = 1, gap) of both theories at ``loads`` (the gaps of :func:`gas_rows`), and their verdicts there."""
+        if at.band is not None:
+            ks, res = _band_conductance(replace(at, alpha=1.0), loads, ("critical-junction", "effective-medium"))
+            assert res.effective_medium is not None
+            return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure),
+                     "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium))},
+                    _band_verdicts(at, res, pressure_difference=False))
+        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=1.0)
+        em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=1.0)
+        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap),
+                 "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0),
+                                      np.where(em.percolates, em.effective_gap, np.nan))},
+                _uniform_verdicts(at, cj, em, pressure_difference=False))
+
+    loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
+    distinct, inverse = np.unique(loads, return_inverse=True)
+    at_distinct, verdicts = models(case, distinct)
+    fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp), name)
+            for name, (k, gap) in at_distinct.items()}
+    if not any(f.fitted for f in fits.values()):
+        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
+        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
+
+    def where(i: int) -> str:
+        return _load_text(case.band.load_name, loads[i]) if case.band is not None else f"P0 = {loads[i]:.6g} Pa"
+
+    messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({unit[0]} = {loads[i]:.6g}{unit[1]}) excluded: {reason}"
+                for name, f in fits.items() for i, reason in f.excluded]
+    notes, outside = _outside_validity(data, fits, verdicts, inverse, where)
+    messages += notes
+    messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {celsius(gas.temperature):.4g} °C "
+                    f"(Pa·m³/s), P_b = {gas.downstream_pressure:.6g} Pa and P_a = P_b + ΔP of each row")
+    if not any(f.n_used > 1 for f in fits.values()):
+        messages.append("with one usable point α has no standard error")
+    same = bool(np.allclose(dp, dp[0]))
+    ref_dp = float(dp[0]) if same else case.pressure_difference
+    pb = gas.downstream_pressure
+    # the figure's points at the reference ΔP: scaled with the no-slip law (P_a² − P_b²), approximate with slip
+    measured = q if same else q * ((pb + ref_dp) ** 2 - pb**2) / ((pb + dp) ** 2 - pb**2)
+    if case.band is not None:
+        grid = distinct
+        at_grid = at_distinct
+    else:
+        grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
+        at_grid = models(case, grid)[0]
+    curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
+    load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
+                     leak_rate_unit="Pa*m^3/s", outside_validity=outside)
+
+
+def _check_file_loads(case: Case, data: LeakData, loads: NDArray[np.float64]) -> None:
+    """The band seal at a data file's loads; a load its relations refuse raises a FileFormatError naming the line and column."""
+    band = case.band
+    assert band is not None
+    column = data.columns.get(band.load_name, band.load_name)
+    distinct = np.unique(loads)
+    try:
+        _band_at(case, distinct)
+    except InputError:  # a load the seal's relations refuse: name its line in the data file
+        for v in distinct:
+            try:
+                _band_at(case, [v])
+            except InputError as exc:
+                row = int(np.argmax(loads == v))
+                raise FileFormatError(data.path, f"line {data.line_of(row)}, column '{column}': "
+                                                 f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
+        raise
+
+
+def _run_band_fit(case: Case, data: LeakData) -> FitResult:
+    """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
+    band = case.band
+    assert band is not None and data.band_load is not None
+    loads = data.band_load
+    dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
+    _check_file_loads(case, data, loads)
+    distinct = np.unique(loads)
+    fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
+
+    def where(i: int) -> str:
+        return _load_text(band.load_name, loads[i])
+
+    messages = _fit_messages(data, fits, where)
+    notes, outside = _outside_validity(data, fits, _band_verdicts(case, res, pressure_difference=False), inverse, where)
+    messages += notes
+    if res.band.oring is not None:
+        messages += list(res.band.oring.warnings)
+    # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
+    p_max = res.max_contact_pressure[inverse]
+    large = pressure_difference_not_small(p_max, dp_used)
+    if large.any():
+        i = int(np.argmax(large))
+        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against the peak contact pressure "
+                        f"{p_max[i]:.6g} Pa at {_load_text(band.load_name, loads[i])} ({int(large.sum())} row(s) like it): "
+                        "both theories assume p >> ΔP")
+    same = bool(np.allclose(dp_used, dp_used[0]))
+    ref_dp = float(dp_used[0]) if same else case.pressure_difference
+    measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))
+    grid = np.linspace(loads.min(), loads.max(), BAND_CURVE_POINTS) if loads.max() > loads.min() else loads[:1].copy()
+    ks_grid, _ = _band_conductance(replace(case, alpha=1.0), grid, ("critical-junction",))
+    k_em = _band_k(res, res.effective_medium) if res.effective_medium is not None else np.zeros(distinct.size)
+    curves = {"critical_junction": np.where(ks_grid["critical-junction"][0] > 0, ks_grid["critical-junction"][0], np.nan) * ref_dp,
+              "effective_medium": np.where(k_em > 0, k_em, np.nan) * ref_dp}
+    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), band.load_name,
+                     {"effective_medium": distinct}, outside_validity=outside)

@@ -1,0 +1,164 @@
+"""The gas leak of a case's seal per row, and its helium equivalent (docs/theory.md §11.5, §11.9).
+
+:func:`gas_rows` turns a seal's conductance K and narrowest gap h into the pV throughput, molar,
+mass and standard volume flow of the case's gas with its rarefaction, and the helium leak of the
+same seal in the standard test (1 bar against vacuum, 20 °C); :func:`gas_throughput` is the pV
+throughput at other pressure differences (the fit, the Q(ΔP) curves).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..io.leak_units import to_mbar_l_per_s, to_sccm
+from ..physics.critical_junction import CriticalJunctionResult
+from ..physics.effective_medium import EffectiveMediumResult
+from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral
+from ..physics.properties import fluid_state
+from .band import BandResult
+from .model import Case
+from .prediction import FloatArray, _band_effective_gap
+from .schema import case_keys
+
+__all__ = ["GasRows", "gas_rows", "GAS_UNITS", "HELIUM_UNITS", "HELIUM_TEST", "helium_test_gas", "gas_throughput"]
+
+#: SI unit of the gas fields of a record (a gas case); the effective medium's carry the suffix ``_effective_medium``.
+GAS_UNITS: dict[str, str] = {
+    "knudsen_number": "1",
+    "flow_regime": "",
+    "leak_rate_pv": "Pa*m^3/s",
+    "leak_rate_mbar_l_s": "mbar*l/s",
+    "leak_rate_mass": "kg/s",
+    "leak_rate_molar": "mol/s",
+    "leak_rate_sccm": "sccm",
+}
+
+#: SI unit of the helium-equivalent fields (a gas case, or a liquid with ``conditions.helium_equivalent``).
+HELIUM_UNITS: dict[str, str] = {"leak_rate_helium_pv": "Pa*m^3/s", "leak_rate_helium_mbar_l_s": "mbar*l/s"}
+
+#: The standard helium leak test: helium at 1 bar (absolute) against vacuum, 20 °C (docs/theory.md §11.9).
+HELIUM_TEST = {"upstream_pressure": 1e5, "downstream_pressure": 0.0, "temperature": 293.15}
+
+
+def helium_test_gas() -> Gas:
+    """Helium at 20 °C and 1 bar from the property library: the gas of the helium-equivalent leak rate."""
+    t, p = HELIUM_TEST["temperature"], HELIUM_TEST["upstream_pressure"]
+    return fluid_state("helium", t, p).gas()
+
+
+@dataclass(frozen=True)
+class GasRows:
+    """One theory's gas leak per row (squeeze pressure or load), SI units (docs/theory.md §11.5, §11.9).
+
+    Attributes
+    ----------
+    conductance
+        K = Q/ΔP of the seal with the case's viscosity (m³/(Pa·s)); 0 where no leak channel.
+    gap
+        h, the gap of the narrowest constriction (m): u_c (critical junction), u_e (effective
+        medium), or u_c at the peak contact pressure of a band seal; NaN where no leak channel.
+    leaks
+        The :class:`~sealeak.physics.gas.GasLeak` of the case's gas per row (None: a liquid case,
+        or no leak channel).
+    helium
+        Q_pV of helium in the standard test (1 bar against vacuum, 20 °C) through the same seal,
+        Pa·m³/s (None: not asked for).
+
+    Rows without a leak channel hold NaN leak rates (``null`` in JSON), as the liquid's ``leak_rate``.
+    """
+
+    conductance: FloatArray
+    gap: FloatArray
+    leaks: tuple[GasLeak | None, ...] | None
+    helium: FloatArray | None
+
+    def fields(self, suffix: str = "") -> dict[str, Any]:
+        """The record fields (:data:`GAS_UNITS`, :data:`HELIUM_UNITS`, with ``suffix``) as arrays per row."""
+        out: dict[str, Any] = {}
+        if self.leaks is not None:
+            def pick(attr: str) -> FloatArray:
+                return np.array([getattr(g, attr) if g is not None else np.nan for g in self.leaks or ()])
+
+            pv = pick("throughput")
+            molar = pick("molar_flow")
+            out |= {"knudsen_number": np.array([g.knudsen_mean if g is not None else np.nan for g in self.leaks]),
+                    "flow_regime": [g.regime if g is not None else "" for g in self.leaks],
+                    "leak_rate_pv": pv, "leak_rate_mbar_l_s": to_mbar_l_per_s(pv), "leak_rate_mass": pick("mass_flow"),
+                    "leak_rate_molar": molar, "leak_rate_sccm": to_sccm(molar)}
+        if self.helium is not None:
+            out |= {"leak_rate_helium_pv": self.helium, "leak_rate_helium_mbar_l_s": to_mbar_l_per_s(self.helium)}
+        return {k + suffix: v for k, v in out.items()}
+
+
+def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike) -> GasRows:
+    """The case's gas leak (if a gas case) and the helium equivalent (if asked for) per row.
+
+    ``conductance`` K (m³/(Pa·s)) was computed with ``case.fluid.viscosity``, the gas's own
+    viscosity for a gas case (K ∝ 1/μ: Poiseuille flow). The helium equivalent is the helium leak
+    of the same seal: K μ_case/μ_He, the same gap, helium's rarefaction, 1 bar against vacuum at
+    20 °C (docs/theory.md §11.9).
+    """
+    k = np.atleast_1d(np.asarray(conductance, dtype=float))
+    h = np.atleast_1d(np.asarray(gap, dtype=float))
+    channel = (k > 0) & np.isfinite(h) & (h > 0)
+    leaks = None
+    gas = case.gas
+    if gas is not None:
+        with case_keys():
+            leaks = tuple(gas_leak(float(k[i]), float(h[i]), gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                   gas.rarefaction) if channel[i] else None for i in range(k.size))
+    helium = None
+    if case.helium_equivalent:
+        he = helium_test_gas()
+        scale = case.fluid.viscosity / he.viscosity
+        pa, pb = HELIUM_TEST["upstream_pressure"], HELIUM_TEST["downstream_pressure"]
+        helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction).throughput
+                           if channel[i] else np.nan for i in range(k.size)])
+    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium)
+
+
+def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
+    """Gas rows of a uniform seal: K = Q/ΔP of each theory; the gap u_c, or u_e for the effective medium."""
+    out = {"critical_junction": gas_rows(case, np.where(res.percolates, res.leak_rate / res.pressure_difference, 0.0),
+                                         res.critical_gap)}
+    if em is not None:
+        out["effective_medium"] = gas_rows(case, np.where(em.percolates, em.leak_rate / em.pressure_difference, 0.0),
+                                           np.where(em.percolates, em.effective_gap, np.nan))
+    return out
+
+
+def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
+    """Gas rows of a band seal: K = Q/ΔP of the band; the gap of the narrowest constriction, u_c at the peak
+    contact pressure (critical junction) or u_e = (12 μ σ_min)^(1/3) of the smallest σ along the band (effective
+    medium), docs/theory.md §11.9."""
+    out = {}
+    for name, theory in (("critical_junction", band.critical_junction), ("effective_medium", band.effective_medium)):
+        if theory is None or theory.leak_rate is None:
+            continue
+        k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
+        gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
+        out[name] = gas_rows(case, k, gap)
+    return out
+
+
+def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -> FloatArray:
+    """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row (docs/theory.md §11.5, §11.9).
+
+    ``k`` the no-slip conductance K (m³/(Pa·s)), ``gap`` the narrowest gap h (m) and ``dp`` ΔP (Pa) per
+    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0.
+    """
+    gas = case.gas
+    assert gas is not None
+    pb = gas.downstream_pressure
+    out = np.full(k.size, np.nan)
+    for i in range(k.size):
+        if k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] == 0:
+            out[i] = 0.0
+        elif k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
+            with case_keys():
+                out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction)
+    return out

@@ -1,0 +1,160 @@
+"""The two leak-rate theories applied to a case, and a seal's conductance K = Q/ΔP at other loads.
+
+* :func:`predict`, :func:`predict_effective_medium`: one theory at the case's (or given) pressures;
+* :func:`conductance`: K = Q/ΔP of a model at squeeze pressures, or at the loads of an O-ring or
+  pressure-profile seal (both theories are linear in ΔP, docs/theory.md §3, §5 and §10.1), used by
+  the rig, the linearity check and the fit;
+* the band seal at other loads (compressions ε or profile scales): its profiles, K and the effective
+  medium's narrowest gap (docs/theory.md §10.1, §11.9).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ..errors import InputError
+from ..physics.critical_junction import CriticalJunctionResult, critical_junction
+from ..physics.effective_medium import EffectiveMediumResult, effective_medium
+from ..physics.seal import Seal
+from .band import BandResult, BandTheory, run_band
+from .model import Case
+from .schema import case_keys
+from .seals import with_loads
+
+__all__ = ["predict", "predict_effective_medium", "conductance", "Model", "MODEL_NAMES"]
+
+FloatArray = NDArray[np.float64]
+
+#: A leak-rate model: the critical-junction theory (docs/theory.md §3) or the effective medium (§5).
+Model = Literal["critical-junction", "effective-medium"]
+
+#: How front ends name the models.
+MODEL_NAMES: dict[str, str] = {"critical-junction": "critical junction", "effective-medium": "effective medium"}
+
+
+# ---------------------------------------------------------------------- the theories for a case
+def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
+            pressure_difference: ArrayLike | None = None) -> CriticalJunctionResult:
+    """Critical-junction leak rate of ``case`` at its squeeze pressures (or the ones given), in SI units.
+
+    Lorenz & Persson (2009) eq. 2 (docs/theory.md §3).
+    """
+    with case_keys():
+        return critical_junction(
+            case.contact(),
+            squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
+            pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
+            viscosity=case.fluid.viscosity,
+            aspect_ratio=case.seal.aspect_ratio,
+            alpha=case.alpha,
+            percolation_threshold=case.percolation_threshold,
+        )
+
+
+def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = None,
+                             pressure_difference: ArrayLike | None = None) -> EffectiveMediumResult:
+    """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3)."""
+    with case_keys():
+        return effective_medium(
+            case.contact(),
+            squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
+            pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
+            viscosity=case.fluid.viscosity,
+            aspect_ratio=case.seal.aspect_ratio,
+        )
+
+
+def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critical-junction") -> FloatArray:
+    """K = Q/ΔP of the seal (m³/(Pa·s)) at each squeeze pressure P0 (Pa), for one model.
+
+    Both theories are linear in ΔP at fixed P0, so K is the leak rate at ΔP = 1 Pa: for the
+    critical junction K = α (Ly/Lx) u_c³/(12η) (Lorenz & Persson (2009) eq. 2), for the effective
+    medium K = (Ly/Lx) σ_eff (docs/theory.md §5). K = 0 where the model predicts no leak channel.
+
+    For an O-ring or pressure-profile seal (``case.band``) ``squeeze_pressure`` holds the loads
+    instead, compressions ε (1) or profile scales (1), and K = faces · Ly / ∫₀^w dx/σ(p(x)) of the
+    band at each (docs/theory.md §10.1); the effective medium costs 1–2 s per load.
+    """
+    return _conductance(case, squeeze_pressure, model)[0]
+
+
+def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple[FloatArray, tuple[str, ...]]:
+    """:func:`conductance` and the model's notes (why there is no leak channel, where there is none)."""
+    if model not in ("critical-junction", "effective-medium"):
+        raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
+    if case.band is not None:
+        ks, _ = _band_conductance(case, squeeze_pressure, (model,))
+        return ks[model]
+    p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
+    res: CriticalJunctionResult | EffectiveMediumResult
+    if model == "critical-junction":
+        res = predict(case, squeeze_pressure=p0, pressure_difference=1.0)
+    else:
+        res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
+    return np.where(res.percolates, res.leak_rate, 0.0), res.messages
+
+
+# ---------------------------------------------------------------------- band seals at other loads
+def _q0_fixed(case: Case) -> float | None:
+    """The q0 (1/m) a band case's file fixed (``theory.lowest_wavevector``/``square_side``), or None: 2π/w per load."""
+    assert case.band is not None
+    return case.band.q0_fixed
+
+
+def _band_at(case: Case, loads: ArrayLike) -> Case:
+    """The band case at other loads (compressions ε or profile scales, 1): its profiles, q0, seal and mean pressures.
+
+    :func:`~sealeak.cases.seals.with_loads` builds the same seal at ``loads``; q0 stays fixed if the
+    case file fixed it, else it is 2π/w of each load's contact width (docs/theory.md §10.1).
+    """
+    band = case.band
+    assert band is not None
+    values = np.atleast_1d(np.asarray(loads, dtype=float))
+    if np.array_equal(values, band.loads):
+        return case
+    new = with_loads(band, values, case.youngs_modulus, case.poisson_ratio, _q0_fixed(case))
+    widths = np.array([p.width for p in new.profiles])
+    with case_keys():
+        seal = Seal(width=float(widths.max()), length=new.length, shape=new.kind)
+    return replace(case, band=new, seal=seal, squeeze_pressure=np.array([p.mean_pressure for p in new.profiles]))
+
+
+def _band_k(band_result: BandResult, theory: BandTheory) -> FloatArray:
+    """K = faces · Ly / R (m³/(Pa·s)) of each load, 0 where the band holds no leak channel (docs/theory.md §10.1)."""
+    band = band_result.band
+    with np.errstate(divide="ignore"):
+        return np.where(theory.percolates, band.faces * band.length / theory.resistance, 0.0)
+
+
+def _band_conductance(case: Case, loads: ArrayLike | None,
+                      models: tuple[str, ...]) -> tuple[dict[str, tuple[FloatArray, tuple[str, ...]]], BandResult]:
+    """K of a band seal per model at ``loads`` (None: the case's), with each theory's notes, and the band result.
+
+    One :func:`~sealeak.cases.band.run_band` serves both models (the effective medium only when asked:
+    it costs 1–2 s per load).
+    """
+    at = case if loads is None else _band_at(case, loads)
+    res = run_band(at, effective="effective-medium" in models)
+    out: dict[str, tuple[FloatArray, tuple[str, ...]]] = {}
+    for model in models:
+        theory = res.critical_junction if model == "critical-junction" else res.effective_medium
+        assert theory is not None
+        out[model] = (_band_k(res, theory), theory.messages)
+    return out, res
+
+
+def _model_name(case: Case, model: Model) -> str:
+    """How the rig and the linearity check name a model (with α for the critical junction)."""
+    return f"critical junction (α = {case.alpha:g})" if model == "critical-junction" else "effective medium (Bruggeman)"
+
+
+def _band_effective_gap(case: Case, theory: BandTheory) -> FloatArray:
+    """u_e = (12 μ σ_min)^(1/3) (m) per load: the effective medium's narrowest constriction along the band, σ_min the
+    smallest sheet conductance of its quadrature; NaN where the band holds no leak channel (docs/theory.md §11.9)."""
+    return np.array([float(np.cbrt(12.0 * case.fluid.viscosity * np.min(g.conductance[g.conductance > 0])))
+                     if ok and np.any(g.conductance > 0) else np.nan
+                     for g, ok in zip(theory.integrals, theory.percolates)])

@@ -1,0 +1,144 @@
+"""The virtual rig of a case: the water column simulated, and measured readings analysed (docs/theory.md §4).
+
+:func:`rig_prediction` → :class:`RigPrediction` (H(t) of each model; a pressure-decay rig goes to
+:func:`~sealeak.cases.leak_tests.decay_prediction`), :func:`rig_readings` → the leak rate of
+measured (t, H) readings.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import InputError
+from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
+from ..physics.critical_junction import pressure_difference_not_small
+from ..physics.validity import strain_warning
+from .band import BandResult
+from .leak_tests import DecayPrediction, decay_prediction
+from .model import Case
+from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
+
+__all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
+
+@dataclass(frozen=True)
+class RigPrediction:
+    """The rig simulated for a case (docs/theory.md §4).
+
+    Attributes
+    ----------
+    squeeze_pressure
+        P0 from the load (Pa).
+    conductance
+        K = Q/ΔP of each model the case asks for (m³/(s·Pa); 0: no leak), by display name.
+    columns
+        The water column H(t) of each model.
+    time_constant
+        τ = A_cyl/(K ρ g) of each model (s; inf without leak).
+    drain_time
+        Closed-form time to fall to the final height, each model (s).
+    messages
+        Notes (no leak, ΔP not small against P0).
+    band
+        For an O-ring or pressure-profile seal, the band at the case's one load (contact width,
+        mean and peak pressure; docs/theory.md §10); ``squeeze_pressure`` is then its mean
+        contact pressure.
+    """
+
+    squeeze_pressure: float
+    conductance: dict[str, float]
+    columns: dict[str, WaterColumn]
+    time_constant: dict[str, float] = field(default_factory=dict)
+    drain_time: dict[str, float] = field(default_factory=dict)
+    messages: tuple[str, ...] = ()
+    band: BandResult | None = None
+
+
+def _linear_leak(k: float) -> Callable[[ArrayLike], FloatArray]:
+    """Q(ΔP) = K ΔP (m³/s) of a seal of conductance ``k`` (m³/(Pa·s))."""
+    def leak(dp: ArrayLike) -> FloatArray:
+        return k * np.asarray(dp, dtype=float)
+    return leak
+
+
+def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
+    """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model`` (docs/theory.md §4.2).
+
+    A ``[rig] kind = "pressure-decay"`` goes to :func:`~sealeak.cases.leak_tests.decay_prediction`
+    (P(t) of the test volume, docs/theory.md §11.7).
+
+    Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP with K from :func:`conductance`;
+    the ODE is still solved in general (:func:`~sealeak.lab.rig.water_column`) and the closed-form
+    exponential gives the same curve.
+
+    An O-ring or pressure-profile seal runs at the case's one load (its compression or profile
+    scale sets the contact; the [rig] has no load): K = faces · Ly / ∫dx/σ of the band
+    (docs/theory.md §10.5). Several loads raise an InputError naming conditions.compression or
+    conditions.profile_scale.
+    """
+    rig = case.rig
+    if rig is None:
+        raise InputError("rig", None, "the case file has no [rig] section (cylinder_diameter, initial_height, load, ...)")
+    if isinstance(rig, DecayRigSetup):
+        return decay_prediction(case)
+    models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
+    k_of: dict[str, float] = {}
+    messages: list[str] = []
+    band = None
+    if case.band is not None:
+        if case.band.loads.size != 1:
+            raise InputError(f"conditions.{case.band.load_name}", None, _one_load_needed(case))
+        by_model, band = _band_conductance(case, None, tuple(models))
+        for model in models:
+            k_of[_model_name(case, model)] = float(by_model[model][0][0])
+            messages.extend(by_model[model][1])
+        p0 = float(band.mean_contact_pressure[0])
+    else:
+        p0 = rig.squeeze_pressure(case.seal)
+        strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
+        messages += [strained + "; check [rig] load"] if strained else []
+        for model in models:
+            ks, notes = _conductance(case, [p0], model)
+            k_of[_model_name(case, model)] = float(ks[0])
+            messages.extend(notes)
+    columns, tau, t_final = {}, {}, {}
+    area = rig.cylinder_area
+    for name, k in k_of.items():
+        if k == 0:
+            messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
+        columns[name] = water_column(rig, _linear_leak(k))
+        tau[name] = area / (k * rig.density * rig.gravity) if k > 0 else float("inf")
+        t_final[name] = drain_time(rig, k, columns[name].final_height)
+    dp0 = float(rig.pressure_difference(rig.initial_height))
+    if band is not None:
+        p_max = float(band.max_contact_pressure[0])
+        if pressure_difference_not_small(p_max, dp0):
+            messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against the peak contact pressure {p_max:.4g} Pa: "
+                            "the theory assumes p >> ΔP")
+    elif pressure_difference_not_small(p0, dp0):
+        messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
+    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages), band)
+
+
+def _one_load_needed(case: Case) -> str:
+    """Why a band case with several loads has no rig, and what to do."""
+    band = case.band
+    assert band is not None
+    shown = [f"{100 * v:.4g} %" if band.load_name == "compression" else f"{v:.4g}" for v in band.loads[:4]]
+    values = ", ".join(shown) + (", ..." if band.loads.size > 4 else "")
+    what = "compression (or groove_depth)" if band.kind == "o-ring" else "profile_scale"
+    return (f"the rig runs at one {what}, which sets the contact; this case has {band.loads.size} ({values}): "
+            "give one value for the rig (predict sweeps several)")
+
+
+def rig_readings(case: Case, time: ArrayLike, height: ArrayLike, source: str = "readings") -> ReadingsAnalysis:
+    """The leak rate read from measured (t, H) readings of the case's rig (docs/theory.md §4)."""
+    if case.rig is None:
+        raise InputError("rig", None, "the case file has no [rig] section")
+    if isinstance(case.rig, DecayRigSetup):
+        raise InputError("rig.kind", case.rig.kind, "(t, P) readings of a pressure-decay test go to "
+                                                    "sealeak.cases.leak_tests.decay_readings")
+    return leak_rate_from_readings(case.rig, time, height, source=source)

@@ -1,0 +1,95 @@
+"""The validity verdicts of a case's results and the warnings about its inputs (docs/theory.md §9.11).
+
+A verdict per row judges the narrowest gap against the fluid's molecular size (continuum flow) and
+ΔP against the contact pressure; :func:`case_warnings` names inputs far outside what the theory
+assumes. Used by :func:`~sealeak.cases.run.run_case` and the fits.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..physics.critical_junction import CriticalJunctionResult, pressure_difference_not_small
+from ..physics.effective_medium import EffectiveMediumResult
+from ..physics.validity import assumption_warnings, continuum_verdict
+from .band import BandResult
+from .model import Case
+from .prediction import _band_effective_gap
+
+__all__ = ["Verdicts", "case_warnings"]
+
+#: Verdicts per row: (valid, reasons) of the critical junction, and of the effective medium (None, None if not run).
+Verdicts = tuple[NDArray[np.bool_], tuple[str, ...], NDArray[np.bool_] | None, tuple[str, ...] | None]
+
+
+def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None,
+                      pressure_difference: bool = True) -> Verdicts:
+    """The validity verdicts of a uniform seal per squeeze pressure (docs/theory.md §9.11): u_c against the fluid's
+    molecular size and λc, u_e against the molecular size and the seal width Lx; with ``pressure_difference`` also
+    ΔP against P0/2 (the fit notes that one on its own)."""
+    d = case.fluid.molecular_length
+    valid, validity = continuum_verdict(res.critical_gap, d, "u_c", res.critical_wavelength, "λc")
+    valid_em = validity_em = None
+    if em is not None:
+        valid_em, validity_em = continuum_verdict(np.where(em.percolates, em.effective_gap, np.nan), d, "u_e",
+                                                  case.seal.width, "Lx (seal width)")
+    if not pressure_difference:
+        return valid, validity, valid_em, validity_em
+    # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2)
+    lifted = pressure_difference_not_small(res.squeeze_pressure, res.pressure_difference)
+    valid, validity = _lifted(valid, validity, lifted, res.percolates, res)
+    if em is not None and valid_em is not None and validity_em is not None:
+        valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
+    return valid, validity, valid_em, validity_em
+
+
+def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = True) -> Verdicts:
+    """The validity verdicts of a band seal per load (docs/theory.md §9.11, §10.1): (valid, reasons) of the critical
+    junction, and of the effective medium (None, None when it was not run).
+
+    Each judges the band's narrowest constriction: u_c and λc at the peak contact pressure (critical junction),
+    or u_e = (12 μ σ_min)^(1/3) against the contact width w (effective medium), against the fluid's molecular
+    size; and, with ``pressure_difference``, ΔP against the peak contact pressure p_max/2 (the fit notes that one
+    on its own). A load without a leak channel is valid.
+    """
+    d = case.fluid.molecular_length
+    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference) & pressure_difference
+
+    def judged(valid: NDArray[np.bool_], reasons: tuple[str, ...], percolates: NDArray[np.bool_]
+               ) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+        flag = lifted & percolates & valid
+        reasons = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
+                        f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
+                        "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(reasons))
+        return valid & ~flag, reasons
+
+    cj = band.critical_junction
+    valid, validity = judged(*continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
+                                                band.critical_wavelength_at_max_pressure, "λc"), cj.percolates)
+    em = band.effective_medium
+    if em is None:
+        return valid, validity, None, None
+    valid_em, validity_em = judged(*continuum_verdict(_band_effective_gap(case, em), d, "u_e at the peak pressure",
+                                                      band.contact_width, "w (contact width)"), em.percolates)
+    return valid, validity, valid_em, validity_em
+
+
+def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
+            res: CriticalJunctionResult) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+    """Add the verdict "ΔP not small against P0" to rows that have a leak channel and no other reason."""
+    flag = lifted & percolates & valid
+    out = tuple(f"ΔP = {res.pressure_difference[i]:.4g} Pa is not small against P0 = {res.squeeze_pressure[i]:.4g} Pa: "
+                "the fluid pressure would lift the seal, which the theory (P0 >> ΔP) does not model" if flag[i] else r
+                for i, r in enumerate(reasons))
+    return valid & ~flag, out
+
+
+def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:
+    """Warnings about the case's inputs (docs/theory.md §9.11): slopes, sizes, cut-off, strain, full contact."""
+    spectrum = case.spectrum
+    return assumption_warnings(
+        slope_rms=spectrum.slope_rms, h_rms=spectrum.h_rms, seal_width=case.seal.width, cutoff_wavevector=spectrum.q_max,
+        squeeze_pressure=result.squeeze_pressure, youngs_modulus=case.youngs_modulus,
+        contact_area_at_cutoff=result.contact_area_at_cutoff, alpha=case.alpha,
+    )
