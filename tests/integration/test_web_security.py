@@ -434,3 +434,10 @@ def test_a_streamed_50_mb_upload_stays_out_of_memory(live):
     assert stored.stat().st_size == size // 65536 * 65536
     with httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30) as c:
         assert c.get("/api/form").status_code == 200  # alive
+
+
+def test_a_page_reads_no_file_a_query_names(client):
+    page = client.get("/case")
+    for query in ({"filename": "/etc/hostname"}, {"filename": "../app.py"}):
+        r = client.get("/case", params=query)
+        assert r.status_code == 200 and r.content == page.content
