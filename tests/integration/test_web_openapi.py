@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import pytest
 
@@ -111,3 +112,11 @@ def test_the_uploads_are_described_as_multipart_forms(schema, path):
 def test_predict_takes_a_case_file(schema):
     assert "application/toml" in schema["paths"]["/api/predict"]["post"]["requestBody"]["content"]
     assert [p["name"] for p in schema["paths"]["/api/predict"]["post"]["parameters"]] == ["name"]
+
+
+def test_the_web_page_of_the_docs_names_every_request_and_the_schema():
+    text = (Path(__file__).parents[2] / "docs" / "web.md").read_text(encoding="utf-8")
+    for method, path in sorted(API):
+        written = path.replace("{job_id}", "ID").replace("{name}", "NAME.png")
+        assert f"{method.upper()} {written}" in text, f"docs/web.md does not name {method.upper()} {written}"
+    assert "GET /openapi.json" in text
