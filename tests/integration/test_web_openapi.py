@@ -13,6 +13,7 @@ with warnings.catch_warnings():  # starlette's TestClient on httpx 0.28 warns th
     from fastapi.testclient import TestClient
 
 from sealeak.web import create_app
+from sealeak.web.app import UPLOAD_PATHS
 from sealeak.web.routes import ROUTERS
 
 #: The API as docs/web.md lists it: (method, path).
@@ -107,6 +108,12 @@ def test_the_uploads_are_described_as_multipart_forms(schema, path):
     assert form["required"] == [UPLOADS[path]]
     file = form["properties"][UPLOADS[path]]
     assert "binary" in (file.get("format"), file.get("items", {}).get("format"))
+
+
+def test_the_multipart_requests_are_those_the_guard_gives_the_upload_limit(schema):
+    multipart = {p for p, ops in schema["paths"].items() for op in ops.values()
+                 if "multipart/form-data" in op.get("requestBody", {}).get("content", {})}
+    assert multipart == set(UPLOADS) == set(UPLOAD_PATHS)
 
 
 def test_predict_takes_a_case_file(schema):
