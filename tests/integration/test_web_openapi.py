@@ -127,3 +127,14 @@ def test_the_web_page_of_the_docs_names_every_request_and_the_schema():
         written = path.replace("{job_id}", "ID").replace("{name}", "NAME.png")
         assert f"{method.upper()} {written}" in text, f"docs/web.md does not name {method.upper()} {written}"
     assert "GET /openapi.json" in text
+
+
+@pytest.mark.parametrize("body, field, words", [
+    ({"files": ["map.txt"], "options": {"colour": "red"}}, "options.colour", "it takes 'size', 'pixel_size'"),
+    ({"files": ["map.txt"], "options": {"size": ["1 mm"]}}, "options.size", "must be text, true or false, an integer or a number"),
+    ({"files": "map.txt"}, "files", "must be a list"),
+])
+def test_a_nested_member_is_named_by_its_path(client, body, field, words):
+    r = client.put("/api/case/surface", json=body)
+    assert r.status_code == 422 and r.json()["field"] == field
+    assert r.json()["error"].startswith(f"{field} = ") and words in r.json()["error"]
