@@ -26,7 +26,7 @@ REF = example_text("reference-experiment")
 
 @pytest.fixture
 def client():
-    with TestClient(create_app(), base_url="http://127.0.0.1:8765") as c:
+    with TestClient(create_app(), base_url="http://127.0.0.1:8765") as c:  # a Host the server answers to
         yield c
 
 

@@ -25,7 +25,7 @@ with warnings.catch_warnings():  # starlette's TestClient on httpx 0.28 warns th
     import httpx
     from fastapi.testclient import TestClient
 
-import sealeak.web.app as web_app
+import sealeak.web.routes.jobs as web_jobs
 from sealeak.cases import example_text
 from sealeak.web import WebConfig, create_app
 from sealeak.web.casework import PredictionCache
@@ -259,7 +259,7 @@ def _fake_start(jobs_folder, *args, **kwargs):
 
 
 def test_simulations_are_capped_per_server_across_sessions(monkeypatch):
-    monkeypatch.setattr(web_app, "start_job", _fake_start)
+    monkeypatch.setattr(web_jobs, "start_job", _fake_start)
     app = create_app(WebConfig(max_running=2))
     clients = [web_client(app) for _ in range(3)]
     with clients[0], clients[1], clients[2]:
@@ -285,7 +285,7 @@ def test_the_default_server_cap_is_half_the_cores():
     ({"realizations": "1e12"}, "--realizations", "must be an integer"),
 ])
 def test_workers_and_realizations_are_bounded(monkeypatch, body, field, words):
-    monkeypatch.setattr(web_app, "start_job", _fake_start)
+    monkeypatch.setattr(web_jobs, "start_job", _fake_start)
     with web_client(create_app(WebConfig(max_workers=8, max_realizations=50))) as c:
         c.post("/api/case/example", json={"name": "reference-experiment"})
         r = c.post("/api/jobs", json=body)
@@ -295,7 +295,7 @@ def test_workers_and_realizations_are_bounded(monkeypatch, body, field, words):
 
 
 def test_the_cases_own_realizations_are_bounded_too(monkeypatch):
-    monkeypatch.setattr(web_app, "start_job", _fake_start)
+    monkeypatch.setattr(web_jobs, "start_job", _fake_start)
     with web_client(create_app(WebConfig(max_realizations=50))) as c:
         c.post("/api/case/upload", files={"file": ("sim.toml", (REF + "\n[simulation]\nrealizations = 5000\n").encode())})
         r = c.post("/api/jobs", json={})
@@ -436,3 +436,10 @@ def test_a_streamed_50_mb_upload_stays_out_of_memory(live):
     assert stored.stat().st_size == size // 65536 * 65536
     with httpx.Client(base_url=f"http://127.0.0.1:{port}", timeout=30) as c:
         assert c.get("/api/form").status_code == 200  # alive
+
+
+def test_a_page_reads_no_file_a_query_names(client):
+    page = client.get("/case")
+    for query in ({"filename": "/etc/hostname"}, {"filename": "../app.py"}):
+        r = client.get("/case", params=query)
+        assert r.status_code == 200 and r.content == page.content
