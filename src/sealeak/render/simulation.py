@@ -9,6 +9,7 @@ import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
+from matplotlib.container import ErrorbarContainer
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from numpy.typing import NDArray
@@ -502,11 +503,15 @@ def _leak_rate_figure(case: Case, sweep: _Sweep, q: NDArray[np.float64], q_std: 
     finish_axes(ax)
     if drawn.size:
         (pa_m3_axis if gas is not None else ml_per_min_axis)(ax)
-    handles, labels = ax.get_legend_handles_labels()
-    # the simulated points first, then the loads without a leak, then the theory
-    first = sorted(range(len(labels)), key=lambda i: (not labels[i].startswith("numerical"), "no leak" in labels[i]))
-    place_legend(ax, [handles[i] for i in first], [labels[i] for i in first])
+    _legend(ax)
     return fig
+
+
+def _legend(ax: Axes) -> None:
+    """The legend (:func:`place_legend`) with the simulated values (error bars) first, the rest in drawing order."""
+    handles, labels = ax.get_legend_handles_labels()
+    first = sorted(range(len(labels)), key=lambda i: not isinstance(handles[i], ErrorbarContainer))
+    place_legend(ax, [handles[i] for i in first], [labels[i] for i in first])
 
 
 def _numerical_points(ax: Axes, x: NDArray[np.float64], q: NDArray[np.float64], q_std: NDArray[np.float64],
@@ -574,7 +579,7 @@ def _alpha_figure(sweep: _Sweep, alpha: NDArray[np.float64], alpha_std: NDArray[
     ax.set_ylabel("α (1)")
     subtitle(ax, sweep.liquid_settings)
     finish_axes(ax)
-    place_legend(ax)
+    _legend(ax)
     return fig
 
 
