@@ -196,8 +196,6 @@ def test_pv_throughput_of_every_kind_is_the_converted_leak_rate(unit):
     assert np.allclose(pv_throughput(values * factor, kind, **kw), expected, rtol=1e-12, atol=0)
 
 
-#: Source files that still write a unit constant by hand (the simulate figures, issue 22 item 7, rework them).
-_LITERALS_ALLOWED = {"render/simulation.py"}
 
 
 def test_no_module_but_the_unit_module_writes_the_unit_constants():
@@ -207,7 +205,7 @@ def test_no_module_but_the_unit_module_writes_the_unit_constants():
     found = []
     for path in sorted(src.rglob("*.py")):
         rel = path.relative_to(src).as_posix()
-        if rel in _LITERALS_ALLOWED | {"io/leak_units.py"}:
+        if rel == "io/leak_units.py":
             continue
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Constant) and type(node.value) in (int, float) and float(node.value) in banned:

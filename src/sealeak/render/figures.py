@@ -66,6 +66,7 @@ from .plotstyle import (
     series_peaks,
     spans_decades,
     subtitle,
+    sweep_axis,
 )
 
 __all__ = ["prediction_figures", "save_figures", "render_figures", "pressure_axis", "PREDICTION_FIGURE_NAMES",
@@ -92,20 +93,7 @@ def pressure_x(ax: Axes, p0: np.ndarray) -> float:
     The axis covers every pressure of the sweep, also those with nothing to draw (no leak channel).
     """
     scale, unit = pressure_axis(p0)
-    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
-    p = np.asarray(p0, dtype=float)
-    p = p[np.isfinite(p) & (p > 0)] / scale
-    if not p.size:
-        return scale
-    lo, hi = float(p.min()), float(p.max())
-    if spans_decades(p):
-        ax.set_xscale("log")
-        pad = (hi / lo) ** 0.04
-        ax.set_xlim(lo / pad, hi * pad)
-    elif hi > lo:
-        ax.set_xlim(lo - 0.04 * (hi - lo), hi + 0.04 * (hi - lo))
-    else:
-        ax.set_xlim(0.9 * lo, 1.1 * hi)
+    sweep_axis(ax, np.asarray(p0, dtype=float) / scale, f"squeeze pressure P0 ({unit})")
     return scale
 
 

@@ -25,7 +25,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter, NullLoca
 
 from ..io.leak_units import ML_PER_MIN_PER_M3_PER_S, PA_M3_PER_MBAR_L, celsius
 
-__all__ = ["pressure_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
+__all__ = ["pressure_axis", "sweep_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
            "literal_text", "LITERAL_TEXT", "wrap_phrases",
            "invalid_note", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
@@ -121,6 +121,28 @@ def _plain_axis(axis: Axis) -> None:
     fmt = ScalarFormatter(useOffset=False)
     fmt.set_scientific(False)
     axis.set_major_formatter(fmt)
+
+
+def sweep_axis(ax: Axes, x: Any, label: str) -> None:
+    """Label the x axis and span every x of a sweep (log when they span decades), with a margin of 4 %.
+
+    The axis covers the whole sweep, also the loads with nothing to draw (no leak channel); non-finite
+    and non-positive x are left out of the range.
+    """
+    ax.set_xlabel(label)
+    v = np.asarray(x, dtype=float).ravel()
+    v = v[np.isfinite(v) & (v > 0)]
+    if not v.size:
+        return
+    lo, hi = float(v.min()), float(v.max())
+    if spans_decades(v):
+        ax.set_xscale("log")
+        pad = (hi / lo) ** 0.04
+        ax.set_xlim(lo / pad, hi * pad)
+    elif hi > lo:
+        ax.set_xlim(lo - 0.04 * (hi - lo), hi + 0.04 * (hi - lo))
+    else:
+        ax.set_xlim(0.9 * lo, 1.1 * hi)
 
 
 def finish_axes(ax: Axes) -> None:
@@ -385,7 +407,12 @@ def _drawn_points(ax: Axes) -> np.ndarray:
 
 
 def _covers(leg: Legend, points: np.ndarray, texts: Sequence[Any], pad: float = 4.0) -> bool:
+    """Whether a legend inside the axes covers a data point or a text, or is wider or taller than the axes (then it
+    would cover the tick labels beside them)."""
     box = leg.get_window_extent().padded(pad)
+    outer = leg.axes.bbox
+    if box.width > outer.width + 2 * pad or box.height > outer.height + 2 * pad:
+        return True
     inside = ((points[:, 0] >= box.x0) & (points[:, 0] <= box.x1) & (points[:, 1] >= box.y0) & (points[:, 1] <= box.y1))
     return bool(inside.any()) or any(box.overlaps(t) for t in texts)
 

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
+from matplotlib.container import ErrorbarContainer
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from numpy.typing import NDArray
@@ -14,10 +17,26 @@ from numpy.typing import NDArray
 from ..cases import Case, SimulationResult
 from ..cases.simulation import JUNCTION_CELLS, GasSimulation
 from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
+from ..io.leak_units import celsius, to_mbar_l_per_s
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
-from .figures import pressure_axis
-from .plotstyle import literal_text, scale_functions
+from .plotstyle import (
+    GAS_LEAK_LABEL,
+    PA_M3_PER_MBAR_L,
+    color,
+    finish_axes,
+    gas_conditions_text,
+    laid_out,
+    literal_text,
+    ml_per_min_axis,
+    new_figure,
+    pa_m3_axis,
+    place_legend,
+    pressure_axis,
+    say_nothing,
+    subtitle,
+    sweep_axis,
+)
 from .records import case_summary, json_document, json_value
 from .text import fmt
 
@@ -25,11 +44,6 @@ __all__ = ["simulation_json", "simulation_rows", "simulation_table", "simulation
            "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES",
            "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
            "BAND_SIMULATION_FIGURE_NAMES", "BAND_SIMULATION_GAS_UNITS"]
-
-
-def _axes(figsize: tuple[float, float]) -> tuple[Figure, Axes]:
-    fig = Figure(figsize=figsize, dpi=150)
-    return fig, fig.add_subplot()
 
 
 SIMULATION_UNITS = {
@@ -95,7 +109,7 @@ def _add_gas_json(doc: dict[str, Any], g: GasSimulation, units: dict[str, str], 
     for i, row in enumerate(doc["results"]):
         row |= {k: json_value(getattr(g, a)[i]) for k, a in attrs.items()}
         row |= {"flow_regime": g.regime_critical_junction[i] or None,
-                "leak_rate_mbar_l_s": json_value(g.throughput[i] / 0.1)}
+                "leak_rate_mbar_l_s": json_value(to_mbar_l_per_s(g.throughput[i]))}
     doc["gas"] = {"name": g.gas_name, "temperature": g.temperature, "upstream_pressure": g.upstream_pressure,
                   "downstream_pressure": g.downstream_pressure, "rarefaction": g.rarefaction,
                   "units": {"temperature": "K", "upstream_pressure": "Pa", "downstream_pressure": "Pa"}}
@@ -125,7 +139,7 @@ def _gas_rows(g: Any, label: tuple[str, int], rows: list[str], theory: tuple[str
         star = "*" if coarse[i] and np.isfinite(g.alpha[i]) else " "
         lines.append(f"{first} {fmt(g.knudsen_critical_junction[i], '9.3g')} "
                      f"{g.regime_critical_junction[i] or '—':>14} {fmt(g.throughput[i], '19.3e')} {fmt(g.throughput_std[i], '9.2e')} "
-                     f"{fmt(g.throughput[i] / 0.1, '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
+                     f"{fmt(to_mbar_l_per_s(g.throughput[i]), '12.3e')} {fmt(g.mass_flow[i], '10.3e')} {fmt(g.slip_gain[i], '9.4g')} "
                      f"{fmt(g.throughput_critical_junction[i], f'{theory_width}.3e')} {fmt(g.alpha[i], '7.3g')}{star} "
                      f"{fmt(g.alpha_std[i], '7.2g')} {g.iterations[i]:4d}")
     return lines
@@ -136,7 +150,7 @@ def _gas_lines(res: SimulationResult) -> list[str]:
     g = res.gas
     assert g is not None
     lines = ["", f"gas leak of {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa "
-                 f"(absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}:",
+                 f"(absolute), {celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}:",
              *_gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
                         [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
              ""]
@@ -198,156 +212,6 @@ def _spread_legend(realizations: int) -> str:
     return (f"± sd: standard deviation over the {realizations} realisations (for α: over the percolating ones), "
             "the spread from one random surface to another; "
             f"the standard error of a mean is sd/√{realizations}")
-
-
-@literal_text
-def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
-    """The figures of ``sealeak simulate --plots``: leak rate, α and a contact map, by file name."""
-    figs = {}
-    scale, unit = pressure_axis(res.squeeze_pressure)
-    p = res.squeeze_pressure / scale
-    coarse = np.array([_coarse(res, i) for i in range(p.size)], dtype=bool)
-    fig, ax = _axes((6.4, 4.4))
-    ok = _numerical_points(ax, p, res.leak_rate, res.leak_rate_std, f"numerical (BEM + Reynolds), {res.realizations} realisation(s), ± sd")
-    good = _theory_line(ax, p, res.leak_rate_critical_junction, coarse, "critical junction", case.alpha)
-    shown = np.concatenate([res.leak_rate[ok], good[np.isfinite(good) & (good > 0)]])
-    if shown.size:
-        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
-    ax.set_yscale("log")
-    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
-    ax.set_ylabel("leak rate Q (m³/s)")
-    ax.set_title(f"Numerical against critical-junction leak rate\n{res.grid}² grid, ΔP = "
-                 f"{res.pressure_difference / 1e3:.3g} kPa, Ly/Lx = {case.seal.aspect_ratio:.3g}", fontsize=9)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    figs["simulate_leak_rate.png"] = fig
-
-    fig, ax = _axes((6.4, 4.4))
-    ok = np.isfinite(res.alpha) & ~coarse
-    ax.errorbar(p[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3,
-                label="α = Q_num / Q_cj(α=1), ± sd" if res.gas is None
-                else "α = Q_num / Q_cj(α=1), incompressible formula (gas viscosity), ± sd")
-    if res.gas is not None:
-        g = res.gas
-        good = np.isfinite(g.alpha) & ~coarse
-        ax.errorbar(p[good], g.alpha[good], yerr=np.nan_to_num(g.alpha_std[good]), fmt="s--", ms=4, capsize=3, color="C3",
-                    label=f"α_gas = Q_pV / Q_pV,cj(α=1), {g.gas_name} {g.upstream_pressure / 1e3:.4g} → "
-                          f"{g.downstream_pressure / 1e3:.4g} kPa, ± sd")
-    ax.axhline(case.alpha, color="k", ls="--", lw=0.8, label=f"case α = {case.alpha:g}")
-    top = max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, case.alpha)
-    if res.gas is not None and (np.isfinite(res.gas.alpha) & ~coarse).any():
-        good = np.isfinite(res.gas.alpha) & ~coarse
-        top = max(top, float(np.nanmax(res.gas.alpha[good] + np.nan_to_num(res.gas.alpha_std[good]))))
-    _coarse_alpha(ax, p, res.alpha, coarse, top)
-    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
-    ax.set_ylabel("α (1)")
-    ax.set_title("The factor α of the critical-junction theory, computed", fontsize=9)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    figs["simulate_alpha.png"] = fig
-
-    fig, ax = _axes((5.6, 5.2))
-    if res.contact_maps:
-        pick, contact = _contact_map(ax, res.contact_maps, np.asarray(res.per_realization["percolates"], dtype=bool), res.size,
-                                     res.size)
-        ax.set_xlabel("x (mm), flow from inlet x = 0 to outlet →")
-        ax.set_ylabel("y, periodic (mm)")
-        ax.set_title(f"Contact map, realisation 0, P0 = {res.squeeze_pressure[pick] / scale:.3g} {unit}\n"
-                     f"black: contact ({contact.mean():.1%}); blue: channels spanning inlet to outlet; "
-                     f"grey: trapped fluid", fontsize=8)
-    figs["contact_map.png"] = fig
-    if res.gas is not None:
-        figs["simulate_gas_leak_rate.png"] = _gas_figure(case, res, coarse)
-    return figs
-
-
-def _coarse_alpha(ax: Any, x: NDArray[np.float64], alpha: NDArray[np.float64], coarse: NDArray[np.bool_], top: float) -> None:
-    """Draw the α of rows whose junction the grid resolves too coarsely hollow, clipped to 3 × ``top`` (the resolved
-    values' range: their α can be absurdly large), with how many fall off scale; when no row is resolved there is no
-    range to clip to, and every flagged α is drawn."""
-    flagged = np.isfinite(alpha) & coarse
-    if not flagged.any():
-        return
-    resolved = np.isfinite(alpha) & ~coarse
-    limit = 3.0 * top if resolved.any() else float(np.max(alpha[flagged]))
-    inside = flagged & (alpha <= limit)
-    off = int(flagged.sum() - inside.sum())
-    ax.plot(x[inside], alpha[inside], "o", mfc="none", color="C0",
-            label=f"λc < {JUNCTION_CELLS} cells: grid too coarse" + (f" ({off} more off scale)" if off else ""))
-    ax.set_ylim(0.0, 1.1 * max(limit if off else 0.0, top, *alpha[inside]))
-
-
-def _contact_map(ax: Any, maps: dict[int, NDArray[np.bool_]], percolates: NDArray[np.bool_], width: float,
-                 height: float) -> tuple[int, NDArray[np.bool_]]:
-    """Draw realisation 0's contact map at the highest percolating load (else the middle one): contact black,
-    channels spanning inlet to outlet blue, trapped fluid grey; x (flow) horizontal, sizes in m. Returns (load, map)."""
-    idx = sorted(maps)
-    perc_idx = [i for i in idx if percolates[0, i]]
-    pick = perc_idx[-1] if perc_idx else idx[len(idx) // 2]
-    contact = maps[pick]
-    img = np.where(contact, 0, np.where(spanning_mask(~contact), 2, 1))
-    # img is indexed [x, y]; transpose so x runs horizontally (flow left to right)
-    ax.imshow(img.T, cmap=ListedColormap(["#202020", "#d8d8d8", "#1f77b4"]), vmin=0, vmax=2,
-              extent=(0, width * 1e3, 0, height * 1e3), origin="lower", interpolation="nearest")
-    return pick, contact
-
-
-def _numerical_points(ax: Any, x: NDArray[np.float64], q: NDArray[np.float64], q_std: NDArray[np.float64],
-                      label: str) -> NDArray[np.bool_]:
-    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis), and the
-    loads where no realisation leaks (no channel percolates: Q = 0, off a log axis) as × at the bottom edge of the
-    axes, with a legend entry; returns which leak rates were drawn as points."""
-    ok = q > 0
-    std = np.nan_to_num(q_std[ok])
-    bars = ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, label=label)
-    sealed = q == 0
-    if sealed.any():  # y in axes units: on the bottom edge whatever the leak-rate range
-        ax.plot(x[sealed], np.full(int(sealed.sum()), 0.0), "x", ms=6, mew=1.5, color=bars[0].get_color(),
-                transform=ax.get_xaxis_transform(), clip_on=False,
-                label="numerical: no leak channel in any realisation (Q = 0), × at the bottom")
-    return np.asarray(ok, dtype=bool)
-
-
-def _theory_line(ax: Any, x: NDArray[np.float64], q: NDArray[np.float64], coarse: NDArray[np.bool_], name: str,
-                 alpha: float = 1.0, label: str | None = None, skip_empty: bool = False) -> NDArray[np.float64]:
-    """The theory's leak rate with α = 1 (and the case's α when it differs) where the grid resolves the junction, and
-    dotted where λc spans fewer than JUNCTION_CELLS cells (joined to its resolved neighbour); returns the resolved part."""
-    good = np.where(coarse, np.nan, q)
-    if not skip_empty or np.isfinite(good).any():
-        ax.plot(x, good, "-", color="C1", label=label or f"{name}, α = 1")
-    if alpha != 1.0:
-        ax.plot(x, alpha * good, "--", color="C2", label=f"{name}, α = {alpha:g}")
-    if coarse.any():
-        edge = np.where(coarse | np.roll(coarse, -1), q, np.nan)
-        ax.plot(x, edge, ":", color="C1", label=f"{name} where λc < {JUNCTION_CELLS} cells (grid too coarse)")
-    return np.asarray(good, dtype=float)
-
-
-def _gas_figure(case: Case, res: SimulationResult, coarse: NDArray[np.bool_]) -> Figure:
-    """The gas case's leak rate: the simulated pV throughput against the critical-junction gas leak (α = 1, and the case's α)."""
-    g = res.gas
-    assert g is not None
-    scale, unit = pressure_axis(res.squeeze_pressure)
-    p = res.squeeze_pressure / scale
-    fig, ax = _axes((6.4, 4.4))
-    ok = _numerical_points(ax, p, g.throughput, g.throughput_std,
-                           f"numerical (BEM + gas flow in p²), {res.realizations} realisation(s), ± sd")
-    good = _theory_line(ax, p, g.throughput_critical_junction, coarse, "critical junction", case.alpha)
-    shown = np.concatenate([g.throughput[ok], good[np.isfinite(good) & (good > 0)]])
-    if shown.size:
-        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
-        ax.set_yscale("log")
-        ax.secondary_yaxis("right", functions=scale_functions(10.0)).set_ylabel("Q (mbar·l/s)")
-    else:
-        ax.text(0.5, 0.5, "no leak channel at any squeeze pressure", transform=ax.transAxes, ha="center", va="center")
-    ax.set_xlabel(f"squeeze pressure P0 ({unit})")
-    ax.set_ylabel("pV throughput Q_pV (Pa·m³/s)")
-    ax.set_title(f"Gas leak: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} → {g.downstream_pressure / 1e3:.4g} kPa (absolute), "
-                 f"{g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}\n{res.grid}² grid, "
-                 f"Ly/Lx = {case.seal.aspect_ratio:.3g}; Q_pV counted at the gas temperature", fontsize=8)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    return fig
 
 
 # ---------------------------------------------------------------- the O-ring (band) simulation
@@ -442,7 +306,7 @@ def _band_gas_lines(res: BandSimulationResult) -> list[str]:
     assert g is not None
     label, factor = _load_label(res)
     lines = ["", f"Gas leak across the band: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → "
-                 f"{g.downstream_pressure / 1e3:.4g} kPa (absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}",
+                 f"{g.downstream_pressure / 1e3:.4g} kPa (absolute), {celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}",
              *_gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
                         [_band_coarse(res, i) for i in range(res.loads.size)]),
              ""]
@@ -499,135 +363,305 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
     return "\n".join(lines) + "\n"
 
 
+# ---------------------------------------------------------------- figures: the square and the O-ring share each builder
+@dataclass(frozen=True)
+class _Sweep:
+    """What the leak-rate and α figures of one simulated geometry draw against, and the words that name it.
+
+    Attributes
+    ----------
+    x, x_label, loads
+        The loads as the x axis reads them (P0 in kPa or MPa, an O-ring's compression in %), the axis
+        label, and what one load is called ("squeeze pressure", "compression").
+    coarse
+        Per load: the theory's critical junction spans fewer than :data:`JUNCTION_CELLS` grid cells, so
+        its α reflects the grid (the theory drawn dotted, the α hollow).
+    theory, short
+        The prediction compared with ("critical-junction", "series-resistance") and its subscript in
+        α's label ("cj", "series").
+    method, seal, settings, pressure_difference
+        How the numbers were computed (legend), the seal's name in the headings ("" for the periodic
+        square, "O-ring"), the run's subtitle line (grid, realisations, the seal's size) and ΔP (Pa).
+    alpha, alpha_label
+        The α drawn for comparison in the leak-rate and α figures (the case's α; 1 for an O-ring) and
+        the label of its line in the α figure.
+    """
+
+    x: NDArray[np.float64]
+    x_label: str
+    loads: str
+    coarse: NDArray[np.bool_]
+    theory: str
+    short: str
+    method: str
+    seal: str
+    settings: str
+    pressure_difference: float
+    alpha: float
+    alpha_label: str
+
+    @property
+    def through(self) -> str:
+        return f" through the {self.seal}" if self.seal else ""
+
+    @property
+    def liquid_settings(self) -> str:
+        return f"{self.settings}, ΔP = {self.pressure_difference / 1e3:.3g} kPa"
+
+
+def _run_text(res: SimulationResult | BandSimulationResult) -> str:
+    return f"{res.grid}² grid, {res.realizations} realisation(s)"
+
+
+def _gas_label(g: GasSimulation) -> str:
+    return f"{g.gas_name} {g.upstream_pressure / 1e3:.4g} → {g.downstream_pressure / 1e3:.4g} kPa"
+
+
+@literal_text
+def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
+    """The figures of ``sealeak simulate --plots``: leak rate, α and a contact map (and a gas case's gas leak), by file name."""
+    scale, unit = pressure_axis(res.squeeze_pressure)
+    sweep = _Sweep(x=res.squeeze_pressure / scale, x_label=f"squeeze pressure P0 ({unit})", loads="squeeze pressure",
+                   coarse=np.array([_coarse(res, i) for i in range(res.squeeze_pressure.size)], dtype=bool),
+                   theory="critical-junction", short="cj", method="BEM + Reynolds", seal="",
+                   settings=f"{_run_text(res)}, Ly/Lx = {case.seal.aspect_ratio:.3g}",
+                   pressure_difference=res.pressure_difference, alpha=case.alpha,
+                   alpha_label=f"case α = {case.alpha:g}")
+    figs = _sweep_figures(case, sweep, res, res.leak_rate_critical_junction)
+    if res.contact_maps:
+        pick = _map_pick(res.contact_maps, res.per_realization)
+        figs["contact_map.png"] = _contact_map_figure(
+            res.contact_maps[pick], (res.size, res.size), f"P0 = {res.squeeze_pressure[pick] / scale:.3g} {unit}",
+            ("x (mm), flow from inlet x = 0 to outlet →", "y, periodic (mm)"),
+            f"black: contact ({res.contact_maps[pick].mean():.1%}); blue: channels spanning inlet to outlet; "
+            "grey: trapped fluid")
+    return figs
+
+
 @literal_text
 def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, Figure]:
-    """The figures of ``sealeak simulate --plots`` for an O-ring: leak rate, α, a contact map, the pressure across the band."""
-    figs: dict[str, Figure] = {}
+    """The figures of ``sealeak simulate --plots`` for an O-ring: leak rate, α, a contact map, the pressure across the
+    band (and a gas O-ring's gas leak), by file name."""
     label, factor = _load_label(res)
-    loads = res.loads * factor
-    coarse = np.array([_band_coarse(res, i) for i in range(loads.size)], dtype=bool)
-
-    fig, ax = _axes((6.4, 4.4))
-    ok = _numerical_points(ax, loads, res.leak_rate, res.leak_rate_std,
-                           f"numerical (cylinder on rough surface + Reynolds), {res.realizations} realisation(s), ± sd")
-    q_sr = res.leak_rate_series_resistance
-    good = _theory_line(ax, loads, q_sr, coarse, "series resistance", label="series resistance, critical junction, α = 1")
-    blocked = ~ok
-    shown = np.concatenate([res.leak_rate[ok], good[np.isfinite(good) & (good > 0)]])  # the flagged theory may leave the axis
-    if shown.size:
-        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
-        if blocked.any():  # no leak in any realisation: a hollow triangle at the bottom of the axis
-            ax.plot(loads[blocked], np.full(int(blocked.sum()), shown.min() / 2.0), "v", mfc="none", color="C0",
-                    label="numerical: no channel crosses the band (Q = 0)")
-        ax.set_yscale("log")
-    else:
-        ax.text(0.5, 0.5, "no channel crosses the band at any load", transform=ax.transAxes, ha="center", va="center")
-    ax.set_xlabel(label)
-    ax.set_ylabel("leak rate Q (m³/s)")
-    ax.set_title(f"O-ring: numerical against series-resistance leak rate\n{res.grid}² grid, ΔP = "
-                 f"{res.pressure_difference / 1e3:.3g} kPa, seal line {res.seal_length * 1e3:.3g} mm", fontsize=9)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
-    figs["simulate_leak_rate.png"] = fig
-
-    fig, ax = _axes((6.4, 4.4))
-    ok = np.isfinite(res.alpha) & ~coarse
-    ax.errorbar(loads[ok], res.alpha[ok], yerr=np.nan_to_num(res.alpha_std[ok]), fmt="o-", ms=4, capsize=3,
-                label="α = Q_num / Q_series(α=1), ± sd")
-    ax.axhline(1.0, color="k", ls="--", lw=0.8, label="α = 1")
-    _coarse_alpha(ax, loads, res.alpha, coarse,
-                  max(float(np.nanmax(res.alpha[ok] + np.nan_to_num(res.alpha_std[ok]))) if ok.any() else 0.0, 1.0))
-    if not np.isfinite(res.alpha).any():
-        ax.text(0.5, 0.5, "no α: the band holds no channel\n(numerically or in the theory)", transform=ax.transAxes,
-                ha="center", va="center")
-    ax.set_xlabel(label)
-    ax.set_ylabel("α (1)")
-    ax.set_title("The α of this O-ring: numerically exact over series-resistance leak rate", fontsize=9)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    figs["simulate_alpha.png"] = fig
-
-    fig, ax = _axes((6.4, 5.4))
+    sweep = _Sweep(x=res.loads * factor,
+                   x_label="compression ε = δ/d (%)" if res.load_name == "compression" else label, loads=label.split(" (")[0],
+                   coarse=np.array([_band_coarse(res, i) for i in range(res.loads.size)], dtype=bool),
+                   theory="series-resistance", short="series", method="cylinder on rough surface + Reynolds", seal="O-ring",
+                   settings=f"{_run_text(res)}, seal line {res.seal_length * 1e3:.3g} mm",
+                   pressure_difference=res.pressure_difference, alpha=1.0, alpha_label="α = 1")
+    figs = _sweep_figures(case, sweep, res, res.leak_rate_series_resistance)
     if res.contact_maps:
-        pick, contact = _contact_map(ax, res.contact_maps, np.asarray(res.per_realization["percolates"], dtype=bool), res.size,
-                                     res.period)
-        half = res.hertz_contact_width[pick] / 2.0
-        for xe in (res.size / 2.0 - half, res.size / 2.0 + half):
-            ax.axvline(xe * 1e3, color="C3", ls="--", lw=1.0)
-        ax.set_xlabel("x across the band (mm), flow from x = 0 to the outlet →")
-        ax.set_ylabel("y along the seal line, periodic (mm)")
-        ax.set_title(f"Contact map, realisation 0, {label.split(' (')[0]} {loads[pick]:.3g}"
-                     f"{' %' if res.load_name == 'compression' else ''}\n"
-                     f"black: contact; blue: channels crossing the band; grey: trapped or dead-end fluid; "
-                     f"red dashes: Hertz band", fontsize=8)
-    figs["contact_map.png"] = fig
+        pick = _map_pick(res.contact_maps, res.per_realization)
+        figs["contact_map.png"] = _contact_map_figure(
+            res.contact_maps[pick], (res.size, res.period), _load_text(res, pick),
+            ("x across the band (mm), flow from x = 0 to the outlet →", "y along the seal line, periodic (mm)"),
+            "black: contact; blue: channels crossing the band; grey: trapped or dead-end fluid; red dashes: Hertz band",
+            edges=res.size / 2.0 + np.array([-0.5, 0.5]) * res.hertz_contact_width[pick])
+    figs["simulate_band_pressure.png"] = _band_pressure_figure(res)
+    return figs
 
-    fig, ax = _axes((6.4, 4.4))
-    x = res.x
-    xm = (x - res.size / 2.0) * 1e3
-    unit = " %" if res.load_name == "compression" else ""
+
+def _sweep_figures(case: Case, sweep: _Sweep, res: SimulationResult | BandSimulationResult,
+                   theory: NDArray[np.float64]) -> dict[str, Figure]:
+    """The leak-rate and α figures of either geometry, and a gas case's gas leak-rate figure."""
+    g = res.gas
+    figs = {"simulate_leak_rate.png": _leak_rate_figure(case, sweep, res.leak_rate, res.leak_rate_std, theory),
+            "simulate_alpha.png": _alpha_figure(sweep, res.alpha, res.alpha_std, g)}
+    if g is not None:
+        figs["simulate_gas_leak_rate.png"] = _leak_rate_figure(case, sweep, g.throughput, g.throughput_std,
+                                                               g.throughput_critical_junction, g)
+    return figs
+
+
+@laid_out
+def _leak_rate_figure(case: Case, sweep: _Sweep, q: NDArray[np.float64], q_std: NDArray[np.float64],
+                      theory: NDArray[np.float64], gas: GasSimulation | None = None) -> Figure:
+    """The simulated leak rate (mean ± sd over the realisations) against the theory's with α = 1 (log axis).
+
+    Liquid: Q in m³/s with a second axis in ml/min; gas: the pV throughput in mbar·l/s with a second axis in
+    Pa·m³/s, counted at the gas temperature (``q``, ``theory`` in SI units: m³/s, Pa·m³/s). Loads where no
+    realisation leaks are × on the bottom edge.
+    """
+    k = PA_M3_PER_MBAR_L if gas is not None else 1.0  # plotted: q / k
+    what = f"Leak rate of {gas.gas_name}" if gas is not None else "Leak rate"
+    fig, ax = new_figure(f"{what}{sweep.through}: numerical against {sweep.theory} theory", figsize=(6.4, 5.4))
+    sweep_axis(ax, sweep.x, sweep.x_label)
+    method = sweep.method.replace("Reynolds", "gas flow in p²") if gas is not None else sweep.method
+    drawn = _numerical_points(ax, sweep.x, q / k, q_std / k, f"numerical ({method}), mean ± sd")
+    predicted = _theory_lines(ax, sweep, theory / k)
+    drawn = np.concatenate([drawn, predicted])
+    notes = [gas_conditions_text(case)] if gas is not None else []
+    notes.append(f"{sweep.settings}; Q_pV counted at the gas temperature" if gas is not None else sweep.liquid_settings)
+    if drawn.size and not predicted.size:
+        notes.append(f"the {sweep.theory} theory finds no leak channel at any {sweep.loads}")
+    if drawn.size:
+        ax.set_yscale("log")
+        ax.set_ylim(drawn.min() / 3.0, drawn.max() * 3.0)
+    else:
+        say_nothing(ax, f"no leak channel at any {sweep.loads}\n(numerically or in the {sweep.theory} theory)")
+    ax.set_ylabel(f"{GAS_LEAK_LABEL} (mbar·l/s)" if gas is not None else "leak rate Q (m³/s)")
+    subtitle(ax, "\n".join(notes))
+    finish_axes(ax)
+    if drawn.size:
+        (pa_m3_axis if gas is not None else ml_per_min_axis)(ax)
+    _legend(ax)
+    return fig
+
+
+def _legend(ax: Axes) -> None:
+    """The legend (:func:`place_legend`) with the simulated values (error bars) first, the rest in drawing order."""
+    handles, labels = ax.get_legend_handles_labels()
+    first = sorted(range(len(labels)), key=lambda i: not isinstance(handles[i], ErrorbarContainer))
+    place_legend(ax, [handles[i] for i in first], [labels[i] for i in first])
+
+
+def _numerical_points(ax: Axes, x: NDArray[np.float64], q: NDArray[np.float64], q_std: NDArray[np.float64],
+                      label: str) -> NDArray[np.float64]:
+    """The simulated leak rates > 0 with their ± sd bars (the lower bar kept above zero for the log axis), and the
+    loads where no realisation leaks (no channel percolates: Q = 0, off a log axis) as × on the bottom edge of the
+    axes, with a legend entry; returns the leak rates drawn as points."""
+    ok = q > 0
+    std = np.nan_to_num(q_std[ok])
+    if ok.any():
+        ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, color=color(0),
+                    label=label)
+    sealed = q == 0
+    if sealed.any():  # y in axes units: on the bottom edge whatever the leak-rate range
+        ax.plot(x[sealed], np.zeros(int(sealed.sum())), "x", ms=6, mew=1.5, color=color(0),
+                transform=ax.get_xaxis_transform(), clip_on=False,
+                label="numerical: no leak channel in any realisation (Q = 0), × at the bottom")
+    return np.asarray(q[ok], dtype=float)
+
+
+def _theory_lines(ax: Axes, sweep: _Sweep, q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The theory's leak rate with α = 1 (and the case's α when it differs) solid where the grid resolves its junction,
+    dotted where λc spans fewer than JUNCTION_CELLS cells (joined to its resolved neighbour); returns the values that
+    set the axis: the resolved ones, or the flagged ones where none is resolved (their distance from the points is
+    what the figure shows)."""
+    name = sweep.theory.replace("-", " ")
+    good = np.where(sweep.coarse, np.nan, q)
+    shown = good[np.isfinite(good) & (good > 0)]
+    if shown.size:
+        ax.plot(sweep.x, good, "-", color=color(1), label=f"{name}, α = 1")
+        if sweep.alpha != 1.0:
+            ax.plot(sweep.x, sweep.alpha * good, "--", color=color(2), label=f"{name}, α = {sweep.alpha:g}")
+    edge = np.where(sweep.coarse | np.roll(sweep.coarse, -1), q, np.nan)
+    flagged = q[sweep.coarse & np.isfinite(q) & (q > 0)]
+    if flagged.size:
+        ax.plot(sweep.x, edge, ":", color=color(1), label=f"{name} where λc < {JUNCTION_CELLS} cells (grid too coarse)")
+    return np.asarray(shown if shown.size else flagged, dtype=float)
+
+
+@laid_out
+def _alpha_figure(sweep: _Sweep, alpha: NDArray[np.float64], alpha_std: NDArray[np.float64],
+                  gas: GasSimulation | None) -> Figure:
+    """α (± sd over the percolating realisations) against the load where the grid resolves the junction, α_gas beside
+    it for a gas, the comparison α, and the grid-flagged α hollow."""
+    fig, ax = new_figure(f"The factor α of the {sweep.theory} theory{' for this ' + sweep.seal if sweep.seal else ''}, "
+                         "computed")
+    sweep_axis(ax, sweep.x, sweep.x_label)
+    ratio = f"Q_num / Q_{sweep.short}(α=1)"
+    curves = [(alpha, alpha_std, "o-", color(0),
+               f"α = {ratio}, ± sd" if gas is None else f"α = {ratio}, incompressible formula (gas viscosity), ± sd")]
+    if gas is not None:
+        curves.append((gas.alpha, gas.alpha_std, "s--", color(3),
+                       f"α_gas = Q_pV / Q_pV,{sweep.short}(α=1), {_gas_label(gas)}, ± sd"))
+    top = sweep.alpha
+    for a, sd, style, colour, label in curves:
+        ok = np.isfinite(a) & ~sweep.coarse
+        if ok.any():
+            ax.errorbar(sweep.x[ok], a[ok], yerr=np.nan_to_num(sd[ok]), fmt=style, ms=4, capsize=3, color=colour,
+                        label=label)
+            top = max(top, float(np.max(a[ok] + np.nan_to_num(sd[ok]))))
+    ax.axhline(sweep.alpha, color="k", ls="--", lw=0.8, label=sweep.alpha_label)
+    _coarse_alpha(ax, sweep.x, alpha, sweep.coarse, top)
+    if not np.isfinite(alpha).any():
+        say_nothing(ax, f"no α: at no {sweep.loads} do both the simulation\nand the {sweep.theory} theory find a leak channel")
+    ax.set_ylabel("α (1)")
+    subtitle(ax, sweep.liquid_settings)
+    finish_axes(ax)
+    _legend(ax)
+    return fig
+
+
+def _coarse_alpha(ax: Axes, x: NDArray[np.float64], alpha: NDArray[np.float64], coarse: NDArray[np.bool_], top: float) -> None:
+    """Draw the α of rows whose junction the grid resolves too coarsely hollow, clipped to 3 × ``top`` (the resolved
+    values' range: their α can be absurdly large), with how many fall off scale; when no row is resolved there is no
+    range to clip to, and every flagged α is drawn."""
+    flagged = np.isfinite(alpha) & coarse
+    if not flagged.any():
+        return
+    resolved = np.isfinite(alpha) & ~coarse
+    limit = 3.0 * top if resolved.any() else float(np.max(alpha[flagged]))
+    inside = flagged & (alpha <= limit)
+    off = int(flagged.sum() - inside.sum())
+    ax.plot(x[inside], alpha[inside], "o", mfc="none", color=color(0),
+            label=f"λc < {JUNCTION_CELLS} cells: grid too coarse" + (f" ({off} more off scale)" if off else ""))
+    ax.set_ylim(0.0, 1.1 * max(limit if off else 0.0, top, *alpha[inside]))
+
+
+def _map_pick(maps: dict[int, NDArray[np.bool_]], per_realization: dict[str, Any]) -> int:
+    """The load whose contact map is drawn: the highest at which realisation 0 percolates, else the middle one."""
+    idx = sorted(maps)
+    percolates = np.asarray(per_realization["percolates"], dtype=bool)
+    perc_idx = [i for i in idx if percolates[0, i]]
+    return perc_idx[-1] if perc_idx else idx[len(idx) // 2]
+
+
+@laid_out
+def _contact_map_figure(contact: NDArray[np.bool_], size: tuple[float, float], load: str, labels: tuple[str, str],
+                        legend: str, edges: NDArray[np.float64] | None = None) -> Figure:
+    """Realisation 0's contact map at one load: contact black, fluid that spans inlet to outlet blue, trapped fluid
+    grey; x (flow) horizontal, ``size`` (x, y) in m; ``legend``: what the colours mean (the subtitle); ``edges``: x (m)
+    of lines drawn red dashed (the Hertz band)."""
+    fig, ax = new_figure(f"Contact map, realisation 0, {load}", figsize=(6.4, 5.6))
+    img = np.where(contact, 0, np.where(spanning_mask(~contact), 2, 1))
+    # img is indexed [x, y]; transpose so x runs horizontally (flow left to right)
+    ax.imshow(img.T, cmap=ListedColormap(["#202020", "#d8d8d8", "#1f77b4"]), vmin=0, vmax=2,
+              extent=(0, size[0] * 1e3, 0, size[1] * 1e3), origin="lower", interpolation="nearest")
+    for xe in edges if edges is not None else ():
+        ax.axvline(xe * 1e3, color="tab:red", ls="--", lw=1.0)
+    ax.grid(False)
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    subtitle(ax, legend)
+    finish_axes(ax)
+    return fig
+
+
+def _load_text(res: BandSimulationResult, i: int) -> str:
+    """One load of an O-ring in words: "ε = 12.5 %" (a compression) or "profile scale 0.75"."""
+    if res.load_name == "compression":
+        return f"ε = {100 * res.loads[i]:.3g} %"
+    return f"{res.load_name.replace('_', ' ')} {res.loads[i]:.3g}"
+
+
+@laid_out
+def _band_pressure_figure(res: BandSimulationResult) -> Figure:
+    """The contact pressure across the band per load: Hertz (analytic), the smooth cylinder simulated, and realisation
+    0's rough contact averaged along the seal line."""
+    fig, ax = new_figure("Contact pressure across the band, per load")
+    xm = (res.x - res.size / 2.0) * 1e3
+    handles: list[Artist] = []
+    labels = []
     for i in range(res.loads.size):
-        color = f"C{i % 10}"
         hertz = PressureProfile.semi_elliptic(res.hertz_contact_width[i], res.hertz_max_pressure[i])
         xs = np.linspace(0.0, res.hertz_contact_width[i], 201)
-        ax.plot((xs - res.hertz_contact_width[i] / 2.0) * 1e3, hertz.at(xs) / 1e6, "-", color=color, lw=1.2,
-                label=f"{loads[i]:.3g}{unit}")
+        handles += ax.plot((xs - res.hertz_contact_width[i] / 2.0) * 1e3, hertz.at(xs) / 1e6, "-", color=color(i), lw=1.2)
+        labels.append(_load_text(res, i))
         if i in res.smooth_line_pressure:
             sm = res.smooth_line_pressure[i]
-            ax.plot(xm[sm > 0], sm[sm > 0] / 1e6, ".", color=color, ms=2.5)
+            ax.plot(xm[sm > 0], sm[sm > 0] / 1e6, ".", color=color(i), ms=2.5)
         if i in res.line_pressure:
-            ax.plot(xm, res.line_pressure[i] / 1e6, "-", color=color, lw=0.6, alpha=0.6)
-    first = ax.legend(fontsize=7, title=label.split(" (")[0], title_fontsize=7, loc="upper left")
-    ax.add_artist(first)
-    styles = [Line2D([], [], color="0.3", lw=1.2, label="Hertz (smooth, analytic)"),
-              Line2D([], [], color="0.3", ls="none", marker=".", ms=4, label="smooth cylinder, simulated"),
-              Line2D([], [], color="0.3", lw=0.6, alpha=0.6, label="rough, averaged along the seal line")]
-    ax.legend(handles=styles, fontsize=7, loc="upper right")
+            ax.plot(xm, res.line_pressure[i] / 1e6, "-", color=color(i), lw=0.6, alpha=0.6)
+    handles += [Line2D([], [], color="0.3", lw=1.2), Line2D([], [], color="0.3", ls="none", marker=".", ms=4),
+                Line2D([], [], color="0.3", lw=0.6, alpha=0.6)]
+    labels += ["Hertz (smooth, analytic)", "smooth cylinder, simulated", "rough, averaged along the seal line"]
     reach = 0.65 * float(np.nanmax(np.concatenate([res.hertz_contact_width, res.contact_width]))) * 1e3  # mm, past the edges
     ax.set_xlim(-reach, reach)
     ax.set_xlabel("x from the band's centre (mm)")
     ax.set_ylabel("contact pressure (MPa)")
-    ax.set_title("Pressure across the band: Hertz, the smooth cylinder simulated, and the rough contact\n"
-                 "averaged along the seal line (realisation 0)", fontsize=9)
-    ax.grid(alpha=0.3)
-    figs["simulate_band_pressure.png"] = fig
-    if res.gas is not None:
-        figs["simulate_gas_leak_rate.png"] = _band_gas_figure(res, coarse)
-    return figs
-
-
-def _band_gas_figure(res: BandSimulationResult, coarse: NDArray[np.bool_]) -> Figure:
-    """A gas O-ring's leak rate: the simulated pV throughput across the band against the series-resistance gas leak (α = 1)."""
-    g = res.gas
-    assert g is not None
-    label, factor = _load_label(res)
-    loads = res.loads * factor
-    fig, ax = _axes((6.4, 4.4))
-    ok = _numerical_points(ax, loads, g.throughput, g.throughput_std,
-                           f"numerical (cylinder on rough surface + gas flow in p²), {res.realizations} realisation(s), ± sd")
-    q_sr = g.throughput_critical_junction
-    _theory_line(ax, loads, q_sr, coarse, "series resistance", label="series resistance, critical junction, α = 1",
-                 skip_empty=True)
-    # the flagged theory stays on the axis: its distance from the points is what the figure shows
-    shown = np.concatenate([g.throughput[ok], q_sr[np.isfinite(q_sr) & (q_sr > 0)]])
-    if shown.size:
-        ax.set_ylim(shown.min() / 3.0, shown.max() * 3.0)
-        if (~ok).any():  # no leak in any realisation: a hollow triangle at the bottom of the axis
-            ax.plot(loads[~ok], np.full(int((~ok).sum()), shown.min() / 2.0), "v", mfc="none", color="C0",
-                    label="numerical: no channel crosses the band (Q = 0)")
-        ax.set_yscale("log")
-        ax.secondary_yaxis("right", functions=scale_functions(10.0)).set_ylabel("Q (mbar·l/s)")
-        ax.legend(fontsize=7)
-    else:  # nothing to draw: the loads on the axis, the reason in the middle, no empty legend
-        pad = 0.05 * max(float(np.ptp(loads)), float(np.abs(loads).max()), 1e-12)
-        ax.set_xlim(float(loads.min()) - pad, float(loads.max()) + pad)
-        ax.set_yticks([])
-        ax.text(0.5, 0.5, "no channel crosses the band at any load\n(numerically or in the series-resistance theory)",
-                transform=ax.transAxes, ha="center", va="center")
-    ax.set_xlabel(label)
-    ax.set_ylabel("pV throughput Q_pV (Pa·m³/s)")
-    ax.set_title(f"O-ring gas leak: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} → {g.downstream_pressure / 1e3:.4g} kPa "
-                 f"(absolute), {g.temperature - 273.15:.4g} °C, rarefaction {g.rarefaction}\n{res.grid}² grid, seal line "
-                 f"{res.seal_length * 1e3:.3g} mm; Q_pV counted at the gas temperature", fontsize=8)
-    ax.grid(alpha=0.3)
+    subtitle(ax, f"{res.grid}² grid, cells of {res.size / res.grid * 1e6:.3g} µm; the rough contact of realisation 0")
+    finish_axes(ax)
+    place_legend(ax, handles, labels)
     return fig
