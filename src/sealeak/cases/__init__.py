@@ -6,7 +6,12 @@
 * :mod:`~sealeak.cases.loader`: :func:`load_cases`, :func:`read_case_file`, the bundled examples;
 * :mod:`~sealeak.cases.run`: :func:`run_case` → :class:`CaseResult`, the one way every front end
   runs a case, plus :func:`conductance`, :func:`fit_models`, :func:`linearity`, :func:`rig_prediction`;
-* :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α.
+* :mod:`~sealeak.cases.options`: :func:`simulation_options` → :class:`SimulationOptions`, the one check of a
+  simulation's grid, realisations, seed and workers (command line, case files, web app);
+* :mod:`~sealeak.cases.pipeline`: :func:`~sealeak.cases.pipeline.run_ensemble`, the one ensemble pipeline of
+  every simulated geometry (the geometry a strategy object);
+* :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α of a uniform seal
+  (:mod:`~sealeak.cases.simulation_band`: of an O-ring).
 * :mod:`~sealeak.cases.convergence`: the convergence and validation study of :func:`simulate` over
   several grids (standard errors, extrapolation to the continuum, the published percolation threshold).
 """
@@ -26,6 +31,7 @@ from .loader import (
     read_case_file,
 )
 from .model import MODELS, Case
+from .options import SimulationOptions, simulation_options
 from .run import (
     EFFECTIVE_MEDIUM_UNITS,
     RESULT_UNITS,
@@ -51,5 +57,6 @@ __all__ = [
     "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "RESULT_UNITS",
     "EFFECTIVE_MEDIUM_UNITS", "fit_models", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction",
     "rig_readings", "PredictionCurves", "prediction_curves", "FitResult", "run_fit", "CurveSet",
-    "PressureDifferenceSweep", "representative_pressures", "SimulationResult", "simulate",
+    "PressureDifferenceSweep", "representative_pressures", "SimulationResult", "simulate", "SimulationOptions",
+    "simulation_options",
 ]
