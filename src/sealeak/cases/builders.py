@@ -215,6 +215,31 @@ def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum,
 register_surface_model("topography", _topography)
 
 
+def _elastic(rubber: Section, sub: Any) -> tuple[float, float, float, tuple[str, ...]]:
+    """The rubber's E (Pa) and ν, the contact modulus E* (Pa) with the substrate (rigid if None), warnings."""
+    input_warnings: tuple[str, ...] = ()
+    if rubber.has("shore_a"):
+        if rubber.has("youngs_modulus"):
+            raise InputError(rubber.field("shore_a"), rubber.raw("shore_a"), "give either youngs_modulus or shore_a, not both")
+        shore = rubber.number("shore_a", low=0.0, high=100.0)
+        with case_keys({"shore_a": rubber.field("shore_a")}):
+            youngs = youngs_modulus_from_shore_a(shore)
+            input_warnings += shore_a_warnings(shore)
+    else:
+        youngs = rubber.quantity("youngs_modulus", "pressure")
+    nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
+    if sub is not None:
+        s = Section("substrate", sub)
+        e2 = s.quantity("youngs_modulus", "pressure")
+        nu2 = s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False)
+        with case_keys():
+            e_star = contact_modulus(youngs, nu, e2, nu2)
+    else:
+        with case_keys():
+            e_star = contact_modulus(youngs, nu)
+    return youngs, nu, e_star, input_warnings
+
+
 def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
     """One :class:`Case` from a parsed case file (TOML document without its ``[study]``).
 
@@ -240,27 +265,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         if not isinstance(value, str):
             raise InputError(f"{section}.{key}", value, "must be text")
     rubber = Section("rubber", doc["rubber"])
-    input_warnings: tuple[str, ...] = ()
-    if rubber.has("shore_a"):
-        if rubber.has("youngs_modulus"):
-            raise InputError(rubber.field("shore_a"), rubber.raw("shore_a"), "give either youngs_modulus or shore_a, not both")
-        shore = rubber.number("shore_a", low=0.0, high=100.0)
-        with case_keys({"shore_a": rubber.field("shore_a")}):
-            youngs = youngs_modulus_from_shore_a(shore)
-            input_warnings += shore_a_warnings(shore)
-    else:
-        youngs = rubber.quantity("youngs_modulus", "pressure")
-    nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
-    sub = doc.get("substrate")
-    if sub is not None:
-        s = Section("substrate", sub)
-        e2 = s.quantity("youngs_modulus", "pressure")
-        nu2 = s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False)
-        with case_keys():
-            e_star = contact_modulus(youngs, nu, e2, nu2)
-    else:
-        with case_keys():
-            e_star = contact_modulus(youngs, nu)
+    youngs, nu, e_star, input_warnings = _elastic(rubber, doc.get("substrate"))
     seal_section = Section("seal", doc["seal"])
     band_kind = is_band_seal(seal_section)
     if band_kind is None:

@@ -395,19 +395,7 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         kept = TaskStore(store, tasks[0].spec.identity(), say, fields=fields) if store is not None else None
         if kept is not None and kept.fields:
             tasks = _with_spec(tasks, fields_store=str(kept.folder.resolve()))
-        results: dict[int, dict[str, Any]] = {}
-        if kept is not None:
-            for i, t in enumerate(tasks):
-                found = kept.load(t.name, fields=bool(getattr(t, "writes_fields", False)))
-                if found is not None:
-                    results[i] = found
-            if results:
-                say(f"resumed: {len(results)} of {len(tasks)} tasks from {kept.folder}")
-            if kept.lacking:
-                n = len(kept.lacking)
-                say(f"{n} task{'s' if n > 1 else ''} in {kept.folder} {'were' if n > 1 else 'was'} stored without "
-                    f"fields (before the store kept them): computing {'them' if n > 1 else 'it'} again to write "
-                    f"{'their' if n > 1 else 'its'} fields")
+        results = {} if kept is None else _resume(kept, tasks, say)
         todo = [i for i in range(len(tasks)) if i not in results]
         if kept is not None and kept.fields and not fields and any(getattr(tasks[i], "writes_fields", False) for i in todo):
             say(f"{kept.folder} keeps the fields of its tasks: this run writes them too")
@@ -469,6 +457,23 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
 
     run.checks_memory = True  # type: ignore[attr-defined]  # simulate leaves the memory checks to the runner
     return run
+
+
+def _resume(kept: TaskStore, tasks: list[Any], say: Callable[[str], None]) -> dict[int, dict[str, Any]]:
+    """The results ``kept`` holds of ``tasks`` (by index), with a note on what was resumed or lacks its fields."""
+    results: dict[int, dict[str, Any]] = {}
+    for i, t in enumerate(tasks):
+        found = kept.load(t.name, fields=bool(getattr(t, "writes_fields", False)))
+        if found is not None:
+            results[i] = found
+    if results:
+        say(f"resumed: {len(results)} of {len(tasks)} tasks from {kept.folder}")
+    if kept.lacking:
+        n = len(kept.lacking)
+        say(f"{n} task{'s' if n > 1 else ''} in {kept.folder} {'were' if n > 1 else 'was'} stored without "
+            f"fields (before the store kept them): computing {'them' if n > 1 else 'it'} again to write "
+            f"{'their' if n > 1 else 'its'} fields")
+    return results
 
 
 def _with_spec(tasks: list[Any], **changes: Any) -> list[Any]:

@@ -60,6 +60,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
             raise InputError("--fields", args.fields, f"cannot be combined with a list of grids ({opts.grid_field}): "
                                                       "write field files one grid at a time")
         return _convergence(args, case, opts)
+    table: Callable[[Case, Any], str]
+    json_text: Callable[[Case, Any], str]
+    figures: Callable[[Case, Any], dict[str, Any]]
     if case.band is not None:
         res: Any = _simulate_band(args, case, opts)
         table, json_text, figures = band_simulation_table, band_simulation_json, band_simulation_figures
