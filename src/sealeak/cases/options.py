@@ -75,10 +75,8 @@ def parse_grid_list(value: Any, field: str) -> tuple[int, ...]:
         grids = [int(value)]
     else:
         raise InputError(field, value, allowed)
-    if len(grids) == 1 and (grids[0] < MIN_GRID or grids[0] % 2):
-        raise InputError(field, value, GRID_RULE)
     if any(n < MIN_GRID or n % 2 for n in grids) or len(set(grids)) != len(grids):
-        raise InputError(field, value, allowed)
+        raise InputError(field, value, GRID_RULE if len(grids) == 1 else allowed)
     return tuple(sorted(grids))
 
 
