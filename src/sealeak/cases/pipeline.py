@@ -124,7 +124,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
                   "fields_target": None if fields.target is None else str(fields.target)}
         tasks = geometry.tasks(plan, common, realizations)
         done = [t.run(progress=progress) for t in tasks] if runner is None else list(runner(tasks))
-    return geometry.aggregate(plan, Records(tasks, done, realizations), notes)
+    return geometry.aggregate(plan, Records(tasks, done, realizations, grid, seed), notes)
 
 
 # ---------------------------------------------------------------- the spectrum
@@ -344,11 +344,14 @@ def _write_fields(spec: TaskSpec, name: str, **arrays: Any) -> None:
 
 # ---------------------------------------------------------------- aggregation
 class Records:
-    """The tasks' records beside their tasks, in the order of the tasks (realisation order)."""
+    """The tasks' records beside their tasks, in the order of the tasks (realisation order), and the run's
+    realisations R, grid N and seed."""
 
-    def __init__(self, tasks: list[Any], records: list[dict[str, Any]], realizations: int) -> None:
+    def __init__(self, tasks: list[Any], records: list[dict[str, Any]], realizations: int, grid: int, seed: int) -> None:
         self.pairs = list(zip(tasks, records, strict=True))
         self.realizations = int(realizations)
+        self.grid = int(grid)
+        self.seed = int(seed)
 
     def of(self, kind: str) -> list[tuple[int, dict[str, Any]]]:
         """The records of the tasks of ``kind``, with their realisations."""

@@ -238,14 +238,13 @@ class PeriodicSquare:
         if self.threshold and np.isnan(thresholds).all():
             notes.append("no percolation threshold found (see the notes above)")
         gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
-        spec = records.pairs[0][0].spec
         return SimulationResult(
             squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
             relative_contact_area_std=area_s, relative_contact_area_theory=plan.contact_theory, mean_gap=gap_m,
             mean_gap_std=gap_s, percolating_fraction=perc.mean(axis=0), leak_rate=q_m, leak_rate_std=q_s,
             leak_rate_critical_junction=q_cj, alpha=alpha_m, alpha_std=alpha_s,
-            percolation_threshold=float(thr_m[0]), percolation_threshold_std=float(thr_s[0]), grid=int(spec.grid),
-            realizations=records.realizations, seed=int(spec.seed), size=plan.size, q_cut=plan.cut_at,
+            percolation_threshold=float(thr_m[0]), percolation_threshold_std=float(thr_s[0]), grid=records.grid,
+            realizations=records.realizations, seed=records.seed, size=plan.size, q_cut=plan.cut_at,
             notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, case), contact_maps=flows.contact_maps,
             junction_cells=plan.junction_cells,
             per_realization={"relative_contact_area": flows.area, "mean_gap": gap, "percolates": perc,

@@ -407,7 +407,6 @@ class OringBand:
         # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
         u_c = np.where(np.isfinite(q_sr), np.asarray(plan.theory.critical_gap_at_max_pressure, dtype=float), np.nan)
         gas_result, per_gas = gas_part(plan.theory_case, q_sr, u_c, flows)
-        spec = records.pairs[0][0].spec
         return BandSimulationResult(
             load_name=band.load_name, loads=loads, force_per_length=plan.force, model_contact_width=plan.model_width,
             model_max_pressure=plan.model_pmax, hertz_contact_width=2.0 * plan.half_width, hertz_max_pressure=plan.hertz_pmax,
@@ -416,7 +415,7 @@ class OringBand:
             relative_contact_area=area_m, relative_contact_area_std=area_s, percolating_fraction=perc.mean(axis=0),
             leak_rate=q_m, leak_rate_std=q_s, leak_rate_series_resistance=q_sr, alpha=alpha_m, alpha_std=alpha_s,
             junction_cells=plan.junction_cells, pressure_difference=float(plan.case.pressure_difference),
-            grid=int(spec.grid), realizations=records.realizations, seed=int(spec.seed), size=plan.size,
+            grid=records.grid, realizations=records.realizations, seed=records.seed, size=plan.size,
             period=plan.size, seal_length=float(band.length), faces=int(band.faces), radius=plan.radius,
             q_cut=plan.cut_at, q_low=plan.q_low, notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, plan.case),
             per_realization={"contact_width": width, "relative_contact_area": flows.area, "percolates": perc,
