@@ -10,7 +10,12 @@
   helium equivalent) and :mod:`~sealeak.cases.rig` (:func:`rig_prediction`, :func:`rig_readings`);
 * the laboratory workflows on a case: :mod:`~sealeak.cases.fitting` (:func:`run_fit`, :func:`fit_models`) and
   :mod:`~sealeak.cases.linearity_check` (:func:`linearity`);
-* :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α.
+* :mod:`~sealeak.cases.options`: :func:`simulation_options` → :class:`SimulationOptions`, the one check of a
+  simulation's grid, realisations, seed and workers (command line, case files, web app);
+* :mod:`~sealeak.cases.pipeline`: :func:`~sealeak.cases.pipeline.run_ensemble`, the one ensemble pipeline of
+  every simulated geometry (the geometry a strategy object);
+* :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α of a uniform seal
+  (:mod:`~sealeak.cases.simulation_band`: of an O-ring).
 * :mod:`~sealeak.cases.convergence`: the convergence and validation study of :func:`simulate` over
   several grids (standard errors, extrapolation to the continuum, the published percolation threshold).
 """
@@ -32,6 +37,7 @@ from .loader import (
     read_case_file,
 )
 from .model import MODELS, Case
+from .options import SimulationOptions, simulation_options
 from .prediction import conductance, predict, predict_effective_medium
 from .rig import RigPrediction, rig_prediction, rig_readings
 from .run import EFFECTIVE_MEDIUM_UNITS, RESULT_UNITS, CaseResult, run_case
@@ -43,5 +49,6 @@ __all__ = [
     "CaseResult", "run_case", "predict", "predict_effective_medium", "conductance", "RESULT_UNITS",
     "EFFECTIVE_MEDIUM_UNITS", "fit_models", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction",
     "rig_readings", "PredictionCurves", "prediction_curves", "FitResult", "run_fit", "CurveSet",
-    "PressureDifferenceSweep", "representative_pressures", "SimulationResult", "simulate",
+    "PressureDifferenceSweep", "representative_pressures", "SimulationResult", "simulate", "SimulationOptions",
+    "simulation_options",
 ]

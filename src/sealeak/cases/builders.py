@@ -28,8 +28,9 @@ from ..physics.properties import FluidState, canonical_fluid_name, close_fluid_n
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
-from .limits import MAX_GRIDS, MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
+from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
+from .options import grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import SEAL_SHAPES, build_band, is_band_seal
@@ -215,6 +216,31 @@ def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum,
 register_surface_model("topography", _topography)
 
 
+def _elastic(rubber: Section, sub: Any) -> tuple[float, float, float, tuple[str, ...]]:
+    """The rubber's E (Pa) and ν, the contact modulus E* (Pa) with the substrate (rigid if None), warnings."""
+    input_warnings: tuple[str, ...] = ()
+    if rubber.has("shore_a"):
+        if rubber.has("youngs_modulus"):
+            raise InputError(rubber.field("shore_a"), rubber.raw("shore_a"), "give either youngs_modulus or shore_a, not both")
+        shore = rubber.number("shore_a", low=0.0, high=100.0)
+        with case_keys({"shore_a": rubber.field("shore_a")}):
+            youngs = youngs_modulus_from_shore_a(shore)
+            input_warnings += shore_a_warnings(shore)
+    else:
+        youngs = rubber.quantity("youngs_modulus", "pressure")
+    nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
+    if sub is not None:
+        s = Section("substrate", sub)
+        e2 = s.quantity("youngs_modulus", "pressure")
+        nu2 = s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False)
+        with case_keys():
+            e_star = contact_modulus(youngs, nu, e2, nu2)
+    else:
+        with case_keys():
+            e_star = contact_modulus(youngs, nu)
+    return youngs, nu, e_star, input_warnings
+
+
 def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
     """One :class:`Case` from a parsed case file (TOML document without its ``[study]``).
 
@@ -240,27 +266,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         if not isinstance(value, str):
             raise InputError(f"{section}.{key}", value, "must be text")
     rubber = Section("rubber", doc["rubber"])
-    input_warnings: tuple[str, ...] = ()
-    if rubber.has("shore_a"):
-        if rubber.has("youngs_modulus"):
-            raise InputError(rubber.field("shore_a"), rubber.raw("shore_a"), "give either youngs_modulus or shore_a, not both")
-        shore = rubber.number("shore_a", low=0.0, high=100.0)
-        with case_keys({"shore_a": rubber.field("shore_a")}):
-            youngs = youngs_modulus_from_shore_a(shore)
-            input_warnings += shore_a_warnings(shore)
-    else:
-        youngs = rubber.quantity("youngs_modulus", "pressure")
-    nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)
-    sub = doc.get("substrate")
-    if sub is not None:
-        s = Section("substrate", sub)
-        e2 = s.quantity("youngs_modulus", "pressure")
-        nu2 = s.number("poisson_ratio", 0.0, low=-1.0, high=0.5, high_open=False)
-        with case_keys():
-            e_star = contact_modulus(youngs, nu, e2, nu2)
-    else:
-        with case_keys():
-            e_star = contact_modulus(youngs, nu)
+    youngs, nu, e_star, input_warnings = _elastic(rubber, doc.get("substrate"))
     seal_section = Section("seal", doc["seal"])
     band_kind = is_band_seal(seal_section)
     if band_kind is None:
@@ -625,51 +631,16 @@ def _rig_load(sec: Section, gravity: float) -> tuple[float, str]:
 def _simulation(sec: Section) -> dict[str, Any]:
     """The [simulation] section: defaults of ``sealeak simulate`` (its options override them).
 
-    ``grid`` is an integer, or a list of them for a convergence study (kept as a sorted tuple; a list of
-    one is that integer).
+    Checked by the simulation options' own rules (:mod:`sealeak.cases.options`). ``grid`` is an integer,
+    or a list of them for a convergence study (kept as a sorted tuple; a list of one is that integer).
     """
     out: dict[str, Any] = {}
     if sec.has("realizations"):
         out["realizations"] = whole_number(sec.field("realizations"), sec.raw("realizations"), 1, MAX_REALIZATIONS)
-    for key, low, allowed in (("grid", 16, "an even integer >= 16 (grid points per side)"),
-                              ("seed", 0, "an integer >= 0")):
-        if sec.has(key):
-            v = sec.raw(key)
-            if key == "grid" and isinstance(v, list):
-                grids = parse_grid_list(v, sec.field(key))
-                out[key] = grids[0] if len(grids) == 1 else grids
-                continue
-            if isinstance(v, bool) or not isinstance(v, int) or v < low or (key == "grid" and v % 2):
-                raise InputError(sec.field(key), v, f"must be {allowed}")
-            out[key] = v
+    if sec.has("grid"):
+        v = sec.raw("grid")
+        grids = parse_grid_list(v, sec.field("grid")) if isinstance(v, list) else (grid_number(sec.field("grid"), v),)
+        out["grid"] = grids[0] if len(grids) == 1 else grids
+    if sec.has("seed"):
+        out["seed"] = seed_number(sec.field("seed"), sec.raw("seed"))
     return out
-
-
-def parse_grid_list(value: Any, field: str) -> tuple[int, ...]:
-    """Grids N from ``--grid`` text (``"64,128,256"``) or a case file's integer or list; sorted increasing.
-
-    Each must be an even integer >= 16 and appear once, at most :data:`~sealeak.cases.limits.MAX_GRIDS` of
-    them; anything else raises :class:`~sealeak.errors.InputError` naming ``field``. (How large a grid may
-    be is the memory's to say: ``simulate`` checks it before it starts.)
-    """
-    allowed = "must be an even integer >= 16, or a comma-separated list of distinct ones (e.g. 64,128,256)"
-    if isinstance(value, str) and value.strip().lstrip("-").isdigit():
-        value = int(value)  # one number is named as a number (--grid = 15), as before lists were allowed
-    if isinstance(value, str):
-        parts = value.split(",")
-        at_most(field, parts, MAX_GRIDS, "grids", shown=value)
-        if not all(p.strip().isdigit() for p in parts):
-            raise InputError(field, value, allowed)
-        grids = [int(p) for p in parts]
-    elif isinstance(value, (list, tuple)):
-        at_most(field, value, MAX_GRIDS, "grids")
-        if not value or not all(isinstance(v, int) and not isinstance(v, bool) for v in value):
-            raise InputError(field, value, allowed)
-        grids = list(value)
-    elif isinstance(value, int) and not isinstance(value, bool):
-        grids = [value]
-    else:
-        raise InputError(field, value, allowed)
-    if any(n < 16 or n % 2 for n in grids) or len(set(grids)) != len(grids):
-        raise InputError(field, value, allowed)
-    return tuple(sorted(grids))

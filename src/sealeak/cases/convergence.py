@@ -23,8 +23,8 @@ from numpy.typing import NDArray
 from scipy import optimize, stats
 
 from ..errors import InputError
-from .builders import parse_grid_list
 from .model import Case
+from .options import parse_grid_list
 from .simulation import JUNCTION_CELLS, SimulationResult, simulate
 
 __all__ = ["Extrapolation", "GridStatistics", "ThresholdComparison", "ConvergenceStudy", "standard_error",

@@ -1,9 +1,10 @@
 """Running a simulation's tasks on Dask, keeping each finished one in a store, and reporting progress.
 
-The ensemble of :func:`sealeak.cases.simulation.simulate` is a set of independent tasks
-(:func:`sealeak.cases.simulation.ensemble_tasks`: realisation r's pressure sweep and its threshold
-search, each drawing its surface from the seed sequence (seed, r)). :func:`make_runner` returns the
-runner ``simulate`` calls with them:
+The ensemble of every simulated geometry (:func:`sealeak.cases.pipeline.run_ensemble`) is a set of
+independent tasks (for a uniform seal :func:`sealeak.cases.simulation.ensemble_tasks`: realisation r's
+pressure sweep and its threshold search; for an O-ring one task per realisation), each drawing its surface
+from the seed sequence (seed, r) and computing itself (``task.run()``). :func:`make_runner` returns the
+runner the pipeline calls with them:
 
 - ``workers = 0`` and no scheduler: the plain loop in this process, one task after the other;
 - ``workers = N >= 1``: a ``distributed.LocalCluster`` of N worker processes with one thread each
@@ -57,7 +58,7 @@ from ..errors import InputError, SealeakError
 from ..io.fieldstore import FIELDS_FOLDER, clear_partial, create_field_store, fields_intact
 from ..io.files import OutputWriteError
 from .limits import MAX_WORKERS, whole_number
-from .simulation import EnsembleTask, run_task
+from .pipeline import compute_task
 
 __all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID",
            "machine_memory", "CLUSTER_FROM_TASKS"]
@@ -134,7 +135,7 @@ class TaskStore:
     """A folder of finished task results for one case, spectrum, grid and seed.
 
     ``DIR/manifest.json`` holds the format tag, the grid, the seed, and SHA-256 hashes of the spectrum's
-    nodes and of the other inputs the tasks depend on (:meth:`EnsembleSpec.identity`); a store whose
+    nodes and of the other inputs the tasks depend on (:meth:`sealeak.cases.pipeline.TaskSpec.identity`); a store whose
     manifest differs is refused (:class:`sealeak.errors.InputError` naming ``--store`` and what differs),
     never mixed. Each result is ``DIR/tasks/<name>.json``: ``{"sha256": ..., "result": ...}``, the hash
     over the result; one that does not parse or whose hash does not match is reported and computed again.
@@ -348,9 +349,9 @@ def _client(workers: int, scheduler: str | None, memory_limit: int | None = None
 def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path | None = None,
                 progress: Callable[[TaskEvent], None] | None = None,
                 note: Callable[[str], None] | None = None,
-                task_function: Callable[[EnsembleTask], dict[str, Any]] = run_task,
+                task_function: Callable[[Any], dict[str, Any]] = compute_task,
                 heartbeat: float = HEARTBEAT, fields: bool = False,
-                cluster_from: int = CLUSTER_FROM_TASKS) -> Callable[[list[EnsembleTask]], list[dict[str, Any]]]:
+                cluster_from: int = CLUSTER_FROM_TASKS) -> Callable[[list[Any]], list[dict[str, Any]]]:
     """A runner for :func:`sealeak.cases.simulation.simulate`'s ``runner`` argument.
 
     Parameters
@@ -370,7 +371,8 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
     note:
         Called with one-line notes (a resumed run, a damaged task file, fewer local workers for memory).
     task_function:
-        Computes one task (default :func:`sealeak.cases.simulation.run_task`).
+        Computes one task (default :func:`sealeak.cases.pipeline.compute_task`: the task's own ``run``, for
+        every geometry).
     fields:
         Every task that has fields writes them into the store (``DIR/fields.zarr``, :class:`TaskStore`);
         needs ``store``. A store that keeps fields has them written whether asked or not.
@@ -386,26 +388,14 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
             "multiply the memory)")
         workers = cores
 
-    def run(tasks: list[EnsembleTask]) -> list[dict[str, Any]]:
+    def run(tasks: list[Any]) -> list[dict[str, Any]]:
         if not tasks:
             return []
         fresh = store is not None and not Path(store).exists()
         kept = TaskStore(store, tasks[0].spec.identity(), say, fields=fields) if store is not None else None
         if kept is not None and kept.fields:
             tasks = _with_spec(tasks, fields_store=str(kept.folder.resolve()))
-        results: dict[int, dict[str, Any]] = {}
-        if kept is not None:
-            for i, t in enumerate(tasks):
-                found = kept.load(t.name, fields=bool(getattr(t, "writes_fields", False)))
-                if found is not None:
-                    results[i] = found
-            if results:
-                say(f"resumed: {len(results)} of {len(tasks)} tasks from {kept.folder}")
-            if kept.lacking:
-                n = len(kept.lacking)
-                say(f"{n} task{'s' if n > 1 else ''} in {kept.folder} {'were' if n > 1 else 'was'} stored without "
-                    f"fields (before the store kept them): computing {'them' if n > 1 else 'it'} again to write "
-                    f"{'their' if n > 1 else 'its'} fields")
+        results = {} if kept is None else _resume(kept, tasks, say)
         todo = [i for i in range(len(tasks)) if i not in results]
         if kept is not None and kept.fields and not fields and any(getattr(tasks[i], "writes_fields", False) for i in todo):
             say(f"{kept.folder} keeps the fields of its tasks: this run writes them too")
@@ -469,14 +459,31 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
     return run
 
 
+def _resume(kept: TaskStore, tasks: list[Any], say: Callable[[str], None]) -> dict[int, dict[str, Any]]:
+    """The results ``kept`` holds of ``tasks`` (by index), with a note on what was resumed or lacks its fields."""
+    results: dict[int, dict[str, Any]] = {}
+    for i, t in enumerate(tasks):
+        found = kept.load(t.name, fields=bool(getattr(t, "writes_fields", False)))
+        if found is not None:
+            results[i] = found
+    if results:
+        say(f"resumed: {len(results)} of {len(tasks)} tasks from {kept.folder}")
+    if kept.lacking:
+        n = len(kept.lacking)
+        say(f"{n} task{'s' if n > 1 else ''} in {kept.folder} {'were' if n > 1 else 'was'} stored without "
+            f"fields (before the store kept them): computing {'them' if n > 1 else 'it'} again to write "
+            f"{'their' if n > 1 else 'its'} fields")
+    return results
+
+
 def _with_spec(tasks: list[Any], **changes: Any) -> list[Any]:
     """The tasks with ``changes`` made to their spec (one new spec per spec shared by several tasks)."""
     specs: dict[int, Any] = {}
     return [replace(t, spec=specs.setdefault(id(t.spec), replace(t.spec, **changes))) for t in tasks]
 
 
-def _run_dask(tasks: list[EnsembleTask], todo: list[int], finished: Callable[[int, dict[str, Any]], None],
-              workers: int, scheduler: str | None, task_function: Callable[[EnsembleTask], dict[str, Any]],
+def _run_dask(tasks: list[Any], todo: list[int], finished: Callable[[int, dict[str, Any]], None],
+              workers: int, scheduler: str | None, task_function: Callable[[Any], dict[str, Any]],
               progress: Callable[[TaskEvent], None] | None, heartbeat: float, results: dict[int, Any],
               start: float, clock: list[float], need: dict[int, int], memory_limit: int | None = None) -> None:
     """Submit the tasks ``todo``, each to the workers that can hold it, and hand each result to ``finished`` as

@@ -27,97 +27,49 @@ critical-junction theory it is compared with uses the same cut spectrum.
 
 from __future__ import annotations
 
-import base64
-import os
-import shutil
-import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy import special
 
 from .. import numerics
-from .._version import __version__
-from ..errors import InputError
-from ..io.fieldstore import TaskFields
-from ..io.files import OutputWriteError, check_replaceable
-from ..io.leak_units import MOLAR_GAS_CONSTANT
-from ..numerics.synthesis import synthesize
-from .gas import gas_rows
-from .limits import MAX_REALIZATIONS, whole_number
-from .model import Case, GasConditions
+from ..physics.spectrum import PowerSpectrum
+from .model import Case
+from .pipeline import (
+    JUNCTION_CELLS,
+    POINTS_PER_WAVELENGTH,
+    TASK_BASE_BYTES,
+    FlowMethod,
+    Flows,
+    GasSimulation,
+    Records,
+    TaskSpec,
+    cut_spectrum,
+    gas_identity,
+    gas_part,
+    keep_load,
+    mean_std,
+    new_record,
+    pack_mask,
+    record_flow,
+    resolved_spectrum_cut,
+    run_ensemble,
+    spectrum_text,
+    task_memory_bytes,
+    unpack_mask,
+    with_fields,
+)
 from .prediction import predict
 
 __all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
            "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "ensemble_tasks", "run_task", "task_memory_bytes",
-           "TASK_BASE_BYTES"]
+           "TASK_BASE_BYTES", "PeriodicSquare", "gas_identity", "pack_mask", "unpack_mask", "FlowMethod"]
 
-POINTS_PER_WAVELENGTH = 4
-#: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
-JUNCTION_CELLS = 8
 FloatArray = NDArray[np.float64]
-#: The Reynolds solver's method (:func:`sealeak.numerics.solve_flow`).
-FlowMethod = Literal["auto", "direct", "amg"]
-
-
-def resolved_spectrum_cut(grid: int, size: float) -> float:
-    """Highest wavevector an N-point grid of side ``size`` resolves with 4 points per wavelength (1/m)."""
-    return 2.0 * np.pi * grid / (POINTS_PER_WAVELENGTH * size)
-
-
-@dataclass(frozen=True)
-class GasSimulation:
-    """The gas leak of a gas case, per squeeze pressure (SI units; docs/theory.md §11.10).
-
-    Leak rates are the seal's, (Ly/Lx) times the square's, averaged over all realisations (a blocked
-    one leaks 0), ``*_std`` their standard deviations (ddof = 1; NaN with fewer than two values).
-
-    Attributes
-    ----------
-    gas_name, temperature, upstream_pressure, downstream_pressure, rarefaction
-        The gas, T (K), P_a and P_b (Pa, absolute) and the slip model.
-    throughput, throughput_std
-        pV throughput Q_pV (Pa·m³/s), counted at T.
-    mass_flow, mass_flow_std
-        ṁ = Q_pV/(R_s T) (kg/s).
-    molar_flow
-        ṅ = Q_pV/(R T) (mol/s).
-    slip_gain
-        Q_pV/Q_pV(no slip) of the same gap fields, mean over percolating realisations: how much the
-        rarefaction adds (1 without slip).
-    throughput_critical_junction
-        The critical-junction gas leak with α = 1, the same (possibly cut) spectrum and rarefaction model
-        (Pa·m³/s; NaN where the theory has no junction).
-    knudsen_critical_junction, regime_critical_junction
-        Kn = λ/u_c at the mean pressure (P_a + P_b)/2 and its flow regime (as ``predict`` reports them).
-    alpha, alpha_std
-        α_gas = Q_pV/Q_pV,cj(α = 1) over the percolating realisations (NaN where none percolates).
-    iterations
-        The most fixed-point iterations any realisation needed (0 without slip).
-    """
-
-    gas_name: str
-    temperature: float
-    upstream_pressure: float
-    downstream_pressure: float
-    rarefaction: str
-    throughput: FloatArray
-    throughput_std: FloatArray
-    mass_flow: FloatArray
-    mass_flow_std: FloatArray
-    molar_flow: FloatArray
-    slip_gain: FloatArray
-    throughput_critical_junction: FloatArray
-    knudsen_critical_junction: FloatArray
-    regime_critical_junction: tuple[str, ...]
-    alpha: FloatArray
-    alpha_std: FloatArray
-    iterations: NDArray[np.int64]
-
 
 @dataclass(frozen=True)
 class SimulationResult:
@@ -161,17 +113,6 @@ class SimulationResult:
     gas: GasSimulation | None = None
 
 
-def _mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Mean and standard deviation (ddof = 1) over axis 0, ignoring NaN; std NaN for fewer than two values."""
-    x = np.asarray(x, dtype=float)
-    ok = np.isfinite(x)
-    n = ok.sum(axis=0)
-    mean = np.where(n > 0, np.where(ok, x, 0.0).sum(axis=0) / np.maximum(n, 1), np.nan)
-    dev = np.where(ok, x - mean, 0.0)
-    var = np.where(n > 1, (dev**2).sum(axis=0) / np.maximum(n - 1, 1), 0.0)
-    return mean, np.where(n > 1, np.sqrt(var), np.nan)
-
-
 def simulate(
     case: Case,
     *,
@@ -184,12 +125,14 @@ def simulate(
     flow_method: FlowMethod = "auto",
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
+    grid_name: str = "grid",
     runner: Callable[[list[EnsembleTask]], Iterable[dict[str, Any]]] | None = None,
 ) -> SimulationResult:
     """Numerically exact leak rate and α for ``case`` at its squeeze pressures.
 
     α = Q_num/Q_cj(α = 1) = Q_sq/(u_c³ ΔP/(12η)) per percolating realisation; leak rates in m³/s
-    (docs/theory.md §6.5; Q_cj: Lorenz & Persson (2009) eq. 2).
+    (docs/theory.md §6.5; Q_cj: Lorenz & Persson (2009) eq. 2). The ensemble pipeline
+    (:func:`sealeak.cases.pipeline.run_ensemble`) with the :class:`PeriodicSquare` geometry.
 
     Parameters
     ----------
@@ -208,6 +151,8 @@ def simulate(
     progress:
         Called with the number of finished (realisation, pressure) steps since the last call (only
         without ``runner``).
+    grid_name:
+        How messages name the grid (``--grid`` or ``simulation.grid`` from the command line).
     runner:
         Runs the independent tasks (:func:`ensemble_tasks`: each realisation's pressure sweep and its
         threshold search) and returns their results (:func:`run_task`) in the order given; None runs
@@ -215,175 +160,115 @@ def simulate(
         on a Dask cluster and keeps them in a store. Results are aggregated in realisation order, so
         they do not depend on the runner.
     """
-
-    if not isinstance(grid, (int, np.integer)) or grid < 16 or grid % 2:
-        raise InputError("grid", grid, "must be an even integer >= 16")
-    whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
-    if not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InputError("seed", seed, "must be a whole number >= 0")
-    gas = case.gas
-    if not getattr(runner, "checks_memory", False):  # a runner of make_runner checks each task where it runs
-        numerics.check_memory(grid, "contact", available=memory_limit)
-        numerics.check_memory(grid, "flow", available=memory_limit)
-        if gas is not None:
-            numerics.require_memory(numerics.gas_flow_memory_bytes(grid), f"the {grid}x{grid} gas flow problem",
-                                    memory_limit)
-
-    size = case.square_side
-    notes: list[str] = []
-    q_cut = resolved_spectrum_cut(grid, size)
-    spectrum = case.spectrum
-    cut_at: float | None = None
-    if spectrum.q_max > q_cut:
-        if q_cut <= spectrum.q_min:
-            raise InputError("grid", grid, f"resolves q only up to {q_cut:.4g} 1/m, below the spectrum's band "
-                                           f"({spectrum.q_min:.4g} .. {spectrum.q_max:.4g} 1/m): use a larger grid")
-        spectrum = spectrum.truncated(None, q_cut)
-        cut_at = q_cut
-        notes.append(f"the {grid}x{grid} grid resolves q up to {q_cut:.4g} 1/m ({POINTS_PER_WAVELENGTH} points per "
-                     f"wavelength), below the spectrum's cut-off q1 = {case.spectrum.q_max:.4g} 1/m: the spectrum was "
-                     f"cut there for the simulation AND for the critical-junction theory it is compared with "
-                     f"(h_rms {case.spectrum.h_rms * 1e6:.4g} -> {spectrum.h_rms * 1e6:.4g} µm)")
-    sim_case = replace(case, spectrum=spectrum)
-    pressures = np.sort(np.asarray(case.squeeze_pressure, dtype=float))
-    if not np.array_equal(pressures, case.squeeze_pressure):
-        notes.append("squeeze pressures were sorted in increasing order")
-    dp = float(case.pressure_difference)
-    eta = case.fluid.viscosity
-    aspect = case.seal.aspect_ratio
-
-    q_cj, junction_cells, u_c = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
-    contact_theory = sim_case.contact().area(sim_case.spectrum.q_max / sim_case.q0, pressures)
-    p_anchor = _threshold_anchor(sim_case)
-
-    n_p = pressures.size
-    with _StagedFolder(fields_dir) as fields:
-        spec = EnsembleSpec(spectrum=spectrum, grid=int(grid), size=size, seed=int(seed), e_star=case.e_star,
-                            pressures=pressures, viscosity=eta, pressure_difference=dp, aspect=aspect, gas=gas,
-                            flow_method=flow_method, contact_tol=contact_tol, threshold_anchor=p_anchor,
-                            memory_limit=memory_limit, fields_stage=None if fields.stage is None else str(fields.stage),
-                            fields_target=None if fields.target is None else str(fields.target))
-        tasks = ensemble_tasks(spec, realizations, threshold)
-        if runner is None:
-            done = [run_task(t, progress=progress) for t in tasks]
-        else:
-            done = list(runner(tasks))
-    area = np.zeros((realizations, n_p))
-    gap = np.zeros((realizations, n_p))
-    perc = np.zeros((realizations, n_p), dtype=bool)
-    q_seal = np.zeros((realizations, n_p))
-    thresholds = np.full(realizations, np.nan)
-    contact_maps: dict[int, NDArray[np.bool_]] = {}
-    gas_pv = np.zeros((realizations, n_p))  # the seal's pV throughput (Pa·m³/s)
-    gas_pv_no_slip = np.zeros((realizations, n_p))
-    gas_iterations = np.zeros((realizations, n_p), dtype=np.int64)
-    for task, out in zip(tasks, done, strict=True):  # in realisation order, whatever order they finished in
-        r = task.realization
-        if task.kind == "threshold":
-            thresholds[r] = out["threshold"]
-            notes.extend(out["notes"])
-            continue
-        area[r] = out["relative_contact_area"]
-        gap[r] = out["mean_gap"]
-        perc[r] = out["percolates"]
-        q_seal[r] = out["leak_rate"]
-        if gas is not None:
-            gas_pv[r] = out["leak_rate_pv"]
-            gas_pv_no_slip[r] = out["leak_rate_pv_no_slip"]
-            gas_iterations[r] = out["gas_iterations"]
-        if r == 0:
-            contact_maps = {i: unpack_mask(m) for i, m in enumerate(out["contact_maps"])}
-
-    area_m, area_s = _mean_std(area)
-    gap_m, gap_s = _mean_std(gap)
-    q_m, q_s = _mean_std(q_seal)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        alpha_r = np.where(perc & np.isfinite(q_cj)[None, :], q_seal / q_cj[None, :], np.nan)
-    alpha_m, alpha_s = _mean_std(alpha_r)
-    thr_m, thr_s = _mean_std(thresholds[:, None])
-    spectrum_note = (f"{spectrum.label or case.spectrum_note}: h_rms = {spectrum.h_rms * 1e6:.4g} µm over "
-                     f"q = {spectrum.q_min:.4g} .. {spectrum.q_max:.4g} 1/m")
-    if threshold and np.isnan(thresholds).all():
-        notes.append("no percolation threshold found (see the notes above)")
-    gas_result = None
-    if gas is not None:
-        gas_result = _gas_statistics(sim_case, q_cj, u_c, perc, gas_pv, gas_pv_no_slip, gas_iterations)
-        per_gas = {"leak_rate_pv": gas_pv, "leak_rate_pv_no_slip": gas_pv_no_slip, "gas_iterations": gas_iterations,
-                   "alpha_gas": _ratio(perc, gas_pv, gas_result.throughput_critical_junction)}
-    else:
-        per_gas = {}
-    return SimulationResult(
-        squeeze_pressure=pressures, pressure_difference=dp, relative_contact_area=area_m,
-        relative_contact_area_std=area_s, relative_contact_area_theory=contact_theory, mean_gap=gap_m,
-        mean_gap_std=gap_s, percolating_fraction=perc.mean(axis=0), leak_rate=q_m, leak_rate_std=q_s,
-        leak_rate_critical_junction=q_cj, alpha=alpha_m, alpha_std=alpha_s,
-        percolation_threshold=float(thr_m[0]), percolation_threshold_std=float(thr_s[0]), grid=int(grid),
-        realizations=int(realizations), seed=int(seed), size=size, q_cut=cut_at, notes=tuple(notes),
-        spectrum_note=spectrum_note, contact_maps=contact_maps, junction_cells=junction_cells,
-        per_realization={"relative_contact_area": area, "mean_gap": gap, "percolates": perc,
-                         "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas,
-        gas=gas_result,
-    )
-
-
-def gas_identity(gas: GasConditions | None) -> dict[str, Any] | None:
-    """A gas case's conditions as plain JSON values for a store's manifest (None for a liquid)."""
-    if gas is None:
-        return None
-    return {"name": gas.gas.name, "temperature": float(gas.temperature), "upstream_pressure": float(gas.upstream_pressure),
-            "downstream_pressure": float(gas.downstream_pressure), "rarefaction": gas.rarefaction}
+    return run_ensemble(PeriodicSquare(threshold), case, grid=grid, realizations=realizations, seed=seed,
+                        grid_field=grid_name, fields_dir=fields_dir, contact_tol=contact_tol, flow_method=flow_method,
+                        progress=progress, memory_limit=memory_limit, runner=runner)
 
 
 @dataclass(frozen=True)
-class EnsembleSpec:
-    """Everything one task of an ensemble needs, in SI units (shared by all tasks of a run).
+class _SquarePlan:
+    """What :class:`PeriodicSquare` prepares: the case with the cut spectrum, pressures (Pa), theory (SI units)."""
 
-    ``spectrum`` is the (possibly cut) C(q) the surfaces are drawn from; ``size`` L (m), ``e_star`` E* (Pa),
-    ``pressures`` the sorted squeeze pressures (Pa), ``viscosity`` η (Pa·s), ``pressure_difference`` ΔP (Pa),
-    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa). ``fields_stage`` is the
-    folder the sweep tasks write their field files into (None: none), ``fields_store`` the task store folder
-    whose ``fields.zarr`` the sweep tasks write their fields into (:mod:`sealeak.io.fieldstore`; None: none),
-    ``fft_workers`` the FFT threads of each task (-1: all cores; 1 on a cluster, whose worker processes share
-    the cores). None of these changes a number.
+    case: Case
+    spectrum: PowerSpectrum
+    size: float
+    cut_at: float | None
+    pressures: FloatArray
+    q_cj: FloatArray
+    junction_cells: FloatArray
+    u_c: FloatArray
+    contact_theory: FloatArray
+    threshold_anchor: float
+
+
+@dataclass(frozen=True)
+class PeriodicSquare:
+    """The geometry of a uniform seal: a periodic square of side L = 2π/q0 pressed flat at each squeeze pressure.
+
+    Its tasks are each realisation's pressure sweep and, with ``threshold``, its percolation-threshold search;
+    the theory is the critical-junction leak rate (α = 1) of the same cut spectrum.
     """
 
-    spectrum: Any
-    grid: int
-    size: float
-    seed: int
-    e_star: float
+    threshold: bool = True
+
+    def check_memory(self, grid: int, memory_limit: float | None) -> None:
+        """The periodic contact problem of an N × N grid must fit in memory."""
+        numerics.check_memory(grid, "contact", available=memory_limit)
+
+    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[str],
+                progress: Callable[[int], None] | None) -> _SquarePlan:
+        """The cut spectrum, the sorted pressures, the critical-junction theory and the threshold's anchor."""
+        size = case.square_side
+        spectrum, cut_at, cut_notes = cut_spectrum(case.spectrum, grid, size, grid_field, "critical-junction")
+        notes.extend(cut_notes)
+        sim_case = replace(case, spectrum=spectrum)
+        pressures = np.sort(np.asarray(case.squeeze_pressure, dtype=float))
+        if not np.array_equal(pressures, case.squeeze_pressure):
+            notes.append("squeeze pressures were sorted in increasing order")
+        q_cj, junction_cells, u_c = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
+        contact_theory = sim_case.contact().area(sim_case.spectrum.q_max / sim_case.q0, pressures)
+        return _SquarePlan(case=sim_case, spectrum=spectrum, size=size, cut_at=cut_at, pressures=pressures, q_cj=q_cj,
+                           junction_cells=junction_cells, u_c=u_c, contact_theory=contact_theory,
+                           threshold_anchor=_threshold_anchor(sim_case))
+
+    def tasks(self, plan: _SquarePlan, common: dict[str, Any], realizations: int) -> list[EnsembleTask]:
+        """Each realisation's sweep, then (if asked) its threshold search."""
+        spec = EnsembleSpec(spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
+                            aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor, **common)
+        return ensemble_tasks(spec, realizations, self.threshold)
+
+    def aggregate(self, plan: _SquarePlan, records: Records, notes: list[str]) -> SimulationResult:
+        """Means over realisations, α = Q/Q_cj over the percolating ones, the thresholds, a gas case's gas leak."""
+        case, pressures, q_cj = plan.case, plan.pressures, plan.q_cj
+        n_p = pressures.size
+        flows = Flows.of(records, "sweep", n_p, case.gas is not None)
+        gap = records.stack("sweep", "mean_gap", n_p)
+        thresholds = np.full(records.realizations, np.nan)
+        for r, out in records.of("threshold"):
+            thresholds[r] = out["threshold"]
+            notes.extend(out["notes"])
+        perc, q_seal = flows.percolates, flows.leak_rate
+        area_m, area_s = mean_std(flows.area)
+        gap_m, gap_s = mean_std(gap)
+        q_m, q_s = mean_std(q_seal)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            alpha_r = np.where(perc & np.isfinite(q_cj)[None, :], q_seal / q_cj[None, :], np.nan)
+        alpha_m, alpha_s = mean_std(alpha_r)
+        thr_m, thr_s = mean_std(thresholds[:, None])
+        if self.threshold and np.isnan(thresholds).all():
+            notes.append("no percolation threshold found (see the notes above)")
+        gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
+        return SimulationResult(
+            squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
+            relative_contact_area_std=area_s, relative_contact_area_theory=plan.contact_theory, mean_gap=gap_m,
+            mean_gap_std=gap_s, percolating_fraction=perc.mean(axis=0), leak_rate=q_m, leak_rate_std=q_s,
+            leak_rate_critical_junction=q_cj, alpha=alpha_m, alpha_std=alpha_s,
+            percolation_threshold=float(thr_m[0]), percolation_threshold_std=float(thr_s[0]), grid=records.grid,
+            realizations=records.realizations, seed=records.seed, size=plan.size, q_cut=plan.cut_at,
+            notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, case), contact_maps=flows.contact_maps,
+            junction_cells=plan.junction_cells,
+            per_realization={"relative_contact_area": flows.area, "mean_gap": gap, "percolates": perc,
+                             "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas,
+            gas=gas_result,
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class EnsembleSpec(TaskSpec):
+    """Everything one task of a uniform seal's ensemble needs, in SI units (shared by all tasks of a run).
+
+    :class:`~sealeak.cases.pipeline.TaskSpec`'s fields, and ``pressures`` the sorted squeeze pressures (Pa),
+    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa).
+    """
+
     pressures: FloatArray
-    viscosity: float
-    pressure_difference: float
     aspect: float
-    gas: Any
-    flow_method: FlowMethod
-    contact_tol: float
     threshold_anchor: float
-    memory_limit: float | None = None
-    fields_stage: str | None = None
-    fields_target: str | None = None
-    fft_workers: int = -1
-    fields_store: str | None = None
 
-    def identity(self) -> dict[str, Any]:
-        """The inputs the tasks' numbers depend on, as plain JSON values (floats exact by ``repr``).
-
-        The store's manifest keeps a hash of it (:mod:`sealeak.cases.ensemble`): ``spectrum`` (the nodes of
-        C(q)), ``grid``, ``seed`` and ``case`` (everything else that enters a task).
-        """
-        gas = self.gas
-        return {
-            "spectrum": {"q": [float(x) for x in self.spectrum.q], "C": [float(x) for x in self.spectrum.C]},
-            "grid": int(self.grid),
-            "seed": int(self.seed),
-            "case": {"size": float(self.size), "e_star": float(self.e_star),
-                     "squeeze_pressure": [float(x) for x in self.pressures], "viscosity": float(self.viscosity),
-                     "pressure_difference": float(self.pressure_difference), "aspect": float(self.aspect),
-                     "flow_method": self.flow_method, "contact_tol": float(self.contact_tol),
-                     "threshold_anchor": float(self.threshold_anchor),
-                     "gas": gas_identity(gas)},
-        }
+    def geometry_identity(self) -> dict[str, Any]:
+        """The square's own inputs: the squeeze pressures, Ly/Lx and the threshold search's anchor."""
+        return {"squeeze_pressure": [float(x) for x in self.pressures], "aspect": float(self.aspect),
+                "threshold_anchor": float(self.threshold_anchor)}
 
 
 @dataclass(frozen=True)
@@ -420,47 +305,15 @@ class EnsembleTask:
                                  contact="periodic", gas=self.spec.gas is not None, fields=self.spec.fields_store is not None,
                                  flow_method=self.spec.flow_method)
 
-
-#: Memory of a worker process before its task (Python, NumPy, SciPy, PyAMG, Dask and sealeak imported):
-#: about 200 MB resident were measured on Linux; rounded up.
-TASK_BASE_BYTES = 256 * 2**20
-
-
-def task_memory_bytes(kind: str, nx: int, ny: int, loads: int, *, contact: str, gas: bool, fields: bool,
-                      flow_method: str = "auto") -> int:
-    """Peak memory in bytes of one ensemble task on an nx × ny grid with ``loads`` loads (estimate, §6.7).
-
-    ``kind`` is ``"sweep"`` (contact and flow at every load) or ``"threshold"``; ``contact`` is
-    ``"periodic"`` (:func:`sealeak.numerics.contact_memory_bytes`) or ``"band"``
-    (:func:`sealeak.numerics.band_contact_memory_bytes`).
-    """
-    cells = int(nx) * int(ny)
-    solve = (numerics.contact_memory_bytes(int(nx)) if contact == "periodic"
-             else numerics.band_contact_memory_bytes(int(nx), int(ny)))
-    if kind != "sweep":
-        return TASK_BASE_BYTES + 48 * cells + solve
-    flow = (numerics.gas_flow_memory_bytes(int(nx), flow_method) if gas  # type: ignore[arg-type]
-            else numerics.flow_memory_bytes(int(nx), flow_method))  # type: ignore[arg-type]
-    write = 16 * cells if fields else 0
-    return TASK_BASE_BYTES + 8 * cells + 16 * cells * int(loads) + max(solve, flow, write)
+    def run(self, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+        """Compute this task (:func:`run_task`)."""
+        return run_task(self, progress)
 
 
 def ensemble_tasks(spec: EnsembleSpec, realizations: int, threshold: bool) -> list[EnsembleTask]:
     """The tasks of a run in realisation order: each realisation's sweep, then (if asked) its threshold search."""
     kinds = ("sweep", "threshold") if threshold else ("sweep",)
     return [EnsembleTask(k, r, spec) for r in range(int(realizations)) for k in kinds]
-
-
-def pack_mask(mask: NDArray[np.bool_]) -> dict[str, Any]:
-    """A boolean map as plain JSON values: its shape and its bits (``numpy.packbits``) in base64."""
-    return {"shape": list(mask.shape), "bits": base64.b64encode(np.packbits(mask, axis=None).tobytes()).decode("ascii")}
-
-
-def unpack_mask(packed: dict[str, Any]) -> NDArray[np.bool_]:
-    """The boolean map :func:`pack_mask` packed."""
-    shape = tuple(int(n) for n in packed["shape"])
-    bits = np.frombuffer(base64.b64decode(packed["bits"]), dtype=np.uint8)
-    return np.unpackbits(bits, count=int(np.prod(shape))).astype(bool).reshape(shape)
 
 
 def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
@@ -478,116 +331,26 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     percolation threshold (§6.4) and its notes.
     """
     spec, r = task.spec, task.realization
-    h = synthesize(spec.spectrum, spec.grid, spec.size, seed=np.random.default_rng([spec.seed, r]), workers=spec.fft_workers)
+    h = spec.surface(r)
     if task.kind == "threshold":
         notes: list[str] = []
         th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
         return {"kind": "threshold", "realization": r, "threshold": float(th), "notes": notes}
-    gas = spec.gas
-    out: dict[str, Any] = {"kind": "sweep", "realization": r, "relative_contact_area": [], "mean_gap": [],
-                           "percolates": [], "leak_rate": [], "contact_maps": []}
-    if gas is not None:
-        out |= {"leak_rate_pv": [], "leak_rate_pv_no_slip": [], "gas_iterations": []}
+    out = new_record("sweep", r, ("relative_contact_area", "mean_gap", "percolates", "leak_rate", "contact_maps"),
+                     spec.gas is not None)
     results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
                                            workers=spec.fft_workers)
-    kept = None
-    if spec.fields_store is not None:
-        kept = TaskFields(spec.fields_store, f"r{r}", grid=spec.grid, size=spec.size, period=spec.size,
-                          load_name="squeeze_pressure", loads=spec.pressures, load_unit="Pa",
-                          attributes=_field_attributes(spec, r, "sweep"))
-    try:
-        _sweep_flows(spec, r, h, results, out, kept, progress)
-        if kept is not None:
-            out["fields"] = kept.commit()
-    except BaseException:
-        if kept is not None:
-            kept.abort()
-        raise
+
+    def sweep(kept: Any) -> None:
+        for i, res in enumerate(results):
+            out["relative_contact_area"].append(float(res.contact_area))
+            out["mean_gap"].append(float(res.mean_gap))
+            record_flow(spec, r, res, spec.aspect, out)
+            keep_load(spec, kept, r, i, h, res, progress)
+
+    with_fields(spec, r, h, out, sweep, load_name="squeeze_pressure", loads=spec.pressures, load_unit="Pa",
+                attributes=spec.field_attributes(f"sweep-r{r}", r))
     return out
-
-
-def _field_attributes(spec: EnsembleSpec, r: int, kind: str) -> dict[str, Any]:
-    """The attributes of a task's group of fields (JSON values; lengths in m, E* in Pa)."""
-    return {"task": f"{kind}-r{r}", "realization": int(r), "seed": int(spec.seed), "grid": int(spec.grid),
-            "size": float(spec.size), "period": float(spec.size), "length_units": "m", "e_star": float(spec.e_star),
-            "e_star_units": "Pa", "software": f"sealeak {__version__}"}
-
-
-def _sweep_flows(spec: EnsembleSpec, r: int, h: FloatArray, results: list[Any], out: dict[str, Any],
-                 kept: TaskFields | None, progress: Callable[[int], None] | None) -> None:
-    """The flow through each of a sweep's gap fields, its scalars into ``out``, its fields into ``kept``."""
-    gas = spec.gas
-    if kept is not None:
-        kept.put_height(h)
-    for i, res in enumerate(results):
-        flow = numerics.solve_flow(res.gap, spec.size, spec.viscosity, spec.pressure_difference, contact=res.contact,
-                                   method=spec.flow_method)
-        out["relative_contact_area"].append(float(res.contact_area))
-        out["mean_gap"].append(float(res.mean_gap))
-        out["percolates"].append(bool(flow.percolates))
-        out["leak_rate"].append(float(spec.aspect * flow.flux))
-        if gas is not None:
-            gflow = numerics.solve_gas_flow(res.gap, spec.size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
-                                            contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
-                                            memory_limit=spec.memory_limit)
-            out["leak_rate_pv"].append(float(spec.aspect * gflow.throughput))
-            out["leak_rate_pv_no_slip"].append(float(spec.aspect * gflow.throughput_no_slip))
-            out["gas_iterations"].append(int(gflow.iterations))
-        if r == 0:
-            out["contact_maps"].append(pack_mask(np.asarray(res.contact, dtype=bool)))
-        if spec.fields_stage is not None:
-            _write_fields(spec, f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(spec.size))
-        if kept is not None:
-            kept.put(i, res.gap, res.pressure)
-        if progress is not None:
-            progress(1)
-
-
-def _write_fields(spec: EnsembleSpec, name: str, **arrays: Any) -> None:
-    """One field file into the run's staging folder (moved into the target when the run has finished)."""
-    assert spec.fields_stage is not None
-    try:
-        with open(Path(spec.fields_stage) / name, "wb") as fh:
-            np.savez_compressed(fh, **arrays)
-    except OSError as exc:
-        raise OutputWriteError(Path(spec.fields_target or spec.fields_stage) / name, exc) from None
-
-
-def _ratio(perc: NDArray[np.bool_], q: FloatArray, theory: FloatArray) -> FloatArray:
-    """q/theory per realisation and pressure where the realisation percolates and the theory has a leak; else NaN."""
-    ok = perc & (np.isfinite(theory) & (theory > 0))[None, :]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(ok, q / np.where(ok, theory[None, :], 1.0), np.nan)
-
-
-def _gas_statistics(case: Case, q_cj: FloatArray, u_c: FloatArray, perc: NDArray[np.bool_], pv: FloatArray,
-                    pv_no_slip: FloatArray, iterations: NDArray[np.int64]) -> GasSimulation:
-    """Means over realisations of the gas leak, the critical-junction gas leak (α = 1) and α_gas.
-
-    The theory is ``predict``'s (:func:`sealeak.cases.gas.gas_rows`): the channel of conductance
-    K = Q_cj/ΔP (α = 1, the gas's viscosity) whose gap is u_c, integrated along the pressure drop with the
-    case's rarefaction model (docs/theory.md §11.5).
-    """
-    gas = case.gas
-    assert gas is not None
-    with np.errstate(invalid="ignore", divide="ignore"):
-        k = np.where(np.isfinite(q_cj) & (q_cj > 0), q_cj / case.pressure_difference, 0.0)
-    rows = gas_rows(case, k, np.where(np.isfinite(u_c), u_c, np.nan))
-    leaks = rows.leaks or ()
-    theory = np.array([g.throughput if g is not None else np.nan for g in leaks])
-    kn = np.array([g.knudsen_mean if g is not None else np.nan for g in leaks])
-    regime = tuple(g.regime if g is not None else "" for g in leaks)
-    pv_m, pv_s = _mean_std(pv)
-    rst = gas.gas.specific_gas_constant * gas.temperature
-    with np.errstate(invalid="ignore", divide="ignore"):
-        gain = np.where(perc, pv / np.where(perc, pv_no_slip, 1.0), np.nan)
-    alpha_m, alpha_s = _mean_std(_ratio(perc, pv, theory))
-    return GasSimulation(
-        gas_name=gas.gas.name, temperature=gas.temperature, upstream_pressure=gas.upstream_pressure,
-        downstream_pressure=gas.downstream_pressure, rarefaction=gas.rarefaction, throughput=pv_m, throughput_std=pv_s,
-        mass_flow=pv_m / rst, mass_flow_std=pv_s / rst, molar_flow=pv_m / (MOLAR_GAS_CONSTANT * gas.temperature),
-        slip_gain=_mean_std(gain)[0], throughput_critical_junction=theory, knudsen_critical_junction=kn,
-        regime_critical_junction=regime, alpha=alpha_m, alpha_std=alpha_s, iterations=iterations.max(axis=0))
 
 
 def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,
@@ -685,74 +448,3 @@ def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: 
                                             workers=workers)
     return th.contact_area
 
-
-class _StagedFolder:
-    """Field files written into a hidden folder inside the target and moved in only when all are written.
-
-    An interrupted or failed run (Ctrl-C, an error) removes the staging folder, and the target
-    folder itself if this run created it, so no field file of an unfinished run is left behind.
-    ``folder=None`` writes nothing.
-    """
-
-    def __init__(self, folder: str | Path | None) -> None:
-        self.target = Path(folder) if folder is not None else None
-        self.created: list[Path] = []
-        self.stage: Path | None = None
-
-    def __enter__(self) -> _StagedFolder:
-        if self.target is None:
-            return self
-        if self.target.exists() and not self.target.is_dir():
-            raise InputError("fields_dir", str(self.target), "is a file, not a folder: give a folder for the field files")
-        missing = [d for d in (self.target, *self.target.parents) if not d.exists()]
-        try:
-            self.target.mkdir(parents=True, exist_ok=True)
-            self.created = missing
-            self.stage = Path(tempfile.mkdtemp(prefix=".sealeak-fields-", suffix=".part", dir=self.target))
-        except OSError as exc:
-            self._clean()
-            raise OutputWriteError(self.target, exc) from None
-        return self
-
-    def write(self, name: str, **arrays: Any) -> None:
-        if self.stage is None:
-            return
-        try:
-            with open(self.stage / name, "wb") as fh:
-                np.savez_compressed(fh, **arrays)
-        except OSError as exc:
-            raise OutputWriteError(self.target / name, exc) from None  # type: ignore[operator]
-
-    def __exit__(self, exc_type: object, exc: object, tb: object) -> None:
-        if self.stage is None:
-            return
-        if exc_type is None:
-            moved: list[Path] = []
-            parts = sorted(self.stage.iterdir())
-            try:
-                for part in parts:  # only regular files (or nothing) may be replaced, checked before any move
-                    check_replaceable(self.target / part.name)  # type: ignore[operator]
-            except BaseException:
-                self._clean()
-                raise
-            try:
-                for part in parts:
-                    os.replace(part, self.target / part.name)  # type: ignore[operator]
-                    moved.append(self.target / part.name)  # type: ignore[operator]
-            except BaseException as err:
-                for m in moved:
-                    m.unlink(missing_ok=True)
-                self._clean()
-                if isinstance(err, OSError):
-                    raise OutputWriteError(self.target, err) from None  # type: ignore[arg-type]
-                raise
-        self._clean()
-
-    def _clean(self) -> None:
-        if self.stage is not None:
-            shutil.rmtree(self.stage, ignore_errors=True)
-        for d in self.created:  # innermost first; only folders this run made, and only if empty
-            try:
-                d.rmdir()
-            except OSError:
-                break

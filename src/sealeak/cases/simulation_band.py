@@ -28,11 +28,12 @@ assumption for an O-ring (docs/theory.md §10.4):
    seal's gas leak, docs/theory.md §11.9) and α_gas = Q_pV,num/Q_pV,sr (docs/theory.md §11.10).
    The liquid columns stay: for a gas they are the incompressible formula with the gas's viscosity.
 
-Steps 2–4 and 7 of each realisation form one independent task (:func:`band_tasks`, :func:`run_band_task`:
-``band-r<r>`` draws surface r, presses the cylinder at every load and solves the flows), returning its
-scalars only; a runner (:func:`sealeak.cases.ensemble.make_runner`) runs them in this process or on Dask,
-keeps them in a store and, if asked, has each write its fields there. The statistics are formed in
-realisation order afterwards, so the numbers do not depend on the runner (docs/theory.md §6.7).
+This is the ensemble pipeline (:func:`sealeak.cases.pipeline.run_ensemble`) with the :class:`OringBand`
+geometry. Steps 2–4 and 7 of each realisation form one independent task (:func:`band_tasks`,
+:func:`run_band_task`: ``band-r<r>`` draws surface r, presses the cylinder at every load and solves the
+flows), returning its scalars only; a runner (:func:`sealeak.cases.ensemble.make_runner`) runs them in this
+process or on Dask, keeps them in a store and, if asked, has each write its fields there. The statistics
+are formed in realisation order afterwards, so the numbers do not depend on the runner (docs/theory.md §6.7).
 """
 
 from __future__ import annotations
@@ -46,33 +47,33 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import numerics
-from .._version import __version__
 from ..errors import InputError
-from ..io.fieldstore import TaskFields
-from ..numerics.synthesis import synthesize
 from ..physics.profile import PressureProfile
-from .band import run_band
-from .limits import MAX_REALIZATIONS, whole_number
-from .model import Case
-from .simulation import (
+from ..physics.spectrum import PowerSpectrum
+from .band import BandResult, run_band
+from .model import BandSeal, Case
+from .pipeline import (
     JUNCTION_CELLS,
     POINTS_PER_WAVELENGTH,
     FlowMethod,
+    Flows,
     GasSimulation,
-    _gas_statistics,
-    _mean_std,
-    _ratio,
-    _StagedFolder,
-    _write_fields,
-    gas_identity,
-    pack_mask,
-    resolved_spectrum_cut,
+    Records,
+    TaskSpec,
+    cut_spectrum,
+    gas_part,
+    keep_load,
+    mean_std,
+    new_record,
+    record_flow,
+    run_ensemble,
+    spectrum_text,
     task_memory_bytes,
-    unpack_mask,
+    with_fields,
 )
 
 __all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL", "BandSpec", "BandTask", "band_tasks",
-           "run_band_task"]
+           "run_band_task", "OringBand"]
 
 FloatArray = NDArray[np.float64]
 
@@ -214,7 +215,8 @@ def simulate_band(
     """Numerically exact leak rate of an O-ring case and the α of its series-resistance theory.
 
     α = Q_num / Q_sr(α = 1) per percolating realisation (module docstring; docs/theory.md §10.4). Leak
-    rates in m³/s, widths in m, pressures in Pa.
+    rates in m³/s, widths in m, pressures in Pa. The ensemble pipeline
+    (:func:`sealeak.cases.pipeline.run_ensemble`) with the :class:`OringBand` geometry.
 
     Parameters
     ----------
@@ -236,241 +238,240 @@ def simulate_band(
     runner:
         Runs the realisations' tasks (:func:`band_tasks`, :func:`run_band_task`) and returns their results
         in the order given; None runs them one after the other in this process.
-        :func:`sealeak.cases.ensemble.make_runner` (with ``task_function=run_band_task``) runs them on Dask
-        and keeps them in a store.
+        :func:`sealeak.cases.ensemble.make_runner` runs them on Dask and keeps them in a store.
     """
-    d, loads, profiles = _oring_check(case)
-    if not isinstance(grid, (int, np.integer)) or isinstance(grid, bool) or grid < 16 or grid % 2:
-        raise InputError(grid_name, grid, "must be an even integer >= 16")
-    whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
-    if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
-        raise InputError("seed", seed, "must be a whole number >= 0")
-    n = int(grid)
-    gas = case.gas
-    if not getattr(runner, "checks_memory", False):  # a runner of make_runner checks each task where it runs
-        numerics.require_memory(numerics.band_contact_memory_bytes(n, n), f"the {n}x{n} band contact problem",
+    return run_ensemble(OringBand.of(case, contact_tol), case, grid=grid, realizations=realizations, seed=seed,
+                        grid_field=grid_name, fields_dir=fields_dir, contact_tol=contact_tol, flow_method=flow_method,
+                        progress=progress, memory_limit=memory_limit, runner=runner)
+
+
+@dataclass(frozen=True)
+class _Smooth:
+    """The smooth-cylinder check per load: width (m), peak pressure (Pa), p̄(x) (Pa), deviations from Hertz (1)."""
+
+    width: FloatArray
+    max_pressure: FloatArray
+    lines: dict[int, FloatArray]
+    width_error: FloatArray
+    pressure_error: FloatArray
+
+
+@dataclass(frozen=True)
+class _BandPlan:
+    """What :class:`OringBand` prepares (SI units; loads in increasing order of force)."""
+
+    case: Case
+    band: BandSeal
+    radius: float
+    loads: FloatArray
+    force: FloatArray
+    model_width: FloatArray
+    model_pmax: FloatArray
+    half_width: FloatArray
+    hertz_pmax: FloatArray
+    size: float
+    spectrum: PowerSpectrum
+    cut_at: float | None
+    q_low: float
+    theory: BandResult
+    theory_case: Case
+    q_sr: FloatArray
+    junction_cells: FloatArray
+    smooth: _Smooth
+
+
+@dataclass(frozen=True)
+class OringBand:
+    """The geometry of an O-ring: a cylinder of radius d/2 pressed on a rough square domain across its band.
+
+    One task per realisation presses the cylinder at every load and solves the flows across the band; the
+    theory is the series-resistance leak rate (α = 1) of the Hertz profile of the same force per length.
+    """
+
+    diameter: float
+    loads: FloatArray
+    profiles: tuple[PressureProfile, ...]
+    contact_tol: float = 1e-8
+
+    @classmethod
+    def of(cls, case: Case, contact_tol: float = 1e-8) -> OringBand:
+        """The geometry of ``case`` (``contact_tol``: the smooth check's); refused unless it is an O-ring with its
+        cross-section diameter."""
+        d, loads, profiles = _oring_check(case)
+        return cls(d, loads, profiles, contact_tol)
+
+    def check_memory(self, grid: int, memory_limit: float | None) -> None:
+        """The band contact problem of an N × N grid (free edges) must fit in memory."""
+        numerics.require_memory(numerics.band_contact_memory_bytes(grid, grid), f"the {grid}x{grid} band contact problem",
                                 memory_limit)
-        numerics.check_memory(n, "flow", available=memory_limit)
-        if gas is not None:
-            numerics.require_memory(numerics.gas_flow_memory_bytes(n), f"the {n}x{n} gas flow problem", memory_limit)
-    band = case.band
-    assert band is not None
-    radius = d / 2.0
-    e_star = case.e_star
-    notes: list[str] = []
 
-    force = np.array([p.force_per_length for p in profiles])
-    order = np.argsort(force, kind="stable")
-    if not np.array_equal(order, np.arange(force.size)):
-        notes.append(f"{band.load_name.replace('_', ' ')}s were sorted in increasing order of force")
-    loads, force = loads[order], force[order]
-    profiles = tuple(profiles[i] for i in order)
-    model_q0 = np.asarray(band.q0, dtype=float)[order]
-    model_width = np.array([p.width for p in profiles])
-    model_pmax = np.array([p.max_pressure for p in profiles])
-    hertz = [numerics.hertz_line_contact(float(f), radius, e_star) for f in force]
-    b_h = np.array([b for b, _ in hertz])
-    p_h = np.array([p for _, p in hertz])
-    widest = float(max(model_width.max(), 2.0 * b_h.max()))
-    size = DOMAIN_WIDTHS * widest
-    dx = size / n
+    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[str],
+                progress: Callable[[int], None] | None) -> _BandPlan:
+        """The loads by force, Hertz, the domain, the cut spectrum, the series-resistance theory, the smooth check."""
+        band = case.band
+        assert band is not None
+        radius = self.diameter / 2.0
+        force = np.array([p.force_per_length for p in self.profiles])
+        order = np.argsort(force, kind="stable")
+        if not np.array_equal(order, np.arange(force.size)):
+            notes.append(f"{band.load_name.replace('_', ' ')}s were sorted in increasing order of force")
+        loads, force = self.loads[order], force[order]
+        profiles = tuple(self.profiles[i] for i in order)
+        model_q0 = np.asarray(band.q0, dtype=float)[order]
+        model_width = np.array([p.width for p in profiles])
+        hertz = [numerics.hertz_line_contact(float(f), radius, case.e_star) for f in force]
+        b_h = np.array([b for b, _ in hertz])
+        p_h = np.array([p for _, p in hertz])
+        size = DOMAIN_WIDTHS * float(max(model_width.max(), 2.0 * b_h.max()))
+        # the spectrum: resolved wavelengths only, and nothing longer than the theory's longest q0 reference
+        default_q0 = np.isclose(model_q0, 2.0 * np.pi / model_width, rtol=1e-9)
+        q0_theory = np.where(default_q0, 2.0 * np.pi / (2.0 * b_h), model_q0)  # q0 = 2π/w of the simulated band
+        q_low = float(q0_theory.min())
+        cut, cut_at, cut_notes = cut_spectrum(case.spectrum, grid, size, grid_field, "series-resistance", q_low)
+        notes.extend(cut_notes)
+        if not np.allclose(2.0 * b_h, model_width, rtol=1e-3):
+            worst = int(np.argmax(np.abs(2.0 * b_h / model_width - 1.0)))
+            notes.append(f"the simulation presses a cylinder on a half-space (Hertz): its contact width at "
+                         f"{_load_text(band.load_name, loads[worst])} is {2e3 * b_h[worst]:.4g} mm where the case's "
+                         f"O-ring relation gives {1e3 * model_width[worst]:.4g} mm; the series-resistance prediction "
+                         "below uses the Hertz profile of the same force, so α measures the series assumption only")
+        # the theory: the series resistance of the Hertz profile of each force, critical junction, α = 1
+        hertz_profiles = tuple(PressureProfile.semi_elliptic(2.0 * b, p) for b, p in zip(b_h, p_h))
+        theory_case = replace(case, alpha=1.0, spectrum=cut,
+                              band=replace(band, loads=loads, profiles=hertz_profiles, q0=q0_theory))
+        theory = run_band(theory_case, effective=False)
+        q_sr, junction_cells = _theory_at_grid(theory, band.load_name, loads, size / grid, grid_field, notes)
+        smooth = self._smooth_check(grid, size, case.e_star, force, b_h, p_h, band.load_name, loads, grid_field,
+                                    notes, progress)
+        return _BandPlan(case=case, band=band, radius=radius, loads=loads, force=force, model_width=model_width,
+                         model_pmax=np.array([p.max_pressure for p in profiles]), half_width=b_h, hertz_pmax=p_h,
+                         size=size, spectrum=cut, cut_at=cut_at, q_low=q_low, theory=theory, theory_case=theory_case,
+                         q_sr=q_sr, junction_cells=junction_cells, smooth=smooth)
 
-    # the spectrum: resolved wavelengths only, and nothing longer than the theory's longest q0 reference
-    default_q0 = np.isclose(model_q0, 2.0 * np.pi / model_width, rtol=1e-9)
-    q0_theory = np.where(default_q0, 2.0 * np.pi / (2.0 * b_h), model_q0)  # q0 = 2π/w of the simulated band
-    q_low = float(q0_theory.min())
-    q_cut = resolved_spectrum_cut(n, size)
-    spectrum = case.spectrum
-    cut_at: float | None = None
-    if q_cut <= max(spectrum.q_min, q_low):
-        raise InputError(grid_name, grid, f"resolves q only up to {q_cut:.4g} 1/m, below the spectrum's band "
-                                       f"({max(spectrum.q_min, q_low):.4g} .. {spectrum.q_max:.4g} 1/m): use a larger grid")
-    if spectrum.q_max > q_cut:
-        cut_at = q_cut
-        notes.append(f"the {n}x{n} grid resolves q up to {q_cut:.4g} 1/m ({POINTS_PER_WAVELENGTH} points per "
-                     f"wavelength), below the spectrum's cut-off q1 = {spectrum.q_max:.4g} 1/m: the spectrum was cut "
-                     "there for the simulation AND for the series-resistance theory it is compared with")
-    if spectrum.q_min < q_low:
-        notes.append(f"wavelengths longer than the widest band (q < q0 = {q_low:.4g} 1/m) are left out of the surface: "
-                     "the theory treats them as waviness of the band, not roughness")
-    low_cut = q_low if spectrum.q_min < q_low else None
-    cut = spectrum.truncated(low_cut, cut_at) if (low_cut is not None or cut_at is not None) else spectrum
-    if cut is not spectrum:
-        notes[-1] += f" (h_rms {case.spectrum.h_rms * 1e6:.4g} -> {cut.h_rms * 1e6:.4g} µm)"
-    if not np.allclose(2.0 * b_h, model_width, rtol=1e-3):
-        worst = int(np.argmax(np.abs(2.0 * b_h / model_width - 1.0)))
-        notes.append(f"the simulation presses a cylinder on a half-space (Hertz): its contact width at "
-                     f"{_load_text(band.load_name, loads[worst])} is {2e3 * b_h[worst]:.4g} mm where the case's O-ring "
-                     f"relation gives {1e3 * model_width[worst]:.4g} mm; the series-resistance prediction below uses the "
-                     "Hertz profile of the same force, so α measures the series assumption only")
+    def _smooth_check(self, n: int, size: float, e_star: float, force: FloatArray, b_h: FloatArray, p_h: FloatArray,
+                      load_name: str, loads: FloatArray, grid_field: str, notes: list[str],
+                      progress: Callable[[int], None] | None) -> _Smooth:
+        """The same solver without roughness (y-uniform, one column along y suffices) against Hertz."""
+        sm_width = np.full(loads.size, np.nan)
+        sm_pmax = np.full(loads.size, np.nan)
+        lines: dict[int, FloatArray] = {}
+        prev = None
+        for i, f in enumerate(force):
+            prev = numerics.solve_band_contact(np.zeros((n, 1)), size, size, e_star, self.diameter / 2.0, float(f),
+                                               tol=self.contact_tol, initial=prev)
+            lo, hi = numerics.contact_edges(prev.x, prev.line_pressure)
+            sm_width[i] = hi - lo
+            sm_pmax[i] = prev.max_pressure
+            lines[i] = prev.line_pressure.copy()
+            if progress is not None:
+                progress(1)
+        w_err = sm_width / (2.0 * b_h) - 1.0
+        p_err = sm_pmax / p_h - 1.0
+        bad = ~((np.abs(w_err) <= HERTZ_TOL) & (np.abs(p_err) <= HERTZ_TOL))
+        if bad.any():
+            i = int(np.argmax(np.where(bad, np.maximum(np.abs(w_err), np.abs(p_err)), -1.0)))
+            notes.append(f"smooth check: at {_load_text(load_name, loads[i])} the smooth cylinder is off Hertz by "
+                         f"{100 * w_err[i]:+.2g} % in width and {100 * p_err[i]:+.2g} % in peak pressure (allowed "
+                         f"{100 * HERTZ_TOL:g} %): the band spans only {2 * b_h[i] / (size / n):.0f} cells; use a "
+                         f"larger {grid_field}")
+        return _Smooth(sm_width, sm_pmax, lines, w_err, p_err)
 
-    # the theory: the series resistance of the Hertz profile of each force, critical junction, α = 1
-    hertz_profiles = tuple(PressureProfile.semi_elliptic(2.0 * b, p) for b, p in zip(b_h, p_h))
-    theory_band = replace(band, loads=loads, profiles=hertz_profiles, q0=q0_theory)
-    theory_case = replace(case, alpha=1.0, spectrum=cut, band=theory_band)
-    theory = run_band(theory_case, effective=False)
+    def tasks(self, plan: _BandPlan, common: dict[str, Any], realizations: int) -> list[BandTask]:
+        """One task per realisation."""
+        band = plan.band
+        spec = BandSpec(spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
+                        half_widths=plan.half_width, loads=plan.loads, load_name=band.load_name,
+                        scale=float(band.faces * band.length / plan.size),  # Q of the seal per Q of the W-wide strip
+                        **common)
+        return band_tasks(spec, realizations)
+
+    def aggregate(self, plan: _BandPlan, records: Records, notes: list[str]) -> BandSimulationResult:
+        """Means over realisations, α = Q/Q_sr over the percolating ones, a gas case's gas leak."""
+        band, loads, q_sr, sm = plan.band, plan.loads, plan.q_sr, plan.smooth
+        n_l = loads.size
+        flows = Flows.of(records, "band", n_l, plan.case.gas is not None)
+        width = records.stack("band", "contact_width", n_l)
+        touched = [float(loads[i]) for _, out in records.of("band") for i in out["touched_edge"]]
+        first = records.first("band")
+        lines = {} if first is None else {i: np.asarray(v, dtype=float) for i, v in enumerate(first["line_pressure"])}
+        if touched:
+            notes.append(f"the rough contact reached the edge of the domain at {_loads_text(band.load_name, np.unique(touched))}: "
+                         "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
+        perc, q_num = flows.percolates, flows.leak_rate
+        width_m, width_s = mean_std(width)
+        area_m, area_s = mean_std(flows.area)
+        q_m, q_s = mean_std(q_num)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            alpha_r = np.where(perc & (np.isfinite(q_sr) & (q_sr > 0))[None, :], q_num / q_sr[None, :], np.nan)
+        alpha_m, alpha_s = mean_std(alpha_r)
+        # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
+        u_c = np.where(np.isfinite(q_sr), np.asarray(plan.theory.critical_gap_at_max_pressure, dtype=float), np.nan)
+        gas_result, per_gas = gas_part(plan.theory_case, q_sr, u_c, flows)
+        return BandSimulationResult(
+            load_name=band.load_name, loads=loads, force_per_length=plan.force, model_contact_width=plan.model_width,
+            model_max_pressure=plan.model_pmax, hertz_contact_width=2.0 * plan.half_width, hertz_max_pressure=plan.hertz_pmax,
+            smooth_contact_width=sm.width, smooth_max_pressure=sm.max_pressure, smooth_width_error=sm.width_error,
+            smooth_pressure_error=sm.pressure_error, contact_width=width_m, contact_width_std=width_s,
+            relative_contact_area=area_m, relative_contact_area_std=area_s, percolating_fraction=perc.mean(axis=0),
+            leak_rate=q_m, leak_rate_std=q_s, leak_rate_series_resistance=q_sr, alpha=alpha_m, alpha_std=alpha_s,
+            junction_cells=plan.junction_cells, pressure_difference=float(plan.case.pressure_difference),
+            grid=records.grid, realizations=records.realizations, seed=records.seed, size=plan.size,
+            period=plan.size, seal_length=float(band.length), faces=int(band.faces), radius=plan.radius,
+            q_cut=plan.cut_at, q_low=plan.q_low, notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, plan.case),
+            per_realization={"contact_width": width, "relative_contact_area": flows.area, "percolates": perc,
+                             "leak_rate": q_num, "alpha": alpha_r} | per_gas,
+            contact_maps=flows.contact_maps, line_pressure=lines, smooth_line_pressure=sm.lines, gas=gas_result,
+        )
+
+
+def _theory_at_grid(theory: BandResult, load_name: str, loads: FloatArray, dx: float, grid_field: str,
+                    notes: list[str]) -> tuple[FloatArray, FloatArray]:
+    """Q_sr (m³/s; NaN where the junction sits at the end of the resolved spectrum) and the cells across λc.
+
+    A junction at the end of the resolved band (λc at the cut, 4 cells) has u_c -> 0: no prediction to compare
+    with; one of fewer than :data:`JUNCTION_CELLS` cells is resolved poorly (noted).
+    """
     q_sr = np.asarray(theory.critical_junction.leak_rate, dtype=float)
-    lam_c = np.asarray(theory.critical_wavelength_at_max_pressure, dtype=float)
-    junction_cells = lam_c / dx
-    # a junction at the end of the resolved band (λc at the cut, 4 cells) has u_c -> 0: no prediction to compare with
+    junction_cells = np.asarray(theory.critical_wavelength_at_max_pressure, dtype=float) / dx
     at_end = np.isfinite(junction_cells) & (junction_cells <= AT_END_CELLS)
     q_sr = np.where(at_end, np.nan, q_sr)
     coarse = np.isfinite(junction_cells) & (junction_cells < JUNCTION_CELLS) & ~at_end
     parts = []
     if coarse.any():
-        parts.append(f"at {_loads_text(band.load_name, loads[coarse])} the theory's critical junction where the pressure "
+        parts.append(f"at {_loads_text(load_name, loads[coarse])} the theory's critical junction where the pressure "
                      f"is highest spans fewer than {JUNCTION_CELLS} cells: the grid resolves it poorly, and α there "
                      "(marked *) reflects the grid more than the seal")
     if at_end.any():
-        parts.append(f"at {_loads_text(band.load_name, loads[at_end])} the theory's critical junction where the pressure is highest "
-                     "sits at the very end of the resolved "
-                     "spectrum, where u_c vanishes: no series-resistance leak rate and no α")
+        parts.append(f"at {_loads_text(load_name, loads[at_end])} the theory's critical junction where the pressure is "
+                     "highest sits at the very end of the resolved spectrum, where u_c vanishes: no series-resistance "
+                     "leak rate and no α")
     if parts:
-        notes.append("; ".join(parts) + f". A finer grid (a larger {grid_name}) resolves it.")
+        notes.append("; ".join(parts) + f". A finer grid (a larger {grid_field}) resolves it.")
     notes.extend(theory.critical_junction.messages)
-
-    # the smooth check: the same solver, no roughness (y-uniform, one column along y suffices)
-    sm_width = np.full(loads.size, np.nan)
-    sm_pmax = np.full(loads.size, np.nan)
-    smooth_lines: dict[int, FloatArray] = {}
-    prev = None
-    for i, f in enumerate(force):
-        prev = numerics.solve_band_contact(np.zeros((n, 1)), size, size, e_star, radius, float(f), tol=contact_tol,
-                                           initial=prev)
-        lo, hi = numerics.contact_edges(prev.x, prev.line_pressure)
-        sm_width[i] = hi - lo
-        sm_pmax[i] = prev.max_pressure
-        smooth_lines[i] = prev.line_pressure.copy()
-        if progress is not None:
-            progress(1)
-    w_err = sm_width / (2.0 * b_h) - 1.0
-    p_err = sm_pmax / p_h - 1.0
-    bad = ~((np.abs(w_err) <= HERTZ_TOL) & (np.abs(p_err) <= HERTZ_TOL))
-    if bad.any():
-        i = int(np.argmax(np.where(bad, np.maximum(np.abs(w_err), np.abs(p_err)), -1.0)))
-        notes.append(f"smooth check: at {_load_text(band.load_name, loads[i])} the smooth cylinder is off Hertz by "
-                     f"{100 * w_err[i]:+.2g} % in width and {100 * p_err[i]:+.2g} % in peak pressure (allowed "
-                     f"{100 * HERTZ_TOL:g} %): the band spans only {2 * b_h[i] / dx:.0f} cells; use a larger {grid_name}")
-
-    # the rough contacts and the flow: one task per realisation
-    n_l = loads.size
-    width = np.zeros((realizations, n_l))
-    area = np.zeros((realizations, n_l))
-    perc = np.zeros((realizations, n_l), dtype=bool)
-    q_num = np.zeros((realizations, n_l))
-    pv = np.zeros((realizations, n_l))  # the seal's pV throughput (Pa·m³/s), a gas case only
-    pv_no_slip = np.zeros((realizations, n_l))
-    iterations = np.zeros((realizations, n_l), dtype=np.int64)
-    contact_maps: dict[int, NDArray[np.bool_]] = {}
-    lines: dict[int, FloatArray] = {}
-    touched: list[float] = []
-    scale = band.faces * band.length / size  # Q of the seal per Q of the W-wide strip
-    dp = float(case.pressure_difference)
-    with _StagedFolder(fields_dir) as fields:
-        spec = BandSpec(spectrum=cut, grid=n, size=size, seed=int(seed), e_star=e_star, radius=radius, forces=force,
-                        half_widths=b_h, loads=loads, load_name=band.load_name, scale=float(scale),
-                        viscosity=case.fluid.viscosity, pressure_difference=dp, gas=gas,
-                        flow_method=flow_method, contact_tol=contact_tol, memory_limit=memory_limit,
-                        fields_stage=None if fields.stage is None else str(fields.stage),
-                        fields_target=None if fields.target is None else str(fields.target))
-        tasks = band_tasks(spec, realizations)
-        done = [run_band_task(t, progress=progress) for t in tasks] if runner is None else list(runner(tasks))
-    for task, out in zip(tasks, done, strict=True):  # in realisation order, whatever order they finished in
-        r = task.realization
-        width[r] = out["contact_width"]
-        area[r] = out["relative_contact_area"]
-        perc[r] = out["percolates"]
-        q_num[r] = out["leak_rate"]
-        if gas is not None:
-            pv[r] = out["leak_rate_pv"]
-            pv_no_slip[r] = out["leak_rate_pv_no_slip"]
-            iterations[r] = out["gas_iterations"]
-        touched.extend(float(loads[i]) for i in out["touched_edge"])
-        if r == 0:
-            contact_maps = {i: unpack_mask(m) for i, m in enumerate(out["contact_maps"])}
-            lines = {i: np.asarray(line, dtype=float) for i, line in enumerate(out["line_pressure"])}
-    if touched:
-        notes.append(f"the rough contact reached the edge of the domain at {_loads_text(band.load_name, np.unique(touched))}: "
-                     "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
-
-    width_m, width_s = _mean_std(width)
-    area_m, area_s = _mean_std(area)
-    q_m, q_s = _mean_std(q_num)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        alpha_r = np.where(perc & (np.isfinite(q_sr) & (q_sr > 0))[None, :], q_num / q_sr[None, :], np.nan)
-    alpha_m, alpha_s = _mean_std(alpha_r)
-    gas_result = None
-    per_gas: dict[str, Any] = {}
-    if gas is not None:
-        # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
-        u_c = np.where(np.isfinite(q_sr), np.asarray(theory.critical_gap_at_max_pressure, dtype=float), np.nan)
-        gas_result = _gas_statistics(theory_case, q_sr, u_c, perc, pv, pv_no_slip, iterations)
-        per_gas = {"leak_rate_pv": pv, "leak_rate_pv_no_slip": pv_no_slip, "gas_iterations": iterations,
-                   "alpha_gas": _ratio(perc, pv, gas_result.throughput_critical_junction)}
-    spectrum_note = (f"{cut.label or case.spectrum_note}: h_rms = {cut.h_rms * 1e6:.4g} µm over "
-                     f"q = {cut.q_min:.4g} .. {cut.q_max:.4g} 1/m")
-    return BandSimulationResult(
-        load_name=band.load_name, loads=loads, force_per_length=force, model_contact_width=model_width,
-        model_max_pressure=model_pmax, hertz_contact_width=2.0 * b_h, hertz_max_pressure=p_h,
-        smooth_contact_width=sm_width, smooth_max_pressure=sm_pmax, smooth_width_error=w_err, smooth_pressure_error=p_err,
-        contact_width=width_m, contact_width_std=width_s, relative_contact_area=area_m, relative_contact_area_std=area_s,
-        percolating_fraction=perc.mean(axis=0), leak_rate=q_m, leak_rate_std=q_s, leak_rate_series_resistance=q_sr,
-        alpha=alpha_m, alpha_std=alpha_s, junction_cells=junction_cells, pressure_difference=dp, grid=n,
-        realizations=int(realizations), seed=int(seed), size=size, period=size, seal_length=float(band.length),
-        faces=int(band.faces), radius=radius, q_cut=cut_at, q_low=q_low, notes=tuple(notes), spectrum_note=spectrum_note,
-        per_realization={"contact_width": width, "relative_contact_area": area, "percolates": perc, "leak_rate": q_num,
-                         "alpha": alpha_r} | per_gas,
-        contact_maps=contact_maps, line_pressure=lines, smooth_line_pressure=smooth_lines, gas=gas_result,
-    )
+    return q_sr, junction_cells
 
 
-@dataclass(frozen=True)
-class BandSpec:
+@dataclass(frozen=True, kw_only=True)
+class BandSpec(TaskSpec):
     """Everything one realisation's task of an O-ring simulation needs, in SI units (shared by all its tasks).
 
-    ``spectrum`` is the cut C(q) the surfaces are drawn from; ``grid`` N and ``size`` W (m) the square
-    domain; ``radius`` the cylinder's d/2 (m); ``forces`` f (N/m) at the ``loads`` (named ``load_name``, in
-    increasing order of force); ``half_widths`` the Hertz half-widths b (m) whose band |x - W/2| < b the
-    relative contact area counts; ``scale`` faces · L_seal/W, the seal's Q per Q of the strip. ``fields_stage``,
-    ``fields_target``, ``fields_store`` and ``fft_workers`` as in :class:`sealeak.cases.simulation.EnsembleSpec`.
+    :class:`~sealeak.cases.pipeline.TaskSpec`'s fields (``spectrum`` the cut C(q), ``grid`` N and ``size`` W (m)
+    the square domain), and ``radius`` the cylinder's d/2 (m); ``forces`` f (N/m) at the ``loads`` (named
+    ``load_name``, in increasing order of force); ``half_widths`` the Hertz half-widths b (m) whose band
+    |x - W/2| < b the relative contact area counts; ``scale`` faces · L_seal/W, the seal's Q per Q of the strip.
     """
 
-    spectrum: Any
-    grid: int
-    size: float
-    seed: int
-    e_star: float
     radius: float
     forces: FloatArray
     half_widths: FloatArray
     loads: FloatArray
     load_name: str
     scale: float
-    viscosity: float
-    pressure_difference: float
-    gas: Any
-    flow_method: FlowMethod
-    contact_tol: float
-    memory_limit: float | None = None
-    fields_stage: str | None = None
-    fields_target: str | None = None
-    fft_workers: int = -1
-    fields_store: str | None = None
 
-    def identity(self) -> dict[str, Any]:
-        """The inputs the tasks' numbers depend on, as plain JSON values (the store's manifest hashes them)."""
-        gas = self.gas
-        return {
-            "spectrum": {"q": [float(x) for x in self.spectrum.q], "C": [float(x) for x in self.spectrum.C]},
-            "grid": int(self.grid),
-            "seed": int(self.seed),
-            "case": {"route": "o-ring", "size": float(self.size), "e_star": float(self.e_star),
-                     "radius": float(self.radius), "force_per_length": [float(x) for x in self.forces],
-                     "half_widths": [float(x) for x in self.half_widths], "scale": float(self.scale),
-                     "viscosity": float(self.viscosity), "pressure_difference": float(self.pressure_difference),
-                     "flow_method": self.flow_method, "contact_tol": float(self.contact_tol),
-                     "gas": gas_identity(gas)},
-        }
+    def geometry_identity(self) -> dict[str, Any]:
+        """The band's own inputs: the route, the cylinder, its forces, the Hertz half-widths, the scale."""
+        return {"route": "o-ring", "radius": float(self.radius), "force_per_length": [float(x) for x in self.forces],
+                "half_widths": [float(x) for x in self.half_widths], "scale": float(self.scale)}
 
 
 @dataclass(frozen=True)
@@ -492,11 +493,15 @@ class BandTask:
         return self.spec.fields_store is not None
 
     def memory_bytes(self) -> int:
-        """Peak memory in bytes (estimate): as a uniform sweep (:meth:`EnsembleTask.memory_bytes`) with the band
+        """Peak memory in bytes (estimate): as a uniform sweep (``EnsembleTask.memory_bytes``) with the band
         contact's solver (:func:`sealeak.numerics.band_contact_memory_bytes`) in place of the periodic one."""
         return task_memory_bytes("sweep", self.spec.grid, self.spec.grid, int(np.size(self.spec.forces)), contact="band",
                                  gas=self.spec.gas is not None, fields=self.spec.fields_store is not None,
                                  flow_method=self.spec.flow_method)
+
+    def run(self, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+        """Compute this task (:func:`run_band_task`)."""
+        return run_band_task(self, progress)
 
 
 def band_tasks(spec: BandSpec, realizations: int) -> list[BandTask]:
@@ -518,63 +523,32 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
     """
     spec, r = task.spec, task.realization
     n, size = spec.grid, spec.size
-    h = synthesize(spec.spectrum, n, size, seed=np.random.default_rng([int(spec.seed), r]), workers=spec.fft_workers)
+    h = spec.surface(r)
     x = (np.arange(n) + 0.5) * (size / n)
     in_band = np.abs(x - size / 2.0)[:, None] < np.asarray(spec.half_widths)[None, :]  # [x, load]
-    gas = spec.gas
-    out: dict[str, Any] = {"kind": "band", "realization": r, "contact_width": [], "relative_contact_area": [],
-                           "percolates": [], "leak_rate": [], "touched_edge": [], "contact_maps": [], "line_pressure": []}
-    if gas is not None:
-        out |= {"leak_rate_pv": [], "leak_rate_pv_no_slip": [], "gas_iterations": []}
-    kept = None
-    if spec.fields_store is not None:
-        kept = TaskFields(spec.fields_store, f"r{r}", grid=n, size=size, period=size, load_name=spec.load_name,
-                          loads=spec.loads, load_unit="1",
-                          attributes={"task": task.name, "realization": int(r), "seed": int(spec.seed), "grid": int(n),
-                                      "size": float(size), "period": float(size), "length_units": "m",
-                                      "e_star": float(spec.e_star), "e_star_units": "Pa", "radius": float(spec.radius),
-                                      "force_per_length": [float(f) for f in spec.forces],
-                                      "force_per_length_units": "N/m", "software": f"sealeak {__version__}"})
-    try:
-        if kept is not None:
-            kept.put_height(h)
+    out = new_record("band", r, ("contact_width", "relative_contact_area", "percolates", "leak_rate", "touched_edge",
+                                 "contact_maps", "line_pressure"), spec.gas is not None)
+
+    def sweep(kept: Any) -> None:
         prev = None
         for i, f in enumerate(spec.forces):
             res = numerics.solve_band_contact(h, size, size, spec.e_star, spec.radius, float(f), tol=spec.contact_tol,
                                               initial=prev, workers=spec.fft_workers)
             prev = res
-            flow = numerics.solve_flow(res.gap, size, spec.viscosity, spec.pressure_difference, contact=res.contact,
-                                       method=spec.flow_method)
             out["contact_width"].append(float(res.contact_width))
             out["relative_contact_area"].append(float(res.contact[in_band[:, i]].mean()) if in_band[:, i].any()
                                                 else float("nan"))
-            out["percolates"].append(bool(flow.percolates))
-            out["leak_rate"].append(float(spec.scale * flow.flux))
-            if gas is not None:
-                gflow = numerics.solve_gas_flow(res.gap, size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
-                                                contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
-                                                memory_limit=spec.memory_limit)
-                out["leak_rate_pv"].append(float(spec.scale * gflow.throughput))
-                out["leak_rate_pv_no_slip"].append(float(spec.scale * gflow.throughput_no_slip))
-                out["gas_iterations"].append(int(gflow.iterations))
+            record_flow(spec, r, res, spec.scale, out)
             if res.touches_edge:
                 out["touched_edge"].append(i)
             if r == 0:
-                out["contact_maps"].append(pack_mask(np.asarray(res.contact, dtype=bool)))
                 out["line_pressure"].append([float(v) for v in res.line_pressure])
-            if spec.fields_stage is not None:
-                _write_fields(spec, f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure,  # type: ignore[arg-type]
-                              size=np.float64(size), period=np.float64(size))
-            if kept is not None:
-                kept.put(i, res.gap, res.pressure)
-            if progress is not None:
-                progress(1)
-        if kept is not None:
-            out["fields"] = kept.commit()
-    except BaseException:
-        if kept is not None:
-            kept.abort()
-        raise
+            keep_load(spec, kept, r, i, h, res, progress, period=np.float64(size))
+
+    attributes = spec.field_attributes(task.name, r) | {
+        "radius": float(spec.radius), "force_per_length": [float(f) for f in spec.forces],
+        "force_per_length_units": "N/m"}
+    with_fields(spec, r, h, out, sweep, load_name=spec.load_name, loads=spec.loads, load_unit="1", attributes=attributes)
     return out
 
 

@@ -14,20 +14,23 @@ from ._common import inputs, load, outputs
 if TYPE_CHECKING:
     from ..cases import Case
     from ..cases.ensemble import TaskEvent
+    from ..cases.options import SimulationOptions
 
 __all__ = ["register"]
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from tqdm import tqdm
-
-    from ..cases import simulate
-    from ..cases.ensemble import default_workers, make_runner
-    from ..cases.limits import MAX_REALIZATIONS, whole_number
+    from ..cases.options import simulation_options
     from ..io.files import check_outputs, write_text
     from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
     from ..render.convergence import CONVERGENCE_FIGURE_NAMES
-    from ..render.simulation import BAND_SIMULATION_FIGURE_NAMES, SIMULATION_GAS_FIGURE_NAMES
+    from ..render.simulation import (
+        BAND_SIMULATION_FIGURE_NAMES,
+        SIMULATION_GAS_FIGURE_NAMES,
+        band_simulation_figures,
+        band_simulation_json,
+        band_simulation_table,
+    )
 
     # either route's figures, and a gas case's
     names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES + SIMULATION_GAS_FIGURE_NAMES
@@ -40,97 +43,101 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         raise SealeakError("simulate takes a case without [study] (one surface)")
     case = cases[0]
     # options override the case's [simulation] section, which overrides the built-in defaults
-    grids = _grids(args, case)
-    grid = grids[0]
-    realizations, seed = (getattr(args, k) if getattr(args, k) is not None else case.simulation.get(k, d)
-                          for k, d in (("realizations", 4), ("seed", 0)))
-    def where(key: str) -> str:  # name the option (or the case file's key)
-        return f"--{key}" if getattr(args, key) is not None else f"simulation.{key}"
-
-    whole_number(where("realizations"), realizations, 1, MAX_REALIZATIONS)
-    for key, value, low in (("grid", grid, 16), ("seed", seed, 0)):
-        if isinstance(value, bool) or not isinstance(value, int) or value < low or (key == "grid" and value % 2):
-            raise InputError(where(key), value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
+    opts = simulation_options(grid=args.grid, realizations=args.realizations, seed=args.seed, workers=args.workers,
+                              defaults=case.simulation)
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
                                                   "files of the tasks it takes from the store): use --store-fields to "
                                                   "keep the fields in the store")
     if args.store_fields and args.store is None:
         raise InputError("--store-fields", None, "needs --store DIR: the fields are kept in the store")
-    grid_name = "simulation.grid" if args.grid is None and "grid" in case.simulation else "--grid"
-    if len(grids) > 1:
+    if len(opts.grids) > 1:
         if case.band is not None:
-            raise InputError(grid_name, ",".join(map(str, grids)), "a list of grids (a convergence study) applies to "
-                                                                   "uniform seals; an O-ring takes one grid")
+            raise InputError(opts.grid_field, ",".join(map(str, opts.grids)), "a list of grids (a convergence study) "
+                                                                             "applies to uniform seals; an O-ring takes "
+                                                                             "one grid")
         if args.fields:
-            raise InputError("--fields", args.fields, f"cannot be combined with a list of grids ({grid_name}): "
+            raise InputError("--fields", args.fields, f"cannot be combined with a list of grids ({opts.grid_field}): "
                                                       "write field files one grid at a time")
-        return _convergence(args, case, grids, realizations, seed)
+        return _convergence(args, case, opts)
+    table: Callable[[Case, Any], str]
+    json_text: Callable[[Case, Any], str]
+    figures: Callable[[Case, Any], dict[str, Any]]
     if case.band is not None:
-        return _simulate_band(args, case, grid, realizations, seed, grid_name)
-    workers = default_workers(grid) if args.workers is None else args.workers
-    if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop, as before Dask
-        total = realizations * len(case.squeeze_pressure)
-        with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
-            res = simulate(case, grid=grid, realizations=realizations, seed=seed,
-                           threshold=not args.no_threshold, fields_dir=args.fields, progress=bar.update)
+        res: Any = _simulate_band(args, case, opts)
+        table, json_text, figures = band_simulation_table, band_simulation_json, band_simulation_figures
     else:
-        runner = make_runner(workers=workers, scheduler=args.scheduler, store=args.store,
-                             progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields)
-        res = simulate(case, grid=grid, realizations=realizations, seed=seed,
-                       threshold=not args.no_threshold, fields_dir=args.fields, runner=runner)
+        res = _run_pipeline(args, opts, "simulate", opts.realizations * len(case.squeeze_pressure), case,
+                            threshold=not args.no_threshold)
+        table, json_text, figures = simulation_table, simulation_json, simulation_figures
     if not args.quiet:
-        sys.stdout.write(simulation_table(case, res))
+        sys.stdout.write(table(case, res))
     if args.json:
-        write_text(args.json, simulation_json(case, res))
+        write_text(args.json, json_text(case, res))
     if args.plots:
-        save_figures(simulation_figures(case, res), args.plots)
+        save_figures(figures(case, res), args.plots)
     return 0
 
 
-def _grids(args: argparse.Namespace, case: Case) -> tuple[int, ...]:
-    """The grid(s) N: ``--grid`` (one, or a comma-separated list), else ``[simulation] grid``, else 256."""
-    from ..cases.builders import parse_grid_list
+def _runner(args: argparse.Namespace, workers: int, store: str | Path | None) -> Any:
+    """The runner of the tasks (a Dask cluster, a store), or None for the plain loop in this process."""
+    from ..cases.ensemble import make_runner
 
-    if args.grid is not None:
-        return parse_grid_list(args.grid, "--grid")
-    value = case.simulation.get("grid", 256)
-    return tuple(value) if isinstance(value, tuple) else (value,)
+    if args.scheduler is None and workers == 0 and store is None:  # the plain loop, as before Dask
+        return None
+    return make_runner(workers=workers, scheduler=args.scheduler, store=store,
+                       progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields)
 
 
-def _convergence(args: argparse.Namespace, case: Case, grids: tuple[int, ...], realizations: int, seed: int) -> int:
+def _run_pipeline(args: argparse.Namespace, opts: SimulationOptions, route: str, solves: int, case: Case,
+                  **options: Any) -> Any:
+    """``route`` (``simulate`` or ``simulate_band``) on one grid: the plain loop with a progress bar of ``solves``
+    contact and flow solves, or the tasks on the runner (``--workers``, ``--scheduler``, ``--store``)."""
+    from tqdm import tqdm
+
+    from ..cases import simulation, simulation_band
+    from ..cases.ensemble import default_workers
+
+    run = simulation.simulate if route == "simulate" else simulation_band.simulate_band
+    common = {"grid": opts.grid, "realizations": opts.realizations, "seed": opts.seed, "fields_dir": args.fields,
+              "grid_name": opts.grid_field, **options}
+    runner = _runner(args, default_workers(opts.grid) if opts.workers is None else opts.workers, args.store)
+    if runner is not None:
+        return run(case, runner=runner, **common)
+    with tqdm(total=solves, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
+        return run(case, progress=bar.update, **common)
+
+
+def _convergence(args: argparse.Namespace, case: Case, opts: SimulationOptions) -> int:
     """``simulate`` at several grids: the convergence and validation study (docs/theory.md §6.8)."""
     from tqdm import tqdm
 
     from ..cases.convergence import convergence_study
-    from ..cases.ensemble import default_workers, make_runner
+    from ..cases.ensemble import default_workers
     from ..io.files import write_text
     from ..render import save_figures
     from ..render.convergence import convergence_figures, convergence_json, convergence_table
 
     bars: list[tqdm] = []
+    grids = opts.grids
 
     def runner_for(grid: int) -> Any:
-        workers = default_workers(grid) if args.workers is None else args.workers
+        workers = default_workers(grid) if opts.workers is None else opts.workers
         if not args.quiet:
             sys.stderr.write(f"simulate: grid {grid}x{grid} ({grids.index(grid) + 1} of {len(grids)})\n")
-        if args.scheduler is None and workers == 0 and args.store is None:
-            return None
-        store = None if args.store is None else Path(args.store) / f"grid-{grid}"
-        return make_runner(workers=workers, scheduler=args.scheduler, store=store,
-                           progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields)
+        return _runner(args, workers, None if args.store is None else Path(args.store) / f"grid-{grid}")
 
     def progress_for(grid: int) -> Callable[[int], None]:
         for done in bars:  # the previous grid's bar is finished
             done.close()
-        bar = tqdm(total=realizations * len(case.squeeze_pressure), desc=f"grid {grid}: contact + flow", unit="solve",
-                   disable=args.quiet or None, file=sys.stderr)
+        bar = tqdm(total=opts.realizations * len(case.squeeze_pressure), desc=f"grid {grid}: contact + flow",
+                   unit="solve", disable=args.quiet or None, file=sys.stderr)
         bars.append(bar)
         return bar.update
 
     try:
-        study = convergence_study(case, grids, realizations=realizations, seed=seed, threshold=not args.no_threshold,
-                                  runner_for=runner_for, progress_for=progress_for)
+        study = convergence_study(case, grids, realizations=opts.realizations, seed=opts.seed,
+                                  threshold=not args.no_threshold, runner_for=runner_for, progress_for=progress_for)
     finally:
         for bar in bars:
             bar.close()
@@ -143,16 +150,8 @@ def _convergence(args: argparse.Namespace, case: Case, grids: tuple[int, ...], r
     return 0
 
 
-def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations: int, seed: int, grid_name: str) -> int:
+def _simulate_band(args: argparse.Namespace, case: Case, opts: SimulationOptions) -> Any:
     """``simulate`` on an O-ring case: the cylinder on the rough surface, the flow across its band, α."""
-    from tqdm import tqdm
-
-    from ..cases.ensemble import default_workers, make_runner
-    from ..cases.simulation_band import run_band_task, simulate_band
-    from ..io.files import write_text
-    from ..render import save_figures
-    from ..render.simulation import band_simulation_figures, band_simulation_json, band_simulation_table
-
     band = case.band
     assert band is not None
     if band.kind != "o-ring":
@@ -161,25 +160,8 @@ def _simulate_band(args: argparse.Namespace, case: Case, grid: int, realizations
                          "whose contact could be simulated (use predict)")
     if args.no_threshold and not args.quiet:
         sys.stderr.write("note: --no-threshold does not apply to an O-ring (no percolation-threshold search is made)\n")
-    workers = default_workers(grid) if args.workers is None else args.workers
-    if args.scheduler is None and workers == 0 and args.store is None:  # the plain loop
-        total = (realizations + 1) * band.loads.size
-        with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
-            res = simulate_band(case, grid=grid, realizations=realizations, seed=seed,
-                                fields_dir=args.fields, progress=bar.update, grid_name=grid_name)
-    else:  # one task per realisation (after the smooth checks, made here)
-        runner = make_runner(workers=workers, scheduler=args.scheduler, store=args.store,
-                             progress=None if args.quiet else _progress_line, note=_note, fields=args.store_fields,
-                             task_function=run_band_task)  # type: ignore[arg-type]
-        res = simulate_band(case, grid=grid, realizations=realizations, seed=seed, fields_dir=args.fields,
-                            grid_name=grid_name, runner=runner)  # type: ignore[arg-type]
-    if not args.quiet:
-        sys.stdout.write(band_simulation_table(case, res))
-    if args.json:
-        write_text(args.json, band_simulation_json(case, res))
-    if args.plots:
-        save_figures(band_simulation_figures(case, res), args.plots)
-    return 0
+    # the plain loop: one smooth check per load, then each realisation's loads; else one task per realisation
+    return _run_pipeline(args, opts, "simulate_band", (opts.realizations + 1) * band.loads.size, case)
 
 
 def _clock(seconds: float) -> str:

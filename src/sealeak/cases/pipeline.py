@@ -1,0 +1,565 @@
+"""The one ensemble pipeline of every simulated geometry: options, spectrum, tasks, runner, aggregation.
+
+A numerically exact simulation (docs/theory.md §6, §10.4) is the same pipeline whatever the body pressed on
+the rough surface; :func:`run_ensemble` runs it and a :class:`Geometry` (a strategy object) supplies the
+steps that differ:
+
+1. the options are checked by the rules of :mod:`sealeak.cases.options` (grid, realisations, seed) and,
+   unless the runner checks each task where it runs, the memory of one grid's contact (the geometry's),
+   flow and gas-flow problems;
+2. :meth:`Geometry.prepare`: the domain, the spectrum cut to what the grid resolves (:func:`cut_spectrum`),
+   the theory the simulation is compared with, notes;
+3. :meth:`Geometry.tasks`: independent tasks, each holding a :class:`TaskSpec` (what every geometry's tasks
+   share: the spectrum, grid, seed, material, fluid, solver settings and where fields go) and knowing how to
+   run itself (``task.run()``, :func:`compute_task`); they run one after the other in this process, or
+   through a runner of :func:`sealeak.cases.ensemble.make_runner` (Dask, a store);
+4. :meth:`Geometry.aggregate`: the tasks' records in realisation order (:class:`Records`, the flow scalars
+   every geometry records as :class:`Flows`), means and standard deviations over realisations
+   (:func:`mean_std`), α and, for a gas, :class:`GasSimulation` (:func:`gas_part`).
+
+The geometries: :class:`sealeak.cases.simulation.PeriodicSquare` (a uniform seal) and
+:class:`sealeak.cases.simulation_band.OringBand` (a cylinder on the rough surface).
+"""
+
+from __future__ import annotations
+
+import base64
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal, Protocol, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .. import numerics
+from .._version import __version__
+from ..errors import InputError
+from ..io.fieldstore import TaskFields
+from ..io.files import OutputWriteError, check_replaceable
+from ..physics.gas import MOLAR_GAS_CONSTANT
+from ..physics.spectrum import PowerSpectrum
+from .gas import gas_rows
+from .limits import MAX_REALIZATIONS, whole_number
+from .model import Case, GasConditions
+from .options import grid_number, seed_number
+
+__all__ = ["Geometry", "run_ensemble", "TaskSpec", "Records", "Flows", "GasSimulation", "compute_task", "cut_spectrum",
+           "resolved_spectrum_cut", "mean_std", "ratio", "gas_part", "gas_identity", "pack_mask", "unpack_mask",
+           "task_memory_bytes", "TASK_BASE_BYTES", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS", "FlowMethod",
+           "StagedFolder"]
+
+POINTS_PER_WAVELENGTH = 4
+#: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
+JUNCTION_CELLS = 8
+FloatArray = NDArray[np.float64]
+#: The Reynolds solver's method (:func:`sealeak.numerics.solve_flow`).
+FlowMethod = Literal["auto", "direct", "amg"]
+#: Memory of a worker process before its task (Python, NumPy, SciPy, PyAMG, Dask and sealeak imported):
+#: about 200 MB resident were measured on Linux; rounded up.
+TASK_BASE_BYTES = 256 * 2**20
+#: The keys of a gas case's per-load task record (pV throughputs in Pa·m³/s, fixed-point iterations).
+GAS_KEYS = ("leak_rate_pv", "leak_rate_pv_no_slip", "gas_iterations")
+
+PlanT = TypeVar("PlanT")
+ResultT = TypeVar("ResultT", covariant=True)
+
+
+class Geometry(Protocol[PlanT, ResultT]):
+    """The geometry-specific steps of :func:`run_ensemble` (a periodic square, an O-ring's band, ...)."""
+
+    def check_memory(self, grid: int, memory_limit: float | None) -> None:
+        """Refuse a grid whose contact problem does not fit in memory (before any work)."""
+
+    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[str],
+                progress: Callable[[int], None] | None) -> PlanT:
+        """The domain, the cut spectrum, the theory and everything the tasks and the aggregation need."""
+
+    def tasks(self, plan: PlanT, common: dict[str, Any], realizations: int) -> list[Any]:
+        """The independent tasks in realisation order; ``common`` holds :class:`TaskSpec`'s fields but
+        the spectrum and the domain's size, which the plan gives."""
+
+    def aggregate(self, plan: PlanT, records: Records, notes: list[str]) -> ResultT:
+        """The result from the tasks' records (realisation order)."""
+
+
+def compute_task(task: Any) -> dict[str, Any]:
+    """Compute one task of any geometry (``task.run()``): the default task function of a runner."""
+    return task.run()  # type: ignore[no-any-return]
+
+
+def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, realizations: int, seed: int,
+                 grid_field: str = "grid", fields_dir: str | Path | None = None, contact_tol: float = 1e-8,
+                 flow_method: FlowMethod = "auto", progress: Callable[[int], None] | None = None,
+                 memory_limit: float | None = None,
+                 runner: Callable[[list[Any]], Iterable[dict[str, Any]]] | None = None) -> ResultT:
+    """Run ``geometry``'s simulation of ``case`` (module docstring): check, prepare, run the tasks, aggregate.
+
+    ``grid`` N (even, >= 16; ``grid_field`` names it in messages), ``realizations`` R, ``seed``: realisation r
+    draws its surface from ``numpy.random.default_rng([seed, r])``. ``fields_dir``: the tasks write their
+    field files (npz) there, staged until all are written. ``progress`` is called with the number of finished
+    solves (without a runner). ``runner`` runs the tasks and returns their records in the order given (None:
+    one after the other in this process); the records are aggregated in realisation order, so the numbers
+    do not depend on the runner.
+    """
+    grid = grid_number(grid_field, grid)
+    realizations = whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
+    seed = seed_number("seed", seed)
+    if not getattr(runner, "checks_memory", False):  # a runner of make_runner checks each task where it runs
+        geometry.check_memory(grid, memory_limit)
+        numerics.check_memory(grid, "flow", available=memory_limit)
+        if case.gas is not None:
+            numerics.require_memory(numerics.gas_flow_memory_bytes(grid), f"the {grid}x{grid} gas flow problem",
+                                    memory_limit)
+    notes: list[str] = []
+    plan = geometry.prepare(case, grid, grid_field, notes, progress)
+    with StagedFolder(fields_dir) as fields:
+        common = {"grid": grid, "seed": seed, "e_star": case.e_star, "viscosity": case.fluid.viscosity,
+                  "pressure_difference": float(case.pressure_difference), "gas": case.gas, "flow_method": flow_method,
+                  "contact_tol": contact_tol, "memory_limit": memory_limit,
+                  "fields_stage": None if fields.stage is None else str(fields.stage),
+                  "fields_target": None if fields.target is None else str(fields.target)}
+        tasks = geometry.tasks(plan, common, realizations)
+        done = [t.run(progress=progress) for t in tasks] if runner is None else list(runner(tasks))
+    return geometry.aggregate(plan, Records(tasks, done, realizations, grid, seed), notes)
+
+
+# ---------------------------------------------------------------- the spectrum
+def resolved_spectrum_cut(grid: int, size: float) -> float:
+    """Highest wavevector an N-point grid of side ``size`` resolves with 4 points per wavelength (1/m)."""
+    return 2.0 * np.pi * grid / (POINTS_PER_WAVELENGTH * size)
+
+
+def cut_spectrum(spectrum: PowerSpectrum, grid: int, size: float, grid_field: str, theory: str,
+                 q_low: float | None = None) -> tuple[PowerSpectrum, float | None, list[str]]:
+    """The spectrum a ``grid`` × ``grid`` domain of side ``size`` (m) resolves, where it was cut, and notes.
+
+    Wavevectors above :func:`resolved_spectrum_cut` are cut, and, with ``q_low`` (1/m), those below it (the
+    band's waviness); ``theory`` names what the simulation is compared with (it uses the same cut spectrum).
+    A grid that resolves nothing of the band is refused (an InputError naming ``grid_field``).
+    """
+    q_cut = resolved_spectrum_cut(grid, size)
+    lowest = spectrum.q_min if q_low is None else max(spectrum.q_min, q_low)
+    if q_cut <= lowest:
+        raise InputError(grid_field, grid, f"resolves q only up to {q_cut:.4g} 1/m, below the spectrum's band "
+                                           f"({lowest:.4g} .. {spectrum.q_max:.4g} 1/m): use a larger grid")
+    notes = []
+    cut_at = q_cut if spectrum.q_max > q_cut else None
+    if cut_at is not None:
+        notes.append(f"the {grid}x{grid} grid resolves q up to {q_cut:.4g} 1/m ({POINTS_PER_WAVELENGTH} points per "
+                     f"wavelength), below the spectrum's cut-off q1 = {spectrum.q_max:.4g} 1/m: the spectrum was "
+                     f"cut there for the simulation AND for the {theory} theory it is compared with")
+    low_cut = q_low if q_low is not None and spectrum.q_min < q_low else None
+    if low_cut is not None:
+        notes.append(f"wavelengths longer than the widest band (q < q0 = {low_cut:.4g} 1/m) are left out of the "
+                     "surface: the theory treats them as waviness of the band, not roughness")
+    if not notes:
+        return spectrum, None, notes
+    cut = spectrum.truncated(low_cut, cut_at)
+    notes[-1] += f" (h_rms {spectrum.h_rms * 1e6:.4g} -> {cut.h_rms * 1e6:.4g} µm)"
+    return cut, cut_at, notes
+
+
+def spectrum_text(spectrum: PowerSpectrum, case: Case) -> str:
+    """The simulated spectrum for the result: its label, h_rms and band."""
+    return (f"{spectrum.label or case.spectrum_note}: h_rms = {spectrum.h_rms * 1e6:.4g} µm over "
+            f"q = {spectrum.q_min:.4g} .. {spectrum.q_max:.4g} 1/m")
+
+
+# ---------------------------------------------------------------- the tasks
+def gas_identity(gas: GasConditions | None) -> dict[str, Any] | None:
+    """A gas case's conditions as plain JSON values for a store's manifest (None for a liquid)."""
+    if gas is None:
+        return None
+    return {"name": gas.gas.name, "temperature": float(gas.temperature), "upstream_pressure": float(gas.upstream_pressure),
+            "downstream_pressure": float(gas.downstream_pressure), "rarefaction": gas.rarefaction}
+
+
+@dataclass(frozen=True, kw_only=True)
+class TaskSpec:
+    """What every task of a run needs whatever the geometry, in SI units (shared by all tasks of the run).
+
+    ``spectrum`` is the (possibly cut) C(q) the surfaces are drawn from, ``grid`` N and ``size`` (m) the
+    square domain, ``seed`` the run's seed, ``e_star`` E* (Pa), ``viscosity`` η (Pa·s), ``pressure_difference``
+    ΔP (Pa), ``gas`` a gas case's conditions (None: a liquid). ``fields_stage`` is the folder the tasks write
+    their field files into (None: none), ``fields_store`` the task store folder whose ``fields.zarr`` they
+    write their fields into (:mod:`sealeak.io.fieldstore`; None: none), ``fft_workers`` the FFT threads of
+    each task (-1: all cores; 1 on a cluster, whose worker processes share the cores). None of these
+    changes a number. A geometry's spec adds its own fields and :meth:`geometry_identity`.
+    """
+
+    spectrum: Any
+    grid: int
+    size: float
+    seed: int
+    e_star: float
+    viscosity: float
+    pressure_difference: float
+    gas: Any
+    flow_method: FlowMethod
+    contact_tol: float
+    memory_limit: float | None = None
+    fields_stage: str | None = None
+    fields_target: str | None = None
+    fft_workers: int = -1
+    fields_store: str | None = None
+
+    def geometry_identity(self) -> dict[str, Any]:
+        """The geometry's own inputs of the tasks, as plain JSON values."""
+        return {}
+
+    def identity(self) -> dict[str, Any]:
+        """The inputs the tasks' numbers depend on, as plain JSON values (floats exact by ``repr``).
+
+        The store's manifest keeps a hash of it (:mod:`sealeak.cases.ensemble`): ``spectrum`` (the nodes of
+        C(q)), ``grid``, ``seed`` and ``case`` (everything else that enters a task).
+        """
+        return {
+            "spectrum": {"q": [float(x) for x in self.spectrum.q], "C": [float(x) for x in self.spectrum.C]},
+            "grid": int(self.grid),
+            "seed": int(self.seed),
+            "case": {"size": float(self.size), "e_star": float(self.e_star), "viscosity": float(self.viscosity),
+                     "pressure_difference": float(self.pressure_difference), "flow_method": self.flow_method,
+                     "contact_tol": float(self.contact_tol), "gas": gas_identity(self.gas)} | self.geometry_identity(),
+        }
+
+    def surface(self, r: int) -> FloatArray:
+        """Realisation ``r``'s heights (m): ``synthesize`` with the seed sequence (seed, r) (docs/theory.md §6.1)."""
+        return numerics.synthesize(self.spectrum, self.grid, self.size, seed=np.random.default_rng([int(self.seed), r]),
+                                   workers=self.fft_workers)
+
+    def field_attributes(self, task: str, r: int) -> dict[str, Any]:
+        """The attributes of a task's group of fields (JSON values; lengths in m, E* in Pa)."""
+        return {"task": task, "realization": int(r), "seed": int(self.seed), "grid": int(self.grid),
+                "size": float(self.size), "period": float(self.size), "length_units": "m", "e_star": float(self.e_star),
+                "e_star_units": "Pa", "software": f"sealeak {__version__}"}
+
+
+def task_memory_bytes(kind: str, nx: int, ny: int, loads: int, *, contact: str, gas: bool, fields: bool,
+                      flow_method: str = "auto") -> int:
+    """Peak memory in bytes of one ensemble task on an nx × ny grid with ``loads`` loads (estimate, §6.7).
+
+    ``kind`` is ``"sweep"`` (contact and flow at every load) or ``"threshold"``; ``contact`` is
+    ``"periodic"`` (:func:`sealeak.numerics.contact_memory_bytes`) or ``"band"``
+    (:func:`sealeak.numerics.band_contact_memory_bytes`).
+    """
+    cells = int(nx) * int(ny)
+    solve = (numerics.contact_memory_bytes(int(nx)) if contact == "periodic"
+             else numerics.band_contact_memory_bytes(int(nx), int(ny)))
+    if kind != "sweep":
+        return TASK_BASE_BYTES + 48 * cells + solve
+    flow = (numerics.gas_flow_memory_bytes(int(nx), flow_method) if gas  # type: ignore[arg-type]
+            else numerics.flow_memory_bytes(int(nx), flow_method))  # type: ignore[arg-type]
+    write = 16 * cells if fields else 0
+    return TASK_BASE_BYTES + 8 * cells + 16 * cells * int(loads) + max(solve, flow, write)
+
+
+def pack_mask(mask: NDArray[np.bool_]) -> dict[str, Any]:
+    """A boolean map as plain JSON values: its shape and its bits (``numpy.packbits``) in base64."""
+    return {"shape": list(mask.shape), "bits": base64.b64encode(np.packbits(mask, axis=None).tobytes()).decode("ascii")}
+
+
+def unpack_mask(packed: dict[str, Any]) -> NDArray[np.bool_]:
+    """The boolean map :func:`pack_mask` packed."""
+    shape = tuple(int(n) for n in packed["shape"])
+    bits = np.frombuffer(base64.b64decode(packed["bits"]), dtype=np.uint8)
+    return np.unpackbits(bits, count=int(np.prod(shape))).astype(bool).reshape(shape)
+
+
+def new_record(kind: str, r: int, keys: Iterable[str], gas: bool) -> dict[str, Any]:
+    """An empty task record: its kind, realisation and a list per key (and per gas key for a gas case)."""
+    out: dict[str, Any] = {"kind": kind, "realization": r} | {k: [] for k in keys}
+    return out | {k: [] for k in GAS_KEYS} if gas else out
+
+
+def record_flow(spec: TaskSpec, r: int, res: Any, scale: float, out: dict[str, Any]) -> None:
+    """The flow through one contact solution's gap field (and a gas's), its scalars appended to ``out``.
+
+    Leak rates are ``scale`` times the domain's (m³/s; Pa·m³/s for the gas); realisation 0 also keeps its
+    contact map (packed).
+    """
+    flow = numerics.solve_flow(res.gap, spec.size, spec.viscosity, spec.pressure_difference, contact=res.contact,
+                               method=spec.flow_method)
+    out["percolates"].append(bool(flow.percolates))
+    out["leak_rate"].append(float(scale * flow.flux))
+    gas = spec.gas
+    if gas is not None:
+        gflow = numerics.solve_gas_flow(res.gap, spec.size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                        contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
+                                        memory_limit=spec.memory_limit)
+        out["leak_rate_pv"].append(float(scale * gflow.throughput))
+        out["leak_rate_pv_no_slip"].append(float(scale * gflow.throughput_no_slip))
+        out["gas_iterations"].append(int(gflow.iterations))
+    if r == 0:
+        out["contact_maps"].append(pack_mask(np.asarray(res.contact, dtype=bool)))
+
+
+def keep_load(spec: TaskSpec, kept: TaskFields | None, r: int, i: int, h: FloatArray, res: Any,
+              progress: Callable[[int], None] | None, **extra: Any) -> None:
+    """Load ``i``'s fields (a field file, the store) of realisation ``r``, and one step of progress."""
+    if spec.fields_stage is not None:
+        _write_fields(spec, f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(spec.size),
+                      **extra)
+    if kept is not None:
+        kept.put(i, res.gap, res.pressure)
+    if progress is not None:
+        progress(1)
+
+
+def with_fields(spec: TaskSpec, r: int, h: FloatArray, out: dict[str, Any], sweep: Callable[[TaskFields | None], None],
+                *, load_name: str, loads: Any, load_unit: str, attributes: dict[str, Any]) -> None:
+    """Run ``sweep`` with the store's group ``r<r>`` of the task's fields open (None without a store).
+
+    The heights go in first; the group is committed when the sweep has finished (its name and the SHA-256 of
+    each array into ``out["fields"]``) and removed if it fails.
+    """
+    kept = None
+    if spec.fields_store is not None:
+        kept = TaskFields(spec.fields_store, f"r{r}", grid=spec.grid, size=spec.size, period=spec.size,
+                          load_name=load_name, loads=loads, load_unit=load_unit, attributes=attributes)
+    try:
+        if kept is not None:
+            kept.put_height(h)
+        sweep(kept)
+        if kept is not None:
+            out["fields"] = kept.commit()
+    except BaseException:
+        if kept is not None:
+            kept.abort()
+        raise
+
+
+def _write_fields(spec: TaskSpec, name: str, **arrays: Any) -> None:
+    """One field file into the run's staging folder (moved into the target when the run has finished)."""
+    assert spec.fields_stage is not None
+    try:
+        with open(Path(spec.fields_stage) / name, "wb") as fh:
+            np.savez_compressed(fh, **arrays)
+    except OSError as exc:
+        raise OutputWriteError(Path(spec.fields_target or spec.fields_stage) / name, exc) from None
+
+
+# ---------------------------------------------------------------- aggregation
+class Records:
+    """The tasks' records beside their tasks, in the order of the tasks (realisation order), and the run's
+    realisations R, grid N and seed."""
+
+    def __init__(self, tasks: list[Any], records: list[dict[str, Any]], realizations: int, grid: int, seed: int) -> None:
+        self.pairs = list(zip(tasks, records, strict=True))
+        self.realizations = int(realizations)
+        self.grid = int(grid)
+        self.seed = int(seed)
+
+    def of(self, kind: str) -> list[tuple[int, dict[str, Any]]]:
+        """The records of the tasks of ``kind``, with their realisations."""
+        return [(t.realization, out) for t, out in self.pairs if t.kind == kind]
+
+    def stack(self, kind: str, key: str, n: int, dtype: Any = float) -> NDArray[Any]:
+        """``key`` of the ``kind`` tasks as an [R, n] array (zeros where no task gave it)."""
+        out = np.zeros((self.realizations, n), dtype=dtype)
+        for r, rec in self.of(kind):
+            out[r] = rec[key]
+        return out
+
+    def first(self, kind: str) -> dict[str, Any] | None:
+        """Realisation 0's record of ``kind`` (None if there is none)."""
+        return next((rec for r, rec in self.of(kind) if r == 0), None)
+
+
+@dataclass(frozen=True)
+class Flows:
+    """What every geometry's sweep records, per realisation and load ([R, n] arrays; :func:`record_flow`).
+
+    ``area`` the relative contact area, ``percolates``, ``leak_rate`` the seal's (m³/s), for a gas ``pv`` and
+    ``pv_no_slip`` its pV throughputs (Pa·m³/s, zeros for a liquid) and ``iterations``; ``contact_maps`` those
+    of realisation 0 by load.
+    """
+
+    area: FloatArray
+    percolates: NDArray[np.bool_]
+    leak_rate: FloatArray
+    pv: FloatArray
+    pv_no_slip: FloatArray
+    iterations: NDArray[np.int64]
+    contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, records: Records, kind: str, n: int, gas: bool) -> Flows:
+        """The flows of the ``kind`` tasks of ``records`` at ``n`` loads."""
+        first = records.first(kind)
+        keyed = ("leak_rate_pv", "leak_rate_pv_no_slip")
+        pv, pv_no_slip = ((records.stack(kind, k, n) if gas else np.zeros((records.realizations, n))) for k in keyed)
+        return cls(area=records.stack(kind, "relative_contact_area", n),
+                   percolates=records.stack(kind, "percolates", n, bool), leak_rate=records.stack(kind, "leak_rate", n),
+                   pv=pv, pv_no_slip=pv_no_slip,
+                   iterations=(records.stack(kind, "gas_iterations", n, np.int64) if gas
+                               else np.zeros((records.realizations, n), dtype=np.int64)),
+                   contact_maps={} if first is None else {i: unpack_mask(m) for i, m in enumerate(first["contact_maps"])})
+
+
+def mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Mean and standard deviation (ddof = 1) over axis 0, ignoring NaN; std NaN for fewer than two values."""
+    x = np.asarray(x, dtype=float)
+    ok = np.isfinite(x)
+    n = ok.sum(axis=0)
+    mean = np.where(n > 0, np.where(ok, x, 0.0).sum(axis=0) / np.maximum(n, 1), np.nan)
+    dev = np.where(ok, x - mean, 0.0)
+    var = np.where(n > 1, (dev**2).sum(axis=0) / np.maximum(n - 1, 1), 0.0)
+    return mean, np.where(n > 1, np.sqrt(var), np.nan)
+
+
+def ratio(perc: NDArray[np.bool_], q: FloatArray, theory: FloatArray) -> FloatArray:
+    """q/theory per realisation and pressure where the realisation percolates and the theory has a leak; else NaN."""
+    ok = perc & (np.isfinite(theory) & (theory > 0))[None, :]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(ok, q / np.where(ok, theory[None, :], 1.0), np.nan)
+
+
+@dataclass(frozen=True)
+class GasSimulation:
+    """The gas leak of a gas case, per squeeze pressure (SI units; docs/theory.md §11.10).
+
+    Leak rates are the seal's, (Ly/Lx) times the square's, averaged over all realisations (a blocked
+    one leaks 0), ``*_std`` their standard deviations (ddof = 1; NaN with fewer than two values).
+
+    Attributes
+    ----------
+    gas_name, temperature, upstream_pressure, downstream_pressure, rarefaction
+        The gas, T (K), P_a and P_b (Pa, absolute) and the slip model.
+    throughput, throughput_std
+        pV throughput Q_pV (Pa·m³/s), counted at T.
+    mass_flow, mass_flow_std
+        ṁ = Q_pV/(R_s T) (kg/s).
+    molar_flow
+        ṅ = Q_pV/(R T) (mol/s).
+    slip_gain
+        Q_pV/Q_pV(no slip) of the same gap fields, mean over percolating realisations: how much the
+        rarefaction adds (1 without slip).
+    throughput_critical_junction
+        The critical-junction gas leak with α = 1, the same (possibly cut) spectrum and rarefaction model
+        (Pa·m³/s; NaN where the theory has no junction).
+    knudsen_critical_junction, regime_critical_junction
+        Kn = λ/u_c at the mean pressure (P_a + P_b)/2 and its flow regime (as ``predict`` reports them).
+    alpha, alpha_std
+        α_gas = Q_pV/Q_pV,cj(α = 1) over the percolating realisations (NaN where none percolates).
+    iterations
+        The most fixed-point iterations any realisation needed (0 without slip).
+    """
+
+    gas_name: str
+    temperature: float
+    upstream_pressure: float
+    downstream_pressure: float
+    rarefaction: str
+    throughput: FloatArray
+    throughput_std: FloatArray
+    mass_flow: FloatArray
+    mass_flow_std: FloatArray
+    molar_flow: FloatArray
+    slip_gain: FloatArray
+    throughput_critical_junction: FloatArray
+    knudsen_critical_junction: FloatArray
+    regime_critical_junction: tuple[str, ...]
+    alpha: FloatArray
+    alpha_std: FloatArray
+    iterations: NDArray[np.int64]
+
+
+def gas_part(case: Case, q_theory: FloatArray, u_c: FloatArray, flows: Flows) -> tuple[GasSimulation | None, dict[str, Any]]:
+    """A gas case's :class:`GasSimulation` and its per-realisation arrays (None and {} for a liquid).
+
+    The theory is ``predict``'s (:func:`sealeak.cases.run.gas_rows`): the channel of conductance
+    K = Q/ΔP of the liquid theory ``q_theory`` (α = 1, the gas's viscosity; m³/s) whose gap is ``u_c`` (m),
+    integrated along the pressure drop with the case's rarefaction model (docs/theory.md §11.5).
+    """
+    gas = case.gas
+    if gas is None:
+        return None, {}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        k = np.where(np.isfinite(q_theory) & (q_theory > 0), q_theory / case.pressure_difference, 0.0)
+    leaks = gas_rows(case, k, np.where(np.isfinite(u_c), u_c, np.nan)).leaks or ()
+    theory = np.array([g.throughput if g is not None else np.nan for g in leaks])
+    perc, pv = flows.percolates, flows.pv
+    pv_m, pv_s = mean_std(pv)
+    rst = gas.gas.specific_gas_constant * gas.temperature
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gain = np.where(perc, pv / np.where(perc, flows.pv_no_slip, 1.0), np.nan)
+    alpha_r = ratio(perc, pv, theory)
+    alpha_m, alpha_s = mean_std(alpha_r)
+    result = GasSimulation(
+        gas_name=gas.gas.name, temperature=gas.temperature, upstream_pressure=gas.upstream_pressure,
+        downstream_pressure=gas.downstream_pressure, rarefaction=gas.rarefaction, throughput=pv_m, throughput_std=pv_s,
+        mass_flow=pv_m / rst, mass_flow_std=pv_s / rst, molar_flow=pv_m / (MOLAR_GAS_CONSTANT * gas.temperature),
+        slip_gain=mean_std(gain)[0], throughput_critical_junction=theory,
+        knudsen_critical_junction=np.array([g.knudsen_mean if g is not None else np.nan for g in leaks]),
+        regime_critical_junction=tuple(g.regime if g is not None else "" for g in leaks), alpha=alpha_m,
+        alpha_std=alpha_s, iterations=flows.iterations.max(axis=0))
+    return result, {"leak_rate_pv": pv, "leak_rate_pv_no_slip": flows.pv_no_slip, "gas_iterations": flows.iterations,
+                    "alpha_gas": alpha_r}
+
+
+# ---------------------------------------------------------------- field files
+class StagedFolder:
+    """Field files written into a hidden folder inside the target and moved in only when all are written.
+
+    An interrupted or failed run (Ctrl-C, an error) removes the staging folder, and the target
+    folder itself if this run created it, so no field file of an unfinished run is left behind.
+    ``folder=None`` writes nothing.
+    """
+
+    def __init__(self, folder: str | Path | None) -> None:
+        self.target = Path(folder) if folder is not None else None
+        self.created: list[Path] = []
+        self.stage: Path | None = None
+
+    def __enter__(self) -> StagedFolder:
+        if self.target is None:
+            return self
+        if self.target.exists() and not self.target.is_dir():
+            raise InputError("fields_dir", str(self.target), "is a file, not a folder: give a folder for the field files")
+        missing = [d for d in (self.target, *self.target.parents) if not d.exists()]
+        try:
+            self.target.mkdir(parents=True, exist_ok=True)
+            self.created = missing
+            self.stage = Path(tempfile.mkdtemp(prefix=".sealeak-fields-", suffix=".part", dir=self.target))
+        except OSError as exc:
+            self._clean()
+            raise OutputWriteError(self.target, exc) from None
+        return self
+
+    def __exit__(self, exc_type: object, exc: object, tb: object) -> None:
+        if self.stage is None or self.target is None:
+            return
+        if exc_type is None:
+            moved: list[Path] = []
+            parts = sorted(self.stage.iterdir())
+            try:
+                for part in parts:  # only regular files (or nothing) may be replaced, checked before any move
+                    check_replaceable(self.target / part.name)
+            except BaseException:
+                self._clean()
+                raise
+            try:
+                for part in parts:
+                    os.replace(part, self.target / part.name)
+                    moved.append(self.target / part.name)
+            except BaseException as err:
+                for m in moved:
+                    m.unlink(missing_ok=True)
+                self._clean()
+                if isinstance(err, OSError):
+                    raise OutputWriteError(self.target, err) from None
+                raise
+        self._clean()
+
+    def _clean(self) -> None:
+        if self.stage is not None:
+            shutil.rmtree(self.stage, ignore_errors=True)
+        for d in self.created:  # innermost first; only folders this run made, and only if empty
+            try:
+                d.rmdir()
+            except OSError:
+                break
