@@ -280,7 +280,7 @@ def test_the_default_server_cap_is_half_the_cores():
 
 
 @pytest.mark.parametrize("body, field, words", [
-    ({"workers": 100_000}, "--workers", "from 0 to 8 (this server's limit)"),
+    ({"workers": 100_000}, "--workers", "from 0 to 8 (0: no Dask, this process alone) (this server's limit)"),
     ({"realizations": 10**12}, "--realizations", "from 1 to 50 (this server's limit)"),
     ({"realizations": "1e12"}, "--realizations", "must be an integer"),
 ])

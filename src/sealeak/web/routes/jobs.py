@@ -9,36 +9,37 @@ from fastapi import APIRouter
 from fastapi.responses import PlainTextResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from ...cases import Case, simulation_options
 from ...errors import InputError, SealeakError
 from ..casework import file_names, load_toml, resolve_files, toml_text
 from ..jobs import Job, start_job
 from ..models import JobBody
 from ..sessions import Session
-from ..state import AppState, SessionDep, StateDep, current, scrub
+from ..state import AppState, SessionDep, StateDep, WebConfig, current, scrub
 
 __all__ = ["router"]
 
 router = APIRouter(tags=["jobs"])
 
 
-def _options(body: JobBody, high: dict[str, int]) -> dict[str, int | None]:
-    """The job's options (None: the case's value), each checked as ``sealeak simulate`` checks its option."""
+def _options(body: JobBody, case: Case, config: WebConfig) -> dict[str, int | None]:
+    """The job's options as given (None: the case's value), each read as ``sealeak simulate`` reads its option and
+    checked, with the case's ``[simulation]`` values, by the one validator of the simulation options
+    (:func:`sealeak.cases.simulation_options`) within this server's limits."""
     opts: dict[str, int | None] = {}
-    for key, low in (("grid", 16), ("realizations", 1), ("seed", 0), ("workers", 0)):
+    for key in ("grid", "realizations", "seed", "workers"):
         value = getattr(body, key)
         if value in (None, ""):
             opts[key] = None
             continue
         try:
-            number = int(str(value).strip())
+            opts[key] = int(str(value).strip())
         except ValueError:
             raise InputError(f"--{key}", value, "must be an integer") from None
-        if number < low or (key == "grid" and number % 2):
-            raise InputError(f"--{key}", value, f"must be {'an even integer' if key == 'grid' else 'an integer'} >= {low}")
-        if key in high and number > high[key]:
-            raise InputError(f"--{key}", value, f"must be an integer from {low} to {high[key]} (this server's limit)")
-        opts[key] = number
-    return opts
+    simulation_options(grid=opts["grid"], realizations=opts["realizations"], seed=opts["seed"], workers=opts["workers"],
+                       defaults=case.simulation, max_realizations=config.max_realizations,
+                       max_workers=config.max_workers, limit_note=" (this server's limit)")
+    return opts  # the given values: a case's own grid list still runs its convergence study
 
 
 def _launch(state: AppState, s: Session, title: str, opts: dict[str, int | None]) -> Job:
@@ -67,11 +68,7 @@ def start(state: StateDep, s: SessionDep, body: JobBody) -> dict[str, Any]:
     pred = current(state, s)  # refused here, with the loader's message, before any process starts
     if len(pred.case_file.cases) != 1:
         raise SealeakError("simulate takes a case without [study] (one surface)")
-    opts = _options(body, {"realizations": cfg.max_realizations, "workers": cfg.max_workers})
-    given = pred.case_file.cases[0].simulation.get("realizations")
-    if opts["realizations"] is None and isinstance(given, int) and given > cfg.max_realizations:
-        raise InputError("simulation.realizations", given,
-                         f"must be at most {cfg.max_realizations} in the web app (this server's limit)")
+    opts = _options(body, pred.case_file.cases[0], cfg)
     with state.starting, s.lock:
         job = _launch(state, s, pred.case_file.cases[0].title, opts)
         s.jobs[job.id] = job
