@@ -45,6 +45,7 @@ from ..physics.spectrum import PowerSpectrum
 from .gas import gas_rows
 from .limits import MAX_REALIZATIONS, whole_number
 from .model import Case, GasConditions
+from .notes import NoteLike
 from .options import grid_number, seed_number
 
 __all__ = ["Geometry", "run_ensemble", "TaskSpec", "Records", "Flows", "GasSimulation", "compute_task", "cut_spectrum",
@@ -74,7 +75,7 @@ class Geometry(Protocol[PlanT, ResultT]):
     def check_memory(self, grid: int, memory_limit: float | None) -> None:
         """Refuse a grid whose contact problem does not fit in memory (before any work)."""
 
-    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[str],
+    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[NoteLike],
                 progress: Callable[[int], None] | None) -> PlanT:
         """The domain, the cut spectrum, the theory and everything the tasks and the aggregation need."""
 
@@ -82,7 +83,7 @@ class Geometry(Protocol[PlanT, ResultT]):
         """The independent tasks in realisation order; ``common`` holds :class:`TaskSpec`'s fields but
         the spectrum and the domain's size, which the plan gives."""
 
-    def aggregate(self, plan: PlanT, records: Records, notes: list[str]) -> ResultT:
+    def aggregate(self, plan: PlanT, records: Records, notes: list[NoteLike]) -> ResultT:
         """The result from the tasks' records (realisation order)."""
 
 
@@ -114,7 +115,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
         if case.gas is not None:
             numerics.require_memory(numerics.gas_flow_memory_bytes(grid), f"the {grid}x{grid} gas flow problem",
                                     memory_limit)
-    notes: list[str] = []
+    notes: list[NoteLike] = []
     plan = geometry.prepare(case, grid, grid_field, notes, progress)
     with StagedFolder(fields_dir) as fields:
         common = {"grid": grid, "seed": seed, "e_star": case.e_star, "viscosity": case.fluid.viscosity,

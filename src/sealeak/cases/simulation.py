@@ -39,6 +39,7 @@ from scipy import special
 from .. import numerics
 from ..physics.spectrum import PowerSpectrum
 from .model import Case
+from .notes import Note, NoteLike
 from .pipeline import (
     JUNCTION_CELLS,
     POINTS_PER_WAVELENGTH,
@@ -105,7 +106,7 @@ class SimulationResult:
     seed: int
     size: float
     q_cut: float | None
-    notes: tuple[str, ...] = ()
+    notes: tuple[NoteLike, ...] = ()
     spectrum_note: str = ""
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)  # realisation 0
@@ -195,7 +196,7 @@ class PeriodicSquare:
         """The periodic contact problem of an N × N grid must fit in memory."""
         numerics.check_memory(grid, "contact", available=memory_limit)
 
-    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[str],
+    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[NoteLike],
                 progress: Callable[[int], None] | None) -> _SquarePlan:
         """The cut spectrum, the sorted pressures, the critical-junction theory and the threshold's anchor."""
         size = case.square_side
@@ -217,7 +218,7 @@ class PeriodicSquare:
                             aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor, **common)
         return ensemble_tasks(spec, realizations, self.threshold)
 
-    def aggregate(self, plan: _SquarePlan, records: Records, notes: list[str]) -> SimulationResult:
+    def aggregate(self, plan: _SquarePlan, records: Records, notes: list[NoteLike]) -> SimulationResult:
         """Means over realisations, α = Q/Q_cj over the percolating ones, the thresholds, a gas case's gas leak."""
         case, pressures, q_cj = plan.case, plan.pressures, plan.q_cj
         n_p = pressures.size
@@ -354,7 +355,7 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
 
 
 def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,
-                      notes: list[str]) -> tuple[FloatArray, FloatArray, FloatArray]:
+                      notes: list[NoteLike]) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Critical-junction Q (α = 1, m³/s) of the (cut) spectrum, the grid cells across each junction, and u_c.
 
     Returns ``(q_cj, cells, u_c)``: u_c is ``predict``'s critical gap (m; NaN where Q_cj is not computed);
@@ -382,27 +383,11 @@ def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: floa
     cells = np.where(percolates, grid / zeta_c, np.nan)
     coarse = percolates & (cells < JUNCTION_CELLS)
     if coarse.any():
-        resolved = (f"resolves the spectrum only up to q = {cut_at:.4g} 1/m (ζ1 = {zeta_1:.4g})" if cut_at is not None
-                    else f"has {grid} cells across the square")
-        parts = []
-        if (coarse & ~at_end).any():
-            parts.append(f"at {_kpa(pressures[coarse & ~at_end])} the theory's critical junction "
-                         f"λc = L/ζc spans fewer than {JUNCTION_CELLS} cells: the grid resolves it poorly and little "
-                         "resolved roughness is left to hold the surfaces apart, so u_c falls steeply and α there "
-                         "(marked *) reflects the grid more than the seal")
-        if at_end.any():
-            parts.append(f"at {_kpa(pressures[at_end])} the junction sits at the very end of the band, where "
-                         "u_c vanishes: no critical-junction leak rate and no α")
-        notes.append(f"grid = {grid}: the {grid}x{grid} grid {resolved}; " + "; ".join(parts)
-                     + ". A finer grid (--grid, or grid in [simulation]) resolves the junction.")
+        notes.append(Note("junction_unresolved", {
+            "grid": grid, "cut_at": cut_at, "zeta_1": float(zeta_1), "min_cells": JUNCTION_CELLS,
+            "coarse": tuple(float(p) for p in pressures[coarse & ~at_end]),
+            "at_end": tuple(float(p) for p in pressures[at_end])}))
     return q_cj, cells, gap_c
-
-
-def _kpa(p: FloatArray) -> str:
-    """Pressures for a note: all of a few, else the range ("P0 = 73 .. 234 kPa (19 pressures)")."""
-    if p.size <= 4:
-        return "P0 = " + ", ".join(f"{x / 1e3:.4g}" for x in p) + " kPa"
-    return f"P0 = {p.min() / 1e3:.4g} .. {p.max() / 1e3:.4g} kPa ({p.size} pressures)"
 
 
 def _threshold_anchor(case: Case) -> float:

@@ -52,6 +52,7 @@ from ..physics.profile import PressureProfile
 from ..physics.spectrum import PowerSpectrum
 from .band import BandResult, run_band
 from .model import BandSeal, Case
+from .notes import Note, NoteLike
 from .pipeline import (
     JUNCTION_CELLS,
     POINTS_PER_WAVELENGTH,
@@ -163,7 +164,7 @@ class BandSimulationResult:
     radius: float
     q_cut: float | None
     q_low: float
-    notes: tuple[str, ...] = ()
+    notes: tuple[NoteLike, ...] = ()
     spectrum_note: str = ""
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     #: realisation 0: contact mask [x, y] and the pressure averaged along the seal line p̄(x) (Pa) per load
@@ -305,7 +306,7 @@ class OringBand:
         numerics.require_memory(numerics.band_contact_memory_bytes(grid, grid), f"the {grid}x{grid} band contact problem",
                                 memory_limit)
 
-    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[str],
+    def prepare(self, case: Case, grid: int, grid_field: str, notes: list[NoteLike],
                 progress: Callable[[int], None] | None) -> _BandPlan:
         """The loads by force, Hertz, the domain, the cut spectrum, the series-resistance theory, the smooth check."""
         band = case.band
@@ -331,10 +332,9 @@ class OringBand:
         notes.extend(cut_notes)
         if not np.allclose(2.0 * b_h, model_width, rtol=1e-3):
             worst = int(np.argmax(np.abs(2.0 * b_h / model_width - 1.0)))
-            notes.append(f"the simulation presses a cylinder on a half-space (Hertz): its contact width at "
-                         f"{_load_text(band.load_name, loads[worst])} is {2e3 * b_h[worst]:.4g} mm where the case's "
-                         f"O-ring relation gives {1e3 * model_width[worst]:.4g} mm; the series-resistance prediction "
-                         "below uses the Hertz profile of the same force, so α measures the series assumption only")
+            notes.append(Note("hertz_width_differs", {
+                "load_name": band.load_name, "load": float(loads[worst]), "hertz_width": float(2.0 * b_h[worst]),
+                "model_width": float(model_width[worst])}))
         # the theory: the series resistance of the Hertz profile of each force, critical junction, α = 1
         hertz_profiles = tuple(PressureProfile.semi_elliptic(2.0 * b, p) for b, p in zip(b_h, p_h))
         theory_case = replace(case, alpha=1.0, spectrum=cut,
@@ -349,7 +349,7 @@ class OringBand:
                          q_sr=q_sr, junction_cells=junction_cells, smooth=smooth)
 
     def _smooth_check(self, n: int, size: float, e_star: float, force: FloatArray, b_h: FloatArray, p_h: FloatArray,
-                      load_name: str, loads: FloatArray, grid_field: str, notes: list[str],
+                      load_name: str, loads: FloatArray, grid_field: str, notes: list[NoteLike],
                       progress: Callable[[int], None] | None) -> _Smooth:
         """The same solver without roughness (y-uniform, one column along y suffices) against Hertz."""
         sm_width = np.full(loads.size, np.nan)
@@ -370,10 +370,10 @@ class OringBand:
         bad = ~((np.abs(w_err) <= HERTZ_TOL) & (np.abs(p_err) <= HERTZ_TOL))
         if bad.any():
             i = int(np.argmax(np.where(bad, np.maximum(np.abs(w_err), np.abs(p_err)), -1.0)))
-            notes.append(f"smooth check: at {_load_text(load_name, loads[i])} the smooth cylinder is off Hertz by "
-                         f"{100 * w_err[i]:+.2g} % in width and {100 * p_err[i]:+.2g} % in peak pressure (allowed "
-                         f"{100 * HERTZ_TOL:g} %): the band spans only {2 * b_h[i] / (size / n):.0f} cells; use a "
-                         f"larger {grid_field}")
+            notes.append(Note("smooth_check_off", {
+                "load_name": load_name, "load": float(loads[i]), "width_error": float(w_err[i]),
+                "pressure_error": float(p_err[i]), "tolerance": HERTZ_TOL, "cells": float(2 * b_h[i] / (size / n)),
+                "grid_field": grid_field}))
         return _Smooth(sm_width, sm_pmax, lines, w_err, p_err)
 
     def tasks(self, plan: _BandPlan, common: dict[str, Any], realizations: int) -> list[BandTask]:
@@ -385,7 +385,7 @@ class OringBand:
                         **common)
         return band_tasks(spec, realizations)
 
-    def aggregate(self, plan: _BandPlan, records: Records, notes: list[str]) -> BandSimulationResult:
+    def aggregate(self, plan: _BandPlan, records: Records, notes: list[NoteLike]) -> BandSimulationResult:
         """Means over realisations, α = Q/Q_sr over the percolating ones, a gas case's gas leak."""
         band, loads, q_sr, sm = plan.band, plan.loads, plan.q_sr, plan.smooth
         n_l = loads.size
@@ -395,8 +395,8 @@ class OringBand:
         first = records.first("band")
         lines = {} if first is None else {i: np.asarray(v, dtype=float) for i, v in enumerate(first["line_pressure"])}
         if touched:
-            notes.append(f"the rough contact reached the edge of the domain at {_loads_text(band.load_name, np.unique(touched))}: "
-                         "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
+            notes.append(Note("band_touches_edge", {"load_name": band.load_name,
+                                                    "loads": tuple(float(v) for v in np.unique(touched))}))
         perc, q_num = flows.percolates, flows.leak_rate
         width_m, width_s = mean_std(width)
         area_m, area_s = mean_std(flows.area)
@@ -425,7 +425,7 @@ class OringBand:
 
 
 def _theory_at_grid(theory: BandResult, load_name: str, loads: FloatArray, dx: float, grid_field: str,
-                    notes: list[str]) -> tuple[FloatArray, FloatArray]:
+                    notes: list[NoteLike]) -> tuple[FloatArray, FloatArray]:
     """Q_sr (m³/s; NaN where the junction sits at the end of the resolved spectrum) and the cells across λc.
 
     A junction at the end of the resolved band (λc at the cut, 4 cells) has u_c -> 0: no prediction to compare
@@ -436,17 +436,10 @@ def _theory_at_grid(theory: BandResult, load_name: str, loads: FloatArray, dx: f
     at_end = np.isfinite(junction_cells) & (junction_cells <= AT_END_CELLS)
     q_sr = np.where(at_end, np.nan, q_sr)
     coarse = np.isfinite(junction_cells) & (junction_cells < JUNCTION_CELLS) & ~at_end
-    parts = []
-    if coarse.any():
-        parts.append(f"at {_loads_text(load_name, loads[coarse])} the theory's critical junction where the pressure "
-                     f"is highest spans fewer than {JUNCTION_CELLS} cells: the grid resolves it poorly, and α there "
-                     "(marked *) reflects the grid more than the seal")
-    if at_end.any():
-        parts.append(f"at {_loads_text(load_name, loads[at_end])} the theory's critical junction where the pressure is "
-                     "highest sits at the very end of the resolved spectrum, where u_c vanishes: no series-resistance "
-                     "leak rate and no α")
-    if parts:
-        notes.append("; ".join(parts) + f". A finer grid (a larger {grid_field}) resolves it.")
+    if coarse.any() or at_end.any():
+        notes.append(Note("band_junction_unresolved", {
+            "load_name": load_name, "min_cells": JUNCTION_CELLS, "grid_field": grid_field,
+            "coarse": tuple(float(v) for v in loads[coarse]), "at_end": tuple(float(v) for v in loads[at_end])}))
     notes.extend(theory.critical_junction.messages)
     return q_sr, junction_cells
 
@@ -550,24 +543,3 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
         "force_per_length_units": "N/m"}
     with_fields(spec, r, h, out, sweep, load_name=spec.load_name, loads=spec.loads, load_unit="1", attributes=attributes)
     return out
-
-
-def _load_text(name: str, value: float) -> str:
-    """One load for a note: "compression 20 %" or "profile scale 1.5"."""
-    if name == "compression":
-        return f"compression {100 * value:.4g} %"
-    return f"{name.replace('_', ' ')} {value:.4g}"
-
-
-def _loads_text(name: str, values: FloatArray) -> str:
-    """Several loads for a note (all of a few, else the range)."""
-    vals = np.asarray(values, dtype=float)
-    if name == "compression":
-        shown = [f"{100 * v:.4g}" for v in vals]
-        unit, label = " %", "compression"
-    else:
-        shown = [f"{v:.4g}" for v in vals]
-        unit, label = "", name.replace("_", " ")
-    if len(shown) <= 4:
-        return f"{label} {', '.join(shown)}{unit}"
-    return f"{label} {shown[0]} .. {shown[-1]}{unit} ({len(shown)} values)"

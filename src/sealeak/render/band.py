@@ -34,6 +34,7 @@ from ..cases import CaseResult
 from ..cases.band import BandResult
 from ..cases.model import BandSeal
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
+from .notes import loads_text
 from .plotstyle import (
     GAS_LEAK_LABEL,
     STYLE,
@@ -86,13 +87,6 @@ def load_labels(band: BandSeal) -> list[str]:
     if band.load_name == "compression":
         return [f"ε = {100 * v:.3g} %" for v in band.loads]
     return [f"scale {v:.3g}" for v in band.loads]
-
-
-def _loads_text(band: BandSeal, mask: np.ndarray) -> str:
-    values = band.loads[mask]
-    if band.load_name == "compression":
-        return "ε = " + ", ".join(f"{100 * v:.3g}" for v in values) + " %"
-    return "scale " + ", ".join(f"{v:.3g}" for v in values)
 
 
 def _load_axis(band: BandSeal) -> tuple[np.ndarray, str]:
@@ -405,7 +399,7 @@ def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
         sealed = ~b.critical_junction.percolates
         if sealed.any():
             name = _group_name(g) if len(groups) > 1 else ""
-            sealed_text.append((f"{name}: " if name else "") + _loads_text(b.band, sealed))
+            sealed_text.append((f"{name}: " if name else "") + loads_text(b.band.load_name, b.band.loads[sealed]))
     ax.set_xlabel(_x_label(results, xunit))
     if not curves:
         ax.set_ylabel("local critical gap u_c (nm)")

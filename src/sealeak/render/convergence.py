@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 
 from ..cases import Case
 from ..cases.convergence import PUBLISHED_THRESHOLDS, ConvergenceStudy, Extrapolation
+from .notes import worded
 from .plotstyle import STYLE, color, finish_axes, laid_out, new_figure, place_legend, spans_decades, subtitle
 from .records import case_summary, json_document, json_value
 from .simulation import SIMULATION_UNITS, simulation_rows
@@ -106,7 +107,7 @@ def convergence_table(case: Case, study: ConvergenceStudy) -> str:
     if study.flags:
         lines += ["", "flags (what the numbers above cannot carry):"]
         lines += [f"  - {f}" for f in study.flags]
-    notes = [(r.grid, n) for r in study.results for n in r.notes]
+    notes = [(r.grid, n) for r in study.results for n in worded(r.notes)]
     if notes:
         lines.append("")
         lines += [f"note (grid {n}): {text}" for n, text in notes]
@@ -136,7 +137,7 @@ def convergence_json(case: Case, study: ConvergenceStudy) -> str:
                       "percolation_threshold": json_value(g.threshold),
                       "percolation_threshold_stderr": json_value(g.threshold_stderr),
                       "percolation_threshold_count": g.threshold_count,
-                      "spectrum_cut_wavevector": g.q_cut, "spectrum": res.spectrum_note, "notes": list(res.notes)})
+                      "spectrum_cut_wavevector": g.q_cut, "spectrum": res.spectrum_note, "notes": worded(res.notes)})
     doc: dict[str, Any] = {
         "units": CONVERGENCE_UNITS,
         "grids": grids,

@@ -20,6 +20,7 @@ from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..io.leak_units import celsius, to_mbar_l_per_s
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
+from .notes import load_text, worded
 from .plotstyle import (
     GAS_LEAK_LABEL,
     PA_M3_PER_MBAR_L,
@@ -85,7 +86,7 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
                        "ones), not standard errors: the standard error of a mean is std/sqrt(realizations); "
                        "null with fewer than two values",
         "case": case_summary(case),
-        "notes": list(res.notes),
+        "notes": worded(res.notes),
     }
     if res.gas is not None:
         _gas_json(doc, res)
@@ -188,8 +189,7 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
                   if np.isfinite(res.percolation_threshold_std) else "one realisation")
         lines.append(f"the non-contact area stops percolating at A/A0 = {res.percolation_threshold:.3f} ({spread}; "
                      f"critical-junction theory assumes 1 - p_c = {1 - case.percolation_threshold:.3f})")
-    for n in res.notes:
-        lines.append("note: " + n)
+    lines += ["note: " + n for n in worded(res.notes)]
     return "\n".join(lines) + "\n"
 
 
@@ -270,7 +270,7 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
         "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
                        "ones), not standard errors; null with fewer than two values",
         "case": case_summary(case),
-        "notes": list(res.notes),
+        "notes": worded(res.notes),
     }
     if res.gas is not None:
         _band_gas_json(doc, res)
@@ -358,8 +358,7 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
               _spread_legend(res.realizations)]
     if res.gas is not None:
         lines += _band_gas_lines(res)
-    for n in res.notes:
-        lines.append("note: " + n)
+    lines += ["note: " + n for n in worded(res.notes)]
     return "\n".join(lines) + "\n"
 
 
@@ -453,7 +452,7 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
     if res.contact_maps:
         pick = _map_pick(res.contact_maps, res.per_realization)
         figs["contact_map.png"] = _contact_map_figure(
-            res.contact_maps[pick], (res.size, res.period), _load_text(res, pick),
+            res.contact_maps[pick], (res.size, res.period), load_text(res.load_name, res.loads[pick]),
             ("x across the band (mm), flow from x = 0 to the outlet →", "y along the seal line, periodic (mm)"),
             "black: contact; blue: channels crossing the band; grey: trapped or dead-end fluid; red dashes: Hertz band",
             edges=res.size / 2.0 + np.array([-0.5, 0.5]) * res.hertz_contact_width[pick])
@@ -629,13 +628,6 @@ def _contact_map_figure(contact: NDArray[np.bool_], size: tuple[float, float], l
     return fig
 
 
-def _load_text(res: BandSimulationResult, i: int) -> str:
-    """One load of an O-ring in words: "ε = 12.5 %" (a compression) or "profile scale 0.75"."""
-    if res.load_name == "compression":
-        return f"ε = {100 * res.loads[i]:.3g} %"
-    return f"{res.load_name.replace('_', ' ')} {res.loads[i]:.3g}"
-
-
 @laid_out
 def _band_pressure_figure(res: BandSimulationResult) -> Figure:
     """The contact pressure across the band per load: Hertz (analytic), the smooth cylinder simulated, and realisation
@@ -648,7 +640,7 @@ def _band_pressure_figure(res: BandSimulationResult) -> Figure:
         hertz = PressureProfile.semi_elliptic(res.hertz_contact_width[i], res.hertz_max_pressure[i])
         xs = np.linspace(0.0, res.hertz_contact_width[i], 201)
         handles += ax.plot((xs - res.hertz_contact_width[i] / 2.0) * 1e3, hertz.at(xs) / 1e6, "-", color=color(i), lw=1.2)
-        labels.append(_load_text(res, i))
+        labels.append(load_text(res.load_name, res.loads[i]))
         if i in res.smooth_line_pressure:
             sm = res.smooth_line_pressure[i]
             ax.plot(xm[sm > 0], sm[sm > 0] / 1e6, ".", color=color(i), ms=2.5)

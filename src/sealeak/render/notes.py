@@ -1,0 +1,113 @@
+"""The wording of the notes the cases layer returns (:class:`sealeak.cases.notes.Note`).
+
+Each note's code has one function here that writes its sentence, and a load or a pressure is written in a sentence
+in one way only (:func:`load_text`, :func:`loads_text`, :func:`kpa_text`). Tables, JSON ``notes`` and figures call
+:func:`word` (or :func:`worded`) on a result's notes; a note that is still a plain sentence passes unchanged.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import Any
+
+from ..cases.notes import Note, NoteLike
+
+__all__ = ["load_text", "loads_text", "kpa_text", "word", "worded"]
+
+
+def load_text(name: str, value: float) -> str:
+    """One load in a sentence: "compression 20 %" (a fraction, written in %) or "profile scale 1.5"."""
+    if name == "compression":
+        return f"compression {100 * value:.4g} %"
+    return f"{name.replace('_', ' ')} {value:.4g}"
+
+
+def loads_text(name: str, values: Iterable[float]) -> str:
+    """Several loads in a sentence: all of up to four ("compression 15, 20 %"), else the range and how many."""
+    if name == "compression":
+        shown = [f"{100 * v:.4g}" for v in values]
+        unit, label = " %", "compression"
+    else:
+        shown = [f"{v:.4g}" for v in values]
+        unit, label = "", name.replace("_", " ")
+    if len(shown) <= 4:
+        return f"{label} {', '.join(shown)}{unit}"
+    return f"{label} {shown[0]} .. {shown[-1]}{unit} ({len(shown)} values)"
+
+
+def kpa_text(pressures: Sequence[float]) -> str:
+    """Squeeze pressures (Pa) in a sentence: all of up to four ("P0 = 73, 100 kPa"), else the range and how many."""
+    if len(pressures) <= 4:
+        return "P0 = " + ", ".join(f"{x / 1e3:.4g}" for x in pressures) + " kPa"
+    return f"P0 = {min(pressures) / 1e3:.4g} .. {max(pressures) / 1e3:.4g} kPa ({len(pressures)} pressures)"
+
+
+# ---------------------------------------------------------------------- one function per note code
+def _junction_unresolved(v: Mapping[str, Any]) -> str:
+    grid, cells = v["grid"], v["min_cells"]
+    resolved = (f"resolves the spectrum only up to q = {v['cut_at']:.4g} 1/m (ζ1 = {v['zeta_1']:.4g})"
+                if v["cut_at"] is not None else f"has {grid} cells across the square")
+    parts = []
+    if v["coarse"]:
+        parts.append(f"at {kpa_text(v['coarse'])} the theory's critical junction "
+                     f"λc = L/ζc spans fewer than {cells} cells: the grid resolves it poorly and little "
+                     "resolved roughness is left to hold the surfaces apart, so u_c falls steeply and α there "
+                     "(marked *) reflects the grid more than the seal")
+    if v["at_end"]:
+        parts.append(f"at {kpa_text(v['at_end'])} the junction sits at the very end of the band, where "
+                     "u_c vanishes: no critical-junction leak rate and no α")
+    return (f"grid = {grid}: the {grid}x{grid} grid {resolved}; " + "; ".join(parts)
+            + ". A finer grid (--grid, or grid in [simulation]) resolves the junction.")
+
+
+def _band_junction_unresolved(v: Mapping[str, Any]) -> str:
+    parts = []
+    if v["coarse"]:
+        parts.append(f"at {loads_text(v['load_name'], v['coarse'])} the theory's critical junction where the pressure "
+                     f"is highest spans fewer than {v['min_cells']} cells: the grid resolves it poorly, and α there "
+                     "(marked *) reflects the grid more than the seal")
+    if v["at_end"]:
+        parts.append(f"at {loads_text(v['load_name'], v['at_end'])} the theory's critical junction where the pressure "
+                     "is highest sits at the very end of the resolved spectrum, where u_c vanishes: no "
+                     "series-resistance leak rate and no α")
+    return "; ".join(parts) + f". A finer grid (a larger {v['grid_field']}) resolves it."
+
+
+def _hertz_width_differs(v: Mapping[str, Any]) -> str:
+    return (f"the simulation presses a cylinder on a half-space (Hertz): its contact width at "
+            f"{load_text(v['load_name'], v['load'])} is {1e3 * v['hertz_width']:.4g} mm where the case's "
+            f"O-ring relation gives {1e3 * v['model_width']:.4g} mm; the series-resistance prediction "
+            "below uses the Hertz profile of the same force, so α measures the series assumption only")
+
+
+def _smooth_check_off(v: Mapping[str, Any]) -> str:
+    return (f"smooth check: at {load_text(v['load_name'], v['load'])} the smooth cylinder is off Hertz by "
+            f"{100 * v['width_error']:+.2g} % in width and {100 * v['pressure_error']:+.2g} % in peak pressure "
+            f"(allowed {100 * v['tolerance']:g} %): the band spans only {v['cells']:.0f} cells; use a "
+            f"larger {v['grid_field']}")
+
+
+def _band_touches_edge(v: Mapping[str, Any]) -> str:
+    return (f"the rough contact reached the edge of the domain at {loads_text(v['load_name'], v['loads'])}: "
+            "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
+
+
+_WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
+    "junction_unresolved": _junction_unresolved,
+    "band_junction_unresolved": _band_junction_unresolved,
+    "hertz_width_differs": _hertz_width_differs,
+    "smooth_check_off": _smooth_check_off,
+    "band_touches_edge": _band_touches_edge,
+}
+
+
+def word(note: NoteLike) -> str:
+    """The sentence the user reads for ``note`` (a plain sentence passes unchanged)."""
+    if isinstance(note, Note):
+        return _WORDING[note.code](note.values)
+    return note
+
+
+def worded(notes: Iterable[NoteLike]) -> list[str]:
+    """:func:`word` of each note, in order."""
+    return [word(n) for n in notes]
