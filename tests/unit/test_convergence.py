@@ -17,6 +17,7 @@ from sealeak.cases.convergence import (
     standard_error,
 )
 from sealeak.errors import InputError
+from sealeak.render.notes import worded
 
 L = 5e-3
 GRIDS = np.array([32, 64, 128, 256])
@@ -151,11 +152,11 @@ def test_threshold_is_compared_with_the_published_values(study):
 
 
 def test_flags_say_too_few_realisations_and_two_grids(study, case):
-    flags = " ".join(study.flags)
+    flags = " ".join(worded(study.flags))
     assert "only 2 realisations per grid" in flags
     assert "the threshold: the extrapolation rests on 2 grids" in flags
     one = analyse_convergence(case, [simulate(case, grid=n, realizations=1, seed=7, threshold=False) for n in (32, 48)])
-    text = " ".join(one.flags)
+    text = " ".join(worded(one.flags))
     assert "only 1 realisation per grid: there is no standard error at all" in text
     assert one.threshold_extrapolation is None and not one.comparison
     assert "no percolation threshold at any grid (the search was skipped with --no-threshold" in text
@@ -172,10 +173,10 @@ def test_study_needs_two_grids(case):
 def test_fit_flags_name_what_is_wrong():
     se = [0.01, 0.01, 0.01]
     zigzag = [0.40, 0.46, 0.41]  # not monotonic, and far off any line: χ²/dof = 18 with dof = 1 (p ≈ 2e-5)
-    text = " ".join(_fit_flags("X", extrapolate(A[:3], zigzag, se), zigzag, se))
+    text = " ".join(worded(_fit_flags("X", extrapolate(A[:3], zigzag, se), zigzag, se)))
     assert "do not change in one direction" in text and "does not fit the grids" in text
     flat = [0.420, 0.425, 0.428]  # a change of 0.008 against a standard error of 0.014
-    assert "smaller than its standard error" in " ".join(_fit_flags("X", extrapolate(A[:3], flat, se), flat, se))
+    assert "smaller than its standard error" in " ".join(worded(_fit_flags("X", extrapolate(A[:3], flat, se), flat, se)))
     clean = [0.50, 0.45, 0.425]  # an exact line in a, resolved: nothing to say
     assert _fit_flags("X", extrapolate(A[:3], clean, se), clean, se) == []
 

@@ -24,6 +24,7 @@ from scipy import optimize, stats
 
 from ..errors import InputError
 from .model import Case
+from .notes import Note, NoteLike
 from .options import parse_grid_list
 from .simulation import JUNCTION_CELLS, SimulationResult, simulate
 
@@ -279,7 +280,8 @@ class ConvergenceStudy:
     two grids with a resolved α agree within their combined standard error √(s₁² + s₂²) (None when that
     cannot be judged); the same for the threshold. ``comparison`` sets the finest grid's and the
     extrapolated threshold beside :data:`PUBLISHED_THRESHOLDS`; ``conditions`` says under which conditions
-    (Hurst exponent, system size, resolution); ``flags`` are sentences on what the numbers cannot carry.
+    (Hurst exponent, system size, resolution); ``flags`` say what the numbers cannot carry (notes, worded by
+    :mod:`sealeak.render.notes`).
     """
 
     grids: tuple[int, ...]
@@ -295,7 +297,7 @@ class ConvergenceStudy:
     hurst: float
     rolloff_wavelengths: float
     conditions: str
-    flags: tuple[str, ...]
+    flags: tuple[NoteLike, ...]
 
 
 def convergence_study(case: Case, grids: Iterable[int], *, realizations: int, seed: int, threshold: bool = True,
@@ -385,7 +387,7 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
     pressures = runs[0].squeeze_pressure
     spacing = [g.spacing for g in stats_]
     realizations = min(r.realizations for r in runs)
-    flags: list[str] = []
+    flags: list[NoteLike] = []
 
     alpha_fits: list[Extrapolation | None] = []
     alpha_ok: list[bool | None] = []
@@ -447,12 +449,12 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
                      "cells (marked * per grid) were left out of the extrapolation: they reflect the grid more than "
                      "the seal.")
     if th_x:
-        flags.extend(_fit_flags("the threshold", th_fit, th_x, th_se))
+        flags.extend(_fit_flags("threshold", th_fit, th_x, th_se))
     else:
         flags.append("no percolation threshold at any grid (the search was skipped with --no-threshold, or found none: "
                      "see the notes), so there is nothing to extrapolate or to compare with the published values.")
     if th_ok is False:
-        flags.append(_FIT_SENTENCES["diverging"].format(name="the threshold"))
+        flags.append(Note("extrapolation_doubtful", {"kind": "diverging", "quantity": "threshold"}))
     grouped: dict[str, list[float]] = {}
     for i in range(pressures.size):
         fitted = [g for g in stats_ if np.isfinite(g.alpha[i]) and g.alpha_resolved[i]]
@@ -460,7 +462,7 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
         for kind in kinds + (["diverging"] if alpha_ok[i] is False else []):
             grouped.setdefault(kind, []).append(float(pressures[i]))
     for kind, ps in grouped.items():
-        flags.append(_FIT_SENTENCES[kind].format(name=f"α at {_kpa(ps)}", chi2="far above 1"))
+        flags.append(Note("extrapolation_doubtful", {"kind": kind, "quantity": "alpha", "pressures": tuple(ps)}))
     if comparison and abs(comparison[0].difference) >= 2.0:
         first = comparison[0]
         q_top = finest.q_cut if finest.q_cut is not None else case.spectrum.q_max
@@ -485,25 +487,8 @@ def analyse_convergence(case: Case, results: Sequence[SimulationResult]) -> Conv
                             hurst=hurst, rolloff_wavelengths=n_rolloff, conditions=conditions, flags=tuple(flags))
 
 
-_FIT_SENTENCES = {
-    "none": "{name}: fewer than two grids give a value, so there is no extrapolation.",
-    "two": ("{name}: the extrapolation rests on 2 grids, a straight line through two points with nothing to test it; "
-            "a third grid would check the model."),
-    "non-monotonic": ("{name}: the values do not change in one direction from grid to grid, so a power law in a is not "
-                      "the right model (or the scatter hides the trend); the extrapolated value is not trustworthy."),
-    "chi2": ("{name}: the model X∞ + c·a^p does not fit the grids (χ²/dof {chi2}); its standard error was scaled up, "
-             "but the extrapolation is doubtful."),
-    "diverging": ("{name}: the finest two grids differ by more than their combined standard error, so it has not "
-                  "converged (NOT converged above); the extrapolation leans on the model X∞ + c·a^p, and a finer grid "
-                  "would tell whether it holds."),
-    "unresolved": ("{name}: the change from the coarsest to the finest grid is smaller than its standard error: the "
-                   "trend the extrapolation follows is not resolved, and X∞ is no better determined than the finest "
-                   "grid's value."),
-}
-
-
 def _fit_problems(fit: Extrapolation | None, xs: list[float], ses: list[float]) -> list[str]:
-    """Why an extrapolation is not to be trusted: keys of ``_FIT_SENTENCES`` (none if nothing is wrong)."""
+    """Why an extrapolation is not to be trusted: the ``kind`` of an ``extrapolation_doubtful`` note (none if nothing is wrong)."""
     if fit is None:
         return ["none"] if len(xs) == 1 else []
     out: list[str] = []
@@ -519,16 +504,9 @@ def _fit_problems(fit: Extrapolation | None, xs: list[float], ses: list[float]) 
     return out
 
 
-def _fit_flags(name: str, fit: Extrapolation | None, xs: list[float], ses: list[float]) -> list[str]:
-    """Sentences on why the extrapolation of ``name`` is not to be trusted (none if nothing is wrong)."""
+def _fit_flags(name: str, fit: Extrapolation | None, xs: list[float], ses: list[float]) -> list[Note]:
+    """Notes on why the extrapolation of ``name`` ("threshold") is not to be trusted (none if nothing is wrong)."""
     if fit is None:
-        return [_FIT_SENTENCES["none"].format(name=name, chi2="")]
-    chi2 = f"= {fit.chi2_reduced:.3g}"
-    return [_FIT_SENTENCES[k].format(name=name, chi2=chi2) for k in _fit_problems(fit, xs, ses)]
-
-
-def _kpa(p: list[float]) -> str:
-    """Pressures for a flag: all of a few, else the range."""
-    if len(p) <= 4:
-        return "P0 = " + ", ".join(f"{x / 1e3:.4g}" for x in p) + " kPa"
-    return f"P0 = {min(p) / 1e3:.4g} .. {max(p) / 1e3:.4g} kPa ({len(p)} pressures)"
+        return [Note("extrapolation_doubtful", {"kind": "none", "quantity": name})]
+    return [Note("extrapolation_doubtful", {"kind": k, "quantity": name, "chi2": fit.chi2_reduced})
+            for k in _fit_problems(fit, xs, ses)]

@@ -106,7 +106,7 @@ def convergence_table(case: Case, study: ConvergenceStudy) -> str:
     lines.append("  conditions: " + study.conditions)
     if study.flags:
         lines += ["", "flags (what the numbers above cannot carry):"]
-        lines += [f"  - {f}" for f in study.flags]
+        lines += [f"  - {f}" for f in worded(study.flags)]
     notes = [(r.grid, n) for r in study.results for n in worded(r.notes)]
     if notes:
         lines.append("")
@@ -163,7 +163,7 @@ def convergence_json(case: Case, study: ConvergenceStudy) -> str:
                      "seed": study.results[0].seed, "size": study.size},
         "spread_note": "*_stderr are standard errors of the mean (sd/sqrt(n), n = *_count); *_std standard deviations "
                        "over the realisations (ddof = 1)",
-        "flags": list(study.flags),
+        "flags": worded(study.flags),
         "case": case_summary(case),
     }
     return json_document(doc)

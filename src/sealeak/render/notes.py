@@ -92,12 +92,39 @@ def _band_touches_edge(v: Mapping[str, Any]) -> str:
             "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
 
 
+#: Why an extrapolation a → 0 is not to be trusted, by the note's ``kind``.
+_EXTRAPOLATION_SENTENCES = {
+    "none": "{name}: fewer than two grids give a value, so there is no extrapolation.",
+    "two": ("{name}: the extrapolation rests on 2 grids, a straight line through two points with nothing to test it; "
+            "a third grid would check the model."),
+    "non-monotonic": ("{name}: the values do not change in one direction from grid to grid, so a power law in a is not "
+                      "the right model (or the scatter hides the trend); the extrapolated value is not trustworthy."),
+    "chi2": ("{name}: the model X∞ + c·a^p does not fit the grids (χ²/dof {chi2}); its standard error was scaled up, "
+             "but the extrapolation is doubtful."),
+    "diverging": ("{name}: the finest two grids differ by more than their combined standard error, so it has not "
+                  "converged (NOT converged above); the extrapolation leans on the model X∞ + c·a^p, and a finer grid "
+                  "would tell whether it holds."),
+    "unresolved": ("{name}: the change from the coarsest to the finest grid is smaller than its standard error: the "
+                   "trend the extrapolation follows is not resolved, and X∞ is no better determined than the finest "
+                   "grid's value."),
+}
+
+
+def _extrapolation_doubtful(v: Mapping[str, Any]) -> str:
+    if v["quantity"] == "alpha":
+        name, chi2 = f"α at {kpa_text(v['pressures'])}", "far above 1"
+    else:
+        name, chi2 = f"the {v['quantity']}", f"= {v['chi2']:.3g}" if "chi2" in v else ""
+    return _EXTRAPOLATION_SENTENCES[v["kind"]].format(name=name, chi2=chi2)
+
+
 _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "junction_unresolved": _junction_unresolved,
     "band_junction_unresolved": _band_junction_unresolved,
     "hertz_width_differs": _hertz_width_differs,
     "smooth_check_off": _smooth_check_off,
     "band_touches_edge": _band_touches_edge,
+    "extrapolation_doubtful": _extrapolation_doubtful,
 }
 
 
