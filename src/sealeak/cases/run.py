@@ -24,7 +24,7 @@ from ..io.quantities import quantity, record_fields, units_of
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings
-from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, run_band
+from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
 from .gas import GAS_UNITS, HELIUM_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case
@@ -149,49 +149,31 @@ class CaseResult:
         return [label | {k: _plain(v[i]) for k, v in columns.items()} for i in range(n)]
 
     def _band_records(self, b: BandResult) -> list[dict[str, Any]]:
-        cj, em = b.critical_junction, b.effective_medium
-        values: dict[str, Any] = {
-            b.band.load_name: b.band.loads, "contact_width": b.contact_width, "force_per_length": b.force_per_length,
-            "mean_contact_pressure": b.mean_contact_pressure, "max_contact_pressure": b.max_contact_pressure,
-            "pressure_difference": np.full(len(b), b.pressure_difference), "percolates": cj.percolates,
-            "leak_rate": cj.leak_rate, "leak_rate_uniform_mean_pressure": cj.uniform_mean_pressure,
-            "critical_gap_at_max_pressure": b.critical_gap_at_max_pressure,
-            "resistance_band_width": cj.resistance_band_width, "resistance_peak_position": cj.resistance_peak_position,
-            "lowest_wavevector": b.q0, "integral_relative_change": cj.change,
-        }
+        columns: dict[str, Any] = {b.band.load_name: b.band.loads}
         if b.band.oring is not None:
-            values["regime"] = b.band.oring.regime
+            columns["regime"] = b.band.oring.regime
+        columns |= record_fields(b.columns()) | self._verdicts(_VERDICTS)
+        em = b.effective_medium_columns()
         if em is not None:
-            values |= {"percolates_effective_medium": em.percolates, "leak_rate_effective_medium": em.leak_rate,
-                       "leak_rate_effective_medium_uniform_mean_pressure": em.uniform_mean_pressure,
-                       "resistance_band_width_effective_medium": em.resistance_band_width,
-                       "integral_relative_change_effective_medium": em.change}
-        values |= self._gas_fields()
-        out = []
-        for i in range(len(b)):
-            rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
-            for key in self.units:
-                if key == "valid":
-                    rec[key] = bool(self.valid[i])
-                elif key == "validity":
-                    rec[key] = self.validity[i]
-                elif key == "valid_effective_medium" and self.valid_effective_medium is not None:
-                    rec[key] = bool(self.valid_effective_medium[i])
-                elif key == "validity_effective_medium" and self.validity_effective_medium is not None:
-                    rec[key] = self.validity_effective_medium[i]
-                else:
-                    v = values[key][i]
-                    rec[key] = bool(v) if isinstance(v, np.bool_) else v if isinstance(v, str) else float(v)
-            out.append(rec)
-        return out
+            columns |= record_fields(em) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
+        return self._rows(columns | self._gas_fields(), len(b))
+
+
+def _verdict_units(names: tuple[str, ...]) -> dict[str, str]:
+    """The units of :class:`CaseResult`'s verdict fields ``names``."""
+    return {k: u for k, u in units_of(CaseResult).items() if k in names}
 
 
 #: SI unit of every field of a critical-junction result record (JSON ``units``, CSV headers), from the fields' declarations.
-RESULT_UNITS: dict[str, str] = units_of(CriticalJunctionResult) | {
-    k: u for k, u in units_of(CaseResult).items() if k in _VERDICTS}
+RESULT_UNITS: dict[str, str] = units_of(CriticalJunctionResult) | _verdict_units(_VERDICTS)
 #: SI unit of the effective-medium fields (added to a record when the case asks for that model).
-EFFECTIVE_MEDIUM_UNITS: dict[str, str] = units_of(EffectiveMediumResult) | {
-    k: u for k, u in units_of(CaseResult).items() if k in _VERDICTS_EFFECTIVE_MEDIUM}
+EFFECTIVE_MEDIUM_UNITS: dict[str, str] = units_of(EffectiveMediumResult) | _verdict_units(_VERDICTS_EFFECTIVE_MEDIUM)
+
+
+#: SI unit of every field of a band record (JSON ``units``, CSV headers); the load's key (and an O-ring's regime) lead.
+BAND_UNITS: dict[str, str] = units_of(BandColumns) | _verdict_units(_VERDICTS)
+#: SI unit of a band record's effective-medium fields (added when the case asks for that model).
+BAND_EFFECTIVE_MEDIUM_UNITS: dict[str, str] = units_of(BandEffectiveMediumColumns) | _verdict_units(_VERDICTS_EFFECTIVE_MEDIUM)
 
 
 def _plain(v: Any) -> Any:
