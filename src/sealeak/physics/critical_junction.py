@@ -54,7 +54,7 @@ def poiseuille_leak_rate(gap: ArrayLike, pressure_difference: ArrayLike, viscosi
     return alpha * aspect_ratio * np.asarray(gap, dtype=float) ** 3 * np.asarray(pressure_difference) / (12.0 * viscosity)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CriticalJunctionResult:
     """Critical-junction prediction over a sweep of squeeze pressures (arrays of equal length, SI units).
 

@@ -467,7 +467,7 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 
     return gaps, weights
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class EffectiveMediumResult:
     """Effective-medium prediction over a sweep of squeeze pressures (arrays of equal length, SI units).
 
