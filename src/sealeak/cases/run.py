@@ -38,7 +38,7 @@ _VERDICTS = ("valid", "validity")
 _VERDICTS_EFFECTIVE_MEDIUM = ("valid_effective_medium", "validity_effective_medium")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CaseResult:
     """Everything a front end shows for one case (SI units throughout).
 
@@ -197,8 +197,10 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
         messages += ["effective medium: " + m for m in em.messages]
     valid, validity, valid_em, validity_em = _uniform_verdicts(case, res, em)
     gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
+    return CaseResult(case=case, critical_junction=res, effective_medium=em, rig=rig_result, messages=tuple(messages),
+                      valid=valid, validity=validity, valid_effective_medium=valid_em,
+                      validity_effective_medium=validity_em,
+                      warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
@@ -216,5 +218,6 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     gas = _band_gas(case, band) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band, gas)
+    return CaseResult(case=case, critical_junction=res, rig=rig_result, messages=tuple(messages), valid=valid,
+                      validity=validity, valid_effective_medium=valid_em, validity_effective_medium=validity_em,
+                      warnings=case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band=band, gas=gas)
