@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..physics.contact import PerssonContact
 from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
@@ -34,7 +35,8 @@ from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_ba
 from .model import BandSeal, Case
 from .schema import case_keys
 
-__all__ = ["BandResult", "BandTheory", "run_band", "band_conductance", "BAND_UNITS"]
+__all__ = ["BandResult", "BandTheory", "run_band", "band_conductance", "BandColumns",
+           "BandEffectiveMediumColumns"]
 
 FloatArray = NDArray[np.float64]
 
@@ -44,33 +46,37 @@ TABLE_FLOOR = 1e-3
 TABLE_POINTS = (9, 33)
 TABLE_RTOL = 1e-5
 
-#: SI unit of every field of a band record (JSON ``units``, CSV headers); the load's key is added.
-BAND_UNITS: dict[str, str] = {
-    "contact_width": "m",
-    "force_per_length": "N/m",
-    "mean_contact_pressure": "Pa",
-    "max_contact_pressure": "Pa",
-    "pressure_difference": "Pa",
-    "percolates": "1",
-    "leak_rate": "m^3/s",
-    "leak_rate_uniform_mean_pressure": "m^3/s",
-    "critical_gap_at_max_pressure": "m",
-    "resistance_band_width": "m",
-    "resistance_peak_position": "m",
-    "lowest_wavevector": "1/m",
-    "integral_relative_change": "1",
-    "valid": "1",
-    "validity": "",
-}
-BAND_EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
-    "percolates_effective_medium": "1",
-    "leak_rate_effective_medium": "m^3/s",
-    "leak_rate_effective_medium_uniform_mean_pressure": "m^3/s",
-    "resistance_band_width_effective_medium": "m",
-    "integral_relative_change_effective_medium": "1",
-    "valid_effective_medium": "1",
-    "validity_effective_medium": "",
-}
+@dataclass(frozen=True, kw_only=True)
+class BandColumns:
+    """The record columns of a band seal's critical-junction result, one value per load (JSON ``results``, CSV)."""
+
+    contact_width: FloatArray = quantity("m", "contact width w of the load's pressure profile")
+    force_per_length: FloatArray = quantity("N/m", "force per length f = ∫p dx")
+    mean_contact_pressure: FloatArray = quantity("Pa", "mean contact pressure f/w")
+    max_contact_pressure: FloatArray = quantity("Pa", "highest contact pressure p_max")
+    pressure_difference: FloatArray = quantity("Pa", "pressure difference across the seal")
+    percolates: NDArray[np.bool_] = quantity("1", "the strip at p_max percolates (a leak channel exists)")
+    leak_rate: FloatArray = quantity("m^3/s", "leak rate Q through the band (strips in series)")
+    leak_rate_uniform_mean_pressure: FloatArray = quantity("m^3/s", "leak rate of a uniform pressure equal to the mean")
+    critical_gap_at_max_pressure: FloatArray = quantity("m", "critical gap u_c where the pressure is highest")
+    resistance_band_width: FloatArray = quantity("m", "width of the narrowest part of the band holding 90 % of R")
+    resistance_peak_position: FloatArray = quantity("m", "position where 1/σ is largest")
+    lowest_wavevector: FloatArray = quantity("1/m", "q0 of the load")
+    integral_relative_change: FloatArray = quantity("1", "estimated relative error of the resistance R")
+
+
+@dataclass(frozen=True, kw_only=True)
+class BandEffectiveMediumColumns:
+    """The record columns of a band seal's effective-medium result, one value per load (with the case's model)."""
+
+    percolates_effective_medium: NDArray[np.bool_] = quantity("1", "the effective medium conducts at p_max")
+    leak_rate_effective_medium: FloatArray = quantity("m^3/s", "effective-medium leak rate Q through the band")
+    leak_rate_effective_medium_uniform_mean_pressure: FloatArray = quantity(
+        "m^3/s", "effective-medium leak rate of a uniform pressure equal to the mean")
+    resistance_band_width_effective_medium: FloatArray = quantity(
+        "m", "width of the narrowest part of the band holding 90 % of the effective medium's R")
+    integral_relative_change_effective_medium: FloatArray = quantity(
+        "1", "estimated relative error of the effective medium's R")
 
 
 @dataclass(frozen=True)
@@ -147,6 +153,29 @@ class BandResult:
 
     def __len__(self) -> int:
         return int(self.band.loads.size)
+
+    def columns(self) -> BandColumns:
+        """The critical-junction record columns per load."""
+        cj = self.critical_junction
+        return BandColumns(
+            contact_width=self.contact_width, force_per_length=self.force_per_length,
+            mean_contact_pressure=self.mean_contact_pressure, max_contact_pressure=self.max_contact_pressure,
+            pressure_difference=np.full(len(self), self.pressure_difference), percolates=cj.percolates,
+            leak_rate=cj.leak_rate, leak_rate_uniform_mean_pressure=cj.uniform_mean_pressure,
+            critical_gap_at_max_pressure=self.critical_gap_at_max_pressure,
+            resistance_band_width=cj.resistance_band_width, resistance_peak_position=cj.resistance_peak_position,
+            lowest_wavevector=self.q0, integral_relative_change=cj.change)
+
+    def effective_medium_columns(self) -> BandEffectiveMediumColumns | None:
+        """The effective-medium record columns per load (None when the case does not ask for that model)."""
+        em = self.effective_medium
+        if em is None:
+            return None
+        return BandEffectiveMediumColumns(
+            percolates_effective_medium=em.percolates, leak_rate_effective_medium=em.leak_rate,
+            leak_rate_effective_medium_uniform_mean_pressure=em.uniform_mean_pressure,
+            resistance_band_width_effective_medium=em.resistance_band_width,
+            integral_relative_change_effective_medium=em.change)
 
     def local_critical_gap(self, i: int, alpha: float, viscosity: float) -> FloatArray:
         """u_c(x) = (12 η σ(x)/α)^(1/3) (m) on the points of load ``i``'s critical-junction quadrature."""

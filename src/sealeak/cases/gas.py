@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..io.leak_units import to_mbar_l_per_s, to_sccm
+from ..io.quantities import quantity, record_fields, units_of
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral
@@ -24,21 +25,34 @@ from .model import Case
 from .prediction import FloatArray, _band_effective_gap
 from .schema import case_keys
 
-__all__ = ["GasRows", "gas_rows", "GAS_UNITS", "HELIUM_UNITS", "HELIUM_TEST", "helium_test_gas", "gas_throughput"]
+__all__ = ["GasRows", "GasColumns", "HeliumColumns", "gas_rows", "GAS_UNITS", "HELIUM_UNITS", "HELIUM_TEST", "helium_test_gas", "gas_throughput"]
 
-#: SI unit of the gas fields of a record (a gas case); the effective medium's carry the suffix ``_effective_medium``.
-GAS_UNITS: dict[str, str] = {
-    "knudsen_number": "1",
-    "flow_regime": "",
-    "leak_rate_pv": "Pa*m^3/s",
-    "leak_rate_mbar_l_s": "mbar*l/s",
-    "leak_rate_mass": "kg/s",
-    "leak_rate_molar": "mol/s",
-    "leak_rate_sccm": "sccm",
-}
+@dataclass(frozen=True, kw_only=True)
+class GasColumns:
+    """The gas record columns of one theory, one value per row (a gas case); the effective medium's keys carry the
+    suffix ``_effective_medium``."""
 
-#: SI unit of the helium-equivalent fields (a gas case, or a liquid with ``conditions.helium_equivalent``).
-HELIUM_UNITS: dict[str, str] = {"leak_rate_helium_pv": "Pa*m^3/s", "leak_rate_helium_mbar_l_s": "mbar*l/s"}
+    knudsen_number: FloatArray = quantity("1", "Knudsen number λ/h at the mean pressure")
+    flow_regime: list[str] = quantity("", "flow regime named by the Knudsen number")
+    leak_rate_pv: FloatArray = quantity("Pa*m^3/s", "pV throughput of the gas at its temperature")
+    leak_rate_mbar_l_s: FloatArray = quantity("mbar*l/s", "pV throughput in mbar·l/s")
+    leak_rate_mass: FloatArray = quantity("kg/s", "mass flow")
+    leak_rate_molar: FloatArray = quantity("mol/s", "molar flow")
+    leak_rate_sccm: FloatArray = quantity("sccm", "standard volume flow")
+
+
+@dataclass(frozen=True, kw_only=True)
+class HeliumColumns:
+    """The helium-equivalent record columns (a gas case, or a liquid with ``conditions.helium_equivalent``)."""
+
+    leak_rate_helium_pv: FloatArray = quantity("Pa*m^3/s", "helium leak in the standard test (1 bar against vacuum, 20 °C)")
+    leak_rate_helium_mbar_l_s: FloatArray = quantity("mbar*l/s", "helium leak in the standard test in mbar·l/s")
+
+
+#: SI unit of the gas fields of a record, from :class:`GasColumns`.
+GAS_UNITS: dict[str, str] = units_of(GasColumns)
+#: SI unit of the helium-equivalent fields, from :class:`HeliumColumns`.
+HELIUM_UNITS: dict[str, str] = units_of(HeliumColumns)
 
 #: The standard helium leak test: helium at 1 bar (absolute) against vacuum, 20 °C (docs/theory.md §11.9).
 HELIUM_TEST = {"upstream_pressure": 1e5, "downstream_pressure": 0.0, "temperature": 293.15}
@@ -85,12 +99,13 @@ class GasRows:
 
             pv = pick("throughput")
             molar = pick("molar_flow")
-            out |= {"knudsen_number": np.array([g.knudsen_mean if g is not None else np.nan for g in self.leaks]),
-                    "flow_regime": [g.regime if g is not None else "" for g in self.leaks],
-                    "leak_rate_pv": pv, "leak_rate_mbar_l_s": to_mbar_l_per_s(pv), "leak_rate_mass": pick("mass_flow"),
-                    "leak_rate_molar": molar, "leak_rate_sccm": to_sccm(molar)}
+            out |= record_fields(GasColumns(
+                knudsen_number=pick("knudsen_mean"), flow_regime=[g.regime if g is not None else "" for g in self.leaks],
+                leak_rate_pv=pv, leak_rate_mbar_l_s=to_mbar_l_per_s(pv), leak_rate_mass=pick("mass_flow"),
+                leak_rate_molar=molar, leak_rate_sccm=to_sccm(molar)))
         if self.helium is not None:
-            out |= {"leak_rate_helium_pv": self.helium, "leak_rate_helium_mbar_l_s": to_mbar_l_per_s(self.helium)}
+            out |= record_fields(HeliumColumns(leak_rate_helium_pv=self.helium,
+                                               leak_rate_helium_mbar_l_s=to_mbar_l_per_s(self.helium)))
         return {k + suffix: v for k, v in out.items()}
 
 

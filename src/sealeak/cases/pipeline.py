@@ -40,6 +40,8 @@ from .._version import __version__
 from ..errors import InputError
 from ..io.fieldstore import TaskFields
 from ..io.files import OutputWriteError, check_replaceable
+from ..io.leak_units import to_mbar_l_per_s
+from ..io.quantities import quantity
 from ..physics.gas import MOLAR_GAS_CONSTANT
 from ..physics.spectrum import PowerSpectrum
 from .gas import gas_rows
@@ -48,7 +50,7 @@ from .model import Case, GasConditions
 from .notes import NoteLike
 from .options import grid_number, seed_number
 
-__all__ = ["Geometry", "run_ensemble", "TaskSpec", "Records", "Flows", "GasSimulation", "compute_task", "cut_spectrum",
+__all__ = ["Geometry", "junction_resolved", "run_ensemble", "TaskSpec", "Records", "Flows", "GasSimulation", "compute_task", "cut_spectrum",
            "resolved_spectrum_cut", "mean_std", "ratio", "gas_part", "gas_identity", "pack_mask", "unpack_mask",
            "task_memory_bytes", "TASK_BASE_BYTES", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS", "FlowMethod",
            "StagedFolder"]
@@ -56,6 +58,11 @@ __all__ = ["Geometry", "run_ensemble", "TaskSpec", "Records", "Flows", "GasSimul
 POINTS_PER_WAVELENGTH = 4
 #: Grid cells the critical wavelength λc must span for α to describe the seal rather than the grid.
 JUNCTION_CELLS = 8
+
+
+def junction_resolved(junction_cells: FloatArray) -> tuple[bool | None, ...]:
+    """Per row: the theory's λc spans at least :data:`JUNCTION_CELLS` grid cells (None where it has no junction)."""
+    return tuple(bool(c >= JUNCTION_CELLS) if np.isfinite(c) else None for c in junction_cells)
 FloatArray = NDArray[np.float64]
 #: The Reynolds solver's method (:func:`sealeak.numerics.solve_flow`).
 FlowMethod = Literal["auto", "direct", "amg"]
@@ -419,7 +426,7 @@ def ratio(perc: NDArray[np.bool_], q: FloatArray, theory: FloatArray) -> FloatAr
         return np.where(ok, q / np.where(ok, theory[None, :], 1.0), np.nan)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GasSimulation:
     """The gas leak of a gas case, per squeeze pressure (SI units; docs/theory.md §11.10).
 
@@ -455,18 +462,24 @@ class GasSimulation:
     upstream_pressure: float
     downstream_pressure: float
     rarefaction: str
-    throughput: FloatArray
-    throughput_std: FloatArray
-    mass_flow: FloatArray
-    mass_flow_std: FloatArray
-    molar_flow: FloatArray
-    slip_gain: FloatArray
-    throughput_critical_junction: FloatArray
-    knudsen_critical_junction: FloatArray
-    regime_critical_junction: tuple[str, ...]
-    alpha: FloatArray
-    alpha_std: FloatArray
-    iterations: NDArray[np.int64]
+    knudsen_critical_junction: FloatArray = quantity("1", "Knudsen number λ/u_c at the mean pressure",
+                                                     key="knudsen_number")
+    regime_critical_junction: tuple[str, ...] = quantity("", "flow regime at u_c", key="flow_regime")
+    throughput: FloatArray = quantity("Pa*m^3/s", "pV throughput Q_pV, counted at T", key="leak_rate_pv")
+    throughput_std: FloatArray = quantity("Pa*m^3/s", "standard deviation of Q_pV", key="leak_rate_pv_std")
+    throughput_mbar_l_s: FloatArray = quantity("mbar*l/s", "Q_pV in mbar·l/s", key="leak_rate_mbar_l_s", init=False)
+    mass_flow: FloatArray = quantity("kg/s", "mass flow Q_pV/(R_s T)", key="leak_rate_mass")
+    mass_flow_std: FloatArray = quantity("kg/s", "standard deviation of the mass flow", key="leak_rate_mass_std")
+    molar_flow: FloatArray = quantity("mol/s", "molar flow Q_pV/(R T)", key="leak_rate_molar")
+    slip_gain: FloatArray = quantity("1", "Q_pV over the same flow without rarefaction")
+    throughput_critical_junction: FloatArray = quantity("Pa*m^3/s", "the theory's gas leak with α = 1",
+                                                        key="leak_rate_pv_critical_junction")
+    alpha: FloatArray = quantity("1", "α_gas = Q_pV over the theory's", key="alpha_gas")
+    alpha_std: FloatArray = quantity("1", "standard deviation of α_gas", key="alpha_gas_std")
+    iterations: NDArray[np.int64] = quantity("1", "most fixed-point iterations of any realisation", key="gas_iterations")
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "throughput_mbar_l_s", to_mbar_l_per_s(self.throughput))
 
 
 def gas_part(case: Case, q_theory: FloatArray, u_c: FloatArray, flows: Flows) -> tuple[GasSimulation | None, dict[str, Any]]:

@@ -14,16 +14,17 @@ in :mod:`sealeak.cases.verdicts`, the gas rows in :mod:`sealeak.cases.gas` and t
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..io.quantities import quantity, record_fields, units_of
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings
-from .band import BAND_EFFECTIVE_MEDIUM_UNITS, BAND_UNITS, BandResult, run_band
+from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
 from .gas import GAS_UNITS, HELIUM_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case
@@ -33,37 +34,11 @@ from .verdicts import _band_verdicts, _uniform_verdicts, case_warnings
 
 __all__ = ["CaseResult", "run_case", "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS"]
 
-#: SI unit of every field of a critical-junction result record (JSON ``units``, CSV headers).
-RESULT_UNITS: dict[str, str] = {
-    "squeeze_pressure": "Pa",
-    "pressure_difference": "Pa",
-    "percolates": "1",
-    "critical_magnification": "1",
-    "critical_gap": "m",
-    "critical_wavelength": "m",
-    "leak_rate": "m^3/s",
-    "contact_area_at_cutoff": "1",
-    "valid": "1",
-    "validity": "",
-}
-
-#: SI unit of the effective-medium fields (added to a record when the case asks for that model).
-EFFECTIVE_MEDIUM_UNITS: dict[str, str] = {
-    "percolates_effective_medium": "1",
-    "effective_conductivity": "m^3/(Pa*s)",
-    "effective_gap": "m",
-    "leak_rate_effective_medium": "m^3/s",
-    "mean_gap": "m",
-    "gap_distribution_mean": "m",
-    "valid_effective_medium": "1",
-    "validity_effective_medium": "",
-}
-_EM_ATTR = {"percolates_effective_medium": "percolates", "effective_conductivity": "effective_conductivity",
-            "effective_gap": "effective_gap", "leak_rate_effective_medium": "leak_rate", "mean_gap": "mean_gap",
-            "gap_distribution_mean": "gap_distribution_mean"}
+_VERDICTS = ("valid", "validity")
+_VERDICTS_EFFECTIVE_MEDIUM = ("valid_effective_medium", "validity_effective_medium")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CaseResult:
     """Everything a front end shows for one case (SI units throughout).
 
@@ -105,10 +80,13 @@ class CaseResult:
     effective_medium: EffectiveMediumResult | None = None
     rig: RigPrediction | DecayPrediction | None = None
     messages: tuple[str, ...] = ()
-    valid: NDArray[np.bool_] = field(default_factory=lambda: np.ones(0, dtype=bool))
-    validity: tuple[str, ...] = ()
-    valid_effective_medium: NDArray[np.bool_] | None = None
-    validity_effective_medium: tuple[str, ...] | None = None
+    valid: NDArray[np.bool_] = quantity("1", "the critical gap is above the fluid's molecular size (continuum flow)",
+                                        default_factory=lambda: np.ones(0, dtype=bool))
+    validity: tuple[str, ...] = quantity("", "why the result is not valid ('' where valid)", default=())
+    valid_effective_medium: NDArray[np.bool_] | None = quantity(
+        "1", "the effective gap is above the fluid's molecular size", default=None)
+    validity_effective_medium: tuple[str, ...] | None = quantity(
+        "", "why the effective-medium result is not valid ('' where valid)", default=None)
     warnings: tuple[str, ...] = ()
     band: BandResult | None = None
     gas: dict[str, GasRows] | None = None
@@ -151,63 +129,51 @@ class CaseResult:
             return self.valid_effective_medium
         return self.valid
 
+    def _verdicts(self, names: tuple[str, ...]) -> dict[str, Any]:
+        """The verdict columns ``names`` (:data:`RESULT_UNITS`' or :data:`EFFECTIVE_MEDIUM_UNITS`' last two)."""
+        return {k: v for k, v in record_fields(self).items() if k in names}
+
     def records(self) -> list[dict[str, Any]]:
         """One dict per squeeze pressure with the fields of :attr:`units` (SI values; NaN kept)."""
         if self.band is not None:
             return self._band_records(self.band)
-        res, em = self.critical_junction, self.effective_medium
-        gas = self._gas_fields()
-        out = []
-        for i in range(len(res)):
-            rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
-            for key in RESULT_UNITS:
-                rec[key] = bool(self.valid[i]) if key == "valid" else self.validity[i] if key == "validity" else getattr(res, key)[i]
-            if em is not None and self.valid_effective_medium is not None and self.validity_effective_medium is not None:
-                for key, attr in _EM_ATTR.items():
-                    rec[key] = getattr(em, attr)[i]
-                rec["valid_effective_medium"] = bool(self.valid_effective_medium[i])
-                rec["validity_effective_medium"] = self.validity_effective_medium[i]
-            rec |= {k: _plain(v[i]) for k, v in gas.items()}
-            out.append(rec)
-        return out
+        columns = record_fields(self.critical_junction) | self._verdicts(_VERDICTS)
+        if self.effective_medium is not None and self.valid_effective_medium is not None:
+            columns |= record_fields(self.effective_medium) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
+        columns |= self._gas_fields()
+        return self._rows(columns, len(self.critical_junction))
 
+    def _rows(self, columns: dict[str, Any], n: int) -> list[dict[str, Any]]:
+        """One record per row from ``columns`` (record key: values per row), led by the variant's label."""
+        label = {"variant": self.case.label} if self.case.label else {}
+        return [label | {k: _plain(v[i]) for k, v in columns.items()} for i in range(n)]
 
     def _band_records(self, b: BandResult) -> list[dict[str, Any]]:
-        cj, em = b.critical_junction, b.effective_medium
-        values: dict[str, Any] = {
-            b.band.load_name: b.band.loads, "contact_width": b.contact_width, "force_per_length": b.force_per_length,
-            "mean_contact_pressure": b.mean_contact_pressure, "max_contact_pressure": b.max_contact_pressure,
-            "pressure_difference": np.full(len(b), b.pressure_difference), "percolates": cj.percolates,
-            "leak_rate": cj.leak_rate, "leak_rate_uniform_mean_pressure": cj.uniform_mean_pressure,
-            "critical_gap_at_max_pressure": b.critical_gap_at_max_pressure,
-            "resistance_band_width": cj.resistance_band_width, "resistance_peak_position": cj.resistance_peak_position,
-            "lowest_wavevector": b.q0, "integral_relative_change": cj.change,
-        }
+        columns: dict[str, Any] = {b.band.load_name: b.band.loads}
         if b.band.oring is not None:
-            values["regime"] = b.band.oring.regime
+            columns["regime"] = b.band.oring.regime
+        columns |= record_fields(b.columns()) | self._verdicts(_VERDICTS)
+        em = b.effective_medium_columns()
         if em is not None:
-            values |= {"percolates_effective_medium": em.percolates, "leak_rate_effective_medium": em.leak_rate,
-                       "leak_rate_effective_medium_uniform_mean_pressure": em.uniform_mean_pressure,
-                       "resistance_band_width_effective_medium": em.resistance_band_width,
-                       "integral_relative_change_effective_medium": em.change}
-        values |= self._gas_fields()
-        out = []
-        for i in range(len(b)):
-            rec: dict[str, Any] = {"variant": self.case.label} if self.case.label else {}
-            for key in self.units:
-                if key == "valid":
-                    rec[key] = bool(self.valid[i])
-                elif key == "validity":
-                    rec[key] = self.validity[i]
-                elif key == "valid_effective_medium" and self.valid_effective_medium is not None:
-                    rec[key] = bool(self.valid_effective_medium[i])
-                elif key == "validity_effective_medium" and self.validity_effective_medium is not None:
-                    rec[key] = self.validity_effective_medium[i]
-                else:
-                    v = values[key][i]
-                    rec[key] = bool(v) if isinstance(v, np.bool_) else v if isinstance(v, str) else float(v)
-            out.append(rec)
-        return out
+            columns |= record_fields(em) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
+        return self._rows(columns | self._gas_fields(), len(b))
+
+
+def _verdict_units(names: tuple[str, ...]) -> dict[str, str]:
+    """The units of :class:`CaseResult`'s verdict fields ``names``."""
+    return {k: u for k, u in units_of(CaseResult).items() if k in names}
+
+
+#: SI unit of every field of a critical-junction result record (JSON ``units``, CSV headers), from the fields' declarations.
+RESULT_UNITS: dict[str, str] = units_of(CriticalJunctionResult) | _verdict_units(_VERDICTS)
+#: SI unit of the effective-medium fields (added to a record when the case asks for that model).
+EFFECTIVE_MEDIUM_UNITS: dict[str, str] = units_of(EffectiveMediumResult) | _verdict_units(_VERDICTS_EFFECTIVE_MEDIUM)
+
+
+#: SI unit of every field of a band record (JSON ``units``, CSV headers); the load's key (and an O-ring's regime) lead.
+BAND_UNITS: dict[str, str] = units_of(BandColumns) | _verdict_units(_VERDICTS)
+#: SI unit of a band record's effective-medium fields (added when the case asks for that model).
+BAND_EFFECTIVE_MEDIUM_UNITS: dict[str, str] = units_of(BandEffectiveMediumColumns) | _verdict_units(_VERDICTS_EFFECTIVE_MEDIUM)
 
 
 def _plain(v: Any) -> Any:
@@ -231,8 +197,10 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
         messages += ["effective medium: " + m for m in em.messages]
     valid, validity, valid_em, validity_em = _uniform_verdicts(case, res, em)
     gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, em, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
+    return CaseResult(case=case, critical_junction=res, effective_medium=em, rig=rig_result, messages=tuple(messages),
+                      valid=valid, validity=validity, valid_effective_medium=valid_em,
+                      validity_effective_medium=validity_em,
+                      warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
@@ -250,5 +218,6 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     gas = _band_gas(case, band) if case.gas is not None or case.helium_equivalent else None
-    return CaseResult(case, res, None, rig_result, tuple(messages), valid, validity, valid_em, validity_em,
-                      case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band, gas)
+    return CaseResult(case=case, critical_junction=res, rig=rig_result, messages=tuple(messages), valid=valid,
+                      validity=validity, valid_effective_medium=valid_em, validity_effective_medium=validity_em,
+                      warnings=case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band=band, gas=gas)

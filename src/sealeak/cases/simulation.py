@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 from scipy import special
 
 from .. import numerics
+from ..io.quantities import quantity
 from ..physics.spectrum import PowerSpectrum
 from .model import Case
 from .notes import Note, NoteLike
@@ -52,6 +53,7 @@ from .pipeline import (
     cut_spectrum,
     gas_identity,
     gas_part,
+    junction_resolved,
     keep_load,
     mean_std,
     new_record,
@@ -72,7 +74,7 @@ __all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_c
 
 FloatArray = NDArray[np.float64]
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SimulationResult:
     """Per-pressure statistics over realisations (SI units). Arrays have one entry per pressure.
 
@@ -86,32 +88,37 @@ class SimulationResult:
     the incompressible formula with the gas's viscosity.
     """
 
-    squeeze_pressure: FloatArray
-    pressure_difference: float
-    relative_contact_area: FloatArray
-    relative_contact_area_std: FloatArray
-    relative_contact_area_theory: FloatArray
-    mean_gap: FloatArray
-    mean_gap_std: FloatArray
-    percolating_fraction: FloatArray
-    leak_rate: FloatArray
-    leak_rate_std: FloatArray
-    leak_rate_critical_junction: FloatArray
-    alpha: FloatArray
-    alpha_std: FloatArray
-    percolation_threshold: float
-    percolation_threshold_std: float
+    squeeze_pressure: FloatArray = quantity("Pa", "nominal squeeze pressure P0")
+    relative_contact_area: FloatArray = quantity("1", "relative contact area A/A0, mean over realisations")
+    relative_contact_area_std: FloatArray = quantity("1", "standard deviation of A/A0")
+    relative_contact_area_theory: FloatArray = quantity("1", "A/A0 of Persson's theory")
+    mean_gap: FloatArray = quantity("m", "mean gap ū")
+    mean_gap_std: FloatArray = quantity("m", "standard deviation of ū")
+    percolating_fraction: FloatArray = quantity("1", "fraction of realisations in which fluid crosses the square")
+    leak_rate: FloatArray = quantity("m^3/s", "simulated leak rate Q of the seal")
+    leak_rate_std: FloatArray = quantity("m^3/s", "standard deviation of Q")
+    leak_rate_critical_junction: FloatArray = quantity("m^3/s", "critical-junction leak rate with α = 1")
+    alpha: FloatArray = quantity("1", "α = Q over the critical-junction Q, over the percolating realisations")
+    alpha_std: FloatArray = quantity("1", "standard deviation of α")
+    junction_cells: FloatArray = quantity("1", "grid cells across the theory's critical wavelength λc",
+                                          default_factory=lambda: np.empty(0))
+    junction_resolved: tuple[bool | None, ...] = quantity("1", "λc spans enough grid cells for α", init=False)
+    percolation_threshold: float = quantity("1", "A/A0 at which the non-contact area stops percolating")
+    percolation_threshold_std: float = quantity("1", "standard deviation of the percolation threshold")
+    pressure_difference: float = quantity("Pa", "pressure difference across the seal")
+    size: float = quantity("m", "side of the simulated square")
     grid: int
     realizations: int
     seed: int
-    size: float
     q_cut: float | None
     notes: tuple[NoteLike, ...] = ()
     spectrum_note: str = ""
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)  # realisation 0
-    junction_cells: FloatArray = field(default_factory=lambda: np.empty(0))
     gas: GasSimulation | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "junction_resolved", junction_resolved(self.junction_cells))
 
 
 def simulate(

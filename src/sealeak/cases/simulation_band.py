@@ -48,6 +48,7 @@ from numpy.typing import NDArray
 
 from .. import numerics
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..physics.profile import PressureProfile
 from ..physics.spectrum import PowerSpectrum
 from .band import BandResult, run_band
@@ -63,6 +64,7 @@ from .pipeline import (
     TaskSpec,
     cut_spectrum,
     gas_part,
+    junction_resolved,
     keep_load,
     mean_std,
     new_record,
@@ -86,7 +88,7 @@ AT_END_CELLS = 1.05 * POINTS_PER_WAVELENGTH
 HERTZ_TOL = 0.01
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BandSimulationResult:
     """An O-ring's numerically exact leak rate per compression (SI units; arrays have one entry per load).
 
@@ -133,37 +135,38 @@ class BandSimulationResult:
 
     load_name: str
     loads: FloatArray
-    force_per_length: FloatArray
-    model_contact_width: FloatArray
-    model_max_pressure: FloatArray
-    hertz_contact_width: FloatArray
-    hertz_max_pressure: FloatArray
-    smooth_contact_width: FloatArray
-    smooth_max_pressure: FloatArray
-    smooth_width_error: FloatArray
-    smooth_pressure_error: FloatArray
-    contact_width: FloatArray
-    contact_width_std: FloatArray
-    relative_contact_area: FloatArray
-    relative_contact_area_std: FloatArray
-    percolating_fraction: FloatArray
-    leak_rate: FloatArray
-    leak_rate_std: FloatArray
-    leak_rate_series_resistance: FloatArray
-    alpha: FloatArray
-    alpha_std: FloatArray
-    junction_cells: FloatArray
-    pressure_difference: float
+    force_per_length: FloatArray = quantity("N/m", "force per length of seal line")
+    model_contact_width: FloatArray = quantity("m", "contact width of the case's O-ring relation")
+    model_max_pressure: FloatArray = quantity("Pa", "peak pressure of the case's O-ring relation")
+    hertz_contact_width: FloatArray = quantity("m", "Hertz line contact width 2b")
+    hertz_max_pressure: FloatArray = quantity("Pa", "Hertz peak pressure")
+    smooth_contact_width: FloatArray = quantity("m", "contact width of the solver without roughness")
+    smooth_max_pressure: FloatArray = quantity("Pa", "peak pressure of the solver without roughness")
+    smooth_width_error: FloatArray = quantity("1", "smooth contact width over Hertz's, minus 1")
+    smooth_pressure_error: FloatArray = quantity("1", "smooth peak pressure over Hertz's, minus 1")
+    contact_width: FloatArray = quantity("m", "extent across the band of the rough contact")
+    contact_width_std: FloatArray = quantity("m", "standard deviation of the rough contact width")
+    relative_contact_area: FloatArray = quantity("1", "fraction of the Hertz band in contact")
+    relative_contact_area_std: FloatArray = quantity("1", "standard deviation of that fraction")
+    percolating_fraction: FloatArray = quantity("1", "fraction of realisations in which fluid crosses the band")
+    leak_rate: FloatArray = quantity("m^3/s", "simulated leak rate Q_num of the seal")
+    leak_rate_std: FloatArray = quantity("m^3/s", "standard deviation of Q_num")
+    leak_rate_series_resistance: FloatArray = quantity("m^3/s", "series-resistance leak rate Q_sr with α = 1")
+    alpha: FloatArray = quantity("1", "α = Q_num/Q_sr over the percolating realisations")
+    alpha_std: FloatArray = quantity("1", "standard deviation of α")
+    junction_cells: FloatArray = quantity("1", "grid cells across λc where the pressure is highest")
+    junction_resolved: tuple[bool | None, ...] = quantity("1", "λc spans enough grid cells for α", init=False)
+    pressure_difference: float = quantity("Pa", "pressure difference across the seal")
+    size: float = quantity("m", "domain across the band W")
+    period: float = quantity("m", "domain along the seal line Ly")
+    seal_length: float = quantity("m", "seal line length")
+    radius: float = quantity("m", "cylinder radius d/2")
+    q_cut: float | None = quantity("1/m", "wavevector where the spectrum is cut", key="spectrum_cut_wavevector")
+    q_low: float = quantity("1/m", "lowest wavevector of the spectrum", key="spectrum_low_wavevector")
     grid: int
     realizations: int
     seed: int
-    size: float
-    period: float
-    seal_length: float
     faces: int
-    radius: float
-    q_cut: float | None
-    q_low: float
     notes: tuple[NoteLike, ...] = ()
     spectrum_note: str = ""
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
@@ -172,6 +175,9 @@ class BandSimulationResult:
     line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
     smooth_line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
     gas: GasSimulation | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "junction_resolved", junction_resolved(self.junction_cells))
 
     @property
     def x(self) -> FloatArray:

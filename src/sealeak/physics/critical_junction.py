@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from .contact import PerssonContact
 from .validity import no_channel_note, pressures_text
 
@@ -53,7 +54,7 @@ def poiseuille_leak_rate(gap: ArrayLike, pressure_difference: ArrayLike, viscosi
     return alpha * aspect_ratio * np.asarray(gap, dtype=float) ** 3 * np.asarray(pressure_difference) / (12.0 * viscosity)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CriticalJunctionResult:
     """Critical-junction prediction over a sweep of squeeze pressures (arrays of equal length, SI units).
 
@@ -87,14 +88,14 @@ class CriticalJunctionResult:
         Human-readable notes (one per non-percolating pressure, assumption warnings).
     """
 
-    squeeze_pressure: FloatArray
-    pressure_difference: FloatArray
-    percolates: NDArray[np.bool_]
-    critical_magnification: FloatArray
-    critical_gap: FloatArray
-    critical_wavelength: FloatArray
-    leak_rate: FloatArray
-    contact_area_at_cutoff: FloatArray
+    squeeze_pressure: FloatArray = quantity("Pa", "nominal squeeze pressure P0")
+    pressure_difference: FloatArray = quantity("Pa", "pressure difference across the seal")
+    percolates: NDArray[np.bool_] = quantity("1", "the non-contact area percolates (a leak channel exists)")
+    critical_magnification: FloatArray = quantity("1", "magnification ζc at which the non-contact area percolates")
+    critical_gap: FloatArray = quantity("m", "gap u_c of the critical junction")
+    critical_wavelength: FloatArray = quantity("m", "wavelength λc = L/ζc of the critical junction")
+    leak_rate: FloatArray = quantity("m^3/s", "leak rate Q through the seal")
+    contact_area_at_cutoff: FloatArray = quantity("1", "relative contact area A(ζ1)/A0 at the cut-off")
     alpha: float
     percolation_threshold: float
     gamma: float

@@ -52,6 +52,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
 from ..errors import ConvergenceError, InputError
+from ..io.quantities import quantity
 from .contact import PerssonContact
 from .critical_junction import _pressures
 from .gaps import GapDistribution, folded_normal_cdf, gap_distribution
@@ -466,7 +467,7 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.5, order: int = 
     return gaps, weights
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class EffectiveMediumResult:
     """Effective-medium prediction over a sweep of squeeze pressures (arrays of equal length, SI units).
 
@@ -502,13 +503,14 @@ class EffectiveMediumResult:
 
     squeeze_pressure: FloatArray
     pressure_difference: FloatArray
-    percolates: NDArray[np.bool_]
-    effective_conductivity: FloatArray
-    effective_gap: FloatArray
-    leak_rate: FloatArray
+    percolates: NDArray[np.bool_] = quantity("1", "the effective medium conducts (σ_eff > 0)",
+                                             key="percolates_effective_medium")
+    effective_conductivity: FloatArray = quantity("m^3/(Pa*s)", "effective sheet conductivity σ_eff")
+    effective_gap: FloatArray = quantity("m", "gap u_e = (12 η σ_eff)^(1/3)")
+    leak_rate: FloatArray = quantity("m^3/s", "leak rate Q of the effective medium", key="leak_rate_effective_medium")
     contact_area_at_cutoff: FloatArray
-    mean_gap: FloatArray
-    gap_distribution_mean: FloatArray
+    mean_gap: FloatArray = quantity("m", "mean gap ū(1)")
+    gap_distribution_mean: FloatArray = quantity("m", "mean ∫ u P(u) du of the gap distribution")
     residual: FloatArray
     viscosity: float
     aspect_ratio: float

@@ -19,7 +19,7 @@ from .._version import __version__
 from ..cases import Case, CaseResult
 from .text import validity_notes
 
-__all__ = ["json_value", "json_document", "case_summary", "prediction_json", "prediction_csv"]
+__all__ = ["json_value", "json_rows", "json_document", "case_summary", "prediction_json", "prediction_csv"]
 
 
 def json_value(x: Any) -> Any:
@@ -31,6 +31,20 @@ def json_value(x: Any) -> Any:
     if isinstance(x, (float, np.floating)):
         return None if not math.isfinite(float(x)) else float(x)
     return x
+
+
+def json_rows(columns: dict[str, Any], keys: Sequence[str], n: int) -> list[dict[str, Any]]:
+    """``n`` JSON records of ``keys`` from ``columns`` (record key: one value per row, or one value for all rows).
+
+    A column without a value for a row (an empty array: not computed) and empty text are ``null``.
+    """
+    def cell(values: Any, i: int) -> Any:
+        if isinstance(values, (int, float)):
+            return values
+        value = values[i] if len(values) > i else None
+        return None if isinstance(value, str) and not value else json_value(value)
+
+    return [{k: cell(columns[k], i) for k in keys} for i in range(n)]
 
 
 def json_document(doc: dict[str, Any]) -> str:

@@ -18,6 +18,7 @@ from ..cases import Case, SimulationResult
 from ..cases.simulation import JUNCTION_CELLS, GasSimulation
 from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..io.leak_units import celsius, to_mbar_l_per_s
+from ..io.quantities import record_fields, units_of
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
 from .notes import load_text, worded
@@ -38,7 +39,7 @@ from .plotstyle import (
     subtitle,
     sweep_axis,
 )
-from .records import case_summary, json_document, json_value
+from .records import case_summary, json_document, json_rows, json_value
 from .text import fmt
 
 __all__ = ["simulation_json", "simulation_rows", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
@@ -47,28 +48,23 @@ __all__ = ["simulation_json", "simulation_rows", "simulation_table", "simulation
            "BAND_SIMULATION_FIGURE_NAMES", "BAND_SIMULATION_GAS_UNITS"]
 
 
-SIMULATION_UNITS = {
-    "squeeze_pressure": "Pa", "relative_contact_area": "1", "relative_contact_area_std": "1",
-    "relative_contact_area_theory": "1", "mean_gap": "m", "mean_gap_std": "m", "percolating_fraction": "1",
-    "leak_rate": "m^3/s", "leak_rate_std": "m^3/s", "leak_rate_critical_junction": "m^3/s", "alpha": "1",
-    "alpha_std": "1", "junction_cells": "1", "junction_resolved": "1",
-    "percolation_threshold": "1", "percolation_threshold_std": "1", "pressure_difference": "Pa",
-    "size": "m",
-}
+#: SI unit of every key of ``simulate --json`` (declared on :class:`~sealeak.cases.SimulationResult`'s fields).
+SIMULATION_UNITS = units_of(SimulationResult)
+#: The keys of a ``simulate --json`` row, in the order written (values and units from the result's fields).
+_ROW_KEYS = ("squeeze_pressure", "relative_contact_area", "relative_contact_area_std", "relative_contact_area_theory",
+             "mean_gap", "mean_gap_std", "percolating_fraction", "leak_rate", "leak_rate_std",
+             "leak_rate_critical_junction", "alpha", "alpha_std", "pressure_difference", "junction_cells",
+             "junction_resolved")
 SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png")
 #: The extra figure of a gas case.
 SIMULATION_GAS_FIGURE_NAMES = ("simulate_gas_leak_rate.png",)
-#: Units of the gas keys of a ``simulate --json`` row (a gas case); names as ``predict``'s gas keys.
-SIMULATION_GAS_UNITS = {
-    "knudsen_number": "1", "flow_regime": "", "leak_rate_pv": "Pa*m^3/s", "leak_rate_pv_std": "Pa*m^3/s",
-    "leak_rate_mbar_l_s": "mbar*l/s", "leak_rate_mass": "kg/s", "leak_rate_mass_std": "kg/s", "leak_rate_molar": "mol/s",
-    "slip_gain": "1", "leak_rate_pv_critical_junction": "Pa*m^3/s", "alpha_gas": "1", "alpha_gas_std": "1",
-    "gas_iterations": "1",
-}
-_GAS_ATTR = {"knudsen_number": "knudsen_critical_junction", "leak_rate_pv": "throughput", "leak_rate_pv_std": "throughput_std",
-             "leak_rate_mass": "mass_flow", "leak_rate_mass_std": "mass_flow_std", "leak_rate_molar": "molar_flow",
-             "slip_gain": "slip_gain", "leak_rate_pv_critical_junction": "throughput_critical_junction", "alpha_gas": "alpha",
-             "alpha_gas_std": "alpha_std", "gas_iterations": "iterations"}
+#: Units of the gas keys of a ``simulate --json`` row (a gas case), declared on the gas result's fields; names as
+#: ``predict``'s gas keys.
+SIMULATION_GAS_UNITS = units_of(GasSimulation)
+#: The gas keys of a ``simulate --json`` row, in the order written.
+_GAS_ROW_KEYS = ("knudsen_number", "leak_rate_pv", "leak_rate_pv_std", "leak_rate_mass", "leak_rate_mass_std",
+                 "leak_rate_molar", "slip_gain", "leak_rate_pv_critical_junction", "alpha_gas", "alpha_gas_std",
+                 "gas_iterations", "flow_regime", "leak_rate_mbar_l_s")
 
 
 def simulation_json(case: Case, res: SimulationResult) -> str:
@@ -95,22 +91,19 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
 
 def simulation_rows(res: SimulationResult) -> list[dict[str, Any]]:
     """The per-pressure records of ``sealeak simulate --json`` (units :data:`SIMULATION_UNITS`), liquid keys only."""
-    keys = [k for k in SIMULATION_UNITS if k not in ("percolation_threshold", "percolation_threshold_std",
-                                          "pressure_difference", "size", "junction_cells", "junction_resolved")]
-    return [{k: json_value(getattr(res, k)[i]) for k in keys}
-            | {"pressure_difference": res.pressure_difference,
-               "junction_cells": json_value(res.junction_cells[i]) if res.junction_cells.size else None,
-               "junction_resolved": _resolved(res, i)}
-            for i in range(res.squeeze_pressure.size)]
+    return json_rows(record_fields(res), _ROW_KEYS, res.squeeze_pressure.size)
 
 
-def _add_gas_json(doc: dict[str, Any], g: GasSimulation, units: dict[str, str], attrs: dict[str, str]) -> None:
-    """The gas keys of a ``simulate --json`` document (uniform or O-ring): per row the gas leak and α_gas, and the gas."""
-    doc["units"] = doc["units"] | units
-    for i, row in enumerate(doc["results"]):
-        row |= {k: json_value(getattr(g, a)[i]) for k, a in attrs.items()}
-        row |= {"flow_regime": g.regime_critical_junction[i] or None,
-                "leak_rate_mbar_l_s": json_value(to_mbar_l_per_s(g.throughput[i]))}
+def _add_gas_json(doc: dict[str, Any], g: GasSimulation, rename: dict[str, str]) -> None:
+    """The gas keys of a ``simulate --json`` document (uniform or O-ring): per row the gas leak and α_gas, and the gas.
+
+    ``rename``: record keys the geometry names otherwise (the O-ring's theory is the series resistance).
+    """
+    doc["units"] = doc["units"] | {rename.get(k, k): u for k, u in units_of(g).items()}
+    columns = {rename.get(k, k): v for k, v in record_fields(g).items()}
+    keys = tuple(rename.get(k, k) for k in _GAS_ROW_KEYS)
+    for row, gas_row in zip(doc["results"], json_rows(columns, keys, len(doc["results"])), strict=True):
+        row |= gas_row
     doc["gas"] = {"name": g.gas_name, "temperature": g.temperature, "upstream_pressure": g.upstream_pressure,
                   "downstream_pressure": g.downstream_pressure, "rarefaction": g.rarefaction,
                   "units": {"temperature": "K", "upstream_pressure": "Pa", "downstream_pressure": "Pa"}}
@@ -119,7 +112,7 @@ def _add_gas_json(doc: dict[str, Any], g: GasSimulation, units: dict[str, str], 
 def _gas_json(doc: dict[str, Any], res: SimulationResult) -> None:
     """Add a gas case's keys to the ``simulate --json`` document: per row the gas leak, its α, and the gas settings."""
     assert res.gas is not None
-    _add_gas_json(doc, res.gas, SIMULATION_GAS_UNITS, _GAS_ATTR)
+    _add_gas_json(doc, res.gas, {})
     doc["gas_note"] = ("leak_rate_pv: the seal's pV throughput from isothermal gas flow through the same gap fields, "
                        "div(g^3 f(Kn) grad p^2) = 0, counted at the gas temperature; leak_rate_mass = leak_rate_pv/(R_s T); "
                        "slip_gain = leak_rate_pv / the same flow without rarefaction; leak_rate_pv_critical_junction: the "
@@ -199,12 +192,6 @@ def _coarse(res: SimulationResult, i: int) -> bool:
     return bool(cells.size and np.isfinite(cells[i]) and cells[i] < JUNCTION_CELLS)
 
 
-def _resolved(res: SimulationResult, i: int) -> bool | None:
-    """JSON ``junction_resolved``: λc spans at least JUNCTION_CELLS cells; None where the theory has no junction."""
-    cells = res.junction_cells
-    return None if not (cells.size and np.isfinite(cells[i])) else bool(cells[i] >= JUNCTION_CELLS)
-
-
 def _spread_legend(realizations: int) -> str:
     """What the ± columns of the simulate table are (standard deviations over realisations, not standard errors)."""
     if realizations < 2:
@@ -215,23 +202,18 @@ def _spread_legend(realizations: int) -> str:
 
 
 # ---------------------------------------------------------------- the O-ring (band) simulation
-BAND_SIMULATION_UNITS = {
-    "compression": "1", "profile_scale": "1", "force_per_length": "N/m", "model_contact_width": "m",
-    "model_max_pressure": "Pa", "hertz_contact_width": "m", "hertz_max_pressure": "Pa", "smooth_contact_width": "m",
-    "smooth_max_pressure": "Pa", "smooth_width_error": "1", "smooth_pressure_error": "1", "contact_width": "m",
-    "contact_width_std": "m", "relative_contact_area": "1", "relative_contact_area_std": "1",
-    "percolating_fraction": "1", "leak_rate": "m^3/s", "leak_rate_std": "m^3/s",
-    "leak_rate_series_resistance": "m^3/s", "alpha": "1", "alpha_std": "1", "junction_cells": "1",
-    "junction_resolved": "1", "pressure_difference": "Pa", "size": "m", "period": "m", "seal_length": "m",
-    "radius": "m", "spectrum_cut_wavevector": "1/m", "spectrum_low_wavevector": "1/m",
-}
+#: SI unit of every key of an O-ring's ``simulate --json`` (declared on the result's fields); the load's key
+#: (``compression`` or ``profile_scale``) leads.
+BAND_SIMULATION_UNITS = units_of(BandSimulationResult)
 BAND_SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png",
                                 "simulate_band_pressure.png")
+#: The keys of an O-ring's ``simulate --json`` row after the load, in the order written.
 _BAND_ROW_KEYS = ("force_per_length", "model_contact_width", "model_max_pressure", "hertz_contact_width",
                   "hertz_max_pressure", "smooth_contact_width", "smooth_max_pressure", "smooth_width_error",
                   "smooth_pressure_error", "contact_width", "contact_width_std", "relative_contact_area",
                   "relative_contact_area_std", "percolating_fraction", "leak_rate", "leak_rate_std",
-                  "leak_rate_series_resistance", "alpha", "alpha_std", "junction_cells")
+                  "leak_rate_series_resistance", "alpha", "alpha_std", "junction_cells", "junction_resolved",
+                  "pressure_difference")
 
 
 def _band_coarse(res: BandSimulationResult, i: int) -> bool:
@@ -247,13 +229,9 @@ def _load_label(res: BandSimulationResult) -> tuple[str, float]:
 
 def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
     """The ``sealeak simulate --json`` document of an O-ring: per compression, the smooth check, settings, case."""
-    units = {k: v for k, v in BAND_SIMULATION_UNITS.items()
-             if k not in ("compression", "profile_scale") or k == res.load_name}
-    rows = [{res.load_name: json_value(res.loads[i])}
-            | {k: json_value(getattr(res, k)[i]) for k in _BAND_ROW_KEYS}
-            | {"junction_resolved": None if not np.isfinite(res.junction_cells[i]) else bool(not _band_coarse(res, i)),
-               "pressure_difference": res.pressure_difference}
-            for i in range(res.loads.size)]
+    units = {res.load_name: "1"} | BAND_SIMULATION_UNITS
+    rows = [{res.load_name: json_value(res.loads[i])} | row
+            for i, row in enumerate(json_rows(record_fields(res), _BAND_ROW_KEYS, res.loads.size))]
     doc: dict[str, Any] = {
         "units": units,
         "results": rows,
@@ -277,18 +255,16 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
     return json_document(doc)
 
 
-#: Units of the gas keys of an O-ring's ``simulate --json`` row: the uniform route's names, the theory's column
-#: named as the band's liquid one (``leak_rate_pv_series_resistance``).
-BAND_SIMULATION_GAS_UNITS = {("leak_rate_pv_series_resistance" if k == "leak_rate_pv_critical_junction" else k): v
-                             for k, v in SIMULATION_GAS_UNITS.items()}
-_BAND_GAS_ATTR = {("leak_rate_pv_series_resistance" if k == "leak_rate_pv_critical_junction" else k): a
-                  for k, a in _GAS_ATTR.items()}
+#: The gas record keys an O-ring names otherwise: its theory's column is named as the band's liquid one.
+_BAND_GAS_KEYS = {"leak_rate_pv_critical_junction": "leak_rate_pv_series_resistance"}
+#: Units of the gas keys of an O-ring's ``simulate --json`` row.
+BAND_SIMULATION_GAS_UNITS = {_BAND_GAS_KEYS.get(k, k): u for k, u in SIMULATION_GAS_UNITS.items()}
 
 
 def _band_gas_json(doc: dict[str, Any], res: BandSimulationResult) -> None:
     """Add a gas O-ring's keys to the ``simulate --json`` document: per row the gas leak across the band, α_gas, the gas."""
     assert res.gas is not None
-    _add_gas_json(doc, res.gas, BAND_SIMULATION_GAS_UNITS, _BAND_GAS_ATTR)
+    _add_gas_json(doc, res.gas, _BAND_GAS_KEYS)
     doc["gas_note"] = ("leak_rate_pv: the seal's pV throughput from isothermal gas flow across the band through the same gap "
                        "fields, div(g^3 f(Kn) grad p^2) = 0 with P_a at x = 0 and P_b at x = W, scaled to the seal line as "
                        "leak_rate, counted at the gas temperature; leak_rate_mass = leak_rate_pv/(R_s T); slip_gain = "
