@@ -64,8 +64,8 @@ DEFAULT_MAX_ITER = 5000
 
 
 @dataclass(frozen=True, eq=False)
-class ContactResult:
-    """Solution of one rough-contact problem.
+class ContactField:
+    """The gap and the pressure of a solved contact, shared by the periodic and the band solver.
 
     Attributes
     ----------
@@ -73,6 +73,23 @@ class ContactResult:
         Interfacial gap g[x, y] (m), >= 0; ~0 (not exactly 0) in contact cells.
     pressure:
         Contact pressure p[x, y] (Pa), >= 0.
+    """
+
+    gap: FloatArray
+    pressure: FloatArray
+
+    @property
+    def contact(self) -> NDArray[np.bool_]:
+        """Contact mask (pressure > 0)."""
+        return self.pressure > 0
+
+
+@dataclass(frozen=True, eq=False)
+class ContactResult(ContactField):
+    """Solution of one rough-contact problem: :class:`ContactField`'s gap (m) and pressure (Pa), and
+
+    Attributes
+    ----------
     contact_area:
         Relative contact area A/A0: fraction of cells with pressure > 0.
     mean_gap:
@@ -92,8 +109,6 @@ class ContactResult:
         Side of the square cell (m) and contact modulus (Pa).
     """
 
-    gap: FloatArray
-    pressure: FloatArray
     contact_area: float
     mean_gap: float
     approach: float
@@ -103,11 +118,6 @@ class ContactResult:
     tol: float
     size: float
     e_star: float
-
-    @property
-    def contact(self) -> NDArray[np.bool_]:
-        """Contact mask (pressure > 0)."""
-        return self.pressure > 0
 
 
 def contact_memory_bytes(n: int) -> int:
