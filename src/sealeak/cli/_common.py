@@ -18,6 +18,8 @@ from ..errors import InputError, SealeakError
 from ..io.files import Output
 
 if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
     from ..cases import Case, CaseFile
 
 __all__ = ["Parser", "EXIT_USER_ERROR", "EXIT_INTERRUPTED", "add_case_args", "load_case_file", "load",
@@ -100,9 +102,11 @@ def say(args: argparse.Namespace, text: str) -> None:
         print(text, file=sys.stderr)
 
 
-def emit(args: argparse.Namespace, text: str, files: dict[str, str], pngs: dict[str, bytes]) -> None:
+def emit(args: argparse.Namespace, text: str, files: dict[str, str],
+         pngs: dict[str, bytes] | dict[str, Figure]) -> None:
     """The end of every command that writes results: print ``text`` (unless ``--quiet``), then write the
-    text ``files`` ({path: content}) and the figures ``pngs`` into ``args.plots``, saying what was written.
+    text ``files`` ({path: content}) and the figures ``pngs`` (PNG bytes, or figures that
+    :func:`~sealeak.render.save_figures` renders all before it writes one) into ``args.plots``, saying what was written.
 
     Everything is rendered by the caller before this is called, so a failure while rendering
     leaves no file behind; each file is written atomically.

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, SealeakError
-from ._common import inputs, load, outputs
+from ._common import emit, inputs, load, outputs
 
 if TYPE_CHECKING:
     from ..cases import Case
@@ -21,8 +21,8 @@ __all__ = ["register"]
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from ..cases.options import simulation_options
-    from ..io.files import check_outputs, write_text
-    from ..render import SIMULATION_FIGURE_NAMES, save_figures, simulation_figures, simulation_json, simulation_table
+    from ..io.files import check_outputs
+    from ..render import SIMULATION_FIGURE_NAMES, simulation_figures, simulation_json, simulation_table
     from ..render.convergence import CONVERGENCE_FIGURE_NAMES
     from ..render.simulation import (
         BAND_SIMULATION_FIGURE_NAMES,
@@ -70,12 +70,8 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         res = _run_pipeline(args, opts, "simulate", opts.realizations * len(case.squeeze_pressure), case,
                             threshold=not args.no_threshold)
         table, json_text, figures = simulation_table, simulation_json, simulation_figures
-    if not args.quiet:
-        sys.stdout.write(table(case, res))
-    if args.json:
-        write_text(args.json, json_text(case, res))
-    if args.plots:
-        save_figures(figures(case, res), args.plots)
+    emit(args, table(case, res), {args.json: json_text(case, res)} if args.json else {},
+         figures(case, res) if args.plots else {})
     return 0
 
 
@@ -114,8 +110,6 @@ def _convergence(args: argparse.Namespace, case: Case, opts: SimulationOptions) 
 
     from ..cases.convergence import convergence_study
     from ..cases.ensemble import default_workers
-    from ..io.files import write_text
-    from ..render import save_figures
     from ..render.convergence import convergence_figures, convergence_json, convergence_table
 
     bars: list[tqdm] = []
@@ -141,12 +135,8 @@ def _convergence(args: argparse.Namespace, case: Case, opts: SimulationOptions) 
     finally:
         for bar in bars:
             bar.close()
-    if not args.quiet:
-        sys.stdout.write(convergence_table(case, study))
-    if args.json:
-        write_text(args.json, convergence_json(case, study))
-    if args.plots:
-        save_figures(convergence_figures(case, study), args.plots)
+    emit(args, convergence_table(case, study), {args.json: convergence_json(case, study)} if args.json else {},
+         convergence_figures(case, study) if args.plots else {})
     return 0
 
 

@@ -61,7 +61,7 @@ from scipy import fft as sfft
 from scipy import special
 
 from ..errors import InputError
-from ._contact import DEFAULT_MAX_ITER, DEFAULT_TOL, _constrained_cg
+from ._contact import DEFAULT_MAX_ITER, DEFAULT_TOL, ContactField, _constrained_cg
 from ._memory import require_memory
 
 __all__ = ["BandContactResult", "solve_band_contact", "band_displacement", "band_contact_memory_bytes",
@@ -84,15 +84,13 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
 
 
 @dataclass(frozen=True, eq=False)
-class BandContactResult:
+class BandContactResult(ContactField):
     """Solution of one cylinder-on-rough-surface problem on an nx × ny grid (arrays indexed [x, y]).
+
+    :class:`~sealeak.numerics._contact.ContactField`'s gap (m) and pressure (Pa), and
 
     Attributes
     ----------
-    gap:
-        Interfacial gap g[x, y] (m), >= 0; ~0 (not exactly 0) in contact cells.
-    pressure:
-        Contact pressure p[x, y] (Pa), >= 0.
     force_per_length:
         The prescribed load f (N per m of seal line); Σ p dx dy / Ly = f.
     width, period:
@@ -109,8 +107,6 @@ class BandContactResult:
         The residual's height scale s (m; module docstring).
     """
 
-    gap: FloatArray
-    pressure: FloatArray
     force_per_length: float
     width: float
     period: float
@@ -122,11 +118,6 @@ class BandContactResult:
     residual: float
     tol: float
     height_scale: float
-
-    @property
-    def contact(self) -> NDArray[np.bool_]:
-        """Contact mask (pressure > 0)."""
-        return self.pressure > 0
 
     @property
     def dx(self) -> float:

@@ -64,8 +64,8 @@ DEFAULT_MAX_ITER = 5000
 
 
 @dataclass(frozen=True, eq=False)
-class ContactResult:
-    """Solution of one rough-contact problem.
+class ContactField:
+    """The gap and the pressure of a solved contact, shared by the periodic and the band solver.
 
     Attributes
     ----------
@@ -73,6 +73,23 @@ class ContactResult:
         Interfacial gap g[x, y] (m), >= 0; ~0 (not exactly 0) in contact cells.
     pressure:
         Contact pressure p[x, y] (Pa), >= 0.
+    """
+
+    gap: FloatArray
+    pressure: FloatArray
+
+    @property
+    def contact(self) -> NDArray[np.bool_]:
+        """Contact mask (pressure > 0)."""
+        return self.pressure > 0
+
+
+@dataclass(frozen=True, eq=False)
+class ContactResult(ContactField):
+    """Solution of one rough-contact problem: :class:`ContactField`'s gap (m) and pressure (Pa), and
+
+    Attributes
+    ----------
     contact_area:
         Relative contact area A/A0: fraction of cells with pressure > 0.
     mean_gap:
@@ -92,8 +109,6 @@ class ContactResult:
         Side of the square cell (m) and contact modulus (Pa).
     """
 
-    gap: FloatArray
-    pressure: FloatArray
     contact_area: float
     mean_gap: float
     approach: float
@@ -103,11 +118,6 @@ class ContactResult:
     tol: float
     size: float
     e_star: float
-
-    @property
-    def contact(self) -> NDArray[np.bool_]:
-        """Contact mask (pressure > 0)."""
-        return self.pressure > 0
 
 
 def contact_memory_bytes(n: int) -> int:
@@ -250,6 +260,81 @@ def solve_contact(
     )
 
 
+def _gap_and_residual(
+    u: FloatArray, hs: FloatArray, p: FloatArray, p0: float, height_scale: float, gm: FloatArray, tmp: FloatArray,
+) -> tuple[FloatArray, NDArray[np.bool_], int, float, float]:
+    """The gap of the current iterate and its convergence measure (module docstring).
+
+    Returns (g, mask, nc, gbar, residual): the gap g = u - hs - gbar (m), the contact set p > 0 and
+    its cell count, the shift gbar that makes the mean gap over the contact set vanish (c = -gbar,
+    m) and the scale-free residual. Leaves the gap on the contact set in ``gm`` (m); ``tmp`` is scratch.
+    """
+    ncell = float(p.size)
+    g = u - hs
+    mask = p > 0
+    nc = int(np.count_nonzero(mask))
+    # shift so that the mean gap over the contact set vanishes: that constant is c
+    np.multiply(g, mask, out=gm)
+    gbar = float(gm.sum()) / nc
+    g -= gbar
+    np.multiply(g, mask, out=gm)  # gap on the contact set (should be 0)
+    np.minimum(g, 0.0, out=tmp)  # interpenetration (zero where contact: taken by gm)
+    tmp *= ~mask
+    r_gap = math.sqrt((dot(gm, gm)
+                       + dot(tmp, tmp)) / ncell) / height_scale
+    r_comp = dot(p, np.abs(gm)) / (ncell * p0 * height_scale)
+    return g, mask, nc, gbar, max(r_gap, r_comp)
+
+
+def _preconditioned(
+    gm: FloatArray, mask: NDArray[np.bool_], nc: int, stiffness: Callable[[FloatArray], FloatArray] | None,
+) -> FloatArray:
+    """z = P_c S P_c g with its mean over the contact set removed (m·Pa/m), or g itself without a preconditioner."""
+    if stiffness is None:
+        return gm
+    z = stiffness(gm)
+    z *= mask
+    z -= float(z.sum()) / nc
+    z *= mask
+    return z
+
+
+def _response(
+    t: FloatArray, mask: NDArray[np.bool_], nc: int, convolve: Callable[[FloatArray], FloatArray], tmp: FloatArray,
+) -> tuple[FloatArray, float]:
+    """r = K t (m) and the CG denominator t·(K t) on the contact set, K t's mean there removed (m·Pa)."""
+    r = convolve(t)  # K t (its mean over the contact set is removed in the sums below)
+    np.multiply(r, mask, out=tmp)
+    rbar = float(tmp.sum()) / nc
+    return r, dot(tmp, t) - rbar * float(t.sum())
+
+
+def _step_pressure(
+    p: FloatArray, t: FloatArray, tau: float, g: FloatArray, mask: NDArray[np.bool_], p0: float,
+) -> tuple[bool, float, float]:
+    """p <- scale (max(p - τ t, 0) + pressure on interpenetrating cells), in place (Pa).
+
+    Returns (clipped, delta, scale): whether the projection p >= 0 clipped, 0 to restart the CG
+    recurrence (cells out of contact interpenetrate and got pressure) or 1, and the factor that
+    restored mean(p) = p0.
+    """
+    t_tau = tau * t
+    p -= t_tau
+    clipped = bool((p < 0).any())
+    np.maximum(p, 0.0, out=p)
+    # cells out of contact that interpenetrate: give them pressure, restart CG
+    overlap = ~mask
+    overlap &= g < 0
+    if overlap.any():
+        delta = 0.0
+        p[overlap] -= tau * g[overlap]
+    else:
+        delta = 1.0
+    scale = p0 / float(p.mean())
+    p *= scale
+    return clipped, delta, scale
+
+
 def _constrained_cg(
     hs: FloatArray,
     p: FloatArray,
@@ -290,8 +375,6 @@ def _constrained_cg(
         Pressure, gap before clipping (g = u - hs - gbar, m), the shift gbar (c = -gbar), the final
         residual and the iterations used.
     """
-    ncell = float(p.size)
-
     t = np.zeros_like(hs)
     gm = np.empty_like(hs)
     tmp = np.empty_like(hs)
@@ -300,24 +383,9 @@ def _constrained_cg(
     since_fresh = 0
     g_old = 1.0
     delta = 0.0
-    residual = math.inf
     it = 0
     while True:
-        g = u - hs
-        mask = p > 0
-        nc = int(np.count_nonzero(mask))
-        # shift so that the mean gap over the contact set vanishes: that constant is c
-        np.multiply(g, mask, out=gm)
-        gbar = float(gm.sum()) / nc
-        g -= gbar
-        np.multiply(g, mask, out=gm)  # gap on the contact set (should be 0)
-        # --- convergence measure on the current iterate
-        np.minimum(g, 0.0, out=tmp)  # interpenetration (zero where contact: taken by gm)
-        tmp *= ~mask
-        r_gap = math.sqrt((dot(gm, gm)
-                           + dot(tmp, tmp)) / ncell) / height_scale
-        r_comp = dot(p, np.abs(gm)) / (ncell * p0 * height_scale)
-        residual = max(r_gap, r_comp)
+        g, mask, nc, gbar, residual = _gap_and_residual(u, hs, p, p0, height_scale, gm, tmp)
         if residual <= tol:
             if fresh:
                 break
@@ -330,29 +398,17 @@ def _constrained_cg(
                 f"({label}); raise max_iter or tol")
         it += 1
         # --- conjugate direction on the contact set
-        if stiffness is not None:  # z = P_c S P_c g, mean over the contact set removed
-            z = stiffness(gm)
-            z *= mask
-            z -= float(z.sum()) / nc
-            z *= mask
-        else:
-            z = gm
+        z = _preconditioned(gm, mask, nc, stiffness)
         G = dot(gm, z)
         beta = delta * G / g_old
         t *= beta
         t += z  # t = g + beta t on the contact set
         t *= mask
         g_old = G
-        r = convolve(t)  # K t (its mean over the contact set is removed in the sums below)
-        np.multiply(r, mask, out=tmp)
-        rbar = float(tmp.sum()) / nc
-        denom = dot(tmp, t) - rbar * float(t.sum())
+        r, denom = _response(t, mask, nc, convolve, tmp)
         if denom <= 0.0:  # lost conjugacy (round-off): restart along steepest descent
             t[...] = z
-            r = convolve(t)
-            np.multiply(r, mask, out=tmp)
-            rbar = float(tmp.sum()) / nc
-            denom = dot(tmp, t) - rbar * float(t.sum())
+            r, denom = _response(t, mask, nc, convolve, tmp)
         if denom <= 0.0:
             # no descent direction on the contact set (e.g. a warm start whose contact is one cell,
             # where the gap vanishes trivially while other cells interpenetrate): restart from the
@@ -363,20 +419,7 @@ def _constrained_cg(
             g_old, delta, fresh, since_fresh = 1.0, 0.0, True, 0
             continue
         tau = dot(gm, t) / denom
-        t_tau = tau * t
-        p -= t_tau
-        clipped = bool((p < 0).any())
-        np.maximum(p, 0.0, out=p)
-        # cells out of contact that interpenetrate: give them pressure, restart CG
-        overlap = ~mask
-        overlap &= g < 0
-        if overlap.any():
-            delta = 0.0
-            p[overlap] -= tau * g[overlap]
-        else:
-            delta = 1.0
-        scale = p0 / float(p.mean())
-        p *= scale
+        clipped, delta, scale = _step_pressure(p, t, tau, g, mask, p0)
         since_fresh += 1
         if clipped or delta == 0.0 or since_fresh >= 50:
             u = convolve(p)

@@ -295,6 +295,14 @@ def _group_name(group: list[CaseResult]) -> str:
     return " = ".join(r.case.label for r in group if r.case.label)
 
 
+def _add_variant_entries(handles: list[object], labels: list[str], groups: Sequence[list[CaseResult]]) -> None:
+    """Add a legend entry per variant of a study (its line style), when there are several."""
+    if len(groups) > 1:
+        for gi, g in enumerate(groups):
+            handles.append(Line2D([], [], ls=_VARIANT_STYLES[gi % len(_VARIANT_STYLES)], color="0.3"))
+            labels.append(_group_name(g) or f"variant {gi + 1}")
+
+
 # ---------------------------------------------------------------------- the figures
 @dataclass(frozen=True)
 class _Row:
@@ -337,10 +345,7 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
             if gi == 0:
                 handles.append(line)
                 labels.append(label)
-    if len(profile_groups) > 1:
-        for gi, g in enumerate(profile_groups):
-            handles.append(Line2D([], [], ls=_VARIANT_STYLES[gi % len(_VARIANT_STYLES)], color="0.3"))
-            labels.append(_group_name(g) or f"variant {gi + 1}")
+    _add_variant_entries(handles, labels, profile_groups)
     ax.set_ylim(bottom=0)
     ax.set_ylabel(f"contact pressure p ({punit})")
     ax.label_outer()
@@ -418,10 +423,7 @@ def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
         if gi == 0:
             handles.append(line)
             labels.append(label)
-    if len(groups) > 1:
-        for gi, g in enumerate(groups):
-            handles.append(Line2D([], [], ls=_VARIANT_STYLES[gi % len(_VARIANT_STYLES)], color="0.3"))
-            labels.append(_group_name(g) or f"variant {gi + 1}")
+    _add_variant_entries(handles, labels, groups)
     ax.set_ylabel(f"local critical gap u_c ({uunit})")
     lo, hi = every.min() / us, every.max() / us
     sizes: dict[float, list[str]] = {}

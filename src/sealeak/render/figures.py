@@ -97,6 +97,23 @@ def pressure_x(ax: Axes, p0: np.ndarray) -> float:
     return scale
 
 
+def _say_full_contact(ax: Axes, what: str, closed: Sequence[CurveSet]) -> None:
+    """Say on an empty axes that there is no ``what`` to draw: full contact at the pressures of ``closed``."""
+    say_nothing(ax, f"no {what} to draw: the surfaces are in full contact\n"
+                + pressures_text([cs.squeeze_pressure for cs in closed], [True] * len(closed)))
+
+
+def _sweep_x(ax: Axes, results: Sequence[CaseResult]) -> float:
+    """:func:`pressure_x` over the squeeze pressures (Pa) of every result's sweep; returns the scale."""
+    return pressure_x(ax, np.concatenate([r.critical_junction.squeeze_pressure for r in results]))
+
+
+def _subtitle_with_hollow(ax: Axes, notes: list[str], series: Sequence[Series]) -> None:
+    """The subtitle: the notes, and the line on hollow markers when a series has any."""
+    hollow = invalid_note(series)
+    subtitle(ax, "\n".join([*notes, hollow] if hollow else notes))
+
+
 @laid_out
 def figure_spectrum(cases: Sequence[Case], spectra: Sequence[tuple[np.ndarray, np.ndarray]],
                     q0: tuple[float, float, str] | None = None) -> Figure:
@@ -183,8 +200,7 @@ def figure_separation(cases: Sequence[Case], curves: PredictionCurves) -> Figure
     ax.set_xlabel("magnification ζ = q/q0 (1)")
     ax.set_ylabel("separation (µm)")
     if top == 0.0:
-        say_nothing(ax, "no separation to draw: the surfaces are in full contact\n"
-                        + pressures_text([cs.squeeze_pressure for cs in closed], [True] * len(closed)))
+        _say_full_contact(ax, "separation", closed)
         ax.set_xscale("log")
         ax.set_xlim(1.0, max(float(cs.zeta[-1]) for cs in curves.sets))
         finish_axes(ax)
@@ -225,8 +241,7 @@ def figure_gap_distribution(curves: PredictionCurves) -> Figure:
     ax.set_xlabel("interfacial separation u (µm)")
     ax.set_ylabel("u·P(u), probability per unit ln u (1)")
     if top == 0.0:
-        say_nothing(ax, "no gap distribution to draw: the surfaces are in full contact\n"
-                        + pressures_text([cs.squeeze_pressure for cs in closed], [True] * len(closed)))
+        _say_full_contact(ax, "gap distribution", closed)
         ax.set_xscale("log")
         ax.set_xlim(1e-4, 1e2)
         finish_axes(ax)
@@ -291,9 +306,8 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     if is_gas_run(results):
         return figure_gas_leak_rate(results, log)
     cases = [r.case for r in results]
-    p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
     fig, ax = new_figure("Leak rate against squeeze pressure" + (" (log scale)" if log else ""))
-    scale = pressure_x(ax, p_all)
+    scale = _sweep_x(ax, results)
     series = _leak_series(results, scale)
     peaks = series_peaks(series)
     logy = log or spans_decades(peaks, 1.0)  # a curve below a tenth of the largest would lie flat on zero
@@ -330,10 +344,7 @@ def _finish_leak_rate(ax: Any, results: Sequence[CaseResult], series: list[Serie
     missing = missing or any(r.effective_medium is not None and (~r.effective_medium.percolates).any() for r in results)
     if missing:
         notes.append("missing points: no leak channel (the non-contact area does not percolate)")
-    hollow = invalid_note(series)
-    if hollow:
-        notes.append(hollow)
-    subtitle(ax, "\n".join(notes))
+    _subtitle_with_hollow(ax, notes, series)
     finish_axes(ax)
     second_axis(ax, qscale)
     place_legend(ax)
@@ -379,8 +390,7 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     case = results[0].case
     names = sorted({r.case.gas.gas.name for r in results if r.case.gas is not None})
     fig, ax = new_figure(f"Leak rate of {' / '.join(names)} against squeeze pressure" + (" (log scale)" if log else ""))
-    p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
-    scale = pressure_x(ax, p_all)
+    scale = _sweep_x(ax, results)
     series, rows = _gas_leak_series(results, scale)
     conditions = {gas_conditions_text(r.case) for r in results}
     notes = [gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)"]
@@ -410,8 +420,7 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
 def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
     """u_c (solid) and λc (dashed) against P0 (the critical pore size, paper Fig. 8)."""
     fig, ax = new_figure("Critical constriction against squeeze pressure")
-    p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
-    scale = pressure_x(ax, p_all)
+    scale = _sweep_x(ax, results)
     # one length unit for both curves, chosen by the smaller quantity (the valid gaps)
     gaps = np.concatenate([np.where(r.valid, r.critical_junction.critical_gap, np.nan) for r in results])
     lscale, lunit = length_unit(gaps)
@@ -441,10 +450,7 @@ def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
         if ok.any():
             ratio = np.median(res.critical_wavelength[ok] / res.critical_gap[ok])
             notes.append(f"median λc/u_c = {ratio:.3g}")
-    hollow = invalid_note(series)
-    if hollow:
-        notes.append(hollow)
-    subtitle(ax, "\n".join(notes))
+    _subtitle_with_hollow(ax, notes, series)
     finish_axes(ax)
     place_legend(ax)
     return fig
@@ -454,8 +460,7 @@ def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
 def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
     """ζc against P0 (paper Fig. 9); log when ζc spans more than two decades."""
     fig, ax = new_figure("Critical magnification against squeeze pressure")
-    p_all = np.concatenate([r.critical_junction.squeeze_pressure for r in results])
-    scale = pressure_x(ax, p_all)
+    scale = _sweep_x(ax, results)
     several = len(results) > 1
     series = [Series(r.critical_junction.squeeze_pressure / scale, r.critical_junction.critical_magnification, r.valid,
                      color(i), "-", r.case.label if several else None, r.validity) for i, r in enumerate(results)]
@@ -466,10 +471,7 @@ def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
         finish_axes(ax)
         return fig
     notes = [f"A(ζc)/A0 = 1 - p_c = {1 - results[0].case.percolation_threshold:.2f}"]
-    hollow = invalid_note(series)
-    if hollow:
-        notes.append(hollow)
-    subtitle(ax, "\n".join(notes))
+    _subtitle_with_hollow(ax, notes, series)
     finish_axes(ax)
     place_legend(ax)
     return fig

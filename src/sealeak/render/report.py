@@ -309,55 +309,60 @@ def _rig_section(result: CaseResult, number: int) -> list[str]:
     return parts
 
 
-def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str:
-    """The HTML text of the report of a case file run (one case, or the variants of a study).
-
-    ``results``: :func:`~sealeak.cases.run_case` of each case; ``inputs``: the case file as the user
-    wrote it (:attr:`~sealeak.cases.CaseFile.inputs`), shown with its units.
-    """
-    cases = [r.case for r in results]
+def _header(cases: Sequence[Case]) -> list[str]:
+    """The document head, the title and the report's first paragraph (the case file it read)."""
     first = cases[0]
-    band = is_band_run(results)
-    any_em = any(r.effective_medium is not None or (r.band is not None and r.band.effective_medium is not None) for r in results)
-    parts: list[str] = ["<!DOCTYPE html>", "<html lang=\"en\">", "<head>", "<meta charset=\"utf-8\">",
-                        "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">",
-                        f"<title>{_e(first.title)} — sealeak report</title>", f"<style>{_CSS}</style>", "</head>",
-                        "<body>", f"<h1>{_e(first.title)}</h1>",
-                        f"<p>sealeak {_e(__version__)} — leak rate of a rubber seal from surface roughness "
-                        "(Persson contact mechanics, percolation, Poiseuille flow; Lorenz &amp; Persson, "
-                        f"EPL 86 (2009) 44006). Case file: <code>{_e(shown_source(first.source) if first.source else '—')}</code>"
-                        + (f"; a study of {len(cases)} variants." if len(cases) > 1 else ".") + "</p>"]
+    return ["<!DOCTYPE html>", "<html lang=\"en\">", "<head>", "<meta charset=\"utf-8\">",
+            "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">",
+            f"<title>{_e(first.title)} — sealeak report</title>", f"<style>{_CSS}</style>", "</head>",
+            "<body>", f"<h1>{_e(first.title)}</h1>",
+            f"<p>sealeak {_e(__version__)} — leak rate of a rubber seal from surface roughness "
+            "(Persson contact mechanics, percolation, Poiseuille flow; Lorenz &amp; Persson, "
+            f"EPL 86 (2009) 44006). Case file: <code>{_e(shown_source(first.source) if first.source else '—')}</code>"
+            + (f"; a study of {len(cases)} variants." if len(cases) > 1 else ".") + "</p>"]
 
-    parts.append("<h2 id=\"inputs\">Inputs</h2>")
-    parts.append(_inputs(inputs))
 
-    parts.append("<h2 id=\"spectrum\">Surface roughness spectrum</h2>")
+def _spectrum_kind(c: Case) -> str:
+    """Whether the case's spectrum is a model or a measurement (and of which surface model)."""
+    return "model (not a measurement)" if c.spectrum_is_model else f"measurement ({c.surface_model})"
+
+
+def _spectrum_section(cases: Sequence[Case]) -> list[str]:
+    """The spectrum table: each variant's roughness statistics (h_rms in µm, SI otherwise) and q0."""
     rows = []
     for c in cases:
         s = c.spectrum
-        measured = "model (not a measurement)" if c.spectrum_is_model else f"measurement ({c.surface_model})"
         q0 = fmt(c.q0) if c.band is None or c.band.q0.min() == c.band.q0.max() else (
             f"{fmt(float(c.band.q0.min()))} … {fmt(float(c.band.q0.max()))}")
-        rows.append((c.label or "—", c.spectrum_note, measured, fmt(s.h_rms * 1e6), fmt(s.slope_rms),
+        rows.append((c.label or "—", c.spectrum_note, _spectrum_kind(c), fmt(s.h_rms * 1e6), fmt(s.slope_rms),
                      fmt(s.curvature_rms), fmt(s.area_ratio), fmt(s.q_min), fmt(s.q_max), q0))
-    parts.append(_table(("variant", "spectrum", "kind", "h_rms (µm)", "slope_rms (1)", "curvature_rms (1/m)",
-                         "A_true/A0 (1)", "q_min (1/m)", "q1 (1/m)", "q0 (1/m)"), rows, left=3))
+    return ["<h2 id=\"spectrum\">Surface roughness spectrum</h2>",
+            _table(("variant", "spectrum", "kind", "h_rms (µm)", "slope_rms (1)", "curvature_rms (1/m)",
+                    "A_true/A0 (1)", "q_min (1/m)", "q1 (1/m)", "q0 (1/m)"), rows, left=3)]
 
+
+_THEORIES = {"critical-junction": "critical-junction theory (the reference paper)",
+             "effective-medium": "effective-medium theory (2D Bruggeman over the gap distribution P(u))",
+             "both": "both the critical-junction and the effective-medium theory"}
+
+
+def _assumptions_section(results: Sequence[CaseResult], band: bool) -> list[str]:
+    """The Assumptions list: theory, p_c, γ, α, the spectrum's kind, the contact, the flow and its validity."""
+    cases = [r.case for r in results]
+    first = cases[0]
+    any_em = any(r.effective_medium is not None or (r.band is not None and r.band.effective_medium is not None) for r in results)
     gases = sum(c.gas is not None for c in cases)
     flow = ("the gas flows as described below" if gases == len(cases) else
             "incompressible Newtonian fluid, laminar flow" + (" (the liquids; the gases as described below)" if gases else ""))
-    parts.append("<h2 id=\"assumptions\">Assumptions</h2><ul>")
-    theories = {"critical-junction": "critical-junction theory (the reference paper)",
-                "effective-medium": "effective-medium theory (2D Bruggeman over the gap distribution P(u))",
-                "both": "both the critical-junction and the effective-medium theory"}
-    parts.append(f"<li>Leak-rate theory: {_e(theories[first.model])}.</li>")
+    parts = ["<h2 id=\"assumptions\">Assumptions</h2><ul>"]
+    parts.append(f"<li>Leak-rate theory: {_e(_THEORIES[first.model])}.</li>")
     parts.append(f"<li>Percolation threshold p_c = {first.percolation_threshold:g}: the critical junction sits where "
                  f"A(ζc)/A0 = 1 − p_c = {1 - first.percolation_threshold:.3g}.</li>")
     parts.append(f"<li>γ = {first.gamma:g} in the interfacial separation ū(ζ) (1: the formula as printed in the paper; "
                  "0.42 recommended by Yang &amp; Persson).</li>")
     parts.append(f"<li>α = {first.alpha:g}: the shape factor of the critical constriction (the paper fits 0.2); "
                  "the effective-medium prediction has no fit factor.</li>")
-    kinds = {("model" if "model" in r[2] else "measurement") for r in rows}
+    kinds = {("model" if "model" in _spectrum_kind(c) else "measurement") for c in cases}
     parts.append(f"<li>The roughness spectrum is a {'model' if kinds == {'model'} else 'measurement'}: "
                  f"{_e(first.spectrum_note)}.</li>")
     if band:
@@ -379,18 +384,54 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     if any_em:
         parts.append("<li>Plain 2D Bruggeman stops percolating at A/A0 = 0.5; numerically exact studies find ≈ 0.42.</li>")
     parts.append("</ul>")
+    return parts
 
-    if band:
-        parts += _band_section(results)
 
+def _warnings_section(results: Sequence[CaseResult]) -> list[str]:
+    """The warnings about the inputs, each with its variant's label (nothing when there are none)."""
     warned = [(r.case.label, w) for r in results for w in r.warnings]
-    if warned:
-        parts.append("<h2 id=\"warnings\">Warnings about the inputs</h2>")
-        parts.append("<p>The numbers below are computed all the same; these are the reasons to distrust them.</p>")
-        for label, w in warned:
-            parts.append(f"<p class=\"warning\">{_e(label + ': ' if label else '')}{_e(w)}</p>")
+    if not warned:
+        return []
+    parts = ["<h2 id=\"warnings\">Warnings about the inputs</h2>",
+             "<p>The numbers below are computed all the same; these are the reasons to distrust them.</p>"]
+    for label, w in warned:
+        parts.append(f"<p class=\"warning\">{_e(label + ': ' if label else '')}{_e(w)}</p>")
+    return parts
 
-    parts.append("<h2 id=\"results\">Results</h2>")
+
+def _result_block(r: CaseResult) -> list[str]:
+    """One result's tables (the columns of ``sealeak predict``), its notes and its validity warnings."""
+    parts = []
+    if r.band is not None:
+        if r.case.label:
+            parts.append(f"<h3>{_e(r.case.label)}</h3>")
+        parts.append(_result_table(r, "critical-junction"))  # the band table (prediction_columns)
+        parts += _gas_tables(r)
+        parts += [f"<p class=\"note\">{_e(m)}</p>" for m in r.messages]
+        parts += [f"<p class=\"warning\">{_e(m)}</p>" for m in validity_notes(r)]
+        return parts
+    case, res, em = r.case, r.critical_junction, r.effective_medium
+    if case.label:
+        parts.append(f"<h3>{_e(case.label)}</h3>")
+    if r.shows_critical_junction:
+        parts.append(_result_table(r, "critical-junction"))
+    if em is not None:
+        parts.append("<p>Effective medium (2D Bruggeman): Q effective medium = (Ly/Lx) σ_eff ΔP; ū(1): mean "
+                     "separation, &lt;u&gt;_P: mean of P(u), u_e: the gap whose u³/(12η) equals σ_eff.</p>")
+        parts.append(_result_table(r, "effective-medium"))
+    parts += _gas_tables(r)
+    notes = (list(res.messages) if r.shows_critical_junction else []) + (
+        [f"effective medium: {m}" for m in em.messages] if em is not None else [])
+    for m in notes:
+        parts.append(f"<p class=\"note\">{_e(m)}</p>")
+    for m in validity_notes(r):
+        parts.append(f"<p class=\"warning\">{_e(m)}</p>")
+    return parts
+
+
+def _results_section(results: Sequence[CaseResult], band: bool) -> list[str]:
+    """The Results heading, the legend of its columns and each result's block."""
+    parts = ["<h2 id=\"results\">Results</h2>"]
     if band:
         parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. Q_CJ: Q "
                      f"critical junction; Q_EM: Q effective medium; {_e(band_legend(results[0]))}; a verdict: yes, NO "
@@ -400,35 +441,16 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
         parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
                      "Q_EM: Q effective medium; valid: yes, NO (outside the theory's validity: the row's numbers are the "
                      "formula's, not a prediction; highlighted) or — (no leak channel).</p>")
-    if gases:
+    if any(r.case.gas is not None for r in results):
         parts.append(f"<p class=\"legend\">{_e(GAS_INCOMPRESSIBLE_NOTE[0].upper() + GAS_INCOMPRESSIBLE_NOTE[1:])}.</p>")
     for r in results:
-        if r.band is not None:
-            if r.case.label:
-                parts.append(f"<h3>{_e(r.case.label)}</h3>")
-            parts.append(_result_table(r, "critical-junction"))  # the band table (prediction_columns)
-            parts += _gas_tables(r)
-            parts += [f"<p class=\"note\">{_e(m)}</p>" for m in r.messages]
-            parts += [f"<p class=\"warning\">{_e(m)}</p>" for m in validity_notes(r)]
-            continue
-        case, res, em = r.case, r.critical_junction, r.effective_medium
-        if case.label:
-            parts.append(f"<h3>{_e(case.label)}</h3>")
-        if r.shows_critical_junction:
-            parts.append(_result_table(r, "critical-junction"))
-        if em is not None:
-            parts.append("<p>Effective medium (2D Bruggeman): Q effective medium = (Ly/Lx) σ_eff ΔP; ū(1): mean "
-                         "separation, &lt;u&gt;_P: mean of P(u), u_e: the gap whose u³/(12η) equals σ_eff.</p>")
-            parts.append(_result_table(r, "effective-medium"))
-        parts += _gas_tables(r)
-        notes = (list(res.messages) if r.shows_critical_junction else []) + (
-            [f"effective medium: {m}" for m in em.messages] if em is not None else [])
-        for m in notes:
-            parts.append(f"<p class=\"note\">{_e(m)}</p>")
-        for m in validity_notes(r):
-            parts.append(f"<p class=\"warning\">{_e(m)}</p>")
+        parts += _result_block(r)
+    return parts
 
-    parts.append("<h2 id=\"figures\">Figures</h2>")
+
+def _figures_section(results: Sequence[CaseResult], band: bool) -> tuple[list[str], int]:
+    """The grid of prediction figures with their captions, and how many figures it numbered."""
+    parts = ["<h2 id=\"figures\">Figures</h2>"]
     any_invalid = any((~r.shown_valid).any() for r in results)
     parts.append("<div class=\"figures\">")
     figures = prediction_figures(results)
@@ -436,10 +458,29 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
     for number, (name, fig) in enumerate(figures.items(), start=1):
         parts.append(_figure(name, number, fig, _caption(name, any_invalid, band, gas)))
     parts.append("</div>")
+    return parts, len(figures)
 
+
+def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str:
+    """The HTML text of the report of a case file run (one case, or the variants of a study).
+
+    ``results``: :func:`~sealeak.cases.run_case` of each case; ``inputs``: the case file as the user
+    wrote it (:attr:`~sealeak.cases.CaseFile.inputs`), shown with its units.
+    """
+    cases = [r.case for r in results]
+    band = is_band_run(results)
+    parts = _header(cases)
+    parts += ["<h2 id=\"inputs\">Inputs</h2>", _inputs(inputs)]
+    parts += _spectrum_section(cases)
+    parts += _assumptions_section(results, band)
+    if band:
+        parts += _band_section(results)
+    parts += _warnings_section(results)
+    parts += _results_section(results, band)
+    figures, n_figures = _figures_section(results, band)
+    parts += figures
     if len(cases) == 1:
-        parts += _rig_section(results[0], len(figures) + 1)
-
+        parts += _rig_section(results[0], n_figures + 1)
     parts.append("</body>")
     parts.append("</html>")
     return "\n".join(parts) + "\n"

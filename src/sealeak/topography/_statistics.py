@@ -168,10 +168,6 @@ def surface_statistics(
         if s.periodic:
             gx, gy, lap = _spectral_derivatives(h, s.size)
             method = "spectral derivatives (periodic map)"
-            g2 = gx**2 + gy**2
-            slope = float(np.sqrt(np.mean(g2[good])))
-            area = float(np.mean(np.sqrt(1.0 + g2[good])))
-            curv = float(np.sqrt(np.mean(lap[good] ** 2)))
         else:
             sm = _smooth_component_2d(h)
             gx, gy, lap = _spectral_derivatives(h - sm, s.size)
@@ -182,10 +178,10 @@ def surface_statistics(
             lap += np.gradient(np.gradient(sm, dy, axis=1), dy, axis=1)
             del sm, sx, sy
             method = "spectral derivatives of the periodic component + finite differences of the smooth one"
-            g2 = gx**2 + gy**2
-            slope = float(np.sqrt(np.mean(g2[good])))
-            area = float(np.mean(np.sqrt(1.0 + g2[good])))
-            curv = float(np.sqrt(np.mean(lap[good] ** 2)))
+        g2 = gx**2 + gy**2
+        slope = float(np.sqrt(np.mean(g2[good])))
+        area = float(np.mean(np.sqrt(1.0 + g2[good])))
+        curv = float(np.sqrt(np.mean(lap[good] ** 2)))
     else:
         dx = s.pixel_size
         if s.periodic:
