@@ -17,7 +17,7 @@ from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .fitting import _check_file_loads, _check_load_column
 from .model import Case
-from .prediction import _band_conductance, _conductance, _model_name
+from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
 
 __all__ = ["LinearityCheck", "linearity", "run_linearity"]
 
@@ -91,14 +91,7 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     messages: list[str] = []
     alpha_from_slope = None
     if p0 is not None:
-        for model in ("critical-junction", "effective-medium"):
-            k, notes = _conductance(case, [p0], model)
-            if k[0] > 0:
-                slopes[_model_name(case, model)] = float(k[0])
-                if model == "critical-junction":
-                    alpha_from_slope = line.slope / (float(k[0]) / case.alpha)
-            else:
-                messages.extend(notes)
+        slopes, alpha_from_slope, messages = _model_slopes(case, line, {m: _conductance(case, [p0], m) for m in _MODELS})
     else:
         messages.append("no squeeze pressure known (give --squeeze-pressure): no comparison with the models")
     return LinearityCheck(line, p0, source, slopes, alpha_from_slope, tuple(messages))
@@ -126,6 +119,27 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
     return linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
 
 
+#: The models a linearity check compares with, in the order their slopes are reported.
+_MODELS: tuple[Model, ...] = ("critical-junction", "effective-medium")
+
+
+def _model_slopes(case: Case, line: LinearFit, conductances: dict[Model, tuple[FloatArray, tuple[str, ...]]]
+                  ) -> tuple[dict[str, float], float | None, list[str]]:
+    """Each model's slope K = Q/ΔP (m³/(s·Pa)) at the load, from ``conductances`` ({model: (K per load, notes)});
+    the α the data's slope implies (slope / K_cj at α = 1); the notes of a model that has no leak there."""
+    slopes: dict[str, float] = {}
+    messages: list[str] = []
+    alpha_from_slope = None
+    for model, (k, notes) in conductances.items():
+        if k[0] > 0:
+            slopes[_model_name(case, model)] = float(k[0])
+            if model == "critical-junction":
+                alpha_from_slope = line.slope / (float(k[0]) / case.alpha)
+        else:
+            messages.extend(notes)
+    return slopes, alpha_from_slope, messages
+
+
 def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str) -> LinearityCheck:
     """:func:`linearity` of a band seal: the models' slopes at one compression or profile scale."""
     band = case.band
@@ -137,16 +151,9 @@ def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str
     alpha_from_slope = None
     p_mean = None
     if load is not None:
-        ks, res = _band_conductance(case, [load], ("critical-junction", "effective-medium"))
+        ks, res = _band_conductance(case, [load], _MODELS)
         p_mean = float(res.mean_contact_pressure[0])
-        for model in ("critical-junction", "effective-medium"):
-            k, notes = ks[model]
-            if k[0] > 0:
-                slopes[_model_name(case, model)] = float(k[0])
-                if model == "critical-junction":
-                    alpha_from_slope = line.slope / (float(k[0]) / case.alpha)
-            else:
-                messages.extend(notes)
+        slopes, alpha_from_slope, messages = _model_slopes(case, line, {m: ks[m] for m in _MODELS})
     else:
         word = "compression" if band.load_name == "compression" else "profile scale"
         messages.append(f"the case has {band.loads.size} values of conditions.{band.load_name} and the data file no "
