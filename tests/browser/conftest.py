@@ -80,14 +80,10 @@ def browser():
         b.close()
 
 
-@pytest.fixture
-def page(browser, server):
-    """A fresh browser context (a new session) and page; the test fails on any console error or page error."""
-    base, _app = server
-    # Playwright evaluates the predicates of wait_for_function with eval, which the app's Content-Security-Policy
-    # forbids; test_web_security_pages.py opens the pages under that policy
-    context = browser.new_context(base_url=base, viewport={"width": 1400, "height": 1000}, accept_downloads=True,
-                                  bypass_csp=True)
+def watched_page(browser, base, **context_options):
+    """A page in a fresh browser context (a new session) at ``base``; yields it, then fails the test on any console
+    error or warning or page error it reported."""
+    context = browser.new_context(base_url=base, viewport={"width": 1400, "height": 1000}, **context_options)
     pg = context.new_page()
     problems: list[str] = []
     pg.on("console", lambda m: problems.append(f"console {m.type}: {m.text}") if m.type in ("error", "warning") else None)
@@ -96,6 +92,16 @@ def page(browser, server):
     yield pg
     context.close()
     assert not problems, "the browser reported:\n" + "\n".join(problems)
+
+
+@pytest.fixture
+def page(browser, server):
+    """A fresh browser context (a new session) and page; the test fails on any console error or page error.
+
+    Playwright evaluates the predicates of wait_for_function with eval, which the app's Content-Security-Policy
+    forbids, so this page bypasses the policy; test_web_security_pages.py opens the pages under it."""
+    base, _app = server
+    yield from watched_page(browser, base, accept_downloads=True, bypass_csp=True)
 
 
 @pytest.fixture(scope="session")

@@ -5,20 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.browser.conftest import watched_page
+
 
 @pytest.fixture
 def strict_page(browser, server):
     """A page that enforces the app's Content-Security-Policy (the ``page`` fixture bypasses it for Playwright's sake)."""
     base, _app = server
-    context = browser.new_context(base_url=base, viewport={"width": 1400, "height": 1000})
-    pg = context.new_page()
-    problems: list[str] = []
-    pg.on("console", lambda m: problems.append(f"console {m.type}: {m.text}") if m.type in ("error", "warning") else None)
-    pg.on("pageerror", lambda e: problems.append(f"page error: {e}"))
-    pg.set_default_timeout(30_000)
-    yield pg
-    context.close()
-    assert not problems, "the browser reported:\n" + "\n".join(problems)
+    yield from watched_page(browser, base)
 
 
 def test_the_pages_work_under_their_content_security_policy(strict_page, tmp_path):

@@ -40,15 +40,16 @@ from starlette.exceptions import HTTPException
 from starlette.responses import JSONResponse
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from ..io.tomlscan import MAX_DEPTH, MAX_KEY_PARTS
+
 __all__ = ["Guard", "BodyTooLarge", "DEFAULT_MAX_BODY", "MAX_NESTING", "MAX_KEY_PARTS", "check_nesting", "allowed_hosts",
            "content_security_policy", "remove_orphans", "write_pid", "PID_FILE", "ROOT_PREFIX"]
 
 #: The largest JSON or case-file request body (bytes): 2 MB.
 DEFAULT_MAX_BODY = 2 * 10**6
-#: The deepest nesting of ``[ ]`` and ``{ }`` a JSON or TOML text may have.
-MAX_NESTING = 32
-#: The most parts a dotted TOML key may have (``a.b.c`` has 3).
-MAX_KEY_PARTS = 32
+#: The deepest nesting of ``[ ]`` and ``{ }`` a JSON or TOML text may have, and the most parts of a dotted TOML
+#: key: the case loader's limits (:mod:`sealeak.io.tomlscan`), so a body is refused here as a file is there.
+MAX_NESTING = MAX_DEPTH
 #: The prefix of a server's temporary folder, and the file in it that names the server's process.
 ROOT_PREFIX = "sealeak-web-"
 PID_FILE = "server.pid"
