@@ -109,16 +109,18 @@ def emit(args: argparse.Namespace, text: str, files: dict[str, str],
     :func:`~sealeak.render.save_figures` renders all before it writes one) into ``args.plots``, saying what was written.
 
     Everything is rendered by the caller before this is called, so a failure while rendering
-    leaves no file behind; each file is written atomically.
+    leaves no file behind; each file is written atomically. A file given as ``-`` goes to standard
+    output instead, and then ``text`` is not printed (standard output holds that file alone).
     """
-    from ..io.files import write_text
+    from ..io.files import STDOUT, write_output
     from ..render import save_figures
 
-    if not args.quiet:
+    if not args.quiet and STDOUT not in files:
         sys.stdout.write(text)
     for path, content in files.items():
-        write_text(path, content)
-        say(args, f"wrote {path}")
+        write_output(path, content)
+        if path != STDOUT:
+            say(args, f"wrote {path}")
     if pngs:
         written = save_figures(pngs, args.plots)
         say(args, f"wrote {written[0]}" if len(written) == 1 else f"wrote {len(written)} figures to {args.plots}/")

@@ -192,12 +192,13 @@ def _decay_rig(args: argparse.Namespace, case) -> int:  # type: ignore[no-untype
 # ---------------------------------------------------------------------- report
 def _cmd_report(args: argparse.Namespace) -> int:
     from ..cases import run_case
-    from ..io.files import check_outputs, write_text
+    from ..io.files import STDOUT, check_outputs, write_output
     from ..render import html_report
 
     check_outputs(outputs(args, files=("output",), folders=()), args.force, inputs=inputs(args))
     case_file = load_case_file(args)
     single = len(case_file.cases) == 1  # the report shows the rig of a single case
-    write_text(args.output, html_report([run_case(c, rig=single) for c in case_file.cases], case_file.inputs))
-    say(args, f"wrote {args.output}")
+    write_output(args.output, html_report([run_case(c, rig=single) for c in case_file.cases], case_file.inputs))
+    if args.output != STDOUT:
+        say(args, f"wrote {args.output}")
     return 0

@@ -29,7 +29,7 @@ def unit_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
-    from ..io.files import atomic_write, check_outputs, write_text
+    from ..io.files import STDOUT, atomic_write, check_outputs, write_output
     from ..render import analysis_json, analysis_text, plot_spectra, spectrum_csv
     from ..topography import analyze, cli_option_names
 
@@ -42,14 +42,15 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
     if not an.has_spectrum and (args.psd_out or args.plot):  # before any output: nothing is left behind
         wanted = " and ".join(o for o, v in (("--psd-out", args.psd_out), ("--plot", args.plot)) if v)
         raise SealeakError(f"{wanted}: no C(q) to write: {an.spectrum_problem}")
-    sys.stdout.write(analysis_text(an))
-    sys.stdout.flush()
-    if args.json:
-        write_text(args.json, analysis_json(an))
-        print(f"wrote {args.json}", file=sys.stderr)
-    if args.psd_out:
-        write_text(args.psd_out, spectrum_csv(an.spectrum))
-        print(f"wrote {args.psd_out}", file=sys.stderr)
+    files = ({args.json: analysis_json(an)} if args.json else {}) | (
+        {args.psd_out: spectrum_csv(an.spectrum)} if args.psd_out else {})
+    if STDOUT not in files:  # standard output holds a file given as '-' alone
+        sys.stdout.write(analysis_text(an))
+        sys.stdout.flush()
+    for path, content in files.items():
+        write_output(path, content)
+        if path != STDOUT:
+            print(f"wrote {path}", file=sys.stderr)
     if args.plot:
         fig = plot_spectra(an)
         with atomic_write(args.plot) as tmp:

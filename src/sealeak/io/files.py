@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 import stat
+import sys
 import tempfile
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -26,7 +27,10 @@ from pathlib import Path
 from ..errors import FileFormatError, InputError, SealeakError
 
 __all__ = ["Output", "OutputExistsError", "OutputWriteError", "check_outputs", "check_replaceable", "atomic_write", "write_text",
-           "input_file"]
+           "write_output", "STDOUT", "input_file"]
+
+#: The output path that means standard output (``--json -``).
+STDOUT = "-"
 
 
 class OutputExistsError(SealeakError):
@@ -112,11 +116,21 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
     symbolic link, a device such as ``/dev/null``, a named pipe, a socket: see
     :func:`check_replaceable`); a path below a file, or in a folder the user may not write into.
     Refused without ``force``: a path that exists as a regular file.
+
+    The path ``-`` (:data:`STDOUT`) of one file output means standard output: it is not a file and is
+    not checked; two outputs to ``-``, or an output folder ``-``, are refused.
     """
     given = [p if isinstance(p, Output) else Output(p) for p in paths]
     for o in given:
         if str(o.path) == "":
             raise InputError(o.option or "output", "", f"is empty: give a {'folder' if o.folder else 'file'} name (or leave the option out)")
+        if str(o.path) == STDOUT and o.folder:
+            raise InputError(o.option or "output", STDOUT, "'-' (standard output) is for a file output; give a folder name")
+    to_stdout = [o for o in given if str(o.path) == STDOUT]
+    if len(to_stdout) > 1:
+        raise InputError(to_stdout[1].option or "output", STDOUT,
+                         f"only one output may go to standard output ('-'); {to_stdout[0].name()} already does")
+    given = [o for o in given if str(o.path) != STDOUT]
     _check_collisions(given)
     _check_inputs(given, [Path(p) for p in inputs if p])
     targets = [Path(o.path) for o in given if not o.folder]
@@ -243,3 +257,13 @@ def write_text(path: str | Path, text: str) -> None:
     """Write ``text`` to ``path`` atomically (UTF-8)."""
     with atomic_write(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def write_output(path: str | Path, text: str) -> None:
+    """An output of a command: ``text`` to standard output when ``path`` is :data:`STDOUT` (``-``), else
+    :func:`write_text` (atomically, UTF-8)."""
+    if str(path) == STDOUT:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    else:
+        write_text(path, text)
