@@ -40,7 +40,8 @@ def refused(tmp_path, argv, *names):
     for name in names:
         assert name in run.stderr, (name, run.stderr)
     assert kept.read_text() == "earlier result\n"
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["kept.json", *(a for a in argv if a.endswith(".toml"))])
+    inputs = (a for a in argv if a.endswith((".toml", ".npy", ".npz")))
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["kept.json", *inputs])
     assert elapsed < 60, elapsed  # start-up and the refusal: seconds, never the minutes of the work
     return run.stderr
 
@@ -160,3 +161,54 @@ def test_a_topography_of_thousands_of_files_is_refused_before_any_is_read(tmp_pa
     text = BASE.replace(BASE[BASE.index("[surface]"):BASE.index("[rubber]")], surface)
     with pytest.raises(InputError, match=r"^surface\.files = \['h\.txt', .*: 5000 files: at most 100 "):
         parse_case_bytes(text.encode(), tmp_path, "t.toml")
+
+
+# ------------------------------------------------------------------ topography files that expand
+def _huge_header(shape=(100_000, 100_000)):
+    import io
+
+    import numpy as np
+
+    buf = io.BytesIO()
+    np.lib.format.write_array_header_1_0(buf, {"descr": "<f8", "fortran_order": False, "shape": shape})
+    return buf.getvalue()
+
+
+@pytest.mark.parametrize("name", ["bomb.npz", "big.npy"])
+def test_a_small_map_file_declaring_billions_of_heights_is_refused_before_it_expands(tmp_path, name):
+    import zipfile
+
+    if name == "bomb.npz":
+        with zipfile.ZipFile(tmp_path / name, "w", compression=zipfile.ZIP_DEFLATED) as z:
+            with z.open("heights.npy", "w", force_zip64=True) as f:  # 200 MB of zeros in about 200 kB
+                f.write(_huge_header())
+                for _ in range(200):
+                    f.write(bytes(1 << 20))
+    else:
+        (tmp_path / name).write_bytes(_huge_header() + bytes(64))
+    assert (tmp_path / name).stat().st_size < 1_000_000
+    refused(tmp_path, ["surface", "analyze", name, "--pixel-size", "1 um", "--height-unit", "m"],
+            f"{name}: declares 100000 × 100000 = 10,000,000,000 heights", "at most 67,108,864")
+
+
+def test_an_npz_of_many_arrays_is_refused_before_any_is_read(tmp_path):
+    import numpy as np
+
+    np.savez(tmp_path / "many.npz", heights=np.zeros((4, 4)), **{f"a{i}": np.zeros(1) for i in range(40)})
+    refused(tmp_path, ["surface", "analyze", "many.npz", "--pixel-size", "1 um", "--height-unit", "m"],
+            "many.npz: .npz holds 41 arrays")
+
+
+def test_an_instrument_file_declaring_too_many_points_is_refused_before_its_data_are_read(tmp_path):
+    from types import SimpleNamespace
+
+    from sealeak.topography import _external
+
+    def never(**_):
+        raise AssertionError("the data were read")
+
+    channel = SimpleNamespace(name="Height", unit="m", physical_sizes=(1e-3, 1e-3), nb_grid_pts=(10_000, 10_000))
+    reader = SimpleNamespace(channels=[channel], default_channel=channel, topography=never)
+    with pytest.raises(FileFormatError, match="declares 10000 × 10000 = 100,000,000 heights"):
+        _external._read(tmp_path / "map.datx", reader, pixel_size=None, size=None, height_unit=None,
+                        lateral_unit=None, periodic=False, channel=None)

@@ -6,6 +6,8 @@ notes for options a file overrides, and resampling of non-uniform line scans.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -16,12 +18,25 @@ from ..errors import FileFormatError, InputError
 from ._types import NO_DATA_MAGNITUDE, LineScans, Topography
 from ._units import MissingUnitsError, option_name, parse_length
 
-__all__ = ["Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
+__all__ = ["MAX_POINTS", "check_points", "Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
            "resample_nonuniform", "mark_no_data"]
 
 Surface = Topography | LineScans
 LengthLike = float | str
 INSTALL_HINT = "pip install 'sealeak[formats]'"
+
+#: The most heights a map or profile may hold (8192 × 8192; 512 MB as float64): checked on the shape a
+#: file declares, before its data are read or decompressed, so a small compressed file cannot expand
+#: into all of memory.
+MAX_POINTS = 8192 * 8192
+
+
+def check_points(path: Path | str, shape: Sequence[int]) -> None:
+    """Refuse a declared ``shape`` of more than :data:`MAX_POINTS` heights (FileFormatError), before reading."""
+    n = math.prod(int(k) for k in shape)
+    if n > MAX_POINTS:
+        raise FileFormatError(Path(path), f"declares {' × '.join(str(int(k)) for k in shape)} = {n:,} heights; "
+                                          f"at most {MAX_POINTS:,} (8192 × 8192) are read: crop or resample the map")
 
 
 # ---------------------------------------------------------------------------- unit helpers

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FileFormatError, InputError, UnitError
-from ._common import INSTALL_HINT, Surface, ignored_notes, lateral_size, mark_no_data, require_units, resample_nonuniform
+from ._common import INSTALL_HINT, Surface, check_points, ignored_notes, lateral_size, mark_no_data, require_units, resample_nonuniform
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, option_name
 
@@ -158,6 +158,7 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
         raise UnitError(option_name("channel"), channel, f"{path}: channel {index} {ch.name!r} does not hold heights "
                                                          f"(unit {unit!r}); choose a height channel: {_list(channels)}")
     file_sizes = ch.physical_sizes
+    check_points(path, tuple(ch.nb_grid_pts))  # before the data are read (a compressed file can expand)
     is_profile = len(tuple(ch.nb_grid_pts)) == 1
     # everything the user must give, in one message
     require_units(path, height=unit is None and height_unit is None,

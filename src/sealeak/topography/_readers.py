@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,6 +31,7 @@ from ._common import (
     INSTALL_HINT,
     LengthLike,
     Surface,
+    check_points,
     ignored_notes,
     lateral_size,
     mark_no_data,
@@ -315,7 +317,45 @@ def _read_sidecar(path: Path, shape: tuple[int, ...]) -> _Stated | None:
     return _stated(side, side.name, {k: ("sidecar", doc[k]) for k in keys if k in doc})
 
 
+#: The arrays of a height-map ``.npz`` besides ``heights``; a file with many more is refused before reading.
+_NPZ_KEYS = ("size", "pixel_size", "height_unit", "periodic")
+_NPZ_KEYS_MAX = 16
+
+
+def _declared_shape(fh: Any) -> tuple[int, ...]:
+    """The shape an ``.npy`` stream declares in its header, read without its data (numpy's format functions)."""
+    version = np.lib.format.read_magic(fh)
+    read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    return tuple(read(fh)[0])
+
+
+def _check_declared(path: Path, members: bool) -> None:
+    """Refuse an ``.npy`` (or each array of an ``.npz``: ``members``) that declares more than MAX_POINTS heights,
+    before its data are read or decompressed. A header that cannot be read is left to :func:`numpy.load`."""
+    try:
+        if not members:
+            with open(path, "rb") as fh:
+                shapes = [_declared_shape(fh)]
+        else:
+            with zipfile.ZipFile(path) as z:
+                names = z.namelist()
+                if len(names) > _NPZ_KEYS_MAX:
+                    raise FileFormatError(path, f".npz holds {len(names)} arrays; a height map file holds 'heights' "
+                                                f"and at most {', '.join(_NPZ_KEYS)}")
+                shapes = []
+                for name in names:
+                    with z.open(name) as fh:
+                        shapes.append(_declared_shape(fh))
+    except FileFormatError:
+        raise
+    except Exception:  # noqa: BLE001 - damaged headers are reported by numpy.load below, in its words
+        return
+    for shape in shapes:
+        check_points(path, shape)
+
+
 def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:
+    _check_declared(path, members=False)
     try:
         a = np.load(path, allow_pickle=False)
     except Exception as exc:  # numpy raises ValueError/OSError/EOFError/... for damaged files
@@ -331,6 +371,7 @@ def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None
 
 
 def _read_npz(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:
+    _check_declared(path, members=True)
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files}
@@ -344,7 +385,7 @@ def _read_npz(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None
         raise FileFormatError(path, f".npz holds arrays {sorted(arrays)}; the height map must be named 'heights'")
     a = _check_array(path, a, ".npz array 'heights'")
     items: dict[str, tuple[str, Any]] = {}
-    for key in ("size", "pixel_size", "height_unit", "periodic"):
+    for key in _NPZ_KEYS:
         if key in arrays:
             v = arrays[key]
             items[key] = (f"array {key!r}", v.item() if v.ndim == 0 else v)
