@@ -373,16 +373,18 @@ def _read_npy(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None
 def _read_npz(path: Path, *, pixel_size: Any, size: Any, height_unit: str | None, periodic: bool) -> Surface:
     _check_declared(path, members=True)
     try:
-        with np.load(path, allow_pickle=False) as z:
-            arrays = {k: z[k] for k in z.files}
+        with np.load(path, allow_pickle=False) as z:  # the height map and its description only
+            names = list(z.files)
+            wanted = set(z.files) if len(z.files) == 1 else {"heights", *_NPZ_KEYS}
+            arrays = {k: z[k] for k in z.files if k in wanted}
     except Exception as exc:  # zipfile.BadZipFile, ValueError, OSError, EOFError, ...
         raise FileFormatError(path, f"not a readable .npz file ({type(exc).__name__}: {exc})") from None
     if "heights" in arrays:
         a = arrays["heights"]
-    elif len(arrays) == 1:
+    elif len(arrays) == 1 and not set(arrays) & set(_NPZ_KEYS):
         a = next(iter(arrays.values()))
     else:
-        raise FileFormatError(path, f".npz holds arrays {sorted(arrays)}; the height map must be named 'heights'")
+        raise FileFormatError(path, f".npz holds arrays {sorted(names)}; the height map must be named 'heights'")
     a = _check_array(path, a, ".npz array 'heights'")
     items: dict[str, tuple[str, Any]] = {}
     for key in _NPZ_KEYS:
