@@ -215,3 +215,9 @@ def test_simulation_runs_and_cancels(page, artifacts, server):
         pytest.fail(f"processes of the cancelled job are still running: {_running_in_group(job._proc.pid)}")
     assert page.locator("#job-table").inner_text().strip() != ""
     page.screenshot(path=str(artifacts / "simulation-cancelled.png"), full_page=True)
+    # Remove deletes the cancelled job and its folder from the session (its disk counts against the quota)
+    folder = job.folder
+    page.click(f"#jobs tr[data-job='{long_id}'] .remove")
+    page.wait_for_selector(f"#jobs tr[data-job='{long_id}']", state="detached")
+    assert not folder.exists()
+    assert page.locator("#jobs tr:has-text('grid 32') .show").count() == 1  # the finished one stays

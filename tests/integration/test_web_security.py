@@ -230,6 +230,33 @@ def test_a_sessions_uploads_are_bounded_by_its_quota(tmp_path):
         assert other.post("/api/uploads", files=[("files", ("b.csv", b"1" * 6000))]).status_code == 200  # per session
 
 
+def test_all_sessions_together_are_bounded_by_the_servers_quota(tmp_path):
+    app = create_app(WebConfig(session_quota=10_000, server_quota=15_000, root=tmp_path / "root"))
+    with web_client(app) as c, web_client(app) as other:
+        assert c.post("/api/uploads", files=[("files", ("a.csv", b"1" * 9000))]).status_code == 200
+        r = other.post("/api/uploads", files=[("files", ("b.csv", b"1" * 9000))])  # within its own quota, not the server's
+        assert r.status_code == 413 and "the server's limit of 0.015 MB" in r.json()["error"], r.text
+        assert other.get("/api/uploads").json()["uploads"] == []
+        assert other.post("/api/uploads", files=[("files", ("b.csv", b"1" * 5000))]).status_code == 200
+
+
+def test_a_sessions_simulation_results_count_against_its_quota_and_can_be_removed(monkeypatch, tmp_path):
+    monkeypatch.setattr(web_jobs, "start_job", _fake_start)
+    with web_client(create_app(WebConfig(session_quota=10_000, max_running=4, root=tmp_path / "root"))) as c:
+        c.post("/api/case/example", json={"name": "reference-experiment"})
+        job = c.post("/api/jobs", json={"grid": 32}).json()
+        (folder,) = (tmp_path / "root").glob(f"*/jobs/{job['id']}")
+        (folder / "store.bin").write_bytes(bytes(12_000))  # the job's results fill the session's quota
+        r = c.post("/api/uploads", files=[("files", ("a.csv", b"1" * 100))])
+        assert r.status_code == 413 and "quota of 0.01 MB" in r.json()["error"]
+        r = c.post("/api/jobs", json={"grid": 32})
+        assert r.status_code == 507 and "remove a finished simulation first" in r.json()["error"], r.text
+        assert c.delete(f"/api/jobs/{job['id']}").json() == {"removed": job["id"]}
+        assert not folder.exists() and c.get("/api/jobs").json() == []
+        assert c.get(f"/api/jobs/{job['id']}").status_code == 404
+        assert c.post("/api/uploads", files=[("files", ("a.csv", b"1" * 100))]).status_code == 200
+
+
 def test_the_prediction_cache_is_bounded_by_bytes(tmp_path):
     cases = [re.sub(r"squeeze_pressure = [^\n]*", f'squeeze_pressure = {{start = "10 kPa", stop = "1 MPa", num = {n}}}', REF)
              for n in (200, 201, 202)]

@@ -40,7 +40,8 @@ def _cmd_serve(args: argparse.Namespace) -> int:
         if not name or any(c in name for c in "/:@ \t") and not name.startswith("["):
             raise InputError("--allow-host", name, "must be a host name or address, without port or path (e.g. myhost.lab)")
     config = WebConfig(max_upload=_size(args.max_upload), session_idle=60.0 * args.session_timeout,
-                       session_quota=_size(args.session_quota, "--session-quota"), allow_hosts=tuple(args.allow_host))
+                       session_quota=_size(args.session_quota, "--session-quota"),
+                       server_quota=_size(args.server_quota, "--server-quota"), allow_hosts=tuple(args.allow_host))
     serve(args.host, args.port, config, quiet=args.quiet)
     return 0
 
@@ -56,7 +57,9 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--max-upload", default="200 MB", metavar="SIZE",
                    help="largest request body, e.g. an uploaded topography file (default '200 MB')")
     p.add_argument("--session-quota", default="1 GB", metavar="SIZE",
-                   help="most disk a browser session's uploaded files may take (default '1 GB')")
+                   help="most disk a browser session's files (uploads and simulation results) may take (default '1 GB')")
+    p.add_argument("--server-quota", default="10 GB", metavar="SIZE",
+                   help="most disk the files of all sessions together may take (default '10 GB')")
     p.add_argument("--allow-host", action="append", default=[], metavar="NAME",
                    help="a further host name the app answers to (repeatable; the Host header of every request must be "
                         "127.0.0.1, localhost, [::1], the --host or such a name)")

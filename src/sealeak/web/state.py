@@ -25,9 +25,9 @@ from ..render.interactive import prediction_plot_data
 from .casework import DEFAULT_CACHE_BYTES, Prediction, PredictionCache, doc_fields, field_of, load_toml
 from .security import DEFAULT_MAX_BODY
 from .sessions import DEFAULT_MAX_SESSIONS, Session, SessionStore
-from .uploads import Form, check_expansion, folder_bytes, read_form
+from .uploads import Form, Quota, check_expansion, folder_bytes, read_form
 
-__all__ = ["WebConfig", "AppState", "StateDep", "SessionDep", "DEFAULT_MAX_UPLOAD", "DEFAULT_SESSION_QUOTA",
+__all__ = ["WebConfig", "AppState", "StateDep", "SessionDep", "DEFAULT_MAX_UPLOAD", "DEFAULT_SESSION_QUOTA", "DEFAULT_SERVER_QUOTA", "disk_quotas",
            "DEFAULT_MAX_REALIZATIONS", "NO_CASE", "error_json", "error_response", "scrub", "case_state", "current",
            "download", "receive", "form_files", "save_uploads", "upload_list"]
 
@@ -35,6 +35,8 @@ __all__ = ["WebConfig", "AppState", "StateDep", "SessionDep", "DEFAULT_MAX_UPLOA
 DEFAULT_MAX_UPLOAD = 200 * 10**6
 #: The default disk quota of a session (bytes of its uploaded files): 1 GB.
 DEFAULT_SESSION_QUOTA = 10**9
+#: The default disk limit of the whole server (bytes of all sessions' files): 10 GB.
+DEFAULT_SERVER_QUOTA = 10 * 10**9
 #: The default most realizations of one simulation job.
 DEFAULT_MAX_REALIZATIONS = 1000
 #: The message of a request that needs a case when the session has none.
@@ -54,7 +56,8 @@ class WebConfig:
     which a session ends (s); ``root``: the folder for session folders (None: a new temporary folder,
     removed at shutdown); ``max_jobs``: simulations running at once per session; ``max_running``:
     per server (default half the cores, at least 1); ``max_workers``, ``max_realizations``: the most a
-    job may ask for; ``session_quota``: the bytes of the files a session may hold; ``max_sessions``:
+    job may ask for; ``session_quota``: the bytes of the files a session may hold (uploads and simulation
+    results); ``server_quota``: the bytes of the files of all sessions together; ``max_sessions``:
     sessions at once; ``cache_bytes``: the prediction cache's size; ``host``, ``port``,
     ``allow_hosts``: the address the server listens on and further names it answers to (``port``
     None: any port, for an app not bound to a socket yet).
@@ -69,6 +72,7 @@ class WebConfig:
     max_workers: int = field(default_factory=_cores)
     max_realizations: int = DEFAULT_MAX_REALIZATIONS
     session_quota: int = DEFAULT_SESSION_QUOTA
+    server_quota: int = DEFAULT_SERVER_QUOTA
     max_sessions: int = DEFAULT_MAX_SESSIONS
     cache_bytes: int = DEFAULT_CACHE_BYTES
     host: str = "127.0.0.1"
@@ -167,10 +171,21 @@ def download(content: bytes | str, filename: str, media: str) -> Response:
     return Response(content, media_type=media, headers={"Content-Disposition": f'attachment; filename="{filename}"'})
 
 
+def disk_quotas(state: AppState, s: Session) -> list[Quota]:
+    """The disk limits new files of session ``s`` count against: its own (all its files: uploads, simulation
+    results) and the server's (the files of every session)."""
+    cfg = state.config
+    return [Quota(cfg.session_quota, folder_bytes(s.folder),
+                  f"the session's files would take more than its quota of {cfg.session_quota / 1e6:.6g} MB "
+                  "(sealeak serve --session-quota)"),
+            Quota(cfg.server_quota, folder_bytes(state.root),
+                  f"the files of all sessions would take more than the server's limit of {cfg.server_quota / 1e6:.6g} MB "
+                  "(sealeak serve --server-quota): try again later")]
+
+
 async def receive(request: Request, state: AppState, s: Session, file_limit: int) -> Form:
-    """The request's form, its files streamed into the session's folder (within the session's quota)."""
-    return await read_form(request, s.folder / "incoming", file_limit=file_limit, quota=state.config.session_quota,
-                           used=folder_bytes(s.uploads_path))
+    """The request's form, its files streamed into the session's folder (within the session's and the server's quotas)."""
+    return await read_form(request, s.folder / "incoming", file_limit=file_limit, quotas=disk_quotas(state, s))
 
 
 def form_files(form: Form, name: str) -> list[tuple[str, Path]]:

@@ -3,8 +3,9 @@
 Nothing of an upload is held in memory beyond one chunk of the request: every file part goes to a
 temporary file in the session's ``incoming/`` folder as it arrives and is moved to ``uploads/``
 under its upload name once the whole request has been read and checked (a refused or broken
-request leaves nothing behind). The session's quota (the sum of the bytes of its files) is checked on the bytes
-written, so a request over it stops at once with 413.
+request leaves nothing behind). The session's quota (the sum of the bytes of all its files: uploads and
+simulation results) and the server's (the bytes of all sessions) are checked on the bytes written, so a
+request over either stops at once with 413.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import math
 import secrets
 import zipfile
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, BinaryIO
@@ -26,7 +28,7 @@ from starlette.requests import Request
 from .casework import upload_name
 from .security import BodyTooLarge
 
-__all__ = ["Form", "read_form", "folder_bytes", "check_expansion"]
+__all__ = ["Form", "Quota", "read_form", "folder_bytes", "check_expansion"]
 
 #: The most file parts and text fields a form may have, and the most bytes of all its text fields.
 MAX_PARTS = 64
@@ -53,11 +55,25 @@ def folder_bytes(folder: Path) -> int:
     return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file() and not p.is_symlink()) if folder.is_dir() else 0
 
 
-async def read_form(request: Request, incoming: Path, *, file_limit: int, quota: int, used: int) -> Form:
+@dataclass(frozen=True)
+class Quota:
+    """A disk limit: at most ``limit`` bytes, ``used`` taken already; ``what`` words it in a refusal
+    (``"the session's files would take more than its quota of 1000 MB (sealeak serve --session-quota)"``)."""
+
+    limit: int
+    used: int
+    what: str
+
+    def left(self) -> int:
+        """Bytes still free (may be negative)."""
+        return self.limit - self.used
+
+
+async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas: Sequence[Quota]) -> Form:
     """Parse the multipart body of ``request``, writing each file into ``incoming`` as it streams in.
 
-    ``file_limit``: the most bytes one file may have; ``quota``: the most bytes the session may hold,
-    of which ``used`` are taken already. Over either: :class:`BodyTooLarge` (413), the files written
+    ``file_limit``: the most bytes one file may have; ``quotas``: the disk limits the files count
+    against (the session's, the server's). Over any: :class:`BodyTooLarge` (413), the files written
     so far removed. Not a multipart form: 400.
     """
     kind, options = parse_options_header(request.headers.get("content-type", ""))
@@ -113,9 +129,9 @@ async def read_form(request: Request, incoming: Path, *, file_limit: int, quota:
         if part.size > file_limit:
             raise BodyTooLarge(f"upload: {form.files[-1][1]} is larger than the server's limit of {file_limit / 1e6:.6g} MB "
                                "for this kind of file")
-        if used + written > quota:
-            raise BodyTooLarge(f"upload: the session's files would take more than its quota of {quota / 1e6:.6g} MB "
-                               "(sealeak serve --session-quota)")
+        for q in quotas:
+            if written > q.left():
+                raise BodyTooLarge(f"upload: {q.what}")
         part.file.write(chunk)
 
     def on_part_end() -> None:

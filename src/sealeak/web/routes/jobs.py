@@ -15,7 +15,7 @@ from ..casework import file_names, load_toml, resolve_files, toml_text
 from ..jobs import Job, start_job
 from ..models import JobBody
 from ..sessions import Session
-from ..state import AppState, SessionDep, StateDep, WebConfig, current, scrub
+from ..state import AppState, SessionDep, StateDep, WebConfig, current, disk_quotas, scrub
 
 __all__ = ["router"]
 
@@ -42,17 +42,26 @@ def _options(body: JobBody, case: Case, config: WebConfig) -> dict[str, int | No
     return opts  # the given values: a case's own grid list still runs its convergence study
 
 
+def _simulations(n: int) -> str:
+    """``1 simulation is``, ``2 simulations are``."""
+    return f"{n} simulation is" if n == 1 else f"{n} simulations are"
+
+
 def _launch(state: AppState, s: Session, title: str, opts: dict[str, int | None]) -> Job:
     """Start the job if the session's and the server's caps allow (429 otherwise); the caller holds the locks."""
     cfg = state.config
     running = sum(1 for j in s.jobs.values() if j.state in ("starting", "running"))
     if running >= cfg.max_jobs:
-        raise StarletteHTTPException(429, f"{running} simulations are running in this session already (at most "
+        raise StarletteHTTPException(429, f"{_simulations(running)} running in this session already (at most "
                                           f"{cfg.max_jobs}): wait for one to finish or cancel one")
     everywhere = state.sessions.running_jobs()
     if everywhere >= cfg.max_running:
-        raise StarletteHTTPException(429, f"{everywhere} simulations are running on this server already (at most "
+        raise StarletteHTTPException(429, f"{_simulations(everywhere)} running on this server already (at most "
                                           f"{cfg.max_running} at once): try again when one has finished")
+    full = next((q for q in disk_quotas(state, s) if q.left() <= 0), None)
+    if full is not None:  # a job writes its results into the session's folder
+        raise StarletteHTTPException(507, "simulate: " + full.what.replace("would take", "take", 1) +
+                                     "; remove a finished simulation first (DELETE /api/jobs/ID)")
     doc = load_toml(s.case_text or "", s.case_name)
     resolved = resolve_files(doc, s.uploaded())  # the files as they are stored, the case naming them so
     names = {n for _, v in file_names(resolved) for n in (v if isinstance(v, list) else [v])}
@@ -100,6 +109,16 @@ def cancel(s: SessionDep, job_id: str) -> dict[str, Any]:
     j = _job(s, job_id)
     j.cancel()
     return j.info()
+
+
+@router.delete("/api/jobs/{job_id}")
+def remove(s: SessionDep, job_id: str) -> dict[str, Any]:
+    """Remove a job and its results from the session (a running one is cancelled first): frees its disk."""
+    j = _job(s, job_id)
+    with s.lock:
+        j.remove()
+        s.jobs.pop(job_id, None)
+    return {"removed": job_id}
 
 
 @router.get("/api/jobs/{job_id}/result.json")

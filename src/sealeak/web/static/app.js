@@ -802,7 +802,8 @@ async function refreshJobs() {
     const pct = j.total ? Math.round(100 * j.done / j.total) : 0;
     const opts = Object.entries(j.options).map(([k, v]) => `${k} ${v}`).join(", ") || "the case's";
     const action = ["starting", "running"].includes(j.state) ? `<button class="secondary cancel" data-id="${j.id}">Cancel</button>`
-      : j.state === "done" ? `<button class="secondary show" data-id="${j.id}">Show result</button>` : "";
+      : (j.state === "done" ? `<button class="secondary show" data-id="${j.id}">Show result</button> ` : "") +
+        `<button class="secondary remove" data-id="${j.id}" title="delete this simulation and its results from the session">Remove</button>`;
     return `<tr data-job="${j.id}"><td>${j.id}</td><td>${esc(j.title)}</td><td>${esc(opts)}</td>
       <td class="state state-${j.state}">${j.state}${j.message && j.state !== "cancelled" ? `: ${esc(j.message)}` : ""}</td>
       <td><span class="progress"><div data-pct="${pct}"></div></span> ${j.total ? `${j.done}/${j.total} tasks` : ""}</td>
@@ -811,6 +812,11 @@ async function refreshJobs() {
   $$("#jobs .progress > div").forEach(d => { d.style.width = `${d.dataset.pct}%`; });  // CSSOM: no style attribute (CSP)
   $$("#jobs .cancel").forEach(b => b.addEventListener("click", async () => {
     try { await api("POST", `/api/jobs/${b.dataset.id}/cancel`); } catch (e) { showMessage(e.message); }
+    refreshJobs();
+  }));
+  $$("#jobs .remove").forEach(b => b.addEventListener("click", async () => {
+    try { await api("DELETE", `/api/jobs/${b.dataset.id}`); } catch (e) { showMessage(e.message); }
+    if (shownJob === b.dataset.id) { shownJob = null; $("#job-result").hidden = true; }
     refreshJobs();
   }));
   $$("#jobs .show").forEach(b => b.addEventListener("click", () => showJob(jobs.find(j => j.id === b.dataset.id))));
