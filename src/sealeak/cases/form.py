@@ -69,6 +69,7 @@ FIELD_KINDS: dict[str, FieldKind] = {
     "seal.width": _q("length", "5 mm"), "seal.length": _q("length", "110 mm"), "seal.height": _q("length", "0.5 cm"),
     "seal.cross_section_diameter": _q("length", "3.53 mm"), "seal.mean_diameter": _q("length", "20 mm"),
     "seal.faces": FieldKind("integer", example="1"), "seal.pressure_profile": FieldKind("file"),
+    "seal.force_factor": _n("1"), "seal.force_table": FieldKind("file"),
     "fluid.name": FieldKind("text", example="water"), "fluid.viscosity": _q("viscosity", "1 mPa*s"),
     "fluid.density": _q("density", "1000 kg/m^3"), "fluid.molecular_size": _q("length", "0.3 nm"),
     "fluid.temperature": _q("temperature", "20 degC"),

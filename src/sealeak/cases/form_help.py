@@ -107,6 +107,13 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "O-ring: the seal line's diameter D directly"),
     "seal.faces": FieldHelp("Contact faces", "seal-the-seal-geometry",
                      "contact faces in parallel: 1 (the rough counterface) or 2 (the groove bottom, as rough, too: Q doubles)"),
+    "seal.force_factor": FieldHelp("Force factor", "seal-the-seal-geometry",
+                     "O-ring: a factor on the force per length f(ε) of the published relations (or of force_table); the contact "
+                     "width stays the relations' w(ε) and the pressure profile is scaled so that it carries f"),
+    "seal.force_table": FieldHelp("Force table file", "seal-the-seal-geometry",
+                     "O-ring: file with columns compression and line_load, each with its unit (compression (%), line_load (N/mm)), "
+                     "a measured or handbook force per length used in place of the published f(ε) (monotone interpolation; "
+                     "compressions outside the table are refused); relative to the case file"),
     "seal.pressure_profile": FieldHelp("Pressure profile file", "seal-the-seal-geometry",
                      "file with columns x and pressure, each with its unit (x (mm), pressure (MPa)), the nominal contact pressure across the band, e.g. "
                      "from a finite-element model; relative to the case file; no shape"),

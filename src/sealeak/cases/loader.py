@@ -79,7 +79,7 @@ class CaseFile:
 
 
 #: The keys whose values name data files, (section, key).
-_FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"))
+_FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
 
 
 def named_files(doc: dict[str, Any], case_dir: Path) -> list[Path]:

@@ -47,7 +47,7 @@ __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fi
 DEFAULT_CACHE_BYTES = 256 * 2**20
 
 #: The keys whose values are file names (each must be a file uploaded in the session).
-FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"))
+FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._ +()-]{0,127}$")
 
