@@ -29,7 +29,8 @@ SURFACE_KEYS: dict[str, set[str]] = {
 }
 SECTIONS: dict[str, set[str]] = {
     "surface": {"model", "label"}.union(*SURFACE_KEYS.values()),
-    "rubber": {"youngs_modulus", "poisson_ratio", "name", "shore_a"},
+    "rubber": {"youngs_modulus", "poisson_ratio", "name", "shore_a",
+               "permeability", "diffusivity"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
     "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height", "cross_section_diameter",
              "mean_diameter", "faces", "pressure_profile",
