@@ -94,3 +94,4 @@ def test_force_never_replaces_the_table(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "even with --force" in err and err.count("\n") == 1
     assert (tmp_path / "f.csv").read_text(encoding="utf-8") == csv
+
