@@ -73,7 +73,7 @@ def test_no_permeability_no_columns(tmp_path, capsys):
 @pytest.mark.parametrize("edit, field, words", [
     ((RUBBER, RUBBER + 'diffusivity = "1e-10 m^2/s"\n'), "rubber.diffusivity", "permeability"),
     ((RUBBER, RUBBER + 'permeability = "-1e-12 m^2/s"\n'), "rubber.permeability", "> 0"),
-    ((RUBBER, RUBBER + 'permeability = "1e-12 Pa"\n'), "rubber.permeability", "diffusivity"),
+    ((RUBBER, RUBBER + 'permeability = "1e-12 Pa"\n'), "rubber.permeability", "area per time"),
     ((RUBBER, RUBBER + "permeability = 1e-12\n"), "rubber.permeability", ""),
 ])
 def test_bad_permeation_input_is_one_line(tmp_path, capsys, edit, field, words):

@@ -368,8 +368,8 @@ def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | N
         raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
                          f"is for an O-ring (seal.shape = \"o-ring\"): the permeation path is its squeezed cord; "
                          f"{seal.field('shape')} is {seal.raw('shape', 'not given')!r}")
-    return RubberPermeation(permeability=rubber.quantity("permeability", "diffusivity"),
-                            diffusivity=rubber.quantity("diffusivity", "diffusivity") if rubber.has("diffusivity") else None)
+    return RubberPermeation(permeability=rubber.quantity("permeability", "area_per_time"),
+                            diffusivity=rubber.quantity("diffusivity", "area_per_time") if rubber.has("diffusivity") else None)
 
 
 #: Known fluids that are liquids at 20 °C and 1 atm: with a viscosity given and no absolute pressures,

@@ -63,7 +63,7 @@ FIELD_KINDS: dict[str, FieldKind] = {
     "surface.bins_per_decade": _n("10"), "surface.low_cut": _n("3"), "surface.resolution": _q("length", "2 um"),
     "surface.resolution_pixels": _n("4"),
     "rubber.youngs_modulus": _PRESSURE, "rubber.poisson_ratio": _n("0.5"), "rubber.name": _TEXT, "rubber.shore_a": _n("70"),
-    "rubber.permeability": _q("diffusivity", "1e-12 m^2/s"), "rubber.diffusivity": _q("diffusivity", "1e-10 m^2/s"),
+    "rubber.permeability": _q("area_per_time", "1e-12 m^2/s"), "rubber.diffusivity": _q("area_per_time", "1e-10 m^2/s"),
     "substrate.youngs_modulus": _q("pressure", "210 GPa"), "substrate.poisson_ratio": _n("0.3"), "substrate.name": _TEXT,
     "seal.shape": FieldKind("choice", choices=("ring", "rectangle", "o-ring")),
     "seal.inner_diameter": _q("length", "3 cm"), "seal.outer_diameter": _q("length", "4 cm"),
