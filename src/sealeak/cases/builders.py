@@ -29,7 +29,7 @@ from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
 from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
-from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
+from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
 from .options import grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
@@ -340,6 +340,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     if not (q0 if band is None else float(band.q0.max())) < spectrum.q_max:
         raise _q0_error(seal_section, theory, seal, q0 if band is None else float(band.q0.max()),
                         f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
+    permeation = _permeation(rubber, seal_section, fl.gas is not None, band)
     rig = _rig(doc["rig"], fluid, band, doc) if "rig" in doc else None  # the rig's objects under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
@@ -348,8 +349,27 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         percolation_threshold=pc, gamma=gamma, q0=q0, q0_note=q0_note, model=model, rig=rig, label=label,
         simulation=simulation, source=source, surface_model=str(model_name), band=band, input_warnings=input_warnings,
         gas=fl.gas, temperature=fl.temperature, absolute_pressures=fl.absolute_pressures, fluid_state=fl.state,
-        helium_equivalent=fl.helium_equivalent, rarefaction=fl.rarefaction,
+        helium_equivalent=fl.helium_equivalent, rarefaction=fl.rarefaction, permeation=permeation,
     )
+
+
+def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | None) -> RubberPermeation | None:
+    """``[rubber] permeability`` and ``diffusivity`` (m²/s) of an O-ring gas case (docs/case-files.md), else None."""
+    if not rubber.has("permeability"):
+        if rubber.has("diffusivity"):
+            raise InputError(rubber.field("diffusivity"), rubber.raw("diffusivity"),
+                             "needs rubber.permeability too: the diffusivity only sets the permeation's breakthrough time")
+        return None
+    if not is_gas:
+        raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
+                         "is for a gas case (fluid.name a gas, with upstream_pressure and downstream_pressure): "
+                         "the permeation through the rubber is a gas leak")
+    if band is None or band.kind != "o-ring":
+        raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
+                         f"is for an O-ring (seal.shape = \"o-ring\"): the permeation path is its squeezed cord; "
+                         f"{seal.field('shape')} is {seal.raw('shape', 'not given')!r}")
+    return RubberPermeation(permeability=rubber.quantity("permeability", "area_per_time"),
+                            diffusivity=rubber.quantity("diffusivity", "area_per_time") if rubber.has("diffusivity") else None)
 
 
 #: Known fluids that are liquids at 20 °C and 1 atm: with a viscosity given and no absolute pressures,

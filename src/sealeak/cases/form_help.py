@@ -83,6 +83,12 @@ FIELD_HELP: dict[str, FieldHelp] = {
     "rubber.shore_a": FieldHelp("Shore A hardness", "rubber-the-rubber",
                      "Shore A hardness S instead of E: E from Gent's relation E = 0.0981 (56 + 7.62336 S)/(0.137505 (254 − 2.54 S)) MPa (theory §10.2); "
                      "uncertain by −20 %…+28 % at 70 Shore A: a measured E is better"),
+    "rubber.permeability": FieldHelp("Gas permeability P", "rubber-the-rubber",
+                     "O-ring gas case: the gas's pV permeability P in the rubber, the pV throughput (Pa·m³/s of the gas at its "
+                     "temperature) through 1 m² of a 1 m thick layer per Pa of pressure difference, in m²/s; adds the permeation "
+                     "leak through the squeezed cord to the results (theory §11.11)"),
+    "rubber.diffusivity": FieldHelp("Gas diffusivity D", "rubber-the-rubber",
+                     "O-ring gas case: the gas's diffusivity D in the rubber; sets the permeation's breakthrough time t_lag = t²/(6D)"),
     "substrate.youngs_modulus": FieldHelp("Young's modulus E", "substrate-an-elastic-substrate-optional",
                      "Young's modulus E2 of the substrate"),
     "substrate.poisson_ratio": FieldHelp("Poisson ratio ν", "substrate-an-elastic-substrate-optional",
@@ -107,6 +113,13 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "O-ring: the seal line's diameter D directly"),
     "seal.faces": FieldHelp("Contact faces", "seal-the-seal-geometry",
                      "contact faces in parallel: 1 (the rough counterface) or 2 (the groove bottom, as rough, too: Q doubles)"),
+    "seal.force_factor": FieldHelp("Force factor", "seal-the-seal-geometry",
+                     "O-ring: a factor on the force per length f(ε) of the published relations (or of force_table); the contact "
+                     "width stays the relations' w(ε) and the pressure profile is scaled so that it carries f"),
+    "seal.force_table": FieldHelp("Force table file", "seal-the-seal-geometry",
+                     "O-ring: file with columns compression and line_load, each with its unit (compression (%), line_load (N/mm)), "
+                     "a measured or handbook force per length used in place of the published f(ε) (monotone interpolation; "
+                     "compressions outside the table are refused); relative to the case file"),
     "seal.pressure_profile": FieldHelp("Pressure profile file", "seal-the-seal-geometry",
                      "file with columns x and pressure, each with its unit (x (mm), pressure (MPa)), the nominal contact pressure across the band, e.g. "
                      "from a finite-element model; relative to the case file; no shape"),

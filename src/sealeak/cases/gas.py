@@ -19,13 +19,15 @@ from ..io.quantities import quantity, record_fields, units_of
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral
+from ..physics.permeation import OringPermeation, oring_permeation
 from ..physics.properties import fluid_state
 from .band import BandResult
 from .model import Case
 from .prediction import FloatArray, _band_effective_gap
 from .schema import case_keys
 
-__all__ = ["GasRows", "GasColumns", "HeliumColumns", "gas_rows", "GAS_UNITS", "HELIUM_UNITS", "HELIUM_TEST", "helium_test_gas", "gas_throughput"]
+__all__ = ["GasRows", "GasColumns", "HeliumColumns", "PermeationColumns", "gas_rows", "GAS_UNITS", "HELIUM_UNITS",
+           "PERMEATION_UNITS", "HELIUM_TEST", "helium_test_gas", "gas_throughput"]
 
 @dataclass(frozen=True, kw_only=True)
 class GasColumns:
@@ -49,10 +51,24 @@ class HeliumColumns:
     leak_rate_helium_mbar_l_s: FloatArray = quantity("mbar*l/s", "helium leak in the standard test in mbar·l/s")
 
 
+@dataclass(frozen=True, kw_only=True)
+class PermeationColumns:
+    """The permeation columns of an O-ring gas case with ``rubber.permeability`` (docs/theory.md §11.11)."""
+
+    leak_rate_permeation_pv: FloatArray = quantity("Pa*m^3/s", "steady pV throughput of the gas through the rubber")
+    permeation_breakthrough_time: FloatArray = quantity("s", "time lag t²/(6D) of the permeation (null without "
+                                                             "rubber.diffusivity)")
+    leak_rate_total_pv: FloatArray = quantity("Pa*m^3/s", "interface leak plus permeation: what a leak test measures "
+                                                          "once the permeation has broken through")
+    leak_rate_total_mbar_l_s: FloatArray = quantity("mbar*l/s", "interface leak plus permeation in mbar·l/s")
+
+
 #: SI unit of the gas fields of a record, from :class:`GasColumns`.
 GAS_UNITS: dict[str, str] = units_of(GasColumns)
 #: SI unit of the helium-equivalent fields, from :class:`HeliumColumns`.
 HELIUM_UNITS: dict[str, str] = units_of(HeliumColumns)
+#: SI unit of the permeation fields, from :class:`PermeationColumns`.
+PERMEATION_UNITS: dict[str, str] = units_of(PermeationColumns)
 
 #: The standard helium leak test: helium at 1 bar (absolute) against vacuum, 20 °C (docs/theory.md §11.9).
 HELIUM_TEST = {"upstream_pressure": 1e5, "downstream_pressure": 0.0, "temperature": 293.15}
@@ -81,6 +97,10 @@ class GasRows:
     helium
         Q_pV of helium in the standard test (1 bar against vacuum, 20 °C) through the same seal,
         Pa·m³/s (None: not asked for).
+    permeation
+        The permeation through the rubber of an O-ring gas case with ``rubber.permeability``, per
+        row, else None; the total (interface + permeation) counts a row without a leak channel as
+        permeation alone.
 
     Rows without a leak channel hold NaN leak rates (``null`` in JSON), as the liquid's ``leak_rate``.
     """
@@ -89,6 +109,7 @@ class GasRows:
     gap: FloatArray
     leaks: tuple[GasLeak | None, ...] | None
     helium: FloatArray | None
+    permeation: OringPermeation | None = None
 
     def fields(self, suffix: str = "") -> dict[str, Any]:
         """The record fields (:data:`GAS_UNITS`, :data:`HELIUM_UNITS`, with ``suffix``) as arrays per row."""
@@ -106,10 +127,17 @@ class GasRows:
         if self.helium is not None:
             out |= record_fields(HeliumColumns(leak_rate_helium_pv=self.helium,
                                                leak_rate_helium_mbar_l_s=to_mbar_l_per_s(self.helium)))
+        if self.permeation is not None:
+            perm = self.permeation.throughput
+            interface = np.array([g.throughput if g is not None else 0.0 for g in self.leaks or ()])
+            total = interface + perm if interface.size else perm
+            out |= record_fields(PermeationColumns(
+                leak_rate_permeation_pv=perm, permeation_breakthrough_time=self.permeation.breakthrough_time,
+                leak_rate_total_pv=total, leak_rate_total_mbar_l_s=to_mbar_l_per_s(total)))
         return {k + suffix: v for k, v in out.items()}
 
 
-def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike) -> GasRows:
+def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike, permeation: OringPermeation | None = None) -> GasRows:
     """The case's gas leak (if a gas case) and the helium equivalent (if asked for) per row.
 
     ``conductance`` K (m³/(Pa·s)) was computed with ``case.fluid.viscosity``, the gas's own
@@ -133,7 +161,8 @@ def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike) -> GasRows:
         pa, pb = HELIUM_TEST["upstream_pressure"], HELIUM_TEST["downstream_pressure"]
         helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction).throughput
                            if channel[i] else np.nan for i in range(k.size)])
-    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium)
+    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium,
+                   permeation if leaks is not None else None)
 
 
 def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
@@ -149,14 +178,20 @@ def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumRes
 def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
     """Gas rows of a band seal: K = Q/ΔP of the band; the gap of the narrowest constriction, u_c at the peak
     contact pressure (critical junction) or u_e = (12 μ σ_min)^(1/3) of the smallest σ along the band (effective
-    medium), docs/theory.md §11.9."""
+    medium), docs/theory.md §11.9; with the permeation through the rubber (§11.11) when the case gives it."""
     out = {}
+    perm = None
+    b = band.band
+    if case.permeation is not None and case.gas is not None and b.cross_section_diameter is not None:
+        with case_keys({"permeability": "rubber.permeability", "diffusivity": "rubber.diffusivity"}):
+            perm = oring_permeation(case.permeation.permeability, case.permeation.diffusivity, b.cross_section_diameter,
+                                    b.loads, b.length, case.gas.upstream_pressure - case.gas.downstream_pressure)
     for name, theory in (("critical_junction", band.critical_junction), ("effective_medium", band.effective_medium)):
         if theory is None or theory.leak_rate is None:
             continue
         k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
         gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
-        out[name] = gas_rows(case, k, gap)
+        out[name] = gas_rows(case, k, gap, perm)
     return out
 
 

@@ -72,14 +72,14 @@ class CaseFile:
     cases: list[Case]
     inputs: dict[str, Any]
     source: str
-    #: The data files the case names (``surface.file``/``files``, ``seal.pressure_profile``), of every
+    #: The data files the case names (``surface.file``/``files``, ``seal.pressure_profile``, ``seal.force_table``), of every
     #: study variant, as paths (relative names joined to the case file's folder): inputs that no output
     #: of a run may replace.
     files: tuple[Path, ...] = ()
 
 
 #: The keys whose values name data files, (section, key).
-_FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"))
+_FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
 
 
 def named_files(doc: dict[str, Any], case_dir: Path) -> list[Path]:

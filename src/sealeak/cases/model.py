@@ -23,7 +23,7 @@ from ..physics.properties import FluidState
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
 
-__all__ = ["Case", "MODELS", "BandSeal", "GasConditions", "STANDARD_TEMPERATURE_CASE"]
+__all__ = ["Case", "MODELS", "BandSeal", "GasConditions", "RubberPermeation", "STANDARD_TEMPERATURE_CASE"]
 
 #: The temperature of a case whose ``[fluid]`` gives none: 20 °C, in K.
 STANDARD_TEMPERATURE_CASE = 293.15
@@ -131,6 +131,23 @@ class GasConditions:
 
 
 @dataclass(frozen=True)
+class RubberPermeation:
+    """The gas's transport through the rubber (``[rubber] permeability``, ``diffusivity``; docs/theory.md §11.11).
+
+    Attributes
+    ----------
+    permeability
+        P, the pV permeability (m²/s): Pa·m³/s of the gas at its temperature through 1 m² of a 1 m
+        thick layer per Pa of pressure difference.
+    diffusivity
+        D (m²/s), or None (no breakthrough time).
+    """
+
+    permeability: float
+    diffusivity: float | None = None
+
+
+@dataclass(frozen=True)
 class Case:
     """One seal case (SI units).
 
@@ -197,6 +214,9 @@ class Case:
         ``conditions.helium_equivalent`` for a liquid; docs/theory.md §11.9).
     rarefaction
         The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
+    permeation
+        The gas's permeability (and diffusivity) in the rubber of an O-ring gas case, or None: the
+        results then carry the permeation leak beside the interface leak (docs/theory.md §11.11).
     """
 
     title: str
@@ -228,6 +248,7 @@ class Case:
     fluid_state: FluidState | None = None
     helium_equivalent: bool = False
     rarefaction: str = "beskok-karniadakis"
+    permeation: RubberPermeation | None = None
 
     @property
     def square_side(self) -> float:

@@ -25,7 +25,7 @@ from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings
 from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
-from .gas import GAS_UNITS, HELIUM_UNITS, GasRows, _band_gas, _uniform_gas
+from .gas import GAS_UNITS, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case
 from .prediction import predict, predict_effective_medium
@@ -112,7 +112,8 @@ class CaseResult:
         out: dict[str, str] = {}
         for name, rows in (self.gas or {}).items():
             suffix = "_effective_medium" if name == "effective_medium" else ""
-            units = (GAS_UNITS if rows.leaks is not None else {}) | (HELIUM_UNITS if rows.helium is not None else {})
+            units = ((GAS_UNITS if rows.leaks is not None else {}) | (HELIUM_UNITS if rows.helium is not None else {})
+                     | (PERMEATION_UNITS if rows.permeation is not None else {}))
             out |= {k + suffix: u for k, u in units.items()}
         return out
 

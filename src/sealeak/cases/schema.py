@@ -29,10 +29,12 @@ SURFACE_KEYS: dict[str, set[str]] = {
 }
 SECTIONS: dict[str, set[str]] = {
     "surface": {"model", "label"}.union(*SURFACE_KEYS.values()),
-    "rubber": {"youngs_modulus", "poisson_ratio", "name", "shore_a"},
+    "rubber": {"youngs_modulus", "poisson_ratio", "name", "shore_a",
+               "permeability", "diffusivity"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
     "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height", "cross_section_diameter",
-             "mean_diameter", "faces", "pressure_profile"},
+             "mean_diameter", "faces", "pressure_profile",
+             "force_factor", "force_table"},
     "fluid": {"viscosity", "density", "name", "molecular_size", "temperature"},
     "conditions": {"squeeze_pressure", "pressure_difference", "compression", "groove_depth", "profile_scale",
                    "upstream_pressure", "downstream_pressure", "helium_equivalent"},

@@ -17,19 +17,20 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError, UnitError
-from ..io.tables import read_unit_table
+from ..io.tables import UnitTable, read_unit_table
 from ..io.units import format_quantity, parse_quantity, unit_factor
-from ..physics.oring import MIN_COMPRESSION, compression_from_groove_depth, oring_contact
+from ..physics.oring import MIN_COMPRESSION, ForceTable, compression_from_groove_depth, oring_contact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
 from .limits import MAX_LOADS, at_most, whole_number
 from .model import BandSeal
 from .schema import Section, case_keys
 
-__all__ = ["SEAL_SHAPES", "is_band_seal", "build_band", "with_loads", "read_pressure_profile", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
+__all__ = ["SEAL_SHAPES", "is_band_seal", "build_band", "with_loads", "read_pressure_profile", "read_force_table", "BAND_SEAL_KEYS", "BAND_CONDITION_KEYS"]
 
 #: [seal] keys of each band seal, and the [conditions] keys that replace squeeze_pressure.
-BAND_SEAL_KEYS = {"o-ring": {"shape", "cross_section_diameter", "inner_diameter", "mean_diameter", "faces"},
+BAND_SEAL_KEYS = {"o-ring": {"shape", "cross_section_diameter", "inner_diameter", "mean_diameter", "faces",
+                             "force_factor", "force_table"},
                   "profile": {"pressure_profile", "length", "faces"}}
 BAND_CONDITION_KEYS = {"o-ring": ("compression", "groove_depth"), "profile": ("profile_scale",)}
 
@@ -38,6 +39,8 @@ SEAL_SHAPES = ("ring", "rectangle", "o-ring")
 
 _X_NAMES = ("x", "position", "distance")
 _P_NAMES = ("pressure", "p", "contact_pressure")
+_EPS_NAMES = ("compression", "epsilon", "ε", "squeeze")
+_F_NAMES = ("line_load", "force_per_length", "force", "load")
 
 
 def is_band_seal(seal: Section) -> str | None:
@@ -153,9 +156,10 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
             depth, raw = _values(cond, "groove_depth", "length")
             with case_keys({"groove_depth": "conditions.groove_depth"}):
                 eps = compression_from_groove_depth(d, depth)
+        factor, table = _force_relation(seal, case_dir)
         with case_keys({"compression": "conditions.compression", "youngs_modulus": rubber.field("youngs_modulus"),
                         "shore_a": rubber.field("shore_a")}):
-            contact = oring_contact(d, youngs_modulus, poisson_ratio, eps)
+            contact = oring_contact(d, youngs_modulus, poisson_ratio, eps, force_factor=factor, force_table=table)
         profiles = tuple(contact.profile(i) for i in range(eps.size))
         length = np.pi * mean_d
         notes = (contact.source,) + contact.warnings
@@ -224,31 +228,45 @@ def _profile_warnings(seal: Section, path: Path, base: PressureProfile, length: 
     return tuple(out)
 
 
+_Column = tuple[tuple[str, ...], str, str]
+
+
+def _two_columns(path: Path, columns: tuple[_Column, _Column],
+                 example: str) -> tuple[UnitTable, list[int], list[NDArray[np.float64]]]:
+    """The two-column table at ``path``, the index of each wanted column and its values in SI.
+
+    ``columns``: (accepted names, dimension, example unit) of each; the header names each column
+    with its unit (``example``), which only a dimensionless column may omit. Raises :class:`FileFormatError`.
+    """
+    table = read_unit_table(path)
+    if not table.has_header:
+        raise FileFormatError(path, f"the first row must name the columns with their units, e.g. '{example}'")
+    names = [n.strip().lower().replace(" ", "_") for n in table.names]
+    found = [next((i for i, n in enumerate(names) if n in accepted), None) for accepted, _, _ in columns]
+    if any(i is None for i in found) or table.data.shape[1] != len(columns):
+        wanted = " and ".join(accepted[0] for accepted, _, _ in columns)
+        raise FileFormatError(path, f"needs two columns, {wanted}, each with its unit (found: {', '.join(table.names)})")
+    out = []
+    for i, (_, dim, unit) in zip(found, columns, strict=True):
+        assert i is not None
+        if not table.units[i] and dim != "dimensionless":
+            raise FileFormatError(path, f"column '{table.names[i]}' has no unit: write it in parentheses, e.g. "
+                                        f"'{table.names[i]} ({unit})'")
+        try:
+            out.append(table.data[:, i] * unit_factor(f"column '{table.names[i]}' unit", table.units[i], dim))
+        except UnitError as exc:
+            raise FileFormatError(path, str(exc)) from None
+    return table, [i for i in found if i is not None], out
+
+
 def read_pressure_profile(path: Path) -> PressureProfile:
     """A nominal pressure profile from a text table with columns x and pressure, each with its unit.
 
     Example header: ``x (mm), pressure (MPa)``. x must not decrease (two equal x make a step);
     pressures must be >= 0. Raises :class:`FileFormatError` naming the file and the line.
     """
-    table = read_unit_table(path)
-    if not table.has_header:
-        raise FileFormatError(path, "the first row must name the columns with their units, e.g. 'x (mm), pressure (MPa)'")
-    names = [n.strip().lower().replace(" ", "_") for n in table.names]
-    ix = next((i for i, n in enumerate(names) if n in _X_NAMES), None)
-    ip = next((i for i, n in enumerate(names) if n in _P_NAMES), None)
-    if ix is None or ip is None or table.data.shape[1] != 2:
-        raise FileFormatError(path, f"needs two columns, x and pressure, each with its unit (found: {', '.join(table.names)})")
-    factors = []
-    for i, dim in ((ix, "length"), (ip, "pressure")):
-        if not table.units[i]:
-            raise FileFormatError(path, f"column '{table.names[i]}' has no unit: write it in parentheses, e.g. "
-                                        f"'{table.names[i]} ({'mm' if dim == 'length' else 'MPa'})'")
-        try:
-            factors.append(unit_factor(f"column '{table.names[i]}' unit", table.units[i], dim))
-        except UnitError as exc:
-            raise FileFormatError(path, str(exc)) from None
-    x = table.data[:, ix] * factors[0]
-    p = table.data[:, ip] * factors[1]
+    table, (ix, ip), (x, p) = _two_columns(path, ((_X_NAMES, "length", "mm"), (_P_NAMES, "pressure", "MPa")),
+                                           "x (mm), pressure (MPa)")
     bad = ~(np.isfinite(x) & np.isfinite(p))
     if bad.any():
         raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: a value is missing or not finite")
@@ -273,6 +291,54 @@ def read_pressure_profile(path: Path) -> PressureProfile:
         raise FileFormatError(path, str(exc)) from None
 
 
+#: Rows of a force table at most (a force–compression curve needs some tens).
+MAX_FORCE_ROWS = 10000
+
+
+def read_force_table(path: Path) -> ForceTable:
+    """An O-ring's force–compression curve from a text table with columns compression and line load.
+
+    Example header: ``compression (%), line_load (N/mm)`` (compression may be a plain fraction:
+    ``compression``). At least two rows; compression >= 0 and line load >= 0, both increasing row
+    by row. Raises :class:`FileFormatError` naming the file (and the line).
+    """
+    table, _, (eps, f) = _two_columns(path, ((_EPS_NAMES, "dimensionless", "%"), (_F_NAMES, "force_per_length", "N/mm")),
+                                      "compression (%), line_load (N/mm)")
+    bad = ~(np.isfinite(eps) & np.isfinite(f))
+    if bad.any():
+        raise FileFormatError(path, f"line {table.line_of(int(np.argmax(bad)))}: a value is missing or not finite")
+    if eps.size < 2:
+        raise FileFormatError(path, "one row: a force curve needs at least two (compression, line load) points")
+    if eps.size > MAX_FORCE_ROWS:
+        raise FileFormatError(path, f"{eps.size} rows: at most {MAX_FORCE_ROWS}")
+    for values, what in ((eps, "compression"), (f, "line load")):
+        if (values < 0).any():
+            raise FileFormatError(path, f"line {table.line_of(int(np.argmax(values < 0)))}: the {what} is negative (must be >= 0)")
+        steps = np.diff(values) <= 0
+        if steps.any():
+            raise FileFormatError(path, f"line {table.line_of(int(np.argmax(steps)) + 1)}: the {what} does not exceed the previous "
+                                        "row's (compression and line load must both increase row by row)")
+    return ForceTable(eps, f, name=path.name)
+
+
+def _force_relation(seal: Section, case_dir: Path) -> tuple[float, ForceTable | None]:
+    """``force_factor`` (default 1) and ``force_table`` (or None) of an O-ring's [seal] (docs/case-files.md)."""
+    factor, table = 1.0, None
+    if seal.has("force_factor"):
+        factor = seal.raw("force_factor")
+        if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not 1e-3 <= factor <= 1e3:
+            raise InputError(seal.field("force_factor"), factor,
+                             "must be a number from 0.001 to 1000 (a factor on the O-ring's force per length; 1: as published)")
+        factor = float(factor)
+    if seal.has("force_table"):
+        name = seal.raw("force_table")
+        if not isinstance(name, str) or not name:
+            raise InputError(seal.field("force_table"), name,
+                             "must be the name of a file with columns compression and line_load (force per length)")
+        table = read_force_table(Path(name) if Path(name).is_absolute() else case_dir / name)
+    return factor, table
+
+
 def with_loads(case_band: BandSeal, loads: NDArray[np.float64], youngs_modulus: float, poisson_ratio: float,
                q0_fixed: float | None = None) -> BandSeal:
     """The same seal at other loads (compressions or profile scales), e.g. those of measured data.
@@ -283,7 +349,9 @@ def with_loads(case_band: BandSeal, loads: NDArray[np.float64], youngs_modulus: 
     if case_band.kind == "o-ring":
         assert case_band.cross_section_diameter is not None
         with case_keys({"compression": "compression"}):
-            contact = oring_contact(case_band.cross_section_diameter, youngs_modulus, poisson_ratio, values)
+            contact = oring_contact(case_band.cross_section_diameter, youngs_modulus, poisson_ratio, values,
+                                    force_factor=case_band.oring.force_factor if case_band.oring else 1.0,
+                                    force_table=case_band.oring.force_table if case_band.oring else None)
         profiles = tuple(contact.profile(i) for i in range(values.size))
         extra: dict[str, object] = {"oring": contact}
     else:

@@ -20,6 +20,12 @@ f(ε) and w(ε) come from two published relations, with E* = E/(1 - ν²):
 * in between, ln f and ln w are interpolated with a cubic smoothstep in ln ε, so f, w and p_max
   are continuous and increase with ε.
 
+The force may be corrected (docs/theory.md §10.2, eq. 10.6a): measured O-ring forces often lie above
+Lindley's relation, and the leak rate depends steeply on the load. ``force_factor`` multiplies f(ε);
+a :class:`ForceTable` (compression, line load from a test or a handbook) replaces f(ε) by a
+monotone (PCHIP) interpolation of its points, refused outside the table's range. The contact width
+w(ε) stays that of the relations above, and the semi-elliptic profile is scaled so that ∫p dx = f.
+
 Compressions from :data:`LINDLEY_CHECKED_UPTO` to :data:`MAX_COMPRESSION` are computed with a
 warning; from :data:`MAX_COMPRESSION` on they are refused.
 
@@ -34,13 +40,14 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.interpolate import PchipInterpolator
 
 from ..errors import InputError
 from .contact import contact_modulus
 from .profile import PressureProfile
 
 __all__ = [
-    "ORingContact", "oring_contact", "compression_from_groove_depth", "youngs_modulus_from_shore_a", "shore_a_warnings",
+    "ORingContact", "ForceTable", "oring_contact", "compression_from_groove_depth", "youngs_modulus_from_shore_a", "shore_a_warnings",
     "HERTZ_UPTO", "LINDLEY_FROM", "LINDLEY_CHECKED_UPTO", "MAX_COMPRESSION", "MIN_COMPRESSION",
     "SHORE_A_CHECKED",
 ]
@@ -103,13 +110,54 @@ class ORingContact:
     regime: tuple[str, ...]
     source: str
     warnings: tuple[str, ...] = ()
+    force_factor: float = 1.0
+    force_table: ForceTable | None = None
 
     def profile(self, i: int) -> PressureProfile:
         """The semi-elliptic pressure profile of compression ``i``: width w[i] (m), peak p_max[i] (Pa); it carries f[i]."""
         return PressureProfile.semi_elliptic(float(self.contact_width[i]), float(self.max_pressure[i]))
 
 
-def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_ratio: float, compression: ArrayLike) -> ORingContact:
+@dataclass(frozen=True)
+class ForceTable:
+    """A measured or handbook force–compression relation of an O-ring: line load f (N/m) at compressions ε (1).
+
+    Both columns strictly increase, f >= 0, at least two rows (checked here, an
+    :class:`~sealeak.errors.InputError` naming ``force_table``). Between the points f is the
+    monotone piecewise-cubic (PCHIP, Fritsch-Carlson) interpolant; outside [ε_first, ε_last] it is refused.
+    """
+
+    compression: FloatArray
+    force_per_length: FloatArray
+    name: str = "force table"
+
+    def __post_init__(self) -> None:
+        eps = np.asarray(self.compression, dtype=float)
+        f = np.asarray(self.force_per_length, dtype=float)
+        if eps.ndim != 1 or eps.shape != f.shape or eps.size < 2:
+            raise InputError("force_table", self.name, "needs at least two rows of compression and line load")
+        if not (np.all(np.isfinite(eps)) and np.all(np.isfinite(f))):
+            raise InputError("force_table", self.name, "must hold finite numbers only")
+        if eps[0] < 0 or f.min() < 0:
+            raise InputError("force_table", self.name, "must hold compressions and line loads >= 0")
+        if not (np.all(np.diff(eps) > 0) and np.all(np.diff(f) > 0)):
+            raise InputError("force_table", self.name, "must be monotone: compression and line load both increasing row by row")
+        object.__setattr__(self, "compression", eps)
+        object.__setattr__(self, "force_per_length", f)
+
+    def __call__(self, eps: FloatArray) -> FloatArray:
+        """f (N/m) at the compressions ``eps``; an InputError naming ``compression`` for one outside the table."""
+        lo, hi = float(self.compression[0]), float(self.compression[-1])
+        for i, e in enumerate(eps):
+            if not lo <= e <= hi:
+                raise InputError(f"compression[{i}]" if eps.size > 1 else "compression", float(e),
+                                 f"must lie within the force table {self.name} ({100 * lo:.4g} % to {100 * hi:.4g} %): "
+                                 "a measured force curve is not extrapolated")
+        return np.asarray(PchipInterpolator(self.compression, self.force_per_length)(eps), dtype=float)
+
+
+def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_ratio: float, compression: ArrayLike,
+                  force_factor: float = 1.0, force_table: ForceTable | None = None) -> ORingContact:
     """Force per length, contact width and peak pressure of an O-ring squeezed between two flat faces (docs/theory.md §10.2).
 
     Parameters
@@ -120,6 +168,11 @@ def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_
         The rubber's E in Pa and ν in (-1, 0.5]; the faces are rigid.
     compression
         ε = δ/d, one or more values in (0, :data:`MAX_COMPRESSION`).
+    force_factor
+        A factor (> 0) on the force f(ε); 1 leaves the relations as published.
+    force_table
+        A measured f(ε) used in place of the relations' force (times ``force_factor``); the
+        contact width stays the relations' w(ε).
 
     Returns
     -------
@@ -127,16 +180,35 @@ def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_
         f (N/m), w (m), p_max = 4f/(πw) and f/w (Pa) per compression, with the regime of each:
         Hertz line contact between two plates for ε <= 1 % (Johnson 1985), Lindley's
         f = E d (1.25 ε^1.5 + 50 ε^6) and w = d (6ε/π)^1/2 for ε >= 10 % (Lindley 1967), and a
-        smooth interpolation of ln f and ln w in ln ε between them.
+        smooth interpolation of ln f and ln w in ln ε between them; f scaled by ``force_factor`` or
+        taken from ``force_table`` (eq. 10.6a).
     """
     d = _diameter(cross_section_diameter)
     e_star = contact_modulus(youngs_modulus, poisson_ratio)
     eps = _compressions(compression)
+    factor = _force_factor(force_factor)
     f, w = _force_and_width(eps, d, e_star)
+    source = SOURCE
+    if force_table is not None:
+        f = force_table(eps)
+        source += f"; force per length from {force_table.name} (monotone interpolation), contact width from the relations"
+    if factor != 1.0:
+        f = f * factor
+        source += f"; force × {factor:.4g} (seal.force_factor)"
     p_max = 4.0 * f / (np.pi * w)
     regime = tuple("Hertz" if e <= HERTZ_UPTO else "Lindley" if e >= LINDLEY_FROM else "Hertz-Lindley" for e in eps)
     return ORingContact(cross_section_diameter=d, compression=eps, force_per_length=f, contact_width=w, max_pressure=p_max,
-                        mean_pressure=f / w, regime=regime, source=SOURCE, warnings=_warnings(eps, float(poisson_ratio)))
+                        mean_pressure=f / w, regime=regime, source=source, warnings=_warnings(eps, float(poisson_ratio)),
+                        force_factor=factor, force_table=force_table)
+
+
+def _force_factor(value: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError("force_factor", value, "must be a number > 0 (a factor on the O-ring's force per length)")
+    factor = float(value)
+    if not (np.isfinite(factor) and 1e-3 <= factor <= 1e3):
+        raise InputError("force_factor", value, "must lie between 0.001 and 1000 (a factor on the O-ring's force per length)")
+    return factor
 
 
 def _force_and_width(eps: FloatArray, d: float, e_star: float) -> tuple[FloatArray, FloatArray]:

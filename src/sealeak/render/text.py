@@ -105,6 +105,10 @@ def _gas_columns(r: CaseResult, theory: str) -> list[GasColumn]:
                  col("Q (sccm)", 10, "leak_rate_sccm", ".3e")]
     if rows.helium is not None:
         cols.append(col("He-eq (mbar·l/s)", 17, "leak_rate_helium_mbar_l_s", ".3e"))
+    if rows.permeation is not None:
+        cols += [col("Q_perm (Pa·m³/s)", 17, "leak_rate_permeation_pv", ".3e"),
+                 col("t_lag (s)", 10, "permeation_breakthrough_time", ".3g"),
+                 col("Q_total (mbar·l/s)", 19, "leak_rate_total_mbar_l_s", ".3e")]
     return cols
 
 
@@ -137,6 +141,10 @@ def gas_notes(r: CaseResult) -> list[str]:
                      f"{celsius(case.temperature):.4g} °C; sccm: cm³/min at 0 °C and 101.325 kPa")
     if case.helium_equivalent:
         notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
+    if case.gas is not None and case.permeation is not None:
+        notes.append("Q_perm: the gas's steady permeation through the rubber of the squeezed cord (rubber.permeability), "
+                     "reached after about t_lag (rubber.diffusivity); Q_total = Q_pV + Q_perm, what a leak test measures "
+                     "once the permeation has broken through (docs/theory.md §11.11)")
     return notes
 
 

@@ -4,7 +4,7 @@ No physics here: a case is built by :func:`sealeak.cases.parse_case_bytes` (the 
 loader, so the messages are the CLI's) and run by :func:`sealeak.cases.run_case`; the documents
 come from :mod:`sealeak.render` (the same functions as ``sealeak predict --json``).
 
-**Files a case may name.** ``surface.file``, ``surface.files`` and ``seal.pressure_profile`` (also
+**Files a case may name.** ``surface.file``, ``surface.files``, ``seal.pressure_profile`` and ``seal.force_table`` (also
 inside a ``[study]``'s values) may name only files uploaded in the same browser session, by their
 upload name: never a path on the server (``/etc/passwd``, ``../x``, ``sub/x``).
 """
@@ -47,7 +47,7 @@ __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fi
 DEFAULT_CACHE_BYTES = 256 * 2**20
 
 #: The keys whose values are file names (each must be a file uploaded in the session).
-FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"))
+FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._ +()-]{0,127}$")
 

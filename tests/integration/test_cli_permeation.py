@@ -1,0 +1,93 @@
+"""``[rubber] permeability`` and ``diffusivity``: the permeation leak beside the interface leak (docs/case-files.md)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from sealeak.cases import example_path
+from sealeak.cli import main
+from tests.casefiles import BASE
+
+HELIUM = example_path("helium-test").read_text(encoding="utf-8")
+RUBBER = "poisson_ratio = 0.5\n"
+PERM = RUBBER + 'permeability = "2e-12 m^2/s"\ndiffusivity = "1e-6 cm^2/s"\n'
+KEYS = ("leak_rate_permeation_pv", "permeation_breakthrough_time", "leak_rate_total_pv", "leak_rate_total_mbar_l_s")
+
+
+def _run(tmp_path, capsys, text, *options):
+    case = tmp_path / "c.toml"
+    case.write_text(text, encoding="utf-8")
+    out = tmp_path / "o.json"
+    rc = main(["predict", str(case), "--json", str(out), "--force", "-q", *options])
+    return rc, out, capsys.readouterr()
+
+
+def test_permeation_columns_and_total(tmp_path, capsys):
+    assert RUBBER in HELIUM
+    rc, out, _ = _run(tmp_path, capsys, HELIUM.replace(RUBBER, PERM))
+    assert rc == 0
+    doc = json.loads(out.read_text())
+    assert {doc["units"][k] for k in KEYS} == {"Pa*m^3/s", "s", "mbar*l/s"}
+    d, ly, dp = 2.62e-3, math.pi * 22.62e-3, 1e5
+    seen_sealed = False
+    for r in doc["results"]:
+        eps = r["compression"]
+        assert r["leak_rate_permeation_pv"] == pytest.approx(2e-12 * dp * ly * 4 / math.pi * (1 - eps) ** 2, rel=1e-10)
+        path = math.pi * d / (4 * (1 - eps))
+        assert r["permeation_breakthrough_time"] == pytest.approx(path**2 / (6 * 1e-10), rel=1e-10)
+        interface = r["leak_rate_pv"] or 0.0
+        seen_sealed |= r["leak_rate_pv"] is None
+        assert r["leak_rate_total_pv"] == pytest.approx(interface + r["leak_rate_permeation_pv"], rel=1e-12)
+        assert r["leak_rate_total_mbar_l_s"] == pytest.approx(10 * r["leak_rate_total_pv"], rel=1e-12)
+    assert seen_sealed  # a sealed interface still leaks by permeation: the floor of the test
+
+
+def test_table_shows_the_columns_and_says_what_they_are(tmp_path, capsys):
+    table = tmp_path / "o.txt"
+    rc, _, _ = _run(tmp_path, capsys, HELIUM.replace(RUBBER, PERM), "--table", str(table))
+    text = table.read_text(encoding="utf-8")
+    assert rc == 0 and "Q_perm (Pa·m³/s)" in text and "t_lag (s)" in text and "Q_total (mbar·l/s)" in text
+    assert "Q_total = Q_pV + Q_perm" in text
+
+
+def test_units_of_the_permeability_are_converted(tmp_path, capsys):
+    _, si, _ = _run(tmp_path, capsys, HELIUM.replace(RUBBER, RUBBER + 'permeability = "2e-12 m^2/s"\n'))
+    a = json.loads(si.read_text())["results"]
+    _, other, _ = _run(tmp_path, capsys, HELIUM.replace(RUBBER, RUBBER + 'permeability = "2e-8 cm^2/s"\n'))
+    b = json.loads(other.read_text())["results"]
+    for x, y in zip(a, b, strict=True):
+        assert x["leak_rate_permeation_pv"] == pytest.approx(y["leak_rate_permeation_pv"], rel=1e-12)
+        assert x["permeation_breakthrough_time"] is None  # no diffusivity, no breakthrough time
+
+
+def test_no_permeability_no_columns(tmp_path, capsys):
+    rc, out, _ = _run(tmp_path, capsys, HELIUM)
+    assert rc == 0
+    doc = json.loads(out.read_text())
+    assert not any(k in doc["units"] for k in KEYS) and not any(k in doc["results"][0] for k in KEYS)
+
+
+@pytest.mark.parametrize("edit, field, words", [
+    ((RUBBER, RUBBER + 'diffusivity = "1e-10 m^2/s"\n'), "rubber.diffusivity", "permeability"),
+    ((RUBBER, RUBBER + 'permeability = "-1e-12 m^2/s"\n'), "rubber.permeability", "> 0"),
+    ((RUBBER, RUBBER + 'permeability = "1e-12 Pa"\n'), "rubber.permeability", "area per time"),
+    ((RUBBER, RUBBER + "permeability = 1e-12\n"), "rubber.permeability", ""),
+])
+def test_bad_permeation_input_is_one_line(tmp_path, capsys, edit, field, words):
+    rc, out, cap = _run(tmp_path, capsys, HELIUM.replace(*edit))
+    assert rc == 2 and cap.err.count("\n") == 1 and field in cap.err and words in cap.err, cap.err
+    assert not out.exists()
+
+
+def test_refused_for_a_liquid_and_for_a_ring(tmp_path, capsys):
+    oring = example_path("o-ring").read_text(encoding="utf-8")
+    rc, out, cap = _run(tmp_path, capsys, oring.replace(RUBBER, PERM))
+    assert rc == 2 and "rubber.permeability" in cap.err and "gas" in cap.err and not out.exists()
+    ring = BASE.replace('[fluid]\nviscosity = "1 mPa*s"', '[fluid]\nname = "helium"').replace(
+        'pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"').replace(
+        "poisson_ratio = 0.5\n", PERM, 1)
+    rc, out, cap = _run(tmp_path, capsys, ring)
+    assert rc == 2 and "rubber.permeability" in cap.err and "O-ring" in cap.err and not out.exists(), cap.err
