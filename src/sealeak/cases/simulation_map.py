@@ -181,10 +181,12 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
         notes.append(f"resampled from {flat.shape[0]}x{flat.shape[1]} to the {n}x{n} solver grid (Fourier)")
         flat = signal.resample(signal.resample(flat, n, axis=0), n, axis=1)
     domain = side if periodic else 2.0 * side
-    q_cut = resolved_spectrum_cut(n, domain)  # the band of the theories (cut_spectrum): 4 points per wavelength
-    spectrum = np.fft.rfft2(flat)
-    spectrum[numerics.wavevector_grid(n, domain) > q_cut] = 0.0
-    flat = np.fft.irfft2(spectrum, s=(n, n))
+    # the band of the theories: the map's C(q) (its reliable range) cut where the grid resolves (cut_spectrum)
+    q_band = min(resolved_spectrum_cut(n, domain), stats.spectrum.q_max)
+    modes = np.fft.rfft2(flat)
+    modes[numerics.wavevector_grid(n, domain) > q_band] = 0.0
+    flat = np.fft.irfft2(modes, s=(n, n))
+    notes.append(f"low-pass filtered to q <= {q_band:.4g} 1/m, the band of the theories it is compared with")
     source = stats.sources[0].statistics
     info = MapInfo(label=label, side=side, points=int(min(mx, my)), domain=domain,
                    periodic=periodic, skewness=_value(source.skewness), kurtosis=_value(source.kurtosis),
