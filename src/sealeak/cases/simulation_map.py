@@ -149,13 +149,14 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
     """
     label = label or topo.source or "map"
     h = np.asarray(topo.heights, dtype=float)
+    name = Path(label).name
     if np.isnan(h).any():
-        raise InputError(field_name, f"{label}: {int(np.isnan(h).sum())} undefined points (NaN)",
-                         "every height of a simulated map must be defined: crop the map to a fully measured window")
+        raise InputError(field_name, name, f"has {int(np.isnan(h).sum())} undefined points (NaN): every height of a "
+                                           "simulated map must be defined; crop the map to a fully measured window")
     side, mx, my = _side_points(topo)
     if min(mx, my) < MIN_MAP_POINTS:
-        raise InputError(field_name, f"{label}: {h.shape[0]}x{h.shape[1]} points",
-                         f"a map (or each window) needs at least {MIN_MAP_POINTS} points across its square")
+        raise InputError(field_name, name, f"has {h.shape[0]}x{h.shape[1]} points: a map (or each window) needs at "
+                                           f"least {MIN_MAP_POINTS} points across its square")
     notes: list[str] = []
     square = (mx, my) == h.shape and abs(topo.size[0] - topo.size[1]) <= _SQUARE_TOL * side
     periodic = topo.periodic and square
@@ -327,18 +328,20 @@ def simulate_maps(maps: Sequence[Topography], case: Case, *, grid: int | None = 
                   threshold: bool = True, fields_dir: str | Path | None = None, contact_tol: float = 1e-8,
                   flow_method: FlowMethod = "auto", progress: Callable[[int], None] | None = None,
                   memory_limit: float | None = None, grid_name: str = "grid", field_name: str = "heights",
+                  windows_name: str = "windows",
                   runner: Callable[[list[EnsembleTask]], Iterable[dict[str, Any]]] | None = None) -> MapSimulationResult:
     """The exact leak rate of ``case``'s seal on each of ``maps`` (module docstring), α against both theories.
 
     ``maps`` are height maps (:class:`sealeak.topography.Topography`, heights in m; e.g.
     :func:`sealeak.topography.read_topography`), each cut into ``windows`` × ``windows`` sub-windows
     (one realisation each); ``case`` gives the rubber (E*), the fluid, the seal's aspect ratio Ly/Lx, the
-    squeeze pressures and ΔP (its spectrum and q0 are replaced by each map's own). ``grid`` N (even,
+    squeeze pressures and ΔP (its spectrum and q0 are replaced by each map's own). Messages name the
+    maps ``field_name``, the windows ``windows_name``. ``grid`` N (even,
     >= 16) or None: the largest map's own points per side (doubled when mirrored), so that no map is
     upsampled beyond its data. The other arguments as for :func:`sealeak.cases.simulate`.
     """
     _refuse_case(case)
-    items = [w for m in maps for w in map_windows(m, windows)]
+    items = [w for m in maps for w in map_windows(m, windows, windows_name)]
     if not items:
         raise InputError(field_name, "no maps", "at least one height map")
     if grid is None:

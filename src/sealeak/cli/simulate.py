@@ -188,7 +188,8 @@ def _simulate_maps(args: argparse.Namespace, case: Case, opts: SimulationOptions
     workers = default_workers(grid or 0) if opts.workers is None else opts.workers
     runner = _runner(args, workers, None)
     common: dict[str, Any] = {"grid": grid, "windows": windows, "threshold": not args.no_threshold,
-                              "fields_dir": args.fields, "grid_name": opts.grid_field, "field_name": "surface.file"}
+                              "fields_dir": args.fields, "grid_name": opts.grid_field, "field_name": "surface.file",
+                              "windows_name": "--windows"}
     if runner is not None:
         res = simulate_maps(maps, case, runner=runner, **common)
     else:
