@@ -22,8 +22,8 @@ geometry) with one realisation per map (per file of a case, or per sub-window):
    mirrored, rounded up to even) and nothing is resampled;
 5. contact, flow and the percolation threshold as for random surfaces (:func:`sealeak.cases.simulation.run_task`);
 6. α against both theories computed from the map's own C(q) (:func:`sealeak.topography.analyze` of the
-   same square, with its default analysis options), cut to what the grid resolves, with q0 = 2π/L
-   (L the side of the map's square): α_cj = Q/Q_cj(α = 1) and α_em = Q/Q_em (Bruggeman). The map's
+   same square, with its default analysis options but the reliable range from q = 2π/L), cut to what
+   the grid resolves: α_cj = Q/Q_cj(α = 1) and α_em = Q/Q_em (Bruggeman). The map's
    skewness and kurtosis are the topography module's (:func:`sealeak.topography.surface_statistics`).
 
 Liquids and uniform seals only: a gas case or an O-ring is refused.
@@ -112,6 +112,8 @@ class MapSimulationResult:
     ``alpha`` is α_cj = Q/Q_cj(α = 1) and ``alpha_effective_medium`` α_em = Q/Q_em, each map against the
     theories of its own C(q) (NaN where the map does not percolate or the theory has no leak); their
     ``_mean``/``_std`` are over the maps where defined (std ddof = 1, NaN with fewer than two).
+    ``junction_cells`` N/ζc: below :data:`~sealeak.cases.simulation.JUNCTION_CELLS` α reflects the grid
+    more than the seal (a note says so).
     """
 
     squeeze_pressure: FloatArray = quantity("Pa", "nominal squeeze pressure P0")
@@ -130,6 +132,7 @@ class MapSimulationResult:
     alpha_effective_medium_mean: FloatArray = quantity("1", "α_em, mean over the maps")
     alpha_effective_medium_std: FloatArray = quantity("1", "standard deviation of α_em over the maps")
     percolation_threshold: FloatArray = quantity("1", "A/A0 at which each map stops percolating (NaN: not searched)")
+    junction_cells: FloatArray = quantity("1", "grid cells across the critical wavelength λc of each map's theory")
     grid: int
     notes: tuple[NoteLike, ...] = ()
 
@@ -244,6 +247,7 @@ class _MapPlan:
     cases: tuple[Case, ...]
     q_cj: FloatArray
     q_em: FloatArray
+    junction_cells: FloatArray
 
 
 @dataclass(frozen=True)
@@ -269,24 +273,26 @@ class MapSquares:
         pressures = np.sort(np.asarray(case.squeeze_pressure, dtype=float))
         if not np.array_equal(pressures, case.squeeze_pressure):
             notes.append("squeeze pressures were sorted in increasing order")
-        infos, cases, q_cj, q_em = [], [], [], []
+        infos, cases, q_cj, q_em, cells = [], [], [], [], []
         for topo in self.maps:
             _, info = solver_map(topo, grid, field_name=self.field_name)
             spectrum, cut_at, cut_notes = cut_spectrum(info.spectrum, grid, info.domain, grid_field,
                                                        "critical-junction and effective-medium")
             map_notes: list[NoteLike] = [f"{info.label}: {n}" for n in (*info.notes, *cut_notes)]
-            sim_case = replace(case, spectrum=spectrum, q0=2.0 * np.pi / info.side, alpha=1.0,
+            # q0 = 2π/domain: the map's C(q) starts at 2π/L (it is zero below), so the theories are those of
+            # q0 = 2π/L, and the grid cells across the critical wavelength are counted on the solver's grid
+            sim_case = replace(case, spectrum=spectrum, q0=2.0 * np.pi / info.domain, alpha=1.0,
                                spectrum_note=f"{info.label}: its own C(q)")
-            across = grid if info.periodic else grid // 2  # solver points across the map itself
-            cj, _, _ = _theory_leak_rate(sim_case, pressures, across, cut_at, map_notes)
+            cj, cells_r, _ = _theory_leak_rate(sim_case, pressures, grid, cut_at, map_notes)
             em = predict_effective_medium(sim_case, squeeze_pressure=pressures).leak_rate
             notes.extend(map_notes)
             infos.append(replace(info, spectrum=spectrum))
             cases.append(sim_case)
             q_cj.append(cj)
+            cells.append(cells_r)
             q_em.append(np.where(np.isfinite(em), em, np.nan))
         return _MapPlan(case=case, pressures=pressures, infos=tuple(infos), cases=tuple(cases), q_cj=np.array(q_cj),
-                        q_em=np.array(q_em))
+                        q_em=np.array(q_em), junction_cells=np.array(cells))
 
     def tasks(self, plan: _MapPlan, common: dict[str, Any], realizations: int) -> list[EnsembleTask]:
         """Each map's sweep, then (if asked) its threshold search."""
@@ -321,7 +327,8 @@ class MapSquares:
             relative_contact_area=flows.area, mean_gap=records.stack("sweep", "mean_gap", n_p), percolates=perc,
             leak_rate=flows.leak_rate, leak_rate_critical_junction=plan.q_cj, leak_rate_effective_medium=plan.q_em,
             alpha=a_cj, alpha_effective_medium=a_em, alpha_mean=cj_m, alpha_std=cj_s, alpha_effective_medium_mean=em_m,
-            alpha_effective_medium_std=em_s, percolation_threshold=thresholds, grid=records.grid, notes=tuple(notes))
+            alpha_effective_medium_std=em_s, percolation_threshold=thresholds, junction_cells=plan.junction_cells,
+            grid=records.grid, notes=tuple(notes))
 
 
 def simulate_maps(maps: Sequence[Topography], case: Case, *, grid: int | None = None, windows: int = 1,

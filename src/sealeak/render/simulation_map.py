@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from ..cases import Case
+from ..cases.simulation import JUNCTION_CELLS
 from ..cases.simulation_map import MapInfo, MapSimulationResult
 from ..io.quantities import units_of
 from .notes import worded
@@ -20,7 +21,7 @@ MAP_SIMULATION_UNITS = units_of(MapSimulationResult) | {"side": "m", "domain": "
                                                         "kurtosis": "1", "spectrum_h_rms": "m"}
 #: The per-map, per-pressure keys, in the order written.
 _MAP_KEYS = ("relative_contact_area", "mean_gap", "percolates", "leak_rate", "leak_rate_critical_junction",
-             "leak_rate_effective_medium", "alpha", "alpha_effective_medium")
+             "leak_rate_effective_medium", "alpha", "alpha_effective_medium", "junction_cells")
 
 
 def _map_doc(info: MapInfo, res: MapSimulationResult, r: int) -> dict[str, Any]:
@@ -57,6 +58,12 @@ def map_simulation_json(case: Case, res: MapSimulationResult) -> str:
     return json_document(doc)
 
 
+def _coarse(res: MapSimulationResult, r: int, i: int) -> bool:
+    """Whether map ``r``'s critical junction at pressure ``i`` spans fewer grid cells than α needs (see the notes)."""
+    cells = res.junction_cells[r, i]
+    return bool(np.isfinite(cells) and cells < JUNCTION_CELLS and np.isfinite(res.alpha[r, i]))
+
+
 def map_simulation_table(case: Case, res: MapSimulationResult) -> str:
     """The table ``sealeak simulate`` prints on maps: per map its heights' shape, leak rate and α against both theories."""
     lines = [f"{case.title}: numerically exact leak rate on {len(res.maps)} measured map(s), grid {res.grid}x{res.grid}",
@@ -71,8 +78,8 @@ def map_simulation_table(case: Case, res: MapSimulationResult) -> str:
             lines.append(f"{p / 1e3:9.4g} {res.relative_contact_area[r, i]:7.3f} {res.mean_gap[r, i] * 1e6:9.4g} "
                          f"{'yes' if res.percolates[r, i] else 'no':>5} {fmt(res.leak_rate[r, i], '11.3e')} "
                          f"{fmt(res.leak_rate_critical_junction[r, i], '10.3e')} "
-                         f"{fmt(res.leak_rate_effective_medium[r, i], '10.3e')} {fmt(res.alpha[r, i], '7.3g')} "
-                         f"{fmt(res.alpha_effective_medium[r, i], '7.3g')}")
+                         f"{fmt(res.leak_rate_effective_medium[r, i], '10.3e')} {fmt(res.alpha[r, i], '7.3g')}"
+                         f"{'*' if _coarse(res, r, i) else ' '}{fmt(res.alpha_effective_medium[r, i], '7.3g')}")
         if np.isfinite(res.percolation_threshold[r]):
             lines.append(f"the non-contact area stops percolating at A/A0 = {res.percolation_threshold[r]:.3f}")
         lines.append("")
