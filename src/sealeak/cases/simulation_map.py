@@ -19,7 +19,8 @@ geometry) with one realisation per map (per file of a case, or per sub-window):
 4. the (mirrored) square is resampled to the solver's N × N grid in Fourier space
    (:func:`scipy.signal.resample`: band-limited; downsampling drops the wavelengths the grid cannot
    hold, upsampling adds none); without a grid, N is the map's own points per side (doubled when
-   mirrored, rounded up to even) and nothing is resampled;
+   mirrored, rounded up to even) and nothing is resampled; then it is low-pass filtered at the end of
+   the map's reliable C(q) or at 4 points per wavelength, whichever is lower: the band of the theories;
 5. contact, flow and the percolation threshold as for random surfaces (:func:`sealeak.cases.simulation.run_task`);
 6. α against both theories computed from the map's own C(q) (:func:`sealeak.topography.analyze` of the
    same square, with its default analysis options but the reliable range from q = 2π/L), cut to what
@@ -144,8 +145,9 @@ def _side_points(topo: Topography) -> tuple[float, int, int]:
     return side, int(round(side / dx)), int(round(side / dy))
 
 
-def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_name: str = "heights") -> tuple[FloatArray, MapInfo]:
-    """``topo`` as the solver's N × N periodic heights (m) and its :class:`MapInfo` (the module docstring, 1-4).
+def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_name: str = "heights") -> MapInfo:
+    """``topo`` as the solver's N × N periodic heights (m, ``heights`` of the :class:`MapInfo` returned; the
+    module docstring, steps 1-4).
 
     ``grid`` N (even, >= 16), or None for the map's own points. Refusals (InputError naming ``field_name``):
     undefined points, fewer than :data:`MIN_MAP_POINTS` points per side.
@@ -171,7 +173,7 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
         notes.append(f"cut to its central square of {side * 1e6:.4g} µm ({mx}x{my} of {topo.nb_grid_pts[0]}x"
                      f"{topo.nb_grid_pts[1]} points)")
     cropped = Topography(h, (side, side), periodic=periodic, source=label)
-    stats = analyze(cropped, fit=False, low_cut=1.0)
+    analysis = analyze(cropped, fit=False, low_cut=1.0)
     flat = np.array(prepare(cropped, detrend="mean" if periodic else "plane", window="none").surface.heights)
     if periodic:
         notes.append("periodic map: its mean removed")
@@ -186,17 +188,15 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
         flat = signal.resample(signal.resample(flat, n, axis=0), n, axis=1)
     domain = side if periodic else 2.0 * side
     # the band of the theories: the map's C(q) (its reliable range) cut where the grid resolves (cut_spectrum)
-    q_band = min(resolved_spectrum_cut(n, domain), stats.spectrum.q_max)
+    q_band = min(resolved_spectrum_cut(n, domain), analysis.spectrum.q_max)
     modes = np.fft.rfft2(flat)
     modes[numerics.wavevector_grid(n, domain) > q_band] = 0.0
     flat = np.fft.irfft2(modes, s=(n, n))
     notes.append(f"low-pass filtered to q <= {q_band:.4g} 1/m, the band of the theories it is compared with")
-    source = stats.sources[0].statistics
-    info = MapInfo(label=label, side=side, points=int(min(mx, my)), domain=domain,
-                   periodic=periodic, skewness=_value(source.skewness), kurtosis=_value(source.kurtosis),
-                   h_rms=_value(source.h_rms), spectrum=stats.spectrum, heights=np.ascontiguousarray(flat),
-                   notes=tuple(notes))
-    return info.heights, info
+    stats = analysis.sources[0].statistics
+    return MapInfo(label=label, side=side, points=int(min(mx, my)), domain=domain, periodic=periodic,
+                   skewness=_value(stats.skewness), kurtosis=_value(stats.kurtosis), h_rms=_value(stats.h_rms),
+                   spectrum=analysis.spectrum, heights=np.ascontiguousarray(flat), notes=tuple(notes))
 
 
 def _value(x: float | None) -> float:
@@ -275,7 +275,7 @@ class MapSquares:
             notes.append("squeeze pressures were sorted in increasing order")
         infos, cases, q_cj, q_em, cells = [], [], [], [], []
         for topo in self.maps:
-            _, info = solver_map(topo, grid, field_name=self.field_name)
+            info = solver_map(topo, grid, field_name=self.field_name)
             spectrum, cut_at, cut_notes = cut_spectrum(info.spectrum, grid, info.domain, grid_field,
                                                        "critical-junction and effective-medium")
             map_notes: list[NoteLike] = [f"{info.label}: {n}" for n in (*info.notes, *cut_notes)]
