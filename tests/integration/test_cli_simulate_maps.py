@@ -144,3 +144,11 @@ def test_a_real_measured_map(tmp_path, capsys):
     assert np.isfinite(m["skewness"]) and m["kurtosis"] > 1.0
     area = [r["relative_contact_area"] for r in m["results"]]
     assert 0 < area[0] < area[1] <= 1
+
+
+def test_a_line_scan_is_no_map(tmp_path, capsys):
+    profile = _rough(64)[0]
+    case = _case(tmp_path, _map(tmp_path, profile))
+    out = tmp_path / "out.json"
+    assert main(["simulate", str(case), "--json", str(out), "-q"]) == 2
+    _refused(capsys, out, "surface.file = 'map.npy'", "line scan", "--surface random")
