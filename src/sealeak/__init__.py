@@ -35,7 +35,7 @@ from .errors import (
 _LAZY: dict[str, str] = {
     **dict.fromkeys(("Case", "CaseFile", "CaseResult", "conductance", "fit_models", "load_case", "load_cases",
                      "parse_cases", "predict", "predict_effective_medium", "read_case_file", "rig_prediction",
-                     "run_case", "simulate"), "cases"),
+                     "run_case", "simulate", "simulate_map"), "cases"),
     "water_column": "lab",
     "synthesize": "numerics",
     **dict.fromkeys(("PerssonContact", "PowerSpectrum", "Seal", "contact_modulus", "critical_junction",
@@ -58,6 +58,7 @@ if TYPE_CHECKING:  # the names as the type checker and the API pages see them
         rig_prediction,
         run_case,
         simulate,
+        simulate_map,
     )
     from .lab import water_column
     from .numerics import synthesize
@@ -116,6 +117,7 @@ __all__ = [
     "fit_models",
     "rig_prediction",
     "simulate",
+    "simulate_map",
     "synthesize",
     "water_column",
     "SealeakError",

@@ -16,6 +16,8 @@
   every simulated geometry (the geometry a strategy object);
 * :mod:`~sealeak.cases.simulation`: :func:`simulate`, the numerically exact leak rate and α of a uniform seal
   (:mod:`~sealeak.cases.simulation_band`: of an O-ring).
+* :mod:`~sealeak.cases.simulation_map`: :func:`simulate_map`, :func:`simulate_maps`, the same on measured or
+  given height maps (the map itself is the surface, one realisation per map);
 * :mod:`~sealeak.cases.convergence`: the convergence and validation study of :func:`simulate` over
   several grids (standard errors, extrapolation to the continuum, the published percolation threshold).
 """
@@ -42,6 +44,7 @@ from .prediction import conductance, predict, predict_effective_medium
 from .rig import RigPrediction, rig_prediction, rig_readings
 from .run import EFFECTIVE_MEDIUM_UNITS, RESULT_UNITS, CaseResult, run_case
 from .simulation import SimulationResult, simulate
+from .simulation_map import MapSimulationResult, simulate_map, simulate_maps
 
 __all__ = [
     "Case", "MODELS", "CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
@@ -50,5 +53,5 @@ __all__ = [
     "EFFECTIVE_MEDIUM_UNITS", "fit_models", "LinearityCheck", "linearity", "RigPrediction", "rig_prediction",
     "rig_readings", "PredictionCurves", "prediction_curves", "FitResult", "run_fit", "CurveSet",
     "PressureDifferenceSweep", "representative_pressures", "SimulationResult", "simulate", "SimulationOptions",
-    "simulation_options",
+    "simulation_options", "MapSimulationResult", "simulate_map", "simulate_maps",
 ]

@@ -27,7 +27,7 @@ from ..physics.oring import shore_a_warnings, youngs_modulus_from_shore_a
 from ..physics.properties import FluidState, canonical_fluid_name, close_fluid_name, fluid_state, vapour_pressure_note
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
-from ..topography import analyze, case_option_names
+from ..topography import Analysis, analyze, case_option_names
 from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
 from .options import grid_number, parse_grid_list, seed_number
@@ -35,7 +35,7 @@ from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import SEAL_SHAPES, build_band, is_band_seal
 
-__all__ = ["build_case", "register_surface_model", "SurfaceBuilder", "parse_grid_list"]
+__all__ = ["build_case", "register_surface_model", "SurfaceBuilder", "parse_grid_list", "topography_analysis"]
 
 #: A ``[surface] model = ...`` builder: (section, case folder, q0) -> (spectrum, description, kind).
 SurfaceBuilder = Callable[[Section, Path, float], tuple[PowerSpectrum, str]]
@@ -161,8 +161,9 @@ def _table(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]
     return spec, f"tabulated spectrum from {path.name} ({spec.q.size} points, log-log interpolation)"
 
 
-def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
-    """``model = "topography"``: C(q) from measured height maps / line scans (stitched if several)."""
+def topography_analysis(sec: Section, case_dir: Path, *, fit: bool = True) -> tuple[Analysis, list[Path]]:
+    """The measured files of a ``model = "topography"`` section, analysed (:func:`sealeak.topography.analyze`
+    with the section's reading and analysis options), and their paths; errors name ``surface.<key>``."""
     files = sec.raw("files", sec.raw("file"))
     if sec.has("file") and sec.has("files"):
         raise InputError(sec.field("files"), files, "give either file or files, not both")
@@ -198,7 +199,14 @@ def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum,
                                                 high_open=False),
                      low_cut=sec.number("low_cut", 3.0, low=1.0, low_open=False),
                      resolution_pixels=sec.number("resolution_pixels", 4.0, low=2.0, low_open=False),
-                     resolution=sec.quantity("resolution", "length") if sec.has("resolution") else None)
+                     resolution=sec.quantity("resolution", "length") if sec.has("resolution") else None, fit=fit)
+    return an, paths
+
+
+def _topography(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]:
+    """``model = "topography"``: C(q) from measured height maps / line scans (stitched if several)."""
+    an, paths = topography_analysis(sec, case_dir)
+    with case_option_names():
         spec = an.spectrum
     label = sec.raw("label", "")
     if not isinstance(label, str):

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, SealeakError
-from ._common import emit, inputs, load, outputs
+from ._common import emit, inputs, load, load_case_file, outputs
 
 if TYPE_CHECKING:
     from ..cases import Case
@@ -45,6 +45,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     # options override the case's [simulation] section, which overrides the built-in defaults
     opts = simulation_options(grid=args.grid, realizations=args.realizations, seed=args.seed, workers=args.workers,
                               defaults=case.simulation)
+    if _map_route(args, case):
+        return _simulate_maps(args, case, opts)
+    if args.windows is not None:
+        raise InputError("--windows", args.windows, "applies to the map route (--surface maps, a topography case)")
     if args.store is not None and args.fields:
         raise InputError("--fields", args.fields, "cannot be combined with --store (a resumed run would lack the field "
                                                   "files of the tasks it takes from the store): use --store-fields to "
@@ -154,6 +158,48 @@ def _simulate_band(args: argparse.Namespace, case: Case, opts: SimulationOptions
     return _run_pipeline(args, opts, "simulate_band", (opts.realizations + 1) * band.loads.size, case)
 
 
+def _map_route(args: argparse.Namespace, case: Case) -> bool:
+    """Whether ``simulate`` runs on the case's measured maps (``--surface maps``, the default of a topography case)."""
+    if args.surface == "maps" and case.surface_model != "topography":
+        raise InputError("--surface", "maps", "needs a case with surface.model = \"topography\": its files are the maps")
+    return args.surface == "maps" or (args.surface is None and case.surface_model == "topography")
+
+
+def _simulate_maps(args: argparse.Namespace, case: Case, opts: SimulationOptions) -> int:
+    """``simulate`` on a topography case's maps: each map (or sub-window) is the surface, one realisation each."""
+    from tqdm import tqdm
+
+    from ..cases.ensemble import default_workers
+    from ..cases.simulation_map import case_maps, simulate_maps
+    from ..render.simulation_map import map_simulation_json, map_simulation_table
+
+    for option, value in (("--store", args.store), ("--plots", args.plots)):
+        if value is not None:
+            raise InputError(option, value, "does not apply to the map route (measured maps); use --surface random "
+                                            "for random surfaces from the maps' C(q)")
+    if len(opts.grids) > 1:
+        raise InputError(opts.grid_field, ",".join(map(str, opts.grids)), "the map route takes one grid")
+    if (args.realizations is not None or args.seed is not None) and not args.quiet:
+        sys.stderr.write("note: --realizations and --seed do not apply to measured maps (one realisation per map)\n")
+    case_file = load_case_file(args)
+    maps = case_maps(case_file.inputs["surface"], Path(case_file.source).parent)
+    grid = None if args.grid is None and "grid" not in case.simulation else opts.grid
+    windows = 1 if args.windows is None else args.windows
+    workers = default_workers(grid or 0) if opts.workers is None else opts.workers
+    runner = _runner(args, workers, None)
+    common: dict[str, Any] = {"grid": grid, "windows": windows, "threshold": not args.no_threshold,
+                              "fields_dir": args.fields, "grid_name": opts.grid_field, "field_name": "surface.file",
+                              "windows_name": "--windows"}
+    if runner is not None:
+        res = simulate_maps(maps, case, runner=runner, **common)
+    else:
+        total = len(maps) * windows**2 * len(case.squeeze_pressure)
+        with tqdm(total=total, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
+            res = simulate_maps(maps, case, progress=bar.update, **common)
+    emit(args, map_simulation_table(case, res), {args.json: map_simulation_json(case, res)} if args.json else {}, {})
+    return 0
+
+
 def _clock(seconds: float) -> str:
     """``m:ss`` (or ``h:mm:ss``) of a duration in seconds."""
     m, sec = divmod(int(round(seconds)), 60)
@@ -220,4 +266,11 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--store-fields", action="store_true",
                    help="with --store DIR: every task also writes its height, gap and pressure maps into "
                         "DIR/fields.zarr (Zarr; opens in xarray)")
+    p.add_argument("--surface", choices=("maps", "random"),
+                   help="maps: each measured map of a topography case is the surface (one realisation per map; the "
+                        "default for surface.model = \"topography\"); random: random Gaussian surfaces from C(q) "
+                        "(the default otherwise)")
+    p.add_argument("--windows", type=int, metavar="K",
+                   help="with maps: cut each map's central square into K x K sub-windows, one realisation each "
+                        "(default 1)")
     p.set_defaults(func=_cmd_simulate)
