@@ -137,8 +137,9 @@ def start_job(jobs_folder: Path, case_text: str, case_name: str, files: Iterable
     (folder / case_name).write_text(case_text, encoding="utf-8")
     options = {k: v for k, v in (("grid", grid), ("realizations", realizations), ("seed", seed), ("workers", workers))
                if v is not None}
-    argv = [sys.executable, "-c", _ENTRY, "simulate", case_name, "--json", "result.json", "--plots", "figures",
-            "--store", "store", *[x for k, v in options.items() for x in (f"--{k}", str(v))]]
+    # random surfaces from C(q), also for a topography case (the map route has no store, hence no progress, nor figures)
+    argv = [sys.executable, "-c", _ENTRY, "simulate", case_name, "--surface", "random", "--json", "result.json",
+            "--plots", "figures", "--store", "store", *[x for k, v in options.items() for x in (f"--{k}", str(v))]]
     job = Job(folder, title, options)
     threading.Thread(target=job._run, args=(argv,), name=f"sealeak-job-{job.id}", daemon=True).start()
     return job
