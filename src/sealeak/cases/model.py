@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..lab.rig import DecayRigSetup, RigSetup
+from ..physics.capillarity import Wetting
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
 from ..physics.gas import Gas
@@ -197,6 +198,9 @@ class Case:
         ``conditions.helium_equivalent`` for a liquid; docs/theory.md §11.9).
     rarefaction
         The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
+    capillarity
+        A liquid's surface tension and contact angles (``fluid.contact_angle`` etc.), or None: no
+        capillarity (docs/theory.md §12).
     """
 
     title: str
@@ -228,6 +232,8 @@ class Case:
     fluid_state: FluidState | None = None
     helium_equivalent: bool = False
     rarefaction: str = "beskok-karniadakis"
+    # capillarity of a liquid (fluid.contact_angle, docs/theory.md §12)
+    capillarity: Wetting | None = None
 
     @property
     def square_side(self) -> float:
