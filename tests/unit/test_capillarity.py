@@ -98,6 +98,7 @@ def test_both_theories_get_their_own_columns_and_the_table_shows_them():
     assert {"capillary_entry_pressure_effective_medium", "held_by_capillarity_effective_medium"} <= set(r.units)
     table = prediction_table([r])
     assert "capillarity, effective medium" in table and "θ_rubber = 120°" in table
+    assert all([k for k in rec] == list(r.units) for rec in r.records())
 
 
 ORING = """
@@ -138,6 +139,8 @@ def test_an_o_ring_holds_water_at_its_critical_gap_where_the_pressure_is_highest
     assert r.band.critical_junction.leak_rate == pytest.approx([uncoupled[0], 0.0], rel=1e-12)
     assert [rec["held_by_capillarity"] for rec in r.records()] == [False, True]
     assert any("held by capillarity at compression 20 %" in m for m in r.messages)
+    assert all([k for k in rec] == list(r.units) for rec in r.records())
+    assert "capillarity, critical junction (gap: u_c at the peak contact pressure)" in prediction_table([r])
 
 
 @pytest.mark.parametrize("fluid, field", [

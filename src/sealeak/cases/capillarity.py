@@ -154,7 +154,9 @@ def band_capillarity(case: Case, band: BandResult) -> tuple[BandResult, dict[str
         gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
         rows[name] = _rows(wetting, np.where(theory.percolates, gap, np.nan), dp)
         theories[name] = _held(theory, rows[name], name.replace("_", " "), lambda m: _loads_text(band.band, m), dp)
-    return replace(band, critical_junction=theories["critical_junction"], effective_medium=theories["effective_medium"]), rows
+    cj = theories["critical_junction"]
+    assert cj is not None
+    return replace(band, critical_junction=cj, effective_medium=theories["effective_medium"]), rows
 
 
 def _held(result: Any, rows: CapillaryRows, theory: str, rows_text: Callable[[NDArray[np.bool_]], str], dp: float) -> Any:

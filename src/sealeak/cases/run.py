@@ -24,8 +24,8 @@ from ..io.quantities import quantity, record_fields, units_of
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings
-from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarity, uniform_capillarity
 from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
+from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarity, uniform_capillarity
 from .gas import GAS_UNITS, HELIUM_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case

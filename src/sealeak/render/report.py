@@ -35,8 +35,7 @@ from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
 from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
-from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
-from .text import capillary_notes, capillary_tables
+from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, capillary_notes, capillary_tables, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
