@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from sealeak.cases.curves import prediction_curves
 from sealeak.cases.loader import parse_cases
 from sealeak.cases.run import run_case
 from sealeak.cli import main
@@ -188,3 +189,15 @@ def test_json_has_the_columns_only_with_an_angle(tmp_path):
     doc = json.loads(out.read_text())
     assert doc["units"]["capillary_entry_pressure"] == "Pa" and doc["units"]["held_by_capillarity"] == "1"
     assert all(isinstance(r["held_by_capillarity"], bool) for r in doc["results"])
+
+
+def test_the_pressure_difference_sweep_steps_up_at_the_entry_pressure():
+    r = run_case(_case('contact_angle = 120\nsurface_tension = "72 mN/m"'))
+    sweep = prediction_curves([r]).pressure_difference[0]
+    i = int(np.flatnonzero(r.critical_junction.squeeze_pressure == sweep.squeeze_pressure)[0])
+    entry = r.capillary["critical_junction"].entry_pressure[i]
+    assert 0 < entry < sweep.pressure_difference[-1]  # the step lies inside the sweep, and on its grid
+    dp, q = sweep.pressure_difference, sweep.critical_junction
+    k = r.critical_junction.leak_rate[i] / r.case.pressure_difference  # Q = K ΔP above the step
+    assert np.all(q[dp < entry] == 0.0) and entry in dp
+    assert q[dp >= entry] == pytest.approx(k * dp[dp >= entry], rel=1e-9)

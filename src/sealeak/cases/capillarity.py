@@ -33,7 +33,8 @@ from .prediction import FloatArray, _band_effective_gap
 from .schema import CAPILLARITY_KEYS, Section, case_keys
 
 __all__ = ["CapillaryColumns", "CapillaryRows", "CAPILLARY_UNITS", "build_wetting", "uniform_capillarity",
-           "band_capillarity", "capillary_legend"]
+           "band_capillarity", "capillary_legend",
+           "entry_steps", "held_sweep"]
 
 #: The record key of each theory's columns (the effective medium's carry the suffix).
 SUFFIX = {"critical_junction": "", "effective_medium": "_effective_medium"}
@@ -140,7 +141,7 @@ def band_capillarity(case: Case, band: BandResult) -> tuple[BandResult, dict[str
     """A band seal's result with the loads the meniscus holds set to Q = 0 (and a note), and each theory's rows.
 
     The narrowest gap is u_c at the peak contact pressure (critical junction) or the effective medium's
-    u_e = (12 μ σ_min)^(1/3) along the band (docs/theory.md §11.9, §12.2).
+    u_e = (12 μ σ_min)^(1/3) along the band (docs/theory.md §11.9, §12.1).
     """
     wetting = case.capillarity
     assert wetting is not None
@@ -170,6 +171,23 @@ def _held(result: Any, rows: CapillaryRows, theory: str, rows_text: Callable[[ND
             f"is below the entry pressure of the narrowest gap (at least {format_quantity(low, 'pressure', 4)} there), so the "
             "non-wetting liquid does not pass it: Q = 0 (held_by_capillarity)")
     return replace(result, leak_rate=np.where(rows.held, 0.0, result.leak_rate), messages=(*result.messages, note))
+
+
+def entry_steps(capillary: dict[str, CapillaryRows] | None, row: int, pressure_difference: FloatArray) -> FloatArray:
+    """The ascending ΔP values (Pa) of a sweep with each theory's positive entry pressure of row ``row`` within their
+    range added, and the float just below it: a figure then draws the step of eq. 12.3 upright."""
+    top = float(pressure_difference[-1])
+    entries = [float(rows.entry_pressure[row]) for rows in (capillary or {}).values()]
+    extra = [x for p in entries if np.isfinite(p) and 0.0 < p < top for x in (float(np.nextafter(p, 0.0)), p)]
+    return np.unique(np.concatenate([pressure_difference, extra])) if extra else pressure_difference
+
+
+def held_sweep(rows: CapillaryRows | None, row: int, pressure_difference: FloatArray, q: FloatArray) -> FloatArray:
+    """Q (m³/s) against ΔP (Pa) at the squeeze pressure of row ``row``, 0 where ΔP is below its entry pressure (eq. 12.3);
+    ``q`` as it is without capillarity (``rows`` None)."""
+    if rows is None:
+        return q
+    return np.where(pressure_difference < rows.entry_pressure[row], 0.0, q)
 
 
 def capillary_legend(case: Case) -> str:
