@@ -12,7 +12,7 @@ from sealeak.cases.run import run_case
 from sealeak.cli import main
 from sealeak.physics.capillarity import Wetting, capillary_pressure
 from sealeak.physics.properties import surface_tension
-from sealeak.render.text import prediction_table
+from sealeak.render.text import capillary_tables, prediction_table
 from tests.casefiles import BASE, edit
 
 #: Water at 20 °C: 72.74 mN/m (IAPWS, Revised release on the surface tension of ordinary water substance, 2014).
@@ -201,3 +201,17 @@ def test_the_pressure_difference_sweep_steps_up_at_the_entry_pressure():
     k = r.critical_junction.leak_rate[i] / r.case.pressure_difference  # Q = K ΔP above the step
     assert np.all(q[dp < entry] == 0.0) and entry in dp
     assert q[dp >= entry] == pytest.approx(k * dp[dp >= entry], rel=1e-9)
+
+
+def test_the_capillarity_table_shows_the_records_values():
+    r = run_case(_case('contact_angle = 150\nsurface_tension = "72 mN/m"'))
+    records = r.records()
+    [(title, cols)] = capillary_tables(r)
+    assert title.startswith("capillarity, critical junction")
+    head, _, cells, key = cols[2]
+    scale = {"p_e (kPa)": 1e3, "p_e (MPa)": 1e6}[head]
+    assert key == "capillary_entry_pressure"
+    assert [float(c) * scale for c in cells] == pytest.approx([rec[key] for rec in records], rel=1e-3)
+    head, _, cells, key = cols[3]
+    assert key == "held_by_capillarity"
+    assert cells == ["yes" if rec[key] else "no" for rec in records]
