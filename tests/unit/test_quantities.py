@@ -14,6 +14,7 @@ import pytest
 
 from sealeak.cases import SimulationResult, run_case
 from sealeak.cases.band import BandColumns, BandEffectiveMediumColumns
+from sealeak.cases.capillarity import CapillaryColumns
 from sealeak.cases.gas import GasColumns, HeliumColumns
 from sealeak.cases.loader import example_names, load_cases
 from sealeak.cases.pipeline import GasSimulation
@@ -61,7 +62,7 @@ def test_every_record_key_of_a_bundled_example_has_its_declared_unit(name):
 
 def test_every_declared_quantity_has_a_description():
     for cls in (CriticalJunctionResult, EffectiveMediumResult, BandColumns, BandEffectiveMediumColumns, GasColumns,
-                HeliumColumns, GasSimulation, SimulationResult, BandSimulationResult):
+                HeliumColumns, GasSimulation, SimulationResult, BandSimulationResult, CapillaryColumns):
         described = descriptions_of(cls)
         assert described and all(d.strip() for d in described.values()), cls.__name__
         assert set(described) == set(units_of(cls))

@@ -28,6 +28,7 @@ from ..physics.properties import FluidState, canonical_fluid_name, close_fluid_n
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import Analysis, analyze, case_option_names
+from .capillarity import build_wetting
 from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
 from .options import grid_number, parse_grid_list, seed_number
@@ -282,9 +283,13 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
             seal = _seal(seal_section)
     cond = Section("conditions", doc["conditions"])
     theory = Section("theory", doc.get("theory", {}))
-    fl = _fluid(Section("fluid", doc["fluid"]), cond, theory)
+    fluid_section = Section("fluid", doc["fluid"])
+    fl = _fluid(fluid_section, cond, theory)
     fluid = fl.fluid
     input_warnings += fl.warnings
+    # capillarity of a liquid (fluid.contact_angle; docs/theory.md §12)
+    wetting, wetting_warnings = build_wetting(fluid_section, fluid.name, fl.temperature, gas=fl.gas is not None)
+    input_warnings += wetting_warnings
     band = None
     if band_kind is None:
         for key in ("compression", "groove_depth", "profile_scale"):
@@ -358,6 +363,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         simulation=simulation, source=source, surface_model=str(model_name), band=band, input_warnings=input_warnings,
         gas=fl.gas, temperature=fl.temperature, absolute_pressures=fl.absolute_pressures, fluid_state=fl.state,
         helium_equivalent=fl.helium_equivalent, rarefaction=fl.rarefaction, permeation=permeation,
+        capillarity=wetting,
     )
 
 

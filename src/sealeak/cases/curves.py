@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.gaps import GapDistribution, gap_distribution
+from .capillarity import entry_steps, held_sweep
 from .gas import gas_throughput
 from .model import Case
 from .prediction import predict, predict_effective_medium
@@ -202,9 +203,13 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
         if all_gas:
             sweeps.append(_gas_sweep(r, i, dp, bool(valid[i])))
             continue
+        dp = entry_steps(r.capillary, i, dp)
         q = predict(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
         q_em = (predict_effective_medium(case, squeeze_pressure=np.full(dp.size, p0), pressure_difference=dp).leak_rate
                 if r.effective_medium is not None else None)
+        cap = r.capillary or {}  # a liquid held by capillarity below the entry pressure (docs/theory.md §12)
+        q = held_sweep(cap.get("critical_junction"), i, dp, q)
+        q_em = held_sweep(cap.get("effective_medium"), i, dp, q_em) if q_em is not None else None
         valid_em = r.valid_effective_medium
         sweeps.append(PressureDifferenceSweep(case, p0, dp, q, q_em, bool(valid[i]),
                                               bool(valid_em[i]) if valid_em is not None and valid_em.size else True))

@@ -93,6 +93,12 @@ FIELD_KINDS: dict[str, FieldKind] = {
     "simulation.grid": FieldKind("integer", example="256"), "simulation.realizations": FieldKind("integer", example="4"),
     "simulation.seed": FieldKind("integer", example="0"),
 }
+# capillarity of a liquid ([fluid], docs/case-files.md)
+FIELD_KINDS |= {
+    "fluid.contact_angle": _n("110"), "fluid.contact_angle_rubber": _n("110"), "fluid.contact_angle_surface": _n("100"),
+    "fluid.surface_tension": _q("surface tension", "72.8 mN/m"),
+}
+
 
 def _documented_order(section: str) -> Callable[[str], int]:
     """Sort key of a section's keys: their order in :data:`FIELD_KINDS` (that of ``docs/case-files.md``), others last."""

@@ -206,3 +206,16 @@ FIELD_HELP: dict[str, FieldHelp] = {
     "simulation.seed": FieldHelp("Random seed", "simulation-defaults-of-sealeak-simulate-optional",
                      "random seed (realisation r uses numpy.random.default_rng([seed, r]))"),
 }
+
+# capillarity of a liquid ([fluid], docs/case-files.md)
+FIELD_HELP |= {
+    "fluid.contact_angle": FieldHelp("Contact angle θ", "fluid-the-fluid",
+                     "contact angle θ of the liquid on both walls (rubber and surface), in degrees: with it, a non-wetting "
+                     "liquid (θ > 90°) is held where ΔP is below the entry pressure of the narrowest gap (capillarity)"),
+    "fluid.contact_angle_rubber": FieldHelp("Contact angle on the rubber θ_r", "fluid-the-fluid",
+                     "contact angle θ_r on the rubber, with fluid.contact_angle_surface, instead of fluid.contact_angle"),
+    "fluid.contact_angle_surface": FieldHelp("Contact angle on the surface θ_s", "fluid-the-fluid",
+                     "contact angle θ_s on the rough counter-surface, with fluid.contact_angle_rubber"),
+    "fluid.surface_tension": FieldHelp("Surface tension γ", "fluid-the-fluid",
+                     "surface tension γ of the liquid, used with a contact angle"),
+}

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..lab.rig import DecayRigSetup, RigSetup
+from ..physics.capillarity import Wetting
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
 from ..physics.gas import Gas
@@ -217,6 +218,9 @@ class Case:
     permeation
         The gas's permeability (and diffusivity) in the rubber of an O-ring gas case, or None: the
         results then carry the permeation leak beside the interface leak (docs/theory.md §11.11).
+    capillarity
+        A liquid's surface tension and contact angles (``fluid.contact_angle`` etc.), or None: no
+        capillarity (docs/theory.md §12).
     """
 
     title: str
@@ -249,6 +253,8 @@ class Case:
     helium_equivalent: bool = False
     rarefaction: str = "beskok-karniadakis"
     permeation: RubberPermeation | None = None
+    # capillarity of a liquid (fluid.contact_angle, docs/theory.md §12)
+    capillarity: Wetting | None = None
 
     @property
     def square_side(self) -> float:

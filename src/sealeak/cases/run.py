@@ -25,6 +25,7 @@ from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings
 from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
+from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarity, uniform_capillarity
 from .gas import GAS_UNITS, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case
@@ -73,6 +74,10 @@ class CaseResult:
         For a gas case, or a liquid with ``conditions.helium_equivalent``: the gas leak and the
         helium equivalent of each theory ("critical_junction", "effective_medium"), per row; the
         rows are the band's loads for a band seal (docs/theory.md §11.9).
+    capillary
+        For a liquid with a contact angle (``case.capillarity``): each theory's entry pressure and the
+        rows the meniscus holds ("critical_junction", "effective_medium"; docs/theory.md §12); the leak
+        rates of the held rows are 0.
     """
 
     case: Case
@@ -90,6 +95,7 @@ class CaseResult:
     warnings: tuple[str, ...] = ()
     band: BandResult | None = None
     gas: dict[str, GasRows] | None = None
+    capillary: dict[str, CapillaryRows] | None = None
 
     @property
     def shows_critical_junction(self) -> bool:
@@ -104,8 +110,19 @@ class CaseResult:
         if self.band is not None:
             em = BAND_EFFECTIVE_MEDIUM_UNITS if self.band.effective_medium is not None else {}
             regime = {"regime": ""} if self.band.band.oring is not None else {}
-            return {self.band.band.load_name: "1"} | regime | BAND_UNITS | em | self._gas_units
-        return RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {}) | self._gas_units
+            return {self.band.band.load_name: "1"} | regime | BAND_UNITS | em | self._gas_units | self._capillary_units
+        return (RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {}) | self._gas_units
+                | self._capillary_units)
+
+    @property
+    def _capillary_units(self) -> dict[str, str]:
+        return {k + SUFFIX[name]: u for name in (self.capillary or {}) for k, u in CAPILLARY_UNITS.items()}
+
+    def _capillary_fields(self) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for name, rows in (self.capillary or {}).items():
+            out |= rows.fields(SUFFIX[name])
+        return out
 
     @property
     def _gas_units(self) -> dict[str, str]:
@@ -141,7 +158,7 @@ class CaseResult:
         columns = record_fields(self.critical_junction) | self._verdicts(_VERDICTS)
         if self.effective_medium is not None and self.valid_effective_medium is not None:
             columns |= record_fields(self.effective_medium) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
-        columns |= self._gas_fields()
+        columns |= self._gas_fields() | self._capillary_fields()
         return self._rows(columns, len(self.critical_junction))
 
     def _rows(self, columns: dict[str, Any], n: int) -> list[dict[str, Any]]:
@@ -157,7 +174,7 @@ class CaseResult:
         em = b.effective_medium_columns()
         if em is not None:
             columns |= record_fields(em) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
-        return self._rows(columns | self._gas_fields(), len(b))
+        return self._rows(columns | self._gas_fields() | self._capillary_fields(), len(b))
 
 
 def _verdict_units(names: tuple[str, ...]) -> dict[str, str]:
@@ -193,24 +210,24 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     res = predict(case)
     em = predict_effective_medium(case) if case.model != "critical-junction" else None
     rig_result = rig_prediction(case) if rig and case.rig is not None else None
+    valid, validity, valid_em, validity_em = _uniform_verdicts(case, res, em)
+    gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
+    capillary = None
+    if case.capillarity is not None:  # after the gas rows: helium passes where the liquid is held
+        res, em, capillary = uniform_capillarity(case, res, em)
     messages = list(res.messages)
     if em is not None:
         messages += ["effective medium: " + m for m in em.messages]
-    valid, validity, valid_em, validity_em = _uniform_verdicts(case, res, em)
-    gas = _uniform_gas(case, res, em) if case.gas is not None or case.helium_equivalent else None
     return CaseResult(case=case, critical_junction=res, effective_medium=em, rig=rig_result, messages=tuple(messages),
                       valid=valid, validity=validity, valid_effective_medium=valid_em,
                       validity_effective_medium=validity_em,
-                      warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas)
+                      warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas, capillary=capillary)
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
     """run_case for an O-ring or profile seal: the band's leak rates, judged where the pressure is highest."""
     band = run_band(case)
     res = predict(case)  # uniform, at each load's mean pressure over the widest band (kept for old front ends)
-    messages = list(band.critical_junction.messages)
-    if band.effective_medium is not None:
-        messages += list(band.effective_medium.messages)
     valid, validity, valid_em, validity_em = _band_verdicts(case, band)
     # the rig runs at one load (rig_prediction refuses several): a sweep's report shows no rig
     rig_result = rig_prediction(case) if rig and case.rig is not None and band.band.loads.size == 1 else None
@@ -219,6 +236,13 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         cutoff_wavevector=case.spectrum.q_max, squeeze_pressure=band.max_contact_pressure,
         youngs_modulus=case.youngs_modulus, contact_area_at_cutoff=res.contact_area_at_cutoff, alpha=case.alpha)
     gas = _band_gas(case, band) if case.gas is not None or case.helium_equivalent else None
+    capillary = None
+    if case.capillarity is not None:  # after the gas rows: helium passes where the liquid is held
+        band, capillary = band_capillarity(case, band)
+    messages = list(band.critical_junction.messages)
+    if band.effective_medium is not None:
+        messages += list(band.effective_medium.messages)
     return CaseResult(case=case, critical_junction=res, rig=rig_result, messages=tuple(messages), valid=valid,
                       validity=validity, valid_effective_medium=valid_em, validity_effective_medium=validity_em,
-                      warnings=case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band=band, gas=gas)
+                      warnings=case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band=band, gas=gas,
+                      capillary=capillary)

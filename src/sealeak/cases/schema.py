@@ -16,7 +16,7 @@ import numpy as np
 from ..errors import InputError, did_you_mean
 from ..io.units import parse_quantity
 
-__all__ = ["SECTIONS", "SURFACE_KEYS", "TOP_LEVEL", "REQUIRED", "Section", "CASE_KEYS", "case_keys"]
+__all__ = ["CAPILLARITY_KEYS", "SECTIONS", "SURFACE_KEYS", "TOP_LEVEL", "REQUIRED", "Section", "CASE_KEYS", "case_keys"]
 
 #: Keys of [surface] that each surface model reads (besides model and label): a key another model
 #: reads is an error, not silently ignored (e.g. h_rms with model = "table").
@@ -43,6 +43,9 @@ SECTIONS: dict[str, set[str]] = {
     "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},
     "simulation": {"grid", "realizations", "seed"},
 }
+#: [fluid] keys of capillarity (docs/case-files.md): a liquid's contact angles on the two walls, its surface tension.
+CAPILLARITY_KEYS = ("contact_angle", "contact_angle_rubber", "contact_angle_surface", "surface_tension")
+SECTIONS["fluid"] |= set(CAPILLARITY_KEYS)
 TOP_LEVEL = {"title", "description"}
 REQUIRED = ("surface", "rubber", "seal", "fluid", "conditions")
 

@@ -103,6 +103,11 @@ _EXAMPLES = {
     "dimensionless": "'0.5'",
 }
 
+# a liquid's surface tension (capillarity, docs/case-files.md): force per length
+SI_UNITS["surface_tension"] = "N/m"
+DIMENSIONS["surface_tension"] = "[mass] / [time] ** 2"
+_EXAMPLES["surface_tension"] = "'72.8 mN/m', '0.0728 N/m'"
+
 #: The longest quantity or unit text read (longer text is refused, not parsed).
 MAX_TEXT = 200
 _MAX_DEPTH = 3  # brackets nested in a unit

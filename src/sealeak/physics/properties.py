@@ -28,6 +28,7 @@ from .gas import MOLAR_GAS_CONSTANT, Gas
 __all__ = ["KNOWN_FLUIDS", "FluidState", "fluid_state", "canonical_fluid_name", "close_fluid_name", "known_fluid_names",
            "property_library",
            "vapour_pressure_note"]
+__all__ += ["surface_tension"]
 
 #: name → (CoolProp's name, aliases). Gases at room conditions first, then refrigerants, then liquids.
 KNOWN_FLUIDS: dict[str, tuple[str, tuple[str, ...]]] = {
@@ -234,3 +235,27 @@ def vapour_pressure_note(state: FluidState, upstream: float, downstream: float) 
     return (f"{state.name} at {celsius(state.temperature):.4g} °C has a vapour pressure of {state.vapour_pressure:.4g} Pa; "
             f"the pressure {low:.4g} Pa at the seal is below it: the liquid may boil (flash to vapour) in the leak path, "
             "and the liquid leak rate assumes it does not")
+
+
+def surface_tension(fluid: str, temperature: float) -> tuple[float, str]:
+    """γ (N/m) of the known liquid ``fluid`` at ``temperature`` T (K), on its saturation line, and its source.
+
+    The surface tension hardly depends on pressure, so the value at saturation serves a liquid at any
+    pressure (docs/theory.md §12.2); e.g. water at 293.15 K: 0.0728 N/m (Mulero et al. 2012). Raises
+    :class:`InputError` naming ``fluid`` for an unknown name and ``temperature`` where the fluid has no
+    liquid surface (at or above its critical temperature, or outside the correlation's range).
+    """
+    name = canonical_fluid_name(fluid)
+    cp_name = KNOWN_FLUIDS[name][0]
+    CP = _coolprop()[1]
+    t = float(temperature)
+    try:
+        gamma = float(CP.PropsSI("I", "T", t, "Q", 0, cp_name))
+        source = CP.get_fluid_param_string(cp_name, "BibTeX-SURFACE_TENSION")
+    except ValueError as exc:
+        raise InputError("temperature", temperature, f"no surface tension of {name} at {t:.6g} K from the property "
+                                                     f"library ({str(exc).split(':')[0]}); give fluid.surface_tension") from None
+    if not (math.isfinite(gamma) and gamma > 0):
+        raise InputError("temperature", temperature, f"no surface tension of {name} at {t:.6g} K (at or above its "
+                                                     "critical temperature); give fluid.surface_tension")
+    return gamma, f"{property_library()}, surface tension: {source}"

@@ -488,7 +488,8 @@ def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list
             s = Series(x, theory.leak_rate, np.asarray(valid, dtype=bool), color(k), "-", label, why)
             out.append(s)
             out.append(Series(x, theory.uniform_mean_pressure, np.ones(len(b), dtype=bool), color(k), "--", None))
-            solid.append((s, ~theory.percolates))
+            held = (r.capillary or {}).get(name.replace(" ", "_"))  # a liquid held by capillarity: Q = 0 too
+            solid.append((s, ~theory.percolates | (held.held if held is not None else False)))
             k += 1
     return out, solid
 
@@ -566,12 +567,16 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
             x = s.x[mask] * (hi_x / lo_x) ** shift if ax.get_xscale() == "log" else s.x[mask] + shift * (hi_x - lo_x)
             ax.plot(x, np.full(int(mask.sum()), at), "x", color=s.color, ms=5, mew=1.4)
         handles.append(Line2D([], [], ls="none", marker="x", color="0.3", ms=6, mew=1.5))
-        labels.append("no leak channel: the band seals (× at the bottom)")
+        held = any(rows.held.any() for r in results for rows in (r.capillary or {}).values())
+        labels.append("no leak channel, or the liquid held by capillarity (× at the bottom)" if held
+                      else "no leak channel: the band seals (× at the bottom)")
     if not gas:
         handles.append(Line2D([], [], ls="--", color="0.4"))
         labels.append("uniform seal at the mean contact pressure")
     if any(not np.asarray(s.valid).all() for s in series):
         notes.append("hollow: outside the theory's validity where the pressure is highest (▽: below the axis)")
+    if not gas and any(r.capillary for r in results):  # docs/theory.md §12
+        notes.append("capillarity holds the liquid where ΔP is below the narrowest gap's entry pressure; dashed: without it")
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
     if gas:

@@ -547,6 +547,8 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
         if any(sw.effective_medium is not None for sw in sweeps):
             formulas.append("Q = (Ly/Lx) σ_eff ΔP (effective medium)")
         notes = [", ".join(formulas) + ": linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
+        if any(sw.case.capillarity is not None for sw in sweeps):  # docs/theory.md §12
+            notes.append("0 below the capillary entry pressure p_e of the narrowest gap (held by capillarity)")
         if log:
             notes.append("log-log: the cases' leak rates differ by decades (Q ∝ ΔP has slope one)")
     if not all(s.valid.all() for s in series):

@@ -35,7 +35,7 @@ from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
 from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
-from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
+from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, capillary_notes, capillary_tables, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
@@ -192,16 +192,16 @@ def _result_table(r: CaseResult, which: str) -> str:
 
 
 def _gas_tables(r: CaseResult) -> list[str]:
-    """The gas tables of ``sealeak predict`` (:func:`~sealeak.render.text.gas_tables`); each cell's ``data-value`` is
-    the ``predict --json`` record's value."""
+    """The gas and capillarity tables of ``sealeak predict`` (:func:`~sealeak.render.text.gas_tables`,
+    :func:`~sealeak.render.text.capillary_tables`); each cell's ``data-value`` is the ``predict --json`` record's value."""
     records = r.records()
     parts = []
-    for title, cols in gas_tables(r):
+    for title, cols in gas_tables(r) + capillary_tables(r):
         parts.append(f"<p><b>{_e(title[0].upper() + title[1:])}</b></p>")
         rows = [[c[2][i] for c in cols] for i in range(len(records))]
         values = [[records[i].get(c[3]) if c[3] else None for c in cols] for i in range(len(records))]
         parts.append(_table([c[0] for c in cols], rows, left=0, values=values))
-    parts += [f"<p class=\"legend\">{_e(n)}</p>" for n in gas_notes(r)]
+    parts += [f"<p class=\"legend\">{_e(n)}</p>" for n in gas_notes(r) + capillary_notes(r)]
     return parts
 
 

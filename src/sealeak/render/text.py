@@ -7,6 +7,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..cases import Case, CaseResult
+from ..cases.capillarity import capillary_legend
 from ..io.leak_units import celsius, to_ml_per_min
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
@@ -14,6 +15,7 @@ from ..physics.validity import pressures_text
 
 __all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt", "gas_tables", "gas_notes", "band_legend",
            "GAS_INCOMPRESSIBLE_NOTE"]
+__all__ += ["capillary_tables", "capillary_notes"]
 
 
 def fmt(x: float | None, spec: str = ".4g") -> str:
@@ -82,14 +84,7 @@ def _gas_columns(r: CaseResult, theory: str) -> list[GasColumn]:
     rows = r.gas[theory]
     n = range(rows.conductance.size)
     suffix = "_effective_medium" if theory == "effective_medium" else ""
-    if r.band is not None:
-        b = r.band.band
-        first = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.loads], "") if b.load_name == "compression"
-                 else ("scale", 7, [f"{v:.4g}" for v in b.loads], ""))
-    else:
-        first = ("P0 (kPa)", 10, [f"{p / 1e3:.4g}" for p in r.critical_junction.squeeze_pressure], "")
-    g_scale, g_unit = length_unit(rows.gap[np.isfinite(rows.gap)] if np.isfinite(rows.gap).any() else np.array([1e-6]))
-    cols: list[GasColumn] = [first, (f"gap ({g_unit})", 10, [fmt(rows.gap[i] / g_scale, ".4g") for i in n], "")]
+    cols: list[GasColumn] = _row_and_gap_columns(r, rows.gap)
     f = rows.fields()
 
     def col(head: str, width: int, key: str, spec: str) -> GasColumn:
@@ -110,6 +105,18 @@ def _gas_columns(r: CaseResult, theory: str) -> list[GasColumn]:
                  col("t_lag (s)", 10, "permeation_breakthrough_time", ".3g"),
                  col("Q_total (mbar·l/s)", 19, "leak_rate_total_mbar_l_s", ".3e")]
     return cols
+
+
+def _row_and_gap_columns(r: CaseResult, gap: np.ndarray) -> list[GasColumn]:
+    """The leading columns of a gas or capillarity table: the row's squeeze pressure or load, and the narrowest gap."""
+    if r.band is not None:
+        b = r.band.band
+        first = (("ε (%)", 7, [f"{100 * v:.4g}" for v in b.loads], "") if b.load_name == "compression"
+                 else ("scale", 7, [f"{v:.4g}" for v in b.loads], ""))
+    else:
+        first = ("P0 (kPa)", 10, [f"{p / 1e3:.4g}" for p in r.critical_junction.squeeze_pressure], "")
+    g_scale, g_unit = length_unit(gap[np.isfinite(gap)] if np.isfinite(gap).any() else np.array([1e-6]))
+    return [first, (f"gap ({g_unit})", 10, [fmt(g / g_scale, ".4g") for g in gap], "")]
 
 
 def gas_tables(r: CaseResult) -> list[tuple[str, list[GasColumn]]]:
@@ -148,13 +155,42 @@ def gas_notes(r: CaseResult) -> list[str]:
     return notes
 
 
+def capillary_tables(r: CaseResult) -> list[tuple[str, list[GasColumn]]]:
+    """The capillarity tables of ``sealeak predict`` (the report shows the same): (title, columns) per theory shown.
+
+    Columns as :func:`gas_tables`' (the entry pressure p_e and held, with their record fields). Empty for a case
+    without a contact angle.
+    """
+    out: list[tuple[str, list[GasColumn]]] = []
+    gap_of = {"critical_junction": "u_c at the peak contact pressure" if r.band is not None else "u_c",
+              "effective_medium": "narrowest u_e along the band" if r.band is not None else "u_e"}
+    for theory, rows in (r.capillary or {}).items():
+        if theory == "critical_junction" and not r.shows_critical_junction:
+            continue
+        suffix = "_effective_medium" if theory == "effective_medium" else ""
+        p_scale, p_unit = _pressure_unit(np.abs(rows.entry_pressure))
+        n = range(rows.gap.size)
+        cols = _row_and_gap_columns(r, rows.gap) + [
+            (f"p_e ({p_unit})", 10, [fmt(rows.entry_pressure[i] / p_scale, ".4g") for i in n],
+             "capillary_entry_pressure" + suffix),
+            ("held", 5, ["yes" if rows.held[i] else "no" if np.isfinite(rows.gap[i]) else "—" for i in n],
+             "held_by_capillarity" + suffix)]
+        out.append((f"capillarity, {theory.replace('_', ' ')} (gap: {gap_of[theory]})", cols))
+    return out
+
+
+def capillary_notes(r: CaseResult) -> list[str]:
+    """What the capillarity tables mean: γ, the contact angles, and whether the liquid is held or drawn in."""
+    return [capillary_legend(r.case)] if r.capillary else []
+
+
 def _gas_block(r: CaseResult) -> list[str]:
-    """The gas tables (one per theory) and what their columns mean."""
+    """The gas tables and the capillarity tables (one per theory) and what their columns mean."""
     lines: list[str] = []
-    for title, cols in gas_tables(r):
+    for title, cols in gas_tables(r) + capillary_tables(r):
         lines += ["", f"{title}:"]
         lines += _table_lines(cols)
-    return lines + ["          " + n for n in gas_notes(r)] if lines else []
+    return lines + ["          " + n for n in gas_notes(r) + capillary_notes(r)] if lines else []
 
 
 def _settings(r: CaseResult) -> dict[str, list[str]]:
