@@ -110,7 +110,7 @@ class ORingContact:
 
 
 def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_ratio: float, compression: ArrayLike) -> ORingContact:
-    """Force per length, contact width and peak pressure of an O-ring squeezed between two flat faces (docs/theory.md §10.2).
+    """Force per length, contact width and peak pressure of an O-ring squeezed between two flat faces (docs/theory.md §10.2, eqs. 10.3–10.6).
 
     Parameters
     ----------
@@ -215,7 +215,7 @@ def compression_from_groove_depth(cross_section_diameter: float, groove_depth: A
 
 
 def youngs_modulus_from_shore_a(shore_a: float) -> float:
-    """Young's modulus E in Pa from the Shore A hardness S, by Gent's relation (docs/theory.md §10.2).
+    """Young's modulus E in Pa from the Shore A hardness S, by Gent's relation (docs/theory.md §10.2, eq. 10.7).
 
     E = 0.0981 (56 + 7.62336 S) / (0.137505 (254 - 2.54 S)) MPa (Gent, Trans. IRI 34 (1958) 46):
     the durometer's spring force (56 + 7.62336 S) gf over 1.375 mm times the indentation
