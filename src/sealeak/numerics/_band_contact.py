@@ -77,7 +77,7 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
     """Hertz contact of a cylinder on a flat: half-width b (m) and peak pressure p_max (Pa).
 
     b = √(4 f R/(π E*)), p_max = 2 f/(π b) (Johnson, Contact Mechanics (1985) eqs. 4.43, 4.45;
-    docs/theory.md §10.4), with f the force per unit length (N/m), R the radius (m), E* (Pa).
+    docs/theory.md §10.4, eq. 10.13), with f the force per unit length (N/m), R the radius (m), E* (Pa).
     """
     b = math.sqrt(4.0 * force_per_length * radius / (math.pi * e_star))
     return b, 2.0 * force_per_length / (math.pi * b)
@@ -219,7 +219,7 @@ def _check_grid(heights: ArrayLike, width: float, period: float, e_star: float) 
 def band_displacement(pressure: ArrayLike, width: float, period: float, e_star: float, *, workers: int = -1) -> FloatArray:
     """Surface displacement u[x, y] (m) of the half-space under the cell pressures p[x, y] (Pa).
 
-    Free (no pressure) outside 0 <= x <= ``width``, periodic with ``period`` along y (module
+    Free (no pressure) outside 0 <= x <= ``width``, periodic with ``period`` along y (eqs. 10.11, 10.12; module
     docstring; Liu, Wang & Liu, Wear 243 (2000) 101). The y-uniform part is defined up to one
     additive constant (the plane-strain line load), the same for every cell.
     """
@@ -258,7 +258,7 @@ def solve_band_contact(
 
     Solves g = u - H + c >= 0, p >= 0, g p = 0, Σ p dx dy = f Ly with H = h - (x - x_c)²/(2R) and u
     from the half-space Green's function, zero-padded across x and periodic along y (module
-    docstring; docs/theory.md §10.4).
+    docstring; docs/theory.md §10.4, eqs. 10.9, 10.10).
 
     Parameters
     ----------

@@ -167,7 +167,7 @@ def solve_contact(
     """Frictionless contact of a rigid periodic rough surface with an elastic half-space.
 
     Solves u(q) = 2 p(q)/(E*|q|), g = u - h + c >= 0, p >= 0, g p = 0, mean(p) = P0 by Polonsky &
-    Keer's constrained conjugate gradient (Wear 231 (1999) 206), preconditioned (docs/theory.md §6.2).
+    Keer's constrained conjugate gradient (Wear 231 (1999) 206), preconditioned (docs/theory.md §6.2, eq. 6.2).
 
     Parameters
     ----------

@@ -501,7 +501,7 @@ def solve_flow(
     """Leak flow through an N×N gap field from the inlet edge x = 0 to the outlet edge x = L.
 
     Solves the Reynolds equation ∇·(σ ∇p) = 0, σ = g³/(12η), by finite volumes, with a rigorous
-    bound on the flux error (docs/theory.md §6.3; Patir & Cheng, J. Lubr. Technol. 100 (1978) 12).
+    bound on the flux error (docs/theory.md §6.3, eqs. 6.4, 6.5; Patir & Cheng, J. Lubr. Technol. 100 (1978) 12).
 
     Parameters
     ----------

@@ -162,7 +162,7 @@ def gas_flow_memory_bytes(n: int, method: Method = "auto") -> int:
 
 def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
     """F = ∫_{p2}^{p1} 2 p f(c/p) dp / (p1² − p2²): the slip factor f averaged over a pressure interval as
-    the flux of p² weights it (F = f(c/p1) when p1 = p2); docs/theory.md §11.10.
+    the flux of p² weights it (F = f(c/p1) when p1 = p2); docs/theory.md §11.10, eq. 11.13.
 
     ``knudsen_scale`` c = μ √(π R_s T/2)/g (Pa) makes Kn = c/p; ``p1``, ``p2`` are absolute pressures
     (Pa, > 0 or one of them 0). Broadcasts. Gauss–Legendre quadrature (module docstring), relative
@@ -235,7 +235,7 @@ def solve_gas_flow(
 ) -> GasFlowResult:
     """Gas leak through an N×N gap field from the inlet edge x = 0 (P_a) to the outlet edge x = L (P_b).
 
-    Solves ∇·(g³ f(Kn) ∇(p²)) = 0 (docs/theory.md §11.10): without slip one
+    Solves ∇·(g³ f(Kn) ∇(p²)) = 0 (docs/theory.md §11.10, eqs. 11.11, 11.13): without slip one
     linear solve of the liquid problem in p² (:func:`solve_flow`), with slip a checked fixed point
     over the same linear solver (module docstring).
 

@@ -133,7 +133,7 @@ def synthesize(
 ) -> NDArray[np.float64]:
     """A periodic random height map (m) of n×n points and side ``size`` (m) with spectrum C(q).
 
-    Fourier amplitudes with <|h_q|²> = C(q) (2π/size)² (docs/theory.md §6.1).
+    Fourier amplitudes with <|h_q|²> = C(q) (2π/size)² (docs/theory.md §6.1, eq. 6.1).
 
     Parameters
     ----------

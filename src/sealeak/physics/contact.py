@@ -85,7 +85,7 @@ def contact_modulus(youngs_modulus: float, poisson_ratio: float,
     """E* in Pa: E/(1-ν²), or 1/E* = (1-ν1²)/E1 + (1-ν2²)/E2 when the substrate is elastic too.
 
     Moduli in Pa, Poisson ratios in (-1, 0.5]; the substrate's ν defaults to 0. Johnson, *Contact
-    Mechanics* (1985); docs/theory.md §2.1.
+    Mechanics* (1985); docs/theory.md §2.1 (eq. 2.1).
     """
     _check_modulus("youngs_modulus", youngs_modulus)
     _check_poisson("poisson_ratio", poisson_ratio)
@@ -159,19 +159,19 @@ class PerssonContact:
         return self.spectrum.cumulative_moment(3, q)
 
     def G(self, zeta: ArrayLike) -> FloatArray:
-        """G(ζ) = (π/4) E*² ∫_{q0}^{ζq0} q³C dq in Pa² (Persson (2001); docs/theory.md §2.3)."""
+        """G(ζ) = (π/4) E*² ∫_{q0}^{ζq0} q³C dq in Pa² (Persson (2001); docs/theory.md §2.3, eq. 2.3)."""
         z = np.asarray(zeta, dtype=float)
         return 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - self._m3(self.q0))
 
     def dG_dzeta(self, zeta: ArrayLike) -> FloatArray:
-        """dG/dζ = (π/4) E*² q0 (ζq0)³ C(ζq0) in Pa² (docs/theory.md §2.3)."""
+        """dG/dζ = (π/4) E*² q0 (ζq0)³ C(ζq0) in Pa² (docs/theory.md §2.3, eq. 2.3)."""
         q = np.asarray(zeta, dtype=float) * self.q0
         return 0.25 * np.pi * self.e_star**2 * self.q0 * q**3 * self.spectrum(q)
 
     def area(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """Relative apparent contact area A(ζ)/A0 = erf(P0/(2√G(ζ))) (dimensionless; P0 in Pa).
 
-        Persson, J. Chem. Phys. 115 (2001) 3840; Lorenz & Persson (2009), unnumbered; docs/theory.md §2.4.
+        Persson, J. Chem. Phys. 115 (2001) 3840; Lorenz & Persson (2009), unnumbered; docs/theory.md §2.4 (eq. 2.4).
         """
         g = self.G(zeta)
         p0 = np.asarray(squeeze_pressure, dtype=float)
@@ -180,7 +180,7 @@ class PerssonContact:
         return special.erf(x)  # G = 0 (ζ = 1): x = inf, A/A0 = 1
 
     def area_derivative(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """d(A/A0)/dζ = (2/√π) e^(-x²) dx/dζ with x = P0/(2√G), dx/dζ = -x G'/(2G); <= 0 (docs/theory.md §2.4)."""
+        """d(A/A0)/dζ = (2/√π) e^(-x²) dx/dζ with x = P0/(2√G), dx/dζ = -x G'/(2G); <= 0 (docs/theory.md §2.4, eq. 2.5)."""
         g = self.G(zeta)
         gp = self.dG_dzeta(zeta)
         p0 = np.asarray(squeeze_pressure, dtype=float)
@@ -190,7 +190,7 @@ class PerssonContact:
         return np.where(g > 0, out, 0.0)  # at ζ = 1 every derivative of erf(∞) vanishes
 
     def mean_pressure(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """p(ζ) = P0 A0/A(ζ) in Pa, the mean pressure in the apparent contact (Lorenz & Persson (2009), unnumbered; docs/theory.md §2.5)."""
+        """p(ζ) = P0 A0/A(ζ) in Pa, the mean pressure in the apparent contact (Lorenz & Persson (2009), unnumbered; docs/theory.md §2.5, eq. 2.6)."""
         return np.asarray(squeeze_pressure, dtype=float) / self.area(zeta, squeeze_pressure)
 
     def zeta_at_area(self, relative_area: float, squeeze_pressure: ArrayLike) -> tuple[FloatArray, NDArray[np.bool_]]:
@@ -198,7 +198,7 @@ class PerssonContact:
 
         G(ζ) = (P0/(2 erfinv(a)))² is inverted through the cumulative moment of q³C. Where that G
         exceeds G(ζ1) (the area never falls that low within the resolved roughness) the ζ returned
-        is ζ1 and the mask is False. ``relative_area`` a in (0, 1), P0 in Pa (docs/theory.md §3.3).
+        is ζ1 and the mask is False. ``relative_area`` a in (0, 1), P0 in Pa (docs/theory.md §3.3, eq. 3.3).
         """
         if not 0.0 < relative_area < 1.0:
             raise InputError("relative contact area", relative_area, "must lie in (0, 1)")
@@ -370,20 +370,20 @@ class PerssonContact:
         """ū(ζ) in m: mean separation in the apparent contact area seen at magnification ζ.
 
         ū(ζ) = √π ∫_{ζq0}^{q1} dq q² C(q) w(q,ζ) F(w(q,ζ) p(ζ)/E*) (Yang & Persson, J. Phys.: Condens.
-        Matter 20 (2008) 215214; docs/theory.md §2.7–§2.9). ū(ζ1) = 0; ū(1) is the mean separation of
+        Matter 20 (2008) 215214; docs/theory.md §2.7–§2.9, eqs. 2.8, 2.10). ū(ζ1) = 0; ū(1) is the mean separation of
         the whole interface.
         """
         return self._integrals(zeta, squeeze_pressure, derivative=False)[0]
 
     def mean_gap_derivative(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
-        """dū/dζ in m (negative), the ζ-derivative under the integral (docs/theory.md §2.9)."""
+        """dū/dζ in m (negative), the ζ-derivative under the integral (docs/theory.md §2.9, eq. 2.11)."""
         return self._integrals(zeta, squeeze_pressure, derivative=True)[1]  # type: ignore[return-value]
 
     def u1(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """u1(ζ) = ū(ζ) + ū'(ζ) A(ζ)/A'(ζ) in m: separation at the patches where contact is lost at ζ.
 
         Yang & Persson, J. Phys.: Condens. Matter 20 (2008) 215214; Lorenz & Persson (2009), unnumbered;
-        docs/theory.md §2.10.
+        docs/theory.md §2.10 (eq. 2.12).
         """
         ubar, dubar = self._integrals(zeta, squeeze_pressure, derivative=True)
         a = self.area(zeta, squeeze_pressure)

@@ -47,7 +47,7 @@ FloatArray = NDArray[np.float64]
 
 def poiseuille_leak_rate(gap: ArrayLike, pressure_difference: ArrayLike, viscosity: float,
                          aspect_ratio: float, alpha: float = 1.0) -> FloatArray:
-    """Q = α (Ly/Lx) g³ ΔP/(12 η) in m³/s (Lorenz & Persson (2009) eq. 2; docs/theory.md §3.5).
+    """Q = α (Ly/Lx) g³ ΔP/(12 η) in m³/s (Lorenz & Persson (2009) eq. 2; docs/theory.md §3.5, eq. 3.5).
 
     Gap g in m, ΔP in Pa, η in Pa·s; ``aspect_ratio`` Ly/Lx and ``alpha`` are dimensionless.
     """
@@ -145,7 +145,7 @@ def critical_junction(
     """Critical-junction leak rate for every squeeze pressure (vectorised; no loop over pressures).
 
     ζc from A(ζc)/A0 = 1 - p_c, u_c = u1(ζc), λc = 2π/(ζc q0) and Q = α (Ly/Lx) u_c³ ΔP/(12η) in m³/s
-    (Lorenz & Persson (2009) eq. 2; docs/theory.md §3.2–§3.5).
+    (Lorenz & Persson (2009) eq. 2; docs/theory.md §3.2–§3.5, eqs. 3.2–3.5).
 
     Parameters
     ----------

@@ -80,7 +80,7 @@ def bruggeman_conductivity(gaps: ArrayLike, weights: ArrayLike, contact_fraction
                            *, rtol: float = 1e-12, max_iter: int = 200) -> tuple[FloatArray, FloatArray]:
     """2D Bruggeman σ_eff (m³/(Pa·s)) of discrete gap distributions, one per row.
 
-    Solves 1/σ_eff = Σ_j W_j 2/(σ_eff + σ(u_j)) + 2c/σ_eff (docs/theory.md §5.3, §5.5).
+    Solves 1/σ_eff = Σ_j W_j 2/(σ_eff + σ(u_j)) + 2c/σ_eff (docs/theory.md §5.3, §5.5; eqs. 5.3, 5.4).
 
     Parameters
     ----------
@@ -149,7 +149,7 @@ def bruggeman_residual(gaps: ArrayLike, weights: ArrayLike, contact_fraction: Ar
                        sigma: ArrayLike) -> FloatArray:
     """σ_eff [1/σ_eff - Σ_j W_j 2/(σ_eff + σ(u_j)) - 2c/σ_eff] per row (0 at the solution; dimensionless), written out directly.
 
-    The Bruggeman equation of docs/theory.md §5.3; gaps in m, η in Pa·s, σ_eff in m³/(Pa·s).
+    The Bruggeman equation of docs/theory.md §5.3 (eq. 5.3); gaps in m, η in Pa·s, σ_eff in m³/(Pa·s).
     """
     u = np.atleast_2d(np.asarray(gaps, dtype=float))
     w = np.atleast_2d(np.asarray(weights, dtype=float))
@@ -533,7 +533,7 @@ def effective_medium(
     """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP at every squeeze pressure (vectorised).
 
     Q in m³/s; σ_eff in m³/(Pa·s) solves 1/σ_eff = ∫ du P(u) 2/(σ_eff + σ(u)), σ(u) = u³/(12η)
-    (Bruggeman (1935); docs/theory.md §5.3). No leak rate (NaN) where A(ζ1)/A0 >= 1/2 (§5.4).
+    (Bruggeman (1935); docs/theory.md §5.3, eq. 5.3). No leak rate (NaN) where A(ζ1)/A0 >= 1/2 (§5.4).
 
     Parameters
     ----------

@@ -177,7 +177,7 @@ def gap_distribution(
 ) -> GapDistribution:
     """P(u) of Persson theory at every squeeze pressure (see the module docstring for the method).
 
-    Almqvist et al., J. Mech. Phys. Solids 59 (2011) 2355; docs/theory.md §5.1. Separations u in m,
+    Almqvist et al., J. Mech. Phys. Solids 59 (2011) 2355; docs/theory.md §5.1 (eq. 5.1). Separations u in m,
     P(u) in 1/m.
 
     Parameters

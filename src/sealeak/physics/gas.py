@@ -102,7 +102,7 @@ class Gas:
         return np.asarray(pressure, dtype=float) / (self.specific_gas_constant * self.temperature)
 
     def mean_free_path(self, pressure: ArrayLike) -> FloatArray:
-        """λ = (μ/p) √(π R_s T/2) in m at absolute pressure ``pressure`` (Pa; inf at p = 0; docs/theory.md §11.2)."""
+        """λ = (μ/p) √(π R_s T/2) in m at absolute pressure ``pressure`` (Pa; inf at p = 0; docs/theory.md §11.2, eq. 11.1)."""
         p = np.asarray(pressure, dtype=float)
         with np.errstate(divide="ignore"):
             return self.rarefaction_pressure_scale / p
@@ -141,7 +141,7 @@ def flow_regime(knudsen: float) -> str:
 
 
 def slip_factor(knudsen: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
-    """f(Kn): the slit's flow divided by the no-slip Poiseuille flow h³/(12μ) (docs/theory.md §11.4: the slit conductance).
+    """f(Kn): the slit's flow divided by the no-slip Poiseuille flow h³/(12μ) (docs/theory.md §11.4: the slit conductance, eq. 11.5).
 
     Beskok & Karniadakis (1999), channel with diffuse walls:
     f = (1 + α(Kn) Kn) (1 + 6 Kn/(1 + Kn)), α(Kn) = α0 (2/π) arctan(α1 Kn^β),
@@ -173,7 +173,7 @@ def free_molecular_coefficient(gap: ArrayLike, gas: Gas) -> FloatArray:
 
 def sheet_conductance(gap: ArrayLike, gas: Gas, pressure: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
     """σ(h, p) = h³/(12 μ) f(λ(p)/h) in m³/(Pa·s): the local sheet conductance of a slit of height h (m)
-    for a gas at absolute pressure p (Pa) (docs/theory.md §11.4: the slit conductance). At Kn → 0 this is the liquid's h³/(12μ)."""
+    for a gas at absolute pressure p (Pa) (docs/theory.md §11.4: the slit conductance, eq. 11.5). At Kn → 0 this is the liquid's h³/(12μ)."""
     h = np.asarray(gap, dtype=float)
     return h**3 / (12.0 * gas.viscosity) * slip_factor(gas.knudsen_number(h, pressure), model)
 
@@ -190,7 +190,7 @@ def _integrand(p: float, c: float) -> float:
 
 
 def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, model: str = "beskok-karniadakis") -> float:
-    """I = ∫_{P_b}^{P_a} p f(Kn(p)) dp in Pa² with Kn(p) = λ(p)/h (docs/theory.md §11.5).
+    """I = ∫_{P_b}^{P_a} p f(Kn(p)) dp in Pa² with Kn(p) = λ(p)/h (docs/theory.md §11.5, eq. 11.6).
 
     The pV throughput of a channel of no-slip conductance K (m³/(Pa·s)) whose narrowest gap is
     ``gap`` h (m) is Q_pV = K I. Without rarefaction (``model="no-slip"``, or Kn → 0)
@@ -212,13 +212,13 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
 
 def viscous_throughput(conductance: ArrayLike, upstream: float, downstream: float) -> FloatArray:
     """Q_pV = K (P_a² − P_b²)/2 in Pa·m³/s: isothermal no-slip gas flow through a channel of conductance
-    K (m³/(Pa·s)) between absolute pressures P_a ≥ P_b (Pa) (docs/theory.md §11.3)."""
+    K (m³/(Pa·s)) between absolute pressures P_a ≥ P_b (Pa) (docs/theory.md §11.3, eq. 11.4)."""
     pa, pb = check_pressures(upstream, downstream)
     return np.asarray(conductance, dtype=float) * 0.5 * (pa - pb) * (pa + pb)
 
 
 def viscous_mass_flow(conductance: ArrayLike, upstream: float, downstream: float, gas: Gas) -> FloatArray:
-    """ṁ = K (P_a² − P_b²)/(2 R_s T) in kg/s (docs/theory.md §11.3)."""
+    """ṁ = K (P_a² − P_b²)/(2 R_s T) in kg/s (docs/theory.md §11.3, eq. 11.4)."""
     return viscous_throughput(conductance, upstream, downstream) / (gas.specific_gas_constant * gas.temperature)
 
 
@@ -257,7 +257,7 @@ def gas_leak(conductance: float, gap: float, gas: Gas, upstream: float, downstre
              model: str = "beskok-karniadakis") -> GasLeak:
     """The leak of ``gas`` through a channel of no-slip conductance ``conductance`` K (m³/(Pa·s), e.g.
     α (Ly/Lx) u_c³/(12μ) for the critical junction) whose narrowest gap is ``gap`` h (m), between the
-    absolute pressures ``upstream`` P_a and ``downstream`` P_b (Pa) (docs/theory.md §11.5)."""
+    absolute pressures ``upstream`` P_a and ``downstream`` P_b (Pa) (docs/theory.md §11.5, eq. 11.6)."""
     pa, pb = check_pressures(upstream, downstream)
     k = _finite("conductance", conductance, allow_zero=True)
     h = _finite("gap", gap)

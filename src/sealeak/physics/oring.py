@@ -20,7 +20,7 @@ f(ε) and w(ε) come from two published relations, with E* = E/(1 - ν²):
 * in between, ln f and ln w are interpolated with a cubic smoothstep in ln ε, so f, w and p_max
   are continuous and increase with ε.
 
-The force may be corrected (docs/theory.md §10.2, eq. 10.6a): measured O-ring forces often lie above
+The force may be corrected (docs/theory.md §10.2, eq. 10.7): measured O-ring forces often lie above
 Lindley's relation, and the leak rate depends steeply on the load. ``force_factor`` multiplies f(ε);
 a :class:`ForceTable` (compression, line load from a test or a handbook) replaces f(ε) by a
 monotone (PCHIP) interpolation of its points, refused outside the table's range. The contact width
@@ -158,7 +158,7 @@ class ForceTable:
 
 def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_ratio: float, compression: ArrayLike,
                   force_factor: float = 1.0, force_table: ForceTable | None = None) -> ORingContact:
-    """Force per length, contact width and peak pressure of an O-ring squeezed between two flat faces (docs/theory.md §10.2).
+    """Force per length, contact width and peak pressure of an O-ring squeezed between two flat faces (docs/theory.md §10.2, eqs. 10.3–10.7).
 
     Parameters
     ----------
@@ -181,7 +181,7 @@ def oring_contact(cross_section_diameter: float, youngs_modulus: float, poisson_
         Hertz line contact between two plates for ε <= 1 % (Johnson 1985), Lindley's
         f = E d (1.25 ε^1.5 + 50 ε^6) and w = d (6ε/π)^1/2 for ε >= 10 % (Lindley 1967), and a
         smooth interpolation of ln f and ln w in ln ε between them; f scaled by ``force_factor`` or
-        taken from ``force_table`` (eq. 10.6a).
+        taken from ``force_table`` (eq. 10.7).
     """
     d = _diameter(cross_section_diameter)
     e_star = contact_modulus(youngs_modulus, poisson_ratio)
@@ -287,7 +287,7 @@ def compression_from_groove_depth(cross_section_diameter: float, groove_depth: A
 
 
 def youngs_modulus_from_shore_a(shore_a: float) -> float:
-    """Young's modulus E in Pa from the Shore A hardness S, by Gent's relation (docs/theory.md §10.2).
+    """Young's modulus E in Pa from the Shore A hardness S, by Gent's relation (docs/theory.md §10.2, eq. 10.8).
 
     E = 0.0981 (56 + 7.62336 S) / (0.137505 (254 - 2.54 S)) MPa (Gent, Trans. IRI 34 (1958) 46):
     the durometer's spring force (56 + 7.62336 S) gf over 1.375 mm times the indentation

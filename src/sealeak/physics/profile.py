@@ -56,7 +56,7 @@ class PressureProfile:
 
     @classmethod
     def semi_elliptic(cls, width: float, max_pressure: float) -> PressureProfile:
-        """Hertz profile of width w (m) and peak p_max (Pa); it carries f = π w p_max/4 (N/m)."""
+        """Hertz profile of width w (m) and peak p_max (Pa); it carries f = π w p_max/4 (N/m) (eq. 10.2)."""
         w = _positive("contact_width", width)
         p = _positive("max_pressure", max_pressure)
         return cls(np.array([0.0, w]), np.array([0.0, 0.0]), "semi-elliptic", p)
@@ -193,7 +193,7 @@ def _evaluate(profile: PressureProfile, piece: NDArray[np.int_], theta: FloatArr
 
 def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[FloatArray], FloatArray], *,
                       rtol: float = RTOL, max_intervals: int = MAX_INTERVALS) -> BandIntegral:
-    """R = ∫₀^w dx/σ(p(x)) in Pa·s/m² of a band with sheet conductance σ(p) in m³/(Pa·s) (docs/theory.md §10.1).
+    """R = ∫₀^w dx/σ(p(x)) in Pa·s/m² of a band with sheet conductance σ(p) in m³/(Pa·s) (docs/theory.md §10.1, eq. 10.1).
 
     ``sheet_conductance`` maps an array of pressures (Pa, all > 0) to σ (0 where the contact does
     not percolate); σ is assumed to fall as p rises, so the band is sealed exactly when

@@ -47,7 +47,7 @@ class Seal:
 
     @classmethod
     def ring(cls, inner_diameter: float, outer_diameter: float) -> Seal:
-        """Ring (O-ring footprint, gasket): Lx = (Do - Di)/2, Ly = π (Do + Di)/2 (diameters in m; docs/theory.md §3.1)."""
+        """Ring (O-ring footprint, gasket): Lx = (Do - Di)/2, Ly = π (Do + Di)/2 (diameters in m; docs/theory.md §3.1, eq. 3.1)."""
         di = _length("inner_diameter", inner_diameter)
         do = _length("outer_diameter", outer_diameter)
         if not di < do:
@@ -72,7 +72,7 @@ class Seal:
         return self.width * self.length
 
     def squeeze_pressure_from_load(self, force: float) -> float:
-        """Nominal squeeze pressure P0 = F / (Lx Ly) in Pa for a normal force F in N (docs/theory.md §3.1)."""
+        """Nominal squeeze pressure P0 = F / (Lx Ly) in Pa for a normal force F in N (docs/theory.md §3.1, eq. 3.1)."""
         if not (np.isfinite(force) and force > 0):
             raise InputError("load", force, "must be a finite force > 0 (N)")
         return force / self.nominal_area

@@ -49,7 +49,7 @@ def area_ratio_from_slope(slope_rms: float | FloatArray) -> float | FloatArray:
     """True over nominal surface area, A_true/A0 = <√(1+|∇h|²)>, for Gaussian isotropic slopes.
 
     |∇h|² is then exponentially distributed with mean m = slope_rms², which gives the closed form
-    ``1 + (√(π m)/2) erfcx(1/√m)`` (erfcx(x) = exp(x²) erfc(x)); docs/theory.md §1.2. ``slope_rms``
+    ``1 + (√(π m)/2) erfcx(1/√m)`` (erfcx(x) = exp(x²) erfc(x)); docs/theory.md §1.2 (eq. 1.3). ``slope_rms``
     is dimensionless; so is the ratio.
     """
     m = np.asarray(slope_rms, dtype=float) ** 2
@@ -133,7 +133,7 @@ class PowerSpectrum:
         cutoff_wavelength: float | None = None,
         lowest_wavelength: float | None = None,
     ) -> PowerSpectrum:
-        """Self-affine spectrum with roll-off (docs/theory.md §1.4; Persson et al., J. Phys.: Condens. Matter 17 (2005) R1)::
+        """Self-affine spectrum with roll-off (docs/theory.md §1.4, eqs. 1.5, 1.6; Persson et al., J. Phys.: Condens. Matter 17 (2005) R1)::
 
             C(q) = C0                          q_lowest <= q < q_rolloff
             C(q) = C0 (q/q_rolloff)^(-2(1+H))  q_rolloff <= q <= q_cutoff
@@ -252,7 +252,7 @@ class PowerSpectrum:
         return cum
 
     def cumulative_moment(self, n: float, q: ArrayLike) -> FloatArray:
-        """M_n(q) = ∫_{q_min}^{q} q'ⁿ C(q') dq' in m^(3-n), exact for the piecewise power law (docs/theory.md §1.3; vectorised over q)."""
+        """M_n(q) = ∫_{q_min}^{q} q'ⁿ C(q') dq' in m^(3-n), exact for the piecewise power law (docs/theory.md §1.3, eq. 1.4; vectorised over q)."""
         qa = np.asarray(q, dtype=float)
         qc = np.clip(qa, self.q[0], self.q[-1])
         k = np.clip(np.searchsorted(self.q, qc, side="right") - 1, 0, self.q.size - 2)
@@ -294,17 +294,17 @@ class PowerSpectrum:
 
     @property
     def h_rms(self) -> float:
-        """Root-mean-square height in m: √(2π ∫ q C dq) (docs/theory.md §1.2)."""
+        """Root-mean-square height in m: √(2π ∫ q C dq) (docs/theory.md §1.2, eq. 1.2)."""
         return float(np.sqrt(2.0 * np.pi * self.moment(1)))
 
     @property
     def slope_rms(self) -> float:
-        """Root-mean-square slope (dimensionless): √(2π ∫ q³ C dq)."""
+        """Root-mean-square slope (dimensionless): √(2π ∫ q³ C dq) (eq. 1.2)."""
         return float(np.sqrt(2.0 * np.pi * self.moment(3)))
 
     @property
     def curvature_rms(self) -> float:
-        """Root-mean-square curvature ∇²h in 1/m: √(2π ∫ q⁵ C dq)."""
+        """Root-mean-square curvature ∇²h in 1/m: √(2π ∫ q⁵ C dq) (eq. 1.2)."""
         return float(np.sqrt(2.0 * np.pi * self.moment(5)))
 
     @property
