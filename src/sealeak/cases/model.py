@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
-from ..physics.gas import Gas
+from ..physics.gas import DEFAULT_RAREFACTION, Gas
 from ..physics.oring import ORingContact
 from ..physics.profile import PressureProfile
 from ..physics.properties import FluidState
@@ -227,7 +227,7 @@ class Case:
     absolute_pressures: tuple[float, float] | None = None
     fluid_state: FluidState | None = None
     helium_equivalent: bool = False
-    rarefaction: str = "beskok-karniadakis"
+    rarefaction: str = DEFAULT_RAREFACTION
 
     @property
     def square_side(self) -> float:

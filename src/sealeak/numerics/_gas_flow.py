@@ -55,7 +55,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError
-from ..physics.gas import RAREFACTION_MODELS, Gas, check_pressures, slip_factor
+from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas, check_pressures, slip_factor
 from ._flow import (
     CONSERVATION_TOL,
     Method,
@@ -160,7 +160,7 @@ def gas_flow_memory_bytes(n: int, method: Method = "auto") -> int:
     return flow_memory_bytes(n, method) + 700 * int(n) ** 2 + 60 * _BLOCK * 8 * 24
 
 
-def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
+def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, model: str = DEFAULT_RAREFACTION) -> FloatArray:
     """F = ∫_{p2}^{p1} 2 p f(c/p) dp / (p1² − p2²): the slip factor f averaged over a pressure interval as
     the flux of p² weights it (F = f(c/p1) when p1 = p2); docs/theory.md §11.10.
 
@@ -225,7 +225,7 @@ def solve_gas_flow(
     downstream_pressure: float,
     *,
     contact: ArrayLike | None = None,
-    model: str = "beskok-karniadakis",
+    model: str = DEFAULT_RAREFACTION,
     method: Method = "auto",
     tol: float = DEFAULT_GAS_TOL,
     rtol: float = DEFAULT_GAS_RTOL,
@@ -252,7 +252,7 @@ def solve_gas_flow(
     contact:
         Boolean contact mask, as for :func:`solve_flow`.
     model:
-        Slip model: "beskok-karniadakis" (default) or "no-slip" (docs/theory.md §11.4).
+        Slip model: "kinetic" (default; an infinite slit), "beskok-karniadakis" or "no-slip" (docs/theory.md §11.4).
     method:
         Linear back-end: "auto", "direct" or "amg" (:func:`solve_flow`).
     tol:
