@@ -28,11 +28,12 @@ from scipy.integrate import quad
 
 from ..errors import InputError
 from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
+from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
 from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
 
 __all__ = [
     "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "DEFAULT_RAREFACTION", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
-    "flow_regime", "slip_factor", "free_molecular_coefficient", "sheet_conductance", "pressure_integral",
+    "flow_regime", "slip_factor", "kinetic_pressure_integral", "free_molecular_coefficient", "sheet_conductance", "pressure_integral",
     "viscous_throughput", "viscous_mass_flow", "GasLeak", "gas_leak",
 ]
 
@@ -226,15 +227,8 @@ def sheet_conductance(gap: ArrayLike, gas: Gas, pressure: ArrayLike, model: str 
     return h**3 / (12.0 * gas.viscosity) * slip_factor(gas.knudsen_number(h, pressure), model, ratio)
 
 
-def _integrand(p: float, c: float, model: str, delta_cap: float) -> float:
-    """p f(c/p), written so that p = 0 (Kn = ∞) is finite where the model's free-molecular flow is.
-
-    Beskok–Karniadakis: (p + α c)(1 + 6c/(p + c)); kinetic: (12 c/√π) G_P(max(δ, δ_ℓ)), δ = (√π/2) p/c,
-    δ_ℓ = ``delta_cap`` (0 for an infinite slit)."""
-    if c == 0.0:
-        return p
-    if model == "kinetic":
-        return 12.0 * c / math.sqrt(math.pi) * float(poiseuille_flow_rate(max(_DELTA_KN * p / c, delta_cap)))
+def _integrand(p: float, c: float) -> float:
+    """p f(c/p) for the Beskok–Karniadakis f, written so that p = 0 (Kn = ∞) is finite: (p + α c)(1 + 6c/(p + c))."""
     if p <= 0.0:
         alpha = BK_ALPHA0
     else:
@@ -251,8 +245,9 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
     I = (P_a² − P_b²)/2; for Kn → ∞, I = (12/√π) G_fm(ℓ) c ΔP (kinetic, ℓ = ``length``/h) or 7 α0 c ΔP
     (Beskok–Karniadakis) with c = λ p/h. ``length`` L (m): the constriction's length along the flow,
     which caps the kinetic model's free-molecular flow (None: an infinite slit, whose integrand has an
-    integrable logarithmic singularity at p = 0). Adaptive quadrature (scipy.integrate.quad, relative
-    tolerance 1e-10).
+    integrable logarithmic singularity at p = 0). Kinetic: in closed form, (24 c²/π) ∫ G_P dδ over
+    δ = (√π/2) p/c (:func:`kinetic_pressure_integral`); Beskok–Karniadakis:
+    adaptive quadrature (scipy.integrate.quad, relative tolerance 1e-12).
     """
     pa, pb = check_pressures(upstream, downstream)
     h = _finite("gap", gap)
@@ -263,9 +258,12 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
     if model == "no-slip":
         return 0.5 * (pa - pb) * (pa + pb)
     c = gas.rarefaction_pressure_scale / h
-    tol = 1e-12 if model == "beskok-karniadakis" else 1e-10
-    cap = 0.0 if ratio is None or model != "kinetic" else capped_rarefaction(ratio)
-    value, _err = quad(_integrand, pb, pa, args=(c, model, cap), epsabs=0.0, epsrel=tol, limit=400)
+    if model == "kinetic":
+        cap = 0.0 if ratio is None else capped_rarefaction(ratio)
+        return float(kinetic_pressure_integral(c, pa, pb, cap))
+    if c == 0.0:
+        return 0.5 * (pa - pb) * (pa + pb)
+    value, _err = quad(_integrand, pb, pa, args=(c,), epsabs=0.0, epsrel=1e-12, limit=400)
     return float(value)
 
 
