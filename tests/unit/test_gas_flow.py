@@ -28,12 +28,15 @@ BK = "beskok-karniadakis"
 def channel(n=16, gap=0.5e-6):
     return np.full((n, n), gap)
 
+
 def no_slip_k(gap, gas):
     """K = (W/L) h³/(12μ) of a straight channel of constant gap (W = L)."""
     return gap**3 / (12.0 * gas.viscosity)
 
+
 def centres(n):
     return (np.arange(n) + 0.5) / n  # x/L of the cell centres
+
 
 @pytest.fixture(scope="module")
 def rough():
@@ -45,6 +48,7 @@ def rough():
     res = solve_contact(h, size, 2e6, 5e3)
     assert 0.05 < res.contact_area < 0.4
     return res.gap, res.contact, size
+
 
 # ------------------------------------------------------------------ without slip: the p² problem
 @pytest.mark.parametrize("method", ["direct", "amg"])
@@ -62,6 +66,7 @@ def test_straight_channel_no_slip_closed_form(method, pa, pb):
     assert res.throughput == pytest.approx(exact_m * rst, rel=1e-8)
     assert res.iterations == 0 and res.percolates
 
+
 def test_no_slip_mean_pressure_volume_flow_is_the_liquid_formula(rough):
     """Q_pV/P̄ = K0 ΔP exactly, whatever ΔP (docs/theory.md §11.3): the liquid solve with the gas's viscosity."""
     gap, contact, size = rough
@@ -70,27 +75,24 @@ def test_no_slip_mean_pressure_volume_flow_is_the_liquid_formula(rough):
     liquid = solve_flow(gap, size, AIR.viscosity, pa - pb, contact=contact)
     assert gas.throughput / (0.5 * (pa + pb)) == pytest.approx(liquid.flux, rel=1e-9)
 
-# ------------------------------------------------------------------ with slip: closed forms of a channel
-#: The secant factor's accuracy per model: Gauss quadrature of a smooth f (Beskok–Karniadakis), the closed
-#: form of the kinetic table's integral (kinetic).
-SECANT_RTOL = {BK: 1e-10, "kinetic": 1e-10}
 
+# ------------------------------------------------------------------ with slip: closed forms of a channel
 @pytest.mark.parametrize("model", [BK, "kinetic"])
 @pytest.mark.parametrize("pa, pb", [(1e5, 0.0), (1e3, 0.0), (10.0, 0.0), (3e5, 1e5), (2e3, 1e3)])
 def test_straight_channel_with_slip_integral_falls_linearly(pa, pb, model):
     """∫_{p(x)}^{P_a} p f dp = (x/L) ∫_{P_b}^{P_a} p f dp (mass conservation, docs/theory.md §11.5), and
     Q_pV = K ∫ p f dp, against the physics layer's adaptive quadrature."""
     n, h = 16, 0.5e-6
-    rtol = 1e-8
     res = solve_gas_flow(channel(n, h), L, HELIUM, pa, pb, method="direct", tol=1e-11, rtol=1e-12, model=model)
     total = pressure_integral(h, HELIUM, pa, pb, model)
-    assert res.throughput == pytest.approx(no_slip_k(h, HELIUM) * total, rel=rtol)
+    assert res.throughput == pytest.approx(no_slip_k(h, HELIUM) * total, rel=1e-8)
     x = centres(n)
     along = np.array([pressure_integral(h, HELIUM, pa, p, model) for p in res.pressure[:, 5]])
-    assert np.allclose(along, x * total, rtol=rtol, atol=0)
+    assert np.allclose(along, x * total, rtol=1e-8, atol=0)
     assert np.ptp(res.pressure, axis=1).max() <= 1e-12 * pa  # nothing changes across the channel
     # the slip matters in these cases: the no-slip throughput is measurably smaller
     assert res.throughput > (1 + 1e-3) * res.throughput_no_slip
+
 
 @pytest.mark.parametrize("gas", [HELIUM, AIR], ids=["helium", "air"])
 def test_kn_to_zero_slip_solve_tends_to_the_p2_solve(rough, gas):
@@ -110,6 +112,7 @@ def test_kn_to_zero_slip_solve_tends_to_the_p2_solve(rough, gas):
     assert kn_max < 1e-3
     assert excess[1] < excess[0] / 500  # linear in Kn ∝ 1/scale
 
+
 def test_kn_to_infinity_is_free_molecular_flow(rough):
     """f → 7 α0 Kn: the flux of p² becomes (g³/12μ) 7 α0 (c/p) ∇p² = 2 G_fm(g) ∇p/... linear in p with a
     conductance ∝ g² (docs/theory.md §11.4), i.e. the liquid problem on the field g^(2/3):
@@ -125,6 +128,7 @@ def test_kn_to_infinity_is_free_molecular_flow(rough):
         assert errors[-1] <= 0.2 * kn_min**-0.4  # the leading correction of α(Kn): (2/π)/(4 Kn^0.4) = 0.16 Kn^-0.4
     assert errors[1] < errors[0] / 10
 
+
 def test_small_pressure_drop_tends_to_the_liquid_formula_with_slip(rough):
     """ΔP ≪ P: Q_pV/P̄ → the liquid flow through σ = g³ f(Kn(g, P̄))/(12μ) (docs/theory.md §11.5), to O((ΔP/P)²)."""
     gap, contact, size = rough
@@ -134,6 +138,7 @@ def test_small_pressure_drop_tends_to_the_liquid_formula_with_slip(rough):
     liquid = solve_flow(gap * np.cbrt(f), size, AIR.viscosity, dp, contact=contact)
     assert res.throughput / pm == pytest.approx(liquid.flux, rel=1e-7)
     assert res.throughput / pm > (1 + 1e-3) * solve_flow(gap, size, AIR.viscosity, dp, contact=contact).flux
+
 
 # ------------------------------------------------------------------ rough field: conservation and bounds
 @pytest.mark.parametrize("pa, pb", [(1e5, 0.0), (1e5, 5e4), (100.0, 1.0)])
@@ -155,6 +160,7 @@ def test_rough_field_conserves_mass_and_lies_between_its_slip_bounds(rough, pa, 
     assert np.allclose(res.knudsen[solved], HELIUM.knudsen_number(gap[solved], res.pressure[solved]), rtol=1e-12)
     assert np.isnan(res.knudsen[~solved]).all()
 
+
 def test_direct_and_amg_agree(rough):
     gap, contact, size = rough
     a = solve_gas_flow(gap, size, AIR, 1e5, 0.0, contact=contact, method="direct")
@@ -162,6 +168,7 @@ def test_direct_and_amg_agree(rough):
     assert b.method == "amg" and b.conservation_error <= 1e-8
     assert b.mass_flow == pytest.approx(a.mass_flow, rel=2e-6)
     assert np.nanmax(np.abs(b.pressure - a.pressure)) <= 2e-6 * 1e5
+
 
 # ------------------------------------------------------------------ the fixed point
 def test_fixed_point_error_is_within_its_tolerance(rough):
@@ -175,19 +182,21 @@ def test_fixed_point_error_is_within_its_tolerance(rough):
     assert max(loose.mass_flow_change, loose.pressure_change) <= 1e-5
     assert loose.error_estimate <= 1e-5
 
+
 @pytest.mark.parametrize("max_iter", [1, 2, 3])
 def test_a_fixed_point_that_has_not_converged_is_refused(rough, max_iter):
     gap, contact, size = rough
     with pytest.raises(ConvergenceError, match=f"did not converge in {max_iter} iterations"):
         solve_gas_flow(gap, size, HELIUM, 1e3, 0.0, contact=contact, tol=1e-10, rtol=1e-11, max_iter=max_iter)
 
+
 # ------------------------------------------------------------------ the secant factor
-@pytest.mark.parametrize("model", [BK, "kinetic"])
 @pytest.mark.parametrize("kn", [1e-8, 1e-3, 0.05, 1.0, 30.0, 1e4, 1e8])
 @pytest.mark.parametrize("ratio", [0.0, 1e-9, 1e-3, 0.2, 0.26, 0.7, 0.999])
+@pytest.mark.parametrize("model", [BK, "kinetic"])
 def test_secant_factor_against_adaptive_quadrature(kn, ratio, model):
-    """F (p1² − p2²)/2 = ∫ p f dp, the physics layer's quad (relative tolerance 1e-12) or
-    the kinetic model's closed form; Kn at the higher pressure."""
+    """F (p1² − p2²)/2 = ∫ p f dp, the physics layer's quad (relative tolerance 1e-12) or the kinetic
+    model's closed form; Kn at the higher pressure."""
     h, p1 = 1e-6, 1e4
     c = HELIUM.rarefaction_pressure_scale / h
     gas = Gas("x", HELIUM.temperature, HELIUM.viscosity * kn * p1 / c, HELIUM.molar_mass)  # Kn(p1) = kn
@@ -196,9 +205,11 @@ def test_secant_factor_against_adaptive_quadrature(kn, ratio, model):
     assert F * 0.5 * (p1**2 - p2**2) == pytest.approx(pressure_integral(h, gas, p1, p2, model), rel=1e-10)
     assert secant_slip_factor(gas.rarefaction_pressure_scale / h, p2, p1, model) == F  # symmetric
 
+
 def test_secant_factor_of_an_empty_interval_is_the_local_factor():
     c = np.array([10.0, 1e3, 1e5])
     assert np.allclose(secant_slip_factor(c, 1e4, 1e4), slip_factor(c / 1e4), rtol=1e-14)
+
 
 # ------------------------------------------------------------------ what is refused, and blocked flow
 def test_blocked_field_has_no_flow():
@@ -208,6 +219,7 @@ def test_blocked_field_has_no_flow():
     res = solve_gas_flow(gap, L, HELIUM, 1e5, 0.0, contact=contact)
     assert not res.percolates and res.mass_flow == 0.0 and res.throughput == 0.0
     assert np.isnan(res.pressure).all()
+
 
 @pytest.mark.parametrize("kwargs, field", [
     (dict(upstream_pressure=-1.0), "upstream_pressure"),
