@@ -83,6 +83,7 @@ def transmission(ell: float, first: float, growth: float, largest: float) -> flo
 
 
 def main() -> None:
+    """Print both tables with their error estimates."""
     print("log10(delta)  G_P  (error estimate)")
     for k in np.round(np.arange(-40, 18) / 10.0, 1):
         d = 10.0**k

@@ -75,6 +75,9 @@ class GasRows:
     gap
         h, the gap of the narrowest constriction (m): u_c (critical junction), u_e (effective
         medium), or u_c at the peak contact pressure of a band seal; NaN where no leak channel.
+    length
+        L, the constriction's length along the flow (m): the critical junction's λ_c, which caps the
+        kinetic model's free-molecular flow (docs/theory.md §11.4); NaN: an infinite slit.
     leaks
         The :class:`~sealeak.physics.gas.GasLeak` of the case's gas per row (None: a liquid case,
         or no leak channel).
@@ -87,6 +90,7 @@ class GasRows:
 
     conductance: FloatArray
     gap: FloatArray
+    length: FloatArray
     leaks: tuple[GasLeak | None, ...] | None
     helium: FloatArray | None
 
@@ -139,7 +143,7 @@ def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike, length: ArrayLi
         pa, pb = HELIUM_TEST["upstream_pressure"], HELIUM_TEST["downstream_pressure"]
         helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction, cap(i)).throughput
                            if channel[i] else np.nan for i in range(k.size)])
-    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium)
+    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), np.array(lengths, dtype=float), leaks, helium)
 
 
 def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
@@ -167,11 +171,12 @@ def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
     return out
 
 
-def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -> FloatArray:
+def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray, length: FloatArray | None = None) -> FloatArray:
     """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row (docs/theory.md §11.5, §11.9).
 
     ``k`` the no-slip conductance K (m³/(Pa·s)), ``gap`` the narrowest gap h (m) and ``dp`` ΔP (Pa) per
-    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0.
+    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0. ``length`` (m, per row): the constriction's
+    length λ_c, as in :func:`gas_rows` (None or NaN: an infinite slit).
     """
     gas = case.gas
     assert gas is not None
@@ -182,5 +187,6 @@ def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -
             out[i] = 0.0
         elif k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
             with case_keys():
-                out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction)
+                cap = None if length is None or not np.isfinite(length[i]) or length[i] <= 0 else float(length[i])
+                out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction, cap)
     return out

@@ -27,9 +27,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import quad
 
 from ..errors import InputError
+from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
 from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
 from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
-from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
 
 __all__ = [
     "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "DEFAULT_RAREFACTION", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
