@@ -22,6 +22,8 @@ HELIUM = Gas("helium", 293.15, 19.6e-6, 4.0026e-3)
 AIR = Gas("air", 293.15, 18.2e-6, 28.965e-3)
 L = 1e-3  # side of the square (m), W = L
 
+BK = "beskok-karniadakis"
+
 
 def channel(n=16, gap=0.5e-6):
     return np.full((n, n), gap)
@@ -75,16 +77,17 @@ def test_no_slip_mean_pressure_volume_flow_is_the_liquid_formula(rough):
 
 
 # ------------------------------------------------------------------ with slip: closed forms of a channel
+@pytest.mark.parametrize("model", [BK, "kinetic"])
 @pytest.mark.parametrize("pa, pb", [(1e5, 0.0), (1e3, 0.0), (10.0, 0.0), (3e5, 1e5), (2e3, 1e3)])
-def test_straight_channel_with_slip_integral_falls_linearly(pa, pb):
+def test_straight_channel_with_slip_integral_falls_linearly(pa, pb, model):
     """∫_{p(x)}^{P_a} p f dp = (x/L) ∫_{P_b}^{P_a} p f dp (mass conservation, docs/theory.md §11.5), and
     Q_pV = K ∫ p f dp, against the physics layer's adaptive quadrature."""
     n, h = 16, 0.5e-6
-    res = solve_gas_flow(channel(n, h), L, HELIUM, pa, pb, method="direct", tol=1e-11, rtol=1e-12)
-    total = pressure_integral(h, HELIUM, pa, pb)
+    res = solve_gas_flow(channel(n, h), L, HELIUM, pa, pb, method="direct", tol=1e-11, rtol=1e-12, model=model)
+    total = pressure_integral(h, HELIUM, pa, pb, model)
     assert res.throughput == pytest.approx(no_slip_k(h, HELIUM) * total, rel=1e-8)
     x = centres(n)
-    along = np.array([pressure_integral(h, HELIUM, pa, p) for p in res.pressure[:, 5]])
+    along = np.array([pressure_integral(h, HELIUM, pa, p, model) for p in res.pressure[:, 5]])
     assert np.allclose(along, x * total, rtol=1e-8, atol=0)
     assert np.ptp(res.pressure, axis=1).max() <= 1e-12 * pa  # nothing changes across the channel
     # the slip matters in these cases: the no-slip throughput is measurably smaller
@@ -119,7 +122,7 @@ def test_kn_to_infinity_is_free_molecular_flow(rough):
     coeff = 7 * BK_ALPHA0 / 12 * math.sqrt(0.5 * math.pi * HELIUM.specific_gas_constant * HELIUM.temperature)
     errors = []
     for pa in (1e-2, 1e-5):  # Kn from ~1e6 to ~1e12 over the gaps
-        res = solve_gas_flow(gap, size, HELIUM, pa, 0.0, contact=contact, tol=1e-10, rtol=1e-11)
+        res = solve_gas_flow(gap, size, HELIUM, pa, 0.0, contact=contact, tol=1e-10, rtol=1e-11, model=BK)
         errors.append(abs(res.throughput / (coeff * fm_field * pa) - 1))
         kn_min = float(np.nanmin(res.knudsen))
         assert errors[-1] <= 0.2 * kn_min**-0.4  # the leading correction of α(Kn): (2/π)/(4 Kn^0.4) = 0.16 Kn^-0.4
@@ -190,15 +193,17 @@ def test_a_fixed_point_that_has_not_converged_is_refused(rough, max_iter):
 # ------------------------------------------------------------------ the secant factor
 @pytest.mark.parametrize("kn", [1e-8, 1e-3, 0.05, 1.0, 30.0, 1e4, 1e8])
 @pytest.mark.parametrize("ratio", [0.0, 1e-9, 1e-3, 0.2, 0.26, 0.7, 0.999])
-def test_secant_factor_against_adaptive_quadrature(kn, ratio):
-    """F (p1² − p2²)/2 = ∫ p f dp, the physics layer's quad (relative tolerance 1e-12); Kn at the higher pressure."""
+@pytest.mark.parametrize("model", [BK, "kinetic"])
+def test_secant_factor_against_adaptive_quadrature(kn, ratio, model):
+    """F (p1² − p2²)/2 = ∫ p f dp, the physics layer's quad (relative tolerance 1e-12) or the kinetic
+    model's closed form; Kn at the higher pressure."""
     h, p1 = 1e-6, 1e4
     c = HELIUM.rarefaction_pressure_scale / h
     gas = Gas("x", HELIUM.temperature, HELIUM.viscosity * kn * p1 / c, HELIUM.molar_mass)  # Kn(p1) = kn
     p2 = ratio * p1
-    F = secant_slip_factor(gas.rarefaction_pressure_scale / h, p1, p2)
-    assert F * 0.5 * (p1**2 - p2**2) == pytest.approx(pressure_integral(h, gas, p1, p2), rel=1e-10)
-    assert secant_slip_factor(gas.rarefaction_pressure_scale / h, p2, p1) == F  # symmetric
+    F = secant_slip_factor(gas.rarefaction_pressure_scale / h, p1, p2, model)
+    assert F * 0.5 * (p1**2 - p2**2) == pytest.approx(pressure_integral(h, gas, p1, p2, model), rel=1e-10)
+    assert secant_slip_factor(gas.rarefaction_pressure_scale / h, p2, p1, model) == F  # symmetric
 
 
 def test_secant_factor_of_an_empty_interval_is_the_local_factor():

@@ -224,7 +224,8 @@ def _gas_sweep(result: CaseResult, row: int, dp: FloatArray, valid: bool) -> Pre
         rows = gas.get(name)
         if rows is None:
             return None
-        return gas_throughput(case, np.full(dp.size, rows.conductance[row]), np.full(dp.size, rows.gap[row]), dp)
+        return gas_throughput(case, np.full(dp.size, rows.conductance[row]), np.full(dp.size, rows.gap[row]), dp,
+                              np.full(dp.size, rows.length[row]))
 
     cj, em = curve("critical_junction"), curve("effective_medium")
     valid_em = result.valid_effective_medium

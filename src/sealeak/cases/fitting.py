@@ -268,26 +268,27 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     unit = ("load", "") if case.band is not None else ("P0", " Pa")
 
-    def models(at: Case, loads: FloatArray) -> tuple[dict[str, tuple[FloatArray, FloatArray]], Verdicts]:
-        """(K at α = 1, gap) of both theories at ``loads`` (the gaps of :func:`gas_rows`), and their verdicts there."""
+    def models(at: Case, loads: FloatArray) -> tuple[dict[str, tuple[FloatArray, FloatArray, FloatArray]], Verdicts]:
+        """(K at α = 1, gap, length λ_c) of both theories at ``loads`` (those of :func:`gas_rows`), and their verdicts there."""
         if at.band is not None:
             ks, res = _band_conductance(replace(at, alpha=1.0), loads, ("critical-junction", "effective-medium"))
             assert res.effective_medium is not None
-            return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure),
-                     "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium))},
+            lam = res.critical_wavelength_at_max_pressure
+            return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure, lam),
+                     "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium), lam)},
                     _band_verdicts(at, res, pressure_difference=False))
         cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=1.0)
         em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=1.0)
-        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap),
+        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap, cj.critical_wavelength),
                  "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0),
-                                      np.where(em.percolates, em.effective_gap, np.nan))},
+                                      np.where(em.percolates, em.effective_gap, np.nan), cj.critical_wavelength)},
                 _uniform_verdicts(at, cj, em, pressure_difference=False))
 
     loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
     distinct, inverse = np.unique(loads, return_inverse=True)
     at_distinct, verdicts = models(case, distinct)
-    fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp), name)
-            for name, (k, gap) in at_distinct.items()}
+    fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp, lam[inverse]), name)
+            for name, (k, gap, lam) in at_distinct.items()}
     if not any(f.fitted for f in fits.values()):
         reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
         raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
@@ -314,7 +315,7 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     else:
         grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
         at_grid = models(case, grid)[0]
-    curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
+    curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp), lam) for name, (k, gap, lam) in at_grid.items()}
     load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
     return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
                      leak_rate_unit="Pa*m^3/s", outside_validity=outside)

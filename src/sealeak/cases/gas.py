@@ -91,6 +91,9 @@ class GasRows:
     gap
         h, the gap of the narrowest constriction (m): u_c (critical junction), u_e (effective
         medium), or u_c at the peak contact pressure of a band seal; NaN where no leak channel.
+    length
+        L, the constriction's length along the flow (m): the critical junction's λ_c, which caps the
+        kinetic model's free-molecular flow (docs/theory.md §11.4); NaN: an infinite slit.
     leaks
         The :class:`~sealeak.physics.gas.GasLeak` of the case's gas per row (None: a liquid case,
         or no leak channel).
@@ -107,6 +110,7 @@ class GasRows:
 
     conductance: FloatArray
     gap: FloatArray
+    length: FloatArray
     leaks: tuple[GasLeak | None, ...] | None
     helium: FloatArray | None
     permeation: OringPermeation | None = None
@@ -137,41 +141,49 @@ class GasRows:
         return {k + suffix: v for k, v in out.items()}
 
 
-def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike, permeation: OringPermeation | None = None) -> GasRows:
+def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike, length: ArrayLike | None = None,
+             permeation: OringPermeation | None = None) -> GasRows:
     """The case's gas leak (if a gas case) and the helium equivalent (if asked for) per row.
 
     ``conductance`` K (m³/(Pa·s)) was computed with ``case.fluid.viscosity``, the gas's own
     viscosity for a gas case (K ∝ 1/μ: Poiseuille flow). The helium equivalent is the helium leak
     of the same seal: K μ_case/μ_He, the same gap, helium's rarefaction, 1 bar against vacuum at
-    20 °C (docs/theory.md §11.9).
+    20 °C (docs/theory.md §11.9). ``length`` (m, per row): the constriction's length along the flow,
+    the critical junction's λ_c, which caps the kinetic model's free-molecular flow (docs/theory.md
+    §11.4); None or NaN: an infinite slit.
     """
     k = np.atleast_1d(np.asarray(conductance, dtype=float))
     h = np.atleast_1d(np.asarray(gap, dtype=float))
     channel = (k > 0) & np.isfinite(h) & (h > 0)
+    lengths = np.broadcast_to(np.nan if length is None else np.asarray(length, dtype=float), k.shape)
+
+    def cap(i: int) -> float | None:
+        return float(lengths[i]) if np.isfinite(lengths[i]) and lengths[i] > 0 else None
     leaks = None
     gas = case.gas
     if gas is not None:
         with case_keys():
             leaks = tuple(gas_leak(float(k[i]), float(h[i]), gas.gas, gas.upstream_pressure, gas.downstream_pressure,
-                                   gas.rarefaction) if channel[i] else None for i in range(k.size))
+                                   gas.rarefaction, cap(i)) if channel[i] else None for i in range(k.size))
     helium = None
     if case.helium_equivalent:
         he = helium_test_gas()
         scale = case.fluid.viscosity / he.viscosity
         pa, pb = HELIUM_TEST["upstream_pressure"], HELIUM_TEST["downstream_pressure"]
-        helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction).throughput
+        helium = np.array([gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction, cap(i)).throughput
                            if channel[i] else np.nan for i in range(k.size)])
-    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), leaks, helium,
+    return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), np.array(lengths, dtype=float), leaks, helium,
                    permeation if leaks is not None else None)
 
 
 def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
-    """Gas rows of a uniform seal: K = Q/ΔP of each theory; the gap u_c, or u_e for the effective medium."""
+    """Gas rows of a uniform seal: K = Q/ΔP of each theory; the gap u_c, or u_e for the effective medium; the
+    constriction's length λ_c for both (docs/theory.md §11.9)."""
     out = {"critical_junction": gas_rows(case, np.where(res.percolates, res.leak_rate / res.pressure_difference, 0.0),
-                                         res.critical_gap)}
+                                         res.critical_gap, res.critical_wavelength)}
     if em is not None:
         out["effective_medium"] = gas_rows(case, np.where(em.percolates, em.leak_rate / em.pressure_difference, 0.0),
-                                           np.where(em.percolates, em.effective_gap, np.nan))
+                                           np.where(em.percolates, em.effective_gap, np.nan), res.critical_wavelength)
     return out
 
 
@@ -191,15 +203,16 @@ def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
             continue
         k = np.where(theory.percolates, np.nan_to_num(theory.leak_rate) / band.pressure_difference, 0.0)
         gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
-        out[name] = gas_rows(case, k, gap, perm)
+        out[name] = gas_rows(case, k, gap, band.critical_wavelength_at_max_pressure, perm)
     return out
 
 
-def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -> FloatArray:
+def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray, length: FloatArray | None = None) -> FloatArray:
     """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row (docs/theory.md §11.5, §11.9).
 
     ``k`` the no-slip conductance K (m³/(Pa·s)), ``gap`` the narrowest gap h (m) and ``dp`` ΔP (Pa) per
-    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0.
+    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0. ``length`` (m, per row): the constriction's
+    length λ_c, as in :func:`gas_rows` (None or NaN: an infinite slit).
     """
     gas = case.gas
     assert gas is not None
@@ -210,5 +223,6 @@ def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray) -
             out[i] = 0.0
         elif k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
             with case_keys():
-                out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction)
+                cap = None if length is None or not np.isfinite(length[i]) or length[i] <= 0 else float(length[i])
+                out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction, cap)
     return out

@@ -17,7 +17,7 @@ from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.capillarity import Wetting
 from ..physics.contact import PerssonContact
 from ..physics.fluid import Fluid
-from ..physics.gas import Gas
+from ..physics.gas import DEFAULT_RAREFACTION, Gas
 from ..physics.oring import ORingContact
 from ..physics.profile import PressureProfile
 from ..physics.properties import FluidState
@@ -251,7 +251,7 @@ class Case:
     absolute_pressures: tuple[float, float] | None = None
     fluid_state: FluidState | None = None
     helium_equivalent: bool = False
-    rarefaction: str = "beskok-karniadakis"
+    rarefaction: str = DEFAULT_RAREFACTION
     permeation: RubberPermeation | None = None
     # capillarity of a liquid (fluid.contact_angle, docs/theory.md §12)
     capillarity: Wetting | None = None

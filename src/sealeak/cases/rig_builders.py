@@ -18,7 +18,7 @@ from ..io.units import parse_quantity, parse_temperature
 from ..lab.pressure_decay import PressureDecaySetup
 from ..lab.rig import RIG_KINDS, DecayRigSetup
 from ..physics.fluid import Fluid
-from ..physics.gas import RAREFACTION_MODELS
+from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS
 from ..physics.properties import fluid_state
 from .model import BandSeal
 from .schema import Section, case_keys
@@ -90,7 +90,7 @@ def decay_rig_setup(sec: RigSection, fluid: Fluid, fluid_doc: dict[str, Any], th
     ``load``: the flat seal's load (N) and how it was given, or None for a band seal. The gas is
     the case's ``[fluid] name`` at the test temperature (CoolProp, docs/theory.md §11.1); a
     viscosity given in ``[fluid]`` overrides the library's. A liquid is refused naming
-    ``fluid.name``. The rarefaction model is ``[theory] rarefaction`` (default Beskok–Karniadakis).
+    ``fluid.name``. The rarefaction model is ``[theory] rarefaction`` (default "kinetic").
     """
     volume = _volume(sec)
     p1 = sec.quantity("initial_pressure", "pressure", positive=False)
@@ -114,7 +114,7 @@ def decay_rig_setup(sec: RigSection, fluid: Fluid, fluid_doc: dict[str, Any], th
                                              "the water-column rig (kind = 'water-column')")
     by_hand = "viscosity" in fluid_doc
     viscosity = fluid.viscosity if by_hand else state.viscosity
-    rarefaction = theory_doc.get("rarefaction", "beskok-karniadakis") if isinstance(theory_doc, dict) else "beskok-karniadakis"
+    rarefaction = theory_doc.get("rarefaction", DEFAULT_RAREFACTION) if isinstance(theory_doc, dict) else DEFAULT_RAREFACTION
     if rarefaction not in RAREFACTION_MODELS:
         raise InputError("theory.rarefaction", rarefaction, f"allowed: {', '.join(repr(m) for m in RAREFACTION_MODELS)}")
     note = (f"{state.name} at {celsius(t):.4g} °C ({t_note}): μ = {viscosity:.4g} Pa·s "

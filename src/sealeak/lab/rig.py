@@ -33,7 +33,7 @@ from scipy.integrate import solve_ivp
 from ..errors import ConvergenceError, FileFormatError, InputError, UnitError
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
-from ..physics.gas import RAREFACTION_MODELS, Gas
+from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from .pressure_decay import PressureDecaySetup
 
@@ -299,7 +299,7 @@ class DecayRigSetup:
         The ideal gas at T (viscosity μ in Pa·s, molar mass M in kg/mol) whose throughput
         Q_pV = K ∫ p f(Kn(p)) dp through the seal empties the volume (docs/theory.md §11.5).
     rarefaction_model
-        The f(Kn) of :func:`~sealeak.physics.gas.slip_factor` ("beskok-karniadakis" or "no-slip").
+        The f(Kn) of :func:`~sealeak.physics.gas.slip_factor` ("kinetic", "beskok-karniadakis" or "no-slip").
     load
         Force F pressing a flat seal (N), as for the water column; None for an O-ring or pressure-profile
         seal, whose compression or profile scale sets the contact.
@@ -311,7 +311,7 @@ class DecayRigSetup:
 
     test: PressureDecaySetup
     gas: Gas
-    rarefaction_model: str = "beskok-karniadakis"
+    rarefaction_model: str = DEFAULT_RAREFACTION
     load: float | None = None
     load_note: str = ""
     gas_note: str = ""

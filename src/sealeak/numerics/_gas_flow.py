@@ -31,7 +31,9 @@ constant gap the discrete fixed point is exact: Ψ falls linearly and ∫ p f dp
 any point is proportional to its distance (the closed form of §11.5). F is integrated by
 Gauss–Legendre quadrature: 12 nodes in p when p_lo ≥ p_hi/4, else 24 nodes in u = p^(1/5), which
 removes the p^0.4 cusp of the slip factor at p = 0 (a face to vacuum); both within 1e-11 of adaptive
-quadrature for 1e-8 ≤ Kn ≤ 1e8.
+quadrature for 1e-8 ≤ Kn ≤ 1e8 (Beskok–Karniadakis). The kinetic model's F is in closed form (the exact
+integral of its tabulated G_P, :func:`sealeak.physics.gas.kinetic_pressure_integral`), with the 12-node
+rule only on intervals narrower than 1e-3 p_hi, where the difference of the integrals would cancel.
 
 Convergence of the fixed point (checked, never assumed). G maps the pressures x = p/P_a of the fluid
 cells to those of the linear solve with the faces set from x; the iteration is accelerated by Anderson
@@ -55,7 +57,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError
-from ..physics.gas import RAREFACTION_MODELS, Gas, check_pressures, slip_factor
+from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas, check_pressures, kinetic_pressure_integral, slip_factor
 from ._flow import (
     CONSERVATION_TOL,
     Method,
@@ -160,7 +162,7 @@ def gas_flow_memory_bytes(n: int, method: Method = "auto") -> int:
     return flow_memory_bytes(n, method) + 700 * int(n) ** 2 + 60 * _BLOCK * 8 * 24
 
 
-def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
+def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, model: str = DEFAULT_RAREFACTION) -> FloatArray:
     """F = ∫_{p2}^{p1} 2 p f(c/p) dp / (p1² − p2²): the slip factor f averaged over a pressure interval as
     the flux of p² weights it (F = f(c/p1) when p1 = p2); docs/theory.md §11.10, eq. 11.13.
 
@@ -186,13 +188,18 @@ def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, m
 
 def _secant_block(c: FloatArray, lo: FloatArray, hi: FloatArray, model: str) -> FloatArray:
     out = np.empty(c.size)
-    near = lo >= _SPLIT * hi
+    if model == "kinetic":  # in closed form (∫ G_P dδ of the table's interpolant), but on a tiny interval
+        wide = hi - lo > 1e-3 * hi
+        out[wide] = 2.0 * kinetic_pressure_integral(c[wide], hi[wide], lo[wide]) / ((hi - lo) * (hi + lo))[wide]
+        near = ~wide
+    else:
+        near = lo >= _SPLIT * hi
     if near.any():  # Gauss–Legendre in p on [lo, hi]: Σ w_k p_k f(p_k)/(lo + hi), the weights summing to 2
         x, w = _NODES_P
         cn, a, b = c[near, None], lo[near, None], hi[near, None]
         p = 0.5 * (b + a) + 0.5 * (b - a) * x
         out[near] = (w * p * slip_factor(cn / p, model)).sum(axis=1) / (a + b)[:, 0]
-    far = ~near
+    far = ~near if model != "kinetic" else np.zeros(c.size, dtype=bool)
     if far.any():  # in u = p^(1/5): ∫ 2p f dp = ∫ 10 u⁹ f du, no cusp at p = 0
         x, w = _NODES_U
         cf, a, b = c[far, None], lo[far, None], hi[far, None]
@@ -225,7 +232,7 @@ def solve_gas_flow(
     downstream_pressure: float,
     *,
     contact: ArrayLike | None = None,
-    model: str = "beskok-karniadakis",
+    model: str = DEFAULT_RAREFACTION,
     method: Method = "auto",
     tol: float = DEFAULT_GAS_TOL,
     rtol: float = DEFAULT_GAS_RTOL,
@@ -252,7 +259,7 @@ def solve_gas_flow(
     contact:
         Boolean contact mask, as for :func:`solve_flow`.
     model:
-        Slip model: "beskok-karniadakis" (default) or "no-slip" (docs/theory.md §11.4).
+        Slip model: "kinetic" (default; an infinite slit), "beskok-karniadakis" or "no-slip" (docs/theory.md §11.4).
     method:
         Linear back-end: "auto", "direct" or "amg" (:func:`solve_flow`).
     tol:

@@ -8,10 +8,11 @@ docs/theory.md §11:
 * isothermal viscous flow through a channel of (no-slip) conductance K = σ W/L in m³/(Pa·s): the
   mass flow is ṁ = K (P_a² − P_b²)/(2 R_s T) and the pV throughput Q_pV = K (P_a² − P_b²)/2 (§Compressible isothermal viscous flow);
   a liquid keeps Q = K ΔP;
-* rarefaction: the sheet conductance of a slit of height h is h³/(12 μ) · f(Kn) with the unified
-  model of Beskok & Karniadakis (1999) for f (§Rarefaction: the slit conductance); Kn ∝ 1/p varies along the pressure drop, so
+* rarefaction: the sheet conductance of a slit of height h is h³/(12 μ) · f(Kn) with f from the
+  kinetic theory of the slit (linearized BGK, :mod:`sealeak.physics._kinetic_slit`; default) or the unified
+  model of Beskok & Karniadakis (1999) (§Rarefaction: the slit conductance); Kn ∝ 1/p varies along the pressure drop, so
   Q_pV = K ∫_{P_b}^{P_a} p f(Kn(p)) dp (§Integration along the pressure drop); for Kn → ∞ this is free-molecular flow,
-  Q_pV = (W/L) G_fm ΔP with G_fm = (7 α0/12) h² √(π R_s T/2).
+  Q_pV = (W/L) G_fm ΔP (:func:`free_molecular_coefficient`).
 
 Errors name the functions' own parameters (``upstream_pressure``, ``temperature``, ...).
 """
@@ -27,18 +28,26 @@ from scipy.integrate import quad
 
 from ..errors import InputError
 from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
+from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
+from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
 
 __all__ = [
-    "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
-    "flow_regime", "slip_factor", "free_molecular_coefficient", "sheet_conductance", "pressure_integral",
+    "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "DEFAULT_RAREFACTION", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
+    "flow_regime", "slip_factor", "kinetic_pressure_integral", "free_molecular_coefficient", "sheet_conductance", "pressure_integral",
     "viscous_throughput", "viscous_mass_flow", "GasLeak", "gas_leak",
 ]
 
 FloatArray = NDArray[np.float64]
 
-#: Rarefaction models of :func:`slip_factor`: the unified model of Beskok & Karniadakis (1999), or
-#: none (no-slip continuum flow at every Kn, the liquid law with the gas's viscosity).
-RAREFACTION_MODELS = ("beskok-karniadakis", "no-slip")
+#: Rarefaction models of :func:`slip_factor`, the default first: the kinetic theory of the slit (linearized
+#: BGK, diffuse walls), the unified model of Beskok & Karniadakis (1999), or none (no-slip continuum flow at
+#: every Kn, the liquid law with the gas's viscosity).
+RAREFACTION_MODELS = ("kinetic", "beskok-karniadakis", "no-slip")
+DEFAULT_RAREFACTION = RAREFACTION_MODELS[0]
+
+#: δ Kn = √π/2: Sharipov's rarefaction parameter δ = p h/(μ v0), v0 = √(2 R_s T), against Kn = λ/h with
+#: λ = (μ/p) √(π R_s T/2) (docs/theory.md §11.4).
+_DELTA_KN = 0.5 * math.sqrt(math.pi)
 
 #: Beskok & Karniadakis (1999) parameters for a channel with diffuse walls (σ_v = 1) and their
 #: general slip condition with b = −1: α0 = 64/(3π(1 − 4/b)) = 64/(15π), α1 = 4, β = 0.4.
@@ -140,42 +149,82 @@ def flow_regime(knudsen: float) -> str:
     return next((name for limit, name in _REGIMES if knudsen < limit), _REGIMES[-1][1])
 
 
-def slip_factor(knudsen: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
+def _check_model(model: str) -> None:
+    if model not in RAREFACTION_MODELS:
+        raise InputError("rarefaction_model", model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
+
+
+def _length_ratio(length: float | None, gap: float) -> float | None:
+    """ℓ = L/h of a constriction of length ``length`` L (m; None: an infinite slit) and height ``gap`` h (m)."""
+    return None if length is None else _finite("length", length) / gap
+
+
+def _kinetic_factor(kn: FloatArray, length_ratio: float | None) -> FloatArray:
+    """6 G_P(δ_eff)/δ with δ = (√π/2)/Kn and δ_eff = max(δ, δ_ℓ) (docs/theory.md §11.4); 1 at Kn = 0."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        delta = _DELTA_KN / kn
+        eff = delta if length_ratio is None else np.maximum(delta, capped_rarefaction(length_ratio))
+        out = 6.0 * poiseuille_flow_rate(eff) / delta
+    return np.where(kn == 0, 1.0, np.where(np.isinf(kn), np.inf, out))
+
+
+def slip_factor(knudsen: ArrayLike, model: str = DEFAULT_RAREFACTION, length_ratio: float | None = None) -> FloatArray:
     """f(Kn): the slit's flow divided by the no-slip Poiseuille flow h³/(12μ) (docs/theory.md §11.4: the slit conductance, eq. 11.5).
 
-    Beskok & Karniadakis (1999), channel with diffuse walls:
+    ``model="kinetic"`` (default): f = 6 G_P(δ)/δ with G_P the Poiseuille flow rate of the slit from the
+    linearized BGK equation with diffuse walls (:mod:`sealeak.physics._kinetic_slit`) and δ = (√π/2)/Kn;
+    f → 1 + 6 (2σ_P/√π) Kn for Kn → 0 (σ_P = 1.0162). An infinite slit's f grows like Kn ln Kn; a slit of
+    finite length ``length_ratio`` ℓ = L/h (dimensionless) is capped at its free-molecular flow: δ is
+    replaced by max(δ, δ_ℓ) and f → (12/√π) G_fm(ℓ) Kn.
+
+    ``model="beskok-karniadakis"`` (Beskok & Karniadakis 1999, channel with diffuse walls):
     f = (1 + α(Kn) Kn) (1 + 6 Kn/(1 + Kn)), α(Kn) = α0 (2/π) arctan(α1 Kn^β),
     α0 = 64/(15π), α1 = 4, β = 0.4. f → 1 + 6 Kn (first-order Maxwell slip) for Kn → 0 and
     f → 7 α0 Kn (free-molecular flow, a finite conductance) for Kn → ∞. ``model="no-slip"``: f = 1.
     """
     kn = np.asarray(knudsen, dtype=float)
+    _check_model(model)
     if model == "no-slip":
         return np.ones_like(kn)
-    if model != "beskok-karniadakis":
-        raise InputError("rarefaction_model", model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
     if np.any(~(kn >= 0)):
         raise InputError("knudsen", knudsen, "must be >= 0")
+    if model == "kinetic":
+        return _kinetic_factor(kn, length_ratio)
     with np.errstate(over="ignore", invalid="ignore"):
         alpha = BK_ALPHA0 * (2.0 / math.pi) * np.arctan(BK_ALPHA1 * kn**BK_BETA)
         out = (1.0 + alpha * kn) * (1.0 + 6.0 * kn / (1.0 + kn))
     return np.where(np.isinf(kn), np.inf, out)
 
 
-def free_molecular_coefficient(gap: ArrayLike, gas: Gas) -> FloatArray:
-    """G_fm = (7 α0/12) h² √(π R_s T/2) in m³/s: the limit Kn → ∞ of h³/(12μ) · f(Kn) · p (docs/theory.md §11.4: the slit conductance).
+def free_molecular_coefficient(gap: ArrayLike, gas: Gas, model: str = DEFAULT_RAREFACTION,
+                               length_ratio: float | None = None) -> FloatArray:
+    """G_fm in m³/s: the limit Kn → ∞ of h³/(12μ) · f(Kn) · p for a slit of height h (m) (docs/theory.md §11.4).
 
-    Per unit width of a slit of height h (m), the free-molecular pV throughput is q = −G_fm dp/dx;
-    it depends on neither the pressure nor the viscosity. G_fm = (7 α0 π/48) h² v̄ ≈ 0.622 h² v̄.
+    Per unit width of the slit the free-molecular pV throughput is q = −G_fm dp/dx; it depends on
+    neither the pressure nor the viscosity. Beskok–Karniadakis: G_fm = (7 α0/12) h² √(π R_s T/2)
+    = (7 α0 π/48) h² v̄ ≈ 0.622 h² v̄. Kinetic: G_fm = G_fm(ℓ) h² v0/2 (v0 = √(2 R_s T)) for a slit of
+    length ``length_ratio`` ℓ = L/h, inf for an infinite slit (None). No slip: inf (f = 1).
     """
     h = np.asarray(gap, dtype=float)
-    return (7.0 * BK_ALPHA0 / 12.0) * h**2 * math.sqrt(0.5 * math.pi * gas.specific_gas_constant * gas.temperature)
+    _check_model(model)
+    scale = math.sqrt(0.5 * math.pi * gas.specific_gas_constant * gas.temperature)
+    if model == "beskok-karniadakis":
+        return (7.0 * BK_ALPHA0 / 12.0) * h**2 * scale
+    if model == "no-slip" or length_ratio is None:
+        return np.full(h.shape, np.inf)
+    g = float(poiseuille_flow_rate(capped_rarefaction(length_ratio)))
+    return (g / math.sqrt(math.pi)) * h**2 * scale
 
 
-def sheet_conductance(gap: ArrayLike, gas: Gas, pressure: ArrayLike, model: str = "beskok-karniadakis") -> FloatArray:
+def sheet_conductance(gap: ArrayLike, gas: Gas, pressure: ArrayLike, model: str = DEFAULT_RAREFACTION,
+                      length: float | None = None) -> FloatArray:
     """σ(h, p) = h³/(12 μ) f(λ(p)/h) in m³/(Pa·s): the local sheet conductance of a slit of height h (m)
-    for a gas at absolute pressure p (Pa) (docs/theory.md §11.4: the slit conductance, eq. 11.5). At Kn → 0 this is the liquid's h³/(12μ)."""
+    for a gas at absolute pressure p (Pa) (docs/theory.md §11.4: the slit conductance, eq. 11.5). At Kn → 0 this is the
+    liquid's h³/(12μ). ``length`` L (m) of a scalar gap caps the kinetic model's free-molecular flow (None: an
+    infinite slit)."""
     h = np.asarray(gap, dtype=float)
-    return h**3 / (12.0 * gas.viscosity) * slip_factor(gas.knudsen_number(h, pressure), model)
+    ratio = None if length is None else _length_ratio(length, float(h))
+    return h**3 / (12.0 * gas.viscosity) * slip_factor(gas.knudsen_number(h, pressure), model, ratio)
 
 
 def _integrand(p: float, c: float) -> float:
@@ -184,28 +233,36 @@ def _integrand(p: float, c: float) -> float:
         alpha = BK_ALPHA0
     else:
         alpha = BK_ALPHA0 * (2.0 / math.pi) * math.atan(BK_ALPHA1 * (c / p) ** BK_BETA)
-    if c == 0.0:
-        return p
     return (p + alpha * c) * (1.0 + 6.0 * c / (p + c))
 
 
-def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, model: str = "beskok-karniadakis") -> float:
+def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, model: str = DEFAULT_RAREFACTION,
+                      length: float | None = None) -> float:
     """I = ∫_{P_b}^{P_a} p f(Kn(p)) dp in Pa² with Kn(p) = λ(p)/h (docs/theory.md §11.5, eq. 11.6).
 
     The pV throughput of a channel of no-slip conductance K (m³/(Pa·s)) whose narrowest gap is
     ``gap`` h (m) is Q_pV = K I. Without rarefaction (``model="no-slip"``, or Kn → 0)
-    I = (P_a² − P_b²)/2; for Kn → ∞, I = 7 α0 c ΔP with c = λ p/h. Adaptive quadrature
-    (scipy.integrate.quad, relative tolerance 1e-12): the integrand is finite at p = 0 (vacuum).
+    I = (P_a² − P_b²)/2; for Kn → ∞, I = (12/√π) G_fm(ℓ) c ΔP (kinetic, ℓ = ``length``/h) or 7 α0 c ΔP
+    (Beskok–Karniadakis) with c = λ p/h. ``length`` L (m): the constriction's length along the flow,
+    which caps the kinetic model's free-molecular flow (None: an infinite slit, whose integrand has an
+    integrable logarithmic singularity at p = 0). Kinetic: in closed form, (24 c²/π) ∫ G_P dδ over
+    δ = (√π/2) p/c (:func:`kinetic_pressure_integral`); Beskok–Karniadakis:
+    adaptive quadrature (scipy.integrate.quad, relative tolerance 1e-12).
     """
     pa, pb = check_pressures(upstream, downstream)
     h = _finite("gap", gap)
-    if model not in RAREFACTION_MODELS:
-        raise InputError("rarefaction_model", model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
+    _check_model(model)
+    ratio = _length_ratio(length, h)
     if pa == pb:
         return 0.0
     if model == "no-slip":
         return 0.5 * (pa - pb) * (pa + pb)
     c = gas.rarefaction_pressure_scale / h
+    if model == "kinetic":
+        cap = 0.0 if ratio is None else capped_rarefaction(ratio)
+        return float(kinetic_pressure_integral(c, pa, pb, cap))
+    if c == 0.0:
+        return 0.5 * (pa - pb) * (pa + pb)
     value, _err = quad(_integrand, pb, pa, args=(c,), epsabs=0.0, epsrel=1e-12, limit=400)
     return float(value)
 
@@ -254,14 +311,16 @@ class GasLeak:
 
 
 def gas_leak(conductance: float, gap: float, gas: Gas, upstream: float, downstream: float,
-             model: str = "beskok-karniadakis") -> GasLeak:
+             model: str = DEFAULT_RAREFACTION, length: float | None = None) -> GasLeak:
     """The leak of ``gas`` through a channel of no-slip conductance ``conductance`` K (m³/(Pa·s), e.g.
     α (Ly/Lx) u_c³/(12μ) for the critical junction) whose narrowest gap is ``gap`` h (m), between the
-    absolute pressures ``upstream`` P_a and ``downstream`` P_b (Pa) (docs/theory.md §11.5, eq. 11.6)."""
+    absolute pressures ``upstream`` P_a and ``downstream`` P_b (Pa) (docs/theory.md §11.5, eq. 11.6). ``length``
+    (m): the constriction's length along the flow (the critical junction's λ_c), which caps the kinetic
+    model's free-molecular flow; None: an infinite slit."""
     pa, pb = check_pressures(upstream, downstream)
     k = _finite("conductance", conductance, allow_zero=True)
     h = _finite("gap", gap)
-    q = k * pressure_integral(h, gas, pa, pb, model) if k > 0 else 0.0
+    q = k * pressure_integral(h, gas, pa, pb, model, length) if k > 0 else 0.0
     rt = MOLAR_GAS_CONSTANT * gas.temperature
     kn = [float(gas.knudsen_number(h, p)) for p in (pa, 0.5 * (pa + pb), pb)]
     return GasLeak(throughput=q, throughput_no_slip=k * 0.5 * (pa - pb) * (pa + pb), mass_flow=q * gas.molar_mass / rt,

@@ -246,7 +246,9 @@ def _gas_assumptions(cases: Sequence[Case], band: bool) -> list[str]:
         return [] if not any(c.helium_equivalent for c in cases) else [_HELIUM_ASSUMPTION]
     slip = ("no slip: f = 1 at every Kn, the continuum law (to show how much rarefaction adds)" if gas.rarefaction == "no-slip"
             else f"{gas.rarefaction}: slip and, at large Kn, free-molecular flow through the factor f(Kn) on the slit "
-                 "conductance (Beskok &amp; Karniadakis 1999, diffuse walls; docs/theory.md §11.4)")
+                 "conductance (" + ("Beskok &amp; Karniadakis 1999" if gas.rarefaction == "beskok-karniadakis" else
+                                    "the kinetic theory of a slit, linearized BGK equation")
+                 + ", diffuse walls; docs/theory.md §11.4)")
     gap = ("u_c at the peak contact pressure (the effective medium: its u_e there) for the whole band, which errs "
            "towards a larger leak rate" if band else "u_c (the effective medium: u_e)")
     out = ["<li>The gas: an ideal gas (p = ρ R_s T) in compressible, isothermal, laminar flow (Reynolds and Mach numbers "
