@@ -20,6 +20,7 @@ from ..physics.validity import strain_warning
 from .band import BandResult
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
+from .notes import NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
@@ -53,7 +54,7 @@ class RigPrediction:
     columns: dict[str, WaterColumn]
     time_constant: dict[str, float] = field(default_factory=dict)
     drain_time: dict[str, float] = field(default_factory=dict)
-    messages: tuple[str, ...] = ()
+    messages: tuple[NoteLike, ...] = ()
     band: BandResult | None = None
 
 
@@ -86,7 +87,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         return decay_prediction(case)
     models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
     k_of: dict[str, float] = {}
-    messages: list[str] = []
+    messages: list[NoteLike] = []
     band = None
     if case.band is not None:
         if case.band.loads.size != 1:

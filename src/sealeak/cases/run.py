@@ -28,6 +28,7 @@ from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
 from .gas import GAS_UNITS, HELIUM_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case
+from .notes import NoteLike
 from .prediction import predict, predict_effective_medium
 from .rig import RigPrediction, rig_prediction
 from .verdicts import _band_verdicts, _uniform_verdicts, case_warnings
@@ -79,7 +80,7 @@ class CaseResult:
     critical_junction: CriticalJunctionResult
     effective_medium: EffectiveMediumResult | None = None
     rig: RigPrediction | DecayPrediction | None = None
-    messages: tuple[str, ...] = ()
+    messages: tuple[NoteLike, ...] = ()
     valid: NDArray[np.bool_] = quantity("1", "the critical gap is above the fluid's molecular size (continuum flow)",
                                         default_factory=lambda: np.ones(0, dtype=bool))
     validity: tuple[str, ...] = quantity("", "why the result is not valid ('' where valid)", default=())
@@ -192,7 +193,7 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     res = predict(case)
     em = predict_effective_medium(case) if case.model != "critical-junction" else None
     rig_result = rig_prediction(case) if rig and case.rig is not None else None
-    messages = list(res.messages)
+    messages: list[NoteLike] = list(res.messages)
     if em is not None:
         messages += ["effective medium: " + m for m in em.messages]
     valid, validity, valid_em, validity_em = _uniform_verdicts(case, res, em)
@@ -207,7 +208,7 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
     """run_case for an O-ring or profile seal: the band's leak rates, judged where the pressure is highest."""
     band = run_band(case)
     res = predict(case)  # uniform, at each load's mean pressure over the widest band (kept for old front ends)
-    messages = list(band.critical_junction.messages)
+    messages: list[NoteLike] = list(band.critical_junction.messages)
     if band.effective_medium is not None:
         messages += list(band.effective_medium.messages)
     valid, validity, valid_em, validity_em = _band_verdicts(case, band)

@@ -34,7 +34,7 @@ from ..cases import CaseResult
 from ..cases.band import BandResult
 from ..cases.model import BandSeal
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
-from .notes import loads_text
+from .notes import load_axis_label, load_text, loads_text
 from .plotstyle import (
     GAS_LEAK_LABEL,
     STYLE,
@@ -83,17 +83,14 @@ def _band(r: CaseResult) -> BandResult:
 
 # ---------------------------------------------------------------------- what the curves are
 def load_labels(band: BandSeal) -> list[str]:
-    """Legend label of each load: "ε = 12.5 %" (an O-ring's compression) or "scale 0.75" (a profile's factor)."""
-    if band.load_name == "compression":
-        return [f"ε = {100 * v:.3g} %" for v in band.loads]
-    return [f"scale {v:.3g}" for v in band.loads]
+    """Legend label of each load, as the notes write it: "compression 12.5 %" or "profile scale 0.75"."""
+    return [load_text(band.load_name, v) for v in band.loads]
 
 
 def _load_axis(band: BandSeal) -> tuple[np.ndarray, str]:
     """The x values of the leak-rate figure and their axis label."""
-    if band.load_name == "compression":
-        return 100.0 * band.loads, "compression ε = δ/d (%)"
-    return np.asarray(band.loads, dtype=float), "profile scale (1): factor on the file's pressures"
+    scale = 100.0 if band.load_name == "compression" else 1.0
+    return scale * np.asarray(band.loads, dtype=float), load_axis_label(band.load_name)
 
 
 def _centre(band: BandSeal, profile: PressureProfile) -> float:

@@ -21,7 +21,7 @@ from ..io.leak_units import celsius, to_mbar_l_per_s
 from ..io.quantities import record_fields, units_of
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
-from .notes import load_text, worded
+from .notes import load_axis_label, load_text, worded
 from .plotstyle import (
     GAS_LEAK_LABEL,
     PA_M3_PER_MBAR_L,
@@ -419,7 +419,7 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
     band (and a gas O-ring's gas leak), by file name."""
     label, factor = _load_label(res)
     sweep = _Sweep(x=res.loads * factor,
-                   x_label="compression ε = δ/d (%)" if res.load_name == "compression" else label, loads=label.split(" (")[0],
+                   x_label=load_axis_label(res.load_name), loads=label.split(" (")[0],
                    coarse=np.array([_band_coarse(res, i) for i in range(res.loads.size)], dtype=bool),
                    theory="series-resistance", short="series", method="cylinder on rough surface + Reynolds", seal="O-ring",
                    settings=f"{_run_text(res)}, seal line {res.seal_length * 1e3:.3g} mm",
