@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from ..cases import Case, FitResult, LinearityCheck, RigPrediction
+from ..cases.band import BandResult
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
 from ..io.leak_units import MBAR_L_PER_PA_M3, to_ml_per_min
 from ..lab.data import LeakData
@@ -179,18 +180,38 @@ def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
     rig = case.rig
     assert rig is not None
     b = pred.band
+    text = _seal_condition(case, b, pred.squeeze_pressure, rig.load, rig.load_note, short)
+    if b is None or short:
+        return text
+    return text + f", seal line {b.band.length * 1e3:.4g} mm{' (2 faces)' if b.band.faces == 2 else ''}"
+
+
+def _seal_condition(case: Case, b: BandResult | None, squeeze_pressure: float, load: float | None, load_note: str,
+                    short: bool) -> str:
+    """What presses the seal in a rig: the load (N) and P0 (Pa), or a band seal's load and its contact."""
     if b is None:
         if short:
-            return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
-        return (f"{rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
+            return f"P0 = {squeeze_pressure / 1e3:.3g} kPa ({load_note or 'load'})"
+        return (f"{load:.4g} N ({load_note}) -> P0 = {squeeze_pressure / 1e3:.4g} kPa on the "
                 f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
     seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
+    at = load_text(b.band.load_name, float(b.band.loads[0]))
     if short:
-        return (f"{seal} at {load_text(b.band.load_name, float(b.band.loads[0]))}, peak contact pressure "
-                f"{b.max_contact_pressure[0] / 1e6:.3g} MPa")
-    return (f"{seal} at {load_text(b.band.load_name, float(b.band.loads[0]))}: contact width {b.contact_width[0] * 1e3:.4g} mm, "
-            f"mean contact pressure {b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa, "
-            f"seal line {b.band.length * 1e3:.4g} mm{' (2 faces)' if b.band.faces == 2 else ''}")
+        return f"{seal} at {at}, peak contact pressure {b.max_contact_pressure[0] / 1e6:.3g} MPa"
+    return (f"{seal} at {at}: contact width {b.contact_width[0] * 1e3:.4g} mm, mean contact pressure "
+            f"{b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa")
+
+
+def _readings_head(source: str, time: np.ndarray, duration: str, header: str, leak_rate: np.ndarray,
+                   rows: list[str], level: str, negative: str) -> list[str]:
+    """The readings' block of the rig's text: where from, how many over how long (``duration``), the table of
+    intervals (``header``, ``rows``) and a note where the ``level`` rises (a ``negative`` leak rate)."""
+    lines = ["", f"readings from {source}: {time.size} points over {duration}", "", header, *rows]
+    rising = int(np.count_nonzero(leak_rate < 0))
+    if rising:
+        lines.append(f"note: the {level} rises in {rising} of {leak_rate.size} intervals (reading noise?): those "
+                     f"intervals show a negative {negative}")
+    return lines
 
 
 def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None = None,
@@ -214,14 +235,11 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
     if readings is not None:
         t = readings.time
-        lines += ["", f"readings from {readings_source}: {t.size} points over {t[-1] - t[0]:.4g} s", "",
-                  f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}"]
-        for dpi, qi in zip(readings.interval_pressure_difference, readings.interval_leak_rate):
-            lines.append(f"{dpi / 1e3:10.4g} {qi:12.4e} {to_ml_per_min(qi):11.4g}")
-        rising = int(np.count_nonzero(readings.interval_leak_rate < 0))
-        if rising:
-            lines.append(f"note: the level rises in {rising} of {readings.interval_leak_rate.size} intervals "
-                         "(reading noise?): those intervals show a negative Q")
+        lines += _readings_head(readings_source, t, f"{t[-1] - t[0]:.4g} s", f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}",
+                                readings.interval_leak_rate,
+                                [f"{dpi / 1e3:10.4g} {qi:12.4e} {to_ml_per_min(qi):11.4g}"
+                                 for dpi, qi in zip(readings.interval_pressure_difference, readings.interval_leak_rate)],
+                                "level", "Q")
         lines.append(f"exponential fit of ln H(t): K = {readings.conductance:.4g} ± {readings.conductance_std:.2g} "
                      f"m³/(s·Pa), rms residual {readings.rms_log_residual:.2g} decades")
         for name, k in pred.conductance.items():
@@ -285,18 +303,7 @@ def duration_text(seconds: float) -> str:
 def decay_condition(case: Case, pred: DecayPrediction, short: bool = False) -> str:
     """What presses the seal in the pressure-decay rig: the load and P0, or a band seal's load and contact."""
     rig = decay_rig(case)
-    b = pred.band
-    if b is None:
-        if short:
-            return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
-        return (f"{rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
-                f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
-    seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
-    at = load_text(b.band.load_name, float(b.band.loads[0]))
-    if short:
-        return f"{seal} at {at}, peak contact pressure {b.max_contact_pressure[0] / 1e6:.3g} MPa"
-    return (f"{seal} at {at}: contact width {b.contact_width[0] * 1e3:.4g} mm, mean contact pressure "
-            f"{b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa")
+    return _seal_condition(case, pred.band, pred.squeeze_pressure, rig.load, rig.load_note, short)
 
 
 def _pv(q: float) -> str:
@@ -333,14 +340,11 @@ def decay_text(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
     if readings is not None:
         r = readings.readings
         t = r.time
-        lines += ["", f"readings from {readings_source}: {t.size} points over {duration_text(t[-1] - t[0])}", "",
-                  f"{'P (mbar)':>12} {'Q_pV (Pa·m³/s)':>15} {'(mbar·l/s)':>12}"]
-        for pi, qi in zip(r.interval_pressure, r.interval_leak_rate):
-            lines.append(f"{pi / 100:12.6g} {qi:15.4e} {qi * MBAR_L_PER_PA_M3:12.4e}")
-        rising = int(np.count_nonzero(r.interval_leak_rate < 0))
-        if rising:
-            lines.append(f"note: the pressure rises in {rising} of {r.interval_leak_rate.size} intervals (reading noise?): "
-                         "those intervals show a negative leak rate")
+        lines += _readings_head(readings_source, t, duration_text(t[-1] - t[0]),
+                                f"{'P (mbar)':>12} {'Q_pV (Pa·m³/s)':>15} {'(mbar·l/s)':>12}", r.interval_leak_rate,
+                                [f"{pi / 100:12.6g} {qi:15.4e} {qi * MBAR_L_PER_PA_M3:12.4e}"
+                                 for pi, qi in zip(r.interval_pressure, r.interval_leak_rate)],
+                                "pressure", "leak rate")
         lines.append(f"leak rate over the readings V·(P_first − P_last)/(t_last − t_first): {_pv(r.leak_rate)}")
         lines.append(f"viscous fit of artanh(P2/P)/P2 against t: K = {r.conductance:.4g} ± {r.conductance_std:.2g} m³/(Pa·s)")
         for name, sc in readings.scale.items():

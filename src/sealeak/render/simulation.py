@@ -143,19 +143,26 @@ def _gas_lines(res: SimulationResult) -> list[str]:
     """The gas table of ``sealeak simulate`` and what its columns mean."""
     g = res.gas
     assert g is not None
-    lines = ["", f"gas leak of {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa "
-                 f"(absolute), {celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}:",
-             *_gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
-                        [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
-             ""]
-    lines += [
-              "Q_pV sim: isothermal gas flow through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, counted at the gas "
-              "temperature; ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
-              f"Q_pV cj α=1: the critical-junction gas leak (gap u_c, the same rarefaction; as predict); α_gas = Q_pV sim / "
-              f"Q_pV cj; Kn = λ/u_c at the mean pressure {0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} kPa; "
-              "iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
-              "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
-    return lines
+    return _gas_block(g, "gas leak of {gas}, {conditions}:",
+                      _gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
+                                [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
+                      ("", ""), ("cj", "critical-junction", "gap u_c"))
+
+
+def _gas_block(g: Any, head: str, table: list[str], flow: tuple[str, str], theory: tuple[str, str, str]) -> list[str]:
+    """A gas table of ``sealeak simulate`` under its ``head`` (``{gas}``, ``{conditions}``: pressures, temperature,
+    rarefaction), and what its columns mean: ``flow`` where the simulated gas flows (after "gas flow" and after its
+    equation), ``theory`` the theory's short name, name and gap."""
+    conditions = (f"{g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa (absolute), "
+                  f"{celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}")
+    (where, edges), (short, name, gap) = flow, theory
+    return ["", head.format(gas=g.gas_name, conditions=conditions), *table, "",
+            f"Q_pV sim: isothermal gas flow{where} through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0{edges}, counted at "
+            "the gas temperature; ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
+            f"Q_pV {short} α=1: the {name} gas leak ({gap}, the same rarefaction; as predict); α_gas = Q_pV sim / "
+            f"Q_pV {short}; Kn = λ/u_c at the mean pressure {0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} "
+            "kPa; iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
+            "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
 
 
 def simulation_table(case: Case, res: SimulationResult) -> str:
@@ -281,21 +288,11 @@ def _band_gas_lines(res: BandSimulationResult) -> list[str]:
     g = res.gas
     assert g is not None
     label, factor = _load_label(res)
-    lines = ["", f"Gas leak across the band: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → "
-                 f"{g.downstream_pressure / 1e3:.4g} kPa (absolute), {celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}",
-             *_gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
-                        [_band_coarse(res, i) for i in range(res.loads.size)]),
-             ""]
-    lines += [
-              "Q_pV sim: isothermal gas flow across the band through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, P_a at "
-              "the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim, counted at the gas temperature; "
-              "ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
-              f"Q_pV series α=1: the series-resistance gas leak (K = Q series/ΔP, gap u_c at the peak contact pressure, the "
-              f"same rarefaction; as predict); α_gas = Q_pV sim / Q_pV series; Kn = λ/u_c at the mean pressure "
-              f"{0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} kPa; "
-              "iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
-              "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
-    return lines
+    return _gas_block(g, "Gas leak across the band: {gas}, {conditions}",
+                      _gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
+                                [_band_coarse(res, i) for i in range(res.loads.size)]),
+                      (" across the band", ", P_a at the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim"),
+                      ("series", "series-resistance", "K = Q series/ΔP, gap u_c at the peak contact pressure"))
 
 
 def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
