@@ -17,6 +17,7 @@ from __future__ import annotations
 import datetime
 import difflib
 import json
+import math
 import re
 from collections.abc import Iterable
 from typing import Any
@@ -31,6 +32,7 @@ __all__ = [
     "SolutionCheckError",
     "ResourceError",
     "show_value",
+    "positive_number",
 ]
 
 
@@ -85,6 +87,18 @@ class SolutionCheckError(SealeakError, RuntimeError):
 
 class ResourceError(SealeakError, RuntimeError):
     """A job was refused up front because it would need more memory than is available."""
+
+
+def positive_number(field: str, value: Any, *, allow_zero: bool = False, allowed: str = "") -> float:
+    """``value`` as a float, finite and > 0 (>= 0 with ``allow_zero``); else an :class:`InputError` naming ``field``:
+    "must be a number", or ``allowed`` (by default "must be finite and > 0", or ">= 0")."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, value, "must be a number") from None
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise InputError(field, value, allowed or ("must be finite and >= 0" if allow_zero else "must be finite and > 0"))
+    return v
 
 
 def show_value(value: Any) -> str:
