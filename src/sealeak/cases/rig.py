@@ -25,7 +25,7 @@ from .prediction import FloatArray, Model, _band_conductance, _conductance, _mod
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RigPrediction:
     """The rig simulated for a case (docs/theory.md §4).
 
@@ -121,7 +121,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
                             "the theory assumes p >> ΔP")
     elif pressure_difference_not_small(p0, dp0):
         messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
-    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages), band)
+    return RigPrediction(squeeze_pressure=p0, conductance=k_of, columns=columns, time_constant=tau, drain_time=t_final,
+                         messages=tuple(messages), band=band)
 
 
 def _one_load_needed(case: Case) -> str:

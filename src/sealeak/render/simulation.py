@@ -76,17 +76,24 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
         "percolation_threshold_std": json_value(res.percolation_threshold_std),
         "settings": {"grid": res.grid, "realizations": res.realizations, "seed": res.seed, "size": res.size,
                      "spectrum_cut_wavevector": res.q_cut, "spectrum": res.spectrum_note},
-        "leak_rate_critical_junction_note": "critical-junction prediction with alpha = 1 for the same spectrum; "
-                                            "alpha = leak_rate / leak_rate_critical_junction",
-        "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
-                       "ones), not standard errors: the standard error of a mean is std/sqrt(realizations); "
-                       "null with fewer than two values",
-        "case": case_summary(case),
-        "notes": worded(res.notes),
+        **_document_end(case, res, ("leak_rate_critical_junction", "critical-junction prediction with alpha = 1 for "
+                                    "the same spectrum"), ": the standard error of a mean is std/sqrt(realizations)"),
     }
     if res.gas is not None:
         _gas_json(doc, res)
     return json_document(doc)
+
+
+def _document_end(case: Case, res: SimulationResult | BandSimulationResult, theory: tuple[str, str],
+                  standard_error: str) -> dict[str, Any]:
+    """The last keys of a ``simulate --json`` document: what the theory's key (``theory``: key, what it is) and α are,
+    what the ``*_std`` keys are (``standard_error``: how to get one, if said), the case and the notes."""
+    key, what = theory
+    return {f"{key}_note": f"{what}; alpha = leak_rate / {key}",
+            "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
+                           f"ones), not standard errors{standard_error}; null with fewer than two values",
+            "case": case_summary(case),
+            "notes": worded(res.notes)}
 
 
 def simulation_rows(res: SimulationResult) -> list[dict[str, Any]]:
@@ -249,13 +256,9 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
                      "period": res.period, "seal_length": res.seal_length, "faces": res.faces, "radius": res.radius,
                      "spectrum_cut_wavevector": res.q_cut, "spectrum_low_wavevector": res.q_low,
                      "spectrum": res.spectrum_note},
-        "leak_rate_series_resistance_note": "series-resistance prediction of the critical-junction theory with alpha = 1 "
-                                            "for the same spectrum and the Hertz profile of the same force; "
-                                            "alpha = leak_rate / leak_rate_series_resistance",
-        "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
-                       "ones), not standard errors; null with fewer than two values",
-        "case": case_summary(case),
-        "notes": worded(res.notes),
+        **_document_end(case, res, ("leak_rate_series_resistance", "series-resistance prediction of the "
+                                    "critical-junction theory with alpha = 1 for the same spectrum and the Hertz profile "
+                                    "of the same force"), ""),
     }
     if res.gas is not None:
         _band_gas_json(doc, res)
