@@ -89,15 +89,19 @@ class ResourceError(SealeakError, RuntimeError):
     """A job was refused up front because it would need more memory than is available."""
 
 
-def positive_number(field: str, value: Any, *, allow_zero: bool = False, allowed: str = "") -> float:
-    """``value`` as a float, finite and > 0 (>= 0 with ``allow_zero``); else an :class:`InputError` naming ``field``:
-    "must be a number", or ``allowed`` (by default "must be finite and > 0", or ">= 0")."""
+def positive_number(field: str, value: Any, *, allow_zero: bool = False, allowed: str = "",
+                    below: tuple[float, str] | None = None) -> float:
+    """``value`` as a float, finite and > 0 (>= 0 with ``allow_zero``) and, with ``below`` (a bound and how to name
+    it), less than the bound; else an :class:`InputError` naming ``field``: "must be a number", ``allowed`` (by
+    default "must be finite and > 0", or ">= 0"), or "must be below <name>"."""
     try:
         v = float(value)
     except (TypeError, ValueError):
         raise InputError(field, value, "must be a number") from None
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
         raise InputError(field, value, allowed or ("must be finite and >= 0" if allow_zero else "must be finite and > 0"))
+    if below is not None and not v < below[0]:
+        raise InputError(field, value, f"must be below {below[1]}")
     return v
 
 

@@ -83,10 +83,8 @@ class PressureDecaySetup:
             raise InputError("initial_pressure", self.initial_pressure,
                              f"must be above the outside pressure {p2:.6g} Pa (absolute pressures; the volume loses gas)")
         if self.pressure_loss is not None:
-            dp = positive_number("pressure_loss", self.pressure_loss)
-            if not dp < p1 - p2:
-                raise InputError("pressure_loss", self.pressure_loss,
-                                 f"must be below the initial pressure difference P1 − P2 = {p1 - p2:.6g} Pa")
+            positive_number("pressure_loss", self.pressure_loss,
+                            below=(p1 - p2, f"the initial pressure difference P1 − P2 = {p1 - p2:.6g} Pa"))
         if self.duration is not None:
             positive_number("duration", self.duration)
 

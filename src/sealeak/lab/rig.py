@@ -92,10 +92,8 @@ class RigSetup:
         positive_number("density", self.density)
         positive_number("gravity", self.gravity)
         if self.final_height is not None:
-            positive_number("final_height", self.final_height)
-            if not self.final_height < self.initial_height:
-                raise InputError("final_height", self.final_height,
-                                 f"must be below the initial height {self.initial_height:.6g} m")
+            positive_number("final_height", self.final_height,
+                            below=(self.initial_height, f"the initial height {self.initial_height:.6g} m"))
         if self.duration is not None:
             positive_number("duration", self.duration)
 
