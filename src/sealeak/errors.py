@@ -18,6 +18,7 @@ import datetime
 import difflib
 import json
 import math
+import numbers
 import re
 from collections.abc import Iterable
 from typing import Any
@@ -33,6 +34,7 @@ __all__ = [
     "ResourceError",
     "show_value",
     "positive_number",
+    "positive_values",
 ]
 
 
@@ -103,6 +105,14 @@ def positive_number(field: str, value: Any, *, allow_zero: bool = False, allowed
     if below is not None and not v < below[0]:
         raise InputError(field, value, f"must be below {below[1]}")
     return v
+
+
+def positive_values(*checks: tuple[str, Any, str]) -> None:
+    """Each ``(field, value, what)`` must be a finite real number > 0 given as a number (not text); else an
+    :class:`InputError` naming ``field``: "must be finite, <what>" (the solvers' arguments)."""
+    for field, value, what in checks:
+        if not (isinstance(value, numbers.Real) and math.isfinite(value) and float(value) > 0):
+            raise InputError(field, value, f"must be finite, {what}")
 
 
 def show_value(value: Any) -> str:

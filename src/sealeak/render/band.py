@@ -361,7 +361,7 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
     bars.set_xlabel(_x_label(results, xunit))
     theory = {_main(r)[0] for r in results}
     bars.set_title(f"the narrowest part of each band holding {100 * RESISTANCE_FRACTION:.0f} % of the flow resistance "
-                   f"R = ∫dx/σ(p) ({', '.join(sorted(theory))})", fontsize=8, loc="left")
+                   f"R = ∫dx/σ(p)\n({', '.join(sorted(theory))})", fontsize=8, loc="left")
 
     notes = []
     first = _band(results[0]).band
