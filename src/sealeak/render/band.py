@@ -366,7 +366,7 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
     notes = []
     first = _band(results[0]).band
     if first.kind == "o-ring":
-        notes.append("Hertz (semi-elliptic) pressure of each compression, drawn about the contact's centre")
+        notes.append("Hertz (semi-elliptic) pressure of each compression, centred on the contact")
     else:
         notes.append(f"profile from {first.profile_source.rsplit('/', 1)[-1] or 'the case file'}, multiplied by each scale")
     if len(profile_groups) > 1:
