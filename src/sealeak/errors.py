@@ -17,6 +17,8 @@ from __future__ import annotations
 import datetime
 import difflib
 import json
+import math
+import numbers
 import re
 from collections.abc import Iterable
 from typing import Any
@@ -31,6 +33,8 @@ __all__ = [
     "SolutionCheckError",
     "ResourceError",
     "show_value",
+    "positive_number",
+    "positive_values",
 ]
 
 
@@ -85,6 +89,30 @@ class SolutionCheckError(SealeakError, RuntimeError):
 
 class ResourceError(SealeakError, RuntimeError):
     """A job was refused up front because it would need more memory than is available."""
+
+
+def positive_number(field: str, value: Any, *, allow_zero: bool = False, allowed: str = "",
+                    below: tuple[float, str] | None = None) -> float:
+    """``value`` as a float, finite and > 0 (>= 0 with ``allow_zero``) and, with ``below`` (a bound and how to name
+    it), less than the bound; else an :class:`InputError` naming ``field``: "must be a number", ``allowed`` (by
+    default "must be finite and > 0", or ">= 0"), or "must be below <name>"."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, value, "must be a number") from None
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise InputError(field, value, allowed or ("must be finite and >= 0" if allow_zero else "must be finite and > 0"))
+    if below is not None and not v < below[0]:
+        raise InputError(field, value, f"must be below {below[1]}")
+    return v
+
+
+def positive_values(*checks: tuple[str, Any, str]) -> None:
+    """Each ``(field, value, what)`` must be a finite real number > 0 given as a number (not text); else an
+    :class:`InputError` naming ``field``: "must be finite, <what>" (the solvers' arguments)."""
+    for field, value, what in checks:
+        if not (isinstance(value, numbers.Real) and math.isfinite(value) and float(value) > 0):
+            raise InputError(field, value, f"must be finite, {what}")
 
 
 def show_value(value: Any) -> str:

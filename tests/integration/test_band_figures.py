@@ -21,6 +21,7 @@ from sealeak.physics.profile import PressureProfile, resistance_band, series_res
 from sealeak.render import html_report, prediction_figures
 from sealeak.render.band import BAND_FIGURE_NAMES, load_labels, local_gap_curve, profile_curve, resistance_spans
 from sealeak.render.figures import PREDICTION_FIGURE_NAMES, prediction_figure_names
+from sealeak.render.notes import worded
 from sealeak.render.text import prediction_columns, validity_notes
 from tests.integration.test_figures_render import _build, figure_problems
 
@@ -252,7 +253,7 @@ def test_report_of_a_band_case_has_the_band_table_and_figures_not_the_uniform_on
     sealed = int(np.flatnonzero(~results[0].band.critical_junction.percolates)[0])
     assert rows[sealed][-1].strip() == "—" and rows[sealed][headers.index("Q_CJ (m³/s)")].strip() == "—"
     assert 'id="seal"' in text and "lip-profile.csv" in text
-    for note in [*results[0].messages, *validity_notes(results[0])]:
+    for note in [*worded(results[0].messages), *validity_notes(results[0])]:
         assert html.escape(note) in text
 
 

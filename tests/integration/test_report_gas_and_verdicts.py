@@ -235,5 +235,5 @@ def test_fit_of_a_uniform_seal_names_the_rows_predict_marks_invalid(tmp_path, ca
         assert fit[model]["outside_validity_lines"] == [n + 2 for n, r in enumerate(predicted) if not r[key]]
     assert fit["critical_junction"]["outside_validity_lines"] == [4]
     assert fit["critical_junction"]["points_used"] == 3
-    assert any(m.startswith("critical junction: line 4 (P0 = 850000 Pa) outside the theory's validity")
+    assert any(m.startswith("critical junction: line 4 (P0 = 850 kPa) outside the theory's validity")
                for m in fit["messages"])

@@ -11,6 +11,7 @@ from scipy import integrate
 from sealeak.cases import example_path, load_case, predict, predict_effective_medium, run_case
 from sealeak.cases.band import run_band
 from sealeak.cases.model import BandSeal
+from sealeak.cases.notes import Note
 from sealeak.errors import InputError
 from sealeak.physics.contact import PerssonContact
 from sealeak.physics.critical_junction import critical_junction
@@ -103,7 +104,8 @@ def test_a_sealed_strip_seals_the_band(base):
     r = run_band(_band(base, [PressureProfile.table([0, 0.9 * w, 0.9 * w, w], [2e4, 2e4, high, high])]))
     assert not r.critical_junction.percolates[0]
     assert np.isnan(r.critical_junction.leak_rate[0])
-    assert any("no leak channel" in m for m in r.critical_junction.messages)
+    sealed = [n for n in r.critical_junction.messages if isinstance(n, Note) and n.code == "band_sealed"]
+    assert [n.values["loads"] for n in sealed] == [tuple(r.band.loads.tolist())]
 
 
 def test_unpressed_strip_adds_no_resistance(base):

@@ -12,6 +12,7 @@ from sealeak.cases.run import run_case
 from sealeak.cli import main
 from sealeak.physics.capillarity import Wetting, capillary_pressure
 from sealeak.physics.properties import surface_tension
+from sealeak.render.notes import worded
 from sealeak.render.text import capillary_tables, prediction_table
 from tests.casefiles import BASE, edit
 
@@ -77,7 +78,7 @@ def test_below_the_entry_pressure_the_liquid_is_held_above_it_leaks_as_usual():
         expect = 0.0 if held else uncoupled[i]
         assert r.critical_junction.leak_rate[i] == pytest.approx(expect, rel=1e-12)
         assert r.records()[i]["held_by_capillarity"] is held and r.records()[i]["leak_rate"] == pytest.approx(expect)
-        assert any("held by capillarity" in m for m in r.messages) is bool(rows.held.any())
+        assert any("held by capillarity" in m for m in worded(r.messages)) is bool(rows.held.any())
 
 
 def test_a_wetting_liquid_is_drawn_in_never_held():
@@ -139,7 +140,7 @@ def test_an_o_ring_holds_water_at_its_critical_gap_where_the_pressure_is_highest
     assert rows.held.tolist() == [False, True]
     assert r.band.critical_junction.leak_rate == pytest.approx([uncoupled[0], 0.0], rel=1e-12)
     assert [rec["held_by_capillarity"] for rec in r.records()] == [False, True]
-    assert any("held by capillarity at compression 20 %" in m for m in r.messages)
+    assert any("held by capillarity at compression 20 %" in m for m in worded(r.messages))
     assert all([k for k in rec] == list(r.units) for rec in r.records())
     assert "capillarity, critical junction (gap: u_c at the peak contact pressure)" in prediction_table([r])
 

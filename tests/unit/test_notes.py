@@ -16,6 +16,18 @@ def test_a_compression_is_written_in_percent_by_name():
     assert load_text("profile_scale", 1.5) == "profile scale 1.5"
 
 
+def test_a_squeeze_pressure_is_named_as_p0_in_kpa_like_the_other_loads():
+    assert load_text("squeeze_pressure", 2e5) == "P0 = 200 kPa" == loads_text("squeeze_pressure", [2e5])
+
+
+def test_band_notes_name_the_theory_and_the_loads():
+    sealed = word(Note("band_sealed", {"theory": "effective medium", "load_name": "compression", "loads": (0.25, 0.3)}))
+    assert sealed.startswith("effective medium: no leak channel at compression 25, 30 %")
+    slow = word(Note("band_not_converged", {"theory": "critical junction", "tolerance": 1e-5,
+                                             "load_name": "profile_scale", "load": 1.5, "change": 3e-5}))
+    assert "converge to 1e-05 at profile scale 1.5" in slow and "last relative change 3e-05" in slow
+
+
 def test_many_loads_or_pressures_are_written_as_their_range_and_count():
     many = loads_text("profile_scale", [1.0, 1.5, 2.0, 2.5, 3.0])
     assert many.startswith("profile scale 1 .. 3") and "(5 values)" in many

@@ -33,10 +33,11 @@ from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
 from .model import BandSeal, Case
+from .notes import Note, NoteLike
 from .schema import case_keys
 
 __all__ = ["BandResult", "BandTheory", "run_band", "band_conductance", "BandColumns",
-           "BandEffectiveMediumColumns"]
+           "BandEffectiveMediumColumns", "load_value"]
 
 FloatArray = NDArray[np.float64]
 
@@ -101,7 +102,8 @@ class BandTheory:
         Estimated relative error of R (quadrature and, for the effective medium, the change between
         the last two tables) and the number of σ evaluations.
     messages
-        Notes (no channel at some loads, a quadrature that did not converge).
+        Notes (no channel at some loads, a quadrature that did not converge), worded by
+        :mod:`sealeak.render.notes`.
     """
 
     leak_rate: FloatArray
@@ -113,7 +115,7 @@ class BandTheory:
     integrals: tuple[BandIntegral, ...]
     change: FloatArray
     evaluations: NDArray[np.int_]
-    messages: tuple[str, ...] = ()
+    messages: tuple[NoteLike, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -311,32 +313,29 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
     widths = np.array([p.width for p in band.profiles])
     uniform = np.where(mean_sigma > 0, ly / widths * mean_sigma * dp, np.nan)
     where = [resistance_band(g) for g in integrals]
-    messages = []
+    messages: list[NoteLike] = []
     if sealed.any():
-        messages.append(f"{name}: no leak channel at {_loads_text(band, sealed)}: where the contact "
-                        "pressure is highest the non-contact area does not percolate, which seals the whole band")
+        messages.append(Note("band_sealed", {"theory": name, "load_name": band.load_name,
+                                             "loads": tuple(band.loads[sealed].tolist())}))
     not_converged = [i for i, ok in enumerate(converged) if not ok]
     if not_converged:
         i = not_converged[0]
-        messages.append(f"{name}: the integral ∫dx/σ did not converge to {RTOL if name.startswith('critical') else TABLE_RTOL:g} at "
-                        f"{_loads_text(band, np.arange(band.loads.size) == i)} (last relative change {changes[i]:.2g}); "
-                        "the leak rate is less certain")
+        messages.append(Note("band_not_converged", {
+            "theory": name, "tolerance": RTOL if name.startswith("critical") else TABLE_RTOL,
+            "load_name": band.load_name, "load": float(band.loads[i]), "change": changes[i]}))
     return BandTheory(q, ~sealed, uniform, r, np.array([w for w, _ in where]), np.array([x for _, x in where]),
                       tuple(integrals), np.array(changes), np.array([g.evaluations for g in integrals]), tuple(messages))
 
 
-def _loads_text(band: BandSeal, mask: NDArray[np.bool_]) -> str:
-    """"compression 15, 20 %" or "profile scale 1.5, 2" for the loads where ``mask`` holds."""
-    if band.load_name == "compression":
-        return "compression " + ", ".join(f"{100 * v:.4g}" for v in band.loads[mask]) + " %"
-    return "profile scale " + ", ".join(f"{v:.4g}" for v in band.loads[mask])
+def load_value(load_name: str, value: float) -> str | float:
+    """A band seal's load as an error message shows it: a compression (a fraction) in %, a profile scale as it is."""
+    return f"{100 * value:.6g} %" if load_name == "compression" else float(value)
 
 
 def _load_error(band: BandSeal, i: int, profile: PressureProfile, exc: InputError) -> InputError:
     """An error of the physics about a contact pressure, named as the load (conditions.profile_scale[i]) that gave it."""
     field = f"conditions.{band.load_name}" + (f"[{i}]" if band.loads.size > 1 else "")
-    value = f"{100 * band.loads[i]:.6g} %" if band.load_name == "compression" else float(band.loads[i])
-    return InputError(field, value, f"gives a mean contact pressure of {profile.mean_pressure:.4g} Pa (peak "
+    return InputError(field, load_value(band.load_name, float(band.loads[i])), f"gives a mean contact pressure of {profile.mean_pressure:.4g} Pa (peak "
                                     f"{profile.max_pressure:.4g} Pa), which the theory cannot use: "
                                     + exc.allowed.replace("a larger squeeze pressure (Pa)", f"a larger {band.load_name}"))
 

@@ -12,7 +12,6 @@ a contact angle has no capillarity and none of these columns.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -21,14 +20,13 @@ from numpy.typing import NDArray
 
 from ..errors import InputError
 from ..io.quantities import quantity, record_fields, units_of
-from ..io.units import format_quantity
 from ..physics.capillarity import Wetting, check_contact_angle, check_surface_tension
 from ..physics.critical_junction import CriticalJunctionResult
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.properties import canonical_fluid_name, surface_tension
-from ..physics.validity import pressures_text
-from .band import BandResult, BandTheory, _loads_text
+from .band import BandResult, BandTheory
 from .model import Case
+from .notes import Note
 from .prediction import FloatArray, _band_effective_gap
 from .schema import CAPILLARITY_KEYS, Section, case_keys
 
@@ -130,10 +128,10 @@ def uniform_capillarity(case: Case, res: CriticalJunctionResult, em: EffectiveMe
     assert wetting is not None
     dp = case.pressure_difference
     rows = {"critical_junction": _rows(wetting, np.where(res.percolates, res.critical_gap, np.nan), dp)}
-    res = _held(res, rows["critical_junction"], "critical junction", lambda m: pressures_text(res.squeeze_pressure, m), dp)
+    res = _held(res, rows["critical_junction"], "critical junction", "squeeze_pressure", res.squeeze_pressure, dp)
     if em is not None:
         rows["effective_medium"] = _rows(wetting, np.where(em.percolates, em.effective_gap, np.nan), dp)
-        em = _held(em, rows["effective_medium"], "", lambda m: pressures_text(res.squeeze_pressure, m), dp)
+        em = _held(em, rows["effective_medium"], "", "squeeze_pressure", res.squeeze_pressure, dp)
     return res, em, rows
 
 
@@ -154,22 +152,21 @@ def band_capillarity(case: Case, band: BandResult) -> tuple[BandResult, dict[str
             continue
         gap = band.critical_gap_at_max_pressure if name == "critical_junction" else _band_effective_gap(case, theory)
         rows[name] = _rows(wetting, np.where(theory.percolates, gap, np.nan), dp)
-        theories[name] = _held(theory, rows[name], name.replace("_", " "), lambda m: _loads_text(band.band, m), dp)
+        theories[name] = _held(theory, rows[name], name.replace("_", " "), band.band.load_name, band.band.loads, dp)
     cj = theories["critical_junction"]
     assert cj is not None
     return replace(band, critical_junction=cj, effective_medium=theories["effective_medium"]), rows
 
 
-def _held(result: Any, rows: CapillaryRows, theory: str, rows_text: Callable[[NDArray[np.bool_]], str], dp: float) -> Any:
+def _held(result: Any, rows: CapillaryRows, theory: str, load_name: str, loads: FloatArray, dp: float) -> Any:
     """``result`` (a theory's result with ``leak_rate`` and ``messages``) with Q = 0 where ``rows`` hold, and a note
-    naming those rows (``rows_text``) and the theory (a prefix; "" for none)."""
+    (``held_by_capillarity``) naming the theory ("" for none) and the loads held (``load_name``: the case's load)."""
     if not rows.held.any():
         return result
-    where = rows_text(rows.held)
-    low = float(np.nanmin(rows.entry_pressure[rows.held]))
-    note = (f"{theory + ': ' if theory else ''}held by capillarity at {where}: ΔP = {format_quantity(dp, 'pressure', 4)} "
-            f"is below the entry pressure of the narrowest gap (at least {format_quantity(low, 'pressure', 4)} there), so the "
-            "non-wetting liquid does not pass it: Q = 0 (held_by_capillarity)")
+    note = Note("held_by_capillarity", {"theory": theory, "load_name": load_name,
+                                        "loads": tuple(np.asarray(loads, dtype=float)[rows.held].tolist()),
+                                        "pressure_difference": dp,
+                                        "entry_pressure": float(np.nanmin(rows.entry_pressure[rows.held]))})
     return replace(result, leak_rate=np.where(rows.held, 0.0, result.leak_rate), messages=(*result.messages, note))
 
 

@@ -9,7 +9,6 @@ file against the case's seal (its load column and loads) live here too and are s
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -20,9 +19,10 @@ from ..io.leak_units import celsius, pv_throughput
 from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
-from .band import BandResult
+from .band import BandResult, load_value
 from .gas import gas_throughput
 from .model import Case
+from .notes import Note, NoteLike
 from .prediction import FloatArray, _band_at, _band_conductance, _band_effective_gap, _band_k, predict, predict_effective_medium
 from .verdicts import Verdicts, _band_verdicts, _uniform_verdicts
 
@@ -33,15 +33,6 @@ BAND_CURVE_POINTS = 30
 
 
 # ---------------------------------------------------------------------- a data file against the case's seal
-def _load_text(load_name: str, value: float) -> str:
-    """"compression 20 %", "profile scale 1.5" or "P0 = 30000 Pa" for one load."""
-    if load_name == "compression":
-        return f"compression {100 * value:.4g} %"
-    if load_name == "profile_scale":
-        return f"profile scale {value:.4g}"
-    return f"P0 = {value:.6g} Pa"
-
-
 def seal_description(case: Case) -> str:
     """The case's seal in a few words, for messages about a data file that does not fit it."""
     band = case.band
@@ -112,7 +103,7 @@ def _band_fit(case: Case, loads: ArrayLike, dp: FloatArray, q: FloatArray
     return fits, res, inverse
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FitResult:
     """α of both models fitted to measured leak rates, with what the fit figure draws (SI units).
 
@@ -158,7 +149,7 @@ class FitResult:
     measured: FloatArray
     grid: FloatArray
     curves: dict[str, FloatArray]
-    messages: tuple[str, ...]
+    messages: tuple[NoteLike, ...]
     load_name: str = "squeeze_pressure"
     curve_grids: dict[str, FloatArray] = field(default_factory=dict)
     leak_rate_unit: str = "m^3/s"
@@ -166,7 +157,7 @@ class FitResult:
 
 
 def _outside_validity(data: LeakData, fits: dict[str, ScaleFit], verdicts: Verdicts, rows: NDArray[np.int_] | None,
-                      where: Callable[[int], str]) -> tuple[list[str], dict[str, tuple[int, ...]]]:
+                      load_name: str, loads: FloatArray) -> tuple[list[NoteLike], dict[str, tuple[int, ...]]]:
     """The rows in each model's fit that ``predict`` marks outside the theory's validity: a note per model naming their
     lines, loads and the first reason, and the rows (from 0) per model.
 
@@ -178,30 +169,44 @@ def _outside_validity(data: LeakData, fits: dict[str, ScaleFit], verdicts: Verdi
     if valid_em is not None and why_em is not None:
         judged["effective_medium"] = (valid_em, why_em)
     at = np.arange(len(data)) if rows is None else rows
-    notes, out = [], {}
+    notes: list[NoteLike] = []
+    out = {}
     for name, (valid, why) in judged.items():
         bad = tuple(int(i) for i in np.flatnonzero(~np.asarray(valid)[at] & fits[name].used))
         out[name] = bad
         if not bad:
             continue
-        lines = ", ".join(f"{data.line_of(i)} ({where(i)})" for i in bad)
-        notes.append(f"{name.replace('_', ' ')}: line{'s' if len(bad) > 1 else ''} {lines} outside the theory's validity "
-                     f"(predict's valid = NO: {why[int(at[bad[0]])]}); kept in the fit, though the theory's value there "
-                     f"is the formula's, not a prediction (remove the line{'s' if len(bad) > 1 else ''} from the data file "
-                     f"to fit without {'them' if len(bad) > 1 else 'it'})")
+        notes.append(Note("fit_outside_validity", {
+            "theory": name.replace("_", " "), "lines": tuple(data.line_of(i) for i in bad), "load_name": load_name,
+            "loads": tuple(float(loads[i]) for i in bad), "reason": why[int(at[bad[0]])]}))
     return notes, out
 
 
-def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], where: Callable[[int], str]) -> list[str]:
-    """Refuse a fit of no point at all; else the notes on excluded rows (each with ``where(row)``) and a lone point."""
+def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], load_name: str, loads: FloatArray) -> list[NoteLike]:
+    """Refuse a fit of no point at all; else the notes on excluded rows (each with its load) and a lone point."""
     if not any(f.fitted for f in fits.values()):
         reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
         raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
-    messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({where(i)}) excluded: {reason}"
-                for name, f in fits.items() for i, reason in f.excluded]
+    messages: list[NoteLike] = [
+        Note("fit_excluded", {"theory": name.replace("_", " "), "line": data.line_of(i), "load_name": load_name,
+                              "load": float(loads[i]), "reason": reason})
+        for name, f in fits.items() for i, reason in f.excluded]
     if not any(f.n_used > 1 for f in fits.values()):
-        messages.append("with one usable point α has no standard error")
+        messages.append(Note("fit_single_point"))
     return messages
+
+
+def _large_pressure_difference(data: LeakData, dp: FloatArray, pressure: FloatArray, load_name: str,
+                               loads: FloatArray) -> list[NoteLike]:
+    """A note on the first row whose ΔP (Pa) is not small against ``pressure`` (Pa: P0, or a band's peak contact
+    pressure at the row's load), with how many rows are like it; none if no row is."""
+    large = pressure_difference_not_small(pressure, dp)
+    if not large.any():
+        return []
+    i = int(np.argmax(large))
+    return [Note("fit_pressure_difference_large", {
+        "line": data.line_of(i), "pressure_difference": float(dp[i]), "pressure": float(pressure[i]),
+        "load_name": load_name, "load": float(loads[i]), "rows": int(large.sum())})]
 
 
 def run_fit(case: Case, data: LeakData) -> FitResult:
@@ -222,19 +227,10 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
         return _run_band_fit(case, data)
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     fits, verdicts = _uniform_fit(case, data.squeeze_pressure, dp_used, data.leak_rate)
-
-    def where(i: int) -> str:
-        return f"P0 = {data.squeeze_pressure[i]:.6g} Pa"
-
-    messages = _fit_messages(data, fits, where)
-    notes, outside = _outside_validity(data, fits, verdicts, None, where)
+    messages = _fit_messages(data, fits, "squeeze_pressure", data.squeeze_pressure)
+    notes, outside = _outside_validity(data, fits, verdicts, None, "squeeze_pressure", data.squeeze_pressure)
     messages += notes
-    large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
-    if large.any():
-        i = int(np.argmax(large))
-        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = "
-                        f"{data.squeeze_pressure[i]:.6g} Pa ({int(large.sum())} row(s) like it): both theories "
-                        "assume P0 >> ΔP")
+    messages += _large_pressure_difference(data, dp_used, data.squeeze_pressure, "squeeze_pressure", data.squeeze_pressure)
     p0 = data.squeeze_pressure
     same = bool(np.allclose(dp_used, dp_used[0]))
     ref_dp = float(dp_used[0]) if same else case.pressure_difference
@@ -245,7 +241,8 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
                                      pressure_difference=ref_dp).leak_rate,
         "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
     }
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), outside_validity=outside)
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp, same_pressure_difference=same,
+                     measured=measured, grid=grid, curves=curves, messages=tuple(messages), outside_validity=outside)
 
 
 #: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.leak_units`).
@@ -266,7 +263,6 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     q = pv_throughput(data.leak_rate_si, data.leak_rate_kind, temperature=gas.temperature, molar_mass=gas.gas.molar_mass,
                       pressure=data.reference_pressure)
     dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
-    unit = ("load", "") if case.band is not None else ("P0", " Pa")
 
     def models(at: Case, loads: FloatArray) -> tuple[dict[str, tuple[FloatArray, FloatArray, FloatArray]], Verdicts]:
         """(K at α = 1, gap, length λ_c) of both theories at ``loads`` (those of :func:`gas_rows`), and their verdicts there."""
@@ -289,21 +285,12 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     at_distinct, verdicts = models(case, distinct)
     fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp, lam[inverse]), name)
             for name, (k, gap, lam) in at_distinct.items()}
-    if not any(f.fitted for f in fits.values()):
-        reasons = "; ".join(f"line {data.line_of(i)}: {r}" for i, r in fits["effective_medium"].excluded[:3])
-        raise SealeakError(f"{data.path}: no data point can be fitted by either model ({reasons})")
-
-    def where(i: int) -> str:
-        return _load_text(case.band.load_name, loads[i]) if case.band is not None else f"P0 = {loads[i]:.6g} Pa"
-
-    messages = [f"{name.replace('_', ' ')}: line {data.line_of(i)} ({unit[0]} = {loads[i]:.6g}{unit[1]}) excluded: {reason}"
-                for name, f in fits.items() for i, reason in f.excluded]
-    notes, outside = _outside_validity(data, fits, verdicts, inverse, where)
+    load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
+    messages = _fit_messages(data, fits, load_name, loads)
+    notes, outside = _outside_validity(data, fits, verdicts, inverse, load_name, loads)
     messages += notes
     messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {celsius(gas.temperature):.4g} °C "
                     f"(Pa·m³/s), P_b = {gas.downstream_pressure:.6g} Pa and P_a = P_b + ΔP of each row")
-    if not any(f.n_used > 1 for f in fits.values()):
-        messages.append("with one usable point α has no standard error")
     same = bool(np.allclose(dp, dp[0]))
     ref_dp = float(dp[0]) if same else case.pressure_difference
     pb = gas.downstream_pressure
@@ -316,8 +303,8 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
         grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
         at_grid = models(case, grid)[0]
     curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp), lam) for name, (k, gap, lam) in at_grid.items()}
-    load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp, same_pressure_difference=same,
+                     measured=measured, grid=grid, curves=curves, messages=tuple(messages), load_name=load_name,
                      leak_rate_unit="Pa*m^3/s", outside_validity=outside)
 
 
@@ -336,7 +323,8 @@ def _check_file_loads(case: Case, data: LeakData, loads: NDArray[np.float64]) ->
             except InputError as exc:
                 row = int(np.argmax(loads == v))
                 raise FileFormatError(data.path, f"line {data.line_of(row)}, column '{column}': "
-                                                 f"{_load_text(band.load_name, v)}: {exc.allowed}") from None
+                                                 f"{band.load_name.replace('_', ' ')} {load_value(band.load_name, v)}: "
+                                                 f"{exc.allowed}") from None
         raise
 
 
@@ -349,23 +337,14 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     _check_file_loads(case, data, loads)
     distinct = np.unique(loads)
     fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
-
-    def where(i: int) -> str:
-        return _load_text(band.load_name, loads[i])
-
-    messages = _fit_messages(data, fits, where)
-    notes, outside = _outside_validity(data, fits, _band_verdicts(case, res, pressure_difference=False), inverse, where)
+    messages = _fit_messages(data, fits, band.load_name, loads)
+    notes, outside = _outside_validity(data, fits, _band_verdicts(case, res, pressure_difference=False), inverse,
+                                       band.load_name, loads)
     messages += notes
     if res.band.oring is not None:
         messages += list(res.band.oring.warnings)
     # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
-    p_max = res.max_contact_pressure[inverse]
-    large = pressure_difference_not_small(p_max, dp_used)
-    if large.any():
-        i = int(np.argmax(large))
-        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against the peak contact pressure "
-                        f"{p_max[i]:.6g} Pa at {_load_text(band.load_name, loads[i])} ({int(large.sum())} row(s) like it): "
-                        "both theories assume p >> ΔP")
+    messages += _large_pressure_difference(data, dp_used, res.max_contact_pressure[inverse], band.load_name, loads)
     same = bool(np.allclose(dp_used, dp_used[0]))
     ref_dp = float(dp_used[0]) if same else case.pressure_difference
     measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))
@@ -374,5 +353,6 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     k_em = _band_k(res, res.effective_medium) if res.effective_medium is not None else np.zeros(distinct.size)
     curves = {"critical_junction": np.where(ks_grid["critical-junction"][0] > 0, ks_grid["critical-junction"][0], np.nan) * ref_dp,
               "effective_medium": np.where(k_em > 0, k_em, np.nan) * ref_dp}
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), band.load_name,
-                     {"effective_medium": distinct}, outside_validity=outside)
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp, same_pressure_difference=same,
+                     measured=measured, grid=grid, curves=curves, messages=tuple(messages), load_name=band.load_name,
+                     curve_grids={"effective_medium": distinct}, outside_validity=outside)

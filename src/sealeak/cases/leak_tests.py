@@ -36,6 +36,7 @@ from ..physics.gas import GasLeak, gas_leak, pressure_integral
 from ..physics.validity import strain_warning
 from .band import BandResult, run_band
 from .model import Case
+from .notes import NoteLike
 from .schema import case_keys
 
 __all__ = ["DecayModel", "DecayPrediction", "decay_prediction", "DecayReadingsResult", "decay_readings", "decay_rig"]
@@ -89,7 +90,7 @@ class DecayPrediction:
 
     squeeze_pressure: float
     models: dict[str, DecayModel]
-    messages: tuple[str, ...] = ()
+    messages: tuple[NoteLike, ...] = ()
     band: BandResult | None = None
 
     @property
@@ -127,7 +128,7 @@ def _uniform(case: Case, rig: DecayRigSetup, model: str) -> tuple[float, float, 
         return (float(em.leak_rate[0]) if ok else 0.0), (float(em.effective_gap[0]) if ok else math.nan), em.messages
 
 
-def _band(case: Case, models: list[str]) -> tuple[dict[str, tuple[float, float, tuple[str, ...]]], BandResult]:
+def _band(case: Case, models: list[str]) -> tuple[dict[str, tuple[float, float, tuple[NoteLike, ...]]], BandResult]:
     """K (m³/(Pa·s)), gap (m) and notes per model of a band seal at its one load (docs/theory.md §10.1)."""
     band = case.band
     assert band is not None
@@ -164,7 +165,7 @@ def decay_prediction(case: Case) -> DecayPrediction:
     rig = decay_rig(case)
     test, gas = rig.test, rig.gas
     models = _models(case)
-    messages: list[str] = []
+    messages: list[NoteLike] = []
     band = None
     if case.band is not None:
         found, band = _band(case, models)

@@ -17,11 +17,12 @@ from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .fitting import _check_file_loads, _check_load_column
 from .model import Case
+from .notes import NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
 
 __all__ = ["LinearityCheck", "linearity", "run_linearity"]
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LinearityCheck:
     """Q against ΔP at one squeeze pressure: the straight-line fit and the models' slopes.
 
@@ -50,7 +51,7 @@ class LinearityCheck:
     squeeze_pressure_source: str
     model_slopes: dict[str, float]
     alpha_from_slope: float | None
-    messages: tuple[str, ...]
+    messages: tuple[NoteLike, ...]
     load_name: str = "squeeze_pressure"
     load: float | None = None
 
@@ -88,13 +89,14 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     elif p0 is None and case.rig is not None:
         p0, source = case.rig.squeeze_pressure(case.seal), "the [rig] load"
     slopes: dict[str, float] = {}
-    messages: list[str] = []
+    messages: list[NoteLike] = []
     alpha_from_slope = None
     if p0 is not None:
         slopes, alpha_from_slope, messages = _model_slopes(case, line, {m: _conductance(case, [p0], m) for m in _MODELS})
     else:
         messages.append("no squeeze pressure known (give --squeeze-pressure): no comparison with the models")
-    return LinearityCheck(line, p0, source, slopes, alpha_from_slope, tuple(messages))
+    return LinearityCheck(line=line, squeeze_pressure=p0, squeeze_pressure_source=source, model_slopes=slopes,
+                          alpha_from_slope=alpha_from_slope, messages=tuple(messages))
 
 
 def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = None,
@@ -123,12 +125,12 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
 _MODELS: tuple[Model, ...] = ("critical-junction", "effective-medium")
 
 
-def _model_slopes(case: Case, line: LinearFit, conductances: dict[Model, tuple[FloatArray, tuple[str, ...]]]
-                  ) -> tuple[dict[str, float], float | None, list[str]]:
+def _model_slopes(case: Case, line: LinearFit, conductances: dict[Model, tuple[FloatArray, tuple[NoteLike, ...]]]
+                  ) -> tuple[dict[str, float], float | None, list[NoteLike]]:
     """Each model's slope K = Q/ΔP (m³/(s·Pa)) at the load, from ``conductances`` ({model: (K per load, notes)});
     the α the data's slope implies (slope / K_cj at α = 1); the notes of a model that has no leak there."""
     slopes: dict[str, float] = {}
-    messages: list[str] = []
+    messages: list[NoteLike] = []
     alpha_from_slope = None
     for model, (k, notes) in conductances.items():
         if k[0] > 0:
@@ -147,7 +149,7 @@ def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str
     if load is None and band.loads.size == 1:
         load, source = float(band.loads[0]), "the case file"
     slopes: dict[str, float] = {}
-    messages: list[str] = []
+    messages: list[NoteLike] = []
     alpha_from_slope = None
     p_mean = None
     if load is not None:
@@ -159,4 +161,5 @@ def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str
         messages.append(f"the case has {band.loads.size} values of conditions.{band.load_name} and the data file no "
                         f"{band.load_name} column: give one {word} (in the case, or as a column with one value) to "
                         "compare with the models")
-    return LinearityCheck(line, p_mean, source, slopes, alpha_from_slope, tuple(messages), band.load_name, load)
+    return LinearityCheck(line=line, squeeze_pressure=p_mean, squeeze_pressure_source=source, model_slopes=slopes,
+                          alpha_from_slope=alpha_from_slope, messages=tuple(messages), load_name=band.load_name, load=load)

@@ -22,6 +22,7 @@ from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.seal import Seal
 from .band import BandResult, BandTheory, run_band
 from .model import Case
+from .notes import NoteLike
 from .schema import case_keys
 from .seals import with_loads
 
@@ -82,7 +83,7 @@ def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critica
     return _conductance(case, squeeze_pressure, model)[0]
 
 
-def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple[FloatArray, tuple[str, ...]]:
+def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple[FloatArray, tuple[NoteLike, ...]]:
     """:func:`conductance` and the model's notes (why there is no leak channel, where there is none)."""
     if model not in ("critical-junction", "effective-medium"):
         raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
@@ -131,7 +132,7 @@ def _band_k(band_result: BandResult, theory: BandTheory) -> FloatArray:
 
 
 def _band_conductance(case: Case, loads: ArrayLike | None,
-                      models: tuple[str, ...]) -> tuple[dict[str, tuple[FloatArray, tuple[str, ...]]], BandResult]:
+                      models: tuple[str, ...]) -> tuple[dict[str, tuple[FloatArray, tuple[NoteLike, ...]]], BandResult]:
     """K of a band seal per model at ``loads`` (None: the case's), with each theory's notes, and the band result.
 
     One :func:`~sealeak.cases.band.run_band` serves both models (the effective medium only when asked:
@@ -139,7 +140,7 @@ def _band_conductance(case: Case, loads: ArrayLike | None,
     """
     at = case if loads is None else _band_at(case, loads)
     res = run_band(at, effective="effective-medium" in models)
-    out: dict[str, tuple[FloatArray, tuple[str, ...]]] = {}
+    out: dict[str, tuple[FloatArray, tuple[NoteLike, ...]]] = {}
     for model in models:
         theory = res.critical_junction if model == "critical-junction" else res.effective_medium
         assert theory is not None

@@ -20,11 +20,12 @@ from ..physics.validity import strain_warning
 from .band import BandResult
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
+from .notes import NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RigPrediction:
     """The rig simulated for a case (docs/theory.md §4).
 
@@ -53,7 +54,7 @@ class RigPrediction:
     columns: dict[str, WaterColumn]
     time_constant: dict[str, float] = field(default_factory=dict)
     drain_time: dict[str, float] = field(default_factory=dict)
-    messages: tuple[str, ...] = ()
+    messages: tuple[NoteLike, ...] = ()
     band: BandResult | None = None
 
 
@@ -86,7 +87,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         return decay_prediction(case)
     models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
     k_of: dict[str, float] = {}
-    messages: list[str] = []
+    messages: list[NoteLike] = []
     band = None
     if case.band is not None:
         if case.band.loads.size != 1:
@@ -120,7 +121,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
                             "the theory assumes p >> ΔP")
     elif pressure_difference_not_small(p0, dp0):
         messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
-    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages), band)
+    return RigPrediction(squeeze_pressure=p0, conductance=k_of, columns=columns, time_constant=tau, drain_time=t_final,
+                         messages=tuple(messages), band=band)
 
 
 def _one_load_needed(case: Case) -> str:

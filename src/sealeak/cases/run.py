@@ -29,6 +29,7 @@ from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarit
 from .gas import GAS_UNITS, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case
+from .notes import NoteLike
 from .prediction import predict, predict_effective_medium
 from .rig import RigPrediction, rig_prediction
 from .verdicts import _band_verdicts, _uniform_verdicts, case_warnings
@@ -84,7 +85,7 @@ class CaseResult:
     critical_junction: CriticalJunctionResult
     effective_medium: EffectiveMediumResult | None = None
     rig: RigPrediction | DecayPrediction | None = None
-    messages: tuple[str, ...] = ()
+    messages: tuple[NoteLike, ...] = ()
     valid: NDArray[np.bool_] = quantity("1", "the critical gap is above the fluid's molecular size (continuum flow)",
                                         default_factory=lambda: np.ones(0, dtype=bool))
     validity: tuple[str, ...] = quantity("", "why the result is not valid ('' where valid)", default=())
@@ -215,7 +216,7 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     capillary = None
     if case.capillarity is not None:  # after the gas rows: helium passes where the liquid is held
         res, em, capillary = uniform_capillarity(case, res, em)
-    messages = list(res.messages)
+    messages: list[NoteLike] = list(res.messages)
     if em is not None:
         messages += ["effective medium: " + m for m in em.messages]
     return CaseResult(case=case, critical_junction=res, effective_medium=em, rig=rig_result, messages=tuple(messages),
@@ -239,7 +240,7 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
     capillary = None
     if case.capillarity is not None:  # after the gas rows: helium passes where the liquid is held
         band, capillary = band_capillarity(case, band)
-    messages = list(band.critical_junction.messages)
+    messages: list[NoteLike] = list(band.critical_junction.messages)
     if band.effective_medium is not None:
         messages += list(band.effective_medium.messages)
     return CaseResult(case=case, critical_junction=res, rig=rig_result, messages=tuple(messages), valid=valid,

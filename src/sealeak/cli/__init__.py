@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from .._version import __version__
 from ..errors import SealeakError
 from . import lab, serve, simulate, surface
-from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, emit, inputs, load_case_file, outputs, usage_message
+from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, add_output_args, emit, inputs, load_case_file, outputs, usage_message
 
 __all__ = ["main", "build_parser"]
 
@@ -75,9 +75,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("predict", help="critical-junction leak rate for a case file")
     add_case_args(p)
     p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
-    p.add_argument("--json", metavar="FILE", help="write the results as JSON")
     p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
-    p.add_argument("--plots", metavar="DIR", help="write the figures (PNG) into DIR")
+    add_output_args(p, json="write the results as JSON", plots="write the figures (PNG) into DIR")
     p.set_defaults(func=_cmd_predict)
 
     p = sub.add_parser("examples", help="list the bundled example cases, or print one")

@@ -63,6 +63,13 @@ def add_case_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
 
 
+def add_output_args(p: argparse.ArgumentParser, *, json: str, plots: str) -> None:
+    """The result files of a command that computes: --json FILE (``json``: what it holds) and --plots DIR (``plots``:
+    which figures go into DIR)."""
+    p.add_argument("--json", metavar="FILE", help=json)
+    p.add_argument("--plots", metavar="DIR", help=plots)
+
+
 def load_case_file(args: argparse.Namespace) -> CaseFile:
     """The case file named by ``args.case`` or ``--example`` (exactly one of them), read once per run
     (:func:`inputs` reads it for the files it names, the command for its cases)."""

@@ -11,7 +11,7 @@ import argparse
 from collections.abc import Callable
 
 from ..errors import InputError, SealeakError
-from ._common import emit, inputs, load, load_case_file, outputs, positive_pressure, say
+from ._common import add_output_args, emit, inputs, load, load_case_file, outputs, positive_pressure, say
 
 __all__ = ["register"]
 
@@ -37,8 +37,7 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                    help="P0 of a linearity data set (default: its squeeze_pressure column, the case's single P0, "
                         "or the [rig] load); not for an O-ring or profile seal, whose compression or profile_scale "
                         "(a data column, or the case's single value) sets the contact")
-    p.add_argument("--json", metavar="FILE", help="write the fit as JSON")
-    p.add_argument("--plots", metavar="DIR", help="write the figure (fit.png or linearity.png) into DIR")
+    add_output_args(p, json="write the fit as JSON", plots="write the figure (fit.png or linearity.png) into DIR")
     p.set_defaults(func=_cmd_fit)
 
     p = sub.add_parser("rig", help="virtual leak-test rig (water column or pressure decay): against time, or from readings",
@@ -51,8 +50,7 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--readings", metavar="FILE", help="measured readings: (time, height) of a water column, e.g. 'time (min), "
                                                       "height (cm)', or (time, absolute pressure) of a pressure-decay test, "
                                                       "e.g. 'time (min), pressure (mbar)'")
-    p.add_argument("--json", metavar="FILE", help="write the results as JSON")
-    p.add_argument("--plots", metavar="DIR", help="write rig.png (and readings.png) into DIR")
+    add_output_args(p, json="write the results as JSON", plots="write rig.png (and readings.png) into DIR")
     p.set_defaults(func=_cmd_rig)
 
     p = sub.add_parser("report", help="write one self-contained HTML report of a case")

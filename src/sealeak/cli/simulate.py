@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError, SealeakError
-from ._common import emit, inputs, load, load_case_file, outputs
+from ._common import add_output_args, emit, inputs, load, load_case_file, outputs
 
 if TYPE_CHECKING:
     from ..cases import Case
@@ -249,9 +249,8 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--realizations", type=int,
                    help="random surfaces R (default: [simulation] realizations, else 4)")
     p.add_argument("--seed", type=int, help="random seed (default: [simulation] seed, else 0)")
-    p.add_argument("--json", metavar="FILE", help="write per-pressure results as JSON")
+    add_output_args(p, json="write per-pressure results as JSON", plots="write figures into DIR")
     p.add_argument("--fields", metavar="DIR", help="write DIR/r<r>-p<i>.npz with height, gap, pressure, size")
-    p.add_argument("--plots", metavar="DIR", help="write figures into DIR")
     p.add_argument("--no-threshold", action="store_true",
                    help="skip the percolation-threshold search (uniform seals; an O-ring makes none)")
     p.add_argument("--workers", type=int, metavar="N",

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
 from .files import input_file
-from .units import comma_advice, parse_number, unit_factor
+from .units import comma_advice, is_number, parse_number, unit_factor
 
 __all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
 
@@ -77,18 +77,10 @@ def _separator(line: str) -> re.Pattern[str] | None:
     if "," in line:
         tokens = line.split()
         if len(tokens) > 1 and any(_SPACED_COMMA_NUMBER.fullmatch(t) for t in tokens) and all(
-                _SPACED_COMMA_NUMBER.fullmatch(t) or _is_number(t) for t in tokens):
+                _SPACED_COMMA_NUMBER.fullmatch(t) or is_number(t) for t in tokens):
             return None
         return re.compile(",")
     return None
-
-
-def _is_number(cell: str) -> bool:
-    try:
-        parse_number(cell)
-    except ValueError:
-        return False
-    return True
 
 
 def _split(line: str, width: int | None = None) -> list[str]:

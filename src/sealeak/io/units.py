@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 import re
 import unicodedata
+from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
@@ -41,7 +42,7 @@ import pint
 
 from ..errors import UnitError
 
-__all__ = ["registry", "parse_quantity", "parse_number", "unit_factor", "unit_dimension", "to_si",
+__all__ = ["registry", "parse_quantity", "parse_number", "is_number", "unit_factor", "unit_dimension", "to_si",
            "comma_advice", "split_quantities", "format_quantity", "length_unit", "SI_UNITS", "DIMENSIONS"]
 
 #: SI unit of each physical dimension the project uses (the unit strings JSON output declares).
@@ -235,6 +236,15 @@ def _finite(number: str) -> float:
     if value == 0.0 and re.search(r"[1-9]", mantissa):
         raise ValueError(f"the number {number} is too small (below 1e-308 a float reads it as 0)")
     return value
+
+
+def is_number(text: str, parse: Callable[[str], float] = parse_number) -> bool:
+    """Whether ``parse`` (:func:`parse_number`, or e.g. ``float``) reads ``text`` as a number."""
+    try:
+        parse(text)
+    except ValueError:
+        return False
+    return True
 
 
 # ---------------------------------------------------------------------------------------- units

@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import quad, solve_ivp
 
-from ..errors import ConvergenceError, FileFormatError, InputError
+from ..errors import ConvergenceError, FileFormatError, InputError, positive_number
 
 __all__ = ["PressureDecaySetup", "PressureDecay", "pressure_decay", "viscous_throughput_function", "viscous_decay",
            "viscous_decay_time", "exponential_decay", "standard_leak_rate", "DecayReadings", "leak_rate_from_decay",
@@ -44,16 +44,6 @@ __all__ = ["PressureDecaySetup", "PressureDecay", "pressure_decay", "viscous_thr
 
 FloatArray = NDArray[np.float64]
 Throughput = Callable[[float, float], float]
-
-
-def _positive(name: str, value: float, allow_zero: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, value, "must be a number") from None
-    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise InputError(name, value, "must be finite and >= 0" if allow_zero else "must be finite and > 0")
-    return v
 
 
 @dataclass(frozen=True)
@@ -85,20 +75,18 @@ class PressureDecaySetup:
     duration: float | None = None
 
     def __post_init__(self) -> None:
-        _positive("volume", self.volume)
-        _positive("temperature", self.temperature)
-        p1 = _positive("initial_pressure", self.initial_pressure)
-        p2 = _positive("outside_pressure", self.outside_pressure, allow_zero=True)
+        positive_number("volume", self.volume)
+        positive_number("temperature", self.temperature)
+        p1 = positive_number("initial_pressure", self.initial_pressure)
+        p2 = positive_number("outside_pressure", self.outside_pressure, allow_zero=True)
         if not p1 > p2:
             raise InputError("initial_pressure", self.initial_pressure,
                              f"must be above the outside pressure {p2:.6g} Pa (absolute pressures; the volume loses gas)")
         if self.pressure_loss is not None:
-            dp = _positive("pressure_loss", self.pressure_loss)
-            if not dp < p1 - p2:
-                raise InputError("pressure_loss", self.pressure_loss,
-                                 f"must be below the initial pressure difference P1 − P2 = {p1 - p2:.6g} Pa")
+            positive_number("pressure_loss", self.pressure_loss,
+                            below=(p1 - p2, f"the initial pressure difference P1 − P2 = {p1 - p2:.6g} Pa"))
         if self.duration is not None:
-            _positive("duration", self.duration)
+            positive_number("duration", self.duration)
 
     @property
     def loss(self) -> float:
@@ -109,7 +97,7 @@ class PressureDecaySetup:
 def viscous_throughput_function(conductance: float) -> Throughput:
     """Q_pV(P_in, P_out) = (K/2)(P_in² − P_out²) in Pa·m³/s for a no-slip conductance K (m³/(Pa·s))
     (docs/theory.md §11.3)."""
-    k = _positive("conductance", conductance, allow_zero=True)
+    k = positive_number("conductance", conductance, allow_zero=True)
 
     def throughput(p_in: float, p_out: float) -> float:
         return 0.5 * k * (p_in - p_out) * (p_in + p_out)
@@ -123,7 +111,7 @@ def viscous_decay(setup: PressureDecaySetup, conductance: float, time: ArrayLike
     K in m³/(Pa·s), t in s. Derivation: F(P) = artanh(P2/P)/P2 has dF/dP = −1/(P² − P2²), so dF/dt = K/(2V):
     artanh(P2/P) = artanh(P2/P1) + K P2 t/(2V); for P2 = 0, 1/P = 1/P1 + K t/(2V).
     """
-    k = _positive("conductance", conductance, allow_zero=True)
+    k = positive_number("conductance", conductance, allow_zero=True)
     t = np.asarray(time, dtype=float)
     p1, p2, v = setup.initial_pressure, setup.outside_pressure, setup.volume
     a = 0.5 * k / v
@@ -137,8 +125,8 @@ def viscous_decay_time(setup: PressureDecaySetup, conductance: float, pressure_l
 
     t = 2V (F(P1 − ΔP) − F(P1))/K with F(P) = artanh(P2/P)/P2 (1/P for P2 = 0); docs/theory.md §11.7.
     """
-    k = _positive("conductance", conductance, allow_zero=True)
-    dp = setup.loss if pressure_loss is None else _positive("pressure_loss", pressure_loss)
+    k = positive_number("conductance", conductance, allow_zero=True)
+    dp = setup.loss if pressure_loss is None else positive_number("pressure_loss", pressure_loss)
     p1, p2 = setup.initial_pressure, setup.outside_pressure
     pf = p1 - dp
     if not pf > p2:
@@ -161,7 +149,7 @@ def exponential_decay(setup: PressureDecaySetup, conductance: float, time: Array
 
     The exact solution for a throughput linear in the pressure difference, Q_pV = K P̄ (P − P2); the
     small-ΔP limit of the viscous decay (docs/theory.md §11.7)."""
-    k = _positive("conductance", conductance, allow_zero=True)
+    k = positive_number("conductance", conductance, allow_zero=True)
     p1, p2 = setup.initial_pressure, setup.outside_pressure
     rate = k * 0.5 * (p1 + p2) / setup.volume
     return p2 + (p1 - p2) * np.exp(-rate * np.asarray(time, dtype=float))
@@ -169,7 +157,7 @@ def exponential_decay(setup: PressureDecaySetup, conductance: float, time: Array
 
 def standard_leak_rate(volume: float, pressure_loss: float, duration: float) -> float:
     """Q_pV = V ΔP/Δt in Pa·m³/s: the leak rate a pressure-decay test reports (at the test temperature)."""
-    return _positive("volume", volume) * _positive("pressure_loss", pressure_loss) / _positive("duration", duration)
+    return positive_number("volume", volume) * positive_number("pressure_loss", pressure_loss) / positive_number("duration", duration)
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
-from ..errors import ConvergenceError, FileFormatError, InputError, UnitError
+from ..errors import ConvergenceError, FileFormatError, InputError, UnitError, positive_number
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
 from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas
@@ -49,16 +49,6 @@ RIG_KINDS = ("water-column", "pressure-decay")
 _DECAY_COLUMNS = {"time": {"time", "t"}, "pressure": {"pressure", "p", "absolute_pressure", "test_pressure"}}
 
 FloatArray = NDArray[np.float64]
-
-
-def _positive(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, value, "must be a number") from None
-    if not (np.isfinite(v) and v > 0):
-        raise InputError(name, value, "must be finite and > 0")
-    return v
 
 
 @dataclass(frozen=True)
@@ -96,18 +86,16 @@ class RigSetup:
     load_note: str = ""
 
     def __post_init__(self) -> None:
-        _positive("cylinder_diameter", self.cylinder_diameter)
-        _positive("initial_height", self.initial_height)
-        _positive("load", self.load)
-        _positive("density", self.density)
-        _positive("gravity", self.gravity)
+        positive_number("cylinder_diameter", self.cylinder_diameter)
+        positive_number("initial_height", self.initial_height)
+        positive_number("load", self.load)
+        positive_number("density", self.density)
+        positive_number("gravity", self.gravity)
         if self.final_height is not None:
-            _positive("final_height", self.final_height)
-            if not self.final_height < self.initial_height:
-                raise InputError("final_height", self.final_height,
-                                 f"must be below the initial height {self.initial_height:.6g} m")
+            positive_number("final_height", self.final_height,
+                            below=(self.initial_height, f"the initial height {self.initial_height:.6g} m"))
         if self.duration is not None:
-            _positive("duration", self.duration)
+            positive_number("duration", self.duration)
 
     @property
     def kind(self) -> str:
@@ -320,7 +308,7 @@ class DecayRigSetup:
         if self.rarefaction_model not in RAREFACTION_MODELS:
             raise InputError("rarefaction_model", self.rarefaction_model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
         if self.load is not None:
-            _positive("load", self.load)
+            positive_number("load", self.load)
         if abs(self.gas.temperature - self.test.temperature) > 1e-9 * self.test.temperature:
             raise InputError("temperature", self.gas.temperature,
                              f"the gas must be at the test temperature {self.test.temperature:.6g} K")

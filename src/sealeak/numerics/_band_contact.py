@@ -60,7 +60,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import fft as sfft
 from scipy import special
 
-from ..errors import InputError
+from ..errors import InputError, positive_values
 from ._contact import DEFAULT_MAX_ITER, DEFAULT_TOL, ContactField, _constrained_cg
 from ._memory import require_memory
 
@@ -209,10 +209,8 @@ def _check_grid(heights: ArrayLike, width: float, period: float, e_star: float) 
         raise InputError("heights", f"array of shape {h.shape}", "must be an nx × ny array with nx >= 4, ny >= 1")
     if not np.isfinite(h).all():
         raise InputError("heights", "non-finite values", "heights must be finite (no NaN or inf)")
-    for name, v, what in (("width", width, "a length > 0 (m)"), ("period", period, "a length > 0 (m)"),
-                          ("e_star", e_star, "a contact modulus > 0 (Pa)")):
-        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
-            raise InputError(name, v, f"must be finite, {what}")
+    positive_values(("width", width, "a length > 0 (m)"), ("period", period, "a length > 0 (m)"),
+                    ("e_star", e_star, "a contact modulus > 0 (Pa)"))
     return h
 
 
@@ -293,10 +291,8 @@ def solve_band_contact(
     BandContactResult
     """
     h = _check_grid(heights, width, period, e_star)
-    for name, v, what in (("radius", radius, "a length > 0 (m)"),
-                          ("force_per_length", force_per_length, "a force per length > 0 (N/m)")):
-        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
-            raise InputError(name, v, f"must be finite, {what}")
+    positive_values(("radius", radius, "a length > 0 (m)"),
+                    ("force_per_length", force_per_length, "a force per length > 0 (N/m)"))
     if not (math.isfinite(tol) and tol > 0):
         raise InputError("tol", tol, "must be a finite number > 0")
     if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):

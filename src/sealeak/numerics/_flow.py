@@ -60,7 +60,7 @@ from scipy import sparse
 from scipy.linalg import pinvh
 from scipy.sparse import linalg as spla
 
-from ..errors import ConvergenceError, InputError, SolutionCheckError
+from ..errors import ConvergenceError, InputError, SolutionCheckError, positive_values
 from ._linalg import dot
 from ._memory import require_memory
 from ._percolation import spanning_mask
@@ -149,10 +149,8 @@ def _validate(gap: ArrayLike, size: float, viscosity: float, dp: float) -> Float
         raise InputError("gap", f"array of shape {g.shape}", "must be a square N×N array")
     if np.isnan(g).any() or np.isinf(g).any():
         raise InputError("gap", "non-finite values", "gaps must be finite (no NaN or inf)")
-    for name, v, what in (("size", size, "a length > 0 (m)"), ("viscosity", viscosity, "a viscosity > 0 (Pa s)"),
-                          ("pressure_difference", dp, "a pressure difference > 0 (Pa)")):
-        if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v) and v > 0):
-            raise InputError(name, v, f"must be finite, {what}")
+    positive_values(("size", size, "a length > 0 (m)"), ("viscosity", viscosity, "a viscosity > 0 (Pa s)"),
+                    ("pressure_difference", dp, "a pressure difference > 0 (Pa)"))
     return g
 
 

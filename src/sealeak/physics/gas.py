@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import quad
 
-from ..errors import InputError
+from ..errors import InputError, positive_number
 from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
 from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
 from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
@@ -59,16 +59,6 @@ BK_BETA = 0.4
 _REGIMES = ((1e-3, "continuum"), (0.1, "slip"), (10.0, "transition"), (math.inf, "free molecular"))
 
 
-def _finite(name: str, value: float, *, positive: bool = True, allow_zero: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, value, "must be a number") from None
-    if not math.isfinite(v) or (positive and (v < 0 or (v == 0 and not allow_zero))):
-        raise InputError(name, value, "must be finite and >= 0" if allow_zero else "must be finite and > 0")
-    return v
-
-
 @dataclass(frozen=True)
 class Gas:
     """An ideal gas at temperature ``temperature`` (K) with ``viscosity`` μ (Pa·s) and ``molar_mass`` M (kg/mol).
@@ -83,11 +73,11 @@ class Gas:
     molar_mass: float
 
     def __post_init__(self) -> None:
-        t = _finite("temperature", self.temperature)
+        t = positive_number("temperature", self.temperature)
         if t < 1.0:
             raise InputError("temperature", self.temperature, "must be an absolute temperature in K (> 1 K)")
-        _finite("viscosity", self.viscosity)
-        m = _finite("molar_mass", self.molar_mass)
+        positive_number("viscosity", self.viscosity)
+        m = positive_number("molar_mass", self.molar_mass)
         if not 1e-3 <= m <= 1.0:
             raise InputError("molar_mass", self.molar_mass, "must be a molar mass in kg/mol (e.g. 0.004 for helium)")
 
@@ -156,7 +146,7 @@ def _check_model(model: str) -> None:
 
 def _length_ratio(length: float | None, gap: float) -> float | None:
     """ℓ = L/h of a constriction of length ``length`` L (m; None: an infinite slit) and height ``gap`` h (m)."""
-    return None if length is None else _finite("length", length) / gap
+    return None if length is None else positive_number("length", length) / gap
 
 
 def _kinetic_factor(kn: FloatArray, length_ratio: float | None) -> FloatArray:
@@ -250,7 +240,7 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
     adaptive quadrature (scipy.integrate.quad, relative tolerance 1e-12).
     """
     pa, pb = check_pressures(upstream, downstream)
-    h = _finite("gap", gap)
+    h = positive_number("gap", gap)
     _check_model(model)
     ratio = _length_ratio(length, h)
     if pa == pb:
@@ -318,8 +308,8 @@ def gas_leak(conductance: float, gap: float, gas: Gas, upstream: float, downstre
     (m): the constriction's length along the flow (the critical junction's λ_c), which caps the kinetic
     model's free-molecular flow; None: an infinite slit."""
     pa, pb = check_pressures(upstream, downstream)
-    k = _finite("conductance", conductance, allow_zero=True)
-    h = _finite("gap", gap)
+    k = positive_number("conductance", conductance, allow_zero=True)
+    h = positive_number("gap", gap)
     q = k * pressure_integral(h, gas, pa, pb, model, length) if k > 0 else 0.0
     rt = MOLAR_GAS_CONSTANT * gas.temperature
     kn = [float(gas.knudsen_number(h, p)) for p in (pa, 0.5 * (pa + pb), pb)]

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError
+from ..errors import InputError, positive_number
 from ._kernels import weighted_sum
 
 __all__ = ["PressureProfile", "BandIntegral", "series_resistance", "resistance_band"]
@@ -124,10 +124,7 @@ class PressureProfile:
 
 
 def _positive(name: str, value: float) -> float:
-    v = float(value)
-    if not (np.isfinite(v) and v > 0):
-        raise InputError(name, value, "must be a finite number > 0")
-    return v
+    return positive_number(name, value, allowed="must be a finite number > 0")
 
 
 @dataclass(frozen=True)

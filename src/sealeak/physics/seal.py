@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, positive_number
 
 __all__ = ["Seal", "STANDARD_GRAVITY"]
 
@@ -22,13 +22,7 @@ STANDARD_GRAVITY = 9.80665  # m/s²
 
 
 def _length(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, value, "must be a length (m)") from None
-    if not (np.isfinite(v) and v > 0):
-        raise InputError(name, value, "must be a finite length > 0")
-    return v
+    return positive_number(name, value, allowed="must be a finite length > 0")
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,7 @@ from ..cases import CaseResult
 from ..cases.band import BandResult
 from ..cases.model import BandSeal
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
-from .notes import loads_text
+from .notes import load_axis_label, load_text, loads_text
 from .plotstyle import (
     GAS_LEAK_LABEL,
     STYLE,
@@ -83,17 +83,14 @@ def _band(r: CaseResult) -> BandResult:
 
 # ---------------------------------------------------------------------- what the curves are
 def load_labels(band: BandSeal) -> list[str]:
-    """Legend label of each load: "ε = 12.5 %" (an O-ring's compression) or "scale 0.75" (a profile's factor)."""
-    if band.load_name == "compression":
-        return [f"ε = {100 * v:.3g} %" for v in band.loads]
-    return [f"scale {v:.3g}" for v in band.loads]
+    """Legend label of each load, as the notes write it: "compression 12.5 %" or "profile scale 0.75"."""
+    return [load_text(band.load_name, v) for v in band.loads]
 
 
 def _load_axis(band: BandSeal) -> tuple[np.ndarray, str]:
     """The x values of the leak-rate figure and their axis label."""
-    if band.load_name == "compression":
-        return 100.0 * band.loads, "compression ε = δ/d (%)"
-    return np.asarray(band.loads, dtype=float), "profile scale (1): factor on the file's pressures"
+    scale = 100.0 if band.load_name == "compression" else 1.0
+    return scale * np.asarray(band.loads, dtype=float), load_axis_label(band.load_name)
 
 
 def _centre(band: BandSeal, profile: PressureProfile) -> float:
@@ -364,12 +361,12 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
     bars.set_xlabel(_x_label(results, xunit))
     theory = {_main(r)[0] for r in results}
     bars.set_title(f"the narrowest part of each band holding {100 * RESISTANCE_FRACTION:.0f} % of the flow resistance "
-                   f"R = ∫dx/σ(p) ({', '.join(sorted(theory))})", fontsize=8, loc="left")
+                   f"R = ∫dx/σ(p)\n({', '.join(sorted(theory))})", fontsize=8, loc="left")
 
     notes = []
     first = _band(results[0]).band
     if first.kind == "o-ring":
-        notes.append("Hertz (semi-elliptic) pressure of each compression, drawn about the contact's centre")
+        notes.append("Hertz (semi-elliptic) pressure of each compression, centred on the contact")
     else:
         notes.append(f"profile from {first.profile_source.rsplit('/', 1)[-1] or 'the case file'}, multiplied by each scale")
     if len(profile_groups) > 1:

@@ -11,14 +11,16 @@ from typing import Any
 import numpy as np
 
 from ..cases import Case, FitResult, LinearityCheck, RigPrediction
+from ..cases.band import BandResult
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
 from ..io.leak_units import MBAR_L_PER_PA_M3, to_ml_per_min
 from ..lab.data import LeakData
 from ..lab.rig import ReadingsAnalysis, RigSetup
+from .notes import load_text, worded
 from .records import json_document, json_value
 from .text import fmt
 
-__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition", "load_label",
+__all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition",
            "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3",
            "is_gas_fit", "FIT_UNIT_TEXT"]
 
@@ -92,7 +94,7 @@ def fit_text(result: FitResult) -> str:
         lines.append(f"{name.replace('_', ' '):<20} {fmt(f.alpha):>10} {fmt(f.alpha_std, '.2g'):>10} "
                      f"{fmt(f.rms_log10_residual, '.3g'):>14} {f.n_used:>7}")
     lines += gas_lines[head:]
-    lines += ["note: " + m for m in result.messages]
+    lines += ["note: " + m for m in worded(result.messages)]
     return "\n".join(lines) + "\n"
 
 
@@ -105,7 +107,7 @@ def fit_json(result: FitResult) -> str:
                            "leak_rate_unit": result.leak_rate_unit,
                            "units": {"alpha": "1", "alpha_std": "1", "rms_log10_residual": "decades (log10)",
                                      "reference_pressure": "Pa"},
-                           "messages": list(result.messages)}
+                           "messages": worded(result.messages)}
     if is_gas_fit(result) and result.same_pressure_difference:
         # each row measured and fitted as pV throughputs, in the fit's unit and in the leak-test unit
         doc["units"] |= {"measured": "Pa*m^3/s", "measured_mbar_l_s": "mbar*l/s"}
@@ -137,7 +139,7 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
              f"({fmt(z, '.2g')} standard errors from 0{'; consistent with a line through the origin' if z < 2 else ''})",
              f"R²         {line.r_squared:.5f}, rms residual {line.rms_residual:.3g} m³/s"]
     if case.band is not None and check.load is not None:
-        lines.append(f"load       {load_label(check.load_name, check.load)} (from {check.squeeze_pressure_source}): mean contact "
+        lines.append(f"load       {load_text(check.load_name, check.load)} (from {check.squeeze_pressure_source}): mean contact "
                      f"pressure {fmt(p0 / 1e6 if p0 is not None else None)} MPa")
     elif p0 is not None:
         lines.append(f"P0         {p0 / 1e3:.4g} kPa (from {check.squeeze_pressure_source})")
@@ -146,7 +148,7 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
             lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa)")
         if check.alpha_from_slope is not None:
             lines.append(f"           α implied by the measured slope: {check.alpha_from_slope:.3g}")
-    lines += ["note: " + m for m in check.messages]
+    lines += ["note: " + m for m in worded(check.messages)]
     return "\n".join(lines) + "\n"
 
 
@@ -163,16 +165,11 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
                                               if check.alpha_from_slope is not None else None)},
            "units": {"slope": "m^3/(s*Pa)", "slope_std": "m^3/(s*Pa)", "intercept": "m^3/s",
                      "intercept_std": "m^3/s", "squeeze_pressure": "Pa", "model_slopes": "m^3/(s*Pa)"},
-           "messages": list(check.messages)}
+           "messages": worded(check.messages)}
     if case.band is not None:  # the band's load; squeeze_pressure is its mean contact pressure
         doc["linearity"][check.load_name] = json_value(check.load) if check.load is not None else None
         doc["units"][check.load_name] = "1"
     return json_document(doc)
-
-
-def load_label(load_name: str, value: float) -> str:
-    """"compression 20 %" or "profile scale 1.5"."""
-    return f"compression {100 * value:.4g} %" if load_name == "compression" else f"profile scale {value:.4g}"
 
 
 def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
@@ -183,18 +180,38 @@ def rig_condition(case: Case, pred: RigPrediction, short: bool = False) -> str:
     rig = case.rig
     assert rig is not None
     b = pred.band
+    text = _seal_condition(case, b, pred.squeeze_pressure, rig.load, rig.load_note, short)
+    if b is None or short:
+        return text
+    return text + f", seal line {b.band.length * 1e3:.4g} mm{' (2 faces)' if b.band.faces == 2 else ''}"
+
+
+def _seal_condition(case: Case, b: BandResult | None, squeeze_pressure: float, load: float | None, load_note: str,
+                    short: bool) -> str:
+    """What presses the seal in a rig: the load (N) and P0 (Pa), or a band seal's load and its contact."""
     if b is None:
         if short:
-            return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
-        return (f"{rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
+            return f"P0 = {squeeze_pressure / 1e3:.3g} kPa ({load_note or 'load'})"
+        return (f"{load:.4g} N ({load_note}) -> P0 = {squeeze_pressure / 1e3:.4g} kPa on the "
                 f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
     seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
+    at = load_text(b.band.load_name, float(b.band.loads[0]))
     if short:
-        return (f"{seal} at {load_label(b.band.load_name, float(b.band.loads[0]))}, peak contact pressure "
-                f"{b.max_contact_pressure[0] / 1e6:.3g} MPa")
-    return (f"{seal} at {load_label(b.band.load_name, float(b.band.loads[0]))}: contact width {b.contact_width[0] * 1e3:.4g} mm, "
-            f"mean contact pressure {b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa, "
-            f"seal line {b.band.length * 1e3:.4g} mm{' (2 faces)' if b.band.faces == 2 else ''}")
+        return f"{seal} at {at}, peak contact pressure {b.max_contact_pressure[0] / 1e6:.3g} MPa"
+    return (f"{seal} at {at}: contact width {b.contact_width[0] * 1e3:.4g} mm, mean contact pressure "
+            f"{b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa")
+
+
+def _readings_head(source: str, time: np.ndarray, duration: str, header: str, leak_rate: np.ndarray,
+                   rows: list[str], level: str, negative: str) -> list[str]:
+    """The readings' block of the rig's text: where from, how many over how long (``duration``), the table of
+    intervals (``header``, ``rows``) and a note where the ``level`` rises (a ``negative`` leak rate)."""
+    lines = ["", f"readings from {source}: {time.size} points over {duration}", "", header, *rows]
+    rising = int(np.count_nonzero(leak_rate < 0))
+    if rising:
+        lines.append(f"note: the {level} rises in {rising} of {leak_rate.size} intervals (reading noise?): those "
+                     f"intervals show a negative {negative}")
+    return lines
 
 
 def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None = None,
@@ -218,21 +235,18 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
     if readings is not None:
         t = readings.time
-        lines += ["", f"readings from {readings_source}: {t.size} points over {t[-1] - t[0]:.4g} s", "",
-                  f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}"]
-        for dpi, qi in zip(readings.interval_pressure_difference, readings.interval_leak_rate):
-            lines.append(f"{dpi / 1e3:10.4g} {qi:12.4e} {to_ml_per_min(qi):11.4g}")
-        rising = int(np.count_nonzero(readings.interval_leak_rate < 0))
-        if rising:
-            lines.append(f"note: the level rises in {rising} of {readings.interval_leak_rate.size} intervals "
-                         "(reading noise?): those intervals show a negative Q")
+        lines += _readings_head(readings_source, t, f"{t[-1] - t[0]:.4g} s", f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}",
+                                readings.interval_leak_rate,
+                                [f"{dpi / 1e3:10.4g} {qi:12.4e} {to_ml_per_min(qi):11.4g}"
+                                 for dpi, qi in zip(readings.interval_pressure_difference, readings.interval_leak_rate)],
+                                "level", "Q")
         lines.append(f"exponential fit of ln H(t): K = {readings.conductance:.4g} ± {readings.conductance_std:.2g} "
                      f"m³/(s·Pa), rms residual {readings.rms_log_residual:.2g} decades")
         for name, k in pred.conductance.items():
             if k > 0 and name.startswith("critical"):
                 lines.append(f"α implied by the readings: {case.alpha * readings.conductance / k:.3g} "
                              f"(case α = {case.alpha:g})")
-    lines += ["note: " + m for m in pred.messages]
+    lines += ["note: " + m for m in worded(pred.messages)]
     return "\n".join(lines) + "\n"
 
 
@@ -258,7 +272,7 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
         "units": {"squeeze_pressure": "Pa", "load": "N", "final_height": "m", "conductance": "m^3/(s*Pa)",
                   "time_constant": "s", "time_to_final_height": "s", "time": "s", "height": "m",
                   "interval_pressure_difference": "Pa", "interval_leak_rate": "m^3/s"},
-        "messages": list(pred.messages)}
+        "messages": worded(pred.messages)}
     b = pred.band
     if b is not None:  # a band seal: its load and contact; "load" is the contact force f·Ly, P0 its mean pressure
         doc[b.band.load_name] = float(b.band.loads[0])
@@ -289,18 +303,7 @@ def duration_text(seconds: float) -> str:
 def decay_condition(case: Case, pred: DecayPrediction, short: bool = False) -> str:
     """What presses the seal in the pressure-decay rig: the load and P0, or a band seal's load and contact."""
     rig = decay_rig(case)
-    b = pred.band
-    if b is None:
-        if short:
-            return f"P0 = {pred.squeeze_pressure / 1e3:.3g} kPa ({rig.load_note or 'load'})"
-        return (f"{rig.load:.4g} N ({rig.load_note}) -> P0 = {pred.squeeze_pressure / 1e3:.4g} kPa on the "
-                f"{case.seal.nominal_area * 1e4:.4g} cm² seal")
-    seal = "O-ring" if b.band.kind == "o-ring" else "pressure profile"
-    at = load_label(b.band.load_name, float(b.band.loads[0]))
-    if short:
-        return f"{seal} at {at}, peak contact pressure {b.max_contact_pressure[0] / 1e6:.3g} MPa"
-    return (f"{seal} at {at}: contact width {b.contact_width[0] * 1e3:.4g} mm, mean contact pressure "
-            f"{b.mean_contact_pressure[0] / 1e6:.4g} MPa, peak {b.max_contact_pressure[0] / 1e6:.4g} MPa")
+    return _seal_condition(case, pred.band, pred.squeeze_pressure, rig.load, rig.load_note, short)
 
 
 def _pv(q: float) -> str:
@@ -337,21 +340,18 @@ def decay_text(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
     if readings is not None:
         r = readings.readings
         t = r.time
-        lines += ["", f"readings from {readings_source}: {t.size} points over {duration_text(t[-1] - t[0])}", "",
-                  f"{'P (mbar)':>12} {'Q_pV (Pa·m³/s)':>15} {'(mbar·l/s)':>12}"]
-        for pi, qi in zip(r.interval_pressure, r.interval_leak_rate):
-            lines.append(f"{pi / 100:12.6g} {qi:15.4e} {qi * MBAR_L_PER_PA_M3:12.4e}")
-        rising = int(np.count_nonzero(r.interval_leak_rate < 0))
-        if rising:
-            lines.append(f"note: the pressure rises in {rising} of {r.interval_leak_rate.size} intervals (reading noise?): "
-                         "those intervals show a negative leak rate")
+        lines += _readings_head(readings_source, t, duration_text(t[-1] - t[0]),
+                                f"{'P (mbar)':>12} {'Q_pV (Pa·m³/s)':>15} {'(mbar·l/s)':>12}", r.interval_leak_rate,
+                                [f"{pi / 100:12.6g} {qi:15.4e} {qi * MBAR_L_PER_PA_M3:12.4e}"
+                                 for pi, qi in zip(r.interval_pressure, r.interval_leak_rate)],
+                                "pressure", "leak rate")
         lines.append(f"leak rate over the readings V·(P_first − P_last)/(t_last − t_first): {_pv(r.leak_rate)}")
         lines.append(f"viscous fit of artanh(P2/P)/P2 against t: K = {r.conductance:.4g} ± {r.conductance_std:.2g} m³/(Pa·s)")
         for name, sc in readings.scale.items():
             what = "α implied by the readings" if name.startswith("critical") else "factor on its K implied by the readings"
             lines.append(f"{name}: {what}: {sc.alpha:.4g} ± {sc.alpha_std:.2g}"
                          + (f" (case α = {case.alpha:g})" if name.startswith("critical") else ""))
-    lines += ["note: " + m for m in pred.messages]
+    lines += ["note: " + m for m in worded(pred.messages)]
     return "\n".join(lines) + "\n"
 
 
@@ -390,7 +390,7 @@ def decay_json(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
                   "standard_leak_rate_mbar_l_s": "mbar*l/s", "time": "s", "pressure": "Pa (absolute)",
                   "leak_rate_pv": "Pa*m^3/s", "interval_pressure": "Pa", "interval_leak_rate_pv": "Pa*m^3/s",
                   "alpha": "1"},
-        "messages": list(pred.messages)}
+        "messages": worded(pred.messages)}
     b = pred.band
     if b is not None:
         doc[b.band.load_name] = float(b.band.loads[0])

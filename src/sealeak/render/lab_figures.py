@@ -27,7 +27,8 @@ from .figures import (
     say_nothing,
     subtitle,
 )
-from .lab import MBAR_L_PER_PA_M3, is_gas_fit, load_label
+from .lab import MBAR_L_PER_PA_M3, is_gas_fit
+from .notes import load_axis_label, load_text
 from .plotstyle import second_leak_axis
 
 __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings", "figure_decay", "figure_decay_readings"]
@@ -42,12 +43,8 @@ def _load_x(ax: Axes, load_name: str, values: np.ndarray) -> float:
     """Label the x axis with the load of the fit (P0, or a band seal's compression in % or profile scale); returns its scale."""
     if load_name == "squeeze_pressure":
         return pressure_x(ax, values)
-    if load_name == "compression":
-        ax.set_xlabel("compression ε (%)")
-        scale = 0.01
-    else:
-        ax.set_xlabel("profile scale (factor on the profile's pressures)")
-        scale = 1.0
+    ax.set_xlabel(load_axis_label(load_name))
+    scale = 0.01 if load_name == "compression" else 1.0
     v = np.asarray(values, dtype=float) / scale
     lo, hi = float(np.nanmin(v)), float(np.nanmax(v))
     pad = 0.05 * (hi - lo) if hi > lo else 0.05 * abs(hi) or 1.0
@@ -151,7 +148,7 @@ def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Fi
     ax.set_xlim(left=0)
     at = f"P0 = {p0 / 1e3:.3g} kPa" if p0 else ""
     if check.load is not None and p0:  # a band seal: its load, and the mean contact pressure there
-        at = f"{load_label(check.load_name, check.load)} (mean contact pressure {p0 / 1e3:.3g} kPa)"
+        at = f"{load_text(check.load_name, check.load)} (mean contact pressure {p0 / 1e3:.3g} kPa)"
     notes = [at, "beyond the axes: " + ", ".join(hidden) if hidden else ""]
     subtitle(ax, "; ".join(n for n in notes if n))
     finish_axes(ax)

@@ -11,12 +11,16 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 from ..cases.notes import Note, NoteLike
+from ..io.units import format_quantity
 
-__all__ = ["load_text", "loads_text", "kpa_text", "word", "worded"]
+__all__ = ["load_text", "loads_text", "load_axis_label", "kpa_text", "word", "worded"]
 
 
 def load_text(name: str, value: float) -> str:
-    """One load in a sentence: "compression 20 %" (a fraction, written in %) or "profile scale 1.5"."""
+    """One load in a sentence or a legend: "compression 20 %" (a fraction, written in %), "profile scale 1.5", or a
+    squeeze pressure (Pa) "P0 = 200 kPa"."""
+    if name == "squeeze_pressure":
+        return kpa_text([value])
     if name == "compression":
         return f"compression {100 * value:.4g} %"
     return f"{name.replace('_', ' ')} {value:.4g}"
@@ -24,6 +28,8 @@ def load_text(name: str, value: float) -> str:
 
 def loads_text(name: str, values: Iterable[float]) -> str:
     """Several loads in a sentence: all of up to four ("compression 15, 20 %"), else the range and how many."""
+    if name == "squeeze_pressure":
+        return kpa_text(list(values))
     if name == "compression":
         shown = [f"{100 * v:.4g}" for v in values]
         unit, label = " %", "compression"
@@ -33,6 +39,13 @@ def loads_text(name: str, values: Iterable[float]) -> str:
     if len(shown) <= 4:
         return f"{label} {', '.join(shown)}{unit}"
     return f"{label} {shown[0]} .. {shown[-1]}{unit} ({len(shown)} values)"
+
+
+def load_axis_label(name: str) -> str:
+    """A figure's axis label for a band seal's load: an O-ring's compression (in %) or a profile file's scale."""
+    if name == "compression":
+        return "compression ε = δ/d (%)"
+    return "profile scale (1): factor on the file's pressures"
 
 
 def kpa_text(pressures: Sequence[float]) -> str:
@@ -92,6 +105,39 @@ def _band_touches_edge(v: Mapping[str, Any]) -> str:
             "the band there is wider than the domain holds and its leak rate is not that of an isolated band")
 
 
+def _band_sealed(v: Mapping[str, Any]) -> str:
+    return (f"{v['theory']}: no leak channel at {loads_text(v['load_name'], v['loads'])}: where the contact pressure is "
+            "highest the non-contact area does not percolate, which seals the whole band")
+
+
+def _band_not_converged(v: Mapping[str, Any]) -> str:
+    return (f"{v['theory']}: the integral ∫dx/σ did not converge to {v['tolerance']:g} at "
+            f"{load_text(v['load_name'], v['load'])} (last relative change {v['change']:.2g}); the leak rate is less "
+            "certain")
+
+
+def _fit_excluded(v: Mapping[str, Any]) -> str:
+    return f"{v['theory']}: line {v['line']} ({load_text(v['load_name'], v['load'])}) excluded: {v['reason']}"
+
+
+def _fit_outside_validity(v: Mapping[str, Any]) -> str:
+    lines = ", ".join(f"{line} ({load_text(v['load_name'], load)})" for line, load in zip(v["lines"], v["loads"]))
+    s, them = ("s", "them") if len(v["lines"]) > 1 else ("", "it")
+    return (f"{v['theory']}: line{s} {lines} outside the theory's validity (predict's valid = NO: {v['reason']}); kept in "
+            f"the fit, though the theory's value there is the formula's, not a prediction (remove the line{s} from the "
+            f"data file to fit without {them})")
+
+
+def _fit_pressure_difference_large(v: Mapping[str, Any]) -> str:
+    if v["load_name"] == "squeeze_pressure":
+        against, assume = f"P0 = {v['pressure']:.6g} Pa", "P0 >> ΔP"
+    else:
+        against = (f"the peak contact pressure {v['pressure']:.6g} Pa at {load_text(v['load_name'], v['load'])}")
+        assume = "p >> ΔP"
+    return (f"line {v['line']}: ΔP = {v['pressure_difference']:.6g} Pa is not small against {against} "
+            f"({v['rows']} row(s) like it): both theories assume {assume}")
+
+
 #: Why an extrapolation a → 0 is not to be trusted, by the note's ``kind``.
 _EXTRAPOLATION_SENTENCES = {
     "none": "{name}: fewer than two grids give a value, so there is no extrapolation.",
@@ -118,12 +164,26 @@ def _extrapolation_doubtful(v: Mapping[str, Any]) -> str:
     return _EXTRAPOLATION_SENTENCES[v["kind"]].format(name=name, chi2=chi2)
 
 
+def _held_by_capillarity(v: Mapping[str, Any]) -> str:
+    return (f"{v['theory'] + ': ' if v['theory'] else ''}held by capillarity at {loads_text(v['load_name'], v['loads'])}: "
+            f"ΔP = {format_quantity(v['pressure_difference'], 'pressure', 4)} is below the entry pressure of the narrowest "
+            f"gap (at least {format_quantity(v['entry_pressure'], 'pressure', 4)} there), so the non-wetting liquid does "
+            "not pass it: Q = 0 (held_by_capillarity)")
+
+
 _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
+    "held_by_capillarity": _held_by_capillarity,
     "junction_unresolved": _junction_unresolved,
     "band_junction_unresolved": _band_junction_unresolved,
     "hertz_width_differs": _hertz_width_differs,
     "smooth_check_off": _smooth_check_off,
     "band_touches_edge": _band_touches_edge,
+    "band_sealed": _band_sealed,
+    "band_not_converged": _band_not_converged,
+    "fit_excluded": _fit_excluded,
+    "fit_single_point": lambda v: "with one usable point α has no standard error",
+    "fit_outside_validity": _fit_outside_validity,
+    "fit_pressure_difference_large": _fit_pressure_difference_large,
     "extrapolation_doubtful": _extrapolation_doubtful,
 }
 

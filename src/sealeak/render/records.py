@@ -17,6 +17,7 @@ import numpy as np
 
 from .._version import __version__
 from ..cases import Case, CaseResult
+from .notes import worded
 from .text import validity_notes
 
 __all__ = ["json_value", "json_rows", "json_document", "case_summary", "prediction_json", "prediction_csv"]
@@ -108,7 +109,7 @@ def prediction_json(results: Sequence[CaseResult]) -> str:
     for r in results:
         prefix = f"{r.case.label}: " if r.case.label else ""
         records.extend({k: json_value(v) for k, v in rec.items()} for rec in r.records())
-        messages.extend(prefix + m for m in [*r.messages, *validity_notes(r)])
+        messages.extend(prefix + m for m in [*worded(r.messages), *validity_notes(r)])
         warnings.extend(prefix + w for w in r.warnings)
     theory = "critical junction (Lorenz & Persson, EPL 86 (2009) 44006)"
     if any(r.effective_medium is not None for r in results):

@@ -35,6 +35,7 @@ from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
 from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
+from .notes import worded
 from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, capillary_notes, capillary_tables, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
 
 __all__ = ["html_report", "figure_to_data_uri"]
@@ -306,7 +307,7 @@ def _rig_section(result: CaseResult, number: int) -> list[str]:
     parts.append("<div class=\"figures\">" + _figure("rig.png", number, figure_rig(rig, pred.columns, pred.squeeze_pressure),
                                                     "Water height H against time in the virtual rig, for each model the "
                                                     "case asks for; dots: the final height reached.") + "</div>")
-    for m in pred.messages:
+    for m in worded(pred.messages):
         parts.append(f"<p class=\"note\">{_e(m)}</p>")
     return parts
 
@@ -409,7 +410,7 @@ def _result_block(r: CaseResult) -> list[str]:
             parts.append(f"<h3>{_e(r.case.label)}</h3>")
         parts.append(_result_table(r, "critical-junction"))  # the band table (prediction_columns)
         parts += _gas_tables(r)
-        parts += [f"<p class=\"note\">{_e(m)}</p>" for m in r.messages]
+        parts += [f"<p class=\"note\">{_e(m)}</p>" for m in worded(r.messages)]
         parts += [f"<p class=\"warning\">{_e(m)}</p>" for m in validity_notes(r)]
         return parts
     case, res, em = r.case, r.critical_junction, r.effective_medium

@@ -21,7 +21,7 @@ from ..io.leak_units import celsius, to_mbar_l_per_s
 from ..io.quantities import record_fields, units_of
 from ..numerics import spanning_mask
 from ..physics.profile import PressureProfile
-from .notes import load_text, worded
+from .notes import load_axis_label, load_text, worded
 from .plotstyle import (
     GAS_LEAK_LABEL,
     PA_M3_PER_MBAR_L,
@@ -76,17 +76,24 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
         "percolation_threshold_std": json_value(res.percolation_threshold_std),
         "settings": {"grid": res.grid, "realizations": res.realizations, "seed": res.seed, "size": res.size,
                      "spectrum_cut_wavevector": res.q_cut, "spectrum": res.spectrum_note},
-        "leak_rate_critical_junction_note": "critical-junction prediction with alpha = 1 for the same spectrum; "
-                                            "alpha = leak_rate / leak_rate_critical_junction",
-        "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
-                       "ones), not standard errors: the standard error of a mean is std/sqrt(realizations); "
-                       "null with fewer than two values",
-        "case": case_summary(case),
-        "notes": worded(res.notes),
+        **_document_end(case, res, ("leak_rate_critical_junction", "critical-junction prediction with alpha = 1 for "
+                                    "the same spectrum"), ": the standard error of a mean is std/sqrt(realizations)"),
     }
     if res.gas is not None:
         _gas_json(doc, res)
     return json_document(doc)
+
+
+def _document_end(case: Case, res: SimulationResult | BandSimulationResult, theory: tuple[str, str],
+                  standard_error: str) -> dict[str, Any]:
+    """The last keys of a ``simulate --json`` document: what the theory's key (``theory``: key, what it is) and α are,
+    what the ``*_std`` keys are (``standard_error``: how to get one, if said), the case and the notes."""
+    key, what = theory
+    return {f"{key}_note": f"{what}; alpha = leak_rate / {key}",
+            "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
+                           f"ones), not standard errors{standard_error}; null with fewer than two values",
+            "case": case_summary(case),
+            "notes": worded(res.notes)}
 
 
 def simulation_rows(res: SimulationResult) -> list[dict[str, Any]]:
@@ -143,19 +150,26 @@ def _gas_lines(res: SimulationResult) -> list[str]:
     """The gas table of ``sealeak simulate`` and what its columns mean."""
     g = res.gas
     assert g is not None
-    lines = ["", f"gas leak of {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa "
-                 f"(absolute), {celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}:",
-             *_gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
-                        [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
-             ""]
-    lines += [
-              "Q_pV sim: isothermal gas flow through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, counted at the gas "
-              "temperature; ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
-              f"Q_pV cj α=1: the critical-junction gas leak (gap u_c, the same rarefaction; as predict); α_gas = Q_pV sim / "
-              f"Q_pV cj; Kn = λ/u_c at the mean pressure {0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} kPa; "
-              "iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
-              "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
-    return lines
+    return _gas_block(g, "gas leak of {gas}, {conditions}:",
+                      _gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
+                                [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
+                      ("", ""), ("cj", "critical-junction", "gap u_c"))
+
+
+def _gas_block(g: Any, head: str, table: list[str], flow: tuple[str, str], theory: tuple[str, str, str]) -> list[str]:
+    """A gas table of ``sealeak simulate`` under its ``head`` (``{gas}``, ``{conditions}``: pressures, temperature,
+    rarefaction), and what its columns mean: ``flow`` where the simulated gas flows (after "gas flow" and after its
+    equation), ``theory`` the theory's short name, name and gap."""
+    conditions = (f"{g.upstream_pressure / 1e3:.4g} kPa → {g.downstream_pressure / 1e3:.4g} kPa (absolute), "
+                  f"{celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}")
+    (where, edges), (short, name, gap) = flow, theory
+    return ["", head.format(gas=g.gas_name, conditions=conditions), *table, "",
+            f"Q_pV sim: isothermal gas flow{where} through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0{edges}, counted at "
+            "the gas temperature; ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
+            f"Q_pV {short} α=1: the {name} gas leak ({gap}, the same rarefaction; as predict); α_gas = Q_pV sim / "
+            f"Q_pV {short}; Kn = λ/u_c at the mean pressure {0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} "
+            "kPa; iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
+            "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
 
 
 def simulation_table(case: Case, res: SimulationResult) -> str:
@@ -242,13 +256,9 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
                      "period": res.period, "seal_length": res.seal_length, "faces": res.faces, "radius": res.radius,
                      "spectrum_cut_wavevector": res.q_cut, "spectrum_low_wavevector": res.q_low,
                      "spectrum": res.spectrum_note},
-        "leak_rate_series_resistance_note": "series-resistance prediction of the critical-junction theory with alpha = 1 "
-                                            "for the same spectrum and the Hertz profile of the same force; "
-                                            "alpha = leak_rate / leak_rate_series_resistance",
-        "spread_note": "*_std are standard deviations over realisations (ddof = 1; alpha_std over the percolating "
-                       "ones), not standard errors; null with fewer than two values",
-        "case": case_summary(case),
-        "notes": worded(res.notes),
+        **_document_end(case, res, ("leak_rate_series_resistance", "series-resistance prediction of the "
+                                    "critical-junction theory with alpha = 1 for the same spectrum and the Hertz profile "
+                                    "of the same force"), ""),
     }
     if res.gas is not None:
         _band_gas_json(doc, res)
@@ -281,21 +291,11 @@ def _band_gas_lines(res: BandSimulationResult) -> list[str]:
     g = res.gas
     assert g is not None
     label, factor = _load_label(res)
-    lines = ["", f"Gas leak across the band: {g.gas_name}, {g.upstream_pressure / 1e3:.4g} kPa → "
-                 f"{g.downstream_pressure / 1e3:.4g} kPa (absolute), {celsius(g.temperature):.4g} °C, rarefaction {g.rarefaction}",
-             *_gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
-                        [_band_coarse(res, i) for i in range(res.loads.size)]),
-             ""]
-    lines += [
-              "Q_pV sim: isothermal gas flow across the band through the same gap fields, ∇·(g³ f(Kn) ∇p²) = 0, P_a at "
-              "the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim, counted at the gas temperature; "
-              "ṁ = Q_pV/(R_s T); slip gain: Q_pV over the same flow without rarefaction",
-              f"Q_pV series α=1: the series-resistance gas leak (K = Q series/ΔP, gap u_c at the peak contact pressure, the "
-              f"same rarefaction; as predict); α_gas = Q_pV sim / Q_pV series; Kn = λ/u_c at the mean pressure "
-              f"{0.5 * (g.upstream_pressure + g.downstream_pressure) / 1e3:.4g} kPa; "
-              "iter: fixed-point iterations (most over the realisations; 0 without rarefaction)",
-              "the table above (Q in m³/s, α) is the incompressible formula with the gas's viscosity, for comparison"]
-    return lines
+    return _gas_block(g, "Gas leak across the band: {gas}, {conditions}",
+                      _gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
+                                [_band_coarse(res, i) for i in range(res.loads.size)]),
+                      (" across the band", ", P_a at the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim"),
+                      ("series", "series-resistance", "K = Q series/ΔP, gap u_c at the peak contact pressure"))
 
 
 def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
@@ -419,7 +419,7 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
     band (and a gas O-ring's gas leak), by file name."""
     label, factor = _load_label(res)
     sweep = _Sweep(x=res.loads * factor,
-                   x_label="compression ε = δ/d (%)" if res.load_name == "compression" else label, loads=label.split(" (")[0],
+                   x_label=load_axis_label(res.load_name), loads=label.split(" (")[0],
                    coarse=np.array([_band_coarse(res, i) for i in range(res.loads.size)], dtype=bool),
                    theory="series-resistance", short="series", method="cylinder on rough surface + Reynolds", seal="O-ring",
                    settings=f"{_run_text(res)}, seal line {res.seal_length * 1e3:.3g} mm",

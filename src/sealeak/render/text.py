@@ -12,6 +12,7 @@ from ..io.leak_units import celsius, to_ml_per_min
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import pressures_text
+from .notes import load_text, worded
 
 __all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt", "gas_tables", "gas_notes", "band_legend",
            "GAS_INCOMPRESSIBLE_NOTE"]
@@ -366,9 +367,6 @@ def validity_notes(result: CaseResult) -> list[str]:
     out: list[str] = []
     if result.band is not None:
         b = result.band
-        name = "compression" if b.band.load_name == "compression" else "profile scale"
-        values = b.band.loads * (100 if name == "compression" else 1)
-        unit = " %" if name == "compression" else ""
         both = b.effective_medium is not None and result.shows_critical_junction
         verdicts = [("critical junction", b.critical_junction.percolates, result.valid, result.validity)]
         if (b.effective_medium is not None and result.valid_effective_medium is not None
@@ -380,7 +378,7 @@ def validity_notes(result: CaseResult) -> list[str]:
                 continue
             column = f"valid {'CJ' if theory == 'critical junction' else 'EM'}" if both else "valid"
             for i in np.flatnonzero(~valid & percolates):
-                out.append(f"{name} {values[i]:.4g}{unit}: {column} = NO ({theory}): {reasons[i]}")
+                out.append(f"{load_text(b.band.load_name, b.band.loads[i])}: {column} = NO ({theory}): {reasons[i]}")
         return out
     checks = [("critical junction", result.valid, result.critical_junction.squeeze_pressure, "u_c", result.validity)]
     if (result.effective_medium is not None and result.valid_effective_medium is not None
@@ -436,7 +434,7 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
             if case.gas is not None:
                 lines.append("          " + GAS_INCOMPRESSIBLE_NOTE)
             lines.extend(_gas_block(r))
-            lines.extend("note: " + m for m in r.messages)
+            lines.extend("note: " + m for m in worded(r.messages))
             lines.extend("note: " + m for m in validity_notes(r))
             continue
         if r.shows_critical_junction:

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError
-from ..io.units import comma_advice
+from ..io.units import comma_advice, is_number
 
 __all__ = ["RawTable", "parse_text", "looks_binary", "NotPlainText"]
 
@@ -103,7 +103,7 @@ def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None
         try:
             values = [float(t) for t in tokens]
         except ValueError:
-            bad = next(t for t in tokens if not _is_float(t))
+            bad = next(t for t in tokens if not is_number(t, float))
             raise NotPlainText(path, f"line {lineno}: {bad[:40]!r} is not a number "
                                         f"(plain text files must hold numbers only; comments start with #)") from None
         if width is None:
@@ -130,14 +130,6 @@ def _refuse_comma_numbers(path: Path, lineno: int, line: str) -> None:
     if bad is not None:
         raise FileFormatError(path, f"line {lineno}: {bad[:40]!r}: {comma_advice(bad)} (the values are separated "
                                     f"by {repr(';') if ';' in line else 'spaces or tabs'}, so a ',' inside a value is a decimal comma)")
-
-
-def _is_float(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def parse_text(path: Path, data: bytes) -> RawTable:
