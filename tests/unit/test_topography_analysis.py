@@ -287,10 +287,12 @@ def test_fit_with_a_large_reduced_chi2_warns():
     C = 1e-30 * (q / 1e4) ** -3.0 * np.exp(0.7 * np.sin(np.arange(q.size)))
     edges = np.sqrt(q[:-1] * q[1:])
     lo, hi = np.concatenate([[q[0] / 1.1], edges]), np.concatenate([edges, [q[-1] * 1.1]])
-    b = BinnedSpectrum(q, C, np.full(q.size, 5000), lo, hi, np.ones(q.size, bool), (q[0], q[-1]), 2)
+    b = BinnedSpectrum(q=q, C=C, modes=np.full(q.size, 5000), q_lo=lo, q_hi=hi, reliable=np.ones(q.size, bool),
+                       q_reliable=(q[0], q[-1]), dim=2)
     f = fit_self_affine(b)
     assert f.chi2_red > 100 and 0 < f.hurst < 1
     assert [w for w in f.warnings if "χ²" in w] and "compromise" in f.warning
     # the same shape with the scatter of few modes per bin: no warning
-    few = fit_self_affine(BinnedSpectrum(q, C, np.full(q.size, 2), lo, hi, np.ones(q.size, bool), (q[0], q[-1]), 2))
+    few = fit_self_affine(BinnedSpectrum(q=q, C=C, modes=np.full(q.size, 2), q_lo=lo, q_hi=hi,
+                                         reliable=np.ones(q.size, bool), q_reliable=(q[0], q[-1]), dim=2))
     assert few.chi2_red < 100 and not few.warnings

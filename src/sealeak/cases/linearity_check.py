@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError, SealeakError
+from ..io.quantities import quantity
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .fitting import _check_file_loads, _check_load_column
@@ -21,7 +22,7 @@ from .prediction import FloatArray, Model, _band_conductance, _conductance, _mod
 
 __all__ = ["LinearityCheck", "linearity", "run_linearity"]
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LinearityCheck:
     """Q against ΔP at one squeeze pressure: the straight-line fit and the models' slopes.
 
@@ -46,13 +47,14 @@ class LinearityCheck:
     """
 
     line: LinearFit
-    squeeze_pressure: float | None
+    squeeze_pressure: float | None = quantity("Pa", "P0 of the data (a band seal: its mean contact pressure)")
     squeeze_pressure_source: str
-    model_slopes: dict[str, float]
-    alpha_from_slope: float | None
+    model_slopes: dict[str, float] = quantity("m^3/(s*Pa)", "K = Q/ΔP of each model that percolates at P0")
+    alpha_from_slope: float | None = quantity("1", "the measured slope over the critical junction's at α = 1")
     messages: tuple[str, ...]
     load_name: str = "squeeze_pressure"
-    load: float | None = None
+    load: float | None = quantity("1", "a band seal's load, keyed by its name: compression ε or profile scale",
+                                  default=None, key="<load>")
 
     @property
     def intercept_z(self) -> float:
@@ -94,7 +96,8 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
         slopes, alpha_from_slope, messages = _model_slopes(case, line, {m: _conductance(case, [p0], m) for m in _MODELS})
     else:
         messages.append("no squeeze pressure known (give --squeeze-pressure): no comparison with the models")
-    return LinearityCheck(line, p0, source, slopes, alpha_from_slope, tuple(messages))
+    return LinearityCheck(line=line, squeeze_pressure=p0, squeeze_pressure_source=source, model_slopes=slopes,
+                          alpha_from_slope=alpha_from_slope, messages=tuple(messages))
 
 
 def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = None,
@@ -159,4 +162,5 @@ def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str
         messages.append(f"the case has {band.loads.size} values of conditions.{band.load_name} and the data file no "
                         f"{band.load_name} column: give one {word} (in the case, or as a column with one value) to "
                         "compare with the models")
-    return LinearityCheck(line, p_mean, source, slopes, alpha_from_slope, tuple(messages), band.load_name, load)
+    return LinearityCheck(line=line, squeeze_pressure=p_mean, squeeze_pressure_source=source, model_slopes=slopes,
+                          alpha_from_slope=alpha_from_slope, messages=tuple(messages), load_name=band.load_name, load=load)

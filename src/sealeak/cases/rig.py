@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import pressure_difference_not_small
 from ..physics.validity import strain_warning
@@ -24,7 +25,7 @@ from .prediction import FloatArray, Model, _band_conductance, _conductance, _mod
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RigPrediction:
     """The rig simulated for a case (docs/theory.md §4).
 
@@ -48,7 +49,7 @@ class RigPrediction:
         contact pressure.
     """
 
-    squeeze_pressure: float
+    squeeze_pressure: float = quantity("Pa", "P0 from the load (a band seal: its mean contact pressure)")
     conductance: dict[str, float]
     columns: dict[str, WaterColumn]
     time_constant: dict[str, float] = field(default_factory=dict)
@@ -120,7 +121,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
                             "the theory assumes p >> ΔP")
     elif pressure_difference_not_small(p0, dp0):
         messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
-    return RigPrediction(p0, k_of, columns, tau, t_final, tuple(messages), band)
+    return RigPrediction(squeeze_pressure=p0, conductance=k_of, columns=columns, time_constant=tau, drain_time=t_final,
+                         messages=tuple(messages), band=band)
 
 
 def _one_load_needed(case: Case) -> str:

@@ -45,6 +45,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
 from ..io.leak_units import ATMOSPHERE, leak_rate_factor, leak_rate_unit
+from ..io.quantities import quantity
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
 
@@ -82,7 +83,8 @@ class LeakData:
     pressure_difference: FloatArray
     leak_rate: FloatArray
     columns: dict[str, str] = field(default_factory=dict)
-    reference_pressure: float = ATMOSPHERE
+    reference_pressure: float = quantity("Pa", "pressure at which the data's pV throughputs were converted to volume flows",
+                                         default=ATMOSPHERE)
     throughput: bool = False  # the leak rates were pV throughputs, converted at reference_pressure
     lines: tuple[int, ...] = ()  # line number in the file of each data row
     load_name: str = "squeeze_pressure"

@@ -27,6 +27,7 @@ from scipy.integrate import quad
 
 from ..errors import InputError
 from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
+from ..io.quantities import quantity
 
 __all__ = [
     "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
@@ -69,9 +70,9 @@ class Gas:
     """
 
     name: str
-    temperature: float
-    viscosity: float
-    molar_mass: float
+    temperature: float = quantity("K", "temperature of the gas")
+    viscosity: float = quantity("Pa*s", "dynamic viscosity μ of the gas")
+    molar_mass: float = quantity("kg/mol", "molar mass M of the gas")
 
     def __post_init__(self) -> None:
         t = _finite("temperature", self.temperature)

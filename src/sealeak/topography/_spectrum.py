@@ -43,6 +43,7 @@ from scipy import fft as sfft
 from scipy import special
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..io.units import format_quantity
 from ..physics.spectrum import PowerSpectrum
 from ._preprocess import Detrend, Prepared, Window, prepare
@@ -141,7 +142,7 @@ class RangeBasis:
                 f"needed ({cause}); {fix}")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class BinnedSpectrum:
     """A binned power spectrum of one measurement (raw data for plots, stitching and fits).
 
@@ -172,7 +173,7 @@ class BinnedSpectrum:
     q_lo: FloatArray
     q_hi: FloatArray
     reliable: NDArray[np.bool_]
-    q_reliable: tuple[float, float]
+    q_reliable: tuple[float, float] = quantity("1/m", "range of q the measurement resolves reliably", key="reliable_range")
     dim: int
     label: str = ""
     notes: tuple[str, ...] = field(default=())
@@ -323,8 +324,8 @@ def spectrum_2d(
         f"{bins_per_decade:g} bins per decade up to the Nyquist wavevector {q_nyq:.4g} 1/m",
         f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
-    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 2, label=surf.source, notes=tuple(notes),
-                          basis=basis)
+    return BinnedSpectrum(q=qc, C=Cb, modes=modes, q_lo=lo, q_hi=hi, reliable=reliable, q_reliable=q_rel, dim=2,
+                          label=surf.source, notes=tuple(notes), basis=basis)
 
 
 # ---------------------------------------------------------------------------- 1D
@@ -363,8 +364,8 @@ def spectrum_1d(
         f"1D spectrum: {surf.nb_scans} profile(s) of {n} points, averaged, {bins_per_decade:g} bins per decade",
         f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
-    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 1, label=surf.source, notes=tuple(notes),
-                          basis=basis)
+    return BinnedSpectrum(q=qc, C=Cb, modes=modes, q_lo=lo, q_hi=hi, reliable=reliable, q_reliable=q_rel, dim=1,
+                          label=surf.source, notes=tuple(notes), basis=basis)
 
 
 # ---------------------------------------------------------------------------- Abel transforms

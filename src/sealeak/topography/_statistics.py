@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import fft as sfft
 
+from ..io.quantities import quantity
 from ..physics.spectrum import PowerSpectrum, area_ratio_from_slope
 from ._preprocess import Detrend, Prepared, prepare
 from ._types import LineScans, Topography
@@ -59,16 +60,16 @@ class SurfaceStatistics:
         How derivatives were taken.
     """
 
-    h_rms: float | None
-    slope_rms: float | None
-    curvature_rms: float | None
-    area_ratio: float | None
-    skewness: float | None
-    kurtosis: float | None
-    spectrum_h_rms: float | None = None
-    spectrum_slope_rms: float | None = None
-    spectrum_curvature_rms: float | None = None
-    spectrum_area_ratio: float | None = None
+    h_rms: float | None = quantity("m", "rms height, from the heights")
+    slope_rms: float | None = quantity("1", "rms gradient √<|∇h|²>, from the heights")
+    curvature_rms: float | None = quantity("1/m", "rms Laplacian √<(∇²h)²>, from the heights")
+    area_ratio: float | None = quantity("1", "true over nominal area <√(1+|∇h|²)>")
+    skewness: float | None = quantity("1", "skewness of the height distribution")
+    kurtosis: float | None = quantity("1", "kurtosis of the height distribution (3 for Gaussian heights)")
+    spectrum_h_rms: float | None = quantity("m", "rms height from C(q) over its band", default=None)
+    spectrum_slope_rms: float | None = quantity("1", "rms gradient from C(q) over its band", default=None)
+    spectrum_curvature_rms: float | None = quantity("1/m", "rms Laplacian from C(q) over its band", default=None)
+    spectrum_area_ratio: float | None = quantity("1", "true over nominal area from C(q) over its band", default=None)
     method: str = ""
 
     @classmethod

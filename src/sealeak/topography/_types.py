@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..io.quantities import quantity
 
 __all__ = ["Topography", "LineScans", "NO_DATA_MAGNITUDE"]
 
@@ -74,7 +75,7 @@ class Topography:
     """
 
     heights: FloatArray
-    size: tuple[float, float]
+    size: tuple[float, float] = quantity("m", "physical size of a map (or length of line scans)")
     periodic: bool = False
     source: str = ""
     notes: tuple[str, ...] = field(default=())
