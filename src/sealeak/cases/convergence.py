@@ -273,7 +273,7 @@ class ThresholdComparison:
         return (self.ours - self.published) / self.ours_stderr
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ConvergenceStudy:
     """The result of a convergence study: the runs, their statistics, the extrapolations, the comparison, the flags.
 

@@ -112,7 +112,7 @@ def _band_fit(case: Case, loads: ArrayLike, dp: FloatArray, q: FloatArray
     return fits, res, inverse
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FitResult:
     """α of both models fitted to measured leak rates, with what the fit figure draws (SI units).
 
@@ -245,7 +245,9 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
                                      pressure_difference=ref_dp).leak_rate,
         "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
     }
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), outside_validity=outside)
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp,
+                     same_pressure_difference=same, measured=measured, grid=grid, curves=curves,
+                     messages=tuple(messages), outside_validity=outside)
 
 
 #: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.leak_units`).
@@ -316,7 +318,9 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
         at_grid = models(case, grid)[0]
     curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp)) for name, (k, gap) in at_grid.items()}
     load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), load_name,
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp,
+                     same_pressure_difference=same, measured=measured, grid=grid, curves=curves,
+                     messages=tuple(messages), load_name=load_name,
                      leak_rate_unit="Pa*m^3/s", outside_validity=outside)
 
 
@@ -373,5 +377,7 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     k_em = _band_k(res, res.effective_medium) if res.effective_medium is not None else np.zeros(distinct.size)
     curves = {"critical_junction": np.where(ks_grid["critical-junction"][0] > 0, ks_grid["critical-junction"][0], np.nan) * ref_dp,
               "effective_medium": np.where(k_em > 0, k_em, np.nan) * ref_dp}
-    return FitResult(case, data, fits, ref_dp, same, measured, grid, curves, tuple(messages), band.load_name,
-                     {"effective_medium": distinct}, outside_validity=outside)
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp,
+                     same_pressure_difference=same, measured=measured, grid=grid, curves=curves,
+                     messages=tuple(messages), load_name=band.load_name,
+                     curve_grids={"effective_medium": distinct}, outside_validity=outside)

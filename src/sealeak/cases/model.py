@@ -132,7 +132,7 @@ class GasConditions:
         return 0.5 * (self.upstream_pressure + self.downstream_pressure)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Case:
     """One seal case (SI units).
 

@@ -342,7 +342,7 @@ R = TypeVar("R", bound=TaskRecord)
 F = TypeVar("F", bound=FlowRecord)
 
 
-@dataclass
+@dataclass(kw_only=True)
 class FlowLog:
     """A task's flow scalars as its loads are solved (:meth:`add`), made into its record by :meth:`record`."""
 

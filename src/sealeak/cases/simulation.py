@@ -174,7 +174,7 @@ def simulate(
                         progress=progress, memory_limit=memory_limit, runner=runner)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _SquarePlan:
     """What :class:`PeriodicSquare` prepares: the case with the cut spectrum, pressures (Pa), theory (SI units)."""
 

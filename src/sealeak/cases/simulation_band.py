@@ -264,7 +264,7 @@ class _Smooth:
     pressure_error: FloatArray
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _BandPlan:
     """What :class:`OringBand` prepares (SI units; loads in increasing order of force)."""
 

@@ -223,7 +223,7 @@ def viscous_mass_flow(conductance: ArrayLike, upstream: float, downstream: float
     return viscous_throughput(conductance, upstream, downstream) / (gas.specific_gas_constant * gas.temperature)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GasLeak:
     """A gas leak through a channel of no-slip conductance K whose narrowest gap is h (docs/theory.md §11.5).
 

@@ -75,7 +75,7 @@ def length_text(value: float) -> str:
 _length = length_text
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RangeBasis:
     """What sets the reliable range of one measurement's spectrum (for messages that name the cause).
 
@@ -253,9 +253,11 @@ def _upper_limit(side: float, pixel: float, low_cut: float, resolution_pixels: f
     res, origin = (resolution, "given") if resolution is not None else (stated, "stated by the file")
     if res is None:
         return q_pix, f"wavelengths >= {resolution_pixels:g} pixels", RangeBasis(
-            side, pixel, low_cut, resolution_pixels, None, "", False, kind, bins_per_decade)
+            side=side, pixel=pixel, low_cut=low_cut, resolution_pixels=resolution_pixels, resolution=None, origin="",
+            by_resolution=False, kind=kind, bins_per_decade=bins_per_decade)
     q_res = 2.0 * np.pi / res
-    basis = RangeBasis(side, pixel, low_cut, resolution_pixels, res, origin, q_res < q_pix, kind, bins_per_decade)
+    basis = RangeBasis(side=side, pixel=pixel, low_cut=low_cut, resolution_pixels=resolution_pixels, resolution=res,
+                       origin=origin, by_resolution=q_res < q_pix, kind=kind, bins_per_decade=bins_per_decade)
     if q_res < q_pix:
         return q_res, f"wavelengths >= the lateral resolution {res:.4g} m ({origin})", basis
     return q_pix, (f"wavelengths >= {resolution_pixels:g} pixels, which is coarser than the lateral resolution "

@@ -38,7 +38,7 @@ __all__ = ["SurfaceStatistics", "surface_statistics"]
 FloatArray = NDArray[np.float64]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SurfaceStatistics:
     """Roughness statistics (SI units). ``None`` where a value is not available.
 
@@ -78,8 +78,9 @@ class SurfaceStatistics:
         from the spectrum (also in the ``spectrum_*`` fields); skewness and kurtosis are not
         determined by C(q) (None)."""
         sp = _spectral(spectrum)
-        return cls(sp["spectrum_h_rms"], sp["spectrum_slope_rms"], sp["spectrum_curvature_rms"],
-                   sp["spectrum_area_ratio"], None, None, **sp, method=method)
+        return cls(h_rms=sp["spectrum_h_rms"], slope_rms=sp["spectrum_slope_rms"],
+                   curvature_rms=sp["spectrum_curvature_rms"],
+                   area_ratio=sp["spectrum_area_ratio"], skewness=None, kurtosis=None, **sp, method=method)
 
 
 def _spectral(spectrum: PowerSpectrum | None) -> dict[str, float | None]:
@@ -200,4 +201,5 @@ def surface_statistics(
         cg = cg[np.isfinite(cg)]
         curv = float(np.sqrt(8.0 / 3.0 * np.mean(cg**2))) if cg.size else float("nan")
         area = float(area_ratio_from_slope(slope))
-    return SurfaceStatistics(h_rms, slope, curv, area, skew, kurt, **_spectral(spectrum), method=method)
+    return SurfaceStatistics(h_rms=h_rms, slope_rms=slope, curvature_rms=curv, area_ratio=area, skewness=skew,
+                             kurtosis=kurt, **_spectral(spectrum), method=method)
