@@ -99,7 +99,7 @@ class _Toy:
 
     def tasks(self, plan, common, realizations):
         self.calls.append("tasks")
-        assert common["grid"] == plan and "spectrum" not in common
+        assert common.grid == plan and not hasattr(common, "spectrum")
         return [_Task(k, r) for r in range(realizations) for k in ("a", "b")]
 
     def aggregate(self, plan, records: Records, notes):

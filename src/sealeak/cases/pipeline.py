@@ -52,7 +52,7 @@ from .model import Case, GasConditions
 from .notes import NoteLike
 from .options import grid_number, seed_number
 
-__all__ = ["Geometry", "junction_resolved", "run_ensemble", "TaskSpec", "Records", "Flows", "TaskRecord", "FlowRecord",
+__all__ = ["Geometry", "junction_resolved", "run_ensemble", "RunSettings", "TaskSpec", "Records", "Flows", "TaskRecord", "FlowRecord",
            "FlowLog", "GasSimulation", "compute_task", "cut_spectrum",
            "resolved_spectrum_cut", "mean_std", "ratio", "gas_part", "gas_identity", "pack_mask", "unpack_mask",
            "task_memory_bytes", "TASK_BASE_BYTES", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS", "FlowMethod",
@@ -87,9 +87,9 @@ class Geometry(Protocol[PlanT, ResultT]):
                 progress: Callable[[int], None] | None) -> PlanT:
         """The domain, the cut spectrum, the theory and everything the tasks and the aggregation need."""
 
-    def tasks(self, plan: PlanT, common: dict[str, Any], realizations: int) -> list[Any]:
+    def tasks(self, plan: PlanT, common: RunSettings, realizations: int) -> list[Any]:
         """The independent tasks in realisation order; ``common`` holds :class:`TaskSpec`'s fields but
-        the spectrum and the domain's size, which the plan gives."""
+        the spectrum and the domain's size, which the plan gives (:meth:`RunSettings.spec`)."""
 
     def aggregate(self, plan: PlanT, records: Records, notes: list[NoteLike]) -> ResultT:
         """The result from the tasks' records (realisation order)."""
@@ -126,11 +126,11 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     notes: list[NoteLike] = []
     plan = geometry.prepare(case, grid, grid_field, notes, progress)
     with StagedFolder(fields_dir) as fields:
-        common = {"grid": grid, "seed": seed, "e_star": case.e_star, "viscosity": case.fluid.viscosity,
-                  "pressure_difference": float(case.pressure_difference), "gas": case.gas, "flow_method": flow_method,
-                  "contact_tol": contact_tol, "memory_limit": memory_limit,
-                  "fields_stage": None if fields.stage is None else str(fields.stage),
-                  "fields_target": None if fields.target is None else str(fields.target)}
+        common = RunSettings(grid=grid, seed=seed, e_star=case.e_star, viscosity=case.fluid.viscosity,
+                             pressure_difference=float(case.pressure_difference), gas=case.gas, flow_method=flow_method,
+                             contact_tol=contact_tol, memory_limit=memory_limit,
+                             fields_stage=None if fields.stage is None else str(fields.stage),
+                             fields_target=None if fields.target is None else str(fields.target))
         tasks = geometry.tasks(plan, common, realizations)
         done = [t.run(progress=progress) for t in tasks] if runner is None else list(runner(tasks))
     return geometry.aggregate(plan, Records(done, realizations, grid, seed), notes)
@@ -187,8 +187,33 @@ def gas_identity(gas: GasConditions | None) -> dict[str, Any] | None:
             "downstream_pressure": float(gas.downstream_pressure), "rarefaction": gas.rarefaction}
 
 
+S = TypeVar("S", bound="TaskSpec")
+
+
 @dataclass(frozen=True, kw_only=True)
-class TaskSpec:
+class RunSettings:
+    """What :func:`run_ensemble` gives every task of a run: :class:`TaskSpec`'s fields but the spectrum and the
+    domain's size, which the geometry's plan gives (SI units)."""
+
+    grid: int
+    seed: int
+    e_star: float
+    viscosity: float
+    pressure_difference: float
+    gas: Any
+    flow_method: FlowMethod
+    contact_tol: float
+    memory_limit: float | None = None
+    fields_stage: str | None = None
+    fields_target: str | None = None
+
+    def spec(self, cls: type[S], **own: Any) -> S:
+        """A task spec of type ``cls`` with these settings and the geometry's ``own`` fields."""
+        return cls(**{f.name: getattr(self, f.name) for f in fields(RunSettings)}, **own)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TaskSpec(RunSettings):
     """What every task of a run needs whatever the geometry, in SI units (shared by all tasks of the run).
 
     ``spectrum`` is the (possibly cut) C(q) the surfaces are drawn from, ``grid`` N and ``size`` (m) the
@@ -201,18 +226,7 @@ class TaskSpec:
     """
 
     spectrum: Any
-    grid: int
     size: float
-    seed: int
-    e_star: float
-    viscosity: float
-    pressure_difference: float
-    gas: Any
-    flow_method: FlowMethod
-    contact_tol: float
-    memory_limit: float | None = None
-    fields_stage: str | None = None
-    fields_target: str | None = None
     fft_workers: int = -1
     fields_store: str | None = None
 

@@ -51,6 +51,7 @@ from .pipeline import (
     Flows,
     GasSimulation,
     Records,
+    RunSettings,
     TaskRecord,
     TaskSpec,
     cut_spectrum,
@@ -220,10 +221,10 @@ class PeriodicSquare:
                            junction_cells=junction_cells, u_c=u_c, contact_theory=contact_theory,
                            threshold_anchor=_threshold_anchor(sim_case))
 
-    def tasks(self, plan: _SquarePlan, common: dict[str, Any], realizations: int) -> list[EnsembleTask]:
+    def tasks(self, plan: _SquarePlan, common: RunSettings, realizations: int) -> list[EnsembleTask]:
         """Each realisation's sweep, then (if asked) its threshold search."""
-        spec = EnsembleSpec(spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
-                            aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor, **common)
+        spec = common.spec(EnsembleSpec, spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
+                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor)
         return ensemble_tasks(spec, realizations, self.threshold)
 
     def aggregate(self, plan: _SquarePlan, records: Records, notes: list[NoteLike]) -> SimulationResult:

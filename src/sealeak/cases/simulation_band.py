@@ -63,6 +63,7 @@ from .pipeline import (
     Flows,
     GasSimulation,
     Records,
+    RunSettings,
     TaskRecord,
     TaskSpec,
     cut_spectrum,
@@ -383,13 +384,12 @@ class OringBand:
                 "grid_field": grid_field}))
         return _Smooth(sm_width, sm_pmax, lines, w_err, p_err)
 
-    def tasks(self, plan: _BandPlan, common: dict[str, Any], realizations: int) -> list[BandTask]:
+    def tasks(self, plan: _BandPlan, common: RunSettings, realizations: int) -> list[BandTask]:
         """One task per realisation."""
         band = plan.band
-        spec = BandSpec(spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
-                        half_widths=plan.half_width, loads=plan.loads, load_name=band.load_name,
-                        scale=float(band.faces * band.length / plan.size),  # Q of the seal per Q of the W-wide strip
-                        **common)
+        spec = common.spec(BandSpec, spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
+                           half_widths=plan.half_width, loads=plan.loads, load_name=band.load_name,
+                           scale=float(band.faces * band.length / plan.size))  # Q of the seal per Q of the W-wide strip
         return band_tasks(spec, realizations)
 
     def aggregate(self, plan: _BandPlan, records: Records, notes: list[NoteLike]) -> BandSimulationResult:
