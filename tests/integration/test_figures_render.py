@@ -338,11 +338,11 @@ def test_laboratory_figures_read_right(case, sweep, tmp_path):
     data.write_text("squeeze_pressure (kPa), leak_rate (ml/min)\n"
                     + "\n".join(f"{p / 1e3:.6g}, {x * 6e7:.6g}" for p, x in zip(p0, q)) + "\n")
     # what run_fit returns, from the fixture's curves (run_fit computes them again, on a finer grid)
-    fit = FitResult(case=case, data=read_leak_data(data),
-                    fits={"critical_junction": fit_scale(q, cj, "critical_junction"),
-                          "effective_medium": fit_scale(q, em, "effective_medium")},
-                    reference_pressure_difference=case.pressure_difference, same_pressure_difference=True, measured=q,
-                    grid=p0, curves={"critical_junction": cj, "effective_medium": em}, messages=())
+    fits = {"critical_junction": fit_scale(q, cj, "critical_junction"),
+            "effective_medium": fit_scale(q, em, "effective_medium")}
+    fit = FitResult(case=case, data=read_leak_data(data), fits=fits,
+                    reference_pressure_difference=case.pressure_difference, same_pressure_difference=True,
+                    measured=q, grid=p0, curves={"critical_junction": cj, "effective_medium": em}, messages=())
     dp = np.array([2e3, 4e3, 6e3, 8e3, 1e4])
     q_dp = 1.2e-10 * dp * (1 + 0.01 * rng.standard_normal(dp.size))
     check = linearity(case, dp, q_dp)

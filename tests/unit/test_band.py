@@ -33,8 +33,9 @@ def base():
 
 def _band(case, profiles, q0=None, faces=1):
     n = len(profiles)
-    return replace(case, band=BandSeal("profile", case.seal.length, "profile_scale", np.ones(n), tuple(profiles),
-                                       np.full(n, case.q0 if q0 is None else q0), faces=faces))
+    return replace(case, band=BandSeal(kind="profile", length=case.seal.length, load_name="profile_scale",
+                                       loads=np.ones(n), profiles=tuple(profiles),
+                                       q0=np.full(n, case.q0 if q0 is None else q0), faces=faces))
 
 
 # ---------------------------------------------------------------------- the profile itself

@@ -19,7 +19,7 @@ from sealeak.cases.gas import GasColumns, HeliumColumns
 from sealeak.cases.loader import example_names, load_cases
 from sealeak.cases.pipeline import GasSimulation
 from sealeak.cases.simulation_band import BandSimulationResult
-from sealeak.io.quantities import descriptions_of, quantity, record_fields, units_of
+from sealeak.io.quantities import descriptions_of, expand_keys, quantity, record_fields, units_for, units_of
 from sealeak.physics.critical_junction import CriticalJunctionResult
 from sealeak.physics.effective_medium import EffectiveMediumResult
 from sealeak.render.records import json_rows
@@ -40,6 +40,26 @@ def test_units_keys_and_values_come_from_the_one_declaration():
     assert record_fields(r) == {"leak_rate": [1e-9, 2e-9], "percolates_em": [True, False], "regime": ("slip", "")}
     assert descriptions_of(_Result)["percolates_em"] == "a leak channel exists"
     assert "note" not in units_of(_Result)  # a field without a unit is no record field
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class _Fit:
+    leak_rate: float = quantity("Pa*m^3/s", "a gas's leak rate")
+    fitted: float = quantity("Pa*m^3/s", "a model's fit", key="fitted_<model>")
+    fitted_mbar: float = quantity("mbar*l/s", "the same in mbar·l/s", key="fitted_<model>_mbar")
+
+
+def test_a_document_takes_the_units_of_its_keys_in_its_order_from_the_first_class_declaring_them():
+    assert units_for(("regime", "leak_rate"), _Result, _Fit) == {"regime": "", "leak_rate": "m^3/s"}
+    assert units_for(("leak_rate",), _Fit, _Result) == {"leak_rate": "Pa*m^3/s"}
+    with pytest.raises(KeyError, match="note"):
+        units_for(("leak_rate", "note"), _Result)  # a key without a declared unit is an error, never a guess
+
+
+def test_template_keys_are_written_per_value_each_value_s_keys_together():
+    assert list(expand_keys(units_of(_Fit), model=["a", "b"])) == ["leak_rate", "fitted_a", "fitted_a_mbar", "fitted_b",
+                                                                    "fitted_b_mbar"]
+    assert expand_keys(units_of(_Fit)) == {"leak_rate": "Pa*m^3/s"}
 
 
 def test_json_rows_repeats_scalars_and_writes_missing_values_as_null():

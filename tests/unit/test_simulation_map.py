@@ -37,7 +37,7 @@ def test_a_gaussian_periodic_map_gives_the_alpha_of_random_surfaces_of_its_spect
     estimates from that map, the random route the case's C(q))."""
     n = 6
     random = simulate(low, grid=GRID, realizations=n, seed=5, threshold=False)
-    maps = [Topography(_gaussian(low, s), (low.square_side, low.square_side), periodic=True, source=f"synthetic {s}")
+    maps = [Topography(heights=_gaussian(low, s), size=(low.square_side, low.square_side), periodic=True, source=f"synthetic {s}")
             for s in range(n)]
     res = simulate_maps(maps, low, grid=GRID, threshold=False)
     assert res.percolates.all() and random.percolating_fraction.min() == 1.0
@@ -82,7 +82,7 @@ def test_a_tilted_non_periodic_map_is_levelled_mirrored_and_flagged(low):
 
 def test_a_map_is_resampled_to_the_grid_asked_for_and_cut_into_windows(low):
     h = _gaussian(low, 3, 64)
-    topo = Topography(h, (low.square_side, low.square_side), source="m")
+    topo = Topography(heights=h, size=(low.square_side, low.square_side), source="m")
     info = solver_map(topo, 32)
     assert info.heights.shape == (32, 32) and any("resampled from 128x128 to the 32x32" in n for n in info.notes)
     windows = map_windows(topo, 2)

@@ -7,8 +7,8 @@ import pytest
 
 from sealeak.cases import SimulationOptions, load_cases, parse_case_bytes, simulation_options
 from sealeak.cases.loader import example_path, example_text
-from sealeak.cases.pipeline import Records, run_ensemble
-from sealeak.cases.simulation import simulate
+from sealeak.cases.pipeline import Records, TaskRecord, run_ensemble
+from sealeak.cases.simulation import SweepRecord, simulate
 from sealeak.errors import InputError
 
 
@@ -59,13 +59,28 @@ def test_the_case_files_and_the_library_apply_the_same_grid_and_seed_rules():
             simulate(case, **({"grid": 32, "realizations": 1, "seed": 0} | kw))
 
 
+@dataclass(frozen=True, kw_only=True)
+class _ARecord(TaskRecord):
+    KIND = "toy-a"
+
+    value: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class _BRecord(TaskRecord):
+    KIND = "toy-b"
+
+    value: float
+
+
 @dataclass
 class _Task:
     kind: str
     realization: int
 
     def run(self, progress=None):
-        return {"value": 10.0 * self.realization + (self.kind == "b")}
+        record = _BRecord if self.kind == "b" else _ARecord
+        return record(realization=self.realization, value=10.0 * self.realization + (self.kind == "b"))
 
 
 @dataclass
@@ -84,12 +99,13 @@ class _Toy:
 
     def tasks(self, plan, common, realizations):
         self.calls.append("tasks")
-        assert common["grid"] == plan and "spectrum" not in common
+        assert common.grid == plan and not hasattr(common, "spectrum")
         return [_Task(k, r) for r in range(realizations) for k in ("a", "b")]
 
     def aggregate(self, plan, records: Records, notes):
         self.calls.append("aggregate")
-        return records.stack("a", "value", 1)[:, 0], records.stack("b", "value", 1)[:, 0], tuple(notes)
+        return (records.stack(_ARecord, lambda rec: [rec.value], 1)[:, 0],
+                records.stack(_BRecord, lambda rec: [rec.value], 1)[:, 0], tuple(notes))
 
 
 def test_a_geometry_strategy_runs_through_the_pipeline_in_realisation_order():
@@ -105,3 +121,19 @@ def test_a_geometry_strategy_runs_through_the_pipeline_in_realisation_order():
     checked_runner.checks_memory = True  # a runner of make_runner checks the memory where the tasks run
     run_ensemble(checked, replace(case), grid=32, realizations=1, seed=1, runner=checked_runner)
     assert "memory" not in checked.calls
+
+
+def test_a_task_record_round_trips_through_its_mapping_and_anything_else_is_refused():
+    rec = _ARecord(realization=2, value=3.5)
+    assert rec.to_mapping() == {"kind": "toy-a", "realization": 2, "value": 3.5}
+    assert TaskRecord.from_mapping(rec.to_mapping()) == rec
+    for bad in ({"kind": "toy-a", "realization": 2}, {"kind": "toy-c", "realization": 0, "value": 1.0}, [1.0]):
+        with pytest.raises(ValueError):
+            TaskRecord.from_mapping(bad)
+
+
+def test_a_liquid_sweep_record_keeps_no_gas_columns_and_no_fields_in_its_mapping():
+    rec = SweepRecord(realization=0, relative_contact_area=[0.1], percolates=[True], leak_rate=[1e-9], mean_gap=[1e-6])
+    assert set(rec.to_mapping()) == {"kind", "realization", "relative_contact_area", "percolates", "leak_rate",
+                                     "contact_maps", "mean_gap"}
+    assert TaskRecord.from_mapping(rec.to_mapping()) == rec

@@ -16,12 +16,14 @@ _x, _y = np.meshgrid(np.linspace(0, 1, 40), np.linspace(0, 1, 30), indexing="ij"
 
 
 @pytest.mark.parametrize("surface,detrend,said", [
-    (Topography(np.full((40, 30), 7e-6), (L, L)), "auto", "all 1200 heights are equal (7 µm)"),
-    (Topography(np.zeros((16, 16)), (L, L), periodic=True), "auto", "all 256 heights are equal"),
-    (Topography(2e-6 * _x - 5e-6 * _y + 1e-3, (L, L)), "plane", "the map is a plane"),
-    (Topography(1e-6 * (_x**2 + _x * _y - 3 * _y**2), (L, L)), "curvature", "the map is a quadratic surface"),
-    (LineScans(np.full(100, -2e-6), L), "auto", "all 100 heights are equal"),
-    (LineScans(np.outer(np.arange(1, 4), np.linspace(0, 1e-6, 50)), L), "auto", "each profile is a straight line"),
+    (Topography(heights=np.full((40, 30), 7e-6), size=(L, L)), "auto", "all 1200 heights are equal (7 µm)"),
+    (Topography(heights=np.zeros((16, 16)), size=(L, L), periodic=True), "auto", "all 256 heights are equal"),
+    (Topography(heights=2e-6 * _x - 5e-6 * _y + 1e-3, size=(L, L)), "plane", "the map is a plane"),
+    (Topography(heights=1e-6 * (_x**2 + _x * _y - 3 * _y**2), size=(L, L)), "curvature",
+                "the map is a quadratic surface"),
+    (LineScans(heights=np.full(100, -2e-6), length=L), "auto", "all 100 heights are equal"),
+    (LineScans(heights=np.outer(np.arange(1, 4), np.linspace(0, 1e-6, 50)), length=L), "auto",
+               "each profile is a straight line"),
 ])
 def test_flat_measurements_are_refused_naming_them(surface, detrend, said):
     surface = type(surface)(**{**surface.__dict__, "source": "/data/scan.txt"})
@@ -31,7 +33,7 @@ def test_flat_measurements_are_refused_naming_them(surface, detrend, said):
 
 
 def test_a_plane_is_flat_only_after_removing_it():
-    tilted = Topography(2e-6 * _x - 5e-6 * _y, (L, L), source="tilt")
+    tilted = Topography(heights=2e-6 * _x - 5e-6 * _y, size=(L, L), source="tilt")
     with pytest.raises(FileFormatError, match="plane"):
         analyze(tilted)
     # asked to keep the tilt (mean removed only), the map has something to show: no refusal
@@ -41,7 +43,7 @@ def test_a_plane_is_flat_only_after_removing_it():
 def test_roughness_far_below_the_heights_is_not_round_off():
     # 1 nm of roughness on a 1 mm offset (a stage position in the heights): 1e-6 of the heights, kept
     rough = 1e-3 + 1e-9 * np.random.default_rng(0).standard_normal((64, 64))
-    an = analyze(Topography(rough, (L, L)), fit=False)
+    an = analyze(Topography(heights=rough, size=(L, L)), fit=False)
     assert an.statistics.h_rms == pytest.approx(1e-9, rel=0.05)
     assert 2.5 < an.statistics.kurtosis < 3.5  # Gaussian heights, not the kurtosis 1 of round-off
 
@@ -51,9 +53,9 @@ def test_topography_objects_refuse_markers_and_say_what_to_do(marker):
     h = np.random.default_rng(1).standard_normal((8, 8)) * 1e-6
     h[2, 3] = marker
     with pytest.raises(InputError, match="no-data markers: set them to NaN"):
-        Topography(h, (L, L))
+        Topography(heights=h, size=(L, L))
     with pytest.raises(InputError, match="1 value"):
-        LineScans(h[2], L)
+        LineScans(heights=h[2], length=L)
 
 
 def test_markers_on_reading_become_undefined_points(tmp_path):
@@ -71,7 +73,8 @@ def test_markers_on_reading_become_undefined_points(tmp_path):
 
 def test_the_files_own_resolution_is_named_when_it_closes_the_range():
     h = np.random.default_rng(3).standard_normal((64, 64)) * 1e-6
-    stylus = Topography(h, (L, L), resolution=0.8e-3, source="stylus.csv")  # as an instrument file would state it
+    stylus = Topography(heights=h, size=(L, L), resolution=0.8e-3,
+                        source="stylus.csv")  # as an instrument file would state it
     an = analyze(stylus)
     assert not an.has_spectrum
     problem = an.sources[0].spectrum_problem

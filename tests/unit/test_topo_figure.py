@@ -20,7 +20,7 @@ MODEL = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=2e3, q_cutoff=1e7, q_lowe
 
 
 def _map(n, size, seed, name):
-    return Topography(synthesize(MODEL, n, size, seed=seed), (size, size), periodic=True, source=name)
+    return Topography(heights=synthesize(MODEL, n, size, seed=seed), size=(size, size), periodic=True, source=name)
 
 
 def _stitched_with_a_gap():
@@ -34,7 +34,7 @@ def _three_scales():
 
 def _profile():
     h = synthesize(MODEL, 512, 2e-3, seed=4)
-    return analyze([LineScans(h[:, :8].T, 2e-3, periodic=True, source="profiles.txt")])
+    return analyze([LineScans(heights=h[:, :8].T, length=2e-3, periodic=True, source="profiles.txt")])
 
 
 def _single():
@@ -127,7 +127,8 @@ def test_gaps_between_measurements_are_shaded_and_not_bridged(tmp_path):
 def test_a_questionable_fit_says_so_in_the_figure():
     q = np.geomspace(2e4, 2e6, 41)
     steep = PowerSpectrum.from_arrays(q, 1e-30 * (q / q[0]) ** -5.0)  # wants H = 1.5
-    an = analyze([Topography(synthesize(steep, 512, 1e-3, seed=3, amplitudes="phases"), (1e-3, 1e-3), periodic=True)])
+    an = analyze([Topography(heights=synthesize(steep, 512, 1e-3, seed=3, amplitudes="phases"), size=(1e-3, 1e-3),
+                             periodic=True)])
     assert an.fit.warnings
     fig = plot_spectra(an)
     labels = [t.get_text() for t in fig.legends[0].get_texts()]

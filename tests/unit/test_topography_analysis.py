@@ -29,7 +29,7 @@ SAMPLES = Path(__file__).resolve().parents[3] / "shared" / "topography-samples"
 
 @pytest.fixture(scope="module")
 def periodic_map() -> Topography:
-    return Topography(synthesize(MODEL, 512, L, seed=7), (L, L), periodic=True, source="synthesized")
+    return Topography(heights=synthesize(MODEL, 512, L, seed=7), size=(L, L), periodic=True, source="synthesized")
 
 
 def test_statistics_of_periodic_map_agree_with_discrete_moments(periodic_map):
@@ -58,15 +58,15 @@ def test_statistics_of_periodic_map_agree_with_discrete_moments(periodic_map):
 def test_skewness_kurtosis_known_distribution():
     rng = np.random.default_rng(2)
     h = rng.exponential(1e-6, size=(300, 300))  # skewness 2, kurtosis 9
-    s = surface_statistics(Topography(h, (1e-4, 1e-4), periodic=True))
+    s = surface_statistics(Topography(heights=h, size=(1e-4, 1e-4), periodic=True))
     assert s.skewness == pytest.approx(2.0, abs=0.15)
     assert s.kurtosis == pytest.approx(9.0, abs=1.2)
 
 
 def test_stitching_two_scales():
     # one surface at two scales: the whole map and a 4× finer map of a quarter-size window
-    coarse = Topography(synthesize(MODEL, 512, L, seed=11), (L, L), periodic=True, source="coarse")
-    fine = Topography(synthesize(MODEL, 512, L / 4, seed=12), (L / 4, L / 4), periodic=True, source="fine")
+    coarse = Topography(heights=synthesize(MODEL, 512, L, seed=11), size=(L, L), periodic=True, source="coarse")
+    fine = Topography(heights=synthesize(MODEL, 512, L / 4, seed=12), size=(L / 4, L / 4), periodic=True, source="fine")
     a, b = spectrum_2d(coarse), spectrum_2d(fine)
     s = stitch([a, b])
     assert s.q_lo[0] == pytest.approx(a.q_lo[a.reliable][0]) and s.q_hi[-1] == pytest.approx(b.q_hi[b.reliable][-1])
@@ -97,7 +97,7 @@ def test_fit_recovers_exact_model():
 
 def test_fit_of_synthesized_map_within_standard_errors():
     model = PowerSpectrum.self_affine(hurst=0.6, q_rolloff=10**5.0, q_cutoff=10**6.5, q_lowest=10**3.9, h_rms=1e-6)
-    t = Topography(synthesize(model, 1024, L, seed=5), (L, L), periodic=True)
+    t = Topography(heights=synthesize(model, 1024, L, seed=5), size=(L, L), periodic=True)
     b = spectrum_2d(t, resolution_pixels=3)
     f = fit_self_affine(b)
     assert f.rolloff_resolved
@@ -167,7 +167,7 @@ def test_nonperiodic_slope_and_curvature_match_the_spectrum(hurst):
                                       h_rms=1e-6)
     h = synthesize(model, n, L, seed=9, amplitudes="phases")
     slope2, curv2 = _discrete_moments(model, n, L)
-    crop = Topography(h[100:612, 300:812], (L / 2, L / 2), periodic=False)  # not periodic
+    crop = Topography(heights=h[100:612, 300:812], size=(L / 2, L / 2), periodic=False)  # not periodic
     st = surface_statistics(crop)
     assert st.slope_rms == pytest.approx(np.sqrt(slope2), rel=0.02)
     assert st.curvature_rms == pytest.approx(np.sqrt(curv2), rel=0.03)
@@ -176,7 +176,7 @@ def test_nonperiodic_slope_and_curvature_match_the_spectrum(hurst):
 
     assert st.area_ratio - 1 == pytest.approx(area_ratio_from_slope(np.sqrt(slope2)) - 1, rel=0.05)
     # profiles of the crop: <|∇h|²> = 2<h'²>, <(∇²h)²> = (8/3)<h''²> for an isotropic surface
-    sl = surface_statistics(LineScans(h[100:612, 300:812], L / 2))
+    sl = surface_statistics(LineScans(heights=h[100:612, 300:812], length=L / 2))
     assert sl.slope_rms == pytest.approx(np.sqrt(slope2), rel=0.03)
     assert sl.curvature_rms == pytest.approx(np.sqrt(curv2), rel=0.05)
 
@@ -189,7 +189,7 @@ def test_fit_flat_spectrum_and_white_noise_give_clear_errors():
     for rolloff in (None, True, False):
         with pytest.raises(InputError, match="H cannot be determined"):
             fit_self_affine(flat, rolloff=rolloff)
-    noise = Topography(np.random.default_rng(0).standard_normal((256, 256)) * 1e-6, (L, L))
+    noise = Topography(heights=np.random.default_rng(0).standard_normal((256, 256)) * 1e-6, size=(L, L))
     with pytest.raises(InputError, match="H cannot be determined"):
         fit_self_affine(spectrum_2d(noise))
     res = analyze([noise])  # the analysis goes on without a fit and says why
@@ -225,8 +225,9 @@ def test_fit_rolloff_near_the_top_of_the_range():
 
 # ---------------------------------------------------------------------------- several sources, small maps
 def test_several_sources_statistics_from_the_combined_spectrum():
-    coarse = Topography(synthesize(MODEL, 256, L, seed=21), (L, L), periodic=True, source="coarse.npy")
-    fine = Topography(synthesize(MODEL, 256, L / 8, seed=22), (L / 8, L / 8), periodic=True, source="fine.npy")
+    coarse = Topography(heights=synthesize(MODEL, 256, L, seed=21), size=(L, L), periodic=True, source="coarse.npy")
+    fine = Topography(heights=synthesize(MODEL, 256, L / 8, seed=22), size=(L / 8, L / 8), periodic=True,
+                      source="fine.npy")
     res = analyze([coarse, fine])
     st, sp = res.statistics, res.spectrum
     # independent integration of the combined C(q) (log-log interpolation between its points)
@@ -261,7 +262,7 @@ def test_small_map_keeps_height_statistics_and_names_the_problem(tmp_path):
     with pytest.raises(InputError, match=r"tiny\.txt.*too small for a reliable C\(q\)"):
         res.spectrum  # noqa: B018
     # next to a large map, the small one is left out of C(q) (said in the notes), not fatal
-    big = Topography(synthesize(MODEL, 256, L, seed=1), (L, L), periodic=True, source="big")
+    big = Topography(heights=synthesize(MODEL, 256, L, seed=1), size=(L, L), periodic=True, source="big")
     both = analyze([big, p], size="1 mm", height_unit="um")
     assert both.has_spectrum and any("left out of C(q): tiny.txt" in n for n in both.notes)
     assert "too small" in both.sources[1].spectrum_problem and both.sources[0].spectrum_problem is None
@@ -287,10 +288,12 @@ def test_fit_with_a_large_reduced_chi2_warns():
     C = 1e-30 * (q / 1e4) ** -3.0 * np.exp(0.7 * np.sin(np.arange(q.size)))
     edges = np.sqrt(q[:-1] * q[1:])
     lo, hi = np.concatenate([[q[0] / 1.1], edges]), np.concatenate([edges, [q[-1] * 1.1]])
-    b = BinnedSpectrum(q, C, np.full(q.size, 5000), lo, hi, np.ones(q.size, bool), (q[0], q[-1]), 2)
+    b = BinnedSpectrum(q=q, C=C, modes=np.full(q.size, 5000), q_lo=lo, q_hi=hi, reliable=np.ones(q.size, bool),
+                       q_reliable=(q[0], q[-1]), dim=2)
     f = fit_self_affine(b)
     assert f.chi2_red > 100 and 0 < f.hurst < 1
     assert [w for w in f.warnings if "χ²" in w] and "compromise" in f.warning
     # the same shape with the scatter of few modes per bin: no warning
-    few = fit_self_affine(BinnedSpectrum(q, C, np.full(q.size, 2), lo, hi, np.ones(q.size, bool), (q[0], q[-1]), 2))
+    few = fit_self_affine(BinnedSpectrum(q=q, C=C, modes=np.full(q.size, 2), q_lo=lo, q_hi=hi,
+                                         reliable=np.ones(q.size, bool), q_reliable=(q[0], q[-1]), dim=2))
     assert few.chi2_red < 100 and not few.warnings

@@ -279,7 +279,7 @@ def test_dektak_tip_radius_sets_the_end_of_the_reliable_range():
 
 def test_reliable_range_start_and_end_on_a_map():
     rng = np.random.default_rng(5)
-    t = Topography(rng.standard_normal((200, 100)) * 1e-7, (200 * UM, 100 * UM))  # 1 µm pixels
+    t = Topography(heights=rng.standard_normal((200, 100)) * 1e-7, size=(200 * UM, 100 * UM))  # 1 µm pixels
     for kwargs, (lo, hi) in [
         ({}, (3 * 2 * np.pi / (100 * UM), 2 * np.pi / (4 * UM))),  # default: 3·2π/(shorter side), 4 pixels
         ({"low_cut": 2, "resolution": 10 * UM}, (2 * 2 * np.pi / (100 * UM), 2 * np.pi / (10 * UM))),

@@ -37,7 +37,7 @@ MODEL = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=Q_ROLL, q_cutoff=Q_CUT, q
 @pytest.fixture(scope="module")
 def gaussian_map() -> Topography:
     h = synthesize(MODEL, N, L, seed=20240611)
-    return Topography(h, (L, L), periodic=True, source="synthesized")
+    return Topography(heights=h, size=(L, L), periodic=True, source="synthesized")
 
 
 # ---------------------------------------------------------------------------- Parseval
@@ -45,7 +45,7 @@ def gaussian_map() -> Topography:
 def test_parseval_discrete_spectrum_sums_to_variance(shape, size):
     rng = np.random.default_rng(1)
     h = rng.standard_normal(shape) * 1e-6 + 3e-6  # offset: removed by the mean detrend
-    prep = prepare(Topography(h, size, periodic=True))
+    prep = prepare(Topography(heights=h, size=size, periodic=True))
     qx, qy, C, w = power_spectrum_map(prep)
     dq2 = (2 * np.pi / size[0]) * (2 * np.pi / size[1])
     h_rms_spectrum = np.sqrt(np.sum(w * C) * dq2)  # 2π∫qC dq as the sum over all modes
@@ -99,7 +99,7 @@ def test_surfacetopography_psd_is_2pi_squared_times_persson():
     sx, sy = L, 0.75 * L
     h = h[:, :192]
     h = h - h.mean()
-    ours = power_spectrum_map(prepare(Topography(h, (sx, sy), periodic=True)))
+    ours = power_spectrum_map(prepare(Topography(heights=h, size=(sx, sy), periodic=True)))
     t = ST.Topography(h, (sx, sy), periodic=True)
     _, _, C_st = t.power_spectrum_from_area(window="None", reliable=False, return_map=True)
     C_st = np.asarray(C_st)[:, : ours[2].shape[1]]  # full fft2 layout → rfft2 half plane
@@ -109,7 +109,7 @@ def test_surfacetopography_psd_is_2pi_squared_times_persson():
 
 # ---------------------------------------------------------------------------- window
 def test_window_correction_on_nonperiodic_crop(gaussian_map):
-    crop = Topography(gaussian_map.heights[100:612, 300:812], (L / 2, L / 2), periodic=False)
+    crop = Topography(heights=gaussian_map.heights[100:612, 300:812], size=(L / 2, L / 2), periodic=False)
     prep = prepare(crop)  # plane removed, Hann window normalised to mean(w²) = 1
     assert any("Hann" in n for n in prep.notes)
     rms_crop = np.std(prep.surface.heights)

@@ -80,7 +80,7 @@ class BandEffectiveMediumColumns:
         "1", "estimated relative error of the effective medium's R")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BandTheory:
     """One theory's leak rates over the loads of a band seal (arrays per load, SI units).
 
@@ -118,7 +118,7 @@ class BandTheory:
     messages: tuple[NoteLike, ...] = ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BandResult:
     """A band seal's leak rates per load, with its contact (SI units; arrays per load).
 
@@ -323,8 +323,11 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
         messages.append(Note("band_not_converged", {
             "theory": name, "tolerance": RTOL if name.startswith("critical") else TABLE_RTOL,
             "load_name": band.load_name, "load": float(band.loads[i]), "change": changes[i]}))
-    return BandTheory(q, ~sealed, uniform, r, np.array([w for w, _ in where]), np.array([x for _, x in where]),
-                      tuple(integrals), np.array(changes), np.array([g.evaluations for g in integrals]), tuple(messages))
+    return BandTheory(leak_rate=q, percolates=~sealed, uniform_mean_pressure=uniform, resistance=r,
+                      resistance_band_width=np.array([w for w, _ in where]),
+                      resistance_peak_position=np.array([x for _, x in where]),
+                      integrals=tuple(integrals), change=np.array(changes),
+                      evaluations=np.array([g.evaluations for g in integrals]), messages=tuple(messages))
 
 
 def load_value(load_name: str, value: float) -> str | float:

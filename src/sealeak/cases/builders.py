@@ -391,7 +391,7 @@ def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | N
 _LIQUIDS_AT_ROOM = ("water", "ethanol")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _FluidInputs:
     """What [fluid] and the pressure keys of [conditions] give (SI): the fluid, ΔP, the gas, the warnings."""
 
@@ -522,7 +522,9 @@ def _fluid(fsec: Section, cond: Section, theory: Section) -> _FluidInputs:
                          "(set conditions.helium_equivalent = true for its helium-equivalent leak rate)")
     with case_keys():
         fluid = Fluid(viscosity, density, name, molecular)
-    return _FluidInputs(fluid, dp, temperature, absolute, state, gas, helium or gas is not None, rarefaction, tuple(warnings))
+    return _FluidInputs(fluid=fluid, pressure_difference=dp, temperature=temperature, absolute_pressures=absolute,
+                        state=state, gas=gas, helium_equivalent=helium or gas is not None, rarefaction=rarefaction,
+                        warnings=tuple(warnings))
 
 
 #: A given fluid.viscosity or fluid.density this many times above or below the property library's value

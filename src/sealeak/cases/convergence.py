@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from scipy import optimize, stats
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from .model import Case
 from .notes import Note, NoteLike
 from .options import parse_grid_list
@@ -64,7 +65,7 @@ def standard_error(values: Any) -> tuple[float, float, int]:
     return mean, se, n
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Extrapolation:
     """X(a) = X∞ + c·a^p fitted to (a_i, X_i ± s_i) by weighted least squares (docs/theory.md §6.8).
 
@@ -92,11 +93,11 @@ class Extrapolation:
         Whether X changes in one direction from grid to grid.
     """
 
-    value: float
-    stderr: float
+    value: float = quantity("1", "extrapolated continuum limit X∞ (α or the percolation threshold)")
+    stderr: float = quantity("1", "standard error of X∞")
     stderr_unscaled: float
-    slope: float
-    exponent: float
+    slope: float = quantity("1/m^exponent", "c of X(a) = X∞ + c·a^p, X per m^p")
+    exponent: float = quantity("1", "p of X(a) = X∞ + c·a^p")
     exponent_stderr: float
     exponent_fitted: bool
     chi2: float
@@ -226,7 +227,7 @@ def _fit_exponent(s: FloatArray, x: FloatArray, w: FloatArray) -> tuple[float, F
     return float(pp), theta[:2], cov, chi2
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GridStatistics:
     """One grid of a study: means and standard errors over its realisations (SI units, arrays per pressure).
 
@@ -238,17 +239,19 @@ class GridStatistics:
     """
 
     grid: int
-    spacing: float
+    spacing: float = quantity("m", "grid spacing a = size/grid")
     realizations: int
     alpha: FloatArray
-    alpha_stderr: FloatArray
-    alpha_count: NDArray[np.int64]
+    alpha_stderr: FloatArray = quantity("1", "standard error of α over the grid's percolating realisations")
+    alpha_count: NDArray[np.int64] = quantity("1", "percolating realisations α is the mean of")
     alpha_resolved: NDArray[np.bool_]
     relative_contact_area: FloatArray
-    relative_contact_area_stderr: FloatArray
-    threshold: float
-    threshold_stderr: float
-    threshold_count: int
+    relative_contact_area_stderr: FloatArray = quantity("1", "standard error of A/A0")
+    threshold: float = quantity("1", "A/A0 at which the non-contact area stops percolating, mean over realisations",
+                                key="percolation_threshold")
+    threshold_stderr: float = quantity("1", "standard error of the percolation threshold",
+                                       key="percolation_threshold_stderr")
+    threshold_count: int = quantity("1", "realisations with a percolation threshold", key="percolation_threshold_count")
     q_cut: float | None
 
 
@@ -270,7 +273,7 @@ class ThresholdComparison:
         return (self.ours - self.published) / self.ours_stderr
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ConvergenceStudy:
     """The result of a convergence study: the runs, their statistics, the extrapolations, the comparison, the flags.
 

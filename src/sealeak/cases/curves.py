@@ -48,7 +48,7 @@ def representative_pressures(result: CriticalJunctionResult, count: int = 4,
     return p[idx]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CurveSet:
     """Curves of one case at one squeeze pressure, against magnification ζ and gap u (SI units).
 
@@ -96,7 +96,7 @@ class CurveSet:
                     or not self.distribution.mean_gap[0] > 0)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PressureDifferenceSweep:
     """Q against ΔP at one squeeze pressure (Pa, m³/s); ``effective_medium`` None unless asked for.
 
@@ -153,7 +153,8 @@ def _curve_set(case: Case, p0: float, valid: bool = True) -> CurveSet:
     u1 = contact.u1(z[1:-1], p0)  # u1 -> inf as ζ -> 1 (A'(1) = 0)
     u1_c = float(contact.u1(zc, p0)) if ok else float("nan")
     dist = gap_distribution(contact, [p0])
-    return CurveSet(case, float(p0), z, area, float(zc), bool(ok), ubar, u1, u1_c, dist, valid)
+    return CurveSet(case=case, squeeze_pressure=float(p0), zeta=z, area=area, zeta_c=float(zc), percolates=bool(ok),
+                    mean_gap=ubar, u1=u1, u1_c=u1_c, distribution=dist, valid=valid)
 
 
 def _verdict_at(result: CaseResult, p0: float) -> bool:
@@ -211,8 +212,9 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
         q = held_sweep(cap.get("critical_junction"), i, dp, q)
         q_em = held_sweep(cap.get("effective_medium"), i, dp, q_em) if q_em is not None else None
         valid_em = r.valid_effective_medium
-        sweeps.append(PressureDifferenceSweep(case, p0, dp, q, q_em, bool(valid[i]),
-                                              bool(valid_em[i]) if valid_em is not None and valid_em.size else True))
+        sweeps.append(PressureDifferenceSweep(case=case, squeeze_pressure=p0, pressure_difference=dp,
+                                              critical_junction=q, effective_medium=q_em, valid=bool(valid[i]),
+                                              valid_effective_medium=bool(valid_em[i]) if valid_em is not None and valid_em.size else True))
     return PredictionCurves(spectra, sets, u, density, sweeps)
 
 
@@ -229,6 +231,8 @@ def _gas_sweep(result: CaseResult, row: int, dp: FloatArray, valid: bool) -> Pre
 
     cj, em = curve("critical_junction"), curve("effective_medium")
     valid_em = result.valid_effective_medium
-    return PressureDifferenceSweep(case, float(result.critical_junction.squeeze_pressure[row]), dp,
-                                   cj if cj is not None else np.full(dp.size, np.nan), em, valid,
-                                   bool(valid_em[row]) if valid_em is not None and valid_em.size else True, gas=True)
+    return PressureDifferenceSweep(case=case, squeeze_pressure=float(result.critical_junction.squeeze_pressure[row]),
+                                   pressure_difference=dp,
+                                   critical_junction=cj if cj is not None else np.full(dp.size, np.nan),
+                                   effective_medium=em, valid=valid,
+                                   valid_effective_medium=bool(valid_em[row]) if valid_em is not None and valid_em.size else True, gas=True)

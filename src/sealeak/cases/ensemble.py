@@ -12,8 +12,9 @@ runner the pipeline calls with them:
   N cores without oversubscription);
 - ``scheduler = ADDRESS``: a running Dask cluster (SSH, Kubernetes, SLURM through dask-jobqueue).
 
-A task returns its scalars only; the runner hands the results back in the order of the tasks, so the
-numbers are those of the serial loop whatever the number of workers or the order in which tasks finish
+A task returns its scalars only (its :class:`~sealeak.cases.pipeline.TaskRecord`); the runner hands the
+results back in the order of the tasks, so the numbers are those of the serial loop whatever the number of
+workers or the order in which tasks finish
 (docs/theory.md §6.7, the ensemble as independent tasks; the time left of a progress line is the mean
 wall time per computed task times the tasks still to do).
 
@@ -58,7 +59,7 @@ from ..errors import InputError, SealeakError
 from ..io.fieldstore import FIELDS_FOLDER, clear_partial, create_field_store, fields_intact
 from ..io.files import OutputWriteError
 from .limits import MAX_WORKERS, whole_number
-from .pipeline import compute_task
+from .pipeline import TaskRecord, compute_task
 
 __all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID",
            "machine_memory", "CLUSTER_FROM_TASKS"]
@@ -205,7 +206,7 @@ class TaskStore:
     def _path(self, name: str) -> Path:
         return self.folder / "tasks" / f"{name}.json"
 
-    def load(self, name: str, fields: bool = False) -> dict[str, Any] | None:
+    def load(self, name: str, fields: bool = False) -> TaskRecord | None:
         """The stored result of task ``name``; None if missing or damaged (with a note).
 
         ``fields``: the task writes fields, which must be in the store, intact; a record without them is None
@@ -215,16 +216,16 @@ class TaskStore:
         if not path.exists():
             return None
         try:
-            record = json.loads(path.read_text(encoding="utf-8"))
-            result = record["result"]
-            ok = record["sha256"] == _digest(result)
+            stored = json.loads(path.read_text(encoding="utf-8"))
+            ok = stored["sha256"] == _digest(stored["result"])
+            result = TaskRecord.from_mapping(stored["result"])
         except (OSError, ValueError, KeyError, TypeError):
             ok = False
         if not ok:
             self.note(f"{path} is damaged (checksum does not match): computing {name} again")
             return None
         if fields:
-            kept = result.get("fields") if isinstance(result, dict) else None
+            kept = getattr(result, "fields", None)
             if kept is None:
                 self.lacking.append(name)
                 return None
@@ -232,10 +233,11 @@ class TaskStore:
                 self.note(f"the fields of {name} in {self.folder / FIELDS_FOLDER} are missing or damaged (checksum "
                           f"does not match): computing {name} again")
                 return None
-        return result  # type: ignore[no-any-return]
+        return result
 
-    def save(self, name: str, result: dict[str, Any]) -> None:
-        """Write task ``name``'s result atomically."""
+    def save(self, name: str, record: TaskRecord) -> None:
+        """Write task ``name``'s record atomically (:meth:`sealeak.cases.pipeline.TaskRecord.to_mapping`)."""
+        result = record.to_mapping()
         try:
             _write_atomic(self._path(name), json.dumps({"sha256": _digest(result), "result": result}) + "\n")
         except OSError as exc:
@@ -349,9 +351,9 @@ def _client(workers: int, scheduler: str | None, memory_limit: int | None = None
 def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path | None = None,
                 progress: Callable[[TaskEvent], None] | None = None,
                 note: Callable[[str], None] | None = None,
-                task_function: Callable[[Any], dict[str, Any]] = compute_task,
+                task_function: Callable[[Any], TaskRecord] = compute_task,
                 heartbeat: float = HEARTBEAT, fields: bool = False,
-                cluster_from: int = CLUSTER_FROM_TASKS) -> Callable[[list[Any]], list[dict[str, Any]]]:
+                cluster_from: int = CLUSTER_FROM_TASKS) -> Callable[[list[Any]], list[TaskRecord]]:
     """A runner for :func:`sealeak.cases.simulation.simulate`'s ``runner`` argument.
 
     Parameters
@@ -388,7 +390,7 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
             "multiply the memory)")
         workers = cores
 
-    def run(tasks: list[Any]) -> list[dict[str, Any]]:
+    def run(tasks: list[Any]) -> list[TaskRecord]:
         if not tasks:
             return []
         fresh = store is not None and not Path(store).exists()
@@ -424,7 +426,7 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
         clock = [start]  # when computing began (after a local cluster has started): the time left is rated from it
         computed = 0
 
-        def finished(i: int, out: dict[str, Any]) -> None:
+        def finished(i: int, out: TaskRecord) -> None:
             nonlocal computed
             results[i] = out
             computed += 1
@@ -459,9 +461,9 @@ def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path
     return run
 
 
-def _resume(kept: TaskStore, tasks: list[Any], say: Callable[[str], None]) -> dict[int, dict[str, Any]]:
+def _resume(kept: TaskStore, tasks: list[Any], say: Callable[[str], None]) -> dict[int, TaskRecord]:
     """The results ``kept`` holds of ``tasks`` (by index), with a note on what was resumed or lacks its fields."""
-    results: dict[int, dict[str, Any]] = {}
+    results: dict[int, TaskRecord] = {}
     for i, t in enumerate(tasks):
         found = kept.load(t.name, fields=bool(getattr(t, "writes_fields", False)))
         if found is not None:
@@ -482,8 +484,8 @@ def _with_spec(tasks: list[Any], **changes: Any) -> list[Any]:
     return [replace(t, spec=specs.setdefault(id(t.spec), replace(t.spec, **changes))) for t in tasks]
 
 
-def _run_dask(tasks: list[Any], todo: list[int], finished: Callable[[int, dict[str, Any]], None],
-              workers: int, scheduler: str | None, task_function: Callable[[Any], dict[str, Any]],
+def _run_dask(tasks: list[Any], todo: list[int], finished: Callable[[int, TaskRecord], None],
+              workers: int, scheduler: str | None, task_function: Callable[[Any], TaskRecord],
               progress: Callable[[TaskEvent], None] | None, heartbeat: float, results: dict[int, Any],
               start: float, clock: list[float], need: dict[int, int], memory_limit: int | None = None) -> None:
     """Submit the tasks ``todo``, each to the workers that can hold it, and hand each result to ``finished`` as

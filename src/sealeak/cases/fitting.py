@@ -241,8 +241,9 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
                                      pressure_difference=ref_dp).leak_rate,
         "effective_medium": predict_effective_medium(case, squeeze_pressure=grid, pressure_difference=ref_dp).leak_rate,
     }
-    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp, same_pressure_difference=same,
-                     measured=measured, grid=grid, curves=curves, messages=tuple(messages), outside_validity=outside)
+    return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp,
+                     same_pressure_difference=same, measured=measured, grid=grid, curves=curves,
+                     messages=tuple(messages), outside_validity=outside)
 
 
 #: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.leak_units`).

@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..lab.pressure_decay import DecayReadings, PressureDecay, ScaleFromDecay, leak_rate_from_decay, pressure_decay, scale_factor_from_decay, viscous_decay_time
 from ..lab.rig import DecayRigSetup
 from ..physics.critical_junction import critical_junction
@@ -72,7 +73,7 @@ class DecayModel:
     viscous_time_to_loss: float
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DecayPrediction:
     """The pressure-decay test simulated for a case (docs/theory.md §11.7).
 
@@ -88,7 +89,7 @@ class DecayPrediction:
         For an O-ring or pressure-profile seal, the band at the case's one load.
     """
 
-    squeeze_pressure: float
+    squeeze_pressure: float = quantity("Pa", "P0 from the load (a band seal: its mean contact pressure)")
     models: dict[str, DecayModel]
     messages: tuple[NoteLike, ...] = ()
     band: BandResult | None = None
@@ -209,7 +210,7 @@ def decay_prediction(case: Case) -> DecayPrediction:
         what = "the peak contact pressure" if band is not None else "P0"
         messages.append(f"P1 − P2 = {dp:.4g} Pa is not small against {what} {p_ref:.4g} Pa: the theory assumes that the "
                         "gas pressure does not change the contact (p >> ΔP)")
-    return DecayPrediction(p0, out, tuple(messages), band)
+    return DecayPrediction(squeeze_pressure=p0, models=out, messages=tuple(messages), band=band)
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError, SealeakError
+from ..io.quantities import quantity
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .fitting import _check_file_loads, _check_load_column
@@ -47,13 +48,14 @@ class LinearityCheck:
     """
 
     line: LinearFit
-    squeeze_pressure: float | None
+    squeeze_pressure: float | None = quantity("Pa", "P0 of the data (a band seal: its mean contact pressure)")
     squeeze_pressure_source: str
-    model_slopes: dict[str, float]
-    alpha_from_slope: float | None
+    model_slopes: dict[str, float] = quantity("m^3/(s*Pa)", "K = Q/ΔP of each model that percolates at P0")
+    alpha_from_slope: float | None = quantity("1", "the measured slope over the critical junction's at α = 1")
     messages: tuple[NoteLike, ...]
     load_name: str = "squeeze_pressure"
-    load: float | None = None
+    load: float | None = quantity("1", "a band seal's load, keyed by its name: compression ε or profile scale",
+                                  default=None, key="<load>")
 
     @property
     def intercept_z(self) -> float:

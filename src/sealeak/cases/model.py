@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..io.quantities import quantity
 from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.capillarity import Wetting
 from ..physics.contact import PerssonContact
@@ -33,7 +34,7 @@ STANDARD_TEMPERATURE_CASE = 293.15
 MODELS = ("critical-junction", "effective-medium", "both")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BandSeal:
     """A seal whose nominal contact pressure varies across the band: an O-ring or a pressure-profile file.
 
@@ -65,13 +66,14 @@ class BandSeal:
     """
 
     kind: str
-    length: float
+    length: float = quantity("m", "seal line length", key="seal_line_length")
     load_name: str
-    loads: NDArray[np.float64]
+    loads: NDArray[np.float64] = quantity("1", "a band seal's load, keyed by its name: compression ε or profile scale",
+                                          key="<load>")
     profiles: tuple[PressureProfile, ...]
     q0: NDArray[np.float64]
     oring: ORingContact | None = None
-    faces: int = 1
+    faces: int = quantity("1", "contact faces in parallel", default=1)
     notes: tuple[str, ...] = ()
     cross_section_diameter: float | None = None
     mean_diameter: float | None = None
@@ -148,7 +150,7 @@ class RubberPermeation:
     diffusivity: float | None = None
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Case:
     """One seal case (SI units).
 

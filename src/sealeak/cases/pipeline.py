@@ -11,11 +11,13 @@ steps that differ:
    the theory the simulation is compared with, notes;
 3. :meth:`Geometry.tasks`: independent tasks, each holding a :class:`TaskSpec` (what every geometry's tasks
    share: the spectrum, grid, seed, material, fluid, solver settings and where fields go) and knowing how to
-   run itself (``task.run()``, :func:`compute_task`); they run one after the other in this process, or
-   through a runner of :func:`sealeak.cases.ensemble.make_runner` (Dask, a store);
-4. :meth:`Geometry.aggregate`: the tasks' records in realisation order (:class:`Records`, the flow scalars
-   every geometry records as :class:`Flows`), means and standard deviations over realisations
-   (:func:`mean_std`), α and, for a gas, :class:`GasSimulation` (:func:`gas_part`).
+   run itself (``task.run()``, :func:`compute_task`, which returns its :class:`TaskRecord`); they run one
+   after the other in this process, or through a runner of :func:`sealeak.cases.ensemble.make_runner`
+   (Dask, a store);
+4. :meth:`Geometry.aggregate`: the tasks' records in realisation order (:class:`Records` of
+   :class:`TaskRecord`, the flow scalars every geometry records, :class:`FlowRecord`, as :class:`Flows`),
+   means and standard deviations over realisations (:func:`mean_std`), α and, for a gas,
+   :class:`GasSimulation` (:func:`gas_part`).
 
 The geometries: :class:`sealeak.cases.simulation.PeriodicSquare` (a uniform seal) and
 :class:`sealeak.cases.simulation_band.OringBand` (a cylinder on the rough surface).
@@ -28,9 +30,9 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import Any, Literal, Protocol, TypeVar
+from typing import Any, ClassVar, Literal, Protocol, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -50,7 +52,8 @@ from .model import Case, GasConditions
 from .notes import NoteLike
 from .options import grid_number, seed_number
 
-__all__ = ["Geometry", "junction_resolved", "run_ensemble", "TaskSpec", "Records", "Flows", "GasSimulation", "compute_task", "cut_spectrum",
+__all__ = ["Geometry", "junction_resolved", "run_ensemble", "RunSettings", "TaskSpec", "Records", "Flows", "TaskRecord", "FlowRecord",
+           "FlowLog", "GasSimulation", "compute_task", "cut_spectrum",
            "resolved_spectrum_cut", "mean_std", "ratio", "gas_part", "gas_identity", "pack_mask", "unpack_mask",
            "task_memory_bytes", "TASK_BASE_BYTES", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS", "FlowMethod",
            "StagedFolder"]
@@ -69,8 +72,6 @@ FlowMethod = Literal["auto", "direct", "amg"]
 #: Memory of a worker process before its task (Python, NumPy, SciPy, PyAMG, Dask and sealeak imported):
 #: about 200 MB resident were measured on Linux; rounded up.
 TASK_BASE_BYTES = 256 * 2**20
-#: The keys of a gas case's per-load task record (pV throughputs in Pa·m³/s, fixed-point iterations).
-GAS_KEYS = ("leak_rate_pv", "leak_rate_pv_no_slip", "gas_iterations")
 
 PlanT = TypeVar("PlanT")
 ResultT = TypeVar("ResultT", covariant=True)
@@ -86,15 +87,15 @@ class Geometry(Protocol[PlanT, ResultT]):
                 progress: Callable[[int], None] | None) -> PlanT:
         """The domain, the cut spectrum, the theory and everything the tasks and the aggregation need."""
 
-    def tasks(self, plan: PlanT, common: dict[str, Any], realizations: int) -> list[Any]:
+    def tasks(self, plan: PlanT, common: RunSettings, realizations: int) -> list[Any]:
         """The independent tasks in realisation order; ``common`` holds :class:`TaskSpec`'s fields but
-        the spectrum and the domain's size, which the plan gives."""
+        the spectrum and the domain's size, which the plan gives (:meth:`RunSettings.spec`)."""
 
     def aggregate(self, plan: PlanT, records: Records, notes: list[NoteLike]) -> ResultT:
         """The result from the tasks' records (realisation order)."""
 
 
-def compute_task(task: Any) -> dict[str, Any]:
+def compute_task(task: Any) -> TaskRecord:
     """Compute one task of any geometry (``task.run()``): the default task function of a runner."""
     return task.run()  # type: ignore[no-any-return]
 
@@ -103,7 +104,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
                  grid_field: str = "grid", fields_dir: str | Path | None = None, contact_tol: float = 1e-8,
                  flow_method: FlowMethod = "auto", progress: Callable[[int], None] | None = None,
                  memory_limit: float | None = None,
-                 runner: Callable[[list[Any]], Iterable[dict[str, Any]]] | None = None) -> ResultT:
+                 runner: Callable[[list[Any]], Iterable[TaskRecord]] | None = None) -> ResultT:
     """Run ``geometry``'s simulation of ``case`` (module docstring): check, prepare, run the tasks, aggregate.
 
     ``grid`` N (even, >= 16; ``grid_field`` names it in messages), ``realizations`` R, ``seed``: realisation r
@@ -125,14 +126,14 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     notes: list[NoteLike] = []
     plan = geometry.prepare(case, grid, grid_field, notes, progress)
     with StagedFolder(fields_dir) as fields:
-        common = {"grid": grid, "seed": seed, "e_star": case.e_star, "viscosity": case.fluid.viscosity,
-                  "pressure_difference": float(case.pressure_difference), "gas": case.gas, "flow_method": flow_method,
-                  "contact_tol": contact_tol, "memory_limit": memory_limit,
-                  "fields_stage": None if fields.stage is None else str(fields.stage),
-                  "fields_target": None if fields.target is None else str(fields.target)}
+        common = RunSettings(grid=grid, seed=seed, e_star=case.e_star, viscosity=case.fluid.viscosity,
+                             pressure_difference=float(case.pressure_difference), gas=case.gas, flow_method=flow_method,
+                             contact_tol=contact_tol, memory_limit=memory_limit,
+                             fields_stage=None if fields.stage is None else str(fields.stage),
+                             fields_target=None if fields.target is None else str(fields.target))
         tasks = geometry.tasks(plan, common, realizations)
         done = [t.run(progress=progress) for t in tasks] if runner is None else list(runner(tasks))
-    return geometry.aggregate(plan, Records(tasks, done, realizations, grid, seed), notes)
+    return geometry.aggregate(plan, Records(done, realizations, grid, seed), notes)
 
 
 # ---------------------------------------------------------------- the spectrum
@@ -186,8 +187,33 @@ def gas_identity(gas: GasConditions | None) -> dict[str, Any] | None:
             "downstream_pressure": float(gas.downstream_pressure), "rarefaction": gas.rarefaction}
 
 
+S = TypeVar("S", bound="TaskSpec")
+
+
 @dataclass(frozen=True, kw_only=True)
-class TaskSpec:
+class RunSettings:
+    """What :func:`run_ensemble` gives every task of a run: :class:`TaskSpec`'s fields but the spectrum and the
+    domain's size, which the geometry's plan gives (SI units)."""
+
+    grid: int
+    seed: int
+    e_star: float
+    viscosity: float
+    pressure_difference: float
+    gas: Any
+    flow_method: FlowMethod
+    contact_tol: float
+    memory_limit: float | None = None
+    fields_stage: str | None = None
+    fields_target: str | None = None
+
+    def spec(self, cls: type[S], **own: Any) -> S:
+        """A task spec of type ``cls`` with these settings and the geometry's ``own`` fields."""
+        return cls(**{f.name: getattr(self, f.name) for f in fields(RunSettings)}, **own)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TaskSpec(RunSettings):
     """What every task of a run needs whatever the geometry, in SI units (shared by all tasks of the run).
 
     ``spectrum`` is the (possibly cut) C(q) the surfaces are drawn from, ``grid`` N and ``size`` (m) the
@@ -200,18 +226,7 @@ class TaskSpec:
     """
 
     spectrum: Any
-    grid: int
     size: float
-    seed: int
-    e_star: float
-    viscosity: float
-    pressure_difference: float
-    gas: Any
-    flow_method: FlowMethod
-    contact_tol: float
-    memory_limit: float | None = None
-    fields_stage: str | None = None
-    fields_target: str | None = None
     fft_workers: int = -1
     fields_store: str | None = None
 
@@ -277,32 +292,111 @@ def unpack_mask(packed: dict[str, Any]) -> NDArray[np.bool_]:
     return np.unpackbits(bits, count=int(np.prod(shape))).astype(bool).reshape(shape)
 
 
-def new_record(kind: str, r: int, keys: Iterable[str], gas: bool) -> dict[str, Any]:
-    """An empty task record: its kind, realisation and a list per key (and per gas key for a gas case)."""
-    out: dict[str, Any] = {"kind": kind, "realization": r} | {k: [] for k in keys}
-    return out | {k: [] for k in GAS_KEYS} if gas else out
+#: A realisation-0 contact map as plain JSON values (:func:`pack_mask`).
+PackedMask = dict[str, Any]
 
 
-def record_flow(spec: TaskSpec, r: int, res: Any, scale: float, out: dict[str, Any]) -> None:
-    """The flow through one contact solution's gap field (and a gas's), its scalars appended to ``out``.
+@dataclass(frozen=True, kw_only=True)
+class TaskRecord:
+    """What one task returns: plain JSON values (lists of floats, bools, ints, strings), in SI units.
 
-    Leak rates are ``scale`` times the domain's (m³/s; Pa·m³/s for the gas); realisation 0 also keeps its
-    contact map (packed).
+    Each geometry's record type names its ``KIND`` (the task's kind) and is found by it when a store's record
+    is read back (:meth:`from_mapping`); :meth:`to_mapping` is what a store keeps (fields that are None, a
+    liquid's gas columns or a record without fields, are left out).
     """
-    flow = numerics.solve_flow(res.gap, spec.size, spec.viscosity, spec.pressure_difference, contact=res.contact,
-                               method=spec.flow_method)
-    out["percolates"].append(bool(flow.percolates))
-    out["leak_rate"].append(float(scale * flow.flux))
-    gas = spec.gas
-    if gas is not None:
-        gflow = numerics.solve_gas_flow(res.gap, spec.size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
-                                        contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
-                                        memory_limit=spec.memory_limit)
-        out["leak_rate_pv"].append(float(scale * gflow.throughput))
-        out["leak_rate_pv_no_slip"].append(float(scale * gflow.throughput_no_slip))
-        out["gas_iterations"].append(int(gflow.iterations))
-    if r == 0:
-        out["contact_maps"].append(pack_mask(np.asarray(res.contact, dtype=bool)))
+
+    KIND: ClassVar[str] = ""
+    _TYPES: ClassVar[dict[str, type[TaskRecord]]] = {}
+
+    realization: int
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.KIND:
+            TaskRecord._TYPES[cls.KIND] = cls
+
+    def to_mapping(self) -> dict[str, Any]:
+        """The record as plain JSON values (its kind, then its fields but those that are None)."""
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        return {"kind": self.KIND} | {k: v for k, v in values.items() if v is not None}
+
+    @staticmethod
+    def from_mapping(mapping: Any) -> TaskRecord:
+        """The record :meth:`to_mapping` wrote (its type from ``"kind"``); ValueError if it is not one."""
+        kind = TaskRecord._TYPES.get(str(mapping.get("kind"))) if isinstance(mapping, dict) else None
+        if kind is None:
+            raise ValueError(f"not a task record: {type(mapping).__name__}")
+        names = {f.name for f in fields(kind)}
+        try:
+            return kind(**{k: v for k, v in mapping.items() if k in names})
+        except TypeError as exc:  # a field is missing
+            raise ValueError(str(exc)) from None
+
+
+@dataclass(frozen=True, kw_only=True)
+class FlowRecord(TaskRecord):
+    """The scalars every geometry's sweep records per load (:class:`FlowLog`), and where its fields went.
+
+    ``fields``: the store group's name and the SHA-256 of each array (:meth:`sealeak.io.fieldstore.TaskFields.commit`;
+    None without a store).
+    """
+
+    relative_contact_area: list[float] = quantity("1", "relative contact area")
+    percolates: list[bool] = quantity("1", "the fluid crosses the domain")
+    leak_rate: list[float] = quantity("m^3/s", "leak rate of the seal")
+    contact_maps: list[PackedMask] = field(default_factory=list)  # realisation 0's, by load
+    leak_rate_pv: list[float] | None = quantity("Pa*m^3/s", "pV throughput of the seal (a gas)", default=None)
+    leak_rate_pv_no_slip: list[float] | None = quantity("Pa*m^3/s", "pV throughput without rarefaction (a gas)",
+                                                        default=None)
+    gas_iterations: list[int] | None = quantity("1", "fixed-point iterations of the gas flow (a gas)", default=None)
+    fields: dict[str, Any] | None = None
+
+
+R = TypeVar("R", bound=TaskRecord)
+F = TypeVar("F", bound=FlowRecord)
+
+
+@dataclass(kw_only=True)
+class FlowLog:
+    """A task's flow scalars as its loads are solved (:meth:`add`), made into its record by :meth:`record`."""
+
+    gas: bool
+    area: list[float] = field(default_factory=list)
+    percolates: list[bool] = field(default_factory=list)
+    leak_rate: list[float] = field(default_factory=list)
+    pv: list[float] = field(default_factory=list)
+    pv_no_slip: list[float] = field(default_factory=list)
+    iterations: list[int] = field(default_factory=list)
+    contact_maps: list[PackedMask] = field(default_factory=list)
+
+    def add(self, spec: TaskSpec, r: int, res: Any, scale: float, area: float) -> None:
+        """The flow through one contact solution's gap field (and a gas's), and its relative contact ``area``.
+
+        Leak rates are ``scale`` times the domain's (m³/s; Pa·m³/s for the gas); realisation 0 also keeps its
+        contact map (packed).
+        """
+        self.area.append(float(area))
+        flow = numerics.solve_flow(res.gap, spec.size, spec.viscosity, spec.pressure_difference, contact=res.contact,
+                                   method=spec.flow_method)
+        self.percolates.append(bool(flow.percolates))
+        self.leak_rate.append(float(scale * flow.flux))
+        gas = spec.gas
+        if gas is not None:
+            gflow = numerics.solve_gas_flow(res.gap, spec.size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
+                                            contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
+                                            memory_limit=spec.memory_limit)
+            self.pv.append(float(scale * gflow.throughput))
+            self.pv_no_slip.append(float(scale * gflow.throughput_no_slip))
+            self.iterations.append(int(gflow.iterations))
+        if r == 0:
+            self.contact_maps.append(pack_mask(np.asarray(res.contact, dtype=bool)))
+
+    def record(self, cls: type[F], r: int, kept: dict[str, Any] | None, **own: Any) -> F:
+        """Realisation ``r``'s record of type ``cls``: these flows, the committed fields ``kept`` and ``own`` fields."""
+        return cls(realization=r, relative_contact_area=self.area, percolates=self.percolates, leak_rate=self.leak_rate,
+                   contact_maps=self.contact_maps, leak_rate_pv=self.pv if self.gas else None,
+                   leak_rate_pv_no_slip=self.pv_no_slip if self.gas else None,
+                   gas_iterations=self.iterations if self.gas else None, fields=kept, **own)
 
 
 def keep_load(spec: TaskSpec, kept: TaskFields | None, r: int, i: int, h: FloatArray, res: Any,
@@ -317,12 +411,12 @@ def keep_load(spec: TaskSpec, kept: TaskFields | None, r: int, i: int, h: FloatA
         progress(1)
 
 
-def with_fields(spec: TaskSpec, r: int, h: FloatArray, out: dict[str, Any], sweep: Callable[[TaskFields | None], None],
-                *, load_name: str, loads: Any, load_unit: str, attributes: dict[str, Any]) -> None:
+def with_fields(spec: TaskSpec, r: int, h: FloatArray, sweep: Callable[[TaskFields | None], None],
+                *, load_name: str, loads: Any, load_unit: str, attributes: dict[str, Any]) -> dict[str, Any] | None:
     """Run ``sweep`` with the store's group ``r<r>`` of the task's fields open (None without a store).
 
-    The heights go in first; the group is committed when the sweep has finished (its name and the SHA-256 of
-    each array into ``out["fields"]``) and removed if it fails.
+    The heights go in first; the group is committed when the sweep has finished and removed if it fails.
+    Returns the commit (the group's name and the SHA-256 of each array; None without a store).
     """
     kept = None
     if spec.fields_store is not None:
@@ -332,8 +426,7 @@ def with_fields(spec: TaskSpec, r: int, h: FloatArray, out: dict[str, Any], swee
         if kept is not None:
             kept.put_height(h)
         sweep(kept)
-        if kept is not None:
-            out["fields"] = kept.commit()
+        return kept.commit() if kept is not None else None
     except BaseException:
         if kept is not None:
             kept.abort()
@@ -352,34 +445,34 @@ def _write_fields(spec: TaskSpec, name: str, **arrays: Any) -> None:
 
 # ---------------------------------------------------------------- aggregation
 class Records:
-    """The tasks' records beside their tasks, in the order of the tasks (realisation order), and the run's
-    realisations R, grid N and seed."""
+    """The tasks' records in the order of the tasks (realisation order), and the run's realisations R, grid N
+    and seed."""
 
-    def __init__(self, tasks: list[Any], records: list[dict[str, Any]], realizations: int, grid: int, seed: int) -> None:
-        self.pairs = list(zip(tasks, records, strict=True))
+    def __init__(self, records: Iterable[TaskRecord], realizations: int, grid: int, seed: int) -> None:
+        self.records = list(records)
         self.realizations = int(realizations)
         self.grid = int(grid)
         self.seed = int(seed)
 
-    def of(self, kind: str) -> list[tuple[int, dict[str, Any]]]:
-        """The records of the tasks of ``kind``, with their realisations."""
-        return [(t.realization, out) for t, out in self.pairs if t.kind == kind]
+    def of(self, cls: type[R]) -> list[R]:
+        """The records of type ``cls`` (their tasks' kind)."""
+        return [rec for rec in self.records if isinstance(rec, cls)]
 
-    def stack(self, kind: str, key: str, n: int, dtype: Any = float) -> NDArray[Any]:
-        """``key`` of the ``kind`` tasks as an [R, n] array (zeros where no task gave it)."""
+    def stack(self, cls: type[R], value: Callable[[R], Any], n: int, dtype: Any = float) -> NDArray[Any]:
+        """``value`` of the ``cls`` records as an [R, n] array (zeros where no task gave it)."""
         out = np.zeros((self.realizations, n), dtype=dtype)
-        for r, rec in self.of(kind):
-            out[r] = rec[key]
+        for rec in self.of(cls):
+            out[rec.realization] = value(rec)
         return out
 
-    def first(self, kind: str) -> dict[str, Any] | None:
-        """Realisation 0's record of ``kind`` (None if there is none)."""
-        return next((rec for r, rec in self.of(kind) if r == 0), None)
+    def first(self, cls: type[R]) -> R | None:
+        """Realisation 0's record of type ``cls`` (None if there is none)."""
+        return next((rec for rec in self.of(cls) if rec.realization == 0), None)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Flows:
-    """What every geometry's sweep records, per realisation and load ([R, n] arrays; :func:`record_flow`).
+    """What every geometry's sweep records, per realisation and load ([R, n] arrays; :class:`FlowLog`).
 
     ``area`` the relative contact area, ``percolates``, ``leak_rate`` the seal's (m³/s), for a gas ``pv`` and
     ``pv_no_slip`` its pV throughputs (Pa·m³/s, zeros for a liquid) and ``iterations``; ``contact_maps`` those
@@ -395,17 +488,16 @@ class Flows:
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict)
 
     @classmethod
-    def of(cls, records: Records, kind: str, n: int, gas: bool) -> Flows:
-        """The flows of the ``kind`` tasks of ``records`` at ``n`` loads."""
+    def of(cls, records: Records, kind: type[FlowRecord], n: int) -> Flows:
+        """The flows of the ``kind`` records of ``records`` at ``n`` loads (a liquid's gas columns zeros)."""
         first = records.first(kind)
-        keyed = ("leak_rate_pv", "leak_rate_pv_no_slip")
-        pv, pv_no_slip = ((records.stack(kind, k, n) if gas else np.zeros((records.realizations, n))) for k in keyed)
-        return cls(area=records.stack(kind, "relative_contact_area", n),
-                   percolates=records.stack(kind, "percolates", n, bool), leak_rate=records.stack(kind, "leak_rate", n),
-                   pv=pv, pv_no_slip=pv_no_slip,
-                   iterations=(records.stack(kind, "gas_iterations", n, np.int64) if gas
-                               else np.zeros((records.realizations, n), dtype=np.int64)),
-                   contact_maps={} if first is None else {i: unpack_mask(m) for i, m in enumerate(first["contact_maps"])})
+        return cls(area=records.stack(kind, lambda rec: rec.relative_contact_area, n),
+                   percolates=records.stack(kind, lambda rec: rec.percolates, n, bool),
+                   leak_rate=records.stack(kind, lambda rec: rec.leak_rate, n),
+                   pv=records.stack(kind, lambda rec: rec.leak_rate_pv or 0.0, n),
+                   pv_no_slip=records.stack(kind, lambda rec: rec.leak_rate_pv_no_slip or 0.0, n),
+                   iterations=records.stack(kind, lambda rec: rec.gas_iterations or 0, n, np.int64),
+                   contact_maps={} if first is None else {i: unpack_mask(m) for i, m in enumerate(first.contact_maps)})
 
 
 def mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -482,7 +574,8 @@ class GasSimulation:
         object.__setattr__(self, "throughput_mbar_l_s", to_mbar_l_per_s(self.throughput))
 
 
-def gas_part(case: Case, q_theory: FloatArray, u_c: FloatArray, flows: Flows) -> tuple[GasSimulation | None, dict[str, Any]]:
+def gas_part(case: Case, q_theory: FloatArray, u_c: FloatArray,
+             flows: Flows) -> tuple[GasSimulation | None, dict[str, NDArray[Any]]]:
     """A gas case's :class:`GasSimulation` and its per-realisation arrays (None and {} for a liquid).
 
     The theory is ``predict``'s (:func:`sealeak.cases.run.gas_rows`): the channel of conductance

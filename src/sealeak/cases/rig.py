@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
 from ..physics.critical_junction import pressure_difference_not_small
 from ..physics.validity import strain_warning
@@ -49,7 +50,7 @@ class RigPrediction:
         contact pressure.
     """
 
-    squeeze_pressure: float
+    squeeze_pressure: float = quantity("Pa", "P0 from the load (a band seal: its mean contact pressure)")
     conductance: dict[str, float]
     columns: dict[str, WaterColumn]
     time_constant: dict[str, float] = field(default_factory=dict)

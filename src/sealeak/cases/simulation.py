@@ -45,10 +45,14 @@ from .pipeline import (
     JUNCTION_CELLS,
     POINTS_PER_WAVELENGTH,
     TASK_BASE_BYTES,
+    FlowLog,
     FlowMethod,
+    FlowRecord,
     Flows,
     GasSimulation,
     Records,
+    RunSettings,
+    TaskRecord,
     TaskSpec,
     cut_spectrum,
     gas_identity,
@@ -56,9 +60,7 @@ from .pipeline import (
     junction_resolved,
     keep_load,
     mean_std,
-    new_record,
     pack_mask,
-    record_flow,
     resolved_spectrum_cut,
     run_ensemble,
     spectrum_text,
@@ -69,7 +71,7 @@ from .pipeline import (
 from .prediction import predict
 
 __all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
-           "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "ensemble_tasks", "run_task", "task_memory_bytes",
+           "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "SweepRecord", "ThresholdRecord", "ensemble_tasks", "run_task", "task_memory_bytes",
            "TASK_BASE_BYTES", "PeriodicSquare", "gas_identity", "pack_mask", "unpack_mask", "FlowMethod"]
 
 FloatArray = NDArray[np.float64]
@@ -134,7 +136,7 @@ def simulate(
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
     grid_name: str = "grid",
-    runner: Callable[[list[EnsembleTask]], Iterable[dict[str, Any]]] | None = None,
+    runner: Callable[[list[EnsembleTask]], Iterable[TaskRecord]] | None = None,
 ) -> SimulationResult:
     """Numerically exact leak rate and α for ``case`` at its squeeze pressures.
 
@@ -173,7 +175,7 @@ def simulate(
                         progress=progress, memory_limit=memory_limit, runner=runner)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _SquarePlan:
     """What :class:`PeriodicSquare` prepares: the case with the cut spectrum, pressures (Pa), theory (SI units)."""
 
@@ -219,22 +221,22 @@ class PeriodicSquare:
                            junction_cells=junction_cells, u_c=u_c, contact_theory=contact_theory,
                            threshold_anchor=_threshold_anchor(sim_case))
 
-    def tasks(self, plan: _SquarePlan, common: dict[str, Any], realizations: int) -> list[EnsembleTask]:
+    def tasks(self, plan: _SquarePlan, common: RunSettings, realizations: int) -> list[EnsembleTask]:
         """Each realisation's sweep, then (if asked) its threshold search."""
-        spec = EnsembleSpec(spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
-                            aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor, **common)
+        spec = common.spec(EnsembleSpec, spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
+                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor)
         return ensemble_tasks(spec, realizations, self.threshold)
 
     def aggregate(self, plan: _SquarePlan, records: Records, notes: list[NoteLike]) -> SimulationResult:
         """Means over realisations, α = Q/Q_cj over the percolating ones, the thresholds, a gas case's gas leak."""
         case, pressures, q_cj = plan.case, plan.pressures, plan.q_cj
         n_p = pressures.size
-        flows = Flows.of(records, "sweep", n_p, case.gas is not None)
-        gap = records.stack("sweep", "mean_gap", n_p)
+        flows = Flows.of(records, SweepRecord, n_p)
+        gap = records.stack(SweepRecord, lambda rec: rec.mean_gap, n_p)
         thresholds = np.full(records.realizations, np.nan)
-        for r, out in records.of("threshold"):
-            thresholds[r] = out["threshold"]
-            notes.extend(out["notes"])
+        for rec in records.of(ThresholdRecord):
+            thresholds[rec.realization] = rec.threshold
+            notes.extend(rec.notes)
         perc, q_seal = flows.percolates, flows.leak_rate
         area_m, area_s = mean_std(flows.area)
         gap_m, gap_s = mean_std(gap)
@@ -313,7 +315,7 @@ class EnsembleTask:
                                  contact="periodic", gas=self.spec.gas is not None, fields=self.spec.fields_store is not None,
                                  flow_method=self.spec.flow_method)
 
-    def run(self, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+    def run(self, progress: Callable[[int], None] | None = None) -> SweepRecord | ThresholdRecord:
         """Compute this task (:func:`run_task`)."""
         return run_task(self, progress)
 
@@ -324,8 +326,28 @@ def ensemble_tasks(spec: EnsembleSpec, realizations: int, threshold: bool) -> li
     return [EnsembleTask(k, r, spec) for r in range(int(realizations)) for k in kinds]
 
 
-def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
-    """Compute one task; return its scalars as plain JSON values (lists of floats, bools, ints, strings).
+@dataclass(frozen=True, kw_only=True)
+class SweepRecord(FlowRecord):
+    """A realisation's pressure sweep (:func:`run_task`): :class:`~sealeak.cases.pipeline.FlowRecord`'s
+    columns per squeeze pressure, and the mean gap."""
+
+    KIND = "sweep"
+
+    mean_gap: list[float] = quantity("m", "mean gap")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ThresholdRecord(TaskRecord):
+    """A realisation's percolation-threshold search (:func:`run_task`) and its notes."""
+
+    KIND = "threshold"
+
+    threshold: float = quantity("1", "relative contact area at which the fluid stops crossing (NaN: not found)")
+    notes: list[str] = field(default_factory=list)
+
+
+def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) -> SweepRecord | ThresholdRecord:
+    """Compute one task; return its record, plain JSON values (lists of floats, bools, ints, strings).
 
     Realisation r's surface is ``synthesize`` with the seed sequence (seed, r) (docs/theory.md §6.1), drawn
     again by each task that needs it, so every task depends on its inputs only. A sweep solves the contact
@@ -335,7 +357,7 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     realisation 0 the contact maps (packed). Field files, if asked, are written by the task itself: npz files
     into ``spec.fields_stage``, or, with ``spec.fields_store``, the Zarr group ``r<r>`` of the store
     (:class:`sealeak.io.fieldstore.TaskFields`, renamed in when complete; its name and the SHA-256 of each
-    array are returned under ``"fields"``). A threshold task returns the relative contact area at the
+    array are its record's ``fields``). A threshold task returns the relative contact area at the
     percolation threshold (§6.4) and its notes.
     """
     spec, r = task.spec, task.realization
@@ -343,22 +365,21 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     if task.kind == "threshold":
         notes: list[str] = []
         th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
-        return {"kind": "threshold", "realization": r, "threshold": float(th), "notes": notes}
-    out = new_record("sweep", r, ("relative_contact_area", "mean_gap", "percolates", "leak_rate", "contact_maps"),
-                     spec.gas is not None)
+        return ThresholdRecord(realization=r, threshold=float(th), notes=notes)
+    log = FlowLog(gas=spec.gas is not None)
+    gaps: list[float] = []
     results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
                                            workers=spec.fft_workers)
 
     def sweep(kept: Any) -> None:
         for i, res in enumerate(results):
-            out["relative_contact_area"].append(float(res.contact_area))
-            out["mean_gap"].append(float(res.mean_gap))
-            record_flow(spec, r, res, spec.aspect, out)
+            gaps.append(float(res.mean_gap))
+            log.add(spec, r, res, spec.aspect, res.contact_area)
             keep_load(spec, kept, r, i, h, res, progress)
 
-    with_fields(spec, r, h, out, sweep, load_name="squeeze_pressure", loads=spec.pressures, load_unit="Pa",
-                attributes=spec.field_attributes(f"sweep-r{r}", r))
-    return out
+    kept = with_fields(spec, r, h, sweep, load_name="squeeze_pressure", loads=spec.pressures, load_unit="Pa",
+                       attributes=spec.field_attributes(f"sweep-r{r}", r))
+    return log.record(SweepRecord, r, kept, mean_gap=gaps)
 
 
 def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,

@@ -57,25 +57,27 @@ from .notes import Note, NoteLike
 from .pipeline import (
     JUNCTION_CELLS,
     POINTS_PER_WAVELENGTH,
+    FlowLog,
     FlowMethod,
+    FlowRecord,
     Flows,
     GasSimulation,
     Records,
+    RunSettings,
+    TaskRecord,
     TaskSpec,
     cut_spectrum,
     gas_part,
     junction_resolved,
     keep_load,
     mean_std,
-    new_record,
-    record_flow,
     run_ensemble,
     spectrum_text,
     task_memory_bytes,
     with_fields,
 )
 
-__all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL", "BandSpec", "BandTask", "band_tasks",
+__all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL", "BandSpec", "BandTask", "BandRecord", "band_tasks",
            "run_band_task", "OringBand"]
 
 FloatArray = NDArray[np.float64]
@@ -217,7 +219,7 @@ def simulate_band(
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
     grid_name: str = "grid",
-    runner: Callable[[list[BandTask]], Iterable[dict[str, Any]]] | None = None,
+    runner: Callable[[list[BandTask]], Iterable[TaskRecord]] | None = None,
 ) -> BandSimulationResult:
     """Numerically exact leak rate of an O-ring case and the α of its series-resistance theory.
 
@@ -263,7 +265,7 @@ class _Smooth:
     pressure_error: FloatArray
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _BandPlan:
     """What :class:`OringBand` prepares (SI units; loads in increasing order of force)."""
 
@@ -382,24 +384,23 @@ class OringBand:
                 "grid_field": grid_field}))
         return _Smooth(sm_width, sm_pmax, lines, w_err, p_err)
 
-    def tasks(self, plan: _BandPlan, common: dict[str, Any], realizations: int) -> list[BandTask]:
+    def tasks(self, plan: _BandPlan, common: RunSettings, realizations: int) -> list[BandTask]:
         """One task per realisation."""
         band = plan.band
-        spec = BandSpec(spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
-                        half_widths=plan.half_width, loads=plan.loads, load_name=band.load_name,
-                        scale=float(band.faces * band.length / plan.size),  # Q of the seal per Q of the W-wide strip
-                        **common)
+        spec = common.spec(BandSpec, spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
+                           half_widths=plan.half_width, loads=plan.loads, load_name=band.load_name,
+                           scale=float(band.faces * band.length / plan.size))  # Q of the seal per Q of the W-wide strip
         return band_tasks(spec, realizations)
 
     def aggregate(self, plan: _BandPlan, records: Records, notes: list[NoteLike]) -> BandSimulationResult:
         """Means over realisations, α = Q/Q_sr over the percolating ones, a gas case's gas leak."""
         band, loads, q_sr, sm = plan.band, plan.loads, plan.q_sr, plan.smooth
         n_l = loads.size
-        flows = Flows.of(records, "band", n_l, plan.case.gas is not None)
-        width = records.stack("band", "contact_width", n_l)
-        touched = [float(loads[i]) for _, out in records.of("band") for i in out["touched_edge"]]
-        first = records.first("band")
-        lines = {} if first is None else {i: np.asarray(v, dtype=float) for i, v in enumerate(first["line_pressure"])}
+        flows = Flows.of(records, BandRecord, n_l)
+        width = records.stack(BandRecord, lambda rec: rec.contact_width, n_l)
+        touched = [float(loads[i]) for rec in records.of(BandRecord) for i in rec.touched_edge]
+        first = records.first(BandRecord)
+        lines = {} if first is None else {i: np.asarray(v, dtype=float) for i, v in enumerate(first.line_pressure)}
         if touched:
             notes.append(Note("band_touches_edge", {"load_name": band.load_name,
                                                     "loads": tuple(float(v) for v in np.unique(touched))}))
@@ -498,7 +499,7 @@ class BandTask:
                                  gas=self.spec.gas is not None, fields=self.spec.fields_store is not None,
                                  flow_method=self.spec.flow_method)
 
-    def run(self, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+    def run(self, progress: Callable[[int], None] | None = None) -> BandRecord:
         """Compute this task (:func:`run_band_task`)."""
         return run_band_task(self, progress)
 
@@ -508,8 +509,21 @@ def band_tasks(spec: BandSpec, realizations: int) -> list[BandTask]:
     return [BandTask(r, spec) for r in range(int(realizations))]
 
 
-def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None) -> dict[str, Any]:
-    """Compute one realisation of an O-ring simulation; return its scalars as plain JSON values.
+@dataclass(frozen=True, kw_only=True)
+class BandRecord(FlowRecord):
+    """A realisation of an O-ring simulation (:func:`run_band_task`): :class:`~sealeak.cases.pipeline.FlowRecord`'s
+    columns per load (the relative contact area that of the Hertz band), and the band's own."""
+
+    KIND = "band"
+
+    contact_width: list[float] = quantity("m", "extent across the band of the rough contact")
+    touched_edge: list[int] = quantity("1", "indices of the loads whose contact reached the domain's edge")
+    line_pressure: list[list[float]] = quantity("Pa", "realisation 0: pressure averaged along the seal line, per load",
+                                                default_factory=list)
+
+
+def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None) -> BandRecord:
+    """Compute one realisation of an O-ring simulation; return its record, plain JSON values.
 
     Realisation r's surface is ``synthesize`` with the seed sequence (seed, r); at each load (increasing f) the
     cylinder's contact (:func:`sealeak.numerics.solve_band_contact`, warm-started from the previous load) and the
@@ -525,8 +539,10 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
     h = spec.surface(r)
     x = (np.arange(n) + 0.5) * (size / n)
     in_band = np.abs(x - size / 2.0)[:, None] < np.asarray(spec.half_widths)[None, :]  # [x, load]
-    out = new_record("band", r, ("contact_width", "relative_contact_area", "percolates", "leak_rate", "touched_edge",
-                                 "contact_maps", "line_pressure"), spec.gas is not None)
+    log = FlowLog(gas=spec.gas is not None)
+    widths: list[float] = []
+    touched: list[int] = []
+    lines: list[list[float]] = []
 
     def sweep(kept: Any) -> None:
         prev = None
@@ -534,18 +550,17 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
             res = numerics.solve_band_contact(h, size, size, spec.e_star, spec.radius, float(f), tol=spec.contact_tol,
                                               initial=prev, workers=spec.fft_workers)
             prev = res
-            out["contact_width"].append(float(res.contact_width))
-            out["relative_contact_area"].append(float(res.contact[in_band[:, i]].mean()) if in_band[:, i].any()
-                                                else float("nan"))
-            record_flow(spec, r, res, spec.scale, out)
+            widths.append(float(res.contact_width))
+            log.add(spec, r, res, spec.scale, res.contact[in_band[:, i]].mean() if in_band[:, i].any() else np.nan)
             if res.touches_edge:
-                out["touched_edge"].append(i)
+                touched.append(i)
             if r == 0:
-                out["line_pressure"].append([float(v) for v in res.line_pressure])
+                lines.append([float(v) for v in res.line_pressure])
             keep_load(spec, kept, r, i, h, res, progress, period=np.float64(size))
 
     attributes = spec.field_attributes(task.name, r) | {
         "radius": float(spec.radius), "force_per_length": [float(f) for f in spec.forces],
         "force_per_length_units": "N/m"}
-    with_fields(spec, r, h, out, sweep, load_name=spec.load_name, loads=spec.loads, load_unit="1", attributes=attributes)
-    return out
+    kept = with_fields(spec, r, h, sweep, load_name=spec.load_name, loads=spec.loads, load_unit="1",
+                       attributes=attributes)
+    return log.record(BandRecord, r, kept, contact_width=widths, touched_edge=touched, line_pressure=lines)

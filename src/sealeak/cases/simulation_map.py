@@ -54,6 +54,8 @@ from .pipeline import (
     FlowMethod,
     Flows,
     Records,
+    RunSettings,
+    TaskRecord,
     cut_spectrum,
     mean_std,
     ratio,
@@ -62,7 +64,7 @@ from .pipeline import (
 )
 from .prediction import predict_effective_medium
 from .schema import Section
-from .simulation import EnsembleSpec, EnsembleTask, _theory_leak_rate, _threshold_anchor
+from .simulation import EnsembleSpec, EnsembleTask, SweepRecord, ThresholdRecord, _theory_leak_rate, _threshold_anchor
 
 __all__ = ["MapSimulationResult", "MapInfo", "MapSquares", "MapSpec", "simulate_map", "simulate_maps",
            "solver_map", "case_maps", "map_windows", "MIN_MAP_POINTS", "MAX_WINDOWS"]
@@ -172,7 +174,7 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
         h = h[x0:x0 + mx, y0:y0 + my]
         notes.append(f"cut to its central square of {side * 1e6:.4g} µm ({mx}x{my} of {topo.nb_grid_pts[0]}x"
                      f"{topo.nb_grid_pts[1]} points)")
-    cropped = Topography(h, (side, side), periodic=periodic, source=label)
+    cropped = Topography(heights=h, size=(side, side), periodic=periodic, source=label)
     analysis = analyze(cropped, fit=False, low_cut=1.0)
     flat = np.array(prepare(cropped, detrend="mean" if periodic else "plane", window="none").surface.heights)
     if periodic:
@@ -214,8 +216,8 @@ def map_windows(topo: Topography, windows: int, field_name: str = "windows") -> 
     h = np.asarray(topo.heights)
     x0, y0 = (h.shape[0] - mx) // 2, (h.shape[1] - my) // 2
     wx, wy = mx // windows, my // windows
-    return [Topography(h[x0 + i * wx:x0 + (i + 1) * wx, y0 + j * wy:y0 + (j + 1) * wy],
-                       (wx * topo.pixel_size[0], wy * topo.pixel_size[1]),
+    return [Topography(heights=h[x0 + i * wx:x0 + (i + 1) * wx, y0 + j * wy:y0 + (j + 1) * wy],
+                       size=(wx * topo.pixel_size[0], wy * topo.pixel_size[1]),
                        source=f"{topo.source or 'map'} [window {i + 1},{j + 1}]")
             for i in range(windows) for j in range(windows)]
 
@@ -294,7 +296,7 @@ class MapSquares:
         return _MapPlan(case=case, pressures=pressures, infos=tuple(infos), cases=tuple(cases), q_cj=np.array(q_cj),
                         q_em=np.array(q_em), junction_cells=np.array(cells))
 
-    def tasks(self, plan: _MapPlan, common: dict[str, Any], realizations: int) -> list[EnsembleTask]:
+    def tasks(self, plan: _MapPlan, common: RunSettings, realizations: int) -> list[EnsembleTask]:
         """Each map's sweep, then (if asked) its threshold search."""
         digest = hashlib.sha256()
         for info in plan.infos:
@@ -303,20 +305,20 @@ class MapSquares:
         kinds = ("sweep", "threshold") if self.threshold else ("sweep",)
         out = []
         for r, (info, sim_case) in enumerate(zip(plan.infos, plan.cases, strict=True)):
-            spec = MapSpec(spectrum=info.spectrum, size=info.domain, pressures=plan.pressures,
-                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=_threshold_anchor(sim_case),
-                           heights=info.heights, maps_digest=digest.hexdigest(), **common)
+            spec = common.spec(MapSpec, spectrum=info.spectrum, size=info.domain, pressures=plan.pressures,
+                               aspect=plan.case.seal.aspect_ratio, threshold_anchor=_threshold_anchor(sim_case),
+                               heights=info.heights, maps_digest=digest.hexdigest())
             out += [EnsembleTask(k, r, spec) for k in kinds]
         return out
 
     def aggregate(self, plan: _MapPlan, records: Records, notes: list[NoteLike]) -> MapSimulationResult:
         """Per map its contact, flow and α against both theories; α's mean and spread over the maps."""
         n_p = plan.pressures.size
-        flows = Flows.of(records, "sweep", n_p, False)
+        flows = Flows.of(records, SweepRecord, n_p)
         thresholds = np.full(records.realizations, np.nan)
-        for r, out in records.of("threshold"):
-            thresholds[r] = out["threshold"]
-            notes.extend(out["notes"])
+        for rec in records.of(ThresholdRecord):
+            thresholds[rec.realization] = rec.threshold
+            notes.extend(rec.notes)
         perc = flows.percolates
         a_cj = np.vstack([ratio(perc[r:r + 1], flows.leak_rate[r:r + 1], plan.q_cj[r]) for r in range(records.realizations)])
         a_em = np.vstack([ratio(perc[r:r + 1], flows.leak_rate[r:r + 1], plan.q_em[r]) for r in range(records.realizations)])
@@ -324,7 +326,7 @@ class MapSquares:
         em_m, em_s = mean_std(a_em)
         return MapSimulationResult(
             squeeze_pressure=plan.pressures, pressure_difference=float(plan.case.pressure_difference), maps=plan.infos,
-            relative_contact_area=flows.area, mean_gap=records.stack("sweep", "mean_gap", n_p), percolates=perc,
+            relative_contact_area=flows.area, mean_gap=records.stack(SweepRecord, lambda rec: rec.mean_gap, n_p), percolates=perc,
             leak_rate=flows.leak_rate, leak_rate_critical_junction=plan.q_cj, leak_rate_effective_medium=plan.q_em,
             alpha=a_cj, alpha_effective_medium=a_em, alpha_mean=cj_m, alpha_std=cj_s, alpha_effective_medium_mean=em_m,
             alpha_effective_medium_std=em_s, percolation_threshold=thresholds, junction_cells=plan.junction_cells,
@@ -336,7 +338,7 @@ def simulate_maps(maps: Sequence[Topography], case: Case, *, grid: int | None = 
                   flow_method: FlowMethod = "auto", progress: Callable[[int], None] | None = None,
                   memory_limit: float | None = None, grid_name: str = "grid", field_name: str = "heights",
                   windows_name: str = "windows",
-                  runner: Callable[[list[EnsembleTask]], Iterable[dict[str, Any]]] | None = None) -> MapSimulationResult:
+                  runner: Callable[[list[EnsembleTask]], Iterable[TaskRecord]] | None = None) -> MapSimulationResult:
     """The exact leak rate of ``case``'s seal on each of ``maps`` (module docstring), α against both theories.
 
     ``maps`` are height maps (:class:`sealeak.topography.Topography`, heights in m; e.g.
@@ -388,7 +390,7 @@ def simulate_map(heights: ArrayLike, pixel_size: float | tuple[float, float], ca
     if len(dxy) not in (1, 2) or not all(np.isfinite(v) and v > 0 for v in dxy):
         raise InputError("pixel_size", pixel_size, "a finite length > 0 (m), or a pair (dx, dy)")
     dx, dy = (dxy[0], dxy[-1])
-    topo = Topography(h, (h.shape[0] * dx, h.shape[1] * dy), periodic=bool(periodic), source=label)
+    topo = Topography(heights=h, size=(h.shape[0] * dx, h.shape[1] * dy), periodic=bool(periodic), source=label)
     return simulate_maps([topo], case, grid=grid, windows=windows, threshold=threshold, **options)
 
 

@@ -45,6 +45,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
 from ..io.leak_units import ATMOSPHERE, leak_rate_factor, leak_rate_unit
+from ..io.quantities import quantity
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
 
@@ -67,7 +68,7 @@ _ALIASES = {
 _DIMENSION = {"squeeze_pressure": "pressure", "pressure_difference": "pressure", "time": "time", "height": "length"}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LeakData:
     """Measured leak rates in SI: squeeze_pressure, pressure_difference (Pa; NaN where the file has no
     such column or the row's cell is empty: the case's ΔP applies), leak_rate (m³/s); ``columns`` maps
@@ -82,7 +83,8 @@ class LeakData:
     pressure_difference: FloatArray
     leak_rate: FloatArray
     columns: dict[str, str] = field(default_factory=dict)
-    reference_pressure: float = ATMOSPHERE
+    reference_pressure: float = quantity("Pa", "pressure at which the data's pV throughputs were converted to volume flows",
+                                         default=ATMOSPHERE)
     throughput: bool = False  # the leak rates were pV throughputs, converted at reference_pressure
     lines: tuple[int, ...] = ()  # line number in the file of each data row
     load_name: str = "squeeze_pressure"
@@ -227,8 +229,11 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     load_name = next((c for c in LOAD_COLUMNS if c in found), "")
     band_load = _band_load(p, table, load_name, found[load_name]) if load_name in ("compression", "profile_scale") else None
     columns = {c: f"{table.names[j]} ({table.units[j]})" if table.units[j] else table.names[j] for c, j in found.items()}
-    return LeakData(str(p), out["squeeze_pressure"], out["pressure_difference"], q, columns, reference_pressure,
-                    throughput, table.lines, load_name=load_name, band_load=band_load, leak_rate_kind=kind,
+    return LeakData(path=str(p), squeeze_pressure=out["squeeze_pressure"],
+                    pressure_difference=out["pressure_difference"], leak_rate=q, columns=columns,
+                    reference_pressure=reference_pressure,
+                    throughput=throughput, lines=table.lines, load_name=load_name, band_load=band_load,
+                    leak_rate_kind=kind,
                     leak_rate_si=q_si)
 
 

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..io.quantities import quantity
 
 __all__ = ["ScaleFit", "fit_scale", "LinearFit", "fit_line", "MODELS"]
 
@@ -34,7 +35,7 @@ FloatArray = NDArray[np.float64]
 MODELS = ("critical_junction", "effective_medium")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ScaleFit:
     """α fitted by least squares in log Q (docs/theory.md §8.1).
 
@@ -59,11 +60,11 @@ class ScaleFit:
     """
 
     model: str
-    alpha: float
-    alpha_std: float
-    log10_alpha_std: float
-    rms_log10_residual: float
-    n_used: int
+    alpha: float = quantity("1", "the fitted factor α on the model's leak rate")
+    alpha_std: float = quantity("1", "standard error of α")
+    log10_alpha_std: float = quantity("1", "standard error of log10 α")
+    rms_log10_residual: float = quantity("decades (log10)", "rms residual of log10 Q about the fitted model")
+    n_used: int = quantity("1", "data rows in the fit", key="points_used")
     used: NDArray[np.bool_]
     prediction: FloatArray
     excluded: tuple[tuple[int, str], ...] = field(default=())
@@ -96,29 +97,31 @@ def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -
     used = ~no_model & ~zero
     n = int(used.sum())
     if n == 0:
-        return ScaleFit(model, np.nan, np.nan, np.nan, np.nan, 0, used, p, tuple(sorted(excluded)))
+        return ScaleFit(model=model, alpha=np.nan, alpha_std=np.nan, log10_alpha_std=np.nan, rms_log10_residual=np.nan,
+                        n_used=0, used=used, prediction=p, excluded=tuple(sorted(excluded)))
     r = np.log(q[used]) - np.log(p[used])
     ln_alpha = float(np.mean(r))
     se = float(np.std(r, ddof=1) / np.sqrt(n)) if n > 1 else np.nan
     alpha = float(np.exp(ln_alpha))
     rms = float(np.sqrt(np.mean((r - ln_alpha) ** 2)) / np.log(10.0))
-    return ScaleFit(model, alpha, alpha * se, se / np.log(10.0), rms, n, used, p, tuple(sorted(excluded)))
+    return ScaleFit(model=model, alpha=alpha, alpha_std=alpha * se, log10_alpha_std=se / np.log(10.0),
+                    rms_log10_residual=rms, n_used=n, used=used, prediction=p, excluded=tuple(sorted(excluded)))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class LinearFit:
     """Q = slope x + intercept by ordinary least squares, with standard errors and the rms residual (docs/theory.md §8.2).
 
     For x = ΔP in Pa and Q in m³/s the slope is in m³/(Pa·s) and the intercept in m³/s.
     """
 
-    slope: float
-    slope_std: float
-    intercept: float
-    intercept_std: float
-    rms_residual: float
-    r_squared: float
-    n: int
+    slope: float = quantity("m^3/(s*Pa)", "slope of the line Q = slope ΔP + intercept")
+    slope_std: float = quantity("m^3/(s*Pa)", "standard error of the slope")
+    intercept: float = quantity("m^3/s", "intercept of the line (0 for a leak linear in ΔP)")
+    intercept_std: float = quantity("m^3/s", "standard error of the intercept")
+    rms_residual: float = quantity("m^3/s", "rms residual about the line")
+    r_squared: float = quantity("1", "coefficient of determination R² of the line")
+    n: int = quantity("1", "data rows in the fit", key="points")
 
 
 def fit_line(x: ArrayLike, y: ArrayLike) -> LinearFit:
@@ -149,4 +152,5 @@ def fit_line(x: ArrayLike, y: ArrayLike) -> LinearFit:
         slope_std = intercept_std = float("nan")
     syy = float(np.sum((ya - ym) ** 2))
     r2 = 1.0 - rss / syy if syy > 0 else 1.0
-    return LinearFit(slope, slope_std, intercept, intercept_std, float(np.sqrt(rss / n)), r2, n)
+    return LinearFit(slope=slope, slope_std=slope_std, intercept=intercept, intercept_std=intercept_std,
+                     rms_residual=float(np.sqrt(rss / n)), r_squared=r2, n=n)

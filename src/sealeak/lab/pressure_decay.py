@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import quad, solve_ivp
 
 from ..errors import ConvergenceError, FileFormatError, InputError, positive_number
+from ..io.quantities import quantity
 
 __all__ = ["PressureDecaySetup", "PressureDecay", "pressure_decay", "viscous_throughput_function", "viscous_decay",
            "viscous_decay_time", "exponential_decay", "standard_leak_rate", "DecayReadings", "leak_rate_from_decay",
@@ -46,7 +47,7 @@ FloatArray = NDArray[np.float64]
 Throughput = Callable[[float, float], float]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PressureDecaySetup:
     """A pressure-decay test (SI units; docs/theory.md §11.7).
 
@@ -67,11 +68,11 @@ class PressureDecaySetup:
         initial leak rate, at least V P1/Q_pV(P1, P2) / 10).
     """
 
-    volume: float
-    initial_pressure: float
-    outside_pressure: float
-    temperature: float
-    pressure_loss: float | None = None
+    volume: float = quantity("m^3", "test volume V")
+    initial_pressure: float = quantity("Pa (absolute)", "pressure P1 at the start")
+    outside_pressure: float = quantity("Pa (absolute)", "pressure P2 outside the seal")
+    temperature: float = quantity("K", "temperature of the gas")
+    pressure_loss: float | None = quantity("Pa", "the pressure drop ΔP whose time is reported", default=None)
     duration: float | None = None
 
     def __post_init__(self) -> None:
@@ -270,7 +271,7 @@ def _line(x: FloatArray, y: FloatArray) -> tuple[float, float, FloatArray]:
     return slope, std, resid
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DecayReadings:
     """Leak rate from (time, pressure) readings of a pressure-decay test (docs/theory.md §11.7).
 
@@ -292,11 +293,13 @@ class DecayReadings:
 
     time: FloatArray
     pressure: FloatArray
-    interval_pressure: FloatArray
-    interval_leak_rate: FloatArray
-    leak_rate: float
-    conductance: float
-    conductance_std: float
+    interval_pressure: FloatArray = quantity("Pa", "mean pressure of each reading interval")
+    interval_leak_rate: FloatArray = quantity("Pa*m^3/s", "pV leak rate of each reading interval",
+                                              key="interval_leak_rate_pv")
+    leak_rate: float = quantity("Pa*m^3/s", "V·(P_first − P_last)/(t_last − t_first) of the readings",
+                                key="leak_rate_pv")
+    conductance: float = quantity("m^3/(Pa*s)", "K from the viscous fit of the readings")
+    conductance_std: float = quantity("m^3/(Pa*s)", "standard error of that K")
     rms_relative_residual: float
 
 
@@ -318,7 +321,7 @@ def leak_rate_from_decay(setup: PressureDecaySetup, time: ArrayLike, pressure: A
                          conductance_std=float(2.0 * v * std), rms_relative_residual=float(np.sqrt(np.mean(resid**2)) / span))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ScaleFromDecay:
     """The scale factor α implied by decay readings for a model Q_pV = α Q_1(P, P2) (docs/theory.md §11.7).
 
@@ -332,8 +335,8 @@ class ScaleFromDecay:
         Rms of the residuals of J divided by its span.
     """
 
-    alpha: float
-    alpha_std: float
+    alpha: float = quantity("1", "factor on the model's K implied by the readings (α for the critical junction)")
+    alpha_std: float = quantity("1", "standard error of that factor")
     resistance_integral: FloatArray
     rms_relative_residual: float
 

@@ -31,6 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from ..errors import ConvergenceError, FileFormatError, InputError, UnitError, positive_number
+from ..io.quantities import quantity
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
 from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas
@@ -51,7 +52,7 @@ _DECAY_COLUMNS = {"time": {"time", "t"}, "pressure": {"pressure", "p", "absolute
 FloatArray = NDArray[np.float64]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RigSetup:
     """The water-column rig (SI units; docs/theory.md §4.2).
 
@@ -78,9 +79,9 @@ class RigSetup:
 
     cylinder_diameter: float
     initial_height: float
-    load: float
+    load: float = quantity("N", "load pressing the seal")
     density: float
-    final_height: float | None = None
+    final_height: float | None = quantity("m", "the level whose time of arrival is reported", default=None)
     gravity: float = STANDARD_GRAVITY
     duration: float | None = None
     load_note: str = ""
@@ -205,7 +206,7 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
     return WaterColumn(time=sol.t, height=heights, leak_rate=q, final_height=h1, time_to_final=t_final)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ReadingsAnalysis:
     """Leak rate from (time, height) readings of the rig (docs/theory.md §4.3).
 
@@ -225,10 +226,10 @@ class ReadingsAnalysis:
 
     time: FloatArray
     height: FloatArray
-    interval_pressure_difference: FloatArray
-    interval_leak_rate: FloatArray
-    conductance: float
-    conductance_std: float
+    interval_pressure_difference: FloatArray = quantity("Pa", "mean ΔP of each reading interval")
+    interval_leak_rate: FloatArray = quantity("m^3/s", "leak rate of each reading interval")
+    conductance: float = quantity("m^3/(s*Pa)", "K from the exponential fit of the readings")
+    conductance_std: float = quantity("m^3/(s*Pa)", "standard error of that K")
     rms_log_residual: float
 
 
@@ -300,7 +301,7 @@ class DecayRigSetup:
     test: PressureDecaySetup
     gas: Gas
     rarefaction_model: str = DEFAULT_RAREFACTION
-    load: float | None = None
+    load: float | None = quantity("N", "load pressing the seal", default=None)
     load_note: str = ""
     gas_note: str = ""
 

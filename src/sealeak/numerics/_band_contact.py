@@ -83,7 +83,7 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
     return b, 2.0 * force_per_length / (math.pi * b)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class BandContactResult(ContactField):
     """Solution of one cylinder-on-rough-surface problem on an nx × ny grid (arrays indexed [x, y]).
 

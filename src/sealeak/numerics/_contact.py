@@ -84,7 +84,7 @@ class ContactField:
         return self.pressure > 0
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class ContactResult(ContactField):
     """Solution of one rough-contact problem: :class:`ContactField`'s gap (m) and pressure (Pa), and
 
@@ -212,8 +212,9 @@ def solve_contact(
     h_rms = float(np.sqrt(np.mean((h - h_mean) ** 2)))
     if h_rms == 0.0 or h_rms <= 1e-14 * max(abs(h_mean), 1e-300):
         # flat surface: complete contact at uniform pressure
-        return ContactResult(np.zeros_like(h), np.full_like(h, p0), 1.0, 0.0, 0.0, p0, 0, 0.0,
-                             float(tol), float(size), float(e_star))
+        return ContactResult(gap=np.zeros_like(h), pressure=np.full_like(h, p0), contact_area=1.0, mean_gap=0.0,
+                             approach=0.0, mean_pressure=p0, iterations=0, residual=0.0,
+                             tol=float(tol), size=float(size), e_star=float(e_star))
     hs = h - h_mean  # zero-mean heights (mean only shifts c)
 
     q = wavevector_grid(n, float(size), half=True)

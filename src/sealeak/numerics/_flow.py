@@ -73,7 +73,7 @@ CONSERVATION_TOL = 1e-8
 DEFAULT_RTOL = 1e-6
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class FlowResult:
     """Steady flow through one square cell.
 
@@ -636,5 +636,7 @@ def _refine(solver: _DirectSolver | _AmgSolver, grid: _Grid, phi: NDArray[np.lon
 
 def _result(q: float, qin: float, qout: float, pressure: FloatArray, perc: bool, method: str, res: float,
             cons: float, its: int, m: int, t0: float, cond: float, clock: dict[str, float]) -> FlowResult:
-    return FlowResult(q, qin, qout, pressure, perc, method, res, cons, its, m, time.perf_counter() - t0, cond,
-                      dict(clock))
+    return FlowResult(flux=q, inflow=qin, outflow=qout, pressure=pressure, percolates=perc, method=method,
+                      residual=res, conservation_error=cons, iterations=its, unknowns=m,
+                      seconds=time.perf_counter() - t0, conductance=cond,
+                      phase_seconds=dict(clock))

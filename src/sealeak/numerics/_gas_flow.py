@@ -87,7 +87,7 @@ _NODES_U = np.polynomial.legendre.leggauss(24)
 _BLOCK = 65536
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class GasFlowResult:
     """Steady isothermal gas flow through one square cell (docs/theory.md §11.10).
 
@@ -302,8 +302,12 @@ def solve_gas_flow(
     k0 = base.conductance
     nan = np.full(g.shape, np.nan)
     if not base.percolates:
-        return GasFlowResult(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, nan, nan.copy(), False, model, pa, pb, 0, 0.0, 0.0, 0.0,
-                             "none", 0.0, 0.0, 0, time.perf_counter() - t0)
+        return GasFlowResult(mass_flow=0.0, inflow=0.0, outflow=0.0, throughput=0.0, throughput_no_slip=0.0,
+                             conductance_no_slip=0.0, pressure=nan, knudsen=nan.copy(), percolates=False,
+                             rarefaction_model=model, upstream_pressure=pa, downstream_pressure=pb, iterations=0,
+                             mass_flow_change=0.0, pressure_change=0.0, error_estimate=0.0,
+                             method="none", residual=0.0, conservation_error=0.0, unknowns=0,
+                             seconds=time.perf_counter() - t0)
     fluid = np.isfinite(base.pressure)
     phi_hat = np.where(fluid, base.pressure, np.nan)
     pressure = np.sqrt(pb * pb + d_phi * phi_hat)
@@ -312,9 +316,13 @@ def solve_gas_flow(
     no_slip_q = 0.5 * k0 * d_phi
     if model == "no-slip":
         m = no_slip_q / rst
-        return GasFlowResult(m, base.inflow / base.flux * m, base.outflow / base.flux * m, no_slip_q, no_slip_q, k0,
-                             pressure, kn_field, True, model, pa, pb, 0, 0.0, 0.0, 0.0, base.method, base.residual,
-                             base.conservation_error, base.unknowns, time.perf_counter() - t0)
+        return GasFlowResult(mass_flow=m, inflow=base.inflow / base.flux * m, outflow=base.outflow / base.flux * m,
+                             throughput=no_slip_q, throughput_no_slip=no_slip_q, conductance_no_slip=k0,
+                             pressure=pressure, knudsen=kn_field, percolates=True, rarefaction_model=model,
+                             upstream_pressure=pa, downstream_pressure=pb, iterations=0, mass_flow_change=0.0,
+                             pressure_change=0.0, error_estimate=0.0, method=base.method, residual=base.residual,
+                             conservation_error=base.conservation_error, unknowns=base.unknowns,
+                             seconds=time.perf_counter() - t0)
     return _fixed_point(g, fluid, phi_hat, gas, pa, pb, model, base.method, tol, rtol, max_iter, cg_max_iter,
                         k0, t0)
 
@@ -368,9 +376,13 @@ def _fixed_point(g: FloatArray, fluid: NDArray[np.bool_], phi_hat: FloatArray, g
             p[fluid] = pa * gx
             with np.errstate(divide="ignore"):
                 kn = np.where(fluid, c / np.where(fluid, p, 1.0), np.nan)
-            return GasFlowResult(m, m, outflow * unit, m * rst, 0.5 * k0 * d_phi, k0, p, kn, True, model, pa, pb,
-                                 it, dm, dp, estimate, chosen, bound, cons, int(np.count_nonzero(fluid)),
-                                 time.perf_counter() - t0)
+            return GasFlowResult(mass_flow=m, inflow=m, outflow=outflow * unit, throughput=m * rst,
+                                 throughput_no_slip=0.5 * k0 * d_phi, conductance_no_slip=k0, pressure=p, knudsen=kn,
+                                 percolates=True, rarefaction_model=model, upstream_pressure=pa, downstream_pressure=pb,
+                                 iterations=it, mass_flow_change=dm, pressure_change=dp, error_estimate=estimate,
+                                 method=chosen, residual=bound, conservation_error=cons,
+                                 unknowns=int(np.count_nonzero(fluid)),
+                                 seconds=time.perf_counter() - t0)
         x_prev = x
         g_hist.append(gx)
         f_hist.append(f)

@@ -97,7 +97,7 @@ def spans(fluid_mask: ArrayLike, periodic_axis: int | None = 1) -> bool:
     return bool(common.size)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ThresholdResult:
     """Where the non-contact area stops percolating as the mean pressure grows.
 

@@ -80,7 +80,7 @@ def folded_normal_cdf(u: ArrayLike, centre: ArrayLike, width: ArrayLike) -> Floa
     return np.where(w > 0, out, (u >= np.abs(c)).astype(float))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GapDistribution:
     """P(u) over a sweep of squeeze pressures, as a mixture of folded Gaussians plus δ(u).
 

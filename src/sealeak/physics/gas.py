@@ -28,6 +28,7 @@ from scipy.integrate import quad
 
 from ..errors import InputError, positive_number
 from ..io.leak_units import MOLAR_GAS_CONSTANT  # R = N_A k_B, J/(mol·K); exported here too
+from ..io.quantities import quantity
 from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
 from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
 
@@ -68,9 +69,9 @@ class Gas:
     """
 
     name: str
-    temperature: float
-    viscosity: float
-    molar_mass: float
+    temperature: float = quantity("K", "temperature of the gas")
+    viscosity: float = quantity("Pa*s", "dynamic viscosity μ of the gas")
+    molar_mass: float = quantity("kg/mol", "molar mass M of the gas")
 
     def __post_init__(self) -> None:
         t = positive_number("temperature", self.temperature)
@@ -269,7 +270,7 @@ def viscous_mass_flow(conductance: ArrayLike, upstream: float, downstream: float
     return viscous_throughput(conductance, upstream, downstream) / (gas.specific_gas_constant * gas.temperature)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class GasLeak:
     """A gas leak through a channel of no-slip conductance K whose narrowest gap is h (docs/theory.md §11.5).
 

@@ -74,7 +74,7 @@ SOURCE = ("O-ring contact: Hertz line contact of a cylinder between two plates (
           "Lindley's O-ring relations (J. IRI 1 (1967) 202) from 10 %, interpolated between; semi-elliptic pressure")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ORingContact:
     """Contact of a squeezed O-ring on each flat face, one entry per compression (SI units).
 

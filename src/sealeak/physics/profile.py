@@ -127,7 +127,7 @@ def _positive(name: str, value: float) -> float:
     return positive_number(name, value, allowed="must be a finite number > 0")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BandIntegral:
     """R = ∫ dx/σ(p(x)) of one profile, with the nodes it was computed on (SI units).
 
@@ -204,8 +204,9 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
     """
     p_max = profile.max_pressure
     if float(np.asarray(sheet_conductance(np.array([p_max])))[0]) <= 0:
-        return BandIntegral(float("inf"), True, True, 0.0, 1, np.array([0.0]), np.array([profile.width]),
-                            np.array([p_max]), np.zeros(1))
+        return BandIntegral(resistance=float("inf"), sealed=True, converged=True, change=0.0, evaluations=1,
+                            x=np.array([0.0]), dx=np.array([profile.width]),
+                            pressure=np.array([p_max]), conductance=np.zeros(1))
     # constant pieces: exact
     if profile.shape == "semi-elliptic":
         a = b = pa = pb = np.zeros(1)
@@ -225,7 +226,8 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
         pressed = cp > 0
         csig[pressed] = sheet_conductance(cp[pressed])
         if np.any(csig[pressed] <= 0):
-            return BandIntegral(float("inf"), True, True, 0.0, cp.size, cx, cdx, cp, csig)
+            return BandIntegral(resistance=float("inf"), sealed=True, converged=True, change=0.0,
+                                evaluations=cp.size, x=cx, dx=cdx, pressure=cp, conductance=csig)
     r_const = float(np.sum(np.where(cp > 0, cdx / np.where(csig > 0, csig, 1.0), 0.0)))
     # adaptive Gauss–Kronrod on the varying pieces, in θ
     lo = np.repeat(np.arange(FIRST_INTERVALS) * np.pi / FIRST_INTERVALS, varying.size)
@@ -247,8 +249,9 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
         sigma[pressed] = sheet_conductance(p[pressed])
         evaluations += int(pressed.sum())
         if np.any(sigma[pressed] <= 0):  # a strip below p_max that does not percolate: σ is not monotone
-            return BandIntegral(float("inf"), True, True, 0.0, evaluations, x.ravel(), (dxdt * half[:, None]).ravel(),
-                                p.ravel(), sigma.ravel())
+            return BandIntegral(resistance=float("inf"), sealed=True, converged=True, change=0.0,
+                                evaluations=evaluations, x=x.ravel(), dx=(dxdt * half[:, None]).ravel(),
+                                pressure=p.ravel(), conductance=sigma.ravel())
         f = np.where(pressed, dxdt / np.where(sigma > 0, sigma, 1.0), 0.0)
         k = half * weighted_sum(f, KRONROD_WEIGHTS)  # fixed order of addition: the same bits on every call
         g = half * weighted_sum(f, GAUSS_WEIGHTS)
@@ -278,8 +281,9 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
     ss = np.concatenate([csig] + [k_[3] for k_ in keep])
     order = np.argsort(xs, kind="stable")
     change = error / total if total > 0 else 0.0
-    return BandIntegral(total, False, converged or varying.size == 0, change, evaluations, xs[order], dxs[order],
-                        ps[order], ss[order])
+    return BandIntegral(resistance=total, sealed=False, converged=converged or varying.size == 0, change=change,
+                        evaluations=evaluations, x=xs[order], dx=dxs[order],
+                        pressure=ps[order], conductance=ss[order])
 
 
 def resistance_band(integral: BandIntegral, fraction: float = RESISTANCE_FRACTION) -> tuple[float, float]:

@@ -116,7 +116,7 @@ def property_library() -> str:
     return f"CoolProp {_coolprop()[0].__version__}"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class FluidState:
     """A named fluid at ``temperature`` (K) and ``pressure`` (Pa), from CoolProp (SI units).
 

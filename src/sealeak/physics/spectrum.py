@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
 from ..errors import FileFormatError, InputError
+from ..io.quantities import quantity
 from ..io.tables import read_spectrum_table
 
 __all__ = ["PowerSpectrum", "area_ratio_from_slope"]
@@ -77,8 +78,8 @@ class PowerSpectrum:
         Free text describing where the spectrum comes from (shown in reports and figures).
     """
 
-    q: FloatArray
-    C: FloatArray
+    q: FloatArray = quantity("1/m", "wavevectors q of the power spectrum's nodes")
+    C: FloatArray = quantity("m^4", "isotropic power spectrum C(q) at the nodes")
     label: str = ""
     _cum: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 

@@ -15,7 +15,8 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..cases import Case
-from ..cases.convergence import PUBLISHED_THRESHOLDS, ConvergenceStudy, Extrapolation
+from ..cases.convergence import PUBLISHED_THRESHOLDS, ConvergenceStudy, Extrapolation, GridStatistics
+from ..io.quantities import units_of
 from .notes import worded
 from .plotstyle import STYLE, color, finish_axes, laid_out, new_figure, place_legend, spans_decades, subtitle
 from .records import case_summary, json_document, json_value
@@ -28,12 +29,9 @@ __all__ = ["convergence_table", "convergence_json", "convergence_figures", "CONV
 #: The figures of a study's ``--plots``.
 CONVERGENCE_FIGURE_NAMES = ("convergence_alpha.png", "convergence_threshold.png")
 
-#: Units of the study's extra keys (the per-grid records keep :data:`~sealeak.render.simulation.SIMULATION_UNITS`).
-CONVERGENCE_UNITS = SIMULATION_UNITS | {
-    "spacing": "m", "alpha_stderr": "1", "alpha_count": "1", "relative_contact_area_stderr": "1",
-    "percolation_threshold_stderr": "1", "percolation_threshold_count": "1", "value": "1", "stderr": "1",
-    "slope": "1/m^exponent", "exponent": "1",
-}
+#: Units of a study's keys: the per-grid records' (:data:`~sealeak.render.simulation.SIMULATION_UNITS`), each
+#: grid's statistics' and the extrapolations' (declared on :class:`GridStatistics`' and :class:`Extrapolation`'s fields).
+CONVERGENCE_UNITS = SIMULATION_UNITS | units_of(GridStatistics) | units_of(Extrapolation)
 
 
 def _model(fit: Extrapolation) -> str:

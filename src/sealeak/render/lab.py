@@ -6,27 +6,104 @@ Each function takes the result object of :mod:`sealeak.cases.run` (SI units) and
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..cases import Case, FitResult, LinearityCheck, RigPrediction
-from ..cases.band import BandResult
+from ..cases.band import BandColumns, BandResult
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
+from ..cases.model import BandSeal
 from ..io.leak_units import MBAR_L_PER_PA_M3, to_ml_per_min
+from ..io.quantities import expand_keys, quantity, record_fields, units_for, units_of
 from ..lab.data import LeakData
-from ..lab.rig import ReadingsAnalysis, RigSetup
+from ..lab.fitting import LinearFit, ScaleFit
+from ..lab.pressure_decay import DecayReadings, PressureDecaySetup, ScaleFromDecay
+from ..lab.rig import DecayRigSetup, ReadingsAnalysis, RigSetup
+from ..physics.gas import Gas
 from .notes import load_text, worded
 from .records import json_document, json_value
 from .text import fmt
 
 __all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition",
            "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3",
-           "is_gas_fit", "FIT_UNIT_TEXT"]
+           "is_gas_fit", "FIT_UNIT_TEXT", "GasFitRow", "RigModelRecord", "DecayModelRecord", "FIT_UNITS", "LINEARITY_UNITS",
+           "RIG_UNITS", "DECAY_UNITS"]
 
 
 #: How a :attr:`~sealeak.cases.FitResult.leak_rate_unit` reads in text and on figures.
 FIT_UNIT_TEXT = {"m^3/s": "m³/s", "Pa*m^3/s": "Pa·m³/s"}
+
+
+@dataclass(frozen=True, kw_only=True)
+class GasFitRow:
+    """The leak rates of one data row of a gas fit (``sealeak fit --json`` ``rows``), as pV throughputs.
+
+    ``<model>`` in a key stands for each fitted model's name.
+    """
+
+    measured: float = quantity("Pa*m^3/s", "measured pV throughput, scaled to the reference ΔP")
+    measured_mbar_l_s: float = quantity("mbar*l/s", "the same in mbar·l/s")
+    fitted: float = quantity("Pa*m^3/s", "α times the model's pV throughput at the row's load", key="fitted_<model>")
+    fitted_mbar_l_s: float = quantity("mbar*l/s", "the same in mbar·l/s", key="fitted_<model>_mbar_l_s")
+
+
+@dataclass(frozen=True, kw_only=True)
+class RigModelRecord:
+    """One model of ``sealeak rig --json`` for a water column (``models``; SI units)."""
+
+    conductance: float | None = quantity("m^3/(s*Pa)", "conductance K = Q/ΔP of the seal")
+    time_constant: float | None = quantity("s", "τ = A/(K ρ g) of H(t) = H0 exp(−t/τ)")
+    time_to_final_height: float | None = quantity("s", "closed-form time to fall to the final height")
+    time_to_final_height_ode: float | None = quantity("s", "the same from the solved H(t) (null if not reached)")
+    time: list[float | None] = quantity("s", "times of H(t), every 10th point")
+    height: list[float | None] = quantity("m", "water height H(t) at those times")
+
+
+@dataclass(frozen=True, kw_only=True)
+class DecayModelRecord:
+    """One model of ``sealeak rig --json`` for a pressure-decay test (``models``; SI units)."""
+
+    conductance: float | None = quantity("m^3/(Pa*s)", "conductance K of the seal")
+    gap: float | None = quantity("m", "the narrowest gap h of the leak channel")
+    knudsen_number: float | None = quantity("1", "Kn = λ/h at the mean pressure at the start (null without a leak)")
+    flow_regime: str | None = quantity("", "flow regime at that Kn (null without a leak)")
+    initial_leak_rate_pv: float | None = quantity("Pa*m^3/s", "pV leak rate at the start")
+    initial_leak_rate_mbar_l_s: float | None = quantity("mbar*l/s", "the same in mbar·l/s")
+    initial_leak_rate_mass: float | None = quantity("kg/s", "mass flow at the start")
+    time_to_pressure_loss: float | None = quantity("s", "time to lose the pressure drop ΔP")
+    time_to_pressure_loss_no_slip: float | None = quantity("s", "the same for no-slip (viscous) flow")
+    standard_leak_rate_pv: float | None = quantity("Pa*m^3/s", "standard leak rate V·ΔP/Δt")
+    standard_leak_rate_mbar_l_s: float | None = quantity("mbar*l/s", "the same in mbar·l/s")
+    time: list[float | None] = quantity("s", "times of P(t)")
+    pressure: list[float | None] = quantity("Pa (absolute)", "test-volume pressure P(t)")
+    leak_rate_pv: list[float | None] = quantity("Pa*m^3/s", "pV leak rate at those times")
+
+
+#: ``units`` of ``sealeak fit --json`` (a gas fit adds :class:`GasFitRow`'s for its ``rows``).
+FIT_UNITS = units_for(("alpha", "alpha_std", "rms_log10_residual", "reference_pressure"), ScaleFit, LeakData)
+#: ``units`` of ``sealeak fit --linearity --json`` (a band seal adds its load's).
+LINEARITY_UNITS = units_for(("slope", "slope_std", "intercept", "intercept_std", "squeeze_pressure", "model_slopes"),
+                            LinearFit, LinearityCheck)
+#: ``units`` of ``sealeak rig --json`` for a water column (a band seal adds :data:`_RIG_BAND_UNITS` and its load's).
+RIG_UNITS = units_for(("squeeze_pressure", "load", "final_height", "conductance", "time_constant", "time_to_final_height",
+                       "time", "height", "interval_pressure_difference", "interval_leak_rate"),
+                      RigPrediction, RigSetup, RigModelRecord, ReadingsAnalysis)
+_RIG_BAND_UNITS = units_for(("contact_width", "mean_contact_pressure", "max_contact_pressure", "force_per_length",
+                             "seal_line_length", "faces"), BandColumns, BandSeal)
+#: ``units`` of ``sealeak rig --json`` for a pressure-decay test (a band seal adds its load's).
+DECAY_UNITS = units_for(("squeeze_pressure", "load", "volume", "initial_pressure", "outside_pressure", "temperature",
+                         "pressure_loss", "viscosity", "molar_mass",
+                         *(k for k in units_of(DecayModelRecord) if k != "flow_regime"),
+                         "interval_pressure", "interval_leak_rate_pv", "alpha"),
+                        DecayPrediction, DecayRigSetup, PressureDecaySetup, Gas, DecayModelRecord, DecayReadings,
+                        ScaleFromDecay)
+
+
+def _band_load_units(load_name: str) -> dict[str, str]:
+    """The unit of a band seal's load, keyed by its name (compression, profile_scale)."""
+    return expand_keys(units_for(("<load>",), BandSeal), load=[load_name])
 
 
 def is_gas_fit(result: FitResult) -> bool:
@@ -105,14 +182,11 @@ def fit_json(result: FitResult) -> str:
     doc: dict[str, Any] = {"case": result.case.title, "data": data.path, "load_column": result.load_name,
                            "reference_pressure": data.reference_pressure,
                            "leak_rate_unit": result.leak_rate_unit,
-                           "units": {"alpha": "1", "alpha_std": "1", "rms_log10_residual": "decades (log10)",
-                                     "reference_pressure": "Pa"},
+                           "units": dict(FIT_UNITS),
                            "messages": worded(result.messages)}
     if is_gas_fit(result) and result.same_pressure_difference:
         # each row measured and fitted as pV throughputs, in the fit's unit and in the leak-test unit
-        doc["units"] |= {"measured": "Pa*m^3/s", "measured_mbar_l_s": "mbar*l/s"}
-        for n in result.fits:
-            doc["units"] |= {f"fitted_{n}": "Pa*m^3/s", f"fitted_{n}_mbar_l_s": "mbar*l/s"}
+        doc["units"] |= expand_keys(units_of(GasFitRow), model=list(result.fits))
         doc["rows"] = [{result.load_name: json_value(float(result.data.load[i])), "measured": json_value(float(result.measured[i])),
                         "measured_mbar_l_s": json_value(float(result.measured[i]) * MBAR_L_PER_PA_M3)}
                        | {f"fitted_{n}": json_value(f.alpha * float(f.prediction[i])) for n, f in result.fits.items()}
@@ -163,12 +237,11 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
                          "model_slopes": {k: json_value(v) for k, v in check.model_slopes.items()},
                          "alpha_from_slope": (json_value(check.alpha_from_slope)
                                               if check.alpha_from_slope is not None else None)},
-           "units": {"slope": "m^3/(s*Pa)", "slope_std": "m^3/(s*Pa)", "intercept": "m^3/s",
-                     "intercept_std": "m^3/s", "squeeze_pressure": "Pa", "model_slopes": "m^3/(s*Pa)"},
+           "units": dict(LINEARITY_UNITS),
            "messages": worded(check.messages)}
     if case.band is not None:  # the band's load; squeeze_pressure is its mean contact pressure
         doc["linearity"][check.load_name] = json_value(check.load) if check.load is not None else None
-        doc["units"][check.load_name] = "1"
+        doc["units"] |= expand_keys(units_for(("<load>",), LinearityCheck), load=[check.load_name])
     return json_document(doc)
 
 
@@ -261,17 +334,14 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     models = {}
     for name, k in pred.conductance.items():
         col = pred.columns[name]
-        models[name] = {"conductance": json_value(k), "time_constant": json_value(pred.time_constant[name]),
-                        "time_to_final_height": json_value(pred.drain_time[name]),
-                        "time_to_final_height_ode": json_value(col.time_to_final),
-                        "time": [json_value(x) for x in col.time[::10]],
-                        "height": [json_value(x) for x in col.height[::10]]}
+        models[name] = record_fields(RigModelRecord(
+            conductance=json_value(k), time_constant=json_value(pred.time_constant[name]),
+            time_to_final_height=json_value(pred.drain_time[name]), time_to_final_height_ode=json_value(col.time_to_final),
+            time=[json_value(x) for x in col.time[::10]], height=[json_value(x) for x in col.height[::10]]))
     doc: dict[str, Any] = {
         "case": case.title, "squeeze_pressure": pred.squeeze_pressure, "load": rig.load,
         "final_height": json_value(_final_height(pred)), "models": models,
-        "units": {"squeeze_pressure": "Pa", "load": "N", "final_height": "m", "conductance": "m^3/(s*Pa)",
-                  "time_constant": "s", "time_to_final_height": "s", "time": "s", "height": "m",
-                  "interval_pressure_difference": "Pa", "interval_leak_rate": "m^3/s"},
+        "units": dict(RIG_UNITS),
         "messages": worded(pred.messages)}
     b = pred.band
     if b is not None:  # a band seal: its load and contact; "load" is the contact force f·Ly, P0 its mean pressure
@@ -280,8 +350,7 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
                        "max_contact_pressure": float(b.max_contact_pressure[0]),
                        "force_per_length": float(b.force_per_length[0]), "seal_line_length": float(b.band.length),
                        "faces": b.band.faces}
-        doc["units"] |= {b.band.load_name: "1", "contact_width": "m", "mean_contact_pressure": "Pa",
-                         "max_contact_pressure": "Pa", "force_per_length": "N/m", "seal_line_length": "m", "faces": "1"}
+        doc["units"] |= _band_load_units(b.band.load_name) | _RIG_BAND_UNITS
     if readings is not None:
         doc["readings"] = {"interval_pressure_difference": [json_value(x) for x in readings.interval_pressure_difference],
                            "interval_leak_rate": [json_value(x) for x in readings.interval_leak_rate],
@@ -363,18 +432,17 @@ def decay_json(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
     models: dict[str, Any] = {}
     for name, m in pred.models.items():
         d, leak = m.decay, m.initial_leak
-        models[name] = {
-            "conductance": json_value(m.conductance), "gap": json_value(m.gap),
-            "knudsen_number": json_value(leak.knudsen_mean) if leak else None, "flow_regime": leak.regime if leak else None,
-            "initial_leak_rate_pv": json_value(leak.throughput) if leak else 0.0,
-            "initial_leak_rate_mbar_l_s": json_value(leak.throughput * MBAR_L_PER_PA_M3) if leak else 0.0,
-            "initial_leak_rate_mass": json_value(leak.mass_flow) if leak else 0.0,
-            "time_to_pressure_loss": json_value(d.time_to_loss),
-            "time_to_pressure_loss_no_slip": json_value(m.viscous_time_to_loss),
-            "standard_leak_rate_pv": json_value(d.standard_leak_rate),
-            "standard_leak_rate_mbar_l_s": json_value(d.standard_leak_rate * MBAR_L_PER_PA_M3),
-            "time": [json_value(x) for x in d.time], "pressure": [json_value(x) for x in d.pressure],
-            "leak_rate_pv": [json_value(x) for x in d.throughput]}
+        models[name] = record_fields(DecayModelRecord(
+            conductance=json_value(m.conductance), gap=json_value(m.gap),
+            knudsen_number=json_value(leak.knudsen_mean) if leak else None, flow_regime=leak.regime if leak else None,
+            initial_leak_rate_pv=json_value(leak.throughput) if leak else 0.0,
+            initial_leak_rate_mbar_l_s=json_value(leak.throughput * MBAR_L_PER_PA_M3) if leak else 0.0,
+            initial_leak_rate_mass=json_value(leak.mass_flow) if leak else 0.0,
+            time_to_pressure_loss=json_value(d.time_to_loss), time_to_pressure_loss_no_slip=json_value(m.viscous_time_to_loss),
+            standard_leak_rate_pv=json_value(d.standard_leak_rate),
+            standard_leak_rate_mbar_l_s=json_value(d.standard_leak_rate * MBAR_L_PER_PA_M3),
+            time=[json_value(x) for x in d.time], pressure=[json_value(x) for x in d.pressure],
+            leak_rate_pv=[json_value(x) for x in d.throughput]))
     doc: dict[str, Any] = {
         "case": case.title, "kind": "pressure-decay", "squeeze_pressure": pred.squeeze_pressure,
         "load": json_value(rig.load) if rig.load is not None else None,
@@ -382,19 +450,12 @@ def decay_json(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
                  "temperature": test.temperature, "pressure_loss": test.loss, "gas": rig.gas.name,
                  "viscosity": rig.gas.viscosity, "molar_mass": rig.gas.molar_mass, "rarefaction_model": rig.rarefaction_model},
         "models": models,
-        "units": {"squeeze_pressure": "Pa", "load": "N", "volume": "m^3", "initial_pressure": "Pa (absolute)",
-                  "outside_pressure": "Pa (absolute)", "temperature": "K", "pressure_loss": "Pa", "viscosity": "Pa*s",
-                  "molar_mass": "kg/mol", "conductance": "m^3/(Pa*s)", "gap": "m", "knudsen_number": "1",
-                  "initial_leak_rate_pv": "Pa*m^3/s", "initial_leak_rate_mbar_l_s": "mbar*l/s", "initial_leak_rate_mass": "kg/s",
-                  "time_to_pressure_loss": "s", "time_to_pressure_loss_no_slip": "s", "standard_leak_rate_pv": "Pa*m^3/s",
-                  "standard_leak_rate_mbar_l_s": "mbar*l/s", "time": "s", "pressure": "Pa (absolute)",
-                  "leak_rate_pv": "Pa*m^3/s", "interval_pressure": "Pa", "interval_leak_rate_pv": "Pa*m^3/s",
-                  "alpha": "1"},
+        "units": dict(DECAY_UNITS),
         "messages": worded(pred.messages)}
     b = pred.band
     if b is not None:
         doc[b.band.load_name] = float(b.band.loads[0])
-        doc["units"][b.band.load_name] = "1"
+        doc["units"] |= _band_load_units(b.band.load_name)
     if readings is not None:
         r = readings.readings
         doc["readings"] = {"interval_pressure": [json_value(x) for x in r.interval_pressure],

@@ -339,7 +339,7 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
 
 
 # ---------------------------------------------------------------- figures: the square and the O-ring share each builder
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _Sweep:
     """What the leak-rate and α figures of one simulated geometry draw against, and the words that name it.
 

@@ -6,11 +6,12 @@ from typing import Any
 
 import numpy as np
 
+from ..io.quantities import units_for
 from ..physics.spectrum import PowerSpectrum
-from ..topography import Analysis, LineScans, SurfaceStatistics, Topography
+from ..topography import Analysis, BinnedSpectrum, LineScans, SurfaceStatistics, Topography
 from .records import json_document, json_value
 
-__all__ = ["analysis_text", "analysis_json", "spectrum_csv"]
+__all__ = ["analysis_text", "analysis_json", "spectrum_csv", "SURFACE_UNITS"]
 
 
 def _stat_rows(stats: SurfaceStatistics) -> list[tuple[str, str, float | None, float | None]]:
@@ -103,6 +104,9 @@ def analysis_text(an: Analysis) -> str:
 
 _STAT_KEYS = ("h_rms", "slope_rms", "curvature_rms", "area_ratio", "skewness", "kurtosis")
 _SPECTRAL_KEYS = ("spectrum_h_rms", "spectrum_slope_rms", "spectrum_curvature_rms", "spectrum_area_ratio")
+#: The ``units`` of ``surface analyze --json`` (declared on the statistics', spectra's and maps' fields).
+SURFACE_UNITS = units_for((*_STAT_KEYS, "q", "C", "size", "reliable_range"), SurfaceStatistics, PowerSpectrum, Topography,
+                          BinnedSpectrum)
 
 
 def analysis_json(an: Analysis) -> str:
@@ -116,8 +120,7 @@ def analysis_json(an: Analysis) -> str:
     stats = {k: json_value(getattr(st, k)) for k in _STAT_KEYS + _SPECTRAL_KEYS}
     stats["method"] = st.method
     doc: dict[str, Any] = {
-        "units": {"h_rms": "m", "slope_rms": "1", "curvature_rms": "1/m", "area_ratio": "1", "skewness": "1",
-                  "kurtosis": "1", "q": "1/m", "C": "m^4", "size": "m", "reliable_range": "1/m"},
+        "units": SURFACE_UNITS,
         "statistics": stats,
         "psd": ({"q": an.spectrum.q.tolist(), "C": an.spectrum.C.tolist()} if an.has_spectrum else None),
         "sources": [{

@@ -25,7 +25,7 @@ __all__ = ["Analysis", "SourceAnalysis", "analyze"]
 Source = str | Path | Topography | LineScans
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class SourceAnalysis:
     """One measurement: its data, 2D binned spectrum, profile spectrum (line scans), statistics, notes.
 
@@ -53,7 +53,7 @@ class SourceAnalysis:
         return self.surface.warnings
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Analysis:
     """Result of :func:`analyze`.
 
@@ -188,7 +188,8 @@ def analyze(
         else:
             problem = f"{_describe(surface)}: {problem}"
         stats = surface_statistics(prepare(surface, detrend=detrend, window="none"), spec)
-        sources.append(SourceAnalysis(label, surface, binned, profile, stats, tuple(notes), problem))
+        sources.append(SourceAnalysis(label=label, surface=surface, spectrum=binned, profile_spectrum=profile,
+                                      statistics=stats, notes=tuple(notes), spectrum_problem=problem))
 
     notes = [f"{s.name}: {n}" for s in sources for n in s.notes]
     usable = [s for s in sources if s.spectrum_problem is None]
@@ -220,7 +221,8 @@ def analyze(
             warnings += [f"self-affine fit: {w}" for w in fitted.warnings]
         except SealeakError as exc:
             notes.append(f"self-affine fit not possible: {exc}")
-    return Analysis(spectrum, combined, tuple(sources), statistics, fitted, tuple(notes), problem, tuple(warnings))
+    return Analysis(spectrum_or_none=spectrum, binned=combined, sources=tuple(sources), statistics=statistics,
+                    fit=fitted, notes=tuple(notes), spectrum_problem=problem, warnings=tuple(warnings))
 
 
 #: Detrended heights whose rms is below this fraction of the largest height are round-off: a flat map.

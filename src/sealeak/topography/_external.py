@@ -222,13 +222,15 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
                 h, length, note = resample_nonuniform(x, h)
                 if note:
                     notes.append(note)
-                return LineScans(h * hf, length * lf_x, periodic=periodic, source=source, notes=tuple(notes),
+                return LineScans(heights=h * hf, length=length * lf_x, periodic=periodic, source=source,
+                                 notes=tuple(notes),
                                  resolution=resolution, warnings=warned)
-            return LineScans(h * hf, sizes[0], periodic=periodic, source=source, notes=tuple(notes),
+            return LineScans(heights=h * hf, length=sizes[0], periodic=periodic, source=source, notes=tuple(notes),
                              resolution=resolution, warnings=warned)
         if h.ndim != 2:
             raise FileFormatError(path, f"{h.ndim}D data; expected a map or a line scan")
-        return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=source, notes=tuple(notes),
+        return Topography(heights=h * hf, size=(sizes[0], sizes[1]), periodic=periodic, source=source,
+                          notes=tuple(notes),
                           resolution=resolution, warnings=warned)
     except InputError as exc:
         raise FileFormatError(path, str(exc)) from None

@@ -47,7 +47,7 @@ CHI2_WARN = 100.0
 FloatArray = NDArray[np.float64]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class SelfAffineFit:
     """Fitted self-affine parameters with standard errors.
 

@@ -166,10 +166,12 @@ def prepare(surface: Surface, *, detrend: Detrend = "auto", window: Window = "au
         notes.append(f"filled {nmiss} undefined points ({100.0 * nmiss / h.size:.2g} %) by "
                      f"{'harmonic' if is_map else 'linear'} interpolation")
     if isinstance(surface, Topography):
-        prepared: Surface = Topography(h, surface.size, periodic=periodic, source=surface.source, notes=surface.notes,
+        prepared: Surface = Topography(heights=h, size=surface.size, periodic=periodic, source=surface.source,
+                                       notes=surface.notes,
                                        resolution=surface.resolution, warnings=surface.warnings)
     else:
-        prepared = LineScans(h, surface.length, periodic=periodic, source=surface.source, notes=surface.notes,
+        prepared = LineScans(heights=h, length=surface.length, periodic=periodic, source=surface.source,
+                             notes=surface.notes,
                              resolution=surface.resolution, warnings=surface.warnings)
     if window == "hann":
         if is_map:

@@ -251,13 +251,14 @@ def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_u
             h, length, note = resample_nonuniform(raw.x, heights)  # type: ignore[arg-type]
             if note:
                 notes.append(note)
-            return LineScans(h * hf, length * lf, periodic=periodic, source=str(path), notes=tuple(notes),
+            return LineScans(heights=h * hf, length=length * lf, periodic=periodic, source=str(path),
+                             notes=tuple(notes),
                              warnings=warned)
         assert raw.x is not None and raw.y is not None  # an x y h table
         dx = float(np.diff(raw.x).mean())
         dy = float(np.diff(raw.y).mean())
         nx, ny = heights.shape
-        return Topography(heights * hf, (nx * dx * lf, ny * dy * lf), periodic=periodic,
+        return Topography(heights=heights * hf, size=(nx * dx * lf, ny * dy * lf), periodic=periodic,
                           source=str(path), notes=tuple(notes), warnings=warned)
     return _from_matrix(path, raw.heights, notes, pixel_size=pixel_size, size=size,
                         height_unit=height_unit, periodic=periodic)
@@ -275,9 +276,10 @@ def _from_matrix(path: Path, h: NDArray[np.float64], notes: list[str], *, pixel_
     notes.append(f"heights in {height_unit}, size {' × '.join(f'{s:.6g}' for s in sizes)} m")
     try:
         if h.ndim == 1:
-            return LineScans(h * hf, sizes[0], periodic=periodic, source=str(path), notes=tuple(notes),
+            return LineScans(heights=h * hf, length=sizes[0], periodic=periodic, source=str(path), notes=tuple(notes),
                              warnings=warned)
-        return Topography(h * hf, (sizes[0], sizes[1]), periodic=periodic, source=str(path), notes=tuple(notes),
+        return Topography(heights=h * hf, size=(sizes[0], sizes[1]), periodic=periodic, source=str(path),
+                          notes=tuple(notes),
                           warnings=warned)
     except InputError as exc:
         raise FileFormatError(path, str(exc)) from None

@@ -43,6 +43,7 @@ from scipy import fft as sfft
 from scipy import special
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from ..io.units import format_quantity
 from ..physics.spectrum import PowerSpectrum
 from ._preprocess import Detrend, Prepared, Window, prepare
@@ -74,7 +75,7 @@ def length_text(value: float) -> str:
 _length = length_text
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class RangeBasis:
     """What sets the reliable range of one measurement's spectrum (for messages that name the cause).
 
@@ -141,7 +142,7 @@ class RangeBasis:
                 f"needed ({cause}); {fix}")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class BinnedSpectrum:
     """A binned power spectrum of one measurement (raw data for plots, stitching and fits).
 
@@ -172,7 +173,7 @@ class BinnedSpectrum:
     q_lo: FloatArray
     q_hi: FloatArray
     reliable: NDArray[np.bool_]
-    q_reliable: tuple[float, float]
+    q_reliable: tuple[float, float] = quantity("1/m", "range of q the measurement resolves reliably", key="reliable_range")
     dim: int
     label: str = ""
     notes: tuple[str, ...] = field(default=())
@@ -252,9 +253,11 @@ def _upper_limit(side: float, pixel: float, low_cut: float, resolution_pixels: f
     res, origin = (resolution, "given") if resolution is not None else (stated, "stated by the file")
     if res is None:
         return q_pix, f"wavelengths >= {resolution_pixels:g} pixels", RangeBasis(
-            side, pixel, low_cut, resolution_pixels, None, "", False, kind, bins_per_decade)
+            side=side, pixel=pixel, low_cut=low_cut, resolution_pixels=resolution_pixels, resolution=None, origin="",
+            by_resolution=False, kind=kind, bins_per_decade=bins_per_decade)
     q_res = 2.0 * np.pi / res
-    basis = RangeBasis(side, pixel, low_cut, resolution_pixels, res, origin, q_res < q_pix, kind, bins_per_decade)
+    basis = RangeBasis(side=side, pixel=pixel, low_cut=low_cut, resolution_pixels=resolution_pixels, resolution=res,
+                       origin=origin, by_resolution=q_res < q_pix, kind=kind, bins_per_decade=bins_per_decade)
     if q_res < q_pix:
         return q_res, f"wavelengths >= the lateral resolution {res:.4g} m ({origin})", basis
     return q_pix, (f"wavelengths >= {resolution_pixels:g} pixels, which is coarser than the lateral resolution "
@@ -323,8 +326,8 @@ def spectrum_2d(
         f"{bins_per_decade:g} bins per decade up to the Nyquist wavevector {q_nyq:.4g} 1/m",
         f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
-    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 2, label=surf.source, notes=tuple(notes),
-                          basis=basis)
+    return BinnedSpectrum(q=qc, C=Cb, modes=modes, q_lo=lo, q_hi=hi, reliable=reliable, q_reliable=q_rel, dim=2,
+                          label=surf.source, notes=tuple(notes), basis=basis)
 
 
 # ---------------------------------------------------------------------------- 1D
@@ -363,8 +366,8 @@ def spectrum_1d(
         f"1D spectrum: {surf.nb_scans} profile(s) of {n} points, averaged, {bins_per_decade:g} bins per decade",
         f"reliable range {q_rel[0]:.4g}..{q_rel[1]:.4g} 1/m (q >= {low_cut:g}·2π/L, {why})",
     ]
-    return BinnedSpectrum(qc, Cb, modes, lo, hi, reliable, q_rel, 1, label=surf.source, notes=tuple(notes),
-                          basis=basis)
+    return BinnedSpectrum(q=qc, C=Cb, modes=modes, q_lo=lo, q_hi=hi, reliable=reliable, q_reliable=q_rel, dim=1,
+                          label=surf.source, notes=tuple(notes), basis=basis)
 
 
 # ---------------------------------------------------------------------------- Abel transforms

@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import fft as sfft
 
+from ..io.quantities import quantity
 from ..physics.spectrum import PowerSpectrum, area_ratio_from_slope
 from ._preprocess import Detrend, Prepared, prepare
 from ._types import LineScans, Topography
@@ -37,7 +38,7 @@ __all__ = ["SurfaceStatistics", "surface_statistics"]
 FloatArray = NDArray[np.float64]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SurfaceStatistics:
     """Roughness statistics (SI units). ``None`` where a value is not available.
 
@@ -59,16 +60,16 @@ class SurfaceStatistics:
         How derivatives were taken.
     """
 
-    h_rms: float | None
-    slope_rms: float | None
-    curvature_rms: float | None
-    area_ratio: float | None
-    skewness: float | None
-    kurtosis: float | None
-    spectrum_h_rms: float | None = None
-    spectrum_slope_rms: float | None = None
-    spectrum_curvature_rms: float | None = None
-    spectrum_area_ratio: float | None = None
+    h_rms: float | None = quantity("m", "rms height, from the heights")
+    slope_rms: float | None = quantity("1", "rms gradient √<|∇h|²>, from the heights")
+    curvature_rms: float | None = quantity("1/m", "rms Laplacian √<(∇²h)²>, from the heights")
+    area_ratio: float | None = quantity("1", "true over nominal area <√(1+|∇h|²)>")
+    skewness: float | None = quantity("1", "skewness of the height distribution")
+    kurtosis: float | None = quantity("1", "kurtosis of the height distribution (3 for Gaussian heights)")
+    spectrum_h_rms: float | None = quantity("m", "rms height from C(q) over its band", default=None)
+    spectrum_slope_rms: float | None = quantity("1", "rms gradient from C(q) over its band", default=None)
+    spectrum_curvature_rms: float | None = quantity("1/m", "rms Laplacian from C(q) over its band", default=None)
+    spectrum_area_ratio: float | None = quantity("1", "true over nominal area from C(q) over its band", default=None)
     method: str = ""
 
     @classmethod
@@ -77,8 +78,9 @@ class SurfaceStatistics:
         from the spectrum (also in the ``spectrum_*`` fields); skewness and kurtosis are not
         determined by C(q) (None)."""
         sp = _spectral(spectrum)
-        return cls(sp["spectrum_h_rms"], sp["spectrum_slope_rms"], sp["spectrum_curvature_rms"],
-                   sp["spectrum_area_ratio"], None, None, **sp, method=method)
+        return cls(h_rms=sp["spectrum_h_rms"], slope_rms=sp["spectrum_slope_rms"],
+                   curvature_rms=sp["spectrum_curvature_rms"],
+                   area_ratio=sp["spectrum_area_ratio"], skewness=None, kurtosis=None, **sp, method=method)
 
 
 def _spectral(spectrum: PowerSpectrum | None) -> dict[str, float | None]:
@@ -199,4 +201,5 @@ def surface_statistics(
         cg = cg[np.isfinite(cg)]
         curv = float(np.sqrt(8.0 / 3.0 * np.mean(cg**2))) if cg.size else float("nan")
         area = float(area_ratio_from_slope(slope))
-    return SurfaceStatistics(h_rms, slope, curv, area, skew, kurt, **_spectral(spectrum), method=method)
+    return SurfaceStatistics(h_rms=h_rms, slope_rms=slope, curvature_rms=curv, area_ratio=area, skewness=skew,
+                             kurtosis=kurt, **_spectral(spectrum), method=method)

@@ -62,5 +62,6 @@ def stitch(spectra: Sequence[BinnedSpectrum], *, label: str = "stitched") -> Bin
     gaps = np.nonzero(np.diff(uk) > 1)[0]
     for g in gaps:
         notes.append(f"no measurement covers {hi[g]:.4g}..{lo[g + 1]:.4g} 1/m (C(q) interpolated across the gap)")
-    return BinnedSpectrum(q, C, np.rint(wsum).astype(np.int64), lo, hi, np.ones(q.size, dtype=bool),
-                          (float(q[0]), float(q[-1])), 2, label=label, notes=tuple(notes))
+    return BinnedSpectrum(q=q, C=C, modes=np.rint(wsum).astype(np.int64), q_lo=lo, q_hi=hi,
+                          reliable=np.ones(q.size, dtype=bool), q_reliable=(float(q[0]), float(q[-1])), dim=2,
+                          label=label, notes=tuple(notes))

@@ -8,6 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InputError
+from ..io.quantities import quantity
 
 __all__ = ["Topography", "LineScans", "NO_DATA_MAGNITUDE"]
 
@@ -46,7 +47,7 @@ def _resolution(value: float | None, name: str) -> float | None:
     return v
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class Topography:
     """A 2D height map on a uniform grid.
 
@@ -74,7 +75,7 @@ class Topography:
     """
 
     heights: FloatArray
-    size: tuple[float, float]
+    size: tuple[float, float] = quantity("m", "physical size of a map (or length of line scans)")
     periodic: bool = False
     source: str = ""
     notes: tuple[str, ...] = field(default=())
@@ -117,7 +118,7 @@ class Topography:
                 f"periodic={self.periodic}, source={self.source!r})")
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, kw_only=True)
 class LineScans:
     """One or more parallel 1D profiles on a common uniform grid.
 
@@ -163,7 +164,7 @@ class LineScans:
         if axis not in (0, 1):
             raise InputError("axis", axis, "0 (profiles along x) or 1 (along y)")
         h = topography.heights.T if axis == 0 else topography.heights
-        return cls(h, topography.size[axis], periodic=topography.periodic,
+        return cls(heights=h, length=topography.size[axis], periodic=topography.periodic,
                    source=f"{topography.source} ({'x' if axis == 0 else 'y'} profiles)",
                    notes=topography.notes, resolution=topography.resolution, warnings=topography.warnings)
 

@@ -27,7 +27,7 @@ DEFAULT_MAX_SESSIONS = 100
 COOKIE = "sealeak_session"
 
 
-@dataclass
+@dataclass(kw_only=True)
 class Session:
     """One browser session: its folder, its current case (TOML text and name) and its jobs."""
 
@@ -95,7 +95,8 @@ class SessionStore:
     def create(self) -> Session:
         """A new session with a random 256-bit token (its folder is made when first needed)."""
         token = secrets.token_urlsafe(32)
-        s = Session(token, self.root / secrets.token_hex(8))  # its folder is made on its first upload or job
+        s = Session(token=token,
+                    folder=self.root / secrets.token_hex(8))  # its folder is made on its first upload or job
         with self._lock:
             if len(self._sessions) >= self.limit:
                 empty = [o for o in self._sessions.values() if not _holds(o)]

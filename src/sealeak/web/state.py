@@ -47,7 +47,7 @@ def _cores() -> int:
     return os.cpu_count() or 1
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class WebConfig:
     """Settings of one server (``docs/web.md``, "Safety").
 
