@@ -29,7 +29,7 @@ from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import analyze, case_option_names
 from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
-from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
+from .model import FLUID_PRESSURE, STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions
 from .options import grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
@@ -299,6 +299,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
     gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
     model = theory.choice("model", ("critical-junction", "effective-medium", "both"), "critical-junction")
+    fluid_pressure = theory.choice("fluid_pressure", FLUID_PRESSURE, FLUID_PRESSURE[0])
     if theory.has("lowest_wavevector") and theory.has("square_side"):
         raise InputError("theory.lowest_wavevector", theory.raw("lowest_wavevector"),
                          "give either lowest_wavevector or square_side, not both")
@@ -349,6 +350,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         simulation=simulation, source=source, surface_model=str(model_name), band=band, input_warnings=input_warnings,
         gas=fl.gas, temperature=fl.temperature, absolute_pressures=fl.absolute_pressures, fluid_state=fl.state,
         helium_equivalent=fl.helium_equivalent, rarefaction=fl.rarefaction,
+        fluid_pressure=fluid_pressure,
     )
 
 

@@ -23,13 +23,17 @@ from ..physics.properties import FluidState
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
 
-__all__ = ["Case", "MODELS", "BandSeal", "GasConditions", "STANDARD_TEMPERATURE_CASE"]
+__all__ = ["Case", "MODELS", "FLUID_PRESSURE", "BandSeal", "GasConditions", "STANDARD_TEMPERATURE_CASE"]
 
 #: The temperature of a case whose ``[fluid]`` gives none: 20 °C, in K.
 STANDARD_TEMPERATURE_CASE = 293.15
 
 #: The leak-rate theories a case may ask for (``theory.model``).
 MODELS = ("critical-junction", "effective-medium", "both")
+
+#: How the fluid's own pressure in the band acts on the contact (``theory.fluid_pressure``, docs/theory.md §12):
+#: "coupled" (the effective squeeze pressure p − p_f; the default) or "ignored" (Lorenz & Persson (2009) as printed).
+FLUID_PRESSURE = ("coupled", "ignored")
 
 
 @dataclass(frozen=True)
@@ -197,6 +201,9 @@ class Case:
         ``conditions.helium_equivalent`` for a liquid; docs/theory.md §11.9).
     rarefaction
         The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
+    fluid_pressure
+        ``theory.fluid_pressure``, one of :data:`FLUID_PRESSURE`: whether the fluid pressure in the band
+        lowers the effective squeeze pressure (docs/theory.md §12).
     """
 
     title: str
@@ -228,6 +235,12 @@ class Case:
     fluid_state: FluidState | None = None
     helium_equivalent: bool = False
     rarefaction: str = "beskok-karniadakis"
+    fluid_pressure: str = "coupled"
+
+    @property
+    def coupled(self) -> bool:
+        """Whether the fluid pressure in the band acts on the contact (``theory.fluid_pressure = "coupled"``)."""
+        return self.fluid_pressure == "coupled"
 
     @property
     def square_side(self) -> float:

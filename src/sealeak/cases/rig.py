@@ -100,8 +100,10 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         p0 = rig.squeeze_pressure(case.seal)
         strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
         messages += [strained + "; check [rig] load"] if strained else []
+        # with the fluid pressure coupled, K = Q(ΔP0)/ΔP0 at the initial head (docs/theory.md §12.5)
+        dp_k = float(rig.pressure_difference(rig.initial_height)) if case.coupled else None
         for model in models:
-            ks, notes = _conductance(case, [p0], model)
+            ks, notes = _conductance(case, [p0], model, dp_k)
             k_of[_model_name(case, model)] = float(ks[0])
             messages.extend(notes)
     columns, tau, t_final = {}, {}, {}
