@@ -47,8 +47,8 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
     Lorenz & Persson (2009) eq. 2 (docs/theory.md §3); with ``theory.fluid_pressure = "coupled"`` the leak rate
     is (Ly/w) ∫σ(s) ds over the effective squeeze pressures P0 − ΔP .. P0 (docs/theory.md eq. 12.2).
     """
-    contact = case.contact()
     with case_keys():
+        contact = case.contact()
         res = critical_junction(
             contact,
             squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
@@ -68,8 +68,8 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
     With ``theory.fluid_pressure = "coupled"``, (Ly/Lx) ∫σ_eff(s) ds over P0 − ΔP .. P0 (docs/theory.md eq. 12.2),
     σ_eff interpolated between exact values (:func:`~sealeak.cases.band._em_sigma_table`).
     """
-    contact = case.contact()
     with case_keys():
+        contact = case.contact()
         res = effective_medium(
             contact,
             squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,

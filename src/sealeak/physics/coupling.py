@@ -2,7 +2,7 @@
 
 The fluid pressure p_f(x) inside the band pushes the rubber away from the counterface, so a strip
 at nominal contact pressure p(x) is pressed by the effective pressure p(x) − p_f(x) only
-(Persson, Tribology Letters 70 (2022) on static seals; Lorenz & Persson (2009) neglect it,
+(Persson, "Fluid leakage in static rubber seals", Tribol. Lett. 70 (2022), issue 2; Lorenz & Persson (2009) neglect it,
 P0 ≫ ΔP). The flux through the band (gauge pressures: p_f = ΔP at the inlet x = 0, 0 at the
 outlet x = w) is the same at every x (docs/theory.md eq. 12.1):
 
