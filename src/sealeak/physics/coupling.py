@@ -112,7 +112,7 @@ class CoupledBand:
     shots: int
 
 
-def _pieces(profile: PressureProfile) -> list[tuple[Callable[[float], float], Callable[[float], float]]]:
+def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callable[..., float]]]:
     """(dx/dθ (m), p (Pa)) as functions of θ ∈ [0, π] for each piece of the band, inlet to outlet.
 
     A linear piece [a, b] is x = a + (b − a)(1 − cos θ)/2; the Hertz profile x = (w/2)(1 − cos θ), p = p_max sin θ.
@@ -120,7 +120,7 @@ def _pieces(profile: PressureProfile) -> list[tuple[Callable[[float], float], Ca
     if profile.shape == "semi-elliptic":
         w, peak = profile.width, profile.peak
         return [(lambda t: w * np.sin(t) / 2.0, lambda t: peak * np.sin(t))]
-    out = []
+    out: list[tuple[Callable[..., float], Callable[..., float]]] = []
     for a, b, pa, pb in zip(profile.x[:-1], profile.x[1:], profile.pressure[:-1], profile.pressure[1:], strict=True):
         if b > a:
             out.append((lambda t, a=a, b=b: (b - a) * np.sin(t) / 2.0,
