@@ -66,6 +66,23 @@ def _check_load_column(case: Case, data: LeakData, required: bool = True) -> Non
                                      f"seal, {seal_description(case)}: give a column {example} instead")
 
 
+# ---------------------------------------------------------------------- rows whose ΔP is large
+def _large_pressure_difference(case: Case, pressure: FloatArray, dp: FloatArray) -> NDArray[np.bool_]:
+    """Rows whose ΔP opens the seal (ΔP >= the contact pressure, fluid pressure coupled; docs/theory.md §12.4), or is not
+    small against it (ΔP > P0/2, fluid pressure ignored; §3.6)."""
+    return dp >= pressure if case.coupled else pressure_difference_not_small(pressure, dp)
+
+
+def _large_text(case: Case, line: int, dp: float, against: str, count: int) -> str:
+    """The fit's note about the rows of :func:`_large_pressure_difference` (the first one's data-file line)."""
+    if case.coupled:
+        return (f"line {line}: ΔP = {dp:.6g} Pa reaches the lift-off pressure difference, {against} ({count} row(s) like "
+                "it): the fluid pressure opens the seal; the models there are the limit at lift-off")
+    p = "P0" if against.startswith("P0") else "p"
+    return (f"line {line}: ΔP = {dp:.6g} Pa is not small against {against} ({count} row(s) like it): both theories "
+            f"assume {p} >> ΔP")
+
+
 # ---------------------------------------------------------------------- fitting α
 def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: ArrayLike,
                leak_rate: ArrayLike) -> dict[str, ScaleFit]:
@@ -229,12 +246,11 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     messages = _fit_messages(data, fits, where)
     notes, outside = _outside_validity(data, fits, verdicts, None, where)
     messages += notes
-    large = pressure_difference_not_small(data.squeeze_pressure, dp_used)
+    large = _large_pressure_difference(case, data.squeeze_pressure, dp_used)
     if large.any():
         i = int(np.argmax(large))
-        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against P0 = "
-                        f"{data.squeeze_pressure[i]:.6g} Pa ({int(large.sum())} row(s) like it): both theories "
-                        "assume P0 >> ΔP")
+        messages.append(_large_text(case, data.line_of(i), dp_used[i], f"P0 = {data.squeeze_pressure[i]:.6g} Pa",
+                                    int(large.sum())))
     p0 = data.squeeze_pressure
     same = bool(np.allclose(dp_used, dp_used[0]))
     ref_dp = float(dp_used[0]) if same else case.pressure_difference
@@ -359,12 +375,11 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
         messages += list(res.band.oring.warnings)
     # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
     p_max = res.max_contact_pressure[inverse]
-    large = pressure_difference_not_small(p_max, dp_used)
+    large = _large_pressure_difference(case, p_max, dp_used)
     if large.any():
         i = int(np.argmax(large))
-        messages.append(f"line {data.line_of(i)}: ΔP = {dp_used[i]:.6g} Pa is not small against the peak contact pressure "
-                        f"{p_max[i]:.6g} Pa at {_load_text(band.load_name, loads[i])} ({int(large.sum())} row(s) like it): "
-                        "both theories assume p >> ΔP")
+        messages.append(_large_text(case, data.line_of(i), dp_used[i], f"the peak contact pressure {p_max[i]:.6g} Pa at "
+                                    f"{_load_text(band.load_name, loads[i])}", int(large.sum())))
     same = bool(np.allclose(dp_used, dp_used[0]))
     ref_dp = float(dp_used[0]) if same else case.pressure_difference
     measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))
