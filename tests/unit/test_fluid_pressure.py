@@ -11,6 +11,7 @@ from scipy import integrate
 from sealeak.cases import example_path, load_case, parse_cases, predict, predict_effective_medium, run_case
 from sealeak.cases.band import run_band
 from sealeak.cases.model import BandSeal
+from sealeak.cases.rig import rig_prediction
 from sealeak.errors import InputError
 from sealeak.physics.coupling import coupled_band_flow, effective_pressure_integral
 from sealeak.physics.critical_junction import critical_junction
@@ -137,3 +138,15 @@ def test_band_lift_off_is_the_peak(coupled):
     assert result.band.critical_junction.leak_rate[0] == pytest.approx(limit, rel=1e-9)
     half = run_band(replace(small, pressure_difference=1.5e5)).critical_junction.leak_rate[0]
     assert half / 1.5e5 > r_c.critical_junction.leak_rate[0] / 10.0  # faster than linear
+
+
+def test_rig_uses_the_coupled_leak_along_the_fall(ignored, coupled):
+    """The water-column rig: Q(ρgH) of eq. 12.2 along the fall, so the level falls faster than with Q = K ΔP."""
+    lin, cou = rig_prediction(ignored), rig_prediction(coupled)
+    (name,) = cou.conductance
+    dp0 = coupled.rig.pressure_difference(coupled.rig.initial_height)
+    q0 = predict(coupled, squeeze_pressure=[cou.squeeze_pressure], pressure_difference=dp0).leak_rate[0]
+    assert cou.columns[name].leak_rate[0] == pytest.approx(q0, rel=1e-9)
+    assert cou.conductance[name] == pytest.approx(q0 / dp0, rel=1e-12)
+    assert cou.conductance[name] > lin.conductance[name]
+    assert cou.drain_time[name] < lin.drain_time[name]
