@@ -292,10 +292,12 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
             return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure),
                      "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium))},
                     _band_verdicts(at, res, pressure_difference=False))
-        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=1.0)
-        em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=1.0)
-        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap),
-                 "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0),
+        # K = Q/ΔP: at ΔP → 0 as printed; with the fluid pressure coupled at the case's ΔP, as predict (theory §12.5)
+        dp_k = at.pressure_difference if at.coupled else 1.0
+        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=dp_k)
+        em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=dp_k)
+        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate / dp_k, 0.0), cj.critical_gap),
+                 "effective_medium": (np.where(em.percolates, em.leak_rate / dp_k, 0.0),
                                       np.where(em.percolates, em.effective_gap, np.nan))},
                 _uniform_verdicts(at, cj, em, pressure_difference=False))
 
