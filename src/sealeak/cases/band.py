@@ -445,7 +445,8 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
 def band_conductance(case: Case, model: str = "critical-junction", loads: NDArray[np.float64] | None = None) -> FloatArray:
     """K = Q/ΔP (m³/(Pa·s)) of a band seal at each of its loads, for one theory (0 where sealed).
 
-    Both theories are linear in ΔP, so K is the band's leak rate at ΔP = 1 Pa (docs/theory.md §10.1).
+    K is the band's leak rate over the case's ΔP: the same at every ΔP as printed (docs/theory.md §10.1), at the
+    case's ΔP with the fluid pressure coupled (§12.3).
     ``loads`` must be the case's loads (or None): other loads need a case built for them.
     """
     res = run_band(case, effective=model == "effective-medium")
