@@ -126,7 +126,7 @@ def test_pressure_difference_not_small_against_p0_is_outside_the_theory(tmp_path
 
 
 def test_pressure_difference_beyond_lift_off_opens_the_seal(tmp_path):
-    """Coupled (the default): only ΔP >= P0 is outside, the seal opens (docs/theory.md §12.4)."""
+    """Coupled (the default): only ΔP >= P0 is outside, the seal opens (docs/theory.md §13.4)."""
     path = _write(tmp_path, edit('pressure_difference = "10 kPa"', 'pressure_difference = "45 kPa"'))
     js = tmp_path / "o.json"
     assert main(["predict", str(path), "-q", "--json", str(js)]) == 0

@@ -1,4 +1,4 @@
-"""The fluid's own pressure in the band (theory.fluid_pressure, docs/theory.md §12): coupled against ignored."""
+"""The fluid's own pressure in the band (theory.fluid_pressure, docs/theory.md §13): coupled against ignored."""
 
 from __future__ import annotations
 
@@ -141,7 +141,7 @@ def test_band_lift_off_is_the_peak(coupled):
 
 
 def test_rig_uses_the_coupled_leak_along_the_fall(ignored, coupled):
-    """The water-column rig: Q(ρgH) of eq. 12.2 along the fall, so the level falls faster than with Q = K ΔP."""
+    """The water-column rig: Q(ρgH) of eq. 13.2 along the fall, so the level falls faster than with Q = K ΔP."""
     lin, cou = rig_prediction(ignored), rig_prediction(coupled)
     (name,) = cou.conductance
     dp0 = coupled.rig.pressure_difference(coupled.rig.initial_height)

@@ -139,7 +139,7 @@ class BandResult:
         u_c and λc where the pressure is highest (m): the narrowest constriction of the band,
         which the validity verdict judges.
     coupled
-        Whether the leak rates take the fluid pressure in the band into account (docs/theory.md §12).
+        Whether the leak rates take the fluid pressure in the band into account (docs/theory.md §13).
     """
 
     band: BandSeal
@@ -322,7 +322,7 @@ def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile) 
 def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: list[float], converged: list[bool],
             name: str, mean_sigma: FloatArray, coupled: list[CoupledBand] | None = None) -> BandTheory:
     """One theory's :class:`BandTheory`; with ``coupled`` (the flows q and ∫σ ds at the mean pressure of each load's
-    coupled solve, docs/theory.md §12) the leak rates are faces · Ly · q, the uniform ones faces · (Ly/w) ∫σ ds."""
+    coupled solve, docs/theory.md §13) the leak rates are faces · Ly · q, the uniform ones faces · (Ly/w) ∫σ ds."""
     ly, dp = band.length * band.faces, case.pressure_difference
     r = np.array([g.resistance for g in integrals])
     sealed = np.array([g.sealed for g in integrals])
@@ -354,7 +354,7 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
 
 def _mean_sigma(case: Case, sigma: Callable[[FloatArray], FloatArray], mean: float) -> float:
     """σ(p_mean) (m³/(Pa·s)) of a uniform pressure equal to the mean, or with the fluid pressure acting on it
-    (``case.coupled``) ∫σ(s) ds over p_mean − ΔP .. p_mean (m³/s; docs/theory.md eq. 12.2): 0 where p_mean seals."""
+    (``case.coupled``) ∫σ(s) ds over p_mean − ΔP .. p_mean (m³/s; docs/theory.md eq. 13.2): 0 where p_mean seals."""
     at_mean = float(sigma(np.array([mean]))[0])
     if not case.coupled or at_mean <= 0:
         return at_mean
@@ -446,7 +446,7 @@ def band_conductance(case: Case, model: str = "critical-junction", loads: NDArra
     """K = Q/ΔP (m³/(Pa·s)) of a band seal at each of its loads, for one theory (0 where sealed).
 
     K is the band's leak rate over the case's ΔP: the same at every ΔP as printed (docs/theory.md §10.1), at the
-    case's ΔP with the fluid pressure coupled (§12.3).
+    case's ΔP with the fluid pressure coupled (§13.3).
     ``loads`` must be the case's loads (or None): other loads need a case built for them.
     """
     res = run_band(case, effective=model == "effective-medium")

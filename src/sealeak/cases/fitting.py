@@ -68,7 +68,7 @@ def _check_load_column(case: Case, data: LeakData, required: bool = True) -> Non
 
 # ---------------------------------------------------------------------- rows whose ΔP is large
 def _large_pressure_difference(case: Case, pressure: FloatArray, dp: FloatArray) -> NDArray[np.bool_]:
-    """Rows whose ΔP opens the seal (ΔP >= the contact pressure, fluid pressure coupled; docs/theory.md §12.4), or is not
+    """Rows whose ΔP opens the seal (ΔP >= the contact pressure, fluid pressure coupled; docs/theory.md §13.4), or is not
     small against it (ΔP > P0/2, fluid pressure ignored; §3.6)."""
     return dp >= pressure if case.coupled else pressure_difference_not_small(pressure, dp)
 
@@ -292,7 +292,7 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
             return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure),
                      "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium))},
                     _band_verdicts(at, res, pressure_difference=False))
-        # K = Q/ΔP: at ΔP → 0 as printed; with the fluid pressure coupled at the case's ΔP, as predict (theory §12.5)
+        # K = Q/ΔP: at ΔP → 0 as printed; with the fluid pressure coupled at the case's ΔP, as predict (theory §13.5)
         dp_k = at.pressure_difference if at.coupled else 1.0
         cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=dp_k)
         em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=dp_k)

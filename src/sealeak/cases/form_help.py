@@ -156,7 +156,7 @@ FIELD_HELP: dict[str, FieldHelp] = {
     "theory.fluid_pressure": FieldHelp("Fluid pressure in the band", "theory-the-theorys-settings-optional",
                      "whether the fluid pressure p_f(x) in the band is taken off the contact pressure: \"coupled\" (the effective squeeze "
                      "pressure p − p_f; Q grows faster than linearly in ΔP and a row with ΔP at or beyond the lift-off pressure difference "
-                     "is marked not valid, theory §12) or \"ignored\" (Lorenz & Persson 2009 as printed, Q = K ΔP)"),
+                     "is marked not valid, theory §13) or \"ignored\" (Lorenz & Persson 2009 as printed, Q = K ΔP)"),
     "study.vary": FieldHelp("Varied key", "study-a-parameter-study-optional",
                      "the key to vary, as \"section.key\", e.g. \"surface.h_rms\"; or a whole section, e.g. \"fluid\", whose values are tables of its keys "
                      "(each replaces the keys it names)"),

@@ -31,7 +31,7 @@ STANDARD_TEMPERATURE_CASE = 293.15
 #: The leak-rate theories a case may ask for (``theory.model``).
 MODELS = ("critical-junction", "effective-medium", "both")
 
-#: How the fluid's own pressure in the band acts on the contact (``theory.fluid_pressure``, docs/theory.md §12):
+#: How the fluid's own pressure in the band acts on the contact (``theory.fluid_pressure``, docs/theory.md §13):
 #: "coupled" (the effective squeeze pressure p − p_f; the default) or "ignored" (Lorenz & Persson (2009) as printed).
 FLUID_PRESSURE = ("coupled", "ignored")
 
@@ -203,7 +203,7 @@ class Case:
         The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
     fluid_pressure
         ``theory.fluid_pressure``, one of :data:`FLUID_PRESSURE`: whether the fluid pressure in the band
-        lowers the effective squeeze pressure (docs/theory.md §12).
+        lowers the effective squeeze pressure (docs/theory.md §13).
     """
 
     title: str

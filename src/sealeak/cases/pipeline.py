@@ -126,7 +126,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     if case.coupled:  # the simulated contact is pressed by P0 alone: compare with the theory without fluid pressure
         case = replace(case, fluid_pressure="ignored")
         notes.append("the simulation presses the surface with the squeeze pressure alone (the fluid pressure in the band "
-                     "is not simulated), so its theory is the printed one, fluid_pressure = \"ignored\" (docs/theory.md §12)")
+                     "is not simulated), so its theory is the printed one, fluid_pressure = \"ignored\" (docs/theory.md §13)")
     plan = geometry.prepare(case, grid, grid_field, notes, progress)
     with StagedFolder(fields_dir) as fields:
         common = {"grid": grid, "seed": seed, "e_star": case.e_star, "viscosity": case.fluid.viscosity,

@@ -45,7 +45,7 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
     """Critical-junction leak rate of ``case`` at its squeeze pressures (or the ones given), in SI units.
 
     Lorenz & Persson (2009) eq. 2 (docs/theory.md §3); with ``theory.fluid_pressure = "coupled"`` the leak rate
-    is (Ly/w) ∫σ(s) ds over the effective squeeze pressures P0 − ΔP .. P0 (docs/theory.md eq. 12.2).
+    is (Ly/w) ∫σ(s) ds over the effective squeeze pressures P0 − ΔP .. P0 (docs/theory.md eq. 13.2).
     """
     with case_keys():
         contact = case.contact()
@@ -65,7 +65,7 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
                              pressure_difference: ArrayLike | None = None) -> EffectiveMediumResult:
     """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3).
 
-    With ``theory.fluid_pressure = "coupled"``, (Ly/Lx) ∫σ_eff(s) ds over P0 − ΔP .. P0 (docs/theory.md eq. 12.2),
+    With ``theory.fluid_pressure = "coupled"``, (Ly/Lx) ∫σ_eff(s) ds over P0 − ΔP .. P0 (docs/theory.md eq. 13.2),
     σ_eff interpolated between exact values (:func:`~sealeak.cases.band._em_sigma_table`).
     """
     with case_keys():
@@ -86,7 +86,7 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
 
 def _coupled(case: Case, res: ResultT, sigma: Callable[[FloatArray], FloatArray]) -> ResultT:
     """``res`` with the leak rate of the fluid pressure acting on the contact: (Ly/Lx) ∫_{P0−ΔP}^{P0} σ(s) ds
-    (docs/theory.md eq. 12.2; rows with ΔP ≥ P0 at the lift-off limit ΔP = P0) and without the note that the
+    (docs/theory.md eq. 13.2; rows with ΔP ≥ P0 at the lift-off limit ΔP = P0) and without the note that the
     theory neglects the fluid pressure."""
     integral = effective_pressure_integral(sigma, res.squeeze_pressure, res.pressure_difference)
     leak = np.where(res.percolates, res.aspect_ratio * integral.value, np.nan)
@@ -153,7 +153,7 @@ def _band_at(case: Case, loads: ArrayLike) -> Case:
 
 def _band_k(band_result: BandResult, theory: BandTheory) -> FloatArray:
     """K = faces · Ly / R (m³/(Pa·s)) of each load, 0 where the band holds no leak channel (docs/theory.md §10.1);
-    with the fluid pressure coupled, K = Q/ΔP at the band's ΔP (docs/theory.md §12)."""
+    with the fluid pressure coupled, K = Q/ΔP at the band's ΔP (docs/theory.md §13)."""
     band = band_result.band
     if band_result.coupled:
         return np.where(theory.percolates, theory.leak_rate / band_result.pressure_difference, 0.0)

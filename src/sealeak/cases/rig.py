@@ -67,7 +67,7 @@ def _linear_leak(k: float) -> Callable[[ArrayLike], FloatArray]:
 
 def _coupled_leak(case: Case, p0: float, model: Model, dp0: float) -> Callable[[ArrayLike], FloatArray]:
     """Q(ΔP) (m³/s) of a uniform seal at P0 (Pa) with the fluid pressure coupled, for 0 <= ΔP <= ΔP0 (Pa): monotone
-    cubic (PCHIP) interpolation through Q at 33 pressure differences (docs/theory.md eq. 12.2)."""
+    cubic (PCHIP) interpolation through Q at 33 pressure differences (docs/theory.md eq. 13.2)."""
     grid = np.linspace(0.0, dp0, 33)
     run = predict if model == "critical-junction" else predict_effective_medium
     q = run(case, squeeze_pressure=np.full(grid.size - 1, p0), pressure_difference=grid[1:]).leak_rate
@@ -87,8 +87,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     As printed (``theory.fluid_pressure = "ignored"``) both theories are linear in ΔP at fixed P0, so
     Q(ΔP) = K ΔP with K from :func:`conductance`; the ODE is still solved in general
     (:func:`~sealeak.lab.rig.water_column`) and the closed-form exponential gives the same curve. With the
-    fluid pressure coupled (a uniform seal), Q(ΔP) is eq. 12.2 (:func:`_coupled_leak`), K = Q(ΔP0)/ΔP0 at the
-    initial head, τ = A_cyl/(K ρ g) the initial time constant and the drain time the ODE's (docs/theory.md §12.5).
+    fluid pressure coupled (a uniform seal), Q(ΔP) is eq. 13.2 (:func:`_coupled_leak`), K = Q(ΔP0)/ΔP0 at the
+    initial head, τ = A_cyl/(K ρ g) the initial time constant and the drain time the ODE's (docs/theory.md §13.5).
 
     An O-ring or pressure-profile seal runs at the case's one load (its compression or profile
     scale sets the contact; the [rig] has no load): K = faces · Ly / ∫dx/σ of the band
@@ -118,7 +118,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
         messages += [strained + "; check [rig] load"] if strained else []
         # with the fluid pressure coupled, K = Q(ΔP0)/ΔP0 at the initial head and Q(ΔP) along the fall
-        # (docs/theory.md §12.5)
+        # (docs/theory.md §13.5)
         dp_k = float(rig.pressure_difference(rig.initial_height)) if case.coupled else None
         for model in models:
             ks, notes = _conductance(case, [p0], model, dp_k)

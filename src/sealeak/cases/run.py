@@ -72,7 +72,7 @@ class CaseResult:
         verdicts judge the band at its highest pressure.
     lift_off_pressure_difference
         With ``theory.fluid_pressure = "coupled"``: the ΔP (Pa) at which the fluid pressure reaches the peak
-        contact pressure and opens the seal, per row: P0 of a uniform seal, p_max of a band (docs/theory.md §12.4);
+        contact pressure and opens the seal, per row: P0 of a uniform seal, p_max of a band (docs/theory.md §13.4);
         None when the fluid pressure is ignored.
     gas
         For a gas case, or a liquid with ``conditions.helium_equivalent``: the gas leak and the

@@ -37,7 +37,7 @@ def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMedi
     if not pressure_difference:
         return valid, validity, valid_em, validity_em
     # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2); coupled:
-    # the fluid pressure reaches P0 and opens the seal (§12.4)
+    # the fluid pressure reaches P0 and opens the seal (§13.4)
     p0, dp = res.squeeze_pressure, res.pressure_difference
     if case.coupled:
         lifted = dp >= p0
@@ -53,7 +53,7 @@ def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMedi
 
 
 def opens_text(dp: float, name: str, lift_off: float) -> str:
-    """Why a row whose ΔP reaches the lift-off pressure difference is not valid (docs/theory.md §12.4)."""
+    """Why a row whose ΔP reaches the lift-off pressure difference is not valid (docs/theory.md §13.4)."""
     return (f"ΔP = {dp:.4g} Pa reaches the lift-off pressure difference ({name} = {lift_off:.4g} Pa): the fluid pressure "
             "opens the seal; the leak rate shown is the limit ΔP → lift-off, the open seal leaks more")
 
@@ -69,7 +69,7 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
     """
     d = case.fluid.molecular_length
     dp, p_max = case.pressure_difference, band.max_contact_pressure
-    if case.coupled:  # the fluid pressure reaches the peak and opens the seal (docs/theory.md §12.4)
+    if case.coupled:  # the fluid pressure reaches the peak and opens the seal (docs/theory.md §13.4)
         lifted = (dp >= p_max) & pressure_difference
         reason = [opens_text(dp, "the peak contact pressure", float(p)) for p in p_max]
     else:

@@ -1,19 +1,19 @@
-"""The fluid's own pressure in the sealing band: the coupled flow (docs/theory.md §12).
+"""The fluid's own pressure in the sealing band: the coupled flow (docs/theory.md §13).
 
 The fluid pressure p_f(x) inside the band pushes the rubber away from the counterface, so a strip
 at nominal contact pressure p(x) is pressed by the effective pressure p(x) − p_f(x) only
 (Persson, "Fluid leakage in static rubber seals", Tribol. Lett. 70 (2022), issue 2; Lorenz & Persson (2009) neglect it,
 P0 ≫ ΔP). The flux through the band (gauge pressures: p_f = ΔP at the inlet x = 0, 0 at the
-outlet x = w) is the same at every x (docs/theory.md eq. 12.1):
+outlet x = w) is the same at every x (docs/theory.md eq. 13.1):
 
     Q = −Ly σ(p(x) − p_f(x)) dp_f/dx
 
 with σ(p) the sheet conductance of either theory (m³/(Pa·s)). For a uniform seal (p = P0) the
-substitution s = P0 − p_f separates it (eq. 12.2):
+substitution s = P0 − p_f separates it (eq. 13.2):
 
     Q = (Ly/w) ∫_{P0−ΔP}^{P0} σ(s) ds           (:func:`effective_pressure_integral`)
 
-and for a band seal it is an ODE in x solved by shooting on Q (:func:`coupled_band_flow`, eq. 12.3).
+and for a band seal it is an ODE in x solved by shooting on Q (:func:`coupled_band_flow`, eq. 13.3).
 The seal opens (lifts off) where the fluid pressure reaches the contact pressure; it can first do
 so at the peak p_max (P0 for a uniform seal), so ΔP ≥ p_max opens the seal: the functions then
 return the limit ΔP → p_max and say so (``lifted``). Effective pressures below
@@ -39,7 +39,7 @@ __all__ = ["LIFT_OFF_FLOOR", "CoupledIntegral", "CoupledBand", "effective_pressu
 
 FloatArray = NDArray[np.float64]
 
-#: Lowest effective pressure, relative to the peak contact pressure, at which σ is evaluated (docs/theory.md §12.3).
+#: Lowest effective pressure, relative to the peak contact pressure, at which σ is evaluated (docs/theory.md §13.3).
 LIFT_OFF_FLOOR = 1e-6
 #: Gauss–Legendre orders tried in turn by :func:`effective_pressure_integral` until two agree to ``rtol``.
 ORDERS = (16, 32, 64, 128)
@@ -61,7 +61,7 @@ class CoupledIntegral:
 
 def effective_pressure_integral(sheet_conductance: Callable[[FloatArray], FloatArray], squeeze_pressure: ArrayLike,
                                 pressure_difference: ArrayLike, *, rtol: float = 1e-9) -> CoupledIntegral:
-    """I = ∫_{P0−ΔP}^{P0} σ(s) ds (m³/s) of a uniform seal, per row: Q = (Ly/w) I (docs/theory.md eq. 12.2).
+    """I = ∫_{P0−ΔP}^{P0} σ(s) ds (m³/s) of a uniform seal, per row: Q = (Ly/w) I (docs/theory.md eq. 13.2).
 
     ``sheet_conductance`` maps pressures (Pa, > 0) to σ (m³/(Pa·s)); P0 and ΔP (Pa) broadcast. Rows
     with ΔP ≥ P0 are lifted: their integral runs from the floor (:data:`LIFT_OFF_FLOOR` P0) to P0, the
@@ -92,7 +92,7 @@ def effective_pressure_integral(sheet_conductance: Callable[[FloatArray], FloatA
 
 @dataclass(frozen=True)
 class CoupledBand:
-    """The coupled flow through one band (SI units; docs/theory.md §12.3).
+    """The coupled flow through one band (SI units; docs/theory.md §13.3).
 
     Attributes
     ----------
@@ -130,7 +130,7 @@ def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callab
 
 def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[FloatArray], FloatArray],
                       pressure_difference: float, *, rtol: float = 1e-9) -> CoupledBand:
-    """The flow per unit length q (m²/s) of a band with the fluid pressure p_f(x) acting on it (docs/theory.md eq. 12.3).
+    """The flow per unit length q (m²/s) of a band with the fluid pressure p_f(x) acting on it (docs/theory.md eq. 13.3).
 
     dp_f/dx = −q / σ(p(x) − p_f(x)) from p_f(0) = ΔP is integrated across the band (DOP853 in θ on
     each piece, relative tolerance 1e-10), and q is found by Brent's method such that p_f(w) = 0; q lies
