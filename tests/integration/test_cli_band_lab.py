@@ -61,7 +61,8 @@ def test_fit_of_a_profile_seal_with_its_own_pressure_differences(tmp_path, capsy
 
 
 def _profile_text(scale="1", extra=""):
-    """The step-profile case of tests/unit/test_band_lab.py as case-file text (step.csv beside it)."""
+    """The step-profile case of tests/unit/test_band_lab.py as case-file text (step.csv beside it), fluid pressure
+    ignored (Q = K ΔP, which these tests check)."""
     return SURFACE + f"""
 [seal]
 pressure_profile = "step.csv"
@@ -71,6 +72,7 @@ profile_scale = {scale}
 pressure_difference = "10 kPa"
 [theory]
 alpha = 0.5
+fluid_pressure = "ignored"
 """ + extra
 
 

@@ -113,7 +113,8 @@ def test_base_case_is_valid_everywhere(tmp_path, capsys):
 
 
 def test_pressure_difference_not_small_against_p0_is_outside_the_theory(tmp_path, capsys):
-    path = _write(tmp_path, edit('pressure_difference = "10 kPa"', 'pressure_difference = "45 kPa"'))
+    text = edit('pressure_difference = "10 kPa"', 'pressure_difference = "45 kPa"')
+    path = _write(tmp_path, edit("alpha = 0.2", 'alpha = 0.2\nfluid_pressure = "ignored"', text))
     js = tmp_path / "o.json"
     assert main(["predict", str(path), "-q", "--json", str(js)]) == 0
     rows = json.loads(js.read_text())["results"]
@@ -121,3 +122,17 @@ def test_pressure_difference_not_small_against_p0_is_outside_the_theory(tmp_path
     assert [r["valid"] for r in rows] == [r["pressure_difference"] <= 0.5 * r["squeeze_pressure"] for r in rows]
     assert [r["valid"] for r in rows] == [False, False, True]
     assert rows[0]["validity"].startswith("ΔP = ")
+    assert "lift_off_pressure_difference" not in rows[0]
+
+
+def test_pressure_difference_beyond_lift_off_opens_the_seal(tmp_path):
+    """Coupled (the default): only ΔP >= P0 is outside, the seal opens (docs/theory.md §13.4)."""
+    path = _write(tmp_path, edit('pressure_difference = "10 kPa"', 'pressure_difference = "45 kPa"'))
+    js = tmp_path / "o.json"
+    assert main(["predict", str(path), "-q", "--json", str(js)]) == 0
+    doc = json.loads(js.read_text())
+    rows = doc["results"]
+    assert doc["units"]["lift_off_pressure_difference"] == "Pa"
+    assert [r["lift_off_pressure_difference"] for r in rows] == [r["squeeze_pressure"] for r in rows]
+    assert [r["valid"] for r in rows] == [False, True, True]
+    assert "opens the seal" in rows[0]["validity"]

@@ -42,6 +42,8 @@ W1, W2, P1, P2, LY = 0.2e-3, 0.3e-3, 0.1e6, 0.2e6, 0.1
 
 
 def profile_case(tmp_path, scale="1", alpha=0.5, extra="", theory=""):
+    """The step profile with the fluid pressure ignored: the printed theory, Q = K ΔP, whose closed forms the lab
+    tools are checked against here (the coupled flow: tests/unit/test_fluid_pressure.py)."""
     (tmp_path / "step.csv").write_text(STEP)
     text = SURFACE + f"""
 [seal]
@@ -52,6 +54,7 @@ profile_scale = {scale}
 pressure_difference = "10 kPa"
 [theory]
 alpha = {alpha}
+fluid_pressure = "ignored"
 {theory}
 """ + extra
     return parse_cases(text, tmp_path)[0]
@@ -91,6 +94,7 @@ squeeze_pressure = ["{P1 * scale} Pa", "{P2 * scale} Pa"]
 pressure_difference = "10 kPa"
 [theory]
 alpha = {alpha}
+fluid_pressure = "ignored"
 """)[0]
     q = predict(uniform).leak_rate  # α (Ly/w) u_c³ ΔP/(12η)
     sigma = q * (W1 + W2) / (LY * uniform.pressure_difference)

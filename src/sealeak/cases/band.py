@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from ..errors import InputError
 from ..io.quantities import quantity
 from ..physics.contact import PerssonContact
+from ..physics.coupling import LIFT_OFF_FLOOR, CoupledBand, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
@@ -139,6 +140,8 @@ class BandResult:
     critical_gap_at_max_pressure, critical_wavelength_at_max_pressure
         u_c and λc where the pressure is highest (m): the narrowest constriction of the band,
         which the validity verdict judges.
+    coupled
+        Whether the leak rates take the fluid pressure in the band into account (docs/theory.md §13).
     """
 
     band: BandSeal
@@ -152,6 +155,7 @@ class BandResult:
     effective_medium: BandTheory | None
     critical_gap_at_max_pressure: FloatArray
     critical_wavelength_at_max_pressure: FloatArray
+    coupled: bool = False
 
     def __len__(self) -> int:
         return int(self.band.loads.size)
@@ -236,8 +240,8 @@ def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: Floa
 class _Table:
     """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind)."""
 
-    def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int) -> None:
-        self.lo, self.hi = np.log(p_max * TABLE_FLOOR), np.log(p_max)
+    def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int, floor: float = TABLE_FLOOR) -> None:
+        self.lo, self.hi = np.log(p_max * floor), np.log(p_max)
         k = np.arange(n)
         s = (self.lo + self.hi) / 2.0 - (self.hi - self.lo) / 2.0 * np.cos(np.pi * k / (n - 1))
         s[0], s[-1] = self.lo, self.hi
@@ -265,6 +269,20 @@ class _Table:
     def __call__(self, p: FloatArray) -> FloatArray:
         s = np.clip(np.log(p), self.lo, self.hi)
         return np.exp(chebyshev_lobatto_interpolate(self.s, self.log_values, s))
+
+
+def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float) -> Callable[[FloatArray], FloatArray]:
+    """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
+    between them, refined until σ changes by < 1e-6 at the new points ."""
+    exact = _em_exact(case, contact)
+    table = _Table(exact, p_max, TABLE_POINTS[0], floor)
+    while table.ok and table.s.size < 2 * TABLE_POINTS[1]:
+        finer = table.refine(exact)
+        new = finer.values[1::2]
+        if np.all(np.abs(table(np.exp(finer.s[1::2])) / new - 1.0) < 1e-6):
+            return finer
+        table = finer
+    return table if table.ok else exact
 
 
 def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile) -> tuple[BandIntegral, float, bool]:
@@ -304,19 +322,29 @@ def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile) 
 
 
 def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: list[float], converged: list[bool],
-            name: str, mean_sigma: FloatArray) -> BandTheory:
+            name: str, mean_sigma: FloatArray, coupled: list[CoupledBand] | None = None) -> BandTheory:
+    """One theory's :class:`BandTheory`; with ``coupled`` (the flows q and ∫σ ds at the mean pressure of each load's
+    coupled solve, docs/theory.md §13) the leak rates are faces · Ly · q, the uniform ones faces · (Ly/w) ∫σ ds."""
     ly, dp = band.length * band.faces, case.pressure_difference
     r = np.array([g.resistance for g in integrals])
     sealed = np.array([g.sealed for g in integrals])
-    with np.errstate(divide="ignore"):
-        q = np.where(sealed, np.nan, ly * dp / r)
     widths = np.array([p.width for p in band.profiles])
-    uniform = np.where(mean_sigma > 0, ly / widths * mean_sigma * dp, np.nan)
+    if coupled is None:
+        with np.errstate(divide="ignore"):
+            q = np.where(sealed, np.nan, ly * dp / r)
+        uniform = np.where(mean_sigma > 0, ly / widths * mean_sigma * dp, np.nan)
+    else:
+        q = np.where(sealed, np.nan, ly * np.array([c.flow for c in coupled]))
+        uniform = np.where(mean_sigma > 0, ly / widths * mean_sigma, np.nan)
     where = [resistance_band(g) for g in integrals]
     messages: list[NoteLike] = []
     if sealed.any():
         messages.append(Note("band_sealed", {"theory": name, "load_name": band.load_name,
                                              "loads": tuple(band.loads[sealed].tolist())}))
+    if coupled is not None and not all(c.converged for c in coupled):
+        failed = ~np.array([c.converged for c in coupled])
+        messages.append(Note("band_coupled_not_converged", {"theory": name, "load_name": band.load_name,
+                                                            "loads": tuple(band.loads[failed].tolist())}))
     not_converged = [i for i, ok in enumerate(converged) if not ok]
     if not_converged:
         i = not_converged[0]
@@ -328,6 +356,15 @@ def _theory(case: Case, band: BandSeal, integrals: list[BandIntegral], changes: 
                       resistance_peak_position=np.array([x for _, x in where]),
                       integrals=tuple(integrals), change=np.array(changes),
                       evaluations=np.array([g.evaluations for g in integrals]), messages=tuple(messages))
+
+
+def _mean_sigma(case: Case, sigma: Callable[[FloatArray], FloatArray], mean: float) -> float:
+    """σ(p_mean) (m³/(Pa·s)) of a uniform pressure equal to the mean, or with the fluid pressure acting on it
+    (``case.coupled``) ∫σ(s) ds over p_mean − ΔP .. p_mean (m³/s; docs/theory.md eq. 13.2): 0 where p_mean seals."""
+    at_mean = float(sigma(np.array([mean]))[0])
+    if not case.coupled or at_mean <= 0:
+        return at_mean
+    return float(effective_pressure_integral(sigma, mean, case.pressure_difference).value[0])
 
 
 def load_value(load_name: str, value: float) -> str | float:
@@ -356,6 +393,9 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     em_change: list[float] = []
     em_ok: list[bool] = []
     cj_mean, em_mean, uc_max, lc_max = [], [], [], []
+    cj_flow: list[CoupledBand] = []
+    em_flow: list[CoupledBand] = []
+    dp = case.pressure_difference
     with case_keys():
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
             try:
@@ -365,7 +405,9 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 cj_int.append(g)
                 cj_change.append(g.change)
                 cj_ok.append(g.converged)
-                cj_mean.append(float(sigma(np.array([profile.mean_pressure]))[0]))
+                cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
+                if case.coupled:
+                    cj_flow.append(coupled_band_flow(profile, sigma, dp))
                 top = critical_junction(contact, squeeze_pressure=[profile.max_pressure], pressure_difference=1.0,
                                         viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
                                         percolation_threshold=case.percolation_threshold)
@@ -376,13 +418,20 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                     em_int.append(ge)
                     em_change.append(change)
                     em_ok.append(ok)
-                    em_mean.append(float(_em_exact(case, contact)(np.array([profile.mean_pressure]))[0]))
+                    if case.coupled:
+                        em_sigma = _em_sigma_table(case, contact, profile.max_pressure, LIFT_OFF_FLOOR)
+                        em_flow.append(coupled_band_flow(profile, em_sigma, dp))
+                        em_mean.append(_mean_sigma(case, em_sigma, profile.mean_pressure))
+                    else:
+                        em_mean.append(float(_em_exact(case, contact)(np.array([profile.mean_pressure]))[0]))
             except InputError as exc:  # the physics names the pressure; the case file gave the load
                 if exc.field.partition("[")[0] != "squeeze_pressure":
                     raise
                 raise _load_error(band, i, profile, exc) from None
-    cj = _theory(case, band, cj_int, cj_change, cj_ok, "critical junction", np.array(cj_mean))
-    em = _theory(case, band, em_int, em_change, em_ok, "effective medium", np.array(em_mean)) if want_em else None
+    cj = _theory(case, band, cj_int, cj_change, cj_ok, "critical junction", np.array(cj_mean),
+                 cj_flow if case.coupled else None)
+    em = (_theory(case, band, em_int, em_change, em_ok, "effective medium", np.array(em_mean), em_flow if case.coupled else None)
+          if want_em else None)
     profiles = band.profiles
     return BandResult(
         band=band, pressure_difference=case.pressure_difference,
@@ -392,13 +441,15 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
         max_contact_pressure=np.array([p.max_pressure for p in profiles]),
         q0=np.asarray(band.q0, dtype=float), critical_junction=cj, effective_medium=em,
         critical_gap_at_max_pressure=np.array(uc_max), critical_wavelength_at_max_pressure=np.array(lc_max),
+        coupled=case.coupled,
     )
 
 
 def band_conductance(case: Case, model: str = "critical-junction", loads: NDArray[np.float64] | None = None) -> FloatArray:
     """K = Q/ΔP (m³/(Pa·s)) of a band seal at each of its loads, for one theory (0 where sealed).
 
-    Both theories are linear in ΔP, so K is the band's leak rate at ΔP = 1 Pa (docs/theory.md §10.1).
+    K is the band's leak rate over the case's ΔP: the same at every ΔP as printed (docs/theory.md §10.1), at the
+    case's ΔP with the fluid pressure coupled (§13.3).
     ``loads`` must be the case's loads (or None): other loads need a case built for them.
     """
     res = run_band(case, effective=model == "effective-medium")

@@ -30,7 +30,7 @@ from ..physics.spectrum import PowerSpectrum
 from ..topography import Analysis, analyze, case_option_names
 from .capillarity import build_wetting
 from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
-from .model import STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
+from .model import FLUID_PRESSURE, STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
 from .options import grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
@@ -312,6 +312,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
     gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
     model = theory.choice("model", ("critical-junction", "effective-medium", "both"), "critical-junction")
+    fluid_pressure = theory.choice("fluid_pressure", FLUID_PRESSURE, FLUID_PRESSURE[0])
     if theory.has("lowest_wavevector") and theory.has("square_side"):
         raise InputError("theory.lowest_wavevector", theory.raw("lowest_wavevector"),
                          "give either lowest_wavevector or square_side, not both")
@@ -364,6 +365,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         gas=fl.gas, temperature=fl.temperature, absolute_pressures=fl.absolute_pressures, fluid_state=fl.state,
         helium_equivalent=fl.helium_equivalent, rarefaction=fl.rarefaction, permeation=permeation,
         capillarity=wetting,
+        fluid_pressure=fluid_pressure,
     )
 
 

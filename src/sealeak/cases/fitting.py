@@ -197,16 +197,18 @@ def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], load_name: str, loa
 
 
 def _large_pressure_difference(data: LeakData, dp: FloatArray, pressure: FloatArray, load_name: str,
-                               loads: FloatArray) -> list[NoteLike]:
-    """A note on the first row whose ΔP (Pa) is not small against ``pressure`` (Pa: P0, or a band's peak contact
-    pressure at the row's load), with how many rows are like it; none if no row is."""
-    large = pressure_difference_not_small(pressure, dp)
+                               loads: FloatArray, coupled: bool) -> list[NoteLike]:
+    """A note on the first row whose ΔP (Pa) is large against ``pressure`` (Pa: P0, or a band's peak contact
+    pressure at the row's load), with how many rows are like it; none if no row is. Large: ΔP reaches the
+    pressure and opens the seal (``coupled``, the fluid pressure in the band; docs/theory.md §13.4), or
+    ΔP > pressure/2 (the fluid pressure ignored; §3.6)."""
+    large = dp >= pressure if coupled else pressure_difference_not_small(pressure, dp)
     if not large.any():
         return []
     i = int(np.argmax(large))
     return [Note("fit_pressure_difference_large", {
         "line": data.line_of(i), "pressure_difference": float(dp[i]), "pressure": float(pressure[i]),
-        "load_name": load_name, "load": float(loads[i]), "rows": int(large.sum())})]
+        "load_name": load_name, "load": float(loads[i]), "rows": int(large.sum()), "coupled": coupled})]
 
 
 def run_fit(case: Case, data: LeakData) -> FitResult:
@@ -230,7 +232,8 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     messages = _fit_messages(data, fits, "squeeze_pressure", data.squeeze_pressure)
     notes, outside = _outside_validity(data, fits, verdicts, None, "squeeze_pressure", data.squeeze_pressure)
     messages += notes
-    messages += _large_pressure_difference(data, dp_used, data.squeeze_pressure, "squeeze_pressure", data.squeeze_pressure)
+    messages += _large_pressure_difference(data, dp_used, data.squeeze_pressure, "squeeze_pressure", data.squeeze_pressure,
+                                           case.coupled)
     p0 = data.squeeze_pressure
     same = bool(np.allclose(dp_used, dp_used[0]))
     ref_dp = float(dp_used[0]) if same else case.pressure_difference
@@ -274,10 +277,12 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
             return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure, lam),
                      "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium), lam)},
                     _band_verdicts(at, res, pressure_difference=False))
-        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=1.0)
-        em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=1.0)
-        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate, 0.0), cj.critical_gap, cj.critical_wavelength),
-                 "effective_medium": (np.where(em.percolates, em.leak_rate, 0.0),
+        # K = Q/ΔP: at ΔP → 0 as printed; with the fluid pressure coupled at the case's ΔP, as predict (theory §13.5)
+        dp_k = at.pressure_difference if at.coupled else 1.0
+        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=dp_k)
+        em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=dp_k)
+        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate / dp_k, 0.0), cj.critical_gap, cj.critical_wavelength),
+                 "effective_medium": (np.where(em.percolates, em.leak_rate / dp_k, 0.0),
                                       np.where(em.percolates, em.effective_gap, np.nan), cj.critical_wavelength)},
                 _uniform_verdicts(at, cj, em, pressure_difference=False))
 
@@ -345,7 +350,7 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     if res.band.oring is not None:
         messages += list(res.band.oring.warnings)
     # ΔP against the peak contact pressure of each row's load (the band's verdict, docs/theory.md §10.1)
-    messages += _large_pressure_difference(data, dp_used, res.max_contact_pressure[inverse], band.load_name, loads)
+    messages += _large_pressure_difference(data, dp_used, res.max_contact_pressure[inverse], band.load_name, loads, case.coupled)
     same = bool(np.allclose(dp_used, dp_used[0]))
     ref_dp = float(dp_used[0]) if same else case.pressure_difference
     measured = data.leak_rate * (1.0 if same else ref_dp / np.where(dp_used > 0, dp_used, np.nan))

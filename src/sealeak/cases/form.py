@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..physics.gas import RAREFACTION_MODELS
-from .model import MODELS
+from .model import FLUID_PRESSURE, MODELS
 from .rig_builders import RIG_KEYS
 from .schema import SECTIONS, TOP_LEVEL
 
@@ -82,6 +82,7 @@ FIELD_KINDS: dict[str, FieldKind] = {
     "theory.alpha": _n("0.2"), "theory.percolation_threshold": _n("0.6"), "theory.gamma": _n("1"),
     "theory.lowest_wavevector": _WAVEVECTOR, "theory.square_side": _q("length", "5 mm"),
     "theory.model": FieldKind("choice", choices=MODELS), "theory.rarefaction": FieldKind("choice", choices=RAREFACTION_MODELS),
+    "theory.fluid_pressure": FieldKind("choice", choices=FLUID_PRESSURE),
     "study.vary": FieldKind("text", example="surface.h_rms"), "study.values": FieldKind("list", example='["1 um", "2 um"]'),
     "study.labels": FieldKind("list", example='["smooth", "rough"]'),
     "rig.kind": FieldKind("choice", choices=tuple(RIG_KEYS)), "rig.cylinder_diameter": _q("length", "2.5 cm"),

@@ -167,6 +167,10 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "the slip model of gas flow through the gaps: \"kinetic\" (default: the kinetic theory of a slit of the "
                      "critical junction's length, continuum to free-molecular flow; theory §11.4), \"beskok-karniadakis\" (an empirical "
                      "model, up to 37 % less flow) or \"no-slip\" (the viscous law at every Knudsen number)"),
+    "theory.fluid_pressure": FieldHelp("Fluid pressure in the band", "theory-the-theorys-settings-optional",
+                     "whether the fluid pressure p_f(x) in the band is taken off the contact pressure: \"coupled\" (the effective squeeze "
+                     "pressure p − p_f; Q grows faster than linearly in ΔP and a row with ΔP at or beyond the lift-off pressure difference "
+                     "is marked not valid, theory §13) or \"ignored\" (Lorenz & Persson 2009 as printed, Q = K ΔP)"),
     "study.vary": FieldHelp("Varied key", "study-a-parameter-study-optional",
                      "the key to vary, as \"section.key\", e.g. \"surface.h_rms\"; or a whole section, e.g. \"fluid\", whose values are tables of its keys "
                      "(each replaces the keys it names)"),

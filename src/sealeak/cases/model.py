@@ -25,13 +25,17 @@ from ..physics.properties import FluidState
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
 
-__all__ = ["Case", "MODELS", "BandSeal", "GasConditions", "RubberPermeation", "STANDARD_TEMPERATURE_CASE"]
+__all__ = ["Case", "MODELS", "FLUID_PRESSURE", "BandSeal", "GasConditions", "RubberPermeation", "STANDARD_TEMPERATURE_CASE"]
 
 #: The temperature of a case whose ``[fluid]`` gives none: 20 °C, in K.
 STANDARD_TEMPERATURE_CASE = 293.15
 
 #: The leak-rate theories a case may ask for (``theory.model``).
 MODELS = ("critical-junction", "effective-medium", "both")
+
+#: How the fluid's own pressure in the band acts on the contact (``theory.fluid_pressure``, docs/theory.md §13):
+#: "coupled" (the effective squeeze pressure p − p_f; the default) or "ignored" (Lorenz & Persson (2009) as printed).
+FLUID_PRESSURE = ("coupled", "ignored")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -223,6 +227,9 @@ class Case:
     capillarity
         A liquid's surface tension and contact angles (``fluid.contact_angle`` etc.), or None: no
         capillarity (docs/theory.md §12).
+    fluid_pressure
+        ``theory.fluid_pressure``, one of :data:`FLUID_PRESSURE`: whether the fluid pressure in the band
+        lowers the effective squeeze pressure (docs/theory.md §13).
     """
 
     title: str
@@ -257,6 +264,12 @@ class Case:
     permeation: RubberPermeation | None = None
     # capillarity of a liquid (fluid.contact_angle, docs/theory.md §12)
     capillarity: Wetting | None = None
+    fluid_pressure: str = "coupled"
+
+    @property
+    def coupled(self) -> bool:
+        """Whether the fluid pressure in the band acts on the contact (``theory.fluid_pressure = "coupled"``)."""
+        return self.fluid_pressure == "coupled"
 
     @property
     def square_side(self) -> float:

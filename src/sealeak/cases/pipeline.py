@@ -30,7 +30,7 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, ClassVar, Literal, Protocol, TypeVar
 
@@ -124,6 +124,10 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
             numerics.require_memory(numerics.gas_flow_memory_bytes(grid), f"the {grid}x{grid} gas flow problem",
                                     memory_limit)
     notes: list[NoteLike] = []
+    if case.coupled:  # the simulated contact is pressed by P0 alone: compare with the theory without fluid pressure
+        case = replace(case, fluid_pressure="ignored")
+        notes.append("the simulation presses the surface with the squeeze pressure alone (the fluid pressure in the band "
+                     "is not simulated), so its theory is the printed one, fluid_pressure = \"ignored\" (docs/theory.md §13)")
     plan = geometry.prepare(case, grid, grid_field, notes, progress)
     with StagedFolder(fields_dir) as fields:
         common = RunSettings(grid=grid, seed=seed, e_star=case.e_star, viscosity=case.fluid.viscosity,

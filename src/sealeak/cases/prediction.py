@@ -10,17 +10,19 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Literal
+from typing import Literal, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
+from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.seal import Seal
-from .band import BandResult, BandTheory, run_band
+from .band import BandResult, BandTheory, _cj_sigma, _em_sigma_table, run_band
 from .model import Case
 from .notes import NoteLike
 from .schema import case_keys
@@ -29,6 +31,7 @@ from .seals import with_loads
 __all__ = ["predict", "predict_effective_medium", "conductance", "Model", "MODEL_NAMES"]
 
 FloatArray = NDArray[np.float64]
+ResultT = TypeVar("ResultT", CriticalJunctionResult, EffectiveMediumResult)
 
 #: A leak-rate model: the critical-junction theory (docs/theory.md §3) or the effective medium (§5).
 Model = Literal["critical-junction", "effective-medium"]
@@ -42,11 +45,13 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
             pressure_difference: ArrayLike | None = None) -> CriticalJunctionResult:
     """Critical-junction leak rate of ``case`` at its squeeze pressures (or the ones given), in SI units.
 
-    Lorenz & Persson (2009) eq. 2 (docs/theory.md §3).
+    Lorenz & Persson (2009) eq. 2 (docs/theory.md §3); with ``theory.fluid_pressure = "coupled"`` the leak rate
+    is (Ly/w) ∫σ(s) ds over the effective squeeze pressures P0 − ΔP .. P0 (docs/theory.md eq. 13.2).
     """
     with case_keys():
-        return critical_junction(
-            case.contact(),
+        contact = case.contact()
+        res = critical_junction(
+            contact,
             squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
             pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
             viscosity=case.fluid.viscosity,
@@ -54,19 +59,39 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
             alpha=case.alpha,
             percolation_threshold=case.percolation_threshold,
         )
+        return _coupled(case, res, _cj_sigma(case, contact)) if case.coupled else res
 
 
 def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = None,
                              pressure_difference: ArrayLike | None = None) -> EffectiveMediumResult:
-    """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3)."""
+    """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3).
+
+    With ``theory.fluid_pressure = "coupled"``, (Ly/Lx) ∫σ_eff(s) ds over P0 − ΔP .. P0 (docs/theory.md eq. 13.2),
+    σ_eff interpolated between exact values (:func:`~sealeak.cases.band._em_sigma_table`).
+    """
     with case_keys():
-        return effective_medium(
-            case.contact(),
+        contact = case.contact()
+        res = effective_medium(
+            contact,
             squeeze_pressure=case.squeeze_pressure if squeeze_pressure is None else squeeze_pressure,
             pressure_difference=case.pressure_difference if pressure_difference is None else pressure_difference,
             viscosity=case.fluid.viscosity,
             aspect_ratio=case.seal.aspect_ratio,
         )
+        if not case.coupled:
+            return res
+        p0 = res.squeeze_pressure
+        low = float(np.min(np.maximum(p0 - res.pressure_difference, LIFT_OFF_FLOOR * p0)))
+        return _coupled(case, res, _em_sigma_table(case, contact, float(p0.max()), low / float(p0.max())))
+
+
+def _coupled(case: Case, res: ResultT, sigma: Callable[[FloatArray], FloatArray]) -> ResultT:
+    """``res`` with the leak rate of the fluid pressure acting on the contact: (Ly/Lx) ∫_{P0−ΔP}^{P0} σ(s) ds
+    (docs/theory.md eq. 13.2; rows with ΔP ≥ P0 at the lift-off limit ΔP = P0) and without the note that the
+    theory neglects the fluid pressure."""
+    integral = effective_pressure_integral(sigma, res.squeeze_pressure, res.pressure_difference)
+    leak = np.where(res.percolates, res.aspect_ratio * integral.value, np.nan)
+    return replace(res, leak_rate=leak, messages=tuple(m for m in res.messages if "ΔP is not small against P0" not in m))
 
 
 def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critical-junction") -> FloatArray:
@@ -83,20 +108,23 @@ def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critica
     return _conductance(case, squeeze_pressure, model)[0]
 
 
-def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model) -> tuple[FloatArray, tuple[NoteLike, ...]]:
-    """:func:`conductance` and the model's notes (why there is no leak channel, where there is none)."""
+def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model,
+                 pressure_difference: float | None = None) -> tuple[FloatArray, tuple[NoteLike, ...]]:
+    """:func:`conductance` and the model's notes (why there is no leak channel, where there is none); for a uniform
+    seal with the fluid pressure coupled, K = Q/ΔP at ``pressure_difference`` (Pa; None: 1 Pa, the limit ΔP → 0)."""
     if model not in ("critical-junction", "effective-medium"):
         raise InputError("model", model, "allowed: 'critical-junction', 'effective-medium'")
     if case.band is not None:
         ks, _ = _band_conductance(case, squeeze_pressure, (model,))
         return ks[model]
     p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
+    dp = 1.0 if pressure_difference is None else pressure_difference
     res: CriticalJunctionResult | EffectiveMediumResult
     if model == "critical-junction":
-        res = predict(case, squeeze_pressure=p0, pressure_difference=1.0)
+        res = predict(case, squeeze_pressure=p0, pressure_difference=dp)
     else:
-        res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=1.0)
-    return np.where(res.percolates, res.leak_rate, 0.0), res.messages
+        res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp)
+    return np.where(res.percolates, res.leak_rate / dp, 0.0), res.messages
 
 
 # ---------------------------------------------------------------------- band seals at other loads
@@ -125,8 +153,11 @@ def _band_at(case: Case, loads: ArrayLike) -> Case:
 
 
 def _band_k(band_result: BandResult, theory: BandTheory) -> FloatArray:
-    """K = faces · Ly / R (m³/(Pa·s)) of each load, 0 where the band holds no leak channel (docs/theory.md §10.1)."""
+    """K = faces · Ly / R (m³/(Pa·s)) of each load, 0 where the band holds no leak channel (docs/theory.md §10.1);
+    with the fluid pressure coupled, K = Q/ΔP at the band's ΔP (docs/theory.md §13)."""
     band = band_result.band
+    if band_result.coupled:
+        return np.where(theory.percolates, theory.leak_rate / band_result.pressure_difference, 0.0)
     with np.errstate(divide="ignore"):
         return np.where(theory.percolates, band.faces * band.length / theory.resistance, 0.0)
 

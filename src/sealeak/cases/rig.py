@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.interpolate import PchipInterpolator
 
 from ..errors import InputError
 from ..io.quantities import quantity
@@ -22,7 +23,7 @@ from .band import BandResult
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
 from .notes import NoteLike
-from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
+from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name, predict, predict_effective_medium
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
 
@@ -66,15 +67,30 @@ def _linear_leak(k: float) -> Callable[[ArrayLike], FloatArray]:
     return leak
 
 
+def _coupled_leak(case: Case, p0: float, model: Model, dp0: float) -> Callable[[ArrayLike], FloatArray]:
+    """Q(ΔP) (m³/s) of a uniform seal at P0 (Pa) with the fluid pressure coupled, for 0 <= ΔP <= ΔP0 (Pa): monotone
+    cubic (PCHIP) interpolation through Q at 33 pressure differences (docs/theory.md eq. 13.2)."""
+    grid = np.linspace(0.0, dp0, 33)
+    run = predict if model == "critical-junction" else predict_effective_medium
+    q = run(case, squeeze_pressure=np.full(grid.size - 1, p0), pressure_difference=grid[1:]).leak_rate
+    curve = PchipInterpolator(grid, np.concatenate([[0.0], np.nan_to_num(q)]))
+
+    def leak(dp: ArrayLike) -> FloatArray:
+        return np.asarray(curve(np.clip(np.asarray(dp, dtype=float), 0.0, dp0)), dtype=float)
+    return leak
+
+
 def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model`` (docs/theory.md §4.2).
 
     A ``[rig] kind = "pressure-decay"`` goes to :func:`~sealeak.cases.leak_tests.decay_prediction`
     (P(t) of the test volume, docs/theory.md §11.7).
 
-    Both theories are linear in ΔP at fixed P0, so Q(ΔP) = K ΔP with K from :func:`conductance`;
-    the ODE is still solved in general (:func:`~sealeak.lab.rig.water_column`) and the closed-form
-    exponential gives the same curve.
+    As printed (``theory.fluid_pressure = "ignored"``) both theories are linear in ΔP at fixed P0, so
+    Q(ΔP) = K ΔP with K from :func:`conductance`; the ODE is still solved in general
+    (:func:`~sealeak.lab.rig.water_column`) and the closed-form exponential gives the same curve. With the
+    fluid pressure coupled (a uniform seal), Q(ΔP) is eq. 13.2 (:func:`_coupled_leak`), K = Q(ΔP0)/ΔP0 at the
+    initial head, τ = A_cyl/(K ρ g) the initial time constant and the drain time the ODE's (docs/theory.md §13.5).
 
     An O-ring or pressure-profile seal runs at the case's one load (its compression or profile
     scale sets the contact; the [rig] has no load): K = faces · Ly / ∫dx/σ of the band
@@ -88,6 +104,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         return decay_prediction(case)
     models: list[Model] = [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
     k_of: dict[str, float] = {}
+    leak_of: dict[str, Callable[[ArrayLike], FloatArray]] = {}
     messages: list[NoteLike] = []
     band = None
     if case.band is not None:
@@ -102,18 +119,24 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         p0 = rig.squeeze_pressure(case.seal)
         strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
         messages += [strained + "; check [rig] load"] if strained else []
+        # with the fluid pressure coupled, K = Q(ΔP0)/ΔP0 at the initial head and Q(ΔP) along the fall
+        # (docs/theory.md §13.5)
+        dp_k = float(rig.pressure_difference(rig.initial_height)) if case.coupled else None
         for model in models:
-            ks, notes = _conductance(case, [p0], model)
+            ks, notes = _conductance(case, [p0], model, dp_k)
             k_of[_model_name(case, model)] = float(ks[0])
+            if dp_k is not None and ks[0] > 0:
+                leak_of[_model_name(case, model)] = _coupled_leak(case, p0, model, dp_k)
             messages.extend(notes)
     columns, tau, t_final = {}, {}, {}
     area = rig.cylinder_area
     for name, k in k_of.items():
         if k == 0:
             messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
-        columns[name] = water_column(rig, _linear_leak(k))
+        columns[name] = water_column(rig, leak_of.get(name, _linear_leak(k)))
         tau[name] = area / (k * rig.density * rig.gravity) if k > 0 else float("inf")
-        t_final[name] = drain_time(rig, k, columns[name].final_height)
+        t_final[name] = (columns[name].time_to_final if name in leak_of else
+                         drain_time(rig, k, columns[name].final_height))
     dp0 = float(rig.pressure_difference(rig.initial_height))
     if band is not None:
         p_max = float(band.max_contact_pressure[0])

@@ -38,6 +38,7 @@ __all__ = ["CaseResult", "run_case", "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS"]
 
 _VERDICTS = ("valid", "validity")
 _VERDICTS_EFFECTIVE_MEDIUM = ("valid_effective_medium", "validity_effective_medium")
+_LIFT_OFF = ("lift_off_pressure_difference",)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -71,6 +72,10 @@ class CaseResult:
         non-uniform band (docs/theory.md §10), which front ends show instead of the uniform table;
         ``critical_junction`` then holds the uniform prediction at each load's mean pressure and the
         verdicts judge the band at its highest pressure.
+    lift_off_pressure_difference
+        With ``theory.fluid_pressure = "coupled"``: the ΔP (Pa) at which the fluid pressure reaches the peak
+        contact pressure and opens the seal, per row: P0 of a uniform seal, p_max of a band (docs/theory.md §13.4);
+        None when the fluid pressure is ignored.
     gas
         For a gas case, or a liquid with ``conditions.helium_equivalent``: the gas leak and the
         helium equivalent of each theory ("critical_junction", "effective_medium"), per row; the
@@ -93,6 +98,8 @@ class CaseResult:
         "1", "the effective gap is above the fluid's molecular size", default=None)
     validity_effective_medium: tuple[str, ...] | None = quantity(
         "", "why the effective-medium result is not valid ('' where valid)", default=None)
+    lift_off_pressure_difference: NDArray[np.float64] | None = quantity(
+        "Pa", "ΔP at which the fluid pressure reaches the peak contact pressure and opens the seal", default=None)
     warnings: tuple[str, ...] = ()
     band: BandResult | None = None
     gas: dict[str, GasRows] | None = None
@@ -111,9 +118,14 @@ class CaseResult:
         if self.band is not None:
             em = BAND_EFFECTIVE_MEDIUM_UNITS if self.band.effective_medium is not None else {}
             regime = {"regime": ""} if self.band.band.oring is not None else {}
-            return {self.band.band.load_name: "1"} | regime | BAND_UNITS | em | self._gas_units | self._capillary_units
-        return (RESULT_UNITS | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {}) | self._gas_units
-                | self._capillary_units)
+            return ({self.band.band.load_name: "1"} | regime | BAND_UNITS | self._lift_off_units | em | self._gas_units
+                    | self._capillary_units)
+        return (RESULT_UNITS | self._lift_off_units | (EFFECTIVE_MEDIUM_UNITS if self.effective_medium is not None else {})
+                | self._gas_units | self._capillary_units)
+
+    @property
+    def _lift_off_units(self) -> dict[str, str]:
+        return _verdict_units(_LIFT_OFF) if self.lift_off_pressure_difference is not None else {}
 
     @property
     def _capillary_units(self) -> dict[str, str]:
@@ -150,13 +162,13 @@ class CaseResult:
 
     def _verdicts(self, names: tuple[str, ...]) -> dict[str, Any]:
         """The verdict columns ``names`` (:data:`RESULT_UNITS`' or :data:`EFFECTIVE_MEDIUM_UNITS`' last two)."""
-        return {k: v for k, v in record_fields(self).items() if k in names}
+        return {k: v for k, v in record_fields(self).items() if k in names and v is not None}
 
     def records(self) -> list[dict[str, Any]]:
         """One dict per squeeze pressure with the fields of :attr:`units` (SI values; NaN kept)."""
         if self.band is not None:
             return self._band_records(self.band)
-        columns = record_fields(self.critical_junction) | self._verdicts(_VERDICTS)
+        columns = record_fields(self.critical_junction) | self._verdicts(_VERDICTS + _LIFT_OFF)
         if self.effective_medium is not None and self.valid_effective_medium is not None:
             columns |= record_fields(self.effective_medium) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
         columns |= self._gas_fields() | self._capillary_fields()
@@ -171,7 +183,7 @@ class CaseResult:
         columns: dict[str, Any] = {b.band.load_name: b.band.loads}
         if b.band.oring is not None:
             columns["regime"] = b.band.oring.regime
-        columns |= record_fields(b.columns()) | self._verdicts(_VERDICTS)
+        columns |= record_fields(b.columns()) | self._verdicts(_VERDICTS + _LIFT_OFF)
         em = b.effective_medium_columns()
         if em is not None:
             columns |= record_fields(em) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
@@ -222,6 +234,7 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     return CaseResult(case=case, critical_junction=res, effective_medium=em, rig=rig_result, messages=tuple(messages),
                       valid=valid, validity=validity, valid_effective_medium=valid_em,
                       validity_effective_medium=validity_em,
+                      lift_off_pressure_difference=res.squeeze_pressure.copy() if case.coupled else None,
                       warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas, capillary=capillary)
 
 
@@ -245,5 +258,6 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
         messages += list(band.effective_medium.messages)
     return CaseResult(case=case, critical_junction=res, rig=rig_result, messages=tuple(messages), valid=valid,
                       validity=validity, valid_effective_medium=valid_em, validity_effective_medium=validity_em,
+                      lift_off_pressure_difference=band.max_contact_pressure.copy() if case.coupled else None,
                       warnings=case.input_warnings + tuple(band.band.notes[1:]) + tuple(warnings), band=band, gas=gas,
                       capillary=capillary)

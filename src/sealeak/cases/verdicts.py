@@ -17,7 +17,7 @@ from .band import BandResult
 from .model import Case
 from .prediction import _band_effective_gap
 
-__all__ = ["Verdicts", "case_warnings"]
+__all__ = ["Verdicts", "case_warnings", "opens_text"]
 
 #: Verdicts per row: (valid, reasons) of the critical junction, and of the effective medium (None, None if not run).
 Verdicts = tuple[NDArray[np.bool_], tuple[str, ...], NDArray[np.bool_] | None, tuple[str, ...] | None]
@@ -36,12 +36,26 @@ def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMedi
                                                   case.seal.width, "Lx (seal width)")
     if not pressure_difference:
         return valid, validity, valid_em, validity_em
-    # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2)
-    lifted = pressure_difference_not_small(res.squeeze_pressure, res.pressure_difference)
-    valid, validity = _lifted(valid, validity, lifted, res.percolates, res)
+    # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2); coupled:
+    # the fluid pressure reaches P0 and opens the seal (§13.4)
+    p0, dp = res.squeeze_pressure, res.pressure_difference
+    if case.coupled:
+        lifted = dp >= p0
+        reason = [opens_text(float(dp[i]), "P0", float(p0[i])) for i in range(p0.size)]
+    else:
+        lifted = pressure_difference_not_small(p0, dp)
+        reason = [f"ΔP = {dp[i]:.4g} Pa is not small against P0 = {p0[i]:.4g} Pa: the fluid pressure would lift the seal, "
+                  "which the theory (P0 >> ΔP) does not model" for i in range(p0.size)]
+    valid, validity = _lifted(valid, validity, lifted, res.percolates, reason)
     if em is not None and valid_em is not None and validity_em is not None:
-        valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, res)
+        valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, reason)
     return valid, validity, valid_em, validity_em
+
+
+def opens_text(dp: float, name: str, lift_off: float) -> str:
+    """Why a row whose ΔP reaches the lift-off pressure difference is not valid (docs/theory.md §13.4)."""
+    return (f"ΔP = {dp:.4g} Pa reaches the lift-off pressure difference ({name} = {lift_off:.4g} Pa): the fluid pressure "
+            "opens the seal; the leak rate shown is the limit ΔP → lift-off, the open seal leaks more")
 
 
 def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = True) -> Verdicts:
@@ -54,15 +68,18 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
     on its own). A load without a leak channel is valid.
     """
     d = case.fluid.molecular_length
-    lifted = pressure_difference_not_small(band.max_contact_pressure, case.pressure_difference) & pressure_difference
+    dp, p_max = case.pressure_difference, band.max_contact_pressure
+    if case.coupled:  # the fluid pressure reaches the peak and opens the seal (docs/theory.md §13.4)
+        lifted = (dp >= p_max) & pressure_difference
+        reason = [opens_text(dp, "the peak contact pressure", float(p)) for p in p_max]
+    else:
+        lifted = pressure_difference_not_small(p_max, dp) & pressure_difference
+        reason = [f"ΔP = {dp:.4g} Pa is not small against the peak contact pressure {p:.4g} Pa: the fluid pressure would "
+                  "open the seal, which the theory (p >> ΔP) does not model" for p in p_max]
 
     def judged(valid: NDArray[np.bool_], reasons: tuple[str, ...], percolates: NDArray[np.bool_]
                ) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
-        flag = lifted & percolates & valid
-        reasons = tuple(f"ΔP = {case.pressure_difference:.4g} Pa is not small against the peak contact pressure "
-                        f"{band.max_contact_pressure[i]:.4g} Pa: the fluid pressure would open the seal, which the theory "
-                        "(p >> ΔP) does not model" if flag[i] else r for i, r in enumerate(reasons))
-        return valid & ~flag, reasons
+        return _lifted(valid, reasons, lifted, percolates, reason)
 
     cj = band.critical_junction
     valid, validity = judged(*continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
@@ -76,13 +93,11 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
-            res: CriticalJunctionResult) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
-    """Add the verdict "ΔP not small against P0" to rows that have a leak channel and no other reason."""
+            reason: list[str]) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+    """Add the verdict ``reason[i]`` (ΔP not small against P0, or the seal opens) to rows ``lifted`` that have a leak
+    channel and no other reason."""
     flag = lifted & percolates & valid
-    out = tuple(f"ΔP = {res.pressure_difference[i]:.4g} Pa is not small against P0 = {res.squeeze_pressure[i]:.4g} Pa: "
-                "the fluid pressure would lift the seal, which the theory (P0 >> ΔP) does not model" if flag[i] else r
-                for i, r in enumerate(reasons))
-    return valid & ~flag, out
+    return valid & ~flag, tuple(reason[i] if flag[i] else r for i, r in enumerate(reasons))
 
 
 def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:

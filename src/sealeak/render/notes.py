@@ -110,6 +110,11 @@ def _band_sealed(v: Mapping[str, Any]) -> str:
             "highest the non-contact area does not percolate, which seals the whole band")
 
 
+def _band_coupled_not_converged(v: Mapping[str, Any]) -> str:
+    return (f"{v['theory']}: the coupled flow (the fluid pressure in the band) did not converge at "
+            f"{loads_text(v['load_name'], v['loads'])}; the leak rate is less certain")
+
+
 def _band_not_converged(v: Mapping[str, Any]) -> str:
     return (f"{v['theory']}: the integral ∫dx/σ did not converge to {v['tolerance']:g} at "
             f"{load_text(v['load_name'], v['load'])} (last relative change {v['change']:.2g}); the leak rate is less "
@@ -134,6 +139,10 @@ def _fit_pressure_difference_large(v: Mapping[str, Any]) -> str:
     else:
         against = (f"the peak contact pressure {v['pressure']:.6g} Pa at {load_text(v['load_name'], v['load'])}")
         assume = "p >> ΔP"
+    if v.get("coupled"):
+        return (f"line {v['line']}: ΔP = {v['pressure_difference']:.6g} Pa reaches the lift-off pressure difference, "
+                f"{against} ({v['rows']} row(s) like it): the fluid pressure opens the seal; the models there are the "
+                "limit at lift-off")
     return (f"line {v['line']}: ΔP = {v['pressure_difference']:.6g} Pa is not small against {against} "
             f"({v['rows']} row(s) like it): both theories assume {assume}")
 
@@ -180,6 +189,7 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "band_touches_edge": _band_touches_edge,
     "band_sealed": _band_sealed,
     "band_not_converged": _band_not_converged,
+    "band_coupled_not_converged": _band_coupled_not_converged,
     "fit_excluded": _fit_excluded,
     "fit_single_point": lambda v: "with one usable point α has no standard error",
     "fit_outside_validity": _fit_outside_validity,

@@ -114,6 +114,8 @@ def prediction_json(results: Sequence[CaseResult]) -> str:
     theory = "critical junction (Lorenz & Persson, EPL 86 (2009) 44006)"
     if any(r.effective_medium is not None for r in results):
         theory += "; effective medium (2D Bruggeman over Persson's gap distribution P(u))"
+    if any(r.case.coupled for r in results):
+        theory += "; the fluid pressure in the band taken off the contact pressure (Persson, Tribol. Lett. 70 (2022))"
     doc = {
         "sealeak_version": __version__,
         "theory": theory,

@@ -38,6 +38,7 @@ def _setting_lines(case: Case, em: EffectiveMediumResult | None) -> dict[str, li
     if em is not None:
         theory.append("          effective medium: 2D Bruggeman over P(u), σ(u) = u³/(12η), no fit factor "
                       "(stops percolating at A(ζ1)/A0 = 0.5)")
+    theory += _coupling_lines(case)
     return {
         "rubber": [f"rubber    E = {case.youngs_modulus / 1e6:.4g} MPa, ν = {case.poisson_ratio:g}, "
                    f"E* = {case.e_star / 1e6:.4g} MPa"],
@@ -202,8 +203,16 @@ def _settings(r: CaseResult) -> dict[str, list[str]]:
         case = r.case
         blocks["theory"] = [f"theory    {'critical junction, α = ' + format(case.alpha, 'g') if case.model != 'effective-medium' else 'effective medium'}"
                             f"{' and effective medium' if case.model == 'both' else ''}, strips in series across the band "
-                            f"(Q = Ly ΔP / ∫dx/σ(p(x))), {case.q0_note}"]
+                            f"(Q = Ly ΔP / ∫dx/σ(p(x))), {case.q0_note}"] + _coupling_lines(case)
     return blocks
+
+
+def _coupling_lines(case: Case) -> list[str]:
+    """The header line saying that the fluid pressure in the band acts on the contact (none when it is ignored)."""
+    if not case.coupled:
+        return []
+    peak = "the peak contact pressure" if case.band is not None else "P0"
+    return [f"          fluid pressure coupled: the contact is pressed by p − p_f; the seal opens at ΔP = {peak}"]
 
 
 def _cj_columns(r: CaseResult) -> list[Column]:
