@@ -52,7 +52,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import fft as sfft
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, positive_values
+from ._checks import square_grid
 from ._linalg import dot
 from ._memory import require_memory
 from .synthesis import wavevector_grid
@@ -133,15 +134,8 @@ def contact_memory_bytes(n: int) -> int:
 
 
 def _validate(heights: ArrayLike, size: float, e_star: float) -> FloatArray:
-    h = np.asarray(heights, dtype=np.float64)
-    if h.ndim != 2 or h.shape[0] != h.shape[1] or h.shape[0] < 2:
-        raise InputError("heights", f"array of shape {h.shape}", "must be a square N×N array with N >= 2")
-    if not np.isfinite(h).all():
-        raise InputError("heights", "non-finite values", "heights must be finite (no NaN or inf)")
-    if not (isinstance(size, (int, float, np.floating)) and math.isfinite(size) and size > 0):
-        raise InputError("size", size, "must be a finite length > 0 (m)")
-    if not (isinstance(e_star, (int, float, np.floating)) and math.isfinite(e_star) and e_star > 0):
-        raise InputError("e_star", e_star, "must be a finite contact modulus > 0 (Pa)")
+    h = square_grid(heights, "heights", "heights")
+    positive_values(("size", size, "a length > 0 (m)"), ("e_star", e_star, "a contact modulus > 0 (Pa)"))
     return h
 
 

@@ -53,6 +53,7 @@ from ._units import option_name
 __all__ = [
     "BinnedSpectrum",
     "RangeBasis",
+    "length_text",
     "power_spectrum_map",
     "spectrum_2d",
     "spectrum_1d",
