@@ -35,6 +35,7 @@ from ._readers import read_topography
 from ._spectrum import (  # noqa: F401 (public through _spectrum.__all__)
     BinnedSpectrum,
     RangeBasis,
+    SpectrumOptions,
     abel_forward,
     abel_inverse,
     length_text,
