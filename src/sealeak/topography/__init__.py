@@ -27,11 +27,11 @@ and :func:`surface_statistics`.
 """
 
 from . import _spectrum
-from ._analysis import Analysis, SourceAnalysis, analyze
+from ._analysis import Analysis, AnalysisOptions, SourceAnalysis, analyze
 from ._fit import SelfAffineFit, fit_self_affine
 from ._options import analysis_options, lengths_option
 from ._preprocess import Prepared, hann_window, prepare
-from ._readers import read_topography
+from ._readers import ReadOptions, read_topography
 from ._spectrum import (  # noqa: F401 (public through _spectrum.__all__)
     BinnedSpectrum,
     RangeBasis,
@@ -57,6 +57,7 @@ __all__ = [
     "Topography",
     "LineScans",
     "read_topography",
+    "ReadOptions",
     "Prepared",
     "prepare",
     "hann_window",
@@ -67,6 +68,7 @@ __all__ = [
     "SelfAffineFit",
     "fit_self_affine",
     "Analysis",
+    "AnalysisOptions",
     "SourceAnalysis",
     "analyze",
     "length_unit_factor",

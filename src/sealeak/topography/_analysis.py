@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Unpack
+from typing import Any, Unpack
 
 import numpy as np
 
@@ -13,7 +13,7 @@ from ..errors import FileFormatError, InputError, SealeakError
 from ..physics.spectrum import PowerSpectrum
 from ._fit import SelfAffineFit, fit_self_affine
 from ._preprocess import Detrend, Prepared, prepare
-from ._readers import LengthLike, read_topography
+from ._readers import ReadOptions, read_topography
 from ._spectrum import BinnedSpectrum, SpectrumOptions, length_text, spectrum_1d, spectrum_2d, spectrum_2d_from_1d, spectrum_options
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import stitch
@@ -113,18 +113,12 @@ def _longest(source: SourceAnalysis) -> tuple[float, int]:
     return (side, int(np.isfinite(s.heights).sum()))
 
 
-def analyze(
-    paths: Source | Sequence[Source],
-    *,
-    pixel_size: LengthLike | Sequence[LengthLike] | None = None,
-    size: LengthLike | Sequence[LengthLike] | None = None,
-    height_unit: str | None = None,
-    lateral_unit: str | None = None,
-    periodic: bool = False,
-    channel: int | str | None = None,
-    fit: bool = True,
-    **options: Unpack[SpectrumOptions],
-) -> Analysis:
+class AnalysisOptions(ReadOptions, SpectrumOptions, total=False):
+    """The keyword options of :func:`analyze`: how each file is read (:class:`ReadOptions`) and how its C(q) is
+    taken (:class:`SpectrumOptions`)."""
+
+
+def analyze(paths: Source | Sequence[Source], *, fit: bool = True, **options: Unpack[AnalysisOptions]) -> Analysis:
     """Analyze one or more measurements of a surface.
 
     Each file is read (:func:`read_topography`; the unit options apply to files that lack the
@@ -133,7 +127,7 @@ def analyze(
     isotropic surface), and its statistics computed. The reliable bins of all sources are stitched
     (:func:`stitch`) into one PowerSpectrum, to which the self-affine model is fitted.
 
-    ``options`` (:class:`SpectrumOptions`) prepare and bin every source. Reliable range of each
+    ``options``: :class:`AnalysisOptions`; the spectrum options prepare and bin every source. Reliable range of each
     source: q from ``low_cut``·2π/L up to the shortest reliable wavelength, the larger of
     ``resolution_pixels`` pixels and the lateral resolution: ``resolution`` (m) when given, else what
     the file states (e.g. a stylus tip radius), else none. A source too small for any reliable bin
@@ -142,7 +136,8 @@ def analyze(
     A flat measurement (all heights equal, or nothing but round-off left after detrending) has no
     roughness to analyze: :class:`~sealeak.errors.FileFormatError` naming it.
     """
-    o = spectrum_options(options)
+    read: dict[str, Any] = {k: v for k, v in options.items() if k in ReadOptions.__optional_keys__}
+    o = spectrum_options({k: v for k, v in options.items() if k not in read})
     items: list[Source] = [paths] if isinstance(paths, (str, Path, Topography, LineScans)) else list(paths)
     if not items:
         raise InputError("paths", [], "at least one file")
@@ -151,8 +146,7 @@ def analyze(
         if isinstance(item, (Topography, LineScans)):
             surface = item
         else:
-            surface = read_topography(item, pixel_size=pixel_size, size=size, height_unit=height_unit,
-                                      lateral_unit=lateral_unit, periodic=periodic, channel=channel)
+            surface = read_topography(item, **read)
         label = surface.source or f"source {len(sources) + 1}"
         prepared = prepare(surface, detrend=o["detrend"], window=o["window"])
         flat = _flatness(surface, prepared, o["detrend"])

@@ -34,8 +34,9 @@ to infinity) in closed form with the regularised incomplete beta function.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Literal, TypedDict, Unpack
+from typing import Literal, TypedDict, Unpack, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -265,13 +266,13 @@ SPECTRUM_DEFAULTS: SpectrumOptions = {"detrend": "auto", "window": "auto", "bins
                                       "resolution_pixels": 4.0, "resolution": None}
 
 
-def spectrum_options(options: SpectrumOptions) -> SpectrumOptions:
+def spectrum_options(options: Mapping[str, object]) -> SpectrumOptions:
     """``options`` completed with :data:`SPECTRUM_DEFAULTS`; a key that is no option is a TypeError, as for any
     unexpected keyword argument."""
     unknown = options.keys() - SpectrumOptions.__optional_keys__
     if unknown:
         raise TypeError(f"unexpected keyword argument {min(unknown)!r}")
-    return {**SPECTRUM_DEFAULTS, **options}
+    return cast(SpectrumOptions, {**SPECTRUM_DEFAULTS, **options})
 
 
 def _prepared(surface: Topography | LineScans | Prepared, options: SpectrumOptions) -> tuple[Prepared, SpectrumOptions]:
