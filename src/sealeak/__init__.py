@@ -18,8 +18,9 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from . import errors
 from ._version import __version__
-from .errors import (
+from .errors import (  # noqa: F401 (public through _ERRORS)
     ConvergenceError,
     FileFormatError,
     InputError,
@@ -28,6 +29,9 @@ from .errors import (
     SolutionCheckError,
     UnitError,
 )
+
+#: The exception classes of :mod:`sealeak.errors`, public here as well.
+_ERRORS = tuple(name for name in errors.__all__ if name.endswith("Error"))
 
 #: The public names of the layers below, and the sub-package each comes from. They are imported on
 #: first use (PEP 562), so that ``import sealeak`` and ``sealeak --help`` load neither pint, SciPy's
@@ -120,11 +124,5 @@ __all__ = [
     "simulate_map",
     "synthesize",
     "water_column",
-    "SealeakError",
-    "InputError",
-    "UnitError",
-    "FileFormatError",
-    "ConvergenceError",
-    "SolutionCheckError",
-    "ResourceError",
+    *_ERRORS,
 ]

@@ -51,31 +51,10 @@ from ..errors import InputError
 from ..io.quantities import quantity
 from ..physics.profile import PressureProfile
 from ..physics.spectrum import PowerSpectrum
+from . import pipeline
 from .band import BandResult, run_band
 from .model import BandSeal, Case
 from .notes import Note, NoteLike
-from .pipeline import (
-    JUNCTION_CELLS,
-    POINTS_PER_WAVELENGTH,
-    FlowLog,
-    FlowMethod,
-    FlowRecord,
-    Flows,
-    GasSimulation,
-    Records,
-    RunSettings,
-    TaskRecord,
-    TaskSpec,
-    cut_spectrum,
-    gas_part,
-    junction_resolved,
-    keep_load,
-    mean_std,
-    run_ensemble,
-    spectrum_text,
-    task_memory_bytes,
-    with_fields,
-)
 
 __all__ = ["BandSimulationResult", "simulate_band", "DOMAIN_WIDTHS", "HERTZ_TOL", "BandSpec", "BandTask", "BandRecord", "band_tasks",
            "run_band_task", "OringBand"]
@@ -85,7 +64,7 @@ FloatArray = NDArray[np.float64]
 #: Width of the domain across the band, in contact widths of the widest band (free edges beyond).
 DOMAIN_WIDTHS = 2.5
 #: λc at most this many cells: the junction sits at the end of the resolved spectrum (4 cells per wavelength).
-AT_END_CELLS = 1.05 * POINTS_PER_WAVELENGTH
+AT_END_CELLS = 1.05 * pipeline.POINTS_PER_WAVELENGTH
 #: Relative agreement with Hertz the smooth-cylinder check must reach (width and peak pressure).
 HERTZ_TOL = 0.01
 
@@ -176,10 +155,10 @@ class BandSimulationResult:
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)
     line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
     smooth_line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
-    gas: GasSimulation | None = None
+    gas: pipeline.GasSimulation | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "junction_resolved", junction_resolved(self.junction_cells))
+        object.__setattr__(self, "junction_resolved", pipeline.junction_resolved(self.junction_cells))
 
     @property
     def x(self) -> FloatArray:
@@ -215,11 +194,11 @@ def simulate_band(
     seed: int,
     fields_dir: str | Path | None = None,
     contact_tol: float = 1e-8,
-    flow_method: FlowMethod = "auto",
+    flow_method: pipeline.FlowMethod = "auto",
     progress: Callable[[int], None] | None = None,
     memory_limit: float | None = None,
     grid_name: str = "grid",
-    runner: Callable[[list[BandTask]], Iterable[TaskRecord]] | None = None,
+    runner: Callable[[list[BandTask]], Iterable[pipeline.TaskRecord]] | None = None,
 ) -> BandSimulationResult:
     """Numerically exact leak rate of an O-ring case and the α of its series-resistance theory.
 
@@ -249,7 +228,7 @@ def simulate_band(
         in the order given; None runs them one after the other in this process.
         :func:`sealeak.cases.ensemble.make_runner` runs them on Dask and keeps them in a store.
     """
-    return run_ensemble(OringBand.of(case, contact_tol), case, grid=grid, realizations=realizations, seed=seed,
+    return pipeline.run_ensemble(OringBand.of(case, contact_tol), case, grid=grid, realizations=realizations, seed=seed,
                         grid_field=grid_name, fields_dir=fields_dir, contact_tol=contact_tol, flow_method=flow_method,
                         progress=progress, memory_limit=memory_limit, runner=runner)
 
@@ -336,7 +315,7 @@ class OringBand:
         default_q0 = np.isclose(model_q0, 2.0 * np.pi / model_width, rtol=1e-9)
         q0_theory = np.where(default_q0, 2.0 * np.pi / (2.0 * b_h), model_q0)  # q0 = 2π/w of the simulated band
         q_low = float(q0_theory.min())
-        cut, cut_at, cut_notes = cut_spectrum(case.spectrum, grid, size, grid_field, "series-resistance", q_low)
+        cut, cut_at, cut_notes = pipeline.cut_spectrum(case.spectrum, grid, size, grid_field, "series-resistance", q_low)
         notes.extend(cut_notes)
         if not np.allclose(2.0 * b_h, model_width, rtol=1e-3):
             worst = int(np.argmax(np.abs(2.0 * b_h / model_width - 1.0)))
@@ -384,7 +363,7 @@ class OringBand:
                 "grid_field": grid_field}))
         return _Smooth(sm_width, sm_pmax, lines, w_err, p_err)
 
-    def tasks(self, plan: _BandPlan, common: RunSettings, realizations: int) -> list[BandTask]:
+    def tasks(self, plan: _BandPlan, common: pipeline.RunSettings, realizations: int) -> list[BandTask]:
         """One task per realisation."""
         band = plan.band
         spec = common.spec(BandSpec, spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
@@ -392,11 +371,11 @@ class OringBand:
                            scale=float(band.faces * band.length / plan.size))  # Q of the seal per Q of the W-wide strip
         return band_tasks(spec, realizations)
 
-    def aggregate(self, plan: _BandPlan, records: Records, notes: list[NoteLike]) -> BandSimulationResult:
+    def aggregate(self, plan: _BandPlan, records: pipeline.Records, notes: list[NoteLike]) -> BandSimulationResult:
         """Means over realisations, α = Q/Q_sr over the percolating ones, a gas case's gas leak."""
         band, loads, q_sr, sm = plan.band, plan.loads, plan.q_sr, plan.smooth
         n_l = loads.size
-        flows = Flows.of(records, BandRecord, n_l)
+        flows = pipeline.Flows.of(records, BandRecord, n_l)
         width = records.stack(BandRecord, lambda rec: rec.contact_width, n_l)
         touched = [float(loads[i]) for rec in records.of(BandRecord) for i in rec.touched_edge]
         first = records.first(BandRecord)
@@ -405,15 +384,15 @@ class OringBand:
             notes.append(Note("band_touches_edge", {"load_name": band.load_name,
                                                     "loads": tuple(float(v) for v in np.unique(touched))}))
         perc, q_num = flows.percolates, flows.leak_rate
-        width_m, width_s = mean_std(width)
-        area_m, area_s = mean_std(flows.area)
-        q_m, q_s = mean_std(q_num)
+        width_m, width_s = pipeline.mean_std(width)
+        area_m, area_s = pipeline.mean_std(flows.area)
+        q_m, q_s = pipeline.mean_std(q_num)
         with np.errstate(invalid="ignore", divide="ignore"):
             alpha_r = np.where(perc & (np.isfinite(q_sr) & (q_sr > 0))[None, :], q_num / q_sr[None, :], np.nan)
-        alpha_m, alpha_s = mean_std(alpha_r)
+        alpha_m, alpha_s = pipeline.mean_std(alpha_r)
         # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
         u_c = np.where(np.isfinite(q_sr), np.asarray(plan.theory.critical_gap_at_max_pressure, dtype=float), np.nan)
-        gas_result, per_gas = gas_part(plan.theory_case, q_sr, u_c, flows)
+        gas_result, per_gas = pipeline.gas_part(plan.theory_case, q_sr, u_c, flows)
         return BandSimulationResult(
             load_name=band.load_name, loads=loads, force_per_length=plan.force, model_contact_width=plan.model_width,
             model_max_pressure=plan.model_pmax, hertz_contact_width=2.0 * plan.half_width, hertz_max_pressure=plan.hertz_pmax,
@@ -424,7 +403,7 @@ class OringBand:
             junction_cells=plan.junction_cells, pressure_difference=float(plan.case.pressure_difference),
             grid=records.grid, realizations=records.realizations, seed=records.seed, size=plan.size,
             period=plan.size, seal_length=float(band.length), faces=int(band.faces), radius=plan.radius,
-            q_cut=plan.cut_at, q_low=plan.q_low, notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, plan.case),
+            q_cut=plan.cut_at, q_low=plan.q_low, notes=tuple(notes), spectrum_note=pipeline.spectrum_text(plan.spectrum, plan.case),
             per_realization={"contact_width": width, "relative_contact_area": flows.area, "percolates": perc,
                              "leak_rate": q_num, "alpha": alpha_r} | per_gas,
             contact_maps=flows.contact_maps, line_pressure=lines, smooth_line_pressure=sm.lines, gas=gas_result,
@@ -442,17 +421,17 @@ def _theory_at_grid(theory: BandResult, load_name: str, loads: FloatArray, dx: f
     junction_cells = np.asarray(theory.critical_wavelength_at_max_pressure, dtype=float) / dx
     at_end = np.isfinite(junction_cells) & (junction_cells <= AT_END_CELLS)
     q_sr = np.where(at_end, np.nan, q_sr)
-    coarse = np.isfinite(junction_cells) & (junction_cells < JUNCTION_CELLS) & ~at_end
+    coarse = np.isfinite(junction_cells) & (junction_cells < pipeline.JUNCTION_CELLS) & ~at_end
     if coarse.any() or at_end.any():
         notes.append(Note("band_junction_unresolved", {
-            "load_name": load_name, "min_cells": JUNCTION_CELLS, "grid_field": grid_field,
+            "load_name": load_name, "min_cells": pipeline.JUNCTION_CELLS, "grid_field": grid_field,
             "coarse": tuple(float(v) for v in loads[coarse]), "at_end": tuple(float(v) for v in loads[at_end])}))
     notes.extend(theory.critical_junction.messages)
     return q_sr, junction_cells
 
 
 @dataclass(frozen=True, kw_only=True)
-class BandSpec(TaskSpec):
+class BandSpec(pipeline.TaskSpec):
     """Everything one realisation's task of an O-ring simulation needs, in SI units (shared by all its tasks).
 
     :class:`~sealeak.cases.pipeline.TaskSpec`'s fields (``spectrum`` the cut C(q), ``grid`` N and ``size`` W (m)
@@ -495,7 +474,7 @@ class BandTask:
     def memory_bytes(self) -> int:
         """Peak memory in bytes (estimate): as a uniform sweep (``EnsembleTask.memory_bytes``) with the band
         contact's solver (:func:`sealeak.numerics.band_contact_memory_bytes`) in place of the periodic one."""
-        return task_memory_bytes("sweep", self.spec.grid, self.spec.grid, int(np.size(self.spec.forces)), contact="band",
+        return pipeline.task_memory_bytes("sweep", self.spec.grid, self.spec.grid, int(np.size(self.spec.forces)), contact="band",
                                  gas=self.spec.gas is not None, fields=self.spec.fields_store is not None,
                                  flow_method=self.spec.flow_method)
 
@@ -510,7 +489,7 @@ def band_tasks(spec: BandSpec, realizations: int) -> list[BandTask]:
 
 
 @dataclass(frozen=True, kw_only=True)
-class BandRecord(FlowRecord):
+class BandRecord(pipeline.FlowRecord):
     """A realisation of an O-ring simulation (:func:`run_band_task`): :class:`~sealeak.cases.pipeline.FlowRecord`'s
     columns per load (the relative contact area that of the Hertz band), and the band's own."""
 
@@ -539,7 +518,7 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
     h = spec.surface(r)
     x = (np.arange(n) + 0.5) * (size / n)
     in_band = np.abs(x - size / 2.0)[:, None] < np.asarray(spec.half_widths)[None, :]  # [x, load]
-    log = FlowLog(gas=spec.gas is not None)
+    log = pipeline.FlowLog(gas=spec.gas is not None)
     widths: list[float] = []
     touched: list[int] = []
     lines: list[list[float]] = []
@@ -556,11 +535,11 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
                 touched.append(i)
             if r == 0:
                 lines.append([float(v) for v in res.line_pressure])
-            keep_load(spec, kept, r, i, h, res, progress, period=np.float64(size))
+            pipeline.keep_load(spec, kept, r, i, h, res, progress, period=np.float64(size))
 
     attributes = spec.field_attributes(task.name, r) | {
         "radius": float(spec.radius), "force_per_length": [float(f) for f in spec.forces],
         "force_per_length_units": "N/m"}
-    kept = with_fields(spec, r, h, sweep, load_name=spec.load_name, loads=spec.loads, load_unit="1",
+    kept = pipeline.with_fields(spec, r, h, sweep, load_name=spec.load_name, loads=spec.loads, load_unit="1",
                        attributes=attributes)
     return log.record(BandRecord, r, kept, contact_width=widths, touched_edge=touched, line_pressure=lines)

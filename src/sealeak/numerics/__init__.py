@@ -36,7 +36,7 @@ from ._band_contact import (
     hertz_line_contact,
     solve_band_contact,
 )
-from ._contact import ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
+from ._contact import ContactOptions, ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
 from ._flow import FlowResult, flow_memory_bytes, solve_flow
 from ._gas_flow import GasFlowResult, gas_flow_memory_bytes, solve_gas_flow
 from ._memory import available_memory_bytes, require_memory
@@ -48,6 +48,7 @@ __all__ = [
     "synthesis_memory_bytes",
     "wavevector_grid",
     "ContactResult",
+    "ContactOptions",
     "FlowResult",
     "ThresholdResult",
     "solve_contact",

@@ -54,6 +54,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,7 +62,7 @@ from scipy import fft as sfft
 from scipy import special
 
 from ..errors import InputError, positive_values
-from ._contact import DEFAULT_MAX_ITER, DEFAULT_TOL, ContactField, _constrained_cg
+from ._contact import ContactField, ContactOptions, _constrained_cg, contact_options
 from ._memory import require_memory
 
 __all__ = ["BandContactResult", "solve_band_contact", "band_displacement", "band_contact_memory_bytes",
@@ -245,12 +246,8 @@ def solve_band_contact(
     force_per_length: float,
     *,
     center: float | None = None,
-    tol: float = DEFAULT_TOL,
-    max_iter: int = DEFAULT_MAX_ITER,
     initial: BandContactResult | None = None,
-    workers: int = -1,
-    precondition: bool = True,
-    memory_limit: float | None = None,
+    **options: Unpack[ContactOptions],
 ) -> BandContactResult:
     """Frictionless contact of a smooth elastic cylinder with a rigid rough surface, free across the band.
 
@@ -274,17 +271,12 @@ def solve_band_contact(
         Load f per unit length of seal line (N/m).
     center:
         x of the cylinder's axis (m); default W/2.
-    tol, max_iter:
-        Tolerance on the scale-free residual and iteration limit (ConvergenceError beyond).
     initial:
         A previous :class:`BandContactResult` on the same grid; its pressure, rescaled to the load,
         starts the iteration (e.g. along increasing loads).
-    workers:
-        Threads for scipy.fft (-1: all cores).
-    precondition:
-        Use the Fourier-stiffness preconditioner (default).
-    memory_limit:
-        Bytes allowed; default: what the OS reports available (ResourceError up front).
+    options:
+        The solver's :class:`~sealeak.numerics.ContactOptions` (``tol``, ``max_iter``, ``workers``,
+        ``precondition``, ``memory_limit``), as for :func:`~sealeak.numerics.solve_contact`.
 
     Returns
     -------
@@ -293,16 +285,13 @@ def solve_band_contact(
     h = _check_grid(heights, width, period, e_star)
     positive_values(("radius", radius, "a length > 0 (m)"),
                     ("force_per_length", force_per_length, "a force per length > 0 (N/m)"))
-    if not (math.isfinite(tol) and tol > 0):
-        raise InputError("tol", tol, "must be a finite number > 0")
-    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
-        raise InputError("max_iter", max_iter, "must be an integer >= 1")
+    o = contact_options(options)
     width, period, e_star, radius, f = float(width), float(period), float(e_star), float(radius), float(force_per_length)
     xc = width / 2.0 if center is None else float(center)
     if not (0.0 <= xc <= width):
         raise InputError("center", center, f"must lie inside the domain 0 .. {width:.6g} m")
     nx, ny = h.shape
-    require_memory(band_contact_memory_bytes(nx, ny), f"the {nx}x{ny} band contact problem", memory_limit)
+    require_memory(band_contact_memory_bytes(nx, ny), f"the {nx}x{ny} band contact problem", o["memory_limit"])
     dx = width / nx
     x = (np.arange(nx) + 0.5) * dx
     rough = h - float(h.mean())
@@ -326,9 +315,10 @@ def solve_band_contact(
             p = np.full_like(hs, p0)
 
     kernel = _band_kernel(nx, ny, width, period, e_star)
+    workers = o["workers"]
     convolve = _convolver(kernel, nx, ny, workers)
     stiffness = None
-    if precondition:
+    if o["precondition"]:
         kx = 2.0 * math.pi * sfft.fftfreq(nx, d=dx)
         ky = 2.0 * math.pi * sfft.rfftfreq(ny, d=period / ny)
         stiff = 0.5 * e_star * np.sqrt(kx[:, None] ** 2 + ky[None, :] ** 2)
@@ -339,12 +329,12 @@ def solve_band_contact(
             return sfft.irfft2(spec, s=(nx, ny), workers=workers, overwrite_x=True)
 
     label = f"{nx}x{ny} band, f = {f:.6g} N/m"
-    p, g, _, residual, it = _constrained_cg(hs, p, p0, scale, convolve, stiffness, float(tol), int(max_iter), label)
+    p, g, _, residual, it = _constrained_cg(hs, p, p0, scale, convolve, stiffness, float(o["tol"]), int(o["max_iter"]), label)
     gap = np.maximum(g, 0.0)
     return BandContactResult(
         gap=gap, pressure=p, force_per_length=f, width=width, period=period, radius=radius, center=xc,
         e_star=e_star, contact_area=float(np.count_nonzero(p > 0)) / p.size, iterations=it, residual=residual,
-        tol=float(tol), height_scale=scale)
+        tol=float(o["tol"]), height_scale=scale)
 
 
 def contact_edges(x: ArrayLike, pressure: ArrayLike) -> tuple[float, float]:

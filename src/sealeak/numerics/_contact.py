@@ -47,12 +47,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from typing import TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import fft as sfft
 
-from ..errors import ConvergenceError, InputError
+from ..errors import ConvergenceError, InputError, positive_values
+from ._checks import square_grid
 from ._linalg import dot
 from ._memory import require_memory
 from .synthesis import wavevector_grid
@@ -61,6 +63,45 @@ FloatArray = NDArray[np.float64]
 
 DEFAULT_TOL = 1e-8
 DEFAULT_MAX_ITER = 5000
+
+
+class ContactOptions(TypedDict, total=False):
+    """The solver options of :func:`solve_contact` and :func:`~sealeak.numerics.solve_band_contact`, each optional.
+
+    tol:
+        Tolerance on the scale-free residual (module docstring), default 1e-8.
+    max_iter:
+        Iteration limit (default 5000); reaching it raises :class:`ConvergenceError`.
+    workers:
+        Threads for scipy.fft (-1, the default: all cores).
+    precondition:
+        Use the Fourier-stiffness preconditioner (default; module docstring). ``False`` gives the
+        plain Polonsky-Keer iteration (2-6x more iterations on self-affine surfaces).
+    memory_limit:
+        Bytes allowed; default: the memory the OS reports available. Larger estimates raise
+        :class:`ResourceError` before any work.
+    """
+
+    tol: float
+    max_iter: int
+    workers: int
+    precondition: bool
+    memory_limit: float | None
+
+
+def contact_options(options: ContactOptions) -> ContactOptions:
+    """``options`` with the defaults filled in, ``tol`` and ``max_iter`` checked (:class:`InputError` naming them);
+    a key that is no option is a TypeError, as for any unexpected keyword argument."""
+    unknown = options.keys() - ContactOptions.__optional_keys__
+    if unknown:
+        raise TypeError(f"unexpected keyword argument {min(unknown)!r}")
+    o: ContactOptions = {"tol": DEFAULT_TOL, "max_iter": DEFAULT_MAX_ITER, "workers": -1, "precondition": True,
+                         "memory_limit": None, **options}
+    if not (math.isfinite(o["tol"]) and o["tol"] > 0):
+        raise InputError("tol", o["tol"], "must be a finite number > 0")
+    if not (isinstance(o["max_iter"], (int, np.integer)) and o["max_iter"] >= 1):
+        raise InputError("max_iter", o["max_iter"], "must be an integer >= 1")
+    return o
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,15 +174,8 @@ def contact_memory_bytes(n: int) -> int:
 
 
 def _validate(heights: ArrayLike, size: float, e_star: float) -> FloatArray:
-    h = np.asarray(heights, dtype=np.float64)
-    if h.ndim != 2 or h.shape[0] != h.shape[1] or h.shape[0] < 2:
-        raise InputError("heights", f"array of shape {h.shape}", "must be a square N×N array with N >= 2")
-    if not np.isfinite(h).all():
-        raise InputError("heights", "non-finite values", "heights must be finite (no NaN or inf)")
-    if not (isinstance(size, (int, float, np.floating)) and math.isfinite(size) and size > 0):
-        raise InputError("size", size, "must be a finite length > 0 (m)")
-    if not (isinstance(e_star, (int, float, np.floating)) and math.isfinite(e_star) and e_star > 0):
-        raise InputError("e_star", e_star, "must be a finite contact modulus > 0 (Pa)")
+    h = square_grid(heights, "heights", "heights")
+    positive_values(("size", size, "a length > 0 (m)"), ("e_star", e_star, "a contact modulus > 0 (Pa)"))
     return h
 
 
@@ -157,12 +191,8 @@ def solve_contact(
     e_star: float,
     mean_pressure: float,
     *,
-    tol: float = DEFAULT_TOL,
-    max_iter: int = DEFAULT_MAX_ITER,
     initial: ContactResult | None = None,
-    workers: int = -1,
-    precondition: bool = True,
-    memory_limit: float | None = None,
+    **options: Unpack[ContactOptions],
 ) -> ContactResult:
     """Frictionless contact of a rigid periodic rough surface with an elastic half-space.
 
@@ -179,21 +209,12 @@ def solve_contact(
         Contact modulus E* = E/(1-ν²) (Pa).
     mean_pressure:
         Prescribed nominal pressure P0 = mean(p) (Pa).
-    tol:
-        Tolerance on the scale-free residual (module docstring), default 1e-8.
-    max_iter:
-        Iteration limit; reaching it raises :class:`ConvergenceError`.
     initial:
         A previous :class:`ContactResult` on the same grid; its pressure, rescaled to P0, starts
         the iteration (warm start).
-    workers:
-        Threads for scipy.fft (-1: all cores).
-    precondition:
-        Use the Fourier-stiffness preconditioner (default; module docstring). ``False`` gives the
-        plain Polonsky-Keer iteration (2-6x more iterations on self-affine surfaces).
-    memory_limit:
-        Bytes allowed; default: the memory the OS reports available. Larger estimates raise
-        :class:`ResourceError` before any work.
+    options:
+        The solver's :class:`ContactOptions` (``tol``, ``max_iter``, ``workers``, ``precondition``,
+        ``memory_limit``).
 
     Returns
     -------
@@ -201,12 +222,10 @@ def solve_contact(
     """
     h = _validate(heights, size, e_star)
     p0 = _check_pressure(mean_pressure)
-    if not (math.isfinite(tol) and tol > 0):
-        raise InputError("tol", tol, "must be a finite number > 0")
-    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
-        raise InputError("max_iter", max_iter, "must be an integer >= 1")
+    o = contact_options(options)
+    tol, max_iter, workers = o["tol"], o["max_iter"], o["workers"]
     n = h.shape[0]
-    require_memory(contact_memory_bytes(n), f"the {n}x{n} contact problem", memory_limit)
+    require_memory(contact_memory_bytes(n), f"the {n}x{n} contact problem", o["memory_limit"])
 
     h_mean = float(h.mean())
     h_rms = float(np.sqrt(np.mean((h - h_mean) ** 2)))
@@ -227,7 +246,7 @@ def solve_contact(
         spec *= k
         return sfft.irfft2(spec, s=(n, n), workers=workers, overwrite_x=True)
 
-    if precondition:  # Fourier stiffness E*|q|/2: the inverse of the compliance for q != 0
+    if o["precondition"]:  # Fourier stiffness E*|q|/2: the inverse of the compliance for q != 0
         stiff = np.zeros_like(kernel)
         np.divide(1.0, kernel, out=stiff, where=kernel > 0)
 
@@ -239,7 +258,7 @@ def solve_contact(
     else:
         p = np.full_like(hs, p0)
     ncell = float(n * n)
-    stiffness = (lambda x: convolve(x, stiff)) if precondition else None
+    stiffness = (lambda x: convolve(x, stiff)) if o["precondition"] else None
     p, g, gbar, residual, it = _constrained_cg(hs, p, p0, h_rms, convolve, stiffness, tol, max_iter,
                                                f"N = {n}, P0 = {p0:.6g} Pa")
 

@@ -56,8 +56,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import ConvergenceError, InputError, SolutionCheckError
+from ..errors import ConvergenceError, InputError, SolutionCheckError, positive_values
 from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas, check_pressures, kinetic_pressure_integral, slip_factor
+from ._checks import square_grid
 from ._flow import (
     CONSERVATION_TOL,
     Method,
@@ -214,13 +215,8 @@ def _secant_block(c: FloatArray, lo: FloatArray, hi: FloatArray, model: str) -> 
 def _validate(gap: ArrayLike, size: float, gas: Gas) -> FloatArray:
     if not isinstance(gas, Gas):
         raise InputError("gas", gas, "must be a sealeak.physics.gas.Gas (name, temperature, viscosity, molar mass)")
-    g = np.asarray(gap, dtype=np.float64)
-    if g.ndim != 2 or g.shape[0] != g.shape[1] or g.shape[0] < 2:
-        raise InputError("gap", f"array of shape {g.shape}", "must be a square N×N array with N >= 2")
-    if not np.isfinite(g).all():
-        raise InputError("gap", "non-finite values", "gaps must be finite (no NaN or inf)")
-    if not (isinstance(size, (int, float, np.floating)) and math.isfinite(size) and size > 0):
-        raise InputError("size", size, "must be finite, a length > 0 (m)")
+    g = square_grid(gap, "gap", "gaps")
+    positive_values(("size", size, "a length > 0 (m)"))
     return g
 
 

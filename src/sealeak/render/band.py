@@ -34,27 +34,8 @@ from ..cases import CaseResult
 from ..cases.band import BandResult
 from ..cases.model import BandSeal
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
+from . import plotstyle
 from .notes import load_axis_label, load_text, loads_text
-from .plotstyle import (
-    GAS_LEAK_LABEL,
-    STYLE,
-    Series,
-    color,
-    draw_series,
-    finish_axes,
-    gas_conditions_text,
-    gas_regime_text,
-    gas_series,
-    laid_out,
-    ml_per_min_axis,
-    new_figure,
-    pa_m3_axis,
-    place_legend,
-    pressure_axis,
-    say_nothing,
-    spans_decades,
-    subtitle,
-)
 
 __all__ = ["band_figures", "BAND_FIGURE_NAMES", "figure_pressure_profile", "figure_local_critical_gap",
            "figure_band_leak_rate", "load_labels", "profile_curve", "resistance_spans", "local_gap_curve",
@@ -311,21 +292,21 @@ class _Row:
     centre: float
 
 
-@laid_out
+@plotstyle.laid_out
 def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
     """p(x) of every load (one curve each) and, below, the part of each band that holds 90 % of R."""
     sx, xunit = _x_unit(results)
     pmax = max(float(np.max(_band(r).max_contact_pressure)) for r in results)
-    ps, punit = pressure_axis([pmax])
+    ps, punit = plotstyle.pressure_axis([pmax])
     bar_groups = _groups(results, _same_spans)
     rows: list[_Row] = []
     for g in bar_groups:
         b = _band(g[0])
         name = _group_name(g) if len(bar_groups) > 1 else ""
         for i, (label, spans) in enumerate(zip(load_labels(b.band), _spans_of(g[0]))):
-            rows.append(_Row(f"{name}, {label}" if name else label, color(i), spans, _centre(b.band, b.band.profiles[i])))
+            rows.append(_Row(f"{name}, {label}" if name else label, plotstyle.color(i), spans, _centre(b.band, b.band.profiles[i])))
     n = len(rows)
-    with mpl.rc_context(STYLE):
+    with mpl.rc_context(plotstyle.STYLE):
         fig = Figure(figsize=(6.4, 4.4 + 0.17 * n), layout="constrained")
         ax, bars = fig.subplots(2, 1, sharex=True, height_ratios=[3.4, 0.45 + 0.17 * n])
     ax._sealeak_heading = "Contact pressure across the band"  # type: ignore[attr-defined]
@@ -338,7 +319,7 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
         style = _VARIANT_STYLES[gi % len(_VARIANT_STYLES)]
         for i, (profile, label) in enumerate(zip(b.band.profiles, load_labels(b.band))):
             x, p = profile_curve(profile)
-            (line,) = ax.plot((x - _centre(b.band, profile)) / sx, p / ps, ls=style, color=color(i), lw=1.4)
+            (line,) = ax.plot((x - _centre(b.band, profile)) / sx, p / ps, ls=style, color=plotstyle.color(i), lw=1.4)
             if gi == 0:
                 handles.append(line)
                 labels.append(label)
@@ -373,18 +354,18 @@ def figure_pressure_profile(results: Sequence[CaseResult]) -> Figure:
         notes.append("line style: the study's variant")
     elif len(results) > 1:
         notes.append("the same for every variant of the study")
-    subtitle(ax, "\n".join(notes))
+    plotstyle.subtitle(ax, "\n".join(notes))
     for a in (ax, bars):
-        finish_axes(a)
+        plotstyle.finish_axes(a)
     bars.set_yticks(range(n), [row.label for row in rows], fontsize=7)  # finish_axes set a number format on y
-    place_legend(ax, handles, labels)  # type: ignore[arg-type]
+    plotstyle.place_legend(ax, handles, labels)  # type: ignore[arg-type]
     return fig
 
 
-@laid_out
+@plotstyle.laid_out
 def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
     """u_c(x) of every load (log axis) with each fluid's molecular size (dashed)."""
-    fig, ax = new_figure("Local critical gap across the band")
+    fig, ax = plotstyle.new_figure("Local critical gap across the band")
     sx, xunit = _x_unit(results)
     groups = _groups(results, _same_gaps)
     curves = []
@@ -407,16 +388,16 @@ def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
         ax.set_ylabel("local critical gap u_c (nm)")
         widest = max(float(np.max(_band(r).contact_width)) for r in results) / sx
         ax.set_xlim(*((-widest / 2, widest / 2) if _band(results[0]).band.kind == "o-ring" else (0.0, widest)))
-        say_nothing(ax, "no leak channel at any load (" + "; ".join(sealed_text) + "):\nthe non-contact area does not "
+        plotstyle.say_nothing(ax, "no leak channel at any load (" + "; ".join(sealed_text) + "):\nthe non-contact area does not "
                         "percolate where the pressure is highest")
-        finish_axes(ax)
+        plotstyle.finish_axes(ax)
         return fig
     every = np.concatenate([u for *_, u in curves])
     us, uunit = (1e-9, "nm") if every.min() < 1e-6 else (1e-6, "µm")
     handles: list[object] = []
     labels: list[str] = []
     for gi, i, label, x, u in curves:
-        (line,) = ax.semilogy(x, u / us, ls=_VARIANT_STYLES[gi % len(_VARIANT_STYLES)], color=color(i), lw=1.3)
+        (line,) = ax.semilogy(x, u / us, ls=_VARIANT_STYLES[gi % len(_VARIANT_STYLES)], color=plotstyle.color(i), lw=1.3)
         if gi == 0:
             handles.append(line)
             labels.append(label)
@@ -441,9 +422,9 @@ def figure_local_critical_gap(results: Sequence[CaseResult]) -> Figure:
         notes.append("line style: the study's variant")
     elif len(results) > 1:
         notes.append("the same for every variant of the study")
-    subtitle(ax, "\n".join(notes))
-    finish_axes(ax)
-    place_legend(ax, handles, labels)  # type: ignore[arg-type]
+    plotstyle.subtitle(ax, "\n".join(notes))
+    plotstyle.finish_axes(ax)
+    plotstyle.place_legend(ax, handles, labels)  # type: ignore[arg-type]
     return fig
 
 
@@ -452,7 +433,7 @@ def _is_gas(results: Sequence[CaseResult]) -> bool:
     return all(r.case.gas is not None and r.gas for r in results)
 
 
-def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list[Series], list[tuple[Series, np.ndarray]]]:
+def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list[plotstyle.Series], list[tuple[plotstyle.Series, np.ndarray]]]:
     """(every series to draw, (solid series, sealed mask) of each theory through the band).
 
     Per case and theory a solid series (the band) and a dashed one (a uniform seal at the mean
@@ -461,8 +442,8 @@ def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list
     ``leak_rate_mbar_l_s``) and the dashed one its helium equivalent, when computed (docs/theory.md §11.9).
     """
     several = len(results) > 1
-    out: list[Series] = []
-    solid: list[tuple[Series, np.ndarray]] = []
+    out: list[plotstyle.Series] = []
+    solid: list[tuple[plotstyle.Series, np.ndarray]] = []
     k = 0
     for r in results:
         b = _band(r)
@@ -477,14 +458,14 @@ def _leak_series(results: Sequence[CaseResult], gas: bool = False) -> tuple[list
             label = f"{r.case.label}, {name}" if several and r.case.label else name
             if gas:
                 rows = (r.gas or {})[name.replace(" ", "_")]
-                drawn = gas_series(x, rows, np.asarray(valid, dtype=bool), why, color(k), label)
+                drawn = plotstyle.gas_series(x, rows, np.asarray(valid, dtype=bool), why, plotstyle.color(k), label)
                 out += drawn
                 solid.append((drawn[0], ~theory.percolates))
                 k += 1
                 continue
-            s = Series(x, theory.leak_rate, np.asarray(valid, dtype=bool), color(k), "-", label, why)
+            s = plotstyle.Series(x, theory.leak_rate, np.asarray(valid, dtype=bool), plotstyle.color(k), "-", label, why)
             out.append(s)
-            out.append(Series(x, theory.uniform_mean_pressure, np.ones(len(b), dtype=bool), color(k), "--", None))
+            out.append(plotstyle.Series(x, theory.uniform_mean_pressure, np.ones(len(b), dtype=bool), plotstyle.color(k), "--", None))
             held = (r.capillary or {}).get(name.replace(" ", "_"))  # a liquid held by capillarity: Q = 0 too
             solid.append((s, ~theory.percolates | (held.held if held is not None else False)))
             k += 1
@@ -503,18 +484,18 @@ def _bottom_band(ax: Axes) -> float:
     return float(lo / 10.0 ** (0.035 * span))
 
 
-@laid_out
+@plotstyle.laid_out
 def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
     """Q through the band against the load (log axis), both theories, with Q of a uniform seal at p_mean dashed."""
     first = _band(results[0]).band
     word = "compression" if first.load_name == "compression" else "profile scale"
     gas = _is_gas(results)
     names = sorted({r.case.gas.gas.name for r in results if r.case.gas is not None})
-    fig, ax = new_figure(f"Leak rate of {' / '.join(names)} against {word}" if gas else f"Leak rate against {word}")
+    fig, ax = plotstyle.new_figure(f"Leak rate of {' / '.join(names)} against {word}" if gas else f"Leak rate against {word}")
     x_all = np.concatenate([_load_axis(_band(r).band)[0] for r in results])
     ax.set_xlabel(_load_axis(first)[1])
     lo_x, hi_x = float(x_all.min()), float(x_all.max())
-    if spans_decades(x_all):
+    if plotstyle.spans_decades(x_all):
         ax.set_xscale("log")
         ax.set_xlim(lo_x / (hi_x / lo_x) ** 0.04, hi_x * (hi_x / lo_x) ** 0.04)
     elif hi_x > lo_x:
@@ -536,20 +517,20 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
         settings[0] = "Q_pV = K ∫ p f(Kn) dp over P_b…P_a, K through the band (strips in series)"
         if len(etas) == 1:
             settings[2] = f"η = {case.fluid.viscosity * 1e6:.4g} µPa·s"
-        conditions = {gas_conditions_text(r.case) for r in results}
-        notes = [gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
+        conditions = {plotstyle.gas_conditions_text(r.case) for r in results}
+        notes = [plotstyle.gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
                  ", ".join(settings) + ("; dashed: helium equivalent (1 bar He against vacuum, 20 °C)"
                                         if any(s.style == "--" for s in series) else "")]
-        regime = gas_regime_text([g for r in results for g in (r.gas or {}).values()])
+        regime = plotstyle.gas_regime_text([g for r in results for g in (r.gas or {}).values()])
         if regime:
             notes.append(regime.replace("narrowest gap", "gap u_c at the peak contact pressure"))
-        ax.set_ylabel(f"{GAS_LEAK_LABEL} (mbar·l/s)")
+        ax.set_ylabel(f"{plotstyle.GAS_LEAK_LABEL} (mbar·l/s)")
     if not any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series):
-        say_nothing(ax, f"no leak channel at any {word}:\nthe non-contact area does not percolate")
-        subtitle(ax, "\n".join(notes[:2]) if gas else notes[0])
-        finish_axes(ax)
+        plotstyle.say_nothing(ax, f"no leak channel at any {word}:\nthe non-contact area does not percolate")
+        plotstyle.subtitle(ax, "\n".join(notes[:2]) if gas else notes[0])
+        plotstyle.finish_axes(ax)
         return fig
-    draw_series(ax, series, logy=True)
+    plotstyle.draw_series(ax, series, logy=True)
     handles, labels = ax.get_legend_handles_labels()
     for s, _ in solid:  # a theory without a drawn point still names its colour (its × and dashed curve)
         if s.label and s.label not in labels:
@@ -574,13 +555,13 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
         notes.append("hollow: outside the theory's validity where the pressure is highest (▽: below the axis)")
     if not gas and any(r.capillary for r in results):  # docs/theory.md §12
         notes.append("capillarity holds the liquid where ΔP is below the narrowest gap's entry pressure; dashed: without it")
-    subtitle(ax, "\n".join(notes))
-    finish_axes(ax)
+    plotstyle.subtitle(ax, "\n".join(notes))
+    plotstyle.finish_axes(ax)
     if gas:
-        pa_m3_axis(ax, 1.0)
+        plotstyle.pa_m3_axis(ax, 1.0)
     else:
-        ml_per_min_axis(ax, 1.0)
-    place_legend(ax, handles, labels)
+        plotstyle.ml_per_min_axis(ax, 1.0)
+    plotstyle.place_legend(ax, handles, labels)
     return fig
 
 

@@ -26,14 +26,16 @@ Pipeline pieces: :func:`read_topography` → :func:`prepare` → :func:`spectrum
 and :func:`surface_statistics`.
 """
 
-from ._analysis import Analysis, SourceAnalysis, analyze
+from . import _spectrum
+from ._analysis import Analysis, AnalysisOptions, SourceAnalysis, analyze
 from ._fit import SelfAffineFit, fit_self_affine
 from ._options import analysis_options, lengths_option
 from ._preprocess import Prepared, hann_window, prepare
-from ._readers import read_topography
-from ._spectrum import (
+from ._readers import ReadOptions, read_topography
+from ._spectrum import (  # noqa: F401 (public through _spectrum.__all__)
     BinnedSpectrum,
     RangeBasis,
+    SpectrumOptions,
     abel_forward,
     abel_inverse,
     length_text,
@@ -55,25 +57,18 @@ __all__ = [
     "Topography",
     "LineScans",
     "read_topography",
+    "ReadOptions",
     "Prepared",
     "prepare",
     "hann_window",
-    "BinnedSpectrum",
-    "RangeBasis",
-    "length_text",
-    "power_spectrum_map",
-    "spectrum_2d",
-    "spectrum_1d",
-    "spectrum_2d_from_1d",
-    "spectrum_1d_from_2d",
-    "abel_inverse",
-    "abel_forward",
+    *_spectrum.__all__,
     "stitch",
     "SurfaceStatistics",
     "surface_statistics",
     "SelfAffineFit",
     "fit_self_affine",
     "Analysis",
+    "AnalysisOptions",
     "SourceAnalysis",
     "analyze",
     "length_unit_factor",

@@ -5,16 +5,16 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Unpack
 
 import numpy as np
 
 from ..errors import FileFormatError, InputError, SealeakError
 from ..physics.spectrum import PowerSpectrum
 from ._fit import SelfAffineFit, fit_self_affine
-from ._preprocess import Detrend, Prepared, Window, prepare
-from ._readers import LengthLike, read_topography
-from ._spectrum import BinnedSpectrum, length_text, spectrum_1d, spectrum_2d, spectrum_2d_from_1d
+from ._preprocess import Detrend, Prepared, prepare
+from ._readers import ReadOptions, read_topography
+from ._spectrum import BinnedSpectrum, SpectrumOptions, length_text, spectrum_1d, spectrum_2d, spectrum_2d_from_1d, spectrum_options
 from ._statistics import SurfaceStatistics, surface_statistics
 from ._stitch import stitch
 from ._types import LineScans, Topography
@@ -113,23 +113,12 @@ def _longest(source: SourceAnalysis) -> tuple[float, int]:
     return (side, int(np.isfinite(s.heights).sum()))
 
 
-def analyze(
-    paths: Source | Sequence[Source],
-    *,
-    pixel_size: LengthLike | Sequence[LengthLike] | None = None,
-    size: LengthLike | Sequence[LengthLike] | None = None,
-    height_unit: str | None = None,
-    lateral_unit: str | None = None,
-    periodic: bool = False,
-    channel: int | str | None = None,
-    detrend: Detrend = "auto",
-    window: Window = "auto",
-    bins_per_decade: float = 10.0,
-    low_cut: float = 3.0,
-    resolution_pixels: float = 4.0,
-    resolution: float | None = None,
-    fit: bool = True,
-) -> Analysis:
+class AnalysisOptions(ReadOptions, SpectrumOptions, total=False):
+    """The keyword options of :func:`analyze`: how each file is read (:class:`ReadOptions`) and how its C(q) is
+    taken (:class:`SpectrumOptions`)."""
+
+
+def analyze(paths: Source | Sequence[Source], *, fit: bool = True, **options: Unpack[AnalysisOptions]) -> Analysis:
     """Analyze one or more measurements of a surface.
 
     Each file is read (:func:`read_topography`; the unit options apply to files that lack the
@@ -138,14 +127,17 @@ def analyze(
     isotropic surface), and its statistics computed. The reliable bins of all sources are stitched
     (:func:`stitch`) into one PowerSpectrum, to which the self-affine model is fitted.
 
-    Reliable range of each source: q from ``low_cut``·2π/L up to the shortest reliable wavelength,
-    the larger of ``resolution_pixels`` pixels and the lateral resolution: ``resolution`` (m) when
-    given, else what the file states (e.g. a stylus tip radius), else none. A source too small for
-    any reliable bin keeps its height statistics; its ``spectrum_problem`` says why.
+    ``options``: :class:`AnalysisOptions`; the spectrum options prepare and bin every source. Reliable range of each
+    source: q from ``low_cut``·2π/L up to the shortest reliable wavelength, the larger of
+    ``resolution_pixels`` pixels and the lateral resolution: ``resolution`` (m) when given, else what
+    the file states (e.g. a stylus tip radius), else none. A source too small for any reliable bin
+    keeps its height statistics; its ``spectrum_problem`` says why.
 
     A flat measurement (all heights equal, or nothing but round-off left after detrending) has no
     roughness to analyze: :class:`~sealeak.errors.FileFormatError` naming it.
     """
+    read: dict[str, Any] = {k: v for k, v in options.items() if k in ReadOptions.__optional_keys__}
+    o = spectrum_options({k: v for k, v in options.items() if k not in read})
     items: list[Source] = [paths] if isinstance(paths, (str, Path, Topography, LineScans)) else list(paths)
     if not items:
         raise InputError("paths", [], "at least one file")
@@ -154,29 +146,26 @@ def analyze(
         if isinstance(item, (Topography, LineScans)):
             surface = item
         else:
-            surface = read_topography(item, pixel_size=pixel_size, size=size, height_unit=height_unit,
-                                      lateral_unit=lateral_unit, periodic=periodic, channel=channel)
+            surface = read_topography(item, **read)
         label = surface.source or f"source {len(sources) + 1}"
-        prepared = prepare(surface, detrend=detrend, window=window)
-        flat = _flatness(surface, prepared, detrend)
+        prepared = prepare(surface, detrend=o["detrend"], window=o["window"])
+        flat = _flatness(surface, prepared, o["detrend"])
         if flat is not None:
             name = Path(label.split(" [")[0]).name if surface.source else label
             channel = f" or channel ({option_name('channel')})" if " [channel" in label else ""
             raise FileFormatError(name, f"{flat}: there is no roughness to analyze (no C(q), no height distribution); "
                                         f"is it the right file{channel}?")
-        opts: dict[str, Any] = dict(bins_per_decade=bins_per_decade, low_cut=low_cut, resolution_pixels=resolution_pixels,
-                    resolution=resolution)
         profile = None
         binned: BinnedSpectrum | None = None
         problem: str | None = None
         spec: PowerSpectrum | None = None
         notes = list(surface.notes)
         if isinstance(surface, Topography):
-            binned = spectrum_2d(prepared, **opts)
+            binned = spectrum_2d(prepared, **o)
             problem = binned.problem()
             notes += binned.notes
         else:
-            profile = spectrum_1d(prepared, **opts)
+            profile = spectrum_1d(prepared, **o)
             notes += profile.notes
             problem = profile.problem(need=3)
             if problem is None:
@@ -187,14 +176,14 @@ def analyze(
             spec = binned.to_power_spectrum()
         else:
             problem = f"{_describe(surface)}: {problem}"
-        stats = surface_statistics(prepare(surface, detrend=detrend, window="none"), spec)
+        stats = surface_statistics(prepare(surface, detrend=o["detrend"], window="none"), spec)
         sources.append(SourceAnalysis(label=label, surface=surface, spectrum=binned, profile_spectrum=profile,
                                       statistics=stats, notes=tuple(notes), spectrum_problem=problem))
 
     notes = [f"{s.name}: {n}" for s in sources for n in s.notes]
     usable = [s for s in sources if s.spectrum_problem is None]
-    if not usable and resolution is not None:
-        _refuse_resolution(sources, resolution)
+    if not usable and o["resolution"] is not None:
+        _refuse_resolution(sources, o["resolution"])
     combined: BinnedSpectrum | None = None
     spectrum: PowerSpectrum | None = None
     problem = None

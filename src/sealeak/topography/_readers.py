@@ -20,7 +20,7 @@ import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
@@ -43,10 +43,21 @@ from ._text import NotPlainText, RawTable, looks_binary, parse_text
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, option_name, parse_length
 
-__all__ = ["read_topography", "Surface", "LengthLike", "sidecar_path"]
+__all__ = ["read_topography", "ReadOptions", "Surface", "LengthLike", "sidecar_path"]
 
 
 TEXT_SUFFIXES = {".txt", ".csv", ".asc", ".xyz", ".dat", ".tsv", ""}
+
+
+class ReadOptions(TypedDict, total=False):
+    """The keyword options of :func:`read_topography` (each optional; what they mean is said there)."""
+
+    pixel_size: LengthLike | Sequence[LengthLike] | None
+    size: LengthLike | Sequence[LengthLike] | None
+    height_unit: str | None
+    lateral_unit: str | None
+    periodic: bool
+    channel: int | str | None
 
 
 def read_topography(

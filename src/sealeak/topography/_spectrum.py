@@ -34,8 +34,9 @@ to infinity) in closed form with the regularised incomplete beta function.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Literal, TypedDict, Unpack, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -53,6 +54,8 @@ from ._units import option_name
 __all__ = [
     "BinnedSpectrum",
     "RangeBasis",
+    "SpectrumOptions",
+    "length_text",
     "power_spectrum_map",
     "spectrum_2d",
     "spectrum_1d",
@@ -232,6 +235,54 @@ def _bin(q: FloatArray, C: FloatArray, w: FloatArray, bins_per_decade: float
             10.0 ** (idx / bins_per_decade), 10.0 ** ((idx + 1) / bins_per_decade))
 
 
+class SpectrumOptions(TypedDict, total=False):
+    """The keyword options of :func:`spectrum_2d`, :func:`spectrum_1d` and :func:`~sealeak.topography.analyze`.
+
+    Each is optional (its default in parentheses):
+
+    detrend, window:
+        How the heights are prepared (:func:`~sealeak.topography.prepare`; "auto"); ignored for a
+        surface that is prepared already.
+    bins_per_decade:
+        Log bins per decade of q (10; 1 to 200).
+    low_cut:
+        The reliable range starts at low_cut · 2π/L (3; >= 1).
+    resolution_pixels:
+        It ends at 2π/(resolution_pixels · Δx) at the latest (4; >= 2, 2 = Nyquist).
+    resolution:
+        Shortest reliable wavelength in m (None: the surface's own ``resolution``).
+    """
+
+    detrend: Detrend
+    window: Window
+    bins_per_decade: float
+    low_cut: float
+    resolution_pixels: float
+    resolution: float | None
+
+
+#: The value of each :class:`SpectrumOptions` key a call leaves out.
+SPECTRUM_DEFAULTS: SpectrumOptions = {"detrend": "auto", "window": "auto", "bins_per_decade": 10.0, "low_cut": 3.0,
+                                      "resolution_pixels": 4.0, "resolution": None}
+
+
+def spectrum_options(options: Mapping[str, object]) -> SpectrumOptions:
+    """``options`` completed with :data:`SPECTRUM_DEFAULTS`; a key that is no option is a TypeError, as for any
+    unexpected keyword argument."""
+    unknown = options.keys() - SpectrumOptions.__optional_keys__
+    if unknown:
+        raise TypeError(f"unexpected keyword argument {min(unknown)!r}")
+    return cast(SpectrumOptions, {**SPECTRUM_DEFAULTS, **options})
+
+
+def _prepared(surface: Topography | LineScans | Prepared, options: SpectrumOptions) -> tuple[Prepared, SpectrumOptions]:
+    """The checked options (:class:`~sealeak.errors.InputError` naming a bad one) and the surface prepared with them."""
+    o = spectrum_options(options)
+    _check_options(o["bins_per_decade"], o["low_cut"], o["resolution_pixels"], o["resolution"])
+    prepared = surface if isinstance(surface, Prepared) else prepare(surface, detrend=o["detrend"], window=o["window"])
+    return prepared, o
+
+
 def _check_options(bins_per_decade: float, low_cut: float, resolution_pixels: float,
                    resolution: float | None = None) -> None:
     if not (np.isfinite(bins_per_decade) and 1 <= bins_per_decade <= 200):
@@ -288,24 +339,15 @@ def power_spectrum_map(prepared: Prepared) -> tuple[FloatArray, FloatArray, Floa
     return qx, qy, C, weight
 
 
-def spectrum_2d(
-    topography: Topography | Prepared,
-    *,
-    detrend: Detrend = "auto",
-    window: Window = "auto",
-    bins_per_decade: float = 10.0,
-    low_cut: float = 3.0,
-    resolution_pixels: float = 4.0,
-    resolution: float | None = None,
-) -> BinnedSpectrum:
+def spectrum_2d(topography: Topography | Prepared, **options: Unpack[SpectrumOptions]) -> BinnedSpectrum:
     """Radially averaged 2D C(q) (m⁴) of a map in Persson's convention, in log bins.
 
     Modes up to the smaller Nyquist wavevector π·min(1/Δx, 1/Δy) are binned (complete annuli).
     ``topography`` may be already prepared (then ``detrend``/``window`` are ignored).
-    ``resolution``: shortest reliable wavelength in m (default: the map's own ``resolution``).
+    ``options``: :class:`SpectrumOptions` (``resolution`` by default the map's own).
     """
-    _check_options(bins_per_decade, low_cut, resolution_pixels, resolution)
-    prepared = topography if isinstance(topography, Prepared) else prepare(topography, detrend=detrend, window=window)
+    prepared, o = _prepared(topography, options)
+    bins_per_decade, low_cut = o["bins_per_decade"], o["low_cut"]
     surf = prepared.surface
     if not isinstance(surf, Topography):
         raise InputError("surface", type(surf).__name__, "a 2D map (Topography); use spectrum_1d for line scans")
@@ -317,7 +359,7 @@ def spectrum_2d(
     if not use.any():
         raise InputError("topography", surf.nb_grid_pts, "too few points for a spectrum")
     qc, Cb, modes, lo, hi = _bin(q[use], C[use], weight[use], bins_per_decade)
-    q_hi, why, basis = _upper_limit(min(surf.size), max(dx, dy), low_cut, resolution_pixels, resolution,
+    q_hi, why, basis = _upper_limit(min(surf.size), max(dx, dy), low_cut, o["resolution_pixels"], o["resolution"],
                                     surf.resolution, "map", bins_per_decade)
     q_rel = (low_cut * 2.0 * np.pi / min(surf.size), q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])
@@ -331,22 +373,14 @@ def spectrum_2d(
 
 
 # ---------------------------------------------------------------------------- 1D
-def spectrum_1d(
-    scans: LineScans | Prepared,
-    *,
-    detrend: Detrend = "auto",
-    window: Window = "auto",
-    bins_per_decade: float = 10.0,
-    low_cut: float = 3.0,
-    resolution_pixels: float = 4.0,
-    resolution: float | None = None,
-) -> BinnedSpectrum:
+def spectrum_1d(scans: LineScans | Prepared, **options: Unpack[SpectrumOptions]) -> BinnedSpectrum:
     """Profile spectrum C1D(q) (m³), averaged over all profiles, in log bins (h_rms² = 2∫C1D dq).
 
-    ``resolution``: shortest reliable wavelength in m (default: the scans' own ``resolution``).
+    ``scans`` may be already prepared (then ``detrend``/``window`` are ignored).
+    ``options``: :class:`SpectrumOptions` (``resolution`` by default the scans' own).
     """
-    _check_options(bins_per_decade, low_cut, resolution_pixels, resolution)
-    prepared = scans if isinstance(scans, Prepared) else prepare(scans, detrend=detrend, window=window)
+    prepared, o = _prepared(scans, options)
+    bins_per_decade, low_cut = o["bins_per_decade"], o["low_cut"]
     surf = prepared.surface
     if not isinstance(surf, LineScans):
         raise InputError("surface", type(surf).__name__, "line scans (LineScans); use spectrum_2d for maps")
@@ -358,7 +392,7 @@ def spectrum_1d(
     if n % 2 == 0:
         weight[-1] = surf.nb_scans
     qc, Cb, modes, lo, hi = _bin(q[1:], C[1:], weight[1:], bins_per_decade)
-    q_hi, why, basis = _upper_limit(L, surf.pixel_size, low_cut, resolution_pixels, resolution, surf.resolution,
+    q_hi, why, basis = _upper_limit(L, surf.pixel_size, low_cut, o["resolution_pixels"], o["resolution"], surf.resolution,
                                     "profile", bins_per_decade)
     q_rel = (low_cut * 2.0 * np.pi / L, q_hi)
     reliable = (qc >= q_rel[0]) & (qc <= q_rel[1])

@@ -48,7 +48,31 @@ def _resolution(value: float | None, name: str) -> float | None:
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class Topography:
+class _Measured:
+    """What a map and line scans share (heights in m, NaN where undefined; the rest as for :class:`Topography`)."""
+
+    heights: FloatArray
+    periodic: bool = False
+    source: str = ""
+    notes: tuple[str, ...] = field(default=())
+    resolution: float | None = None
+    warnings: tuple[str, ...] = field(default=())
+
+    def _settle(self, heights: FloatArray, kind: str) -> None:
+        """Keep the checked ``heights`` and the notes, warnings and ``resolution`` (checked, naming ``kind``)."""
+        object.__setattr__(self, "heights", heights)
+        object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+        object.__setattr__(self, "resolution", _resolution(self.resolution, f"{kind}.resolution"))
+
+    @property
+    def has_missing(self) -> bool:
+        """True when some heights are NaN (undefined points of optical instruments)."""
+        return bool(np.isnan(self.heights).any())
+
+
+@dataclass(frozen=True, eq=False, kw_only=True)
+class Topography(_Measured):
     """A 2D height map on a uniform grid.
 
     Attributes
@@ -74,13 +98,7 @@ class Topography:
         marked undefined on reading); shown as warnings by ``sealeak surface analyze``.
     """
 
-    heights: FloatArray
     size: tuple[float, float] = quantity("m", "physical size of a map (or length of line scans)")
-    periodic: bool = False
-    source: str = ""
-    notes: tuple[str, ...] = field(default=())
-    resolution: float | None = None
-    warnings: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
         h = _freeze(self.heights)
@@ -91,11 +109,8 @@ class Topography:
         for name, v in (("size[0]", sx), ("size[1]", sy)):
             if not (np.isfinite(v) and v > 0):
                 raise InputError(f"topography.{name}", v, "a finite length > 0 (m)")
-        object.__setattr__(self, "heights", h)
         object.__setattr__(self, "size", (sx, sy))
-        object.__setattr__(self, "notes", tuple(self.notes))
-        object.__setattr__(self, "warnings", tuple(self.warnings))
-        object.__setattr__(self, "resolution", _resolution(self.resolution, "topography.resolution"))
+        self._settle(h, "topography")
 
     @property
     def nb_grid_pts(self) -> tuple[int, int]:
@@ -107,11 +122,6 @@ class Topography:
         """(dx, dy) in m."""
         return (self.size[0] / self.heights.shape[0], self.size[1] / self.heights.shape[1])
 
-    @property
-    def has_missing(self) -> bool:
-        """True when some heights are NaN (undefined points of optical instruments)."""
-        return bool(np.isnan(self.heights).any())
-
     def __repr__(self) -> str:
         nx, ny = self.nb_grid_pts
         return (f"Topography({nx}×{ny}, size {self.size[0]:.4g} m × {self.size[1]:.4g} m, "
@@ -119,7 +129,7 @@ class Topography:
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
-class LineScans:
+class LineScans(_Measured):
     """One or more parallel 1D profiles on a common uniform grid.
 
     Non-uniformly sampled profiles are interpolated onto a uniform grid on reading (and a note says so).
@@ -134,13 +144,7 @@ class LineScans:
         As for :class:`Topography`.
     """
 
-    heights: FloatArray
     length: float
-    periodic: bool = False
-    source: str = ""
-    notes: tuple[str, ...] = field(default=())
-    resolution: float | None = None
-    warnings: tuple[str, ...] = field(default=())
 
     def __post_init__(self) -> None:
         h = _freeze(self.heights)
@@ -152,11 +156,8 @@ class LineScans:
         length = float(self.length)
         if not (np.isfinite(length) and length > 0):
             raise InputError("line_scans.length", length, "a finite length > 0 (m)")
-        object.__setattr__(self, "heights", h)
         object.__setattr__(self, "length", length)
-        object.__setattr__(self, "notes", tuple(self.notes))
-        object.__setattr__(self, "warnings", tuple(self.warnings))
-        object.__setattr__(self, "resolution", _resolution(self.resolution, "line_scans.resolution"))
+        self._settle(h, "line_scans")
 
     @classmethod
     def from_topography(cls, topography: Topography, axis: int = 0) -> LineScans:
@@ -179,10 +180,6 @@ class LineScans:
     @property
     def pixel_size(self) -> float:
         return self.length / self.heights.shape[1]
-
-    @property
-    def has_missing(self) -> bool:
-        return bool(np.isnan(self.heights).any())
 
     def __repr__(self) -> str:
         return (f"LineScans({self.nb_scans} × {self.nb_points} points, length {self.length:.4g} m, "
