@@ -164,9 +164,10 @@ FIELD_HELP: dict[str, FieldHelp] = {
     "theory.model": FieldHelp("Theory", "theory-the-theorys-settings-optional",
                      "\"critical-junction\", \"effective-medium\" or \"both\""),
     "theory.rarefaction": FieldHelp("Rarefaction model", "theory-the-theorys-settings-optional",
-                     "the slip model of gas flow through the gaps: \"kinetic\" (default: the kinetic theory of a slit of the "
-                     "critical junction's length, continuum to free-molecular flow; theory §11.4), \"beskok-karniadakis\" (an empirical "
-                     "model, up to 37 % less flow) or \"no-slip\" (the viscous law at every Knudsen number)"),
+                     "the slip model of gas flow through the gaps: \"kinetic\" (the kinetic theory of a slit, linearized BGK, from "
+                     "continuum through slip and transition to free-molecular flow, the slit as long as the critical junction's λ_c; "
+                     "theory §11.4), \"beskok-karniadakis\" (an empirical model: 4–37 % less flow than the kinetic one for "
+                     "Kn = 0.1–10, and a finite free-molecular limit) or \"no-slip\" (the viscous law at every Knudsen number)"),
     "theory.fluid_pressure": FieldHelp("Fluid pressure in the band", "theory-the-theorys-settings-optional",
                      "whether the fluid pressure p_f(x) in the band is taken off the contact pressure: \"coupled\" (the effective squeeze "
                      "pressure p − p_f; Q grows faster than linearly in ΔP and a row with ΔP at or beyond the lift-off pressure difference "
