@@ -22,8 +22,9 @@ from typing import Any
 
 from sealeak.cases import SimulationResult
 from sealeak.cases.band import BandColumns, BandEffectiveMediumColumns
+from sealeak.cases.capillarity import CapillaryColumns
 from sealeak.cases.convergence import Extrapolation, GridStatistics
-from sealeak.cases.gas import GasColumns, HeliumColumns
+from sealeak.cases.gas import GasColumns, HeliumColumns, PermeationColumns
 from sealeak.cases.leak_tests import DecayPrediction
 from sealeak.cases.linearity_check import LinearityCheck
 from sealeak.cases.model import BandSeal
@@ -32,6 +33,7 @@ from sealeak.cases.rig import RigPrediction
 from sealeak.cases.run import CaseResult
 from sealeak.cases.simulation import SweepRecord, ThresholdRecord
 from sealeak.cases.simulation_band import BandRecord, BandSimulationResult
+from sealeak.cases.simulation_map import MapInfo, MapSimulationResult
 from sealeak.lab.data import LeakData
 from sealeak.lab.fitting import LinearFit, ScaleFit
 from sealeak.lab.pressure_decay import DecayReadings, PressureDecaySetup, ScaleFromDecay
@@ -51,13 +53,19 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
     ("sealeak predict --json / --csv",
      "Each object of `results` (JSON) or row (CSV), one per squeeze pressure; a band seal's rows lead with its "
      "load (`compression` or `profile_scale`) and list the band fields instead of the uniform seal's. The "
-     "effective-medium fields join when the case asks for that model, the gas fields for a gas.",
+     "effective-medium fields join when the case asks for that model, the gas fields for a gas (the permeation "
+     "fields for an O-ring gas case with `rubber.permeability`), the capillarity fields for a liquid with a contact "
+     "angle (`_effective_medium` added for that model's).",
      (CriticalJunctionResult, EffectiveMediumResult, BandColumns, BandEffectiveMediumColumns, CaseResult, GasColumns,
-      HeliumColumns)),
+      HeliumColumns, PermeationColumns, CapillaryColumns)),
     ("sealeak simulate --json",
      "A uniform seal's per-pressure records (a gas adds its gas leak), then an O-ring's per-compression records; "
      "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`.",
      (SimulationResult, GasSimulation, BandSimulationResult)),
+    ("sealeak simulate --json (measured maps: --surface maps)",
+     "Per map (or sub-window) its statistics, and per map and squeeze pressure the exact flow and α against both "
+     "theories of the map's own C(q).",
+     (MapSimulationResult, MapInfo)),
     ("sealeak simulate --grid N1,N2,... --json (a convergence study)",
      "Beside each grid's `simulate` records: the grid's statistics, and each extrapolation to a → 0.",
      (GridStatistics, Extrapolation)),
