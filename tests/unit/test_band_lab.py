@@ -20,6 +20,7 @@ from sealeak.cases.prediction import conductance
 from sealeak.cases.rig import rig_prediction
 from sealeak.lab.data import read_leak_data
 from sealeak.lab.rig import drain_time, exponential_height
+from sealeak.render.notes import word
 
 SURFACE = """
 [surface]
@@ -244,7 +245,7 @@ def test_linearity_slope_of_a_profile_seal_at_its_load(tmp_path):
     # mean contact pressure of the scaled step: (0.2 × 0.1 + 0.3 × 0.2)/0.5 MPa × 1.2
     assert check.squeeze_pressure == pytest.approx(1.2 * (W1 * P1 + W2 * P2) / (W1 + W2), rel=1e-12)
     several = linearity(profile_case(tmp_path, scale="[1, 2]"), dp, k * dp)
-    assert several.model_slopes == {} and "2 values of conditions.profile_scale" in several.messages[0]
+    assert several.model_slopes == {} and "2 values of conditions.profile_scale" in word(several.messages[0])
 
 
 RIG = """

@@ -31,8 +31,7 @@ from .prediction import FloatArray, _band_effective_gap
 from .schema import CAPILLARITY_KEYS, Section, case_keys
 
 __all__ = ["CapillaryColumns", "CapillaryRows", "CAPILLARY_UNITS", "build_wetting", "uniform_capillarity",
-           "band_capillarity", "capillary_legend",
-           "entry_steps", "held_sweep"]
+           "band_capillarity", "entry_steps", "held_sweep"]
 
 #: The record key of each theory's columns (the effective medium's carry the suffix).
 SUFFIX = {"critical_junction": "", "effective_medium": "_effective_medium"}
@@ -185,19 +184,3 @@ def held_sweep(rows: CapillaryRows | None, row: int, pressure_difference: FloatA
     if rows is None:
         return q
     return np.where(pressure_difference < rows.entry_pressure[row], 0.0, q)
-
-
-def capillary_legend(case: Case) -> str:
-    """What the capillarity columns mean for this case: γ, the angles, and whether the liquid is held or drawn in."""
-    w = case.capillarity
-    assert w is not None
-    head = (f"capillarity: γ = {w.surface_tension * 1e3:.4g} mN/m ({w.surface_tension_source}), θ_rubber = "
-            f"{w.contact_angle_rubber:g}°, θ_surface = {w.contact_angle_surface:g}°; entry pressure "
-            "p_e = −γ(cos θ_r + cos θ_s)/u at the narrowest gap u")
-    if w.wets:
-        return (head + f": negative, the liquid wets the gap (cos θ_r + cos θ_s = {w.cosines:.3g} > 0) and capillarity "
-                "draws it in with the suction −p_e; the leak rate is the usual one")
-    if w.cosines == 0:
-        return head + ": zero (cos θ_r + cos θ_s = 0), no capillary pressure; the leak rate is the usual one"
-    return (head + ": where ΔP < p_e the liquid is held (held: yes, Q = 0); above p_e the leak rate is the usual one, "
-            "driven by the whole ΔP")

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import FileFormatError, InputError, SealeakError
-from ..io.leak_units import celsius, pv_throughput
+from ..io.leak_units import pv_throughput
 from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
@@ -295,8 +295,8 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     messages = _fit_messages(data, fits, load_name, loads)
     notes, outside = _outside_validity(data, fits, verdicts, inverse, load_name, loads)
     messages += notes
-    messages.append(f"leak rates compared as pV throughputs of {gas.gas.name} at {celsius(gas.temperature):.4g} °C "
-                    f"(Pa·m³/s), P_b = {gas.downstream_pressure:.6g} Pa and P_a = P_b + ΔP of each row")
+    messages.append(Note("fit_pv_throughputs", {"gas": gas.gas.name, "temperature": float(gas.temperature),
+                                                "downstream_pressure": float(gas.downstream_pressure)}))
     same = bool(np.allclose(dp, dp[0]))
     ref_dp = float(dp[0]) if same else case.pressure_difference
     pb = gas.downstream_pressure

@@ -37,7 +37,7 @@ from ..physics.gas import GasLeak, gas_leak, pressure_integral
 from ..physics.validity import strain_warning
 from .band import BandResult, run_band
 from .model import Case
-from .notes import NoteLike
+from .notes import Note, NoteLike
 from .schema import case_keys
 
 __all__ = ["DecayModel", "DecayPrediction", "decay_prediction", "DecayReadingsResult", "decay_readings", "decay_rig"]
@@ -193,23 +193,23 @@ def decay_prediction(case: Case) -> DecayPrediction:
                 return 0.0
 
             leak = None
-            messages.append(f"{name}: no leak channel at P0 = {p0:.6g} Pa: the pressure stays at {test.initial_pressure:.6g} Pa")
+            messages.append(Note("decay_no_leak_channel", {"model": name, "squeeze_pressure": float(p0),
+                                                           "initial_pressure": float(test.initial_pressure)}))
         decay = pressure_decay(test, throughput)
         out[name] = DecayModel(name=name, conductance=k, gap=gap, decay=decay, initial_leak=leak,
                                viscous_time_to_loss=viscous_decay_time(test, k))
         if leak is not None and leak.regime != "continuum" and rig.rarefaction_model != "no-slip":
-            messages.append(f"{name}: Kn = {leak.knudsen_mean:.3g} at the gap h = {gap:.3g} m ({leak.regime} flow): "
-                            f"rarefaction changes the leak rate by a factor {leak.throughput / leak.throughput_no_slip:.3g} "
-                            "against no-slip flow")
+            messages.append(Note("decay_rarefied", {"model": name, "knudsen": float(leak.knudsen_mean), "gap": float(gap),
+                                                    "regime": leak.regime,
+                                                    "factor": float(leak.throughput / leak.throughput_no_slip)}))
         if k > 0 and not math.isfinite(decay.time_to_loss):
-            messages.append(f"{name}: the volume did not lose ΔP = {test.loss:.6g} Pa within the simulated "
-                            f"{decay.time[-1]:.6g} s (rig.duration)")
+            messages.append(Note("decay_not_lost", {"model": name, "loss": float(test.loss),
+                                                    "duration": float(decay.time[-1])}))
     dp = test.initial_pressure - test.outside_pressure
     p_ref = float(band.max_contact_pressure[0]) if band is not None else p0
     if dp > 0.1 * p_ref:
-        what = "the peak contact pressure" if band is not None else "P0"
-        messages.append(f"P1 − P2 = {dp:.4g} Pa is not small against {what} {p_ref:.4g} Pa: the theory assumes that the "
-                        "gas pressure does not change the contact (p >> ΔP)")
+        messages.append(Note("decay_pressure_difference_large", {"pressure_difference": float(dp), "pressure": float(p_ref),
+                                                                 "band": band is not None}))
     return DecayPrediction(squeeze_pressure=p0, models=out, messages=tuple(messages), band=band)
 
 

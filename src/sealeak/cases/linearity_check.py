@@ -18,7 +18,7 @@ from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .fitting import _check_file_loads, _check_load_column
 from .model import Case
-from .notes import NoteLike
+from .notes import Note, NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name
 
 __all__ = ["LinearityCheck", "linearity", "run_linearity"]
@@ -96,7 +96,7 @@ def linearity(case: Case, pressure_difference: ArrayLike, leak_rate: ArrayLike,
     if p0 is not None:
         slopes, alpha_from_slope, messages = _model_slopes(case, line, {m: _conductance(case, [p0], m) for m in _MODELS})
     else:
-        messages.append("no squeeze pressure known (give --squeeze-pressure): no comparison with the models")
+        messages.append(Note("linearity_no_squeeze_pressure"))
     return LinearityCheck(line=line, squeeze_pressure=p0, squeeze_pressure_source=source, model_slopes=slopes,
                           alpha_from_slope=alpha_from_slope, messages=tuple(messages))
 
@@ -159,9 +159,6 @@ def _band_linearity(case: Case, line: LinearFit, load: float | None, source: str
         p_mean = float(res.mean_contact_pressure[0])
         slopes, alpha_from_slope, messages = _model_slopes(case, line, {m: ks[m] for m in _MODELS})
     else:
-        word = "compression" if band.load_name == "compression" else "profile scale"
-        messages.append(f"the case has {band.loads.size} values of conditions.{band.load_name} and the data file no "
-                        f"{band.load_name} column: give one {word} (in the case, or as a column with one value) to "
-                        "compare with the models")
+        messages.append(Note("linearity_one_load_needed", {"loads": int(band.loads.size), "load_name": band.load_name}))
     return LinearityCheck(line=line, squeeze_pressure=p_mean, squeeze_pressure_source=source, model_slopes=slopes,
                           alpha_from_slope=alpha_from_slope, messages=tuple(messages), load_name=band.load_name, load=load)

@@ -22,6 +22,17 @@ class Note:
     code: str
     values: Mapping[str, Any] = field(default_factory=dict)
 
+    def to_mapping(self) -> dict[str, Any]:
+        """The note as plain JSON values (what a task record keeps): ``{"code": ..., "values": {...}}``."""
+        return {"code": self.code, "values": dict(self.values)}
+
+    @staticmethod
+    def of(mapping: Mapping[str, Any] | str) -> NoteLike:
+        """The note :meth:`to_mapping` wrote (a sentence, as an older record kept it, passes unchanged)."""
+        if isinstance(mapping, str):
+            return mapping
+        return Note(str(mapping["code"]), dict(mapping.get("values", {})))
+
 
 #: A result's note: structured, or a sentence the cases layer still words itself.
 NoteLike = Note | str

@@ -49,7 +49,7 @@ from ..physics.spectrum import PowerSpectrum
 from .gas import gas_rows
 from .limits import MAX_REALIZATIONS, whole_number
 from .model import Case, GasConditions
-from .notes import NoteLike
+from .notes import Note, NoteLike
 from .options import grid_number, seed_number
 
 __all__ = ["Geometry", "junction_resolved", "run_ensemble", "RunSettings", "TaskSpec", "Records", "Flows", "TaskRecord", "FlowRecord",
@@ -126,8 +126,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     notes: list[NoteLike] = []
     if case.coupled:  # the simulated contact is pressed by P0 alone: compare with the theory without fluid pressure
         case = replace(case, fluid_pressure="ignored")
-        notes.append("the simulation presses the surface with the squeeze pressure alone (the fluid pressure in the band "
-                     "is not simulated), so its theory is the printed one, fluid_pressure = \"ignored\" (docs/theory.md §13)")
+        notes.append(Note("fluid_pressure_not_simulated"))
     plan = geometry.prepare(case, grid, grid_field, notes, progress)
     with StagedFolder(fields_dir) as fields:
         common = RunSettings(grid=grid, seed=seed, e_star=case.e_star, viscosity=case.fluid.viscosity,
@@ -147,7 +146,7 @@ def resolved_spectrum_cut(grid: int, size: float) -> float:
 
 
 def cut_spectrum(spectrum: PowerSpectrum, grid: int, size: float, grid_field: str, theory: str,
-                 q_low: float | None = None) -> tuple[PowerSpectrum, float | None, list[str]]:
+                 q_low: float | None = None) -> tuple[PowerSpectrum, float | None, list[Note]]:
     """The spectrum a ``grid`` × ``grid`` domain of side ``size`` (m) resolves, where it was cut, and notes.
 
     Wavevectors above :func:`resolved_spectrum_cut` are cut, and, with ``q_low`` (1/m), those below it (the
@@ -162,17 +161,16 @@ def cut_spectrum(spectrum: PowerSpectrum, grid: int, size: float, grid_field: st
     notes = []
     cut_at = q_cut if spectrum.q_max > q_cut else None
     if cut_at is not None:
-        notes.append(f"the {grid}x{grid} grid resolves q up to {q_cut:.4g} 1/m ({POINTS_PER_WAVELENGTH} points per "
-                     f"wavelength), below the spectrum's cut-off q1 = {spectrum.q_max:.4g} 1/m: the spectrum was "
-                     f"cut there for the simulation AND for the {theory} theory it is compared with")
+        notes.append(Note("spectrum_cut_by_grid", {"grid": grid, "q_cut": float(q_cut), "q1": float(spectrum.q_max),
+                                                   "points_per_wavelength": POINTS_PER_WAVELENGTH, "theory": theory}))
     low_cut = q_low if q_low is not None and spectrum.q_min < q_low else None
     if low_cut is not None:
-        notes.append(f"wavelengths longer than the widest band (q < q0 = {low_cut:.4g} 1/m) are left out of the "
-                     "surface: the theory treats them as waviness of the band, not roughness")
+        notes.append(Note("waviness_left_out", {"q0": float(low_cut)}))
     if not notes:
         return spectrum, None, notes
     cut = spectrum.truncated(low_cut, cut_at)
-    notes[-1] += f" (h_rms {spectrum.h_rms * 1e6:.4g} -> {cut.h_rms * 1e6:.4g} µm)"
+    # the last note also says how much of h_rms (m) the cut leaves
+    notes[-1] = Note(notes[-1].code, {**notes[-1].values, "h_rms": (float(spectrum.h_rms), float(cut.h_rms))})
     return cut, cut_at, notes
 
 

@@ -22,7 +22,7 @@ from ..physics.validity import strain_warning
 from .band import BandResult
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
-from .notes import NoteLike
+from .notes import Note, NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name, predict, predict_effective_medium
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
@@ -132,7 +132,8 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     area = rig.cylinder_area
     for name, k in k_of.items():
         if k == 0:
-            messages.append(f"{name}: no leak at P0 = {p0:.6g} Pa, the level stays at {rig.initial_height:g} m")
+            messages.append(Note("rig_no_leak", {"model": name, "squeeze_pressure": float(p0),
+                                                 "initial_height": float(rig.initial_height)}))
         columns[name] = water_column(rig, leak_of.get(name, _linear_leak(k)))
         tau[name] = area / (k * rig.density * rig.gravity) if k > 0 else float("inf")
         t_final[name] = (columns[name].time_to_final if name in leak_of else
@@ -141,10 +142,11 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     if band is not None:
         p_max = float(band.max_contact_pressure[0])
         if pressure_difference_not_small(p_max, dp0):
-            messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against the peak contact pressure {p_max:.4g} Pa: "
-                            "the theory assumes p >> ΔP")
+            messages.append(Note("rig_pressure_difference_large", {"pressure_difference": dp0, "pressure": p_max,
+                                                                   "band": True}))
     elif pressure_difference_not_small(p0, dp0):
-        messages.append(f"ΔP = ρgH0 = {dp0:.4g} Pa is not small against P0 = {p0:.4g} Pa: the theory assumes P0 >> ΔP")
+        messages.append(Note("rig_pressure_difference_large", {"pressure_difference": dp0, "pressure": float(p0),
+                                                               "band": False}))
     return RigPrediction(squeeze_pressure=p0, conductance=k_of, columns=columns, time_constant=tau, drain_time=t_final,
                          messages=tuple(messages), band=band)
 

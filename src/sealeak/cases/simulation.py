@@ -214,7 +214,7 @@ class PeriodicSquare:
         sim_case = replace(case, spectrum=spectrum)
         pressures = np.sort(np.asarray(case.squeeze_pressure, dtype=float))
         if not np.array_equal(pressures, case.squeeze_pressure):
-            notes.append("squeeze pressures were sorted in increasing order")
+            notes.append(Note("pressures_sorted"))
         q_cj, junction_cells, u_c = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
         contact_theory = sim_case.contact().area(sim_case.spectrum.q_max / sim_case.q0, pressures)
         return _SquarePlan(case=sim_case, spectrum=spectrum, size=size, cut_at=cut_at, pressures=pressures, q_cj=q_cj,
@@ -236,7 +236,7 @@ class PeriodicSquare:
         thresholds = np.full(records.realizations, np.nan)
         for rec in records.of(ThresholdRecord):
             thresholds[rec.realization] = rec.threshold
-            notes.extend(rec.notes)
+            notes.extend(map(Note.of, rec.notes))
         perc, q_seal = flows.percolates, flows.leak_rate
         area_m, area_s = mean_std(flows.area)
         gap_m, gap_s = mean_std(gap)
@@ -246,7 +246,7 @@ class PeriodicSquare:
         alpha_m, alpha_s = mean_std(alpha_r)
         thr_m, thr_s = mean_std(thresholds[:, None])
         if self.threshold and np.isnan(thresholds).all():
-            notes.append("no percolation threshold found (see the notes above)")
+            notes.append(Note("no_threshold_found"))
         gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
         return SimulationResult(
             squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
@@ -343,7 +343,7 @@ class ThresholdRecord(TaskRecord):
     KIND = "threshold"
 
     threshold: float = quantity("1", "relative contact area at which the fluid stops crossing (NaN: not found)")
-    notes: list[str] = field(default_factory=list)
+    notes: list[dict[str, Any]] = field(default_factory=list)  # each a Note as plain JSON (:meth:`Note.to_mapping`)
 
 
 def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) -> SweepRecord | ThresholdRecord:
@@ -363,7 +363,7 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     spec, r = task.spec, task.realization
     h = spec.surface(r)
     if task.kind == "threshold":
-        notes: list[str] = []
+        notes: list[dict[str, Any]] = []
         th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
         return ThresholdRecord(realization=r, threshold=float(th), notes=notes)
     log = FlowLog(gas=spec.gas is not None)
@@ -434,7 +434,7 @@ THRESHOLD_LADDER_STEPS = 12
 THRESHOLD_REL_TOL = 1e-3
 
 
-def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: float, notes: list[str],
+def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: float, notes: list[dict[str, Any]],
                r: int, workers: int = -1) -> float:
     """Relative contact area at which realisation ``r``'s non-contact area stops spanning inlet to outlet.
 
@@ -452,9 +452,9 @@ def _threshold(h: FloatArray, size: float, e_star: float, p_anchor: float, tol: 
         if spanning(p_anchor * 2.0**k) != first:
             break
     else:
-        where = "still spans" if first else "does not span even"
-        notes.append(f"realisation {r}: the fluid {where} at P0 = {p_anchor * 2.0 ** (step * THRESHOLD_LADDER_STEPS):.4g} "
-                     "Pa; no percolation threshold found")
+        notes.append(Note("threshold_not_found", {
+            "realization": int(r), "still_spans": bool(first),
+            "squeeze_pressure": float(p_anchor * 2.0 ** (step * THRESHOLD_LADDER_STEPS))}).to_mapping())
         return float("nan")
     p_a, p_b = sorted((p_anchor * 2.0 ** (k - step), p_anchor * 2.0**k))
     th = numerics.percolation_threshold(h, size, e_star, p_lo=p_a, p_hi=p_b, rel_tol=THRESHOLD_REL_TOL, tol=tol,

@@ -302,7 +302,7 @@ class OringBand:
         force = np.array([p.force_per_length for p in self.profiles])
         order = np.argsort(force, kind="stable")
         if not np.array_equal(order, np.arange(force.size)):
-            notes.append(f"{band.load_name.replace('_', ' ')}s were sorted in increasing order of force")
+            notes.append(Note("loads_sorted_by_force", {"load_name": band.load_name}))
         loads, force = self.loads[order], force[order]
         profiles = tuple(self.profiles[i] for i in order)
         model_q0 = np.asarray(band.q0, dtype=float)[order]

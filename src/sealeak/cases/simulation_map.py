@@ -49,7 +49,7 @@ from ..physics.spectrum import PowerSpectrum
 from ..topography import Topography, analyze, prepare
 from .builders import topography_analysis
 from .model import Case
-from .notes import NoteLike
+from .notes import Note, NoteLike
 from .pipeline import (
     FlowMethod,
     Flows,
@@ -100,7 +100,7 @@ class MapInfo:
     h_rms: float
     spectrum: PowerSpectrum = field(repr=False)
     heights: FloatArray = field(repr=False)
-    notes: tuple[str, ...] = ()
+    notes: tuple[NoteLike, ...] = ()
 
     @property
     def mirrored(self) -> bool:
@@ -164,29 +164,28 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
     if min(mx, my) < MIN_MAP_POINTS:
         raise InputError(field_name, name, f"has {h.shape[0]}x{h.shape[1]} points: a map (or each window) needs at "
                                            f"least {MIN_MAP_POINTS} points across its square")
-    notes: list[str] = []
+    notes: list[Note] = []
     square = (mx, my) == h.shape and abs(topo.size[0] - topo.size[1]) <= _SQUARE_TOL * side
     periodic = topo.periodic and square
     if topo.periodic and not square:
-        notes.append("the periodic map is not square: its central square is not periodic (levelled and mirrored)")
+        notes.append(Note("map_not_square"))
     if (mx, my) != h.shape:
         x0, y0 = (h.shape[0] - mx) // 2, (h.shape[1] - my) // 2
         h = h[x0:x0 + mx, y0:y0 + my]
-        notes.append(f"cut to its central square of {side * 1e6:.4g} µm ({mx}x{my} of {topo.nb_grid_pts[0]}x"
-                     f"{topo.nb_grid_pts[1]} points)")
+        notes.append(Note("map_cut_to_square", {"side": float(side), "points": (mx, my),
+                                                "map_points": tuple(int(n) for n in topo.nb_grid_pts)}))
     cropped = Topography(heights=h, size=(side, side), periodic=periodic, source=label)
     analysis = analyze(cropped, fit=False, low_cut=1.0)
     flat = np.array(prepare(cropped, detrend="mean" if periodic else "plane", window="none").surface.heights)
     if periodic:
-        notes.append("periodic map: its mean removed")
+        notes.append(Note("map_mean_removed"))
     else:
         flat = np.concatenate([flat, flat[::-1]], axis=0)
         flat = np.concatenate([flat, flat[:, ::-1]], axis=1)
-        notes.append("not periodic: levelled (plane removed) and mirrored into a periodic 2L x 2L square "
-                     "(artefact: slope kinks along the mirror lines)")
+        notes.append(Note("map_mirrored"))
     n = flat.shape[0] + flat.shape[0] % 2 if grid is None else grid
     if flat.shape != (n, n):
-        notes.append(f"resampled from {flat.shape[0]}x{flat.shape[1]} to the {n}x{n} solver grid (Fourier)")
+        notes.append(Note("map_resampled", {"points": flat.shape, "grid": n}))
         flat = signal.resample(signal.resample(flat, n, axis=0), n, axis=1)
     domain = side if periodic else 2.0 * side
     # the band of the theories: the map's C(q) (its reliable range) cut where the grid resolves (cut_spectrum)
@@ -194,7 +193,7 @@ def solver_map(topo: Topography, grid: int | None, *, label: str = "", field_nam
     modes = np.fft.rfft2(flat)
     modes[numerics.wavevector_grid(n, domain) > q_band] = 0.0
     flat = np.fft.irfft2(modes, s=(n, n))
-    notes.append(f"low-pass filtered to q <= {q_band:.4g} 1/m, the band of the theories it is compared with")
+    notes.append(Note("map_low_pass", {"q": float(q_band)}))
     stats = analysis.sources[0].statistics
     return MapInfo(label=label, side=side, points=int(min(mx, my)), domain=domain, periodic=periodic,
                    skewness=_value(stats.skewness), kurtosis=_value(stats.kurtosis), h_rms=_value(stats.h_rms),
@@ -274,13 +273,14 @@ class MapSquares:
         """Each map on the solver grid, its own C(q) cut to the grid, both theories of it at q0 = 2π/L."""
         pressures = np.sort(np.asarray(case.squeeze_pressure, dtype=float))
         if not np.array_equal(pressures, case.squeeze_pressure):
-            notes.append("squeeze pressures were sorted in increasing order")
+            notes.append(Note("pressures_sorted"))
         infos, cases, q_cj, q_em, cells = [], [], [], [], []
         for topo in self.maps:
             info = solver_map(topo, grid, field_name=self.field_name)
             spectrum, cut_at, cut_notes = cut_spectrum(info.spectrum, grid, info.domain, grid_field,
                                                        "critical-junction and effective-medium")
-            map_notes: list[NoteLike] = [f"{info.label}: {n}" for n in (*info.notes, *cut_notes)]
+            map_notes: list[NoteLike] = [Note("of_map", {"label": info.label, "note": n})
+                                         for n in (*info.notes, *cut_notes)]
             # q0 = 2π/domain: the map's C(q) starts at 2π/L (it is zero below), so the theories are those of
             # q0 = 2π/L, and the grid cells across the critical wavelength are counted on the solver's grid
             sim_case = replace(case, spectrum=spectrum, q0=2.0 * np.pi / info.domain, alpha=1.0,
@@ -318,7 +318,7 @@ class MapSquares:
         thresholds = np.full(records.realizations, np.nan)
         for rec in records.of(ThresholdRecord):
             thresholds[rec.realization] = rec.threshold
-            notes.extend(rec.notes)
+            notes.extend(map(Note.of, rec.notes))
         perc = flows.percolates
         a_cj = np.vstack([ratio(perc[r:r + 1], flows.leak_rate[r:r + 1], plan.q_cj[r]) for r in range(records.realizations)])
         a_em = np.vstack([ratio(perc[r:r + 1], flows.leak_rate[r:r + 1], plan.q_em[r]) for r in range(records.realizations)])

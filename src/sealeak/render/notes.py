@@ -11,9 +11,11 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 from ..cases.notes import Note, NoteLike
+from ..io.leak_units import celsius
 from ..io.units import format_quantity
+from ..physics.capillarity import Wetting
 
-__all__ = ["load_text", "loads_text", "load_axis_label", "kpa_text", "word", "worded"]
+__all__ = ["load_text", "loads_text", "load_axis_label", "kpa_text", "capillary_legend", "word", "worded"]
 
 
 def load_text(name: str, value: float) -> str:
@@ -180,6 +182,102 @@ def _held_by_capillarity(v: Mapping[str, Any]) -> str:
             "not pass it: Q = 0 (held_by_capillarity)")
 
 
+def _fit_pv_throughputs(v: Mapping[str, Any]) -> str:
+    return (f"leak rates compared as pV throughputs of {v['gas']} at {celsius(v['temperature']):.4g} °C "
+            f"(Pa·m³/s), P_b = {v['downstream_pressure']:.6g} Pa and P_a = P_b + ΔP of each row")
+
+
+def _decay_no_leak_channel(v: Mapping[str, Any]) -> str:
+    return (f"{v['model']}: no leak channel at P0 = {v['squeeze_pressure']:.6g} Pa: the pressure stays at "
+            f"{v['initial_pressure']:.6g} Pa")
+
+
+def _decay_rarefied(v: Mapping[str, Any]) -> str:
+    return (f"{v['model']}: Kn = {v['knudsen']:.3g} at the gap h = {v['gap']:.3g} m ({v['regime']} flow): "
+            f"rarefaction changes the leak rate by a factor {v['factor']:.3g} against no-slip flow")
+
+
+def _decay_not_lost(v: Mapping[str, Any]) -> str:
+    return (f"{v['model']}: the volume did not lose ΔP = {v['loss']:.6g} Pa within the simulated "
+            f"{v['duration']:.6g} s (rig.duration)")
+
+
+def _decay_pressure_difference_large(v: Mapping[str, Any]) -> str:
+    what = "the peak contact pressure" if v["band"] else "P0"
+    return (f"P1 − P2 = {v['pressure_difference']:.4g} Pa is not small against {what} {v['pressure']:.4g} Pa: the "
+            "theory assumes that the gas pressure does not change the contact (p >> ΔP)")
+
+
+def _rig_no_leak(v: Mapping[str, Any]) -> str:
+    return f"{v['model']}: no leak at P0 = {v['squeeze_pressure']:.6g} Pa, the level stays at {v['initial_height']:g} m"
+
+
+def _rig_pressure_difference_large(v: Mapping[str, Any]) -> str:
+    if v["band"]:
+        return (f"ΔP = ρgH0 = {v['pressure_difference']:.4g} Pa is not small against the peak contact pressure "
+                f"{v['pressure']:.4g} Pa: the theory assumes p >> ΔP")
+    return (f"ΔP = ρgH0 = {v['pressure_difference']:.4g} Pa is not small against P0 = {v['pressure']:.4g} Pa: the "
+            "theory assumes P0 >> ΔP")
+
+
+def _linearity_one_load_needed(v: Mapping[str, Any]) -> str:
+    name = v["load_name"]
+    one = "compression" if name == "compression" else "profile scale"
+    return (f"the case has {v['loads']} values of conditions.{name} and the data file no {name} column: give one "
+            f"{one} (in the case, or as a column with one value) to compare with the models")
+
+
+def _h_rms_change(v: Mapping[str, Any]) -> str:
+    """The spectrum's h_rms (m) before and after a cut, in µm, if the note carries it."""
+    if v.get("h_rms") is None:
+        return ""
+    before, after = v["h_rms"]
+    return f" (h_rms {before * 1e6:.4g} -> {after * 1e6:.4g} µm)"
+
+
+def _spectrum_cut_by_grid(v: Mapping[str, Any]) -> str:
+    grid = v["grid"]
+    return (f"the {grid}x{grid} grid resolves q up to {v['q_cut']:.4g} 1/m ({v['points_per_wavelength']} points per "
+            f"wavelength), below the spectrum's cut-off q1 = {v['q1']:.4g} 1/m: the spectrum was cut there for the "
+            f"simulation AND for the {v['theory']} theory it is compared with" + _h_rms_change(v))
+
+
+def _waviness_left_out(v: Mapping[str, Any]) -> str:
+    return (f"wavelengths longer than the widest band (q < q0 = {v['q0']:.4g} 1/m) are left out of the surface: the "
+            "theory treats them as waviness of the band, not roughness" + _h_rms_change(v))
+
+
+def _threshold_not_found(v: Mapping[str, Any]) -> str:
+    where = "still spans" if v["still_spans"] else "does not span even"
+    return (f"realisation {v['realization']}: the fluid {where} at P0 = {v['squeeze_pressure']:.4g} Pa; no "
+            "percolation threshold found")
+
+
+def _map_cut_to_square(v: Mapping[str, Any]) -> str:
+    (mx, my), (nx, ny) = v["points"], v["map_points"]
+    return f"cut to its central square of {v['side'] * 1e6:.4g} µm ({mx}x{my} of {nx}x{ny} points)"
+
+
+def _map_resampled(v: Mapping[str, Any]) -> str:
+    (nx, ny), n = v["points"], v["grid"]
+    return f"resampled from {nx}x{ny} to the {n}x{n} solver grid (Fourier)"
+
+
+def capillary_legend(w: Wetting) -> str:
+    """What the capillarity columns mean for a case's wetting ``w``: γ, the angles, and whether the liquid is held
+    or drawn in."""
+    head = (f"capillarity: γ = {w.surface_tension * 1e3:.4g} mN/m ({w.surface_tension_source}), θ_rubber = "
+            f"{w.contact_angle_rubber:g}°, θ_surface = {w.contact_angle_surface:g}°; entry pressure "
+            "p_e = −γ(cos θ_r + cos θ_s)/u at the narrowest gap u")
+    if w.wets:
+        return (head + f": negative, the liquid wets the gap (cos θ_r + cos θ_s = {w.cosines:.3g} > 0) and capillarity "
+                "draws it in with the suction −p_e; the leak rate is the usual one")
+    if w.cosines == 0:
+        return head + ": zero (cos θ_r + cos θ_s = 0), no capillary pressure; the leak rate is the usual one"
+    return (head + ": where ΔP < p_e the liquid is held (held: yes, Q = 0); above p_e the leak rate is the usual one, "
+            "driven by the whole ΔP")
+
+
 _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "held_by_capillarity": _held_by_capillarity,
     "junction_unresolved": _junction_unresolved,
@@ -195,6 +293,33 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "fit_outside_validity": _fit_outside_validity,
     "fit_pressure_difference_large": _fit_pressure_difference_large,
     "extrapolation_doubtful": _extrapolation_doubtful,
+    "fit_pv_throughputs": _fit_pv_throughputs,
+    "decay_no_leak_channel": _decay_no_leak_channel,
+    "decay_rarefied": _decay_rarefied,
+    "decay_not_lost": _decay_not_lost,
+    "decay_pressure_difference_large": _decay_pressure_difference_large,
+    "rig_no_leak": _rig_no_leak,
+    "rig_pressure_difference_large": _rig_pressure_difference_large,
+    "linearity_one_load_needed": _linearity_one_load_needed,
+    "spectrum_cut_by_grid": _spectrum_cut_by_grid,
+    "waviness_left_out": _waviness_left_out,
+    "threshold_not_found": _threshold_not_found,
+    "loads_sorted_by_force": lambda v: f"{v['load_name'].replace('_', ' ')}s were sorted in increasing order of force",
+    "map_not_square": lambda v: "the periodic map is not square: its central square is not periodic (levelled and mirrored)",
+    "map_cut_to_square": _map_cut_to_square,
+    "map_mean_removed": lambda v: "periodic map: its mean removed",
+    "map_mirrored": lambda v: ("not periodic: levelled (plane removed) and mirrored into a periodic 2L x 2L square "
+                               "(artefact: slope kinks along the mirror lines)"),
+    "map_resampled": _map_resampled,
+    "map_low_pass": lambda v: f"low-pass filtered to q <= {v['q']:.4g} 1/m, the band of the theories it is compared with",
+    "fluid_pressure_not_simulated": lambda v: (
+        "the simulation presses the surface with the squeeze pressure alone (the fluid pressure in the band is not "
+        "simulated), so its theory is the printed one, fluid_pressure = \"ignored\" (docs/theory.md §13)"),
+    "linearity_no_squeeze_pressure": lambda v: ("no squeeze pressure known (give --squeeze-pressure): no comparison "
+                                                "with the models"),
+    "pressures_sorted": lambda v: "squeeze pressures were sorted in increasing order",
+    "no_threshold_found": lambda v: "no percolation threshold found (see the notes above)",
+    "of_map": lambda v: f"{v['label']}: {word(v['note'])}",
 }
 
 

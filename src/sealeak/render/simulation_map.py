@@ -32,7 +32,7 @@ def _map_doc(info: MapInfo, res: MapSimulationResult, r: int) -> dict[str, Any]:
             "periodic": info.periodic, "mirrored": info.mirrored, "h_rms": json_value(info.h_rms),
             "skewness": json_value(info.skewness), "kurtosis": json_value(info.kurtosis),
             "spectrum_h_rms": json_value(info.spectrum.h_rms),
-            "percolation_threshold": json_value(res.percolation_threshold[r]), "notes": list(info.notes),
+            "percolation_threshold": json_value(res.percolation_threshold[r]), "notes": worded(info.notes),
             "results": rows}
 
 

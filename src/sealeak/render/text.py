@@ -7,12 +7,11 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..cases import Case, CaseResult
-from ..cases.capillarity import capillary_legend
 from ..io.leak_units import celsius, to_ml_per_min
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import pressures_text
-from .notes import load_text, worded
+from .notes import capillary_legend, load_text, worded
 
 __all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt", "gas_tables", "gas_notes", "band_legend",
            "GAS_INCOMPRESSIBLE_NOTE"]
@@ -183,7 +182,8 @@ def capillary_tables(r: CaseResult) -> list[tuple[str, list[GasColumn]]]:
 
 def capillary_notes(r: CaseResult) -> list[str]:
     """What the capillarity tables mean: γ, the contact angles, and whether the liquid is held or drawn in."""
-    return [capillary_legend(r.case)] if r.capillary else []
+    wetting = r.case.capillarity
+    return [capillary_legend(wetting)] if r.capillary and wetting is not None else []
 
 
 def _gas_block(r: CaseResult) -> list[str]:
