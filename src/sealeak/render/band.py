@@ -554,7 +554,8 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
     if any(not np.asarray(s.valid).all() for s in series):
         notes.append("hollow: outside the theory's validity where the pressure is highest (▽: below the axis)")
     if not gas and any(r.capillary for r in results):  # docs/theory.md §12
-        notes.append("capillarity holds the liquid where ΔP is below the narrowest gap's entry pressure; dashed: without it")
+        notes.append("capillarity holds the liquid where ΔP is below the narrowest gap's entry pressure; the dashed "
+                     "uniform seal is drawn without it")
     plotstyle.subtitle(ax, "\n".join(notes))
     plotstyle.finish_axes(ax)
     if gas:
