@@ -273,13 +273,14 @@ class _Table:
 
 def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
-    between them, refined until σ changes by < 1e-6 at the new points ."""
+    between them, refined until σ changes by < :data:`TABLE_RTOL` at the new points, at most to
+    2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range)."""
     exact = _em_exact(case, contact)
     table = _Table(exact, p_max, TABLE_POINTS[0], floor)
-    while table.ok and table.s.size < 2 * TABLE_POINTS[1]:
+    while table.ok and table.s.size < 2 * TABLE_POINTS[1] - 1:
         finer = table.refine(exact)
         new = finer.values[1::2]
-        if np.all(np.abs(table(np.exp(finer.s[1::2])) / new - 1.0) < 1e-6):
+        if np.all(np.abs(table(np.exp(finer.s[1::2])) / new - 1.0) < TABLE_RTOL):
             return finer
         table = finer
     return table if table.ok else exact
@@ -418,9 +419,11 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                     em_int.append(ge)
                     em_change.append(change)
                     em_ok.append(ok)
-                    if case.coupled:
-                        em_sigma = _em_sigma_table(case, contact, profile.max_pressure, LIFT_OFF_FLOOR)
-                        em_flow.append(coupled_band_flow(profile, em_sigma, dp))
+                    if case.coupled:  # a band sealed at its peak stays sealed: σ is tabulated up to the mean only
+                        top = profile.mean_pressure if ge.sealed else profile.max_pressure
+                        em_sigma = _em_sigma_table(case, contact, top, LIFT_OFF_FLOOR)
+                        em_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if ge.sealed
+                                       else coupled_band_flow(profile, em_sigma, dp))
                         em_mean.append(_mean_sigma(case, em_sigma, profile.mean_pressure))
                     else:
                         em_mean.append(float(_em_exact(case, contact)(np.array([profile.mean_pressure]))[0]))
