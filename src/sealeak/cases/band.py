@@ -420,8 +420,8 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                     em_change.append(change)
                     em_ok.append(ok)
                     if case.coupled:  # a band sealed at its peak stays sealed: σ is tabulated up to the mean only
-                        top = profile.mean_pressure if ge.sealed else profile.max_pressure
-                        em_sigma = _em_sigma_table(case, contact, top, LIFT_OFF_FLOOR)
+                        p_top = profile.mean_pressure if ge.sealed else profile.max_pressure
+                        em_sigma = _em_sigma_table(case, contact, p_top, LIFT_OFF_FLOOR)
                         em_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if ge.sealed
                                        else coupled_band_flow(profile, em_sigma, dp))
                         em_mean.append(_mean_sigma(case, em_sigma, profile.mean_pressure))

@@ -24,6 +24,8 @@ vanishing pressure.
 
 from __future__ import annotations
 
+import bisect
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -150,8 +152,15 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     spline = CubicSpline(np.log(s_grid), np.log(sigma_grid))
     lo, hi = float(np.log(floor)), float(np.log(p_max))
 
-    def sigma(s: float) -> float:
-        return float(np.exp(spline(min(max(np.log(s) if s > 0 else lo, lo), hi))))
+    knots = spline.x.tolist()
+    pieces_c = [tuple(spline.c[:, i].tolist()) for i in range(len(knots) - 1)]
+
+    def sigma(s: float) -> float:  # the spline at one point, in plain floats (the ODE calls it ~10⁵ times)
+        t = min(max(math.log(s) if s > 0 else lo, lo), hi)
+        i = min(max(bisect.bisect_right(knots, t) - 1, 0), len(pieces_c) - 1)
+        a, b, c, d = pieces_c[i]
+        h = t - knots[i]
+        return math.exp(((a * h + b) * h + c) * h + d)
 
     r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
     if dp <= 0:
