@@ -25,6 +25,31 @@ alpha = 0.2
 """
 
 
+#: An O-ring case (the `o-ring` example's seal and surface, water, three compressions).
+ORING = """
+title = "O-ring test"
+[surface]
+model = "self-affine"
+h_rms = "1.5 um"
+hurst = 0.8
+rolloff_wavelength = "100 um"
+cutoff_wavelength = "10 nm"
+[rubber]
+youngs_modulus = "5.5 MPa"
+poisson_ratio = 0.5
+[seal]
+shape = "o-ring"
+cross_section_diameter = "2.62 mm"
+inner_diameter = "20 mm"
+[fluid]
+name = "water"
+viscosity = "1 mPa*s"
+[conditions]
+compression = ["10 %", "15 %", "30 %"]
+pressure_difference = "1 bar"
+"""
+
+
 def edit(old, new, text=BASE):
     assert old in text, old
     return text.replace(old, new)

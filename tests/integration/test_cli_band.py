@@ -8,29 +8,7 @@ import numpy as np
 import pytest
 
 from sealeak.cli import main
-
-ORING = """
-title = "O-ring test"
-[surface]
-model = "self-affine"
-h_rms = "1.5 um"
-hurst = 0.8
-rolloff_wavelength = "100 um"
-cutoff_wavelength = "10 nm"
-[rubber]
-youngs_modulus = "5.5 MPa"
-poisson_ratio = 0.5
-[seal]
-shape = "o-ring"
-cross_section_diameter = "2.62 mm"
-inner_diameter = "20 mm"
-[fluid]
-name = "water"
-viscosity = "1 mPa*s"
-[conditions]
-compression = ["10 %", "15 %", "30 %"]
-pressure_difference = "1 bar"
-"""
+from tests.casefiles import ORING
 
 PROFILE_CSV = """# a lip-like profile
 x (mm), pressure (MPa)

@@ -14,7 +14,7 @@ from sealeak.physics.capillarity import Wetting, capillary_pressure
 from sealeak.physics.properties import surface_tension
 from sealeak.render.notes import worded
 from sealeak.render.text import capillary_tables, prediction_table
-from tests.casefiles import BASE, edit
+from tests.casefiles import BASE, ORING, edit
 
 #: Water at 20 °C: 72.74 mN/m (IAPWS, Revised release on the surface tension of ordinary water substance, 2014).
 WATER_20C = 72.74e-3
@@ -103,36 +103,17 @@ def test_both_theories_get_their_own_columns_and_the_table_shows_them():
     assert all([k for k in rec] == list(r.units) for rec in r.records())
 
 
-ORING = """
-title = "O-ring"
-[surface]
-model = "self-affine"
-h_rms = "1.5 um"
-hurst = 0.8
-rolloff_wavelength = "100 um"
-cutoff_wavelength = "10 nm"
-[rubber]
-shore_a = 70
-[seal]
-shape = "o-ring"
-cross_section_diameter = "2.62 mm"
-inner_diameter = "20 mm"
-[fluid]
-name = "water"
-viscosity = "1 mPa*s"
-[conditions]
-compression = ["10 %", "20 %"]
-pressure_difference = "1 bar"
-"""
+#: Two compressions of the shared O-ring case: a wider and a narrower critical gap.
+TWO_LOADS = edit('compression = ["10 %", "15 %", "30 %"]', 'compression = ["10 %", "20 %"]', ORING)
 
 
 def test_an_o_ring_holds_water_at_its_critical_gap_where_the_pressure_is_highest():
-    plain = run_case(parse_cases(ORING)[0]).band
+    plain = run_case(parse_cases(TWO_LOADS)[0]).band
     gamma = surface_tension("water", 293.15)[0]
     entry = -2 * gamma * math.cos(math.radians(110)) / plain.critical_gap_at_max_pressure
     assert np.isfinite(entry).all() and entry[1] > entry[0]  # the narrower gap at the higher compression
     dp = math.sqrt(entry[0] * entry[1])  # between the two: the first load leaks, the second is held
-    text = edit('pressure_difference = "1 bar"', f'pressure_difference = "{dp} Pa"', ORING)
+    text = edit('pressure_difference = "1 bar"', f'pressure_difference = "{dp} Pa"', TWO_LOADS)
     uncoupled = run_case(parse_cases(text)[0]).band.critical_junction.leak_rate
     r = run_case(parse_cases(edit('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\ncontact_angle = 110', text))[0])
     rows = r.capillary["critical_junction"]

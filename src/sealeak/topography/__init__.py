@@ -28,6 +28,7 @@ and :func:`surface_statistics`.
 
 from . import _spectrum
 from ._analysis import Analysis, AnalysisOptions, SourceAnalysis, analyze
+from ._common import npy_header
 from ._fit import SelfAffineFit, fit_self_affine
 from ._options import analysis_options, lengths_option
 from ._preprocess import Prepared, hann_window, prepare
@@ -52,6 +53,7 @@ from ._units import MissingUnitsError, case_option_names, cli_option_names, leng
 from ._writers import HEIGHT_MAP_SUFFIXES, height_map_outputs, write_height_map
 
 __all__ = [
+    "npy_header",
     "analysis_options",
     "lengths_option",
     "Topography",

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,7 +18,7 @@ from ..errors import FileFormatError, InputError
 from ._types import NO_DATA_MAGNITUDE, LineScans, Topography
 from ._units import MissingUnitsError, option_name, parse_length
 
-__all__ = ["MAX_POINTS", "check_points", "Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
+__all__ = ["MAX_POINTS", "check_points", "npy_header", "Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
            "resample_nonuniform", "mark_no_data"]
 
 Surface = Topography | LineScans
@@ -29,6 +29,15 @@ INSTALL_HINT = "pip install 'sealeak[formats]'"
 #: file declares, before its data are read or decompressed, so a small compressed file cannot expand
 #: into all of memory.
 MAX_POINTS = 8192 * 8192
+
+
+def npy_header(stream: IO[bytes]) -> tuple[tuple[int, ...], np.dtype[Any]]:
+    """The shape and type an ``.npy`` stream declares in its header, read without its data (numpy's format
+    functions; ValueError for a damaged header)."""
+    version = np.lib.format.read_magic(stream)
+    read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    shape, _fortran, dtype = read(stream)
+    return tuple(int(n) for n in shape), dtype
 
 
 def check_points(path: Path | str, shape: Sequence[int]) -> None:

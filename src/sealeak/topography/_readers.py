@@ -35,6 +35,7 @@ from ._common import (
     ignored_notes,
     lateral_size,
     mark_no_data,
+    npy_header,
     require_units,
     resample_nonuniform,
 )
@@ -335,20 +336,13 @@ _NPZ_KEYS = ("size", "pixel_size", "height_unit", "periodic")
 _NPZ_KEYS_MAX = 16
 
 
-def _declared_shape(fh: Any) -> tuple[int, ...]:
-    """The shape an ``.npy`` stream declares in its header, read without its data (numpy's format functions)."""
-    version = np.lib.format.read_magic(fh)
-    read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-    return tuple(read(fh)[0])
-
-
 def _check_declared(path: Path, members: bool) -> None:
     """Refuse an ``.npy`` (or each array of an ``.npz``: ``members``) that declares more than MAX_POINTS heights,
     before its data are read or decompressed. A header that cannot be read is left to :func:`numpy.load`."""
     try:
         if not members:
             with open(path, "rb") as fh:
-                shapes = [_declared_shape(fh)]
+                shapes = [npy_header(fh)[0]]
         else:
             with zipfile.ZipFile(path) as z:
                 names = z.namelist()
@@ -358,7 +352,7 @@ def _check_declared(path: Path, members: bool) -> None:
                 shapes = []
                 for name in names:
                     with z.open(name) as fh:
-                        shapes.append(_declared_shape(fh))
+                        shapes.append(npy_header(fh)[0])
     except FileFormatError:
         raise
     except Exception:  # noqa: BLE001 - damaged headers are reported by numpy.load below, in its words

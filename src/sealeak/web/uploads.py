@@ -18,13 +18,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, BinaryIO
 
-import numpy as np
 from python_multipart import MultipartParser
 from python_multipart.exceptions import FormParserError
 from python_multipart.multipart import parse_options_header
 from starlette.exceptions import HTTPException
 from starlette.requests import Request
 
+from ..topography import npy_header
 from .casework import upload_name
 from .security import BodyTooLarge
 
@@ -201,7 +201,5 @@ def check_expansion(path: Path, name: str, limit: int) -> None:
 
 def _npy_bytes(f: IO[bytes]) -> int:
     """The bytes of the array a ``.npy`` stream's header declares."""
-    version = np.lib.format.read_magic(f)
-    read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-    shape, _fortran, dtype = read_header(f)
-    return math.prod(int(n) for n in shape) * dtype.itemsize
+    shape, dtype = npy_header(f)
+    return math.prod(shape) * dtype.itemsize
