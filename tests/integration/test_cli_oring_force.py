@@ -46,6 +46,8 @@ def test_factor_two_doubles_the_force_and_the_mean_pressure(tmp_path, capsys):
         assert d["mean_contact_pressure"] == pytest.approx(2 * p["mean_contact_pressure"], rel=1e-12)
         assert d["contact_width"] == p["contact_width"]
         assert (d["leak_rate"] or 0.0) <= (p["leak_rate"] or 0.0)  # more force, less leak
+    both = [(p["leak_rate"], d["leak_rate"]) for p, d in zip(plain, doubled, strict=True) if p["leak_rate"] and d["leak_rate"]]
+    assert both and all(q2 < q1 for q1, q2 in both)  # a load that leaks either way leaks strictly less
 
 
 def test_a_table_of_lindleys_values_reproduces_lindley(tmp_path, capsys):
