@@ -58,6 +58,7 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
             aspect_ratio=case.seal.aspect_ratio,
             alpha=case.alpha,
             percolation_threshold=case.percolation_threshold,
+            fluid_pressure_neglected=not case.coupled,
         )
         return _coupled(case, res, _cj_sigma(case, contact)) if case.coupled else res
 
@@ -87,11 +88,10 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
 
 def _coupled(case: Case, res: ResultT, sigma: Callable[[FloatArray], FloatArray]) -> ResultT:
     """``res`` with the leak rate of the fluid pressure acting on the contact: (Ly/Lx) ∫_{P0−ΔP}^{P0} σ(s) ds
-    (docs/theory.md eq. 13.2; rows with ΔP ≥ P0 at the lift-off limit ΔP = P0) and without the note that the
-    theory neglects the fluid pressure."""
+    (docs/theory.md eq. 13.2; rows with ΔP ≥ P0 at the lift-off limit ΔP = P0)."""
     integral = effective_pressure_integral(sigma, res.squeeze_pressure, res.pressure_difference)
     leak = np.where(res.percolates, res.aspect_ratio * integral.value, np.nan)
-    return replace(res, leak_rate=leak, messages=tuple(m for m in res.messages if "ΔP is not small against P0" not in m))
+    return replace(res, leak_rate=leak)
 
 
 def conductance(case: Case, squeeze_pressure: ArrayLike, model: Model = "critical-junction") -> FloatArray:

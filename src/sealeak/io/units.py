@@ -58,6 +58,7 @@ SI_UNITS = {
     "mass": "kg",
     "force": "N",
     "force_per_length": "N/m",
+    "surface_tension": "N/m",  # a force per length too; its own name words its messages
     "area_per_time": "m^2/s",
     "time": "s",
     "acceleration": "m/s^2",
@@ -78,6 +79,7 @@ DIMENSIONS = {
     "mass": "[mass]",
     "force": "[mass] * [length] / [time] ** 2",
     "force_per_length": "[mass] / [time] ** 2",
+    "surface_tension": "[mass] / [time] ** 2",
     "area_per_time": "[length] ** 2 / [time]",
     "time": "[time]",
     "acceleration": "[length] / [time] ** 2",
@@ -97,17 +99,13 @@ _EXAMPLES = {
     "mass": "'2 kg'",
     "force": "'20 N'",
     "force_per_length": "'5 N/mm', '5000 N/m'",
+    "surface_tension": "'72.8 mN/m', '0.0728 N/m'",
     "area_per_time": "'1e-10 m^2/s', '1e-6 cm^2/s', '1e-13 Pa*m^3*m/(m^2*s*Pa)'",
     "time": "'10 s', '5 min'",
     "acceleration": "'9.81 m/s^2'",
     "volume": "'0.5 l', '250 ml', '1e-4 m^3'",
     "dimensionless": "'0.5'",
 }
-
-# a liquid's surface tension (capillarity, docs/case-files.md): force per length
-SI_UNITS["surface_tension"] = "N/m"
-DIMENSIONS["surface_tension"] = "[mass] / [time] ** 2"
-_EXAMPLES["surface_tension"] = "'72.8 mN/m', '0.0728 N/m'"
 
 #: The longest quantity or unit text read (longer text is refused, not parsed).
 MAX_TEXT = 200

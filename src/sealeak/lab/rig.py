@@ -34,7 +34,7 @@ from ..errors import ConvergenceError, FileFormatError, InputError, UnitError, p
 from ..io.quantities import quantity
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
-from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas
+from ..physics.gas import DEFAULT_RAREFACTION, Gas, check_rarefaction_model
 from ..physics.seal import STANDARD_GRAVITY, Seal
 from .pressure_decay import PressureDecaySetup
 
@@ -306,8 +306,7 @@ class DecayRigSetup:
     gas_note: str = ""
 
     def __post_init__(self) -> None:
-        if self.rarefaction_model not in RAREFACTION_MODELS:
-            raise InputError("rarefaction_model", self.rarefaction_model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
+        check_rarefaction_model(self.rarefaction_model)
         if self.load is not None:
             positive_number("load", self.load)
         if abs(self.gas.temperature - self.test.temperature) > 1e-9 * self.test.temperature:

@@ -57,7 +57,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError, positive_values
-from ..physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas, check_pressures, kinetic_pressure_integral, slip_factor
+from ..physics.gas import DEFAULT_RAREFACTION, Gas, check_pressures, check_rarefaction_model, kinetic_pressure_integral, slip_factor
 from ._checks import square_grid
 from ._flow import (
     CONSERVATION_TOL,
@@ -172,8 +172,7 @@ def secant_slip_factor(knudsen_scale: ArrayLike, p1: ArrayLike, p2: ArrayLike, m
     error below 1e-11.
     """
     c, a, b = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (knudsen_scale, p1, p2)))
-    if model not in RAREFACTION_MODELS:
-        raise InputError("rarefaction_model", model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
+    check_rarefaction_model(model)
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     if np.any(~(lo >= 0)) or np.any(~(hi > 0)) or np.any(~(c >= 0)) or np.any(~np.isfinite(hi)):
         raise InputError("pressure", "values <= 0 or not finite", "absolute pressures must be finite, the larger one > 0")
@@ -280,8 +279,7 @@ def solve_gas_flow(
     if not pa > pb:
         raise InputError("upstream_pressure", upstream_pressure,
                          f"must be above the downstream pressure {pb:.6g} Pa (no pressure drop, no flow to solve)")
-    if model not in RAREFACTION_MODELS:
-        raise InputError("rarefaction_model", model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
+    check_rarefaction_model(model)
     if not (isinstance(tol, (int, float)) and math.isfinite(tol) and 1e-13 <= tol <= 1e-2):
         raise InputError("tol", tol, "must be in [1e-13, 0.01]")
     if not (isinstance(rtol, (int, float)) and math.isfinite(rtol) and 0 < rtol < 1e-2):

@@ -162,9 +162,9 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
         h = t - knots[i]
         return math.exp(((a * h + b) * h + c) * h + d)
 
-    r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
     if dp <= 0:
         return CoupledBand(0.0, lifted, True, 0)
+    r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
     pieces = _pieces(profile)
     shots = 0
 

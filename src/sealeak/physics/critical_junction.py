@@ -141,6 +141,7 @@ def critical_junction(
     aspect_ratio: float,
     alpha: float = 1.0,
     percolation_threshold: float = 0.6,
+    fluid_pressure_neglected: bool = True,
 ) -> CriticalJunctionResult:
     """Critical-junction leak rate for every squeeze pressure (vectorised; no loop over pressures).
 
@@ -163,6 +164,9 @@ def critical_junction(
         Shape factor α of the critical constriction (paper: of order one; fitted 0.2).
     percolation_threshold:
         Site-percolation threshold p_c in (0, 1); the junction percolates at A/A0 = 1 - p_c.
+    fluid_pressure_neglected:
+        The result is used as printed, the fluid pressure's effect on the contact neglected: rows with
+        ΔP > P0/2 get a note (§3.6). False where the caller takes the fluid pressure into account (§13).
     """
     p0, dp = _pressures(squeeze_pressure, pressure_difference)
     for name, v in (("viscosity", viscosity), ("aspect_ratio", aspect_ratio), ("alpha", alpha)):
@@ -198,7 +202,7 @@ def critical_junction(
                            f", above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
                            "within the resolved roughness; the theory predicts no leak channel (no leak-rate number).")
     messages = [note] if note else []
-    large = pressure_difference_not_small(p0, dp)
+    large = pressure_difference_not_small(p0, dp) & fluid_pressure_neglected
     if large.any():
         messages.append(
             f"{pressures_text(p0, large)}: ΔP is not small against P0 (ΔP > {LARGE_PRESSURE_RATIO:g} P0): the theory "

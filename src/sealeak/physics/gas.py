@@ -33,7 +33,7 @@ from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
 from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
 
 __all__ = [
-    "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "DEFAULT_RAREFACTION", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
+    "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "DEFAULT_RAREFACTION", "check_rarefaction_model", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
     "flow_regime", "slip_factor", "kinetic_pressure_integral", "free_molecular_coefficient", "sheet_conductance", "pressure_integral",
     "viscous_throughput", "viscous_mass_flow", "GasLeak", "gas_leak",
 ]
@@ -140,7 +140,8 @@ def flow_regime(knudsen: float) -> str:
     return next((name for limit, name in _REGIMES if knudsen < limit), _REGIMES[-1][1])
 
 
-def _check_model(model: str) -> None:
+def check_rarefaction_model(model: str) -> None:
+    """Refuse a slip model not in :data:`RAREFACTION_MODELS` (InputError naming ``rarefaction_model``)."""
     if model not in RAREFACTION_MODELS:
         raise InputError("rarefaction_model", model, f"must be one of {', '.join(RAREFACTION_MODELS)}")
 
@@ -174,7 +175,7 @@ def slip_factor(knudsen: ArrayLike, model: str = DEFAULT_RAREFACTION, length_rat
     f → 7 α0 Kn (free-molecular flow, a finite conductance) for Kn → ∞. ``model="no-slip"``: f = 1.
     """
     kn = np.asarray(knudsen, dtype=float)
-    _check_model(model)
+    check_rarefaction_model(model)
     if model == "no-slip":
         return np.ones_like(kn)
     if np.any(~(kn >= 0)):
@@ -197,7 +198,7 @@ def free_molecular_coefficient(gap: ArrayLike, gas: Gas, model: str = DEFAULT_RA
     length ``length_ratio`` ℓ = L/h, inf for an infinite slit (None). No slip: inf (f = 1).
     """
     h = np.asarray(gap, dtype=float)
-    _check_model(model)
+    check_rarefaction_model(model)
     scale = math.sqrt(0.5 * math.pi * gas.specific_gas_constant * gas.temperature)
     if model == "beskok-karniadakis":
         return (7.0 * BK_ALPHA0 / 12.0) * h**2 * scale
@@ -242,7 +243,7 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
     """
     pa, pb = check_pressures(upstream, downstream)
     h = positive_number("gap", gap)
-    _check_model(model)
+    check_rarefaction_model(model)
     ratio = _length_ratio(length, h)
     if pa == pb:
         return 0.0

@@ -20,12 +20,8 @@ __all__ = ["load_text", "loads_text", "load_axis_label", "kpa_text", "capillary_
 
 def load_text(name: str, value: float) -> str:
     """One load in a sentence or a legend: "compression 20 %" (a fraction, written in %), "profile scale 1.5", or a
-    squeeze pressure (Pa) "P0 = 200 kPa"."""
-    if name == "squeeze_pressure":
-        return kpa_text([value])
-    if name == "compression":
-        return f"compression {100 * value:.4g} %"
-    return f"{name.replace('_', ' ')} {value:.4g}"
+    squeeze pressure (Pa) "P0 = 200 kPa" (:func:`loads_text` of one value)."""
+    return loads_text(name, [value])
 
 
 def loads_text(name: str, values: Iterable[float]) -> str:

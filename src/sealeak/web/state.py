@@ -175,10 +175,11 @@ def disk_quotas(state: AppState, s: Session) -> list[Quota]:
     """The disk limits new files of session ``s`` count against: its own (all its files: uploads, simulation
     results) and the server's (the files of every session)."""
     cfg = state.config
-    return [Quota(cfg.session_quota, folder_bytes(s.folder),
+    everything, session = folder_bytes(state.root, s.folder)  # one walk: the session's folder is in the server's
+    return [Quota(cfg.session_quota, session,
                   f"the session's files would take more than its quota of {cfg.session_quota / 1e6:.6g} MB "
                   "(sealeak serve --session-quota)"),
-            Quota(cfg.server_quota, folder_bytes(state.root),
+            Quota(cfg.server_quota, everything,
                   f"the files of all sessions would take more than the server's limit of {cfg.server_quota / 1e6:.6g} MB "
                   "(sealeak serve --server-quota): try again later")]
 

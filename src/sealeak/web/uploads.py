@@ -50,9 +50,17 @@ class Form:
             path.unlink(missing_ok=True)
 
 
-def folder_bytes(folder: Path) -> int:
-    """The bytes of the files in ``folder`` and its sub-folders (0 when it does not exist)."""
-    return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file() and not p.is_symlink()) if folder.is_dir() else 0
+def folder_bytes(folder: Path, part: Path | None = None) -> tuple[int, int]:
+    """The bytes of the files in ``folder`` and its sub-folders, and of those inside its sub-folder ``part``,
+    in one walk ((0, 0) where a folder does not exist)."""
+    total = inside = 0
+    if folder.is_dir():
+        for p in folder.rglob("*"):
+            if p.is_file() and not p.is_symlink():
+                size = p.stat().st_size
+                total += size
+                inside += size if part is not None and p.is_relative_to(part) else 0
+    return total, inside
 
 
 @dataclass(frozen=True)
