@@ -242,9 +242,7 @@ class _Table:
 
     def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int, floor: float = TABLE_FLOOR) -> None:
         self.lo, self.hi = np.log(p_max * floor), np.log(p_max)
-        k = np.arange(n)
-        s = (self.lo + self.hi) / 2.0 - (self.hi - self.lo) / 2.0 * np.cos(np.pi * k / (n - 1))
-        s[0], s[-1] = self.lo, self.hi
+        s = self._nodes(n)
         self.s = s
         self.values = exact(np.exp(s))
         self.ok = bool(np.all(self.values > 0))
@@ -255,9 +253,7 @@ class _Table:
         n = 2 * (self.s.size - 1) + 1
         new = _Table.__new__(_Table)
         new.lo, new.hi = self.lo, self.hi
-        k = np.arange(n)
-        s = (self.lo + self.hi) / 2.0 - (self.hi - self.lo) / 2.0 * np.cos(np.pi * k / (n - 1))
-        s[0], s[-1] = self.lo, self.hi
+        s = new._nodes(n)
         values = np.empty(n)
         values[::2] = self.values
         values[1::2] = exact(np.exp(s[1::2]))
@@ -265,6 +261,12 @@ class _Table:
         new.ok = bool(np.all(values > 0))
         new.log_values = np.log(np.where(values > 0, values, 1.0))
         return new
+
+    def _nodes(self, n: int) -> FloatArray:
+        """The ``n`` Chebyshev–Lobatto points of [lo, hi] (ln p), the ends exact."""
+        s = (self.lo + self.hi) / 2.0 - (self.hi - self.lo) / 2.0 * np.cos(np.pi * np.arange(n) / (n - 1))
+        s[0], s[-1] = self.lo, self.hi
+        return np.asarray(s, dtype=float)
 
     def __call__(self, p: FloatArray) -> FloatArray:
         s = np.clip(np.log(p), self.lo, self.hi)
