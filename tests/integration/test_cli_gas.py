@@ -14,6 +14,7 @@ from sealeak.cli import main
 from sealeak.physics.gas import Gas, gas_leak, slip_factor
 from sealeak.physics.properties import fluid_state
 from tests.casefiles import BASE, edit
+from tests.cli_errors import one_line_error
 
 R = 6.02214076e23 * 1.380649e-23  # J/(mol K), exact
 
@@ -170,14 +171,6 @@ def test_kinetic_default_predicts_more_than_beskok_karniadakis(tmp_path, capsys)
 
 
 # ------------------------------------------------------------------------------------ bad input
-def one_line_error(capsys, *names):
-    err = capsys.readouterr().err
-    assert err.startswith("sealeak: error: ") and err.count("\n") == 1, err
-    assert "Traceback" not in err
-    for name in names:
-        assert name in err, (name, err)
-    return err
-
 
 BAD = [  # (case text, names the message must hold)
     (gas_case(upstream="-1 bar"), ["conditions.upstream_pressure"]),

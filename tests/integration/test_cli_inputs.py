@@ -16,20 +16,11 @@ from sealeak.cases import example_path
 from sealeak.cli import main
 from sealeak.io.files import OutputExistsError, atomic_write, check_outputs, check_replaceable
 from tests.casefiles import edit
+from tests.cli_errors import one_line_error
 
 REFERENCE = str(example_path("reference-experiment"))
 MEASURED = str(example_path("reference-experiment").with_name("reference-measured.csv"))
 CLI = "import sys; from sealeak.cli import main; sys.exit(main(sys.argv[1:]))"  # the command line in a subprocess
-
-
-def one_line_error(capsys, *names):
-    """The command's stderr: one line, 'sealeak: error: ...', naming each of ``names``, no traceback."""
-    err = capsys.readouterr().err
-    assert err.startswith("sealeak: error: ") and err.count("\n") == 1, err
-    assert "Traceback" not in err
-    for name in names:
-        assert str(name) in err, (name, err)
-    return err
 
 
 # ------------------------------------------------------------------------------------ quantities in case files

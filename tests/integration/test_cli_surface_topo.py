@@ -17,19 +17,12 @@ import pytest
 from sealeak.cases import example_path
 from sealeak.cli import main
 from sealeak.topography import write_height_map
+from tests.cli_errors import one_line_error
 
 pytestmark = pytest.mark.filterwarnings("error")
 
 SAMPLES = Path(__file__).resolve().parents[3] / "shared" / "topography-samples"
 UNITS = ["--size", "1 mm", "--height-unit", "um"]
-
-
-def _one_line_error(err: str, *names: str) -> None:
-    lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert len(lines) == 1 and lines[0].startswith("sealeak: error:"), err
-    assert "Traceback" not in err and "Warning" not in err
-    for name in names:
-        assert name in lines[0], (name, lines[0])
 
 
 def _rough(n=32, seed=0):
@@ -70,7 +63,7 @@ def test_flat_measurements_are_refused_and_nothing_is_written(tmp_path, capsys, 
                  "--force"])
     out, err = capsys.readouterr()
     assert code == 2 and out == ""
-    _one_line_error(err, name, said, "no roughness")
+    one_line_error(err, name, said, "no roughness")
     assert psd.read_text() == "keep me\n" and not js.exists() and not png.exists()
 
 
@@ -78,7 +71,7 @@ def test_a_flat_file_among_rough_ones_is_named(tmp_path, capsys):
     rough = _write(tmp_path / "rough.txt", _rough())
     flat = _write(tmp_path / "flat.txt", np.full((32, 32), 1.5))
     assert main(["surface", "analyze", str(rough), str(flat), *UNITS]) == 2
-    _one_line_error(capsys.readouterr().err, "flat.txt", "equal")
+    one_line_error(capsys.readouterr().err, "flat.txt", "equal")
 
 
 def test_flat_map_in_a_case_file_is_refused(tmp_path, capsys):
@@ -89,7 +82,7 @@ def test_flat_map_in_a_case_file_is_refused(tmp_path, capsys):
                                         'size = "5 mm"\nheight_unit = "m"\n\n' + text[end:])
     js = tmp_path / "p.json"
     assert main(["predict", str(tmp_path / "case.toml"), "--json", str(js)]) == 2
-    _one_line_error(capsys.readouterr().err, "flat.npy", "equal")
+    one_line_error(capsys.readouterr().err, "flat.npy", "equal")
     assert not js.exists()
 
 
@@ -102,7 +95,7 @@ def test_flat_map_refused_with_python_warnings_as_errors(tmp_path):
                           "surface", "analyze", str(f), *UNITS, "--psd-out", str(psd)],
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 2 and run.stdout == ""
-    _one_line_error(run.stderr, "equal.txt", "equal")
+    one_line_error(run.stderr, "equal.txt", "equal")
     assert not psd.exists()
 
 
@@ -165,7 +158,7 @@ def test_a_file_of_markers_only_is_refused(tmp_path, capsys):
     f = tmp_path / "dead.txt"
     f.write_text("1e300 1e300 1e300 1e300\n1e300 1e300 1e300 1e300\n")
     assert main(["surface", "analyze", str(f), *UNITS]) == 2
-    _one_line_error(capsys.readouterr().err, "dead.txt", "no-data markers", "8")
+    one_line_error(capsys.readouterr().err, "dead.txt", "no-data markers", "8")
 
 
 def test_markers_with_python_warnings_as_errors(tmp_path):
@@ -203,7 +196,7 @@ def test_a_resolution_coarser_than_the_map_names_the_resolution(tmp_path, capsys
     assert main(["surface", "analyze", str(f), "--size", "2 mm", "--height-unit", "um", "--resolution", resolution,
                  "--json", str(js)]) == 2
     err = capsys.readouterr().err
-    _one_line_error(err, "--resolution", said, "2 mm", "give a resolution below")
+    one_line_error(err, "--resolution", said, "2 mm", "give a resolution below")
     assert "larger area" not in err and "more points" not in err and not js.exists()
     # the limit it states is right: just below it the analysis works
     limit = 2e-3 / 3  # L / --low-cut
@@ -219,7 +212,7 @@ def test_a_resolution_coarser_than_the_map_in_a_case_file(tmp_path, capsys):
                                         'size = "2 mm"\nheight_unit = "m"\nresolution = "1 km"\n\n' + text[end:])
     assert main(["predict", str(tmp_path / "case.toml")]) == 2
     err = capsys.readouterr().err
-    _one_line_error(err, "surface.resolution", "1 km", "longer than the map", "surface.low_cut")
+    one_line_error(err, "surface.resolution", "1 km", "longer than the map", "surface.low_cut")
     assert "--" not in err and "larger area" not in err
 
 
@@ -233,7 +226,7 @@ def test_a_map_with_too_few_points_names_the_points(tmp_path, capsys, n, extra, 
     f = _write(tmp_path / "m.txt", _rough(n))
     assert main(["surface", "analyze", str(f), *UNITS, *extra, "--plot", str(tmp_path / "c.png")]) == 2
     err = capsys.readouterr().err
-    _one_line_error(err, "m.txt", said, "more points", "--low-cut", "--resolution-pixels")
+    one_line_error(err, "m.txt", said, "more points", "--low-cut", "--resolution-pixels")
     assert "--resolution " not in err and not (tmp_path / "c.png").exists()
 
 
@@ -304,7 +297,7 @@ def test_synthesize_refuses_a_map_that_would_be_flat(tmp_path, capsys, args, sai
     out = tmp_path / f"s{suffix}"
     out.write_text("keep me\n")
     code = main(["surface", "synthesize", "--example", "reference-experiment", *args, "-o", str(out), "--force"])
-    _one_line_error(capsys.readouterr().err, "--size", said, "20 µm .. 5 mm")
+    one_line_error(capsys.readouterr().err, "--size", said, "20 µm .. 5 mm")
     assert code == 2 and out.read_text() == "keep me\n" and not (tmp_path / "s.npy.json").exists()
 
 
@@ -313,7 +306,7 @@ def test_synthesize_from_a_table_refuses_a_map_that_would_be_flat(tmp_path, caps
     psd.write_text("q (1/m), C (m^4)\n1e5, 1e-28\n1e6, 1e-31\n")  # wavelengths 6.3 µm .. 63 µm
     assert main(["surface", "synthesize", "--psd", str(psd), "--size", "1 um", "--grid", "32",
                  "-o", str(tmp_path / "s.npz")]) == 2
-    _one_line_error(capsys.readouterr().err, "--size", "6.283 µm .. 62.83 µm")
+    one_line_error(capsys.readouterr().err, "--size", "6.283 µm .. 62.83 µm")
     assert not (tmp_path / "s.npz").exists()
 
 
@@ -346,4 +339,4 @@ def test_synthesize_quiet_prints_nothing(tmp_path, capsys, size):
     # errors still speak
     assert main(["surface", "synthesize", "--example", "reference-experiment", "--size", "1 um", "-q",
                  "-o", str(tmp_path / "t.npz")]) == 2
-    _one_line_error(capsys.readouterr().err, "--size")
+    one_line_error(capsys.readouterr().err, "--size")

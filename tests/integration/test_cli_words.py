@@ -15,6 +15,7 @@ from sealeak.cases import example_path, parse_case_file, read_case_file, run_cas
 from sealeak.cases.ensemble import default_workers, make_runner
 from sealeak.cli import main
 from tests.casefiles import BASE, edit
+from tests.cli_errors import one_line_error
 
 CLI = "import sys; from sealeak.cli import main; sys.exit(main(sys.argv[1:]))"  # the command line in a subprocess
 
@@ -24,15 +25,6 @@ ORING = edit('shape = "ring"\ninner_diameter = "3 cm"\nouter_diameter = "4 cm"',
 PROFILE_CSV = "x (mm), pressure (MPa)\n0, 0\n0.05, 0.4\n0.1, 0.8\n0.2, 0.3\n0.25, 0\n"
 GAS = edit('[fluid]\nviscosity = "1 mPa*s"', '[fluid]\nname = "helium"\ntemperature = "20 degC"',
            edit('pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"', ORING))
-
-
-def one_line_error(capsys, *names):
-    """stderr: one line 'sealeak: error: ...' naming each of ``names``, no traceback."""
-    err = capsys.readouterr().err
-    assert err.startswith("sealeak: error: ") and err.count("\n") == 1, err
-    for name in names:
-        assert name in err, (name, err)
-    return err
 
 
 def predict(tmp_path, capsys, text, *names):
