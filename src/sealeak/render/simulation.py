@@ -152,7 +152,7 @@ def _gas_lines(res: SimulationResult) -> list[str]:
     assert g is not None
     return _gas_block(g, "gas leak of {gas}, {conditions}:",
                       _gas_rows(g, ("P0 (kPa)", 9), [f"{p / 1e3:9.4g}" for p in res.squeeze_pressure], ("Q_pV cj α=1", 12),
-                                [_coarse(res, i) for i in range(res.squeeze_pressure.size)]),
+                                list(coarse(res.junction_cells, res.squeeze_pressure.size))),
                       ("", ""), ("cj", "critical-junction", "gap u_c"))
 
 
@@ -180,12 +180,13 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
     lines.append(f"{'P0 (kPa)':>9} {'A/A0 sim':>9} {'A/A0 th':>8} {'ū (µm)':>9} {'perc':>5} "
                  f"{'Q sim (m³/s)':>13} {'± sd':>9} {'Q cj α=1':>10} {'α':>7} {'± sd':>7}")
 
+    too_coarse = coarse(res.junction_cells, res.squeeze_pressure.size)
     for i in range(res.squeeze_pressure.size):
         lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {res.relative_contact_area[i]:9.3f} "
                      f"{res.relative_contact_area_theory[i]:8.3f} {res.mean_gap[i] * 1e6:9.4g} "
                      f"{res.percolating_fraction[i]:5.2f} {fmt(res.leak_rate[i], '13.3e')} {fmt(res.leak_rate_std[i], '9.2e')} "
                      f"{fmt(res.leak_rate_critical_junction[i], '10.3e')} {fmt(res.alpha[i], '7.3g')}"
-                     f"{'*' if _coarse(res, i) and np.isfinite(res.alpha[i]) else ' '}{fmt(res.alpha_std[i], '7.2g')}")
+                     f"{'*' if too_coarse[i] and np.isfinite(res.alpha[i]) else ' '}{fmt(res.alpha_std[i], '7.2g')}")
     if res.gas is not None:
         lines += _gas_lines(res)
     lines.append("")
@@ -200,10 +201,13 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _coarse(res: SimulationResult, i: int) -> bool:
-    """Whether the theory's junction at pressure ``i`` spans fewer grid cells than α needs (see the notes)."""
-    cells = res.junction_cells
-    return bool(cells.size and np.isfinite(cells[i]) and cells[i] < JUNCTION_CELLS)
+def coarse(junction_cells: NDArray[np.float64], rows: int) -> NDArray[np.bool_]:
+    """Per row (of any shape): whether the theory's junction spans fewer than :data:`JUNCTION_CELLS` grid cells,
+    too few for α (see the notes); all False for ``rows`` rows when there is no theory's junction (no cells)."""
+    cells = np.asarray(junction_cells, dtype=float)
+    if not cells.size:
+        return np.zeros(rows, dtype=bool)
+    return np.isfinite(cells) & (cells < JUNCTION_CELLS)
 
 
 def _spread_legend(realizations: int) -> str:
@@ -228,12 +232,6 @@ _BAND_ROW_KEYS = ("force_per_length", "model_contact_width", "model_max_pressure
                   "relative_contact_area_std", "percolating_fraction", "leak_rate", "leak_rate_std",
                   "leak_rate_series_resistance", "alpha", "alpha_std", "junction_cells", "junction_resolved",
                   "pressure_difference")
-
-
-def _band_coarse(res: BandSimulationResult, i: int) -> bool:
-    """Whether the theory's junction at load ``i`` spans fewer grid cells than α needs (see the notes)."""
-    c = res.junction_cells[i]
-    return bool(np.isfinite(c) and c < JUNCTION_CELLS)
 
 
 def _load_label(res: BandSimulationResult) -> tuple[str, float]:
@@ -293,7 +291,7 @@ def _band_gas_lines(res: BandSimulationResult) -> list[str]:
     label, factor = _load_label(res)
     return _gas_block(g, "Gas leak across the band: {gas}, {conditions}",
                       _gas_rows(g, (label, 16), [f"{x * factor:16.4g}" for x in res.loads], ("Q_pV series α=1", 15),
-                                [_band_coarse(res, i) for i in range(res.loads.size)]),
+                                list(coarse(res.junction_cells, res.loads.size))),
                       (" across the band", ", P_a at the inlet edge, P_b at the outlet edge, scaled to the seal line as Q sim"),
                       ("series", "series-resistance", "K = Q series/ΔP, gap u_c at the peak contact pressure"))
 
@@ -320,8 +318,9 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
     lines += ["", "Rough contact and flow across the band",
               f"{label:>16} {'width (mm)':>11} {'A/A0 band':>10} {'perc':>5} {'Q sim (m³/s)':>13} {'± sd':>9} "
               f"{'Q series α=1':>13} {'α':>8} {'± sd':>8}"]
+    too_coarse = coarse(res.junction_cells, res.loads.size)
     for i in range(res.loads.size):
-        star = "*" if _band_coarse(res, i) and np.isfinite(res.alpha[i]) else " "
+        star = "*" if too_coarse[i] and np.isfinite(res.alpha[i]) else " "
         lines.append(f"{res.loads[i] * factor:16.4g} {res.contact_width[i] * 1e3:11.4g} {fmt(res.relative_contact_area[i], '10.3f')} "
                      f"{res.percolating_fraction[i]:5.2f} {fmt(res.leak_rate[i], '13.3e')} {fmt(res.leak_rate_std[i], '9.2e')} "
                      f"{fmt(res.leak_rate_series_resistance[i], '13.3e')} {fmt(res.alpha[i], '8.3g')}{star}"
@@ -397,7 +396,7 @@ def simulation_figures(case: Case, res: SimulationResult) -> dict[str, Figure]:
     """The figures of ``sealeak simulate --plots``: leak rate, α and a contact map (and a gas case's gas leak), by file name."""
     scale, unit = pressure_axis(res.squeeze_pressure)
     sweep = _Sweep(x=res.squeeze_pressure / scale, x_label=f"squeeze pressure P0 ({unit})", loads="squeeze pressure",
-                   coarse=np.array([_coarse(res, i) for i in range(res.squeeze_pressure.size)], dtype=bool),
+                   coarse=coarse(res.junction_cells, res.squeeze_pressure.size),
                    theory="critical-junction", short="cj", method="BEM + Reynolds", seal="",
                    settings=f"{_run_text(res)}, Ly/Lx = {case.seal.aspect_ratio:.3g}",
                    pressure_difference=res.pressure_difference, alpha=case.alpha,
@@ -420,7 +419,7 @@ def band_simulation_figures(case: Case, res: BandSimulationResult) -> dict[str, 
     label, factor = _load_label(res)
     sweep = _Sweep(x=res.loads * factor,
                    x_label=load_axis_label(res.load_name), loads=label.split(" (")[0],
-                   coarse=np.array([_band_coarse(res, i) for i in range(res.loads.size)], dtype=bool),
+                   coarse=coarse(res.junction_cells, res.loads.size),
                    theory="series-resistance", short="series", method="cylinder on rough surface + Reynolds", seal="O-ring",
                    settings=f"{_run_text(res)}, seal line {res.seal_length * 1e3:.3g} mm",
                    pressure_difference=res.pressure_difference, alpha=1.0, alpha_label="α = 1")

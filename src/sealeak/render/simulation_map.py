@@ -7,11 +7,11 @@ from typing import Any
 import numpy as np
 
 from ..cases import Case
-from ..cases.simulation import JUNCTION_CELLS
 from ..cases.simulation_map import MapInfo, MapSimulationResult
 from ..io.quantities import units_of
 from .notes import worded
 from .records import case_summary, json_document, json_value
+from .simulation import coarse
 from .text import fmt
 
 __all__ = ["map_simulation_json", "map_simulation_table", "MAP_SIMULATION_UNITS"]
@@ -58,16 +58,11 @@ def map_simulation_json(case: Case, res: MapSimulationResult) -> str:
     return json_document(doc)
 
 
-def _coarse(res: MapSimulationResult, r: int, i: int) -> bool:
-    """Whether map ``r``'s critical junction at pressure ``i`` spans fewer grid cells than α needs (see the notes)."""
-    cells = res.junction_cells[r, i]
-    return bool(np.isfinite(cells) and cells < JUNCTION_CELLS and np.isfinite(res.alpha[r, i]))
-
-
 def map_simulation_table(case: Case, res: MapSimulationResult) -> str:
     """The table ``sealeak simulate`` prints on maps: per map its heights' shape, leak rate and α against both theories."""
     lines = [f"{case.title}: numerically exact leak rate on {len(res.maps)} measured map(s), grid {res.grid}x{res.grid}",
              ""]
+    too_coarse = coarse(res.junction_cells, 0)
     for r, m in enumerate(res.maps):
         how = "periodic" if m.periodic else "not periodic: levelled and mirrored"
         lines.append(f"{m.label}: square of {m.side * 1e6:.4g} µm ({m.points} points, {how}), h_rms "
@@ -79,7 +74,7 @@ def map_simulation_table(case: Case, res: MapSimulationResult) -> str:
                          f"{'yes' if res.percolates[r, i] else 'no':>5} {fmt(res.leak_rate[r, i], '11.3e')} "
                          f"{fmt(res.leak_rate_critical_junction[r, i], '10.3e')} "
                          f"{fmt(res.leak_rate_effective_medium[r, i], '10.3e')} {fmt(res.alpha[r, i], '7.3g')}"
-                         f"{'*' if _coarse(res, r, i) else ' '}{fmt(res.alpha_effective_medium[r, i], '7.3g')}")
+                         f"{'*' if too_coarse[r, i] and np.isfinite(res.alpha[r, i]) else ' '}{fmt(res.alpha_effective_medium[r, i], '7.3g')}")
         if np.isfinite(res.percolation_threshold[r]):
             lines.append(f"the non-contact area stops percolating at A/A0 = {res.percolation_threshold[r]:.3f}")
         lines.append("")
