@@ -122,7 +122,7 @@ def emit(args: argparse.Namespace, text: str, files: dict[str, str],
     from ..io.files import STDOUT, write_output
     from ..render import save_figures
 
-    if not args.quiet and STDOUT not in files:
+    if not getattr(args, "quiet", False) and STDOUT not in files:
         sys.stdout.write(text)
     for path, content in files.items():
         write_output(path, content)

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, SealeakError
-from ._common import inputs, load, outputs, say
+from ._common import emit, inputs, load, outputs, say
 
 #: The file suffixes ``surface analyze --plot`` writes, each in its own format (matplotlib's).
 PLOT_FORMATS = (".png", ".pdf", ".svg")
@@ -29,7 +29,7 @@ def unit_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
-    from ..io.files import STDOUT, atomic_write, check_outputs, write_output
+    from ..io.files import atomic_write, check_outputs
     from ..render import analysis_json, analysis_text, plot_spectra, spectrum_csv
     from ..topography import analyze, cli_option_names
 
@@ -44,13 +44,8 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
         raise SealeakError(f"{wanted}: no C(q) to write: {an.spectrum_problem}")
     files = ({args.json: analysis_json(an)} if args.json else {}) | (
         {args.psd_out: spectrum_csv(an.spectrum)} if args.psd_out else {})
-    if STDOUT not in files:  # standard output holds a file given as '-' alone
-        sys.stdout.write(analysis_text(an))
-        sys.stdout.flush()
-    for path, content in files.items():
-        write_output(path, content)
-        if path != STDOUT:
-            print(f"wrote {path}", file=sys.stderr)
+    emit(args, analysis_text(an), files, {})
+    sys.stdout.flush()
     if args.plot:
         fig = plot_spectra(an)
         with atomic_write(args.plot) as tmp:
