@@ -50,7 +50,7 @@ def test_table_shows_the_columns_and_says_what_they_are(tmp_path, capsys):
     rc, _, _ = _run(tmp_path, capsys, HELIUM.replace(RUBBER, PERM), "--table", str(table))
     text = table.read_text(encoding="utf-8")
     assert rc == 0 and "Q_perm (Pa·m³/s)" in text and "t_lag (s)" in text and "Q_total (mbar·l/s)" in text
-    assert "Q_total = Q_pV + Q_perm" in text
+    assert "Q_total = Q_pV + Q_perm" in text and "P = 2e-12 m²/s, pV at 20 °C" in text
 
 
 def test_units_of_the_permeability_are_converted(tmp_path, capsys):
@@ -61,6 +61,25 @@ def test_units_of_the_permeability_are_converted(tmp_path, capsys):
     for x, y in zip(a, b, strict=True):
         assert x["leak_rate_permeation_pv"] == pytest.approx(y["leak_rate_permeation_pv"], rel=1e-12)
         assert x["permeation_breakthrough_time"] is None  # no diffusivity, no breakthrough time
+
+
+def test_a_published_permeability_is_counted_at_the_gas_temperature(tmp_path, capsys):
+    """3 Barrer = 3 · 3.3464e-16 mol/(m·s·Pa); its pV form P = Π R T follows fluid.temperature, the m²/s form does not."""
+    barrer = 1e-10 * (101325 * 1e-6 / (8.314462618 * 273.15)) * 0.01 / (1e-4 * 1333.224)  # mol/(m·s·Pa), by hand
+    warm = HELIUM.replace('temperature = "20 degC"', 'temperature = "60 degC"')
+    assert warm != HELIUM
+    perm = {}
+    for name, text in (("cold", HELIUM), ("warm", warm)):
+        for form in ("3 barrer", f"{3 * barrer * 8.314462618 * 293.15} m^2/s"):
+            rc, out, _ = _run(tmp_path, capsys, text.replace(RUBBER, RUBBER + f'permeability = "{form}"\n'))
+            assert rc == 0
+            perm[name, form.split()[1]] = [r["leak_rate_permeation_pv"] for r in json.loads(out.read_text())["results"]]
+    for a, b in zip(perm["cold", "barrer"], perm["cold", "m^2/s"], strict=True):
+        assert a == pytest.approx(b, rel=1e-6)  # at 20 °C the two are the same permeability
+    for cold, warm_, fixed_cold, fixed_warm in zip(perm["cold", "barrer"], perm["warm", "barrer"], perm["cold", "m^2/s"],
+                                                   perm["warm", "m^2/s"], strict=True):
+        assert warm_ / cold == pytest.approx(333.15 / 293.15, rel=1e-9)
+        assert fixed_warm == pytest.approx(fixed_cold, rel=1e-12)
 
 
 def test_no_permeability_no_columns(tmp_path, capsys):
@@ -75,6 +94,8 @@ def test_no_permeability_no_columns(tmp_path, capsys):
     ((RUBBER, RUBBER + 'permeability = "-1e-12 m^2/s"\n'), "rubber.permeability", "> 0"),
     ((RUBBER, RUBBER + 'permeability = "1e-12 Pa"\n'), "rubber.permeability", "area per time"),
     ((RUBBER, RUBBER + "permeability = 1e-12\n"), "rubber.permeability", ""),
+    ((RUBBER, RUBBER + 'permeability = "-3 barrer"\n'), "rubber.permeability", "> 0"),
+    ((RUBBER, RUBBER + 'permeability = "3 barrers"\n'), "rubber.permeability", "Barrer"),
 ])
 def test_bad_permeation_input_is_one_line(tmp_path, capsys, edit, field, words):
     rc, out, cap = _run(tmp_path, capsys, HELIUM.replace(*edit))

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, UnitError, show_value
-from ..io.leak_units import STANDARD_PRESSURE, celsius
+from ..io.leak_units import STANDARD_PRESSURE, celsius, parse_permeability
 from ..io.units import format_quantity, parse_quantity, parse_temperature
 from ..lab.rig import DecayRigSetup, RigSetup
 from ..physics.contact import contact_modulus
@@ -354,7 +354,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     if not (q0 if band is None else float(band.q0.max())) < spectrum.q_max:
         raise _q0_error(seal_section, theory, seal, q0 if band is None else float(band.q0.max()),
                         f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
-    permeation = _permeation(rubber, seal_section, fl.gas is not None, band)
+    permeation = _permeation(rubber, seal_section, fl.gas is not None, band, fl.temperature)
     rig = _rig(doc["rig"], fluid, band, doc) if "rig" in doc else None  # the rig's objects under case_keys, in _rig
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
@@ -369,8 +369,12 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     )
 
 
-def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | None) -> RubberPermeation | None:
-    """``[rubber] permeability`` and ``diffusivity`` (m²/s) of an O-ring gas case (docs/case-files.md), else None."""
+def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | None,
+                temperature: float) -> RubberPermeation | None:
+    """``[rubber] permeability`` and ``diffusivity`` (m²/s) of an O-ring gas case (docs/case-files.md), else None.
+
+    The permeability as written in m²/s (pV form), or published (mol/(m·s·Pa), Barrer) and turned into the pV
+    form at the gas temperature (K) by :func:`~sealeak.io.leak_units.parse_permeability`."""
     if not rubber.has("permeability"):
         if rubber.has("diffusivity"):
             raise InputError(rubber.field("diffusivity"), rubber.raw("diffusivity"),
@@ -384,7 +388,10 @@ def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | N
         raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
                          f"is for an O-ring (seal.shape = \"o-ring\"): the permeation path is its squeezed cord; "
                          f"{seal.field('shape')} is {seal.raw('shape', 'not given')!r}")
-    return RubberPermeation(permeability=rubber.quantity("permeability", "area_per_time"),
+    permeability = parse_permeability(rubber.field("permeability"), rubber.raw("permeability"), temperature=temperature)
+    if not permeability > 0:
+        raise InputError(rubber.field("permeability"), rubber.raw("permeability"), "must be > 0")
+    return RubberPermeation(permeability=permeability,
                             diffusivity=rubber.quantity("diffusivity", "area_per_time") if rubber.has("diffusivity") else None)
 
 

@@ -85,7 +85,8 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "uncertain by −20 %…+28 % at 70 Shore A: a measured E is better"),
     "rubber.permeability": FieldHelp("Gas permeability P", "rubber-the-rubber",
                      "O-ring gas case: the gas's pV permeability P in the rubber, the pV throughput (Pa·m³/s of the gas at its "
-                     "temperature) through 1 m² of a 1 m thick layer per Pa of pressure difference, in m²/s; adds the permeation "
+                     "temperature) through 1 m² of a 1 m thick layer per Pa of pressure difference, in m²/s, or as published "
+                     "in Barrer (\"3 barrer\") or mol/(m·s·Pa), converted at the gas temperature (P = Π R T); adds the permeation "
                      "leak through the squeezed cord to the results (theory §11.11)"),
     "rubber.diffusivity": FieldHelp("Gas diffusivity D", "rubber-the-rubber",
                      "O-ring gas case: the gas's diffusivity D in the rubber; sets the permeation's breakthrough time t_lag = t²/(6D)"),

@@ -1,4 +1,4 @@
-"""Leak-rate units: the one module where a leak rate changes unit (docs/theory.md §11.6).
+"""Leak-rate units: the one module where a leak rate changes unit (docs/theory.md §11.6); and gas permeabilities.
 
 A leak rate is written in one of five kinds of unit, each with its SI unit:
 
@@ -13,6 +13,11 @@ Between the kinds: a pV throughput is a volume flow times the pressure p it is c
 :func:`convert_leak_rate`, :func:`pv_throughput`). Units are read by pint (through
 :mod:`sealeak.io.units`); the constants R, 1 atm and 0 °C are :mod:`scipy.constants`'. The named
 factors below (ml/min, mbar·l/s, sccm) are the ones front ends print with.
+
+A gas permeability is written in the pV form sealeak computes with, m²/s (the pV throughput of the
+gas at its temperature T per area and per pressure gradient), or as published: a molar
+permeability Π in mol/(m·s·Pa), or in Barrer (10⁻¹⁰ cm³(STP)·cm/(cm²·s·cmHg)). The pV form is
+P = Π R T (:func:`parse_permeability`).
 """
 
 from __future__ import annotations
@@ -23,15 +28,16 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.constants import R, atm, bar, hour, liter, milli, minute, zero_Celsius
+from scipy.constants import R, atm, bar, centi, hour, liter, milli, minute, mmHg, zero_Celsius
 
 from ..errors import UnitError
-from .units import _finite, _normalise, _split, _unit, _Unreadable, _with_allowed, comma_advice, registry, unit_dimension
+from .units import _finite, _normalise, _split, _unit, _Unreadable, _with_allowed, comma_advice, parse_quantity, registry, unit_dimension
 
 __all__ = ["MOLAR_GAS_CONSTANT", "ZERO_CELSIUS", "ATMOSPHERE", "STANDARD_TEMPERATURE", "STANDARD_PRESSURE",
            "M3_PER_S_PER_ML_PER_MIN", "ML_PER_MIN_PER_M3_PER_S", "PA_M3_PER_MBAR_L", "MBAR_L_PER_PA_M3", "MOL_PER_STANDARD_M3",
            "MOL_PER_S_PER_SCCM", "LEAK_RATE_KINDS", "celsius", "to_ml_per_min", "to_mbar_l_per_s", "to_sccm",
-           "leak_rate_unit", "leak_rate_factor", "molar_flow_factor", "convert_leak_rate", "parse_leak_rate", "pv_throughput"]
+           "leak_rate_unit", "leak_rate_factor", "molar_flow_factor", "convert_leak_rate", "parse_leak_rate", "pv_throughput",
+           "MOL_PER_M_S_PA_PER_BARRER", "parse_permeability"]
 
 #: The molar gas constant R = N_A k_B, J/(mol·K) (exact since 2019; :data:`scipy.constants.R`).
 MOLAR_GAS_CONSTANT: float = R
@@ -224,3 +230,43 @@ def pv_throughput(value: ArrayLike, kind: str, *, temperature: float, molar_mass
     if kind == "standard_volume_flow":
         return q * MOL_PER_STANDARD_M3 * rt
     return q * pressure
+
+
+#: mol/(m·s·Pa) per Barrer: 1 Barrer = 10⁻¹⁰ cm³(STP)·cm/(cm²·s·cmHg), where 1 cm³(STP) is
+#: P0·(1 cm³)/(R T0) mol of an ideal gas (0 °C, 101325 Pa) and 1 cmHg = 10 torr = 1333.22 Pa:
+#: 3.346e-16 (= 760e-15/(R T0) exactly), i.e. a pV permeability of 7.60e-13 m²/s at 0 °C.
+MOL_PER_M_S_PA_PER_BARRER: float = 1e-10 * (centi**3 * STANDARD_PRESSURE / (MOLAR_GAS_CONSTANT * STANDARD_TEMPERATURE)) \
+    * centi / (centi**2 * 10 * mmHg)
+_PERMEABILITY_FORMS = ("; or a published permeability, converted at the gas temperature T by P = Π R T: molar "
+                       "('1e-15 mol/(m*s*Pa)') or in Barrer ('3 barrer')")
+
+
+def parse_permeability(field: str, value: Any, *, temperature: float) -> float:
+    """A gas permeability written with its unit as the pV permeability P in m²/s of the gas at ``temperature`` T (K).
+
+    The pV form (an area per time: ``"2e-12 m^2/s"``, ``"2e-8 cm^2/s"``) is taken as is; a molar
+    permeability Π (``"1e-15 mol/(m*s*Pa)"``) or one in Barrer (``"3 barrer"``, any case, Π =
+    3.346e-16 mol/(m·s·Pa) per Barrer) becomes P = Π R T, the pV throughput at T of the moles
+    that permeate (ideal gas; docs/case-files.md). Number syntax as :func:`parse_quantity`. Raises
+    :class:`UnitError` naming ``field``; the sign is the caller's to check.
+    """
+    if not (math.isfinite(temperature) and temperature > 0):
+        raise UnitError("temperature", temperature, "must be an absolute temperature > 0 K")
+    if isinstance(value, str):
+        try:
+            number, unit = _split(_normalise(value))
+        except _Unreadable:
+            number, unit = "", ""  # parse_quantity below words what is wrong
+        if unit.lower() == "barrer":
+            try:
+                magnitude = _finite(number)
+            except ValueError as exc:
+                raise UnitError(field, value, _with_allowed(str(exc), "a number of Barrer, e.g. '3 barrer'")) from None
+            return magnitude * MOL_PER_M_S_PA_PER_BARRER * MOLAR_GAS_CONSTANT * temperature
+    try:
+        return parse_quantity(field, value, "area_per_time")
+    except UnitError as exc:
+        try:
+            return parse_quantity(field, value, "molar_permeability") * MOLAR_GAS_CONSTANT * temperature
+        except UnitError:
+            raise UnitError(field, value, exc.allowed + _PERMEABILITY_FORMS) from None

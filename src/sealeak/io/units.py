@@ -60,6 +60,7 @@ SI_UNITS = {
     "force_per_length": "N/m",
     "surface_tension": "N/m",  # a force per length too; its own name words its messages
     "area_per_time": "m^2/s",
+    "molar_permeability": "mol/(m*s*Pa)",
     "time": "s",
     "acceleration": "m/s^2",
     "volume": "m^3",
@@ -81,6 +82,7 @@ DIMENSIONS = {
     "force_per_length": "[mass] / [time] ** 2",
     "surface_tension": "[mass] / [time] ** 2",
     "area_per_time": "[length] ** 2 / [time]",
+    "molar_permeability": "[substance] * [time] / [mass]",
     "time": "[time]",
     "acceleration": "[length] / [time] ** 2",
     "volume": "[length] ** 3",
@@ -101,6 +103,7 @@ _EXAMPLES = {
     "force_per_length": "'5 N/mm', '5000 N/m'",
     "surface_tension": "'72.8 mN/m', '0.0728 N/m'",
     "area_per_time": "'1e-10 m^2/s', '1e-6 cm^2/s', '1e-13 Pa*m^3*m/(m^2*s*Pa)'",
+    "molar_permeability": "'1e-15 mol/(m*s*Pa)', '1e-15 mol*m/(m^2*s*Pa)'",
     "time": "'10 s', '5 min'",
     "acceleration": "'9.81 m/s^2'",
     "volume": "'0.5 l', '250 ml', '1e-4 m^3'",

@@ -150,7 +150,8 @@ def gas_notes(r: CaseResult) -> list[str]:
     if case.helium_equivalent:
         notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
     if case.gas is not None and case.permeation is not None:
-        notes.append("Q_perm: the gas's steady permeation through the rubber of the squeezed cord (rubber.permeability), "
+        notes.append(f"Q_perm: the gas's steady permeation through the rubber of the squeezed cord (rubber.permeability: "
+                     f"P = {case.permeation.permeability:.4g} m²/s, pV at {celsius(case.temperature):.4g} °C), "
                      "reached after about t_lag (rubber.diffusivity); Q_total = Q_pV + Q_perm, what a leak test measures "
                      "once the permeation has broken through (docs/theory.md §11.11)")
     return notes
