@@ -10,9 +10,21 @@ from scipy.integrate import quad
 
 from sealeak.errors import InputError
 from sealeak.physics.viscoelastic import (
-    GLASS_MARGIN, MAX_TERMS, UNIVERSAL_WLF_C1, UNIVERSAL_WLF_C2, ArrheniusShift, CompressionSet, MasterCurve,
-    PronySeries, WLFShift, fit_compression_set, glass_transition_warnings, modulus_at, remaining_compression,
-    thermal_compression, universal_wlf_glass_transition,
+    GLASS_MARGIN,
+    MAX_TERMS,
+    UNIVERSAL_WLF_C1,
+    UNIVERSAL_WLF_C2,
+    ArrheniusShift,
+    CompressionSet,
+    MasterCurve,
+    PronySeries,
+    WLFShift,
+    fit_compression_set,
+    glass_transition_warnings,
+    modulus_at,
+    remaining_compression,
+    thermal_compression,
+    universal_wlf_glass_transition,
 )
 
 E_INF, E1, TAU = 4e6, 3e6, 10.0

@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field as dataclass_field
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
+from functools import cached_property
 from typing import Protocol
 
 import numpy as np
@@ -179,6 +181,10 @@ class PronySeries:
             e = e + ei * w * taui / (1 + (w * taui) ** 2)
         return e
 
+    @cached_property
+    def _retardation_terms(self) -> tuple[FloatArray, FloatArray]:
+        return _retardation(self.equilibrium_modulus, self.moduli, self.times)
+
     def retardation(self) -> tuple[FloatArray, FloatArray]:
         """(Jj in 1/Pa, λj in s), the creep compliance's terms J(t) = 1/E∞ − Σ Jj exp(−t/λj) (eqs. 14.4, 14.5).
 
@@ -186,7 +192,8 @@ class PronySeries:
         poles −1/τi and one between the slowest pole and 0; each found by Brent's method on the function times the
         factors (1 + s τ) of the two poles that bracket it, which is finite and changes sign there (§14.2).
         """
-        return _retardation(self.equilibrium_modulus, self.moduli, self.times)
+        weights, lam = self._retardation_terms
+        return weights.copy(), lam.copy()
 
     def creep_compliance(self, t: ArrayLike) -> FloatArray:
         """J(t) in 1/Pa at times t >= 0 in s: the strain under a unit step of stress (eq. 14.5).
@@ -379,7 +386,7 @@ def universal_wlf_glass_transition(shift: WLFShift) -> float:
     """An estimate of Tg in K from WLF constants at any reference: Tg ≈ T∞ + 51.6 K = Tref − C2 + 51.6 K (§14.5).
 
     The WLF constants referred to Tg have C2g = C2 + Tg − Tref; with the universal C2g = 51.6 K this gives Tg.
-    An estimate: measured C2g range from about 25 to 80 K (Ferry 1980, table 11-II)."""
+    An estimate only: measured C2g vary from polymer to polymer (Ferry 1980, ch. 11)."""
     return shift.vogel_temperature + UNIVERSAL_WLF_C2
 
 
