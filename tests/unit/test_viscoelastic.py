@@ -110,6 +110,8 @@ def test_storage_and_loss_modulus():
     ((1e6, [1e6], [0.0]), "rubber.relaxation.times[0]"),
     ((1e6, [float("nan")], [1.0]), "rubber.relaxation.moduli[0]"),
     ((1e6, "2 MPa", [1.0]), "rubber.relaxation.moduli"),
+    ((1e6, None, [1.0]), "rubber.relaxation.moduli"),
+    ((1e6, [1e6], [[1.0, 2.0], [3.0]]), "rubber.relaxation.times"),
     ((1e6, [1e6] * (MAX_TERMS + 1), list(range(1, MAX_TERMS + 2))), "rubber.relaxation.moduli"),
 ])
 def test_prony_series_refuses_bad_input_naming_the_field(args, field):
@@ -232,6 +234,8 @@ def test_colder_squeezes_less_when_the_rubber_shrinks_more_than_the_gland():
     ({"temperature": -5.0}, "temperature"),
     ({"rubber_expansion": 0.5}, "rubber_expansion"),
     ({"assembly_temperature": 0.0}, "assembly_temperature"),
+    ({"gland_expansion": "steel"}, "gland_expansion"),
+    ({"temperature": None}, "temperature"),
 ])
 def test_thermal_compression_refuses_bad_input(kwargs, field):
     args = {"compression": 0.2, "temperature": 250.0, "assembly_temperature": 293.15, "rubber_expansion": 2e-4,

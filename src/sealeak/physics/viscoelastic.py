@@ -65,10 +65,7 @@ steel about 1.0–1.3 × 10⁻⁵ in the same table). A compound's value varies 
 
 def _array(field: str, value: ArrayLike, what: str) -> FloatArray:
     """``value`` as a finite 1-D float array of at most :data:`MAX_POINTS` entries, else an InputError naming ``field``."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, value, f"must be a list of numbers ({what})") from None
+    arr = _floats(field, value, f"must be a list of numbers ({what})")
     if arr.ndim > 1 or arr.size > MAX_POINTS:
         raise InputError(field, value, f"must be a list of at most {MAX_POINTS} numbers ({what})")
     arr = np.atleast_1d(arr)
@@ -78,6 +75,16 @@ def _array(field: str, value: ArrayLike, what: str) -> FloatArray:
         if not math.isfinite(v):
             raise InputError(f"{field}[{i}]", float(v), f"must be finite ({what})")
     return arr
+
+
+def _floats(field: str, value: ArrayLike, allowed: str) -> FloatArray:
+    """``value`` (a number or numbers) as a float array, else an InputError naming ``field`` (missing: "is required")."""
+    if value is None:
+        raise InputError(field, None, f"is required: {allowed.removeprefix('must be ')}")
+    try:
+        return np.asarray(value, dtype=float)
+    except (TypeError, ValueError, RecursionError):
+        raise InputError(field, value, allowed) from None
 
 
 def _positive(field: str, value: float, what: str, *, allow_zero: bool = False) -> float:
@@ -291,14 +298,16 @@ class MasterCurve:
         """The modulus at the last measured time (Pa), the curve's value as t → ∞."""
         return self.moduli[-1]
 
+    @cached_property
+    def _spline(self) -> PchipInterpolator:
+        return PchipInterpolator(np.log10(np.asarray(self.times)), np.log10(np.asarray(self.moduli)))
+
     def relaxation_modulus(self, t: ArrayLike) -> FloatArray:
         """E(t) in Pa at times t in s; held at the end values outside the measured times."""
-        log_t = np.log10(np.asarray(self.times))
-        spline = PchipInterpolator(log_t, np.log10(np.asarray(self.moduli)))
         tt = np.asarray(t, dtype=float)
         with np.errstate(divide="ignore"):
-            x = np.clip(np.log10(np.maximum(tt, 0.0)), log_t[0], log_t[-1])
-        return np.asarray(10.0 ** spline(x), dtype=float)
+            x = np.clip(np.log10(np.maximum(tt, 0.0)), math.log10(self.times[0]), math.log10(self.times[-1]))
+        return np.asarray(10.0 ** self._spline(x), dtype=float)
 
 
 # --- time–temperature superposition ----------------------------------------------------------------------------
@@ -341,7 +350,7 @@ class WLFShift(_Shift):
 
     def log10_shift(self, temperature: ArrayLike, *, field: str = "temperature") -> FloatArray:
         """log10 a_T at temperatures T in K (> T∞ = Tref − C2; else an InputError naming ``field``)."""
-        temp = np.asarray(temperature, dtype=float)
+        temp = _floats(field, temperature, "must be a number (K)")
         dt = temp - self.reference_temperature
         _refuse_where(field, temp, ~(self.c2 + dt > 0), f"must be above Tref − C2 = {self.vogel_temperature:.6g} K, "
                       "where the WLF shift diverges (the rubber is glassy long before)")
@@ -363,7 +372,7 @@ class ArrheniusShift(_Shift):
 
     def log10_shift(self, temperature: ArrayLike, *, field: str = "temperature") -> FloatArray:
         """log10 a_T at temperatures T in K (> 0)."""
-        temp = np.asarray(temperature, dtype=float)
+        temp = _floats(field, temperature, "must be a number (K)")
         _refuse_where(field, temp, ~(temp > 0), "must be an absolute temperature > 0 K")
         return np.asarray(self.activation_energy / GAS_CONSTANT * (1 / temp - 1 / self.reference_temperature)
                           / math.log(10), dtype=float)
@@ -402,18 +411,20 @@ def thermal_compression(compression: ArrayLike, temperature: ArrayLike, assembly
     Returns ε(T) (1), which may be <= 0: the cord no longer fills the gland (no contact force). ``compression`` and
     ``temperature`` broadcast against each other.
     """
-    eps0 = np.asarray(compression, dtype=float)
+    eps0 = _floats("compression", compression, "must be a number (the squeeze over the cord diameter)")
     _refuse_where("compression", eps0, ~((eps0 >= 0) & (eps0 < 1)), "must be in [0, 1): the squeeze over the cord diameter")
     ta = _positive("assembly_temperature", assembly_temperature, "K")
-    temp = np.asarray(temperature, dtype=float)
+    temp = _floats("temperature", temperature, "must be a number (K)")
     _refuse_where("temperature", temp, ~(temp > 0), "must be an absolute temperature > 0 K")
+    alphas = []
     for name, alpha in (("rubber_expansion", rubber_expansion), ("gland_expansion", gland_expansion)):
-        a = float(alpha)
-        if not (math.isfinite(a) and abs(a) < 1e-2):
+        a = _floats(name, alpha, "must be a number (1/K)")
+        if a.ndim or not (math.isfinite(a) and abs(a) < 1e-2):
             raise InputError(name, alpha, "must be a linear expansion coefficient of magnitude below 1e-2 1/K")
+        alphas.append(float(a))
     dt = temp - ta
-    cord = 1 + float(rubber_expansion) * dt
-    gland = 1 + float(gland_expansion) * dt
+    cord = 1 + alphas[0] * dt
+    gland = 1 + alphas[1] * dt
     _refuse_where("temperature", np.broadcast_to(temp, cord.shape), ~((cord > 0) & (gland > 0)),
                   "must keep 1 + α (T − Ta) > 0 for the cord and the gland")
     return np.asarray(1 - (1 - eps0) * gland / cord, dtype=float)
