@@ -112,6 +112,7 @@ def test_storage_and_loss_modulus():
     ((1e6, "2 MPa", [1.0]), "rubber.relaxation.moduli"),
     ((1e6, None, [1.0]), "rubber.relaxation.moduli"),
     ((1e6, [1e6], [[1.0, 2.0], [3.0]]), "rubber.relaxation.times"),
+    ((1e6, [1e6], "10"), "rubber.relaxation.times"),
     ((1e6, [1e6] * (MAX_TERMS + 1), list(range(1, MAX_TERMS + 2))), "rubber.relaxation.moduli"),
 ])
 def test_prony_series_refuses_bad_input_naming_the_field(args, field):

@@ -30,7 +30,7 @@ from scipy.constants import R as GAS_CONSTANT
 from scipy.interpolate import PchipInterpolator
 from scipy.optimize import brentq, least_squares
 
-from ..errors import InputError
+from ..errors import InputError, positive_number
 
 __all__ = [
     "PronySeries", "MasterCurve", "WLFShift", "ArrheniusShift", "modulus_at", "universal_wlf_glass_transition",
@@ -65,6 +65,8 @@ steel about 1.0–1.3 × 10⁻⁵ in the same table). A compound's value varies 
 
 def _array(field: str, value: ArrayLike, what: str) -> FloatArray:
     """``value`` as a finite 1-D float array of at most :data:`MAX_POINTS` entries, else an InputError naming ``field``."""
+    if isinstance(value, (str, bytes)):
+        raise InputError(field, value, f"must be a list of numbers ({what})")
     arr = _floats(field, value, f"must be a list of numbers ({what})")
     if arr.ndim > 1 or arr.size > MAX_POINTS:
         raise InputError(field, value, f"must be a list of at most {MAX_POINTS} numbers ({what})")
@@ -87,14 +89,9 @@ def _floats(field: str, value: ArrayLike, allowed: str) -> FloatArray:
         raise InputError(field, value, allowed) from None
 
 
-def _positive(field: str, value: float, what: str, *, allow_zero: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(field, value, f"must be a number ({what})") from None
-    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise InputError(field, value, f"must be finite and {'>=' if allow_zero else '>'} 0 ({what})")
-    return v
+def _positive(field: str, value: float, what: str) -> float:
+    """:func:`~sealeak.errors.positive_number` with the unit in its message."""
+    return positive_number(field, value, allowed=f"must be finite and > 0 ({what})")
 
 
 def _refuse_where(field: str, values: FloatArray, bad: NDArray[np.bool_], allowed: str) -> None:
@@ -137,8 +134,6 @@ class PronySeries:
     def __post_init__(self) -> None:
         f = self.field
         e_inf = _positive(f"{f}.equilibrium_modulus", self.equilibrium_modulus, "Pa")
-        if isinstance(self.moduli, (str, bytes)) or isinstance(self.times, (str, bytes)):
-            raise InputError(f"{f}.moduli", self.moduli, "must be a list of moduli (Pa)")
         moduli = _array(f"{f}.moduli", self.moduli, "Pa")
         times = _array(f"{f}.times", self.times, "s")
         if moduli.size > MAX_TERMS:
@@ -237,7 +232,7 @@ def _retardation(e_inf: float, moduli: Sequence[float], times: Sequence[float]) 
         hi = math.log(1 / tau[i])  # u = ln(−s): s = −1/τi, the faster pole
         if i + 1 < tau.size:
             lo = math.log(1 / tau[i + 1])
-        else:  # between the slowest pole and s = 0, where f = E∞ > 0
+        else:  # between the slowest pole and s = 0, where s Ē(s) = E∞ > 0
             lo = hi - 1.0
             while regular(-math.exp(lo), poles) * regular(-math.exp(hi), poles) > 0 and lo > hi - 200:
                 lo -= 2.0
