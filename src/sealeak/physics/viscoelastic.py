@@ -434,8 +434,8 @@ def glass_transition_warnings(temperature: float, glass_transition: float, *, es
     how = " (estimated from the WLF constants)" if estimated else ""
     if t < tg:
         return (f"{t - 273.15:.4g} °C is below the glass transition ({tg - 273.15:.4g} °C{how}): the rubber is glassy, "
-                "its modulus is about a thousand times the rubbery one, it no longer follows the cord's squeeze and the "
-                "seal is expected to leak; the viscoelastic model does not hold there",)
+                "its modulus some hundred to a thousand times the rubbery one; it no longer follows the squeeze and the "
+                "seal may leak; the viscoelastic model does not hold there",)
     if t < tg + GLASS_MARGIN:
         return (f"{t - 273.15:.4g} °C is within {GLASS_MARGIN:.0f} K of the glass transition ({tg - 273.15:.4g} °C{how}): "
                 "the modulus rises by decades and the relaxation slows as the rubber approaches Tg; check the seal "
