@@ -209,6 +209,18 @@ def test_modulus_at_a_temperature_is_the_shifted_time():
     assert modulus_at(p, t, 253.15) == pytest.approx(p.relaxation_modulus(t))
 
 
+def test_a_master_curve_shifts_like_a_prony_series():
+    """One decade of a_T moves a power-law master curve E = A t^−n by a factor 10^n at every time."""
+    n = 0.1
+    t = np.geomspace(1e-3, 1e9, 13)
+    curve = MasterCurve(tuple(t), tuple(8e6 * t ** -n))
+    shift = ArrheniusShift(293.15, 60e3)
+    cold = 273.15
+    decades = float(shift.log10_shift(cold))
+    at = np.array([1.0, 60.0, 3600.0])
+    assert modulus_at(curve, at, cold, shift) == pytest.approx(curve.relaxation_modulus(at) * 10 ** (n * decades), rel=1e-10)
+
+
 # --- thermal contraction and the glass transition ------------------------------------------------------------
 
 
