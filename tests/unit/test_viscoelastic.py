@@ -1,4 +1,4 @@
-"""The seal over its life (docs/theory.md §15): Prony series, creep compliance, master curve, shift factors,
+"""The seal over its life (docs/theory.md §16): Prony series, creep compliance, master curve, shift factors,
 thermal contraction, glass transition, compression set."""
 
 import math
@@ -63,7 +63,7 @@ def test_standard_linear_solid_creep_compliance_is_its_closed_form():
 
 @pytest.mark.parametrize("t", [1e-4, 1e-2, 3.0, 100.0, 5e4])
 def test_creep_compliance_satisfies_the_convolution_identity(t):
-    """∫₀ᵗ E(t − s) J(s) ds = t (eq. 15.3), and its derivative E(t) J(0) + ∫₀ᵗ E(t − s) J'(s) ds = 1, by quadrature."""
+    """∫₀ᵗ E(t − s) J(s) ds = t (eq. 16.3), and its derivative E(t) J(0) + ∫₀ᵗ E(t − s) J'(s) ds = 1, by quadrature."""
     p = three_terms()
     weights, lam = p.retardation()
     ends = np.geomspace(1e-6, t, 40)[:-1]  # E(t − s) changes fast near s = t, J(s) near s = 0

@@ -9,7 +9,7 @@
 * :mod:`~sealeak.physics.profile`: a non-uniform contact pressure p(x) and the series resistance ∫dx/σ (§10.1);
 * :mod:`~sealeak.physics.oring`: an O-ring's contact force, width and pressure, and E from Shore A (§10.2);
 * :mod:`~sealeak.physics.viscoelastic`: relaxation, creep, time–temperature shift, thermal contraction and
-  compression set: the seal over its life (§15).
+  compression set: the seal over its life (§16).
 
 Nothing here reads files with units or prints; errors name the functions' own parameters.
 """

@@ -1,15 +1,15 @@
 """The seal over its life: viscoelastic rubber, time–temperature superposition, thermal contraction, ageing.
 
-* :class:`PronySeries`: the relaxation modulus E(t) = E∞ + Σ Ei exp(−t/τi) (docs/theory.md §15.1, eq. 15.1), its
-  storage and loss moduli (eq. 15.2) and its creep compliance J(t), exact by the roots of the Laplace transform
-  (§15.2, eqs. 15.3–15.5);
-* :class:`MasterCurve`: E(t) from measured (time, modulus) points, PCHIP in log–log (§15.3);
-* :class:`WLFShift`, :class:`ArrheniusShift`: the shift factor a_T (eqs. 15.6, 15.7); the modulus at time t and
-  temperature T is E(t/a_T(T)) (eq. 15.8, :func:`modulus_at`);
-* :func:`thermal_compression`: the O-ring's compression at temperature T in a gland that expands differently (eq. 15.9),
-  and :func:`glass_transition_warnings` near and below Tg (§15.5);
+* :class:`PronySeries`: the relaxation modulus E(t) = E∞ + Σ Ei exp(−t/τi) (docs/theory.md §16.1, eq. 16.1), its
+  storage and loss moduli (eq. 16.2) and its creep compliance J(t), exact by the roots of the Laplace transform
+  (§16.2, eqs. 16.3–16.5);
+* :class:`MasterCurve`: E(t) from measured (time, modulus) points, PCHIP in log–log (§16.3);
+* :class:`WLFShift`, :class:`ArrheniusShift`: the shift factor a_T (eqs. 16.6, 16.7); the modulus at time t and
+  temperature T is E(t/a_T(T)) (eq. 16.8, :func:`modulus_at`);
+* :func:`thermal_compression`: the O-ring's compression at temperature T in a gland that expands differently (eq. 16.9),
+  and :func:`glass_transition_warnings` near and below Tg (§16.5);
 * :func:`fit_compression_set`, :class:`CompressionSet`: the compression set c(t, T) with Arrhenius time–temperature
-  scaling (eqs. 15.10, 15.11) and the compression left ε (1 − c) (eq. 15.12).
+  scaling (eqs. 16.10, 16.11) and the compression left ε (1 − c) (eq. 16.12).
 
 Plain SI: moduli in Pa, times in s, temperatures in K, expansion coefficients in 1/K, activation energies in J/mol.
 Errors name the field given by the caller (``field``, e.g. ``rubber.relaxation``) and the parameter after it.
@@ -111,7 +111,7 @@ class RelaxationModulus(Protocol):
 
 @dataclass(frozen=True)
 class PronySeries:
-    """E(t) = E∞ + Σ Ei exp(−t/τi) (docs/theory.md eq. 15.1), a generalized Maxwell solid.
+    """E(t) = E∞ + Σ Ei exp(−t/τi) (docs/theory.md eq. 16.1), a generalized Maxwell solid.
 
     Parameters
     ----------
@@ -159,7 +159,7 @@ class PronySeries:
         return self.equilibrium_modulus + math.fsum(self.moduli)
 
     def relaxation_modulus(self, t: ArrayLike) -> FloatArray:
-        """E(t) in Pa at times t >= 0 in s (eq. 15.1)."""
+        """E(t) in Pa at times t >= 0 in s (eq. 16.1)."""
         tt = np.asarray(t, dtype=float)
         e = np.full(tt.shape, self.equilibrium_modulus)
         for ei, taui in zip(self.moduli, self.times):
@@ -167,7 +167,7 @@ class PronySeries:
         return e
 
     def storage_modulus(self, omega: ArrayLike) -> FloatArray:
-        """E'(ω) = E∞ + Σ Ei ω²τi²/(1 + ω²τi²) in Pa at angular frequencies ω in rad/s (eq. 15.2)."""
+        """E'(ω) = E∞ + Σ Ei ω²τi²/(1 + ω²τi²) in Pa at angular frequencies ω in rad/s (eq. 16.2)."""
         w = np.asarray(omega, dtype=float)
         e = np.full(w.shape, self.equilibrium_modulus)
         for ei, taui in zip(self.moduli, self.times):
@@ -176,7 +176,7 @@ class PronySeries:
         return e
 
     def loss_modulus(self, omega: ArrayLike) -> FloatArray:
-        """E''(ω) = Σ Ei ωτi/(1 + ω²τi²) in Pa at angular frequencies ω in rad/s (eq. 15.2)."""
+        """E''(ω) = Σ Ei ωτi/(1 + ω²τi²) in Pa at angular frequencies ω in rad/s (eq. 16.2)."""
         w = np.asarray(omega, dtype=float)
         e = np.zeros(w.shape)
         for ei, taui in zip(self.moduli, self.times):
@@ -188,19 +188,19 @@ class PronySeries:
         return _retardation(self.equilibrium_modulus, self.moduli, self.times)
 
     def retardation(self) -> tuple[FloatArray, FloatArray]:
-        """(Jj in 1/Pa, λj in s), the creep compliance's terms J(t) = 1/E∞ − Σ Jj exp(−t/λj) (eqs. 15.4, 15.5).
+        """(Jj in 1/Pa, λj in s), the creep compliance's terms J(t) = 1/E∞ − Σ Jj exp(−t/λj) (eqs. 16.4, 16.5).
 
         λj = −1/sj with sj the N roots of s Ē(s) = E∞ + Σ Ei s τi/(1 + s τi), one between each two neighbouring
         poles −1/τi and one between the slowest pole and 0; each found by Brent's method on the function times the
-        factors (1 + s τ) of the two poles that bracket it, which is finite and changes sign there (§15.2).
+        factors (1 + s τ) of the two poles that bracket it, which is finite and changes sign there (§16.2).
         """
         weights, lam = self._retardation_terms
         return weights.copy(), lam.copy()
 
     def creep_compliance(self, t: ArrayLike) -> FloatArray:
-        """J(t) in 1/Pa at times t >= 0 in s: the strain under a unit step of stress (eq. 15.5).
+        """J(t) in 1/Pa at times t >= 0 in s: the strain under a unit step of stress (eq. 16.5).
 
-        J(0) = 1/E(0), J(∞) = 1/E∞; it satisfies ∫₀ᵗ E(t − s) J(s) ds = t (eq. 15.3).
+        J(0) = 1/E(0), J(∞) = 1/E∞; it satisfies ∫₀ᵗ E(t − s) J(s) ds = t (eq. 16.3).
         """
         weights, lam = self.retardation()
         tt = np.asarray(t, dtype=float)
@@ -216,7 +216,7 @@ def _retardation(e_inf: float, moduli: Sequence[float], times: Sequence[float]) 
     ei = np.asarray(moduli, dtype=float)[order]
 
     def regular(s: float, poles: tuple[int, ...]) -> float:
-        """s Ē(s) (eq. 15.4) × Π (1 + s τk) over the bracketing poles k: finite at those poles."""
+        """s Ē(s) (eq. 16.4) × Π (1 + s τk) over the bracketing poles k: finite at those poles."""
         value = e_inf * math.prod(1 + s * tau[k] for k in poles)
         for k in range(tau.size):
             term = ei[k] * s * tau[k]
@@ -249,7 +249,7 @@ def _retardation(e_inf: float, moduli: Sequence[float], times: Sequence[float]) 
 
 @dataclass(frozen=True)
 class MasterCurve:
-    """E(t) from a measured relaxation master curve at its reference temperature (§15.3).
+    """E(t) from a measured relaxation master curve at its reference temperature (§16.3).
 
     ``times`` (s, > 0, increasing) and ``moduli`` (Pa, > 0, non-increasing: a relaxation modulus never rises),
     2 to :data:`MAX_POINTS` points; interpolated by a monotone cubic (PCHIP) in log t, log E, held at the first and
@@ -322,7 +322,7 @@ class _Shift:
 
 @dataclass(frozen=True)
 class WLFShift(_Shift):
-    """log10 a_T = −C1 (T − Tref)/(C2 + T − Tref) (Williams, Landel & Ferry 1955; docs/theory.md eq. 15.6).
+    """log10 a_T = −C1 (T − Tref)/(C2 + T − Tref) (Williams, Landel & Ferry 1955; docs/theory.md eq. 16.6).
 
     ``reference_temperature`` Tref in K, ``c1`` (1) and ``c2`` (K) > 0. Defined for T > Tref − C2 (the Vogel
     temperature T∞, where a_T diverges); :meth:`log10_shift` refuses T at or below it.
@@ -354,7 +354,7 @@ class WLFShift(_Shift):
 
 @dataclass(frozen=True)
 class ArrheniusShift(_Shift):
-    """ln a_T = (Ea/R)(1/T − 1/Tref) (docs/theory.md eq. 15.7): ``reference_temperature`` in K, ``activation_energy``
+    """ln a_T = (Ea/R)(1/T − 1/Tref) (docs/theory.md eq. 16.7): ``reference_temperature`` in K, ``activation_energy``
     Ea in J/mol (> 0)."""
 
     reference_temperature: float
@@ -375,7 +375,7 @@ class ArrheniusShift(_Shift):
 
 def modulus_at(material: RelaxationModulus, time: ArrayLike, temperature: ArrayLike,
                shift: WLFShift | ArrheniusShift | None = None) -> FloatArray:
-    """E(t/a_T(T)) in Pa: the relaxation modulus at time t (s) held at temperature T (K) (eq. 15.8).
+    """E(t/a_T(T)) in Pa: the relaxation modulus at time t (s) held at temperature T (K) (eq. 16.8).
 
     ``material`` gives E at the reference temperature of ``shift``; without a shift (a material measured at the
     one temperature of the case) E(t) itself. The time and the temperature broadcast against each other.
@@ -387,7 +387,7 @@ def modulus_at(material: RelaxationModulus, time: ArrayLike, temperature: ArrayL
 
 
 def universal_wlf_glass_transition(shift: WLFShift) -> float:
-    """An estimate of Tg in K from WLF constants at any reference: Tg ≈ T∞ + 51.6 K = Tref − C2 + 51.6 K (§15.5).
+    """An estimate of Tg in K from WLF constants at any reference: Tg ≈ T∞ + 51.6 K = Tref − C2 + 51.6 K (§16.5).
 
     The WLF constants referred to Tg have C2g = C2 + Tg − Tref; with the universal C2g = 51.6 K this gives Tg.
     An estimate only: measured C2g vary from polymer to polymer (Ferry 1980, ch. 11)."""
@@ -399,7 +399,7 @@ def universal_wlf_glass_transition(shift: WLFShift) -> float:
 
 def thermal_compression(compression: ArrayLike, temperature: ArrayLike, assembly_temperature: float,
                         rubber_expansion: float, gland_expansion: float) -> FloatArray:
-    """ε(T) = 1 − h(T)/d(T) (docs/theory.md eq. 15.9), the O-ring's compression at temperature T.
+    """ε(T) = 1 − h(T)/d(T) (docs/theory.md eq. 16.9), the O-ring's compression at temperature T.
 
     The cord diameter d(T) = d0 (1 + α_r (T − Ta)) and the gland depth h(T) = h0 (1 + α_g (T − Ta)) each follow their own
     linear expansion coefficient (1/K) from the assembly temperature Ta (K), where the compression is ε0 = 1 − h0/d0.
@@ -426,7 +426,7 @@ def thermal_compression(compression: ArrayLike, temperature: ArrayLike, assembly
 
 
 def glass_transition_warnings(temperature: float, glass_transition: float, *, estimated: bool = False) -> tuple[str, ...]:
-    """A warning at temperatures (K) below Tg + :data:`GLASS_MARGIN` (§15.5): the empty tuple above it.
+    """A warning at temperatures (K) below Tg + :data:`GLASS_MARGIN` (§16.5): the empty tuple above it.
 
     ``estimated`` says that Tg comes from the WLF constants (:func:`universal_wlf_glass_transition`), not a measurement.
     """
@@ -448,7 +448,7 @@ def glass_transition_warnings(temperature: float, glass_transition: float, *, es
 
 @dataclass(frozen=True)
 class CompressionSet:
-    """c(t, T) = 1 − exp(−(t/τ(T))^β), τ(T) = τref exp((Ea/R)(1/T − 1/Tref)) (docs/theory.md eqs. 15.10, 15.11).
+    """c(t, T) = 1 − exp(−(t/τ(T))^β), τ(T) = τref exp((Ea/R)(1/T − 1/Tref)) (docs/theory.md eqs. 16.10, 16.11).
 
     Attributes: ``time_constant`` τref (s) at ``reference_temperature`` Tref (K), ``exponent`` β (1),
     ``activation_energy`` Ea (J/mol), ``rms_residual`` the fit's root-mean-square residual in c (1; 0 when not fitted).
@@ -461,7 +461,7 @@ class CompressionSet:
     rms_residual: float = 0.0
 
     def time_scale(self, temperature: ArrayLike) -> FloatArray:
-        """τ(T) in s at temperatures T in K (eq. 15.11)."""
+        """τ(T) in s at temperatures T in K (eq. 16.11)."""
         temp = np.asarray(temperature, dtype=float)
         return np.asarray(self.time_constant * np.exp(self.activation_energy / GAS_CONSTANT
                                                       * (1 / temp - 1 / self.reference_temperature)), dtype=float)
@@ -473,13 +473,13 @@ class CompressionSet:
 
 
 def remaining_compression(compression: ArrayLike, compression_set: ArrayLike) -> FloatArray:
-    """ε_eff = ε (1 − c) (eq. 15.12): the compression a set c leaves of the compression ε."""
+    """ε_eff = ε (1 − c) (eq. 16.12): the compression a set c leaves of the compression ε."""
     return np.asarray(np.asarray(compression, dtype=float) * (1 - np.asarray(compression_set, dtype=float)), dtype=float)
 
 
 def fit_compression_set(times: ArrayLike, temperatures: ArrayLike, sets: ArrayLike, *,
                         reference_temperature: float = 293.15, field: str = "compression_set") -> CompressionSet:
-    """Fit eqs. 15.10–15.11 to measured compression sets (§15.6).
+    """Fit eqs. 16.10–16.11 to measured compression sets (§16.6).
 
     ``times`` (s, > 0), ``temperatures`` (K, > 0) and ``sets`` (fractions, 0 < c < 1) per point, at least 3 points at
     two or more temperatures and two or more times. A straight-line least-squares fit of
