@@ -291,8 +291,8 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
     table = doc.pop("uncertainty", None)
     for name, spec in (_table_entries(table) if table is not None else {}).items():
         where = f"uncertainty.{name}"
-        section, _, key = name.partition(".")
-        if section not in SECTIONS or section in _NO_SPREAD or key not in SECTIONS[section]:
+        section, _, entry = name.partition(".")
+        if section not in SECTIONS or section in _NO_SPREAD or entry not in SECTIONS[section]:
             known = [f"{s}.{k}" for s in SECTIONS if s not in _NO_SPREAD for k in sorted(SECTIONS[s])]
             raise InputError(where, spec, "names no case-file key: write \"section.key\", e.g. \"surface.h_rms\""
                                           + did_you_mean(name, known))
@@ -311,12 +311,12 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
         for k in DISTRIBUTIONS[dist]:
             if k not in spec:
                 raise InputError(f"{where}.{k}", None, f"is required for a {dist} distribution")
-        nominal = doc.get(section, {}).get(key) if isinstance(doc.get(section), dict) else None
-        if nominal is None:
+        given = doc[section].get(entry) if isinstance(doc.get(section), dict) else None
+        if given is None:
             raise InputError(name, None, f"is required: [uncertainty] gives it a spread; write its value in [{section}]")
-        if isinstance(nominal, (list, dict)):
-            raise InputError(name, nominal, "a spread goes on a single value, not on a list or table")
-        inputs[name] = _make(name, nominal, dist, spec, "[uncertainty]")
+        if isinstance(given, (list, dict)):
+            raise InputError(name, given, "a spread goes on a single value, not on a list or table")
+        inputs[name] = _make(name, given, dist, spec, "[uncertainty]")
     for name in inputs:
         if vary and (name == vary or name.split(".")[0] == vary):
             raise InputError(name, inputs[name].nominal, f"has a spread and is also what [study] varies ({vary}): "

@@ -367,12 +367,12 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
     ok = np.flatnonzero(p_pass >= PASS_PROBABILITY)
     if ok.size == 0:
         return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
-                           note=f"the probability of passing stays below {PASS_PROBABILITY:.0%} up to the highest "
+                           note=f"the probability of passing stays below {100 * PASS_PROBABILITY:.0f} % up to the highest "
                                 f"{load_name.replace('_', ' ')} computed")
     i = int(ok[0])
     if i == 0:
         return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
-                           note=f"passes with at least {PASS_PROBABILITY:.0%} already at the lowest "
+                           note=f"passes with at least {100 * PASS_PROBABILITY:.0f} % already at the lowest "
                                 f"{load_name.replace('_', ' ')} computed: compute lower loads to place it")
     t = (PASS_PROBABILITY - p_pass[i - 1]) / (p_pass[i] - p_pass[i - 1])
     return PassingLoad(variant=variant, load_name=load_name, passing_load=float(loads[i - 1] + t * (loads[i] - loads[i - 1])))
