@@ -142,15 +142,20 @@ def _values(results: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
     return out
 
 
-def sample_values(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+def sample_values(study: UncertainStudy, points: NDArray[np.float64],
+                  nominal: list[CaseResult] | None = None) -> dict[str, NDArray[np.float64]]:
     """The leak rates of every :data:`SPREAD_KEYS` the records hold at each point of the unit hypercube
     ([samples, inputs]), as arrays [samples, rows] in the records' SI units; a row without a leak channel holds 0.
 
-    Points that write the same values (a spread of zero) are run once.
+    Points that write the same values (a spread of zero) are run once. When only α and the viscosity of a liquid are
+    uncertain, the samples share the nominal contact: Q ∝ α/η (critical junction), ∝ 1/η (effective medium), with
+    ``nominal`` the nominal cases' results (run here when not given).
     """
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
         raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
+    if _shares_contact(study):
+        return _scaled(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
     written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
     done: dict[str, dict[str, NDArray[np.float64]]] = {}
     out: dict[str, list[NDArray[np.float64]]] = {}
@@ -162,6 +167,30 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64]) -> dict[st
         for key, v in done[tag].items():
             out.setdefault(key, []).append(v)
     return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}
+
+
+#: The inputs that scale a liquid's leak rate without changing the contact (docs/theory.md §14).
+_SCALING = ("theory.alpha", "fluid.viscosity")
+
+
+def _shares_contact(study: UncertainStudy) -> bool:
+    """Whether every uncertain input is α or the viscosity, and every case a liquid without gas rows or capillarity."""
+    return bool(study.inputs) and all(i.key in _SCALING and i.distribution != "choice" for i in study.inputs) and all(
+        c.gas is None and not c.helium_equivalent and c.capillarity is None for c in study.cases)
+
+
+def _scaled(study: UncertainStudy, points: NDArray[np.float64], nominal: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
+    """:func:`sample_values` of α and viscosity samples: the nominal Q times α/α₀ (critical junction) and η₀/η."""
+    ratio = {key: np.ones(points.shape[0]) for key in _SCALING}
+    for j, inp in enumerate(study.inputs):
+        v = inp.values(points[:, j])
+        if not np.all(v > 0):
+            raise InputError(f"{inp.key} (uncertainty sample)", float(v[~(v > 0)][0]), "must be > 0; narrow the spread")
+        ratio[inp.key] = v / quantity_parts(inp.key, inp.nominal)[0]
+    base = _values(nominal)["leak_rate"]
+    alpha = np.concatenate([np.tile(ratio["theory.alpha"][:, None] if r.shows_critical_junction else np.ones((points.shape[0], 1)),
+                                    len(r.records())) for r in nominal], axis=1)
+    return {"leak_rate": base * alpha / ratio["fluid.viscosity"][:, None]}
 
 
 def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
@@ -383,6 +412,6 @@ def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int =
     ``seed``): the same arguments give the same numbers bit for bit."""
     points = unit_points(len(study.inputs), samples, seed, sampler)
     nominal = [run_case(c) for c in study.cases]
-    values = sample_values(study, points)
+    values = sample_values(study, points, nominal)
     keys, limits = _limits(study, study.cases) if study.max_leak_rate is not None else (None, None)
     return UncertaintyResult(study, points, values, nominal, sampler, seed, keys, limits)
