@@ -37,7 +37,7 @@ from .spreads import UncertainInput
 
 __all__ = ["UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
            "SAMPLERS", "DEFAULT_SAMPLES", "MAX_SAMPLES", "PASS_PROBABILITY", "SPREAD_KEYS", "UNCERTAINTY_UNITS",
-           "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "unit_points", "sample_values",
+           "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "check_sampling", "unit_points", "sample_values",
            "leak_rates", "propagate"]
 
 #: The samplers of the unit hypercube: scrambled Sobol' points, or a Latin hypercube.
@@ -108,21 +108,26 @@ def parse_uncertain_case(text: str, case_dir: Path | str = ".", source: str = "<
     return uncertain_study(parse_case_file(text, case_dir, source))
 
 
+def check_sampling(samples: int, seed: int, sampler: str) -> None:
+    """Refuse a number of samples, a seed or a sampler :func:`unit_points` cannot use (one line naming the option)."""
+    if sampler not in SAMPLERS:
+        raise InputError("--sampler", sampler, f"allowed: {', '.join(SAMPLERS)}")
+    whole_number("--samples", samples, 2, MAX_SAMPLES, " (each sample is a full prediction)")
+    whole_number("--seed", seed, 0, 2**63 - 1)
+    if sampler == "sobol" and samples & (samples - 1):
+        raise InputError("--samples", samples, "Sobol' points come in powers of two: give e.g. "
+                                               f"{1 << (samples - 1).bit_length()} (or --sampler lhs for any number)")
+
+
 def unit_points(dimensions: int, samples: int, seed: int, sampler: str = "sobol") -> NDArray[np.float64]:
     """``samples`` points of the unit hypercube of ``dimensions`` (an array [samples, dimensions]), reproducible for a
     ``seed``: scrambled Sobol' points (``samples`` a power of two) or a Latin hypercube."""
-    if sampler not in SAMPLERS:
-        raise InputError("--sampler", sampler, f"allowed: {', '.join(SAMPLERS)}")
-    samples = whole_number("--samples", samples, 2, MAX_SAMPLES, " (each sample is a full prediction)")
-    seed = whole_number("--seed", seed, 0, 2**63 - 1)
+    check_sampling(samples, seed, sampler)
     if dimensions == 0:
         return np.zeros((samples, 0))
     rng = np.random.default_rng(seed)
     if sampler == "lhs":
         return qmc.LatinHypercube(dimensions, rng=rng).random(samples)
-    if samples & (samples - 1):
-        raise InputError("--samples", samples, "Sobol' points come in powers of two: give e.g. "
-                                               f"{1 << (samples - 1).bit_length()} (or --sampler lhs for any number)")
     return qmc.Sobol(dimensions, scramble=True, rng=rng).random(samples)
 
 
