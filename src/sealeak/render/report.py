@@ -30,6 +30,7 @@ from .._version import __version__
 from ..cases import Case, CaseResult
 from ..cases.leak_tests import DecayPrediction
 from ..cases.loader import shown_source
+from ..cases.uncertainty import UncertaintyResult
 from ..lab.rig import RigSetup
 from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
@@ -37,6 +38,7 @@ from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
 from .notes import worded
 from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, capillary_notes, capillary_tables, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
+from .uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
@@ -464,11 +466,24 @@ def _figures_section(results: Sequence[CaseResult], band: bool) -> tuple[list[st
     return parts, len(figures)
 
 
-def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str:
+def _uncertainty_section(unc: UncertaintyResult) -> list[str]:
+    """The uncertainty band: the sampled inputs, the percentiles per row (``predict``'s table), the passing loads."""
+    header, rows = uncertainty_columns(unc)
+    parts = ["<h2 id=\"uncertainty\">Uncertainty</h2>", f"<p>{_e(uncertainty_heading(unc))}</p>"]
+    if unc.study.inputs:
+        parts.append("<ul>" + "".join(f"<li>{_e(i.label)}</li>" for i in unc.study.inputs) + "</ul>")
+    parts.append(_table(header, rows, left=0))
+    parts.append(f"<p class=\"legend\">{_e(uncertainty_legend(unc))}.</p>")
+    parts += [f"<p>{_e(line)}</p>" for line in passing_lines(unc)]
+    return parts
+
+
+def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any], uncertainty: UncertaintyResult | None = None) -> str:
     """The HTML text of the report of a case file run (one case, or the variants of a study).
 
     ``results``: :func:`~sealeak.cases.run_case` of each case; ``inputs``: the case file as the user
-    wrote it (:attr:`~sealeak.cases.CaseFile.inputs`), shown with its units.
+    wrote it (:attr:`~sealeak.cases.CaseFile.inputs`), shown with its units; ``uncertainty``: the propagation of
+    its uncertain inputs, shown after the results.
     """
     cases = [r.case for r in results]
     band = is_band_run(results)
@@ -480,6 +495,8 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any]) -> str
         parts += _band_section(results)
     parts += _warnings_section(results)
     parts += _results_section(results, band)
+    if uncertainty is not None:
+        parts += _uncertainty_section(uncertainty)
     figures, n_figures = _figures_section(results, band)
     parts += figures
     if len(cases) == 1:

@@ -58,7 +58,8 @@ def download_json(state: StateDep, s: SessionDep) -> Response:
 @router.get("/download/results.csv")
 def download_csv(state: StateDep, s: SessionDep) -> Response:
     """``predict --csv`` of the session's case."""
-    return download(scrub(prediction_csv(current(state, s).results), s, state.root), "results.csv", "text/csv")
+    pred = current(state, s)
+    return download(scrub(prediction_csv(pred.results, pred.uncertainty), s, state.root), "results.csv", "text/csv")
 
 
 @router.get("/download/figures.zip")
@@ -76,5 +77,5 @@ def download_figures(state: StateDep, s: SessionDep) -> Response:
 def download_report(state: StateDep, s: SessionDep) -> Response:
     """The HTML report of ``sealeak report``."""
     pred = current(state, s)
-    return download(scrub(html_report(pred.results, pred.case_file.inputs), s, state.root), "report.html",
+    return download(scrub(html_report(pred.results, pred.case_file.inputs, pred.uncertainty), s, state.root), "report.html",
                     "text/html; charset=utf-8")
