@@ -1,4 +1,4 @@
-"""The figures of an uncertain prediction (sealeak.render.uncertainty, issue 24 item 5), built from plain arrays.
+"""The figures of an uncertain prediction (sealeak.render.uncertainty_figures, issue 24 item 5), built from plain arrays.
 
 Each must read right (tests/integration/test_figures_render.py's checks) and draw what it is given: the
 band between the percentiles, sealed samples in the strip below the leak rates, the specification line,
@@ -10,7 +10,7 @@ import pytest
 from matplotlib.collections import PolyCollection
 
 from sealeak.render.figures import figure_png
-from sealeak.render.uncertainty import LeakBand, figure_fan_chart, figure_leak_distribution, figure_tornado
+from sealeak.render.uncertainty_figures import LeakBand, figure_fan_chart, figure_leak_distribution, figure_tornado
 from tests.integration.test_figures_render import _build, figure_problems
 
 X = np.linspace(50.0, 400.0, 8)  # kPa

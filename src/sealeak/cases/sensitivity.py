@@ -7,7 +7,7 @@ the prediction). :func:`sobol_indices` draws Saltelli's design on that cube (SAL
 Sobol' sequence, ``base_samples · (d + 2)`` model runs), evaluates ``f`` once on all points and
 returns, per row and input, Sobol's first-order index S1 (the share of the variance of log10 Q that
 input explains alone) and total index ST (alone and with every interaction), each with the
-half-width of its bootstrap confidence interval (docs/theory.md §14).
+half-width of its bootstrap confidence interval (docs/theory.md §15).
 
 What is analysed is y = log10 Q, not Q: leak rates span decades, and the variance of Q itself is
 carried by the few largest samples. A sealed sample (Q = 0, or no leak channel: NaN) has no
