@@ -34,6 +34,7 @@ from sealeak.cases.run import CaseResult
 from sealeak.cases.simulation import SweepRecord, ThresholdRecord
 from sealeak.cases.simulation_band import BandRecord, BandSimulationResult
 from sealeak.cases.simulation_map import MapInfo, MapSimulationResult
+from sealeak.cases.uncertainty import PassingLoad, UncertaintyColumns
 from sealeak.lab.data import LeakData
 from sealeak.lab.fitting import LinearFit, ScaleFit
 from sealeak.lab.pressure_decay import DecayReadings, PressureDecaySetup, ScaleFromDecay
@@ -58,6 +59,12 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      "angle (`_effective_medium` added for that model's).",
      (CriticalJunctionResult, EffectiveMediumResult, BandColumns, BandEffectiveMediumColumns, CaseResult, GasColumns,
       HeliumColumns, PermeationColumns, CapillaryColumns)),
+    ("sealeak predict --json / --csv (uncertain inputs)",
+     "A case file with uncertain inputs (docs/case-files.md, Uncertain inputs) adds these fields to each row; the gas "
+     "and helium percentiles where the row has those leak rates, `exceed_probability` with `conditions.max_leak_rate`. "
+     "The JSON's `uncertainty` object lists per case its `passing_loads` (`<load>`: `Pa` for a squeeze pressure, `1` "
+     "for a compression or profile scale).",
+     (UncertaintyColumns, PassingLoad)),
     ("sealeak simulate --json",
      "A uniform seal's per-pressure records (a gas adds its gas leak), then an O-ring's per-compression records; "
      "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`.",

@@ -59,10 +59,11 @@ from .builders import build_case
 from .limits import MAX_CASE_FILE_BYTES, MAX_STUDY_VALUES, at_most
 from .model import Case
 from .schema import SECTIONS, Section
+from .spreads import Spreads, split_spreads
 
 __all__ = ["CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
            "example_names", "example_text", "example_path", "example_data_names", "example_description", "named_files",
-           "shown_source"]
+           "shown_source", "build_cases"]
 
 @dataclass(frozen=True)
 class CaseFile:
@@ -76,6 +77,13 @@ class CaseFile:
     #: study variant, as paths (relative names joined to the case file's folder): inputs that no output
     #: of a run may replace.
     files: tuple[Path, ...] = ()
+    #: The uncertain inputs and the specification (``conditions.max_leak_rate``) the file gives
+    #: (:mod:`sealeak.cases.spreads`); ``cases`` are built from the nominal values.
+    spreads: Spreads = Spreads()
+    #: The nominal document (spreads taken out) the cases were built from: :func:`build_cases` builds the cases of
+    #: other values from a copy of it (the uncertainty propagation, :mod:`sealeak.cases.uncertainty`).
+    document: dict[str, Any] | None = None
+    case_dir: Path = Path(".")
 
 
 #: The keys whose values name data files, (section, key).
@@ -107,9 +115,18 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
     doc = parse_toml(text, source)
     case_dir = Path(case_dir)
     inputs = copy.deepcopy(doc)
+    spreads = split_spreads(doc)
+    nominal = copy.deepcopy(doc)
+    cases, files = build_cases(doc, case_dir, source)
+    return CaseFile(cases, inputs, source, files, spreads, nominal, case_dir)
+
+
+def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[Case], tuple[Path, ...]]:
+    """The cases of a parsed case document without spreads (one, or one per value of its ``[study]``; ``doc`` loses
+    its ``[study]``) and the data files they name."""
     study = doc.pop("study", None)
     if study is None:
-        return CaseFile([build_case(doc, case_dir, source)], inputs, source, tuple(named_files(doc, case_dir)))
+        return [build_case(doc, case_dir, source)], tuple(named_files(doc, case_dir))
     sec = Section("study", study)
     vary = sec.raw("vary")
     whole = isinstance(vary, str) and vary in SECTIONS and vary not in ("study", "simulation")
@@ -144,7 +161,7 @@ def parse_case_file(text: str, case_dir: Path | str = ".", source: str = "<text>
             cases.append(build_case(variant, case_dir, source, label=str(label)))
         except InputError as exc:
             raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
-    return CaseFile(cases, inputs, source, tuple(dict.fromkeys(files)))
+    return cases, tuple(dict.fromkeys(files))
 
 
 def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:

@@ -17,7 +17,20 @@ from collections.abc import Sequence
 from .._version import __version__
 from ..errors import SealeakError
 from . import lab, serve, simulate, surface
-from ._common import EXIT_INTERRUPTED, EXIT_USER_ERROR, Parser, add_case_args, add_output_args, emit, inputs, load_case_file, outputs, usage_message
+from ._common import (
+    EXIT_INTERRUPTED,
+    EXIT_USER_ERROR,
+    Parser,
+    add_case_args,
+    add_output_args,
+    add_uncertainty_args,
+    emit,
+    inputs,
+    load_case_file,
+    outputs,
+    propagation,
+    usage_message,
+)
 
 __all__ = ["main", "build_parser"]
 
@@ -28,12 +41,15 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     from ..render import prediction_csv, prediction_figures, prediction_json, prediction_table, render_figures
     from ..render.figures import prediction_figure_names
 
-    cases = load_case_file(args).cases  # read first: the figures of an O-ring or profile seal are other files
+    case_file = load_case_file(args)  # read first: the figures of an O-ring or profile seal are other files
+    cases = case_file.cases
     check_outputs(outputs(args, prediction_figure_names(cases), files=("table", "json", "csv")), args.force, inputs=inputs(args))
-    results = [run_case(c) for c in cases]
+    uncertainty = propagation(args, case_file)  # None without uncertain inputs
+    results = uncertainty.nominal if uncertainty is not None else [run_case(c) for c in cases]
     # render everything first, then write: a failure while rendering leaves no file behind
-    table = prediction_table(results)
-    texts = {path: render(results) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv)) if path}
+    table = prediction_table(results, uncertainty)
+    texts = {path: render(results, uncertainty) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv))
+             if path}
     pngs = render_figures(prediction_figures(results)) if args.plots else {}
     emit(args, table, ({args.table: table} if args.table else {}) | texts, pngs)
     return 0
@@ -76,6 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_case_args(p)
     p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
     p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
+    add_uncertainty_args(p)
     add_output_args(p, json="write the results as JSON", plots="write the figures (PNG) into DIR")
     p.set_defaults(func=_cmd_predict)
 

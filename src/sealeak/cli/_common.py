@@ -21,9 +21,10 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..cases import Case, CaseFile
+    from ..cases.uncertainty import UncertaintyResult
 
 __all__ = ["Parser", "EXIT_USER_ERROR", "EXIT_INTERRUPTED", "add_case_args", "load_case_file", "load",
-           "one_case", "say", "emit", "outputs", "inputs", "positive_pressure"]
+           "one_case", "say", "emit", "outputs", "inputs", "positive_pressure", "add_uncertainty_args", "propagation"]
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -68,6 +69,34 @@ def add_output_args(p: argparse.ArgumentParser, *, json: str, plots: str) -> Non
     which figures go into DIR)."""
     p.add_argument("--json", metavar="FILE", help=json)
     p.add_argument("--plots", metavar="DIR", help=plots)
+
+
+def add_uncertainty_args(p: argparse.ArgumentParser) -> None:
+    """The options of the uncertainty propagation of a case file with uncertain inputs: --samples, --seed, --sampler."""
+    p.add_argument("--samples", type=int, metavar="N",
+                   help="samples of the case file's uncertain inputs (default 256; a power of two for Sobol' points); "
+                        "each is a full prediction")
+    p.add_argument("--seed", type=int, metavar="S", help="seed of the samples (default 0): the same seed gives the same numbers")
+    p.add_argument("--sampler", metavar="NAME", help="sobol (scrambled Sobol' points, the default) or lhs (Latin hypercube)")
+
+
+def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyResult | None:
+    """The propagation of the case file's uncertain inputs (spreads or ``conditions.max_leak_rate``) with the
+    options of :func:`add_uncertainty_args`, or None for a case file without them (the options are then refused)."""
+    from ..cases.uncertainty import DEFAULT_SAMPLES, propagate, uncertain_study
+
+    options = {"--samples": args.samples, "--seed": args.seed, "--sampler": args.sampler}
+    if not case_file.spreads.active:
+        for option, value in options.items():
+            if value is not None:
+                raise InputError(option, value, "the case file has no uncertain inputs: give a value a spread, e.g. "
+                                                "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
+        return None
+    study = uncertain_study(case_file)
+    samples = DEFAULT_SAMPLES if args.samples is None else args.samples
+    say(args, f"sampling {len(study.inputs)} uncertain input{'s' if len(study.inputs) != 1 else ''} with {samples} samples "
+              "(each a full prediction) ...")
+    return propagate(study, samples, 0 if args.seed is None else args.seed, args.sampler or "sobol")
 
 
 def load_case_file(args: argparse.Namespace) -> CaseFile:

@@ -590,3 +590,58 @@ def parse_temperature(field: str, value: Any) -> float:
     if not (math.isfinite(kelvin) and kelvin > 0):
         raise UnitError(field, value, f"is at or below absolute zero ({kelvin:.6g} K); give {_TEMPERATURE_ALLOWED}")
     return kelvin
+
+
+# Spreads written beside a value ("1.5 um ± 10 %"): the parts of a quantity and the ratio of two units.
+__all__ += ["quantity_parts", "difference_factor", "pint_unit"]
+
+
+def quantity_parts(field: str, value: Any) -> tuple[float, str]:
+    """(number, unit text) of a quantity as written: ``"1.5 um"`` → ``(1.5, "um")``, ``0.8`` → ``(0.8, "")``.
+
+    The number syntax is :func:`parse_quantity`'s and the unit is checked against the unit syntax (not against a
+    dimension: the caller parses the value with its dimension). Raises :class:`UnitError` naming ``field``.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise UnitError(field, value, "must be a number or a quantity with its unit, e.g. '1.5 um'")
+    if not isinstance(value, str):
+        return parse_quantity(field, value, "dimensionless"), ""
+    try:
+        number, unit = _split(_normalise(value))
+        magnitude = _finite(number)
+        if unit:
+            _unit(unit)
+    except (_Unreadable, ValueError) as exc:
+        raise UnitError(field, value, _with_allowed(str(exc), "a number and its unit, e.g. '1.5 um'")) from None
+    return magnitude, unit
+
+
+def difference_factor(field: str, value: Any, from_unit: str, to_unit: str) -> float:
+    """The factor that converts a difference (a spread) written in ``from_unit`` to ``to_unit``: ``"um"`` → ``"mm"`` is
+    1e-3, ``"K"`` → ``"degC"`` is 1 (a difference of offset units has no offset). Units as :func:`quantity_parts` gives
+    them ("" is dimensionless); raises :class:`UnitError` naming ``field`` and ``value`` when the dimensions differ."""
+    if from_unit == to_unit:
+        return 1.0
+    ureg = registry()
+    try:
+        a, b = (ureg.Quantity(x, _unit(from_unit) if from_unit else ureg.dimensionless) for x in (1.0, 2.0))
+        target = _unit(to_unit) if to_unit else ureg.dimensionless
+        factor = float(b.to(target).magnitude - a.to(target).magnitude)
+    except Exception:  # pint's DimensionalityError and the like: one line naming the field
+        shown = to_unit or "a plain number"
+        raise UnitError(field, value, f"the spread's unit '{from_unit or '1'}' does not convert to the value's unit "
+                                      f"'{shown}': give the spread in a unit of the same kind, or as a percentage") from None
+    if not (math.isfinite(factor) and factor > 0):
+        raise UnitError(field, value, "the spread's unit is not a positive multiple of the value's unit")
+    return factor
+
+
+def pint_unit(field: str, unit: str) -> Any:
+    """The pint Unit of a unit text as :func:`quantity_parts` gives it ("" is dimensionless); :class:`UnitError` naming
+    ``field`` when it does not read."""
+    if not unit:
+        return registry().dimensionless
+    try:
+        return _unit(_normalise(unit))
+    except _Unreadable as exc:
+        raise UnitError(field, unit, str(exc)) from None

@@ -17,8 +17,10 @@ import numpy as np
 
 from .._version import __version__
 from ..cases import Case, CaseResult
+from ..cases.uncertainty import UncertaintyResult
 from .notes import worded
 from .text import validity_notes
+from .uncertainty import uncertainty_summary
 
 __all__ = ["json_value", "json_rows", "json_document", "case_summary", "prediction_json", "prediction_csv"]
 
@@ -97,18 +99,26 @@ def _units(results: Sequence[CaseResult]) -> dict[str, str]:
     return units
 
 
-def prediction_json(results: Sequence[CaseResult]) -> str:
+def _records(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None) -> list[dict[str, Any]]:
+    """Every row's record (SI), with the uncertainty fields of the row joined at its end."""
+    records = [rec for r in results for rec in r.records()]
+    if uncertainty is not None:
+        records = [rec | extra for rec, extra in zip(records, uncertainty.row_fields(), strict=True)]
+    return records
+
+
+def prediction_json(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> str:
     """The ``predict --json`` document: ``units``, ``results`` (one object per pressure), cases, messages.
 
     Effective-medium fields (``leak_rate_effective_medium`` etc.) join each results object of a
-    case that asks for that model.
+    case that asks for that model; with ``uncertainty`` its percentiles join each object, and the
+    ``uncertainty`` object says how they were sampled.
     """
-    records: list[dict[str, Any]] = []
+    records = [{k: json_value(v) for k, v in rec.items()} for rec in _records(results, uncertainty)]
     messages: list[str] = []
     warnings: list[str] = []
     for r in results:
         prefix = f"{r.case.label}: " if r.case.label else ""
-        records.extend({k: json_value(v) for k, v in rec.items()} for rec in r.records())
         messages.extend(prefix + m for m in [*worded(r.messages), *validity_notes(r)])
         warnings.extend(prefix + w for w in r.warnings)
     theory = "critical junction (Lorenz & Persson, EPL 86 (2009) 44006)"
@@ -119,28 +129,28 @@ def prediction_json(results: Sequence[CaseResult]) -> str:
     doc = {
         "sealeak_version": __version__,
         "theory": theory,
-        "units": _units(results),
+        "units": _units(results) | (uncertainty.units if uncertainty is not None else {}),
         "results": records,
         "cases": [case_summary(r.case) for r in results],
         "warnings": warnings,
         "messages": messages,
-    }
+    } | ({"uncertainty": uncertainty_summary(uncertainty)} if uncertainty is not None else {})
     return json_document(doc)
 
 
-def prediction_csv(results: Sequence[CaseResult]) -> str:
-    """CSV with a header naming each column and its unit, e.g. ``leak_rate (m^3/s)``."""
+def prediction_csv(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> str:
+    """CSV with a header naming each column and its unit, e.g. ``leak_rate (m^3/s)``; with ``uncertainty`` its
+    percentile columns last."""
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     study = any(r.case.label for r in results)
-    units = _units(results)
+    units = _units(results) | (uncertainty.units if uncertainty is not None else {})
     writer.writerow((["variant"] if study else []) + [f"{k} ({u})" if u else k for k, u in units.items()])
-    for r in results:
-        for raw in r.records():
-            rec = {k: json_value(v) for k, v in raw.items()}
-            row = ([rec["variant"]] if study else []) + [
-                "" if rec.get(k) is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else
-                                               rec[k] if isinstance(rec[k], str) else f"{rec[k]:.10g}")
-                for k in units]
-            writer.writerow(row)
+    for raw in _records(results, uncertainty):
+        rec = {k: json_value(v) for k, v in raw.items()}
+        row = ([rec["variant"]] if study else []) + [
+            "" if rec.get(k) is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else
+                                           rec[k] if isinstance(rec[k], str) else f"{rec[k]:.10g}")
+            for k in units]
+        writer.writerow(row)
     return buf.getvalue()

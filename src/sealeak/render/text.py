@@ -7,15 +7,17 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..cases import Case, CaseResult
+from ..cases.uncertainty import UncertaintyResult
 from ..io.leak_units import celsius, to_ml_per_min
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import pressures_text
 from .notes import capillary_legend, load_text, worded
+from .uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend
 
 __all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt", "gas_tables", "gas_notes", "band_legend",
            "GAS_INCOMPRESSIBLE_NOTE"]
-__all__ += ["capillary_tables", "capillary_notes"]
+__all__ += ["capillary_tables", "capillary_notes", "uncertainty_lines"]
 
 
 def fmt(x: float | None, spec: str = ".4g") -> str:
@@ -409,7 +411,20 @@ def validity_notes(result: CaseResult) -> list[str]:
     return out
 
 
-def prediction_table(results: Sequence[CaseResult]) -> str:
+def uncertainty_lines(unc: UncertaintyResult) -> list[str]:
+    """The uncertainty block ``sealeak predict`` prints under the deterministic table: the inputs, the percentiles per
+    row, the passing loads (docs/user-guide.md, Uncertain inputs)."""
+    headers, rows = uncertainty_columns(unc)
+    cols = [(h, 8, [r[i] for r in rows]) for i, h in enumerate(headers)]
+    lines = ["", uncertainty_heading(unc)]
+    lines += [f"  {inp.label}" for inp in unc.study.inputs]
+    lines += _table_lines(cols)
+    lines.append("          " + uncertainty_legend(unc))
+    lines += passing_lines(unc)
+    return lines
+
+
+def prediction_table(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> str:
     """A plain-text report: the case, then one table row per squeeze pressure.
 
     With effective-medium results (model "both") their leak rate stands next to the critical-junction
@@ -463,4 +478,6 @@ def prediction_table(results: Sequence[CaseResult]) -> str:
                 lines.append("note: " + m)
         lines.extend(_gas_block(r))
         lines.extend("note: " + m for m in validity_notes(r))
+    if uncertainty is not None:
+        lines += uncertainty_lines(uncertainty)
     return "\n".join(lines) + "\n"

@@ -1,0 +1,388 @@
+"""Uncertain inputs carried through the prediction: quasi-Monte Carlo samples, percentiles, the probability of passing.
+
+A case file's spreads (:mod:`sealeak.cases.spreads`) span a unit hypercube of one dimension per uncertain
+input. :func:`propagate` draws ``samples`` points of it (scrambled Sobol' or Latin hypercube,
+:mod:`scipy.stats.qmc`, reproducible for a seed), builds each point's case(s) from the case document with
+the sampled values written in, runs every one (:func:`~sealeak.cases.run.run_case`) and returns per result
+row the 5th, 50th and 95th percentiles of the leak rate (and of the gas's leak-test units), the fraction of
+samples that seal, and with ``conditions.max_leak_rate`` the probability that the leak rate exceeds it and
+per case the load at which the seal passes with 95 % probability (docs/theory.md §14).
+
+A sample whose row has no leak channel counts as Q = 0 (it seals). Samples that write the same values
+(a spread of zero, a choice between theories) are run once.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import qmc
+
+from ..errors import InputError, show_value
+from ..io.leak_units import LEAK_RATE_KINDS, leak_rate_unit, pv_throughput
+from ..io.quantities import quantity, record_fields, units_of
+from ..io.units import quantity_parts
+from .gas import HELIUM_TEST, helium_test_gas
+from .limits import whole_number
+from .loader import CaseFile, build_cases, parse_case_file, read_case_file
+from .model import Case
+from .run import CaseResult, run_case
+from .spreads import UncertainInput
+
+__all__ = ["UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
+           "SAMPLERS", "DEFAULT_SAMPLES", "MAX_SAMPLES", "PASS_PROBABILITY", "SPREAD_KEYS", "UNCERTAINTY_UNITS",
+           "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "unit_points", "sample_values",
+           "leak_rates", "propagate"]
+
+#: The samplers of the unit hypercube: scrambled Sobol' points, or a Latin hypercube.
+SAMPLERS = ("sobol", "lhs")
+#: Samples of ``predict`` when the case file has uncertain inputs and ``--samples`` is not given.
+DEFAULT_SAMPLES = 256
+#: The most samples one propagation may ask for (each a full prediction).
+MAX_SAMPLES = 8192
+#: The probability of passing at which :class:`PassingLoad` places a case's passing load.
+PASS_PROBABILITY = 0.95
+#: The leak-rate fields of a record whose spread is computed (those the case's records hold).
+SPREAD_KEYS = ("leak_rate", "leak_rate_pv", "leak_rate_mbar_l_s", "leak_rate_helium_pv", "leak_rate_helium_mbar_l_s")
+
+
+@dataclass(frozen=True)
+class ResultRow:
+    """One result row of an uncertain study: its case (index and variant label) and its load."""
+
+    case: int
+    variant: str
+    load_name: str  # "squeeze_pressure", or a band seal's "compression" / "profile_scale"
+    load: float  # SI (Pa, or 1)
+
+
+@dataclass(frozen=True)
+class UncertainStudy:
+    """A case file with uncertain inputs: the nominal cases, the inputs, and the rows every sample fills."""
+
+    case_file: CaseFile
+    inputs: tuple[UncertainInput, ...]
+    rows: tuple[ResultRow, ...]
+
+    @property
+    def cases(self) -> list[Case]:
+        """The nominal (deterministic) cases."""
+        return self.case_file.cases
+
+    @property
+    def max_leak_rate(self) -> Any:
+        """``conditions.max_leak_rate`` as written, or None."""
+        return self.case_file.spreads.max_leak_rate
+
+
+def _rows(cases: list[Case]) -> tuple[ResultRow, ...]:
+    out: list[ResultRow] = []
+    for i, case in enumerate(cases):
+        name, loads = ((case.band.load_name, case.band.loads) if case.band is not None
+                       else ("squeeze_pressure", case.squeeze_pressure))
+        out += [ResultRow(i, case.label, name, float(v)) for v in loads]
+    return tuple(out)
+
+
+def uncertain_study(case_file: CaseFile) -> UncertainStudy:
+    """The :class:`UncertainStudy` of a case file as read (inputs and specification checked)."""
+    study = UncertainStudy(case_file, case_file.spreads.inputs, _rows(case_file.cases))
+    if study.max_leak_rate is not None:
+        _limits(study, case_file.cases)  # checked now: one line before any sample runs
+    return study
+
+
+def read_uncertain_case(path: str | Path) -> UncertainStudy:
+    """Read a case file with uncertain inputs (:func:`~sealeak.cases.loader.read_case_file`)."""
+    return uncertain_study(read_case_file(path))
+
+
+def parse_uncertain_case(text: str, case_dir: Path | str = ".", source: str = "<text>") -> UncertainStudy:
+    """A case file's text with uncertain inputs (:func:`~sealeak.cases.loader.parse_case_file`)."""
+    return uncertain_study(parse_case_file(text, case_dir, source))
+
+
+def unit_points(dimensions: int, samples: int, seed: int, sampler: str = "sobol") -> NDArray[np.float64]:
+    """``samples`` points of the unit hypercube of ``dimensions`` (an array [samples, dimensions]), reproducible for a
+    ``seed``: scrambled Sobol' points (``samples`` a power of two) or a Latin hypercube."""
+    if sampler not in SAMPLERS:
+        raise InputError("--sampler", sampler, f"allowed: {', '.join(SAMPLERS)}")
+    samples = whole_number("--samples", samples, 2, MAX_SAMPLES, " (each sample is a full prediction)")
+    seed = whole_number("--seed", seed, 0, 2**63 - 1)
+    if dimensions == 0:
+        return np.zeros((samples, 0))
+    rng = np.random.default_rng(seed)
+    if sampler == "lhs":
+        return qmc.LatinHypercube(dimensions, rng=rng).random(samples)
+    if samples & (samples - 1):
+        raise InputError("--samples", samples, "Sobol' points come in powers of two: give e.g. "
+                                               f"{1 << (samples - 1).bit_length()} (or --sampler lhs for any number)")
+    return qmc.Sobol(dimensions, scramble=True, rng=rng).random(samples)
+
+
+def _shown(result: CaseResult, key: str) -> str:
+    """The record key of ``key`` in the theory ``result`` shows (the effective medium's with its suffix)."""
+    return key if result.shows_critical_junction else key + "_effective_medium"
+
+
+def _values(results: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
+    """The :data:`SPREAD_KEYS` the records hold, one value per row (NaN → 0: no leak channel, it seals)."""
+    records = [(r, rec) for r in results for rec in r.records()]
+    out: dict[str, NDArray[np.float64]] = {}
+    for key in SPREAD_KEYS:
+        if all(_shown(r, key) in rec for r, rec in records):
+            v = np.array([rec[_shown(r, key)] for r, rec in records], dtype=float)
+            out[key] = np.where(np.isnan(v), 0.0, v)
+    return out
+
+
+def sample_values(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+    """The leak rates of every :data:`SPREAD_KEYS` the records hold at each point of the unit hypercube
+    ([samples, inputs]), as arrays [samples, rows] in the records' SI units; a row without a leak channel holds 0.
+
+    Points that write the same values (a spread of zero) are run once.
+    """
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    if points.shape[1] != len(study.inputs):
+        raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
+    written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
+    done: dict[str, dict[str, NDArray[np.float64]]] = {}
+    out: dict[str, list[NDArray[np.float64]]] = {}
+    for i in range(points.shape[0]):
+        values = [w[i] for w in written]
+        tag = repr(values)
+        if tag not in done:
+            done[tag] = _values([run_case(c) for c in _sample_cases(study, values)])
+        for key, v in done[tag].items():
+            out.setdefault(key, []).append(v)
+    return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}
+
+
+def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
+    """The cases of one sample: the nominal document with ``values`` written in (one per input)."""
+    cf = study.case_file
+    doc = copy.deepcopy(cf.document or {})
+    for inp, value in zip(study.inputs, values):
+        section, key = inp.key.split(".", 1)
+        doc.setdefault(section, {})[key] = value
+    try:
+        return build_cases(doc, cf.case_dir, cf.source)[0]
+    except InputError as exc:
+        sample = ", ".join(f"{inp.key} = {show_value(v)}" for inp, v in zip(study.inputs, values))
+        raise InputError(f"{exc.field} (uncertainty sample {sample})", exc.value,
+                         exc.allowed + "; narrow the spread or use a distribution that stays in range "
+                                       "(docs/case-files.md, Uncertain inputs)") from None
+
+
+def leak_rates(study: UncertainStudy, points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Q (m³/s) of the theory each row shows at each point of the unit hypercube: an array [samples, rows]; a row
+    without a leak channel (it seals) holds 0."""
+    return sample_values(study, points)["leak_rate"]
+
+
+def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArray[np.float64]]:
+    """Per row, the record key and the threshold that ``conditions.max_leak_rate`` compares: a volume flow with Q
+    (m³/s); a gas leak-test unit with the gas's pV throughput (Pa·m³/s), or a liquid's helium equivalent."""
+    field, value = "conditions.max_leak_rate", study.max_leak_rate
+    if isinstance(value, bool) or not isinstance(value, str):
+        raise InputError(field, value, "must be a leak rate with its unit, e.g. '1e-6 mbar*l/s' or '0.1 ml/min'")
+    number, unit = _leak_parts(field, value)
+    kind, factor = leak_rate_unit(field, unit)
+    if not number > 0:
+        raise InputError(field, value, "must be > 0")
+    keys: list[str] = []
+    limits: list[float] = []
+    for row in study.rows:
+        case = cases[row.case]
+        if kind == "volume_flow":
+            keys.append("leak_rate")
+            limits.append(number * factor)
+            continue
+        if case.gas is not None:
+            key, gas, pressure = "leak_rate_pv", case.gas.gas, case.gas.upstream_pressure
+        elif case.helium_equivalent:
+            key, gas, pressure = "leak_rate_helium_pv", helium_test_gas(), HELIUM_TEST["upstream_pressure"]
+        else:
+            raise InputError(field, value, f"is a {kind.replace('_', ' ')} ({LEAK_RATE_KINDS[kind][0]}): it needs a gas, or "
+                                           "conditions.helium_equivalent = true for a liquid; for a liquid's own "
+                                           "leak give a volume flow such as '0.1 ml/min'")
+        keys.append(key)
+        limits.append(float(pv_throughput(number * factor, kind, temperature=gas.temperature,
+                                          molar_mass=gas.molar_mass, pressure=pressure)))
+    return keys, np.array(limits)
+
+
+def _leak_parts(field: str, value: str) -> tuple[float, str]:
+    """(number, unit text) of a leak rate as written; standard-flow names (sccm) pint does not know pass as text."""
+    head, _, unit = value.strip().partition(" ")
+    try:
+        return quantity_parts(field, value)
+    except InputError:
+        number, _ = quantity_parts(field, head)
+        return number, unit.strip()
+
+
+@dataclass(frozen=True, kw_only=True)
+class UncertaintyColumns:
+    """The uncertainty fields of the result rows (one value per row; a field the case has no leak rate for is None)."""
+
+    leak_rate_p05: NDArray[np.float64] = quantity("m^3/s", "5th percentile of the leak rate over the samples (0: sealed)")
+    leak_rate_p50: NDArray[np.float64] = quantity("m^3/s", "median of the leak rate over the samples")
+    leak_rate_p95: NDArray[np.float64] = quantity("m^3/s", "95th percentile of the leak rate over the samples")
+    leak_rate_pv_p05: NDArray[np.float64] | None = quantity("Pa*m^3/s", "5th percentile of the gas's pV throughput", default=None)
+    leak_rate_pv_p50: NDArray[np.float64] | None = quantity("Pa*m^3/s", "median of the gas's pV throughput", default=None)
+    leak_rate_pv_p95: NDArray[np.float64] | None = quantity("Pa*m^3/s", "95th percentile of the gas's pV throughput", default=None)
+    leak_rate_mbar_l_s_p05: NDArray[np.float64] | None = quantity("mbar*l/s", "5th percentile of the gas leak in mbar·l/s",
+                                                                  default=None)
+    leak_rate_mbar_l_s_p50: NDArray[np.float64] | None = quantity("mbar*l/s", "median of the gas leak in mbar·l/s", default=None)
+    leak_rate_mbar_l_s_p95: NDArray[np.float64] | None = quantity("mbar*l/s", "95th percentile of the gas leak in mbar·l/s",
+                                                                  default=None)
+    leak_rate_helium_pv_p05: NDArray[np.float64] | None = quantity(
+        "Pa*m^3/s", "5th percentile of the helium leak in the standard test", default=None)
+    leak_rate_helium_pv_p50: NDArray[np.float64] | None = quantity(
+        "Pa*m^3/s", "median of the helium leak in the standard test", default=None)
+    leak_rate_helium_pv_p95: NDArray[np.float64] | None = quantity(
+        "Pa*m^3/s", "95th percentile of the helium leak in the standard test", default=None)
+    leak_rate_helium_mbar_l_s_p05: NDArray[np.float64] | None = quantity(
+        "mbar*l/s", "5th percentile of the helium leak in mbar·l/s", default=None)
+    leak_rate_helium_mbar_l_s_p50: NDArray[np.float64] | None = quantity(
+        "mbar*l/s", "median of the helium leak in mbar·l/s", default=None)
+    leak_rate_helium_mbar_l_s_p95: NDArray[np.float64] | None = quantity(
+        "mbar*l/s", "95th percentile of the helium leak in mbar·l/s", default=None)
+    sealed_fraction: NDArray[np.float64] = quantity("1", "fraction of the samples without a leak channel (the seal seals)")
+    exceed_probability: NDArray[np.float64] | None = quantity(
+        "1", "fraction of the samples whose leak rate exceeds conditions.max_leak_rate", default=None)
+
+
+#: SI unit of every uncertainty field of a record (those a result holds are a subset).
+UNCERTAINTY_UNITS: dict[str, str] = units_of(UncertaintyColumns)
+
+
+@dataclass(frozen=True, kw_only=True)
+class PassingLoad:
+    """Where one case passes ``conditions.max_leak_rate`` with :data:`PASS_PROBABILITY`."""
+
+    variant: str
+    load_name: str
+    passing_load: float = quantity("<load>", "the squeeze pressure (Pa) or compression (1) at which the probability of "
+                                             "passing first reaches 95 %, interpolated between rows (null: see the note)")
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class UncertaintyResult:
+    """The propagation of a study's uncertain inputs (:func:`propagate`).
+
+    Attributes
+    ----------
+    study
+        The study.
+    points
+        The points of the unit hypercube, [samples, inputs].
+    values
+        The leak rates per :data:`SPREAD_KEYS` key the records hold, [samples, rows] (SI; 0 where sealed).
+    nominal
+        The deterministic results of the nominal cases (what ``predict`` shows without spreads).
+    sampler, seed
+        How the points were drawn.
+    limit_keys, limits
+        Per row, the record key and the threshold ``conditions.max_leak_rate`` compares it with (SI), or None.
+    """
+
+    study: UncertainStudy
+    points: NDArray[np.float64]
+    values: dict[str, NDArray[np.float64]]
+    nominal: list[CaseResult]
+    sampler: str
+    seed: int
+    limit_keys: list[str] | None = None
+    limits: NDArray[np.float64] | None = None
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def samples(self) -> int:
+        """The number of samples."""
+        return int(self.points.shape[0])
+
+    @property
+    def sealed(self) -> NDArray[np.bool_]:
+        """Whether each sample's row seals (no leak channel: Q = 0), [samples, rows]."""
+        return ~(self.values["leak_rate"] > 0)
+
+    @property
+    def exceed_probability(self) -> NDArray[np.float64] | None:
+        """Per row, the fraction of samples whose leak rate exceeds ``conditions.max_leak_rate`` (None without it)."""
+        if self.limit_keys is None or self.limits is None:
+            return None
+        q = np.column_stack([self.values[k][:, j] for j, k in enumerate(self.limit_keys)])
+        return np.mean(q > self.limits, axis=0)
+
+    def percentiles(self, key: str = "leak_rate") -> NDArray[np.float64]:
+        """The 5th, 50th and 95th percentiles of ``key`` per row, [3, rows] (linear interpolation between samples)."""
+        return np.percentile(self.values[key], [5.0, 50.0, 95.0], axis=0)
+
+    def columns(self) -> UncertaintyColumns:
+        """The record fields of every row."""
+        fields: dict[str, Any] = {}
+        for key in self.values:
+            p = self.percentiles(key)
+            fields |= {f"{key}_p05": p[0], f"{key}_p50": p[1], f"{key}_p95": p[2]}
+        return UncertaintyColumns(**fields, sealed_fraction=np.mean(self.sealed, axis=0),
+                                  exceed_probability=self.exceed_probability)
+
+    def row_fields(self) -> list[dict[str, Any]]:
+        """One dict per row of the fields :meth:`columns` holds (None fields left out), plain floats."""
+        cols = {k: v for k, v in record_fields(self.columns()).items() if v is not None}
+        return [{k: float(v[i]) for k, v in cols.items()} for i in range(len(self.study.rows))]
+
+    @property
+    def units(self) -> dict[str, str]:
+        """SI unit of each field of :meth:`row_fields`."""
+        return {k: UNCERTAINTY_UNITS[k] for k in (self.row_fields() or [{}])[0]}
+
+    def passing_loads(self) -> list[PassingLoad]:
+        """Per case, the load at which the probability of passing first reaches :data:`PASS_PROBABILITY` (None
+        without ``conditions.max_leak_rate``)."""
+        exceed = self.exceed_probability
+        if exceed is None:
+            return []
+        out: list[PassingLoad] = []
+        rows = self.study.rows
+        for i, case in enumerate(self.study.cases):
+            idx = [j for j, r in enumerate(rows) if r.case == i]
+            loads = np.array([rows[j].load for j in idx])
+            order = np.argsort(loads, kind="stable")
+            out.append(_passing(case.label, rows[idx[0]].load_name, loads[order], 1.0 - exceed[np.array(idx)][order]))
+        return out
+
+
+def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: NDArray[np.float64]) -> PassingLoad:
+    """The load (ascending ``loads``) where ``p_pass`` first reaches :data:`PASS_PROBABILITY`, linear between rows."""
+    ok = np.flatnonzero(p_pass >= PASS_PROBABILITY)
+    if ok.size == 0:
+        return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
+                           note=f"the probability of passing stays below {100 * PASS_PROBABILITY:.0f} % up to the highest "
+                                f"{load_name.replace('_', ' ')} computed")
+    i = int(ok[0])
+    if i == 0:
+        return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
+                           note=f"passes with at least {100 * PASS_PROBABILITY:.0f} % already at the lowest "
+                                f"{load_name.replace('_', ' ')} computed: compute lower loads to place it")
+    t = (PASS_PROBABILITY - p_pass[i - 1]) / (p_pass[i] - p_pass[i - 1])
+    return PassingLoad(variant=variant, load_name=load_name, passing_load=float(loads[i - 1] + t * (loads[i] - loads[i - 1])))
+
+
+def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int = 0, sampler: str = "sobol") -> UncertaintyResult:
+    """Carry the study's uncertain inputs through the prediction with ``samples`` quasi-random points (``sampler``,
+    ``seed``): the same arguments give the same numbers bit for bit."""
+    points = unit_points(len(study.inputs), samples, seed, sampler)
+    nominal = [run_case(c) for c in study.cases]
+    values = sample_values(study, points)
+    keys, limits = _limits(study, study.cases) if study.max_leak_rate is not None else (None, None)
+    return UncertaintyResult(study, points, values, nominal, sampler, seed, keys, limits)

@@ -1,0 +1,109 @@
+"""The uncertainty band of a prediction in words and tables: what ``sealeak predict`` prints under the deterministic
+table, the report's table and the JSON ``uncertainty`` object (:class:`~sealeak.cases.uncertainty.UncertaintyResult`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..cases.uncertainty import PASS_PROBABILITY, PassingLoad, UncertaintyResult
+from ..io.leak_units import to_ml_per_min
+from .notes import load_text
+
+__all__ = ["uncertainty_columns", "uncertainty_heading", "uncertainty_legend", "passing_lines",
+           "uncertainty_summary"]
+
+_SAMPLER_NAMES = {"sobol": "scrambled Sobol' points", "lhs": "Latin hypercube"}
+
+
+def _shown(unc: UncertaintyResult) -> list[tuple[str, str, Any]]:
+    """(record key, column name, SI → shown unit) of the leak rates the table shows: the gas's mbar·l/s, else Q in
+    ml/min; a liquid's helium equivalent beside it."""
+    out: list[tuple[str, str, Any]] = []
+    if "leak_rate_mbar_l_s" in unc.values:
+        out.append(("leak_rate_mbar_l_s", "Q {} (mbar·l/s)", lambda v: v))
+    else:
+        out.append(("leak_rate", "Q {} (ml/min)", to_ml_per_min))
+        if "leak_rate_helium_mbar_l_s" in unc.values:
+            out.append(("leak_rate_helium_mbar_l_s", "Q_He {} (mbar·l/s)", lambda v: v))
+    return out
+
+
+def _load_column(name: str, values: list[float]) -> tuple[str, list[str]]:
+    if name == "squeeze_pressure":
+        return "P0 (kPa)", [f"{v / 1e3:.4g}" for v in values]
+    if name == "compression":
+        return "ε (%)", [f"{100 * v:.4g}" for v in values]
+    return "scale", [f"{v:.4g}" for v in values]
+
+
+def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[str]]]:
+    """The headers and cells of the uncertainty table: per result row its variant (a study), load, the 5th, 50th and
+    95th percentiles of Q, the share of samples that seal, and the probability of exceeding ``max_leak_rate``."""
+    rows = unc.study.rows
+    study = any(r.variant for r in rows)
+    head, loads = _load_column(rows[0].load_name, [r.load for r in rows])
+    headers = (["variant"] if study else []) + [head]
+    cols: list[list[str]] = ([[r.variant for r in rows]] if study else []) + [loads]
+    for key, name, convert in _shown(unc):
+        p = convert(unc.percentiles(key))
+        for i, which in enumerate(("p05", "p50", "p95")):
+            headers.append(name.format(which))
+            cols.append([f"{v:.3g}" for v in p[i]])
+    headers.append("sealed")
+    cols.append([f"{100 * v:.0f} %" for v in np.mean(unc.sealed, axis=0)])
+    exceed = unc.exceed_probability
+    if exceed is not None:
+        headers.append("P(Q > max)")
+        cols.append([f"{v:.3f}" for v in exceed])
+    return headers, [list(r) for r in zip(*cols)]
+
+
+def uncertainty_heading(unc: UncertaintyResult) -> str:
+    """The sentence above the table: how many samples of which inputs."""
+    inputs = unc.study.inputs
+    what = f"{len(inputs)} uncertain input{'s' if len(inputs) != 1 else ''}" if inputs else "no uncertain inputs"
+    return (f"uncertainty: {unc.samples} samples ({_SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {what}"
+            + (":" if inputs else ""))
+
+
+def uncertainty_legend(unc: UncertaintyResult) -> str:
+    """What the columns of the uncertainty table mean."""
+    text = ("p05, p50, p95: the 5th, 50th and 95th percentiles of the leak rate over the samples (a sample without a "
+            "leak channel counts as 0); sealed: the share of samples without a leak channel")
+    if unc.limits is not None:
+        text += f"; P(Q > max): the probability that the leak rate exceeds conditions.max_leak_rate = {unc.study.max_leak_rate}"
+        if unc.limit_keys and unc.limit_keys[0] == "leak_rate_helium_pv":
+            text += " (compared with the helium equivalent)"
+    return text
+
+
+def passing_lines(unc: UncertaintyResult) -> list[str]:
+    """One line per case: the load at which it passes ``max_leak_rate`` with 95 % probability, or why there is none."""
+    return [_passing_line(unc, p) for p in unc.passing_loads()]
+
+
+def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
+    prefix = f"{p.variant}: " if p.variant else ""
+    if np.isfinite(p.passing_load):
+        return (f"{prefix}passes {unc.study.max_leak_rate} with {100 * PASS_PROBABILITY:.0f} % probability from "
+                f"{load_text(p.load_name, p.passing_load)} on (interpolated between rows)")
+    return f"{prefix}{p.note}"
+
+
+def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
+    """The JSON ``uncertainty`` object: how it was sampled, the inputs, the specification and each case's passing load."""
+    return {
+        "samples": unc.samples, "sampler": unc.sampler, "seed": unc.seed, "percentiles": [5, 50, 95],
+        "inputs": [{"key": i.key, "label": i.label, "distribution": i.distribution, "value": i.nominal,
+                    "unit": i.unit or None, "parameters": i.parameters or None, "choices": list(i.choices) or None}
+                   for i in unc.study.inputs],
+        "max_leak_rate": unc.study.max_leak_rate,
+        "compared_with": unc.limit_keys[0] if unc.limit_keys else None,
+        "passing_probability": PASS_PROBABILITY,
+        "passing_loads": [{"variant": p.variant or None, "load": p.load_name,
+                           "passing_load": None if not np.isfinite(p.passing_load) else p.passing_load,
+                           "unit": "Pa" if p.load_name == "squeeze_pressure" else "1", "note": p.note or None}
+                          for p in unc.passing_loads()],
+    }

@@ -1,0 +1,161 @@
+"""Uncertain inputs (issue 24): spreads in the case file, their propagation, percentiles and the probability of passing."""
+
+import json
+
+import numpy as np
+import pytest
+
+from sealeak.cases import parse_case_file, run_case
+from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
+from sealeak.errors import InputError
+from sealeak.render import prediction_csv, prediction_json
+from tests.casefiles import BASE
+
+#: BASE at two pressures where the seal leaks, h_rms given a spread (the leak rate rises steeply with it).
+LEAKS = BASE.replace('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["20 kPa", "60 kPa"]')
+
+
+def spread(text: str, old: str = 'h_rms = "44 um"', new: str = 'h_rms = "44 um ± 10 %"') -> str:
+    assert old in text
+    return text.replace(old, new)
+
+
+def test_percentiles_of_q_are_q_at_the_input_percentiles():
+    """One monotone input: the p-quantile of Q is Q at the input's p-quantile; the scrambled Sobol' points stratify
+    the unit interval in cells of 1/N, so the sample quantile lies within two cells of it."""
+    study = parse_uncertain_case(spread(LEAKS))
+    n = 256
+    result = propagate(study, n, seed=3)
+    p = result.percentiles()
+    for k, level in enumerate((0.05, 0.50, 0.95)):
+        lo, hi = leak_rates(study, np.array([[level - 2 / n], [level + 2 / n]]))
+        assert np.all((p[k] >= np.minimum(lo, hi)) & (p[k] <= np.maximum(lo, hi)))
+    assert np.all(np.diff(p, axis=0) > 0)  # a real spread: p05 < p50 < p95
+
+
+def test_sampled_input_follows_its_distribution():
+    """The h_rms of the samples: a normal of mean 44 µm and sd 4.4 µm (truncated at ±3 sd)."""
+    study = parse_uncertain_case(spread(LEAKS))
+    h = study.inputs[0].ppf(unit_points(1, 1024, seed=1)[:, 0])
+    assert h.mean() == pytest.approx(44e-6, rel=1e-3)
+    assert h.std() == pytest.approx(4.4e-6, rel=0.03)
+    assert h.min() >= 44e-6 - 3 * 4.4e-6 * (1 + 1e-12) and h.max() <= 44e-6 + 3 * 4.4e-6 * (1 + 1e-12)
+
+
+def test_zero_spread_is_the_deterministic_result_bit_for_bit():
+    plain = [run_case(c) for c in parse_case_file(LEAKS).cases]
+    study = parse_uncertain_case(spread(LEAKS, new='h_rms = "44 um ± 0 %"'))
+    result = propagate(study, 8, seed=0)
+    assert prediction_json(result.nominal) == prediction_json(plain)
+    q = plain[0].critical_junction.leak_rate
+    for row in result.percentiles():
+        assert np.array_equal(row, q)  # every percentile the very float of the deterministic row
+
+
+def test_same_seed_same_bytes_other_seed_other_numbers():
+    text = spread(LEAKS)
+    a, b, c = (propagate(parse_uncertain_case(text), 16, seed=s) for s in (7, 7, 8))
+    assert prediction_json(a.nominal, a) == prediction_json(b.nominal, b)
+    assert prediction_csv(a.nominal, a) == prediction_csv(b.nominal, b)
+    assert not np.array_equal(a.percentiles(), c.percentiles())
+
+
+@pytest.mark.parametrize("limit, exceed", [("1 m^3/s", 0.0), ("1e-30 ml/min", 1.0)])
+def test_pass_probability_far_inside_or_outside_the_specification(limit, exceed):
+    text = LEAKS.replace('pressure_difference = "10 kPa"', f'pressure_difference = "10 kPa"\nmax_leak_rate = "{limit}"')
+    result = propagate(parse_uncertain_case(spread(text)), 16, seed=0)
+    assert np.all(result.exceed_probability == exceed)
+    (passing,) = result.passing_loads()
+    assert np.isnan(passing.passing_load) and passing.note  # passes everywhere, or nowhere: no load to place
+
+
+def test_passing_load_lies_between_the_rows_it_separates():
+    """A limit between the leak rates of the two pressures: the seal fails at 20 kPa and passes at 60 kPa."""
+    q = run_case(parse_case_file(LEAKS).cases[0]).critical_junction.leak_rate
+    limit = float(np.sqrt(q[0] * q[1]))
+    text = LEAKS.replace('pressure_difference = "10 kPa"', f'pressure_difference = "10 kPa"\nmax_leak_rate = "{limit!r} m^3/s"')
+    result = propagate(parse_uncertain_case(spread(text, new='h_rms = "44 um ± 1 %"')), 16, seed=0)
+    assert list(result.exceed_probability) == [1.0, 0.0]
+    (passing,) = result.passing_loads()
+    assert 20e3 < passing.passing_load < 60e3
+
+
+def test_model_choice_samples_each_theory():
+    """theory.model as a choice: u < 0.5 runs the critical junction, u >= 0.5 the effective medium."""
+    both = run_case(parse_case_file(LEAKS.replace("alpha = 0.2", 'alpha = 0.2\nmodel = "both"')).cases[0])
+    text = LEAKS + '\n[uncertainty]\n"theory.model" = { distribution = "choice", values = ["critical-junction", "effective-medium"] }\n'
+    text = text.replace("alpha = 0.2", 'alpha = 0.2\nmodel = "critical-junction"')
+    q = leak_rates(parse_uncertain_case(text), np.array([[0.25], [0.75]]))
+    assert np.array_equal(q[0], both.critical_junction.leak_rate)
+    assert np.array_equal(q[1], both.effective_medium.leak_rate)
+
+
+def test_uncertainty_table_gives_other_distributions():
+    text = LEAKS + ('\n[uncertainty]\n"theory.alpha" = { distribution = "uniform", low = 0.1, high = 0.3 }\n'
+                    '"fluid.viscosity" = { distribution = "triangular", low = "0.5 mPa*s", high = "2 mPa*s" }\n'
+                    '"surface.h_rms" = { distribution = "lognormal", sd = "20 %" }\n')
+    study = parse_uncertain_case(text)
+    assert [i.distribution for i in study.inputs] == ["uniform", "triangular", "lognormal"]
+    u = np.array([0.0, 0.5, 1.0])
+    assert np.allclose(study.inputs[0].ppf(u), [0.1, 0.2, 0.3])
+    assert np.allclose(study.inputs[1].ppf(u)[[0, 2]], [0.5e-3, 2e-3])
+    assert study.inputs[2].ppf(np.array([0.5]))[0] == pytest.approx(44e-6)  # the lognormal's median is the value
+
+
+def test_json_rows_carry_percentiles_and_units():
+    result = propagate(parse_uncertain_case(spread(LEAKS)), 8, seed=0)
+    doc = json.loads(prediction_json(result.nominal, result))
+    row = doc["results"][0]
+    assert row["leak_rate_p05"] <= row["leak_rate_p50"] <= row["leak_rate_p95"]
+    assert doc["units"]["leak_rate_p95"] == "m^3/s" and doc["units"]["sealed_fraction"] == "1"
+    assert doc["uncertainty"]["samples"] == 8 and doc["uncertainty"]["inputs"][0]["key"] == "surface.h_rms"
+
+
+def test_absolute_spread_in_another_unit():
+    study = parse_uncertain_case(spread(LEAKS, new='h_rms = "44 um ± 0.0044 mm"'))
+    assert study.inputs[0].parameters["sd"] == pytest.approx(4.4)
+
+
+@pytest.mark.parametrize("edit, field", [
+    (('h_rms = "44 um"', 'h_rms = "44 um ± -10 %"'), "surface.h_rms"),
+    (('h_rms = "44 um"', 'h_rms = "44 um ± 40 %"'), "surface.h_rms"),
+    (('h_rms = "44 um"', 'h_rms = "44 um ± 1 kPa"'), "surface.h_rms"),
+    (('h_rms = "44 um"', 'h_rms = "44 um ± "'), "surface.h_rms"),
+    (('shape = "ring"', 'shape = "ring ± 1"'), "seal.shape"),
+    (('squeeze_pressure = ["20 kPa", "60 kPa"]', 'squeeze_pressure = ["20 kPa ± 1 %", "60 kPa"]'),
+     "conditions.squeeze_pressure"),
+    (("alpha = 0.2", 'alpha = 0.2\n[uncertainty]\n"theory.alpha" = { distribution = "gauss", sd = 0.1 }'),
+     "uncertainty.theory.alpha.distribution"),
+    (("alpha = 0.2", 'alpha = 0.2\n[uncertainty]\n"theory.alpha" = { distribution = "uniform", low = 0.3, high = 0.1 }'),
+     "uncertainty.theory.alpha"),
+    (("alpha = 0.2", 'alpha = 0.2\n[uncertainty]\n"theory.alfa" = { distribution = "normal", sd = 0.01 }'),
+     "uncertainty.theory.alfa"),
+    (("alpha = 0.2", 'alpha = 0.2\n[uncertainty]\n"theory.gamma" = { distribution = "normal", sd = 0.01 }'),
+     "theory.gamma"),
+    (("alpha = 0.2", 'alpha = 0.2\n[uncertainty]\n"theory.alpha" = { distribution = "normal", mean = 0.01 }'),
+     "uncertainty.theory.alpha.mean"),
+])
+def test_bad_spreads_are_one_line_naming_the_key(edit, field):
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(LEAKS.replace(*edit))
+    assert exc.value.field.startswith(field) and "\n" not in str(exc.value)
+
+
+def test_sample_out_of_range_names_the_key_and_sample():
+    """hurst = 0.95 ± 0.03 reaches H >= 1 in some samples: the builder's refusal names the sample."""
+    text = spread(LEAKS, old="hurst = 0.8", new='hurst = "0.95 ± 0.03"')
+    with pytest.raises(InputError) as exc:
+        propagate(parse_uncertain_case(text), 64, seed=0)
+    assert "surface.hurst" in exc.value.field and "uncertainty sample" in exc.value.field
+
+
+@pytest.mark.parametrize("samples, sampler", [(1, "sobol"), (100, "sobol"), (8, "halton")])
+def test_bad_sample_options(samples, sampler):
+    with pytest.raises(InputError):
+        unit_points(2, samples, 0, sampler)
+
+
+def test_gas_limit_needs_a_gas_or_the_helium_equivalent():
+    text = LEAKS.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1e-6 mbar*l/s"')
+    with pytest.raises(InputError, match="helium_equivalent"):
+        parse_uncertain_case(spread(text))
