@@ -38,7 +38,7 @@ def test_fan_chart_draws_band_median_nominal_and_specification():
     assert outer[:, 1].max() == pytest.approx((MEDIAN * 5).max(), rel=1e-9)
     labels = [line.get_label() for line in ax.get_lines()]
     assert "median" in labels and "deterministic (nominal inputs)" in labels
-    spec = [line for line in ax.get_lines() if line.get_label().startswith("max_leak_rate")]
+    spec = [line for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")]
     assert len(spec) == 1 and spec[0].get_ydata()[0] == 1e-11
     assert not [t for t in ax.texts if "sealed" in t.get_text()]  # nothing sealed: no strip
     assert figure_png(fig).startswith(b"\x89PNG")
@@ -98,7 +98,7 @@ def test_distribution_counts_the_probability_of_passing_with_sealed_samples_pass
     heights = sum(p.get_height() for p in ax.patches)
     assert heights == pytest.approx(0.9)  # the histogram holds the leaking share of the samples
     assert ax.get_xscale() == "log"
-    assert [line.get_xdata()[0] for line in ax.get_lines() if line.get_label().startswith("max_leak_rate")] == [limit]
+    assert [line.get_xdata()[0] for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")] == [limit]
 
 
 def test_distribution_of_a_sealed_load_says_so():

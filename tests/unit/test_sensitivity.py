@@ -10,14 +10,8 @@ so the test models return Q = 10^y.
 import numpy as np
 import pytest
 
-from sealeak.cases.sensitivity import (
-    MAX_BASE_SAMPLES,
-    check_base_samples,
-    log_leak_rate,
-    sensitivity_summary,
-    sobol_indices,
-    sobol_points,
-)
+from sealeak.cases.sensitivity import sobol_indices, sobol_points
+from sealeak.cases.sobol import MAX_BASE_SAMPLES, check_base_samples, log_leak_rate, sensitivity_summary
 from sealeak.errors import InputError
 
 A = np.array([1.0, 2.0, 0.5, 0.0, 3.0])

@@ -12,8 +12,8 @@ half-width of its bootstrap confidence interval (docs/theory.md §15).
 What is analysed is y = log10 Q, not Q: leak rates span decades, and the variance of Q itself is
 carried by the few largest samples. A sealed sample (Q = 0, or no leak channel: NaN) has no
 logarithm; it counts as ``floor`` (m³/s), by default one decade below the smallest leak rate sampled
-in its row (:func:`log_leak_rate`). The limit: with sealed samples the indices describe "whether it
-seals" and "how much it leaks" at once, and they change with the floor; :attr:`SobolIndices.sealed_fraction`
+in its row (:func:`~sealeak.cases.sobol.log_leak_rate`). The limit: with sealed samples the indices describe "whether it
+seals" and "how much it leaks" at once, and they change with the floor; :attr:`~sealeak.cases.sobol.SobolIndices.sealed_fraction`
 says how many samples that concerns. A row with no variance (sealed in every sample, or the same Q in
 every one) has no indices (NaN).
 
@@ -25,68 +25,24 @@ implements them (docs/architecture.md says why SALib over SciPy's ``sobol_indice
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from SALib.analyze import sobol as sobol_analyze
 from SALib.sample import sobol as sobol_sample
 
 from ..errors import InputError
+from .sobol import (
+    BOOTSTRAP_RESAMPLES,
+    CONFIDENCE_LEVEL,
+    MAX_EVALUATIONS,
+    SobolIndices,
+    check_base_samples,
+    check_design,
+    log_leak_rate,
+)
+from .uncertainty import UncertainStudy, leak_rates
 
-__all__ = ["SobolIndices", "sobol_points", "sobol_analysis", "sobol_indices", "log_leak_rate", "check_base_samples",
-           "sensitivity_summary", "MIN_BASE_SAMPLES", "MAX_BASE_SAMPLES", "MAX_EVALUATIONS", "CONFIDENCE_LEVEL",
-           "BOOTSTRAP_RESAMPLES"]
-
-#: The fewest and most base samples N (a power of two): Saltelli's design runs the model N·(d + 2) times.
-MIN_BASE_SAMPLES = 16
-MAX_BASE_SAMPLES = 65536
-#: The most model evaluations (points × rows) one analysis may hold in memory (≈ 80 MB of float64).
-MAX_EVALUATIONS = 10_000_000
-#: The confidence level of the bootstrap intervals and the number of bootstrap resamples.
-CONFIDENCE_LEVEL = 0.95
-BOOTSTRAP_RESAMPLES = 200
-#: The default floor of a sealed sample: this many decades below the smallest leak rate sampled in its row.
-FLOOR_DECADES = 1.0
-
-
-@dataclass(frozen=True)
-class SobolIndices:
-    """Sobol' indices of log10 Q per row of a prediction and per uncertain input.
-
-    ``first``, ``total``: S1 and ST, shape (rows, inputs), dimensionless shares of the variance of
-    log10 Q (NaN for a row without variance); ``first_conf``, ``total_conf``: the half-widths of their
-    :data:`CONFIDENCE_LEVEL` bootstrap intervals; ``sealed_fraction``: per row, the share of samples that
-    did not leak (counted at ``floor``, m³/s, per row; NaN where nothing leaked); ``variance``: per row,
-    the variance of log10 Q (decades²). ``base_samples`` N and ``evaluations`` = N·(d + 2) model runs.
-    """
-
-    names: tuple[str, ...]
-    first: np.ndarray
-    first_conf: np.ndarray
-    total: np.ndarray
-    total_conf: np.ndarray
-    sealed_fraction: np.ndarray
-    floor: np.ndarray
-    variance: np.ndarray
-    base_samples: int
-    evaluations: int
-    seed: int
-
-    def ranking(self, row: int) -> list[int]:
-        """The inputs of ``row`` by decreasing total index (NaN last): the measurement to improve first leads."""
-        total = self.total[row]
-        return sorted(range(len(self.names)), key=lambda i: (not np.isfinite(total[i]), -np.nan_to_num(total[i], nan=0.0)))
-
-
-def check_base_samples(value: object, field: str = "sensitivity") -> int:
-    """The number of base samples N, checked: an integer power of two from :data:`MIN_BASE_SAMPLES` to :data:`MAX_BASE_SAMPLES`."""
-    allowed = f"must be a power of two from {MIN_BASE_SAMPLES} to {MAX_BASE_SAMPLES} (base samples N; the model runs N·(inputs + 2) times)"
-    if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise InputError(field, value, allowed)
-    n = int(value)
-    if not (MIN_BASE_SAMPLES <= n <= MAX_BASE_SAMPLES) or n & (n - 1):
-        raise InputError(field, value, allowed)
-    return n
+__all__ = ["study_sensitivity", "sobol_points", "sobol_analysis", "sobol_indices"]
 
 
 def _problem(d: int) -> dict[str, object]:
@@ -111,25 +67,6 @@ def sobol_points(d: int, base_samples: int, seed: int) -> np.ndarray:
     if n * (d + 2) * d > MAX_EVALUATIONS:
         raise InputError("sensitivity", base_samples, f"with {d} uncertain inputs must be at most {MAX_EVALUATIONS // ((d + 2) * d)}")
     return sobol_sample.sample(_problem(d), n, calc_second_order=False, scramble=True, seed=_seeds(seed)[0])
-
-
-def log_leak_rate(q: np.ndarray, floor: float | None = None) -> tuple[np.ndarray, float, float]:
-    """(log10 Q with sealed samples at the floor, the floor in m³/s, the share of sealed samples) of one row.
-
-    ``q``: leak rates in m³/s of one row's samples; 0 or NaN is a sealed sample. ``floor``: the leak
-    rate a sealed sample counts as (m³/s); default :data:`FLOOR_DECADES` decades below the smallest
-    positive Q sampled. When nothing leaks the floor is NaN and so is every log.
-    """
-    q = np.asarray(q, dtype=float)
-    if np.isinf(q).any() or (q < 0).any():
-        raise InputError("leak rate", float(q[np.isinf(q) | (q < 0)][0]), "must be finite and >= 0 (m³/s)")
-    leaks = np.isfinite(q) & (q > 0)
-    sealed = float(1.0 - leaks.mean()) if q.size else 0.0
-    if floor is None:
-        floor = float(q[leaks].min()) * 10.0 ** -FLOOR_DECADES if leaks.any() else float("nan")
-    with np.errstate(invalid="ignore"):
-        y = np.log10(np.where(leaks, q, floor))
-    return y, floor, sealed
 
 
 def sobol_analysis(names: Sequence[str], q: np.ndarray, base_samples: int, seed: int,
@@ -172,29 +109,14 @@ def sobol_indices(f: Callable[[np.ndarray], np.ndarray], names: Sequence[str], b
     return sobol_analysis(names, f(points), base_samples, seed, floor)
 
 
-def sensitivity_summary(indices: SobolIndices, row: int, labels: Sequence[str] | None = None) -> str:
-    """One plain sentence on ``row``: which input explains most of the variance of log Q, and what to measure better first.
+def study_sensitivity(study: UncertainStudy, base_samples: int, seed: int) -> SobolIndices:
+    """Sobol' indices of log10 Q of every row of an uncertain study (``predict --sensitivity N``).
 
-    ``labels``: how to name the inputs (default their keys), e.g. "h_rms explains 72 % of the variance
-    of log Q (alone: 68 %); measure it better first. Next: E (15 %)."
+    The model is :func:`~sealeak.cases.uncertainty.leak_rates` (Q of the theory each row shows, 0 where
+    sealed), run on the N·(d + 2) points of :func:`sobol_points`; the inputs are named by their keys.
     """
-    labels = list(labels or indices.names)
-    if not indices.variance[row] > 0:
-        why = "every sample sealed" if indices.sealed_fraction[row] == 1.0 else "the same leak rate in every sample"
-        return f"No sensitivity: {why}; no input changes log Q."
-    order = indices.ranking(row)
-    top = order[0]
-    text = (f"{labels[top]} explains {_percent(indices.total[row, top])} of the variance of log Q "
-            f"(alone: {_percent(indices.first[row, top])}); measure it better first.")
-    if len(order) > 1:
-        nxt = order[1]
-        text += f" Next: {labels[nxt]} ({_percent(indices.total[row, nxt])})."
-    if indices.sealed_fraction[row] > 0:
-        text += (f" {_percent(indices.sealed_fraction[row])} of the samples sealed (counted at {indices.floor[row]:.3g} m³/s): "
-                 "the indices mix whether it seals with how much it leaks.")
-    return text
-
-
-def _percent(share: float) -> str:
-    """A share as a whole percentage, clipped to 0–100 (an estimate may stray slightly outside)."""
-    return f"{100.0 * min(max(float(share), 0.0), 1.0):.0f} %"
+    if not study.inputs:
+        raise InputError("--sensitivity", base_samples, "needs uncertain inputs: give a value a spread, e.g. "
+                                                         "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
+    check_design(len(study.inputs), base_samples)
+    return sobol_indices(lambda u: leak_rates(study, u), [i.key for i in study.inputs], base_samples, seed)

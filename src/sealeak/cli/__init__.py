@@ -13,9 +13,10 @@ import shutil
 import sys
 import textwrap
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from .._version import __version__
-from ..errors import SealeakError
+from ..errors import InputError, SealeakError
 from . import lab, serve, simulate, surface
 from ._common import (
     EXIT_INTERRUPTED,
@@ -29,8 +30,12 @@ from ._common import (
     load_case_file,
     outputs,
     propagation,
+    say,
     usage_message,
 )
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..cases import CaseFile
 
 __all__ = ["main", "build_parser"]
 
@@ -40,19 +45,44 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs
     from ..render import prediction_csv, prediction_figures, prediction_json, prediction_table, render_figures
     from ..render.figures import prediction_figure_names
+    from ..render.uncertainty_figures import uncertainty_figure_names, uncertainty_figures
 
     case_file = load_case_file(args)  # read first: the figures of an O-ring or profile seal are other files
     cases = case_file.cases
-    check_outputs(outputs(args, prediction_figure_names(cases), files=("table", "json", "csv")), args.force, inputs=inputs(args))
+    uncertain = case_file.spreads.active
+    _check_sensitivity(args, case_file)  # before any sample runs
+    names = prediction_figure_names(cases) + (uncertainty_figure_names(args.sensitivity is not None) if uncertain else ())
+    check_outputs(outputs(args, names, files=("table", "json", "csv")), args.force, inputs=inputs(args))
     uncertainty = propagation(args, case_file)  # None without uncertain inputs
     results = uncertainty.nominal if uncertainty is not None else [run_case(c) for c in cases]
+    sensitivity = None
+    if uncertainty is not None and args.sensitivity is not None:
+        from ..cases.sensitivity import study_sensitivity  # SALib (about 1 s to import) only when asked for
+
+        say(args, f"Sobol' sensitivity: {args.sensitivity} base samples, "
+                  f"{args.sensitivity * (len(uncertainty.study.inputs) + 2)} predictions ...")
+        sensitivity = study_sensitivity(uncertainty.study, args.sensitivity, uncertainty.seed)
     # render everything first, then write: a failure while rendering leaves no file behind
-    table = prediction_table(results, uncertainty)
-    texts = {path: render(results, uncertainty) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv))
+    table = prediction_table(results, uncertainty, sensitivity)
+    texts = {path: render(results, uncertainty, sensitivity) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv))
              if path}
-    pngs = render_figures(prediction_figures(results)) if args.plots else {}
-    emit(args, table, ({args.table: table} if args.table else {}) | texts, pngs)
+    figures = {}
+    if args.plots:
+        figures = prediction_figures(results) | (uncertainty_figures(uncertainty, sensitivity) if uncertainty is not None else {})
+    emit(args, table, ({args.table: table} if args.table else {}) | texts, render_figures(figures) if figures else {})
     return 0
+
+
+def _check_sensitivity(args: argparse.Namespace, case_file: CaseFile) -> None:
+    """``--sensitivity N``: a case file with uncertain inputs and an N the design allows (docs/cli.md)."""
+    from ..cases.sobol import check_design
+
+    if args.sensitivity is None:
+        return
+    if not case_file.spreads.active or not case_file.spreads.inputs:
+        raise InputError("--sensitivity", args.sensitivity, "the case file has no uncertain inputs: give a value a spread, e.g. "
+                                                            "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
+    check_design(len(case_file.spreads.inputs), args.sensitivity)
 
 
 def _cmd_examples(args: argparse.Namespace) -> int:
@@ -93,6 +123,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
     p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
     add_uncertainty_args(p)
+    p.add_argument("--sensitivity", type=int, metavar="N",
+                   help="Sobol' indices of log10 Q per uncertain input with N base samples (a power of two from 16; "
+                        "N·(inputs + 2) more predictions): which measurement narrows the band most")
     add_output_args(p, json="write the results as JSON", plots="write the figures (PNG) into DIR")
     p.set_defaults(func=_cmd_predict)
 

@@ -12,7 +12,10 @@
   share of sealed samples, the specification line and the probability of passing it.
 
 They are built from plain arrays (leak rates in m³/s, or another unit named by the caller) and compute
-no physics; they follow the house style of :mod:`sealeak.render.plotstyle`.
+no physics; they follow the house style of :mod:`sealeak.render.plotstyle`. :func:`uncertainty_figures`
+builds them from a propagation (:class:`~sealeak.cases.uncertainty.UncertaintyResult`) and its Sobol'
+indices: the fan chart of every case, the distribution and the tornado chart at the first case's middle
+load (:func:`~sealeak.cases.sobol.chosen_rows`).
 """
 
 from __future__ import annotations
@@ -25,9 +28,27 @@ from matplotlib.axis import Axis
 from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
-from .plotstyle import ML_PER_MIN_PER_M3_PER_S, color, finish_axes, laid_out, log_axis, ml_per_min_axis, new_figure, place_legend, say_nothing, subtitle
+from ..cases.sobol import SobolIndices, chosen_rows, sensitivity_summary
+from ..cases.uncertainty import UncertaintyResult
+from ..cases.uncertainty import _values as record_leak_rates
+from .notes import load_axis_label, load_text
+from .plotstyle import (
+    ML_PER_MIN_PER_M3_PER_S,
+    color,
+    finish_axes,
+    laid_out,
+    log_axis,
+    ml_per_min_axis,
+    new_figure,
+    place_legend,
+    pressure_axis,
+    say_nothing,
+    spans_decades,
+    subtitle,
+)
 
-__all__ = ["LeakBand", "figure_fan_chart", "figure_tornado", "figure_leak_distribution", "UNCERTAINTY_FIGURE_NAMES"]
+__all__ = ["LeakBand", "figure_fan_chart", "figure_tornado", "figure_leak_distribution", "UNCERTAINTY_FIGURE_NAMES",
+           "uncertainty_figures", "uncertainty_figure_names"]
 
 #: The file names of the uncertainty figures (``predict --plots DIR``).
 UNCERTAINTY_FIGURE_NAMES = ("leak_rate_band.png", "sensitivity.png", "leak_rate_distribution.png")
@@ -89,11 +110,12 @@ def _blank_below(axis: Axis, limit: float) -> None:
 
 @laid_out
 def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: float | None = None, unit: str = "m³/s",
-                     notes: str = "", log_x: bool = False) -> Figure:
+                     notes: str = "", log_x: bool = False, limit_text: str = "") -> Figure:
     """The leak rate with its 5–95 % band against the load, per case (see the module's text).
 
     ``unit``: the unit of the leak rates (m³/s adds an axis in ml/min); ``max_leak_rate``: the
-    specification in that unit, or None; ``notes``: subtitle lines (samples, seed, inputs).
+    specification in that unit, or None (``limit_text``: as the case file writes it, for the legend);
+    ``notes``: subtitle lines (samples, seed, inputs); ``log_x``: a log load axis.
     """
     fig, ax = new_figure("Leak rate with its uncertainty: median and 5–95 % band")
     ax.set_xlabel(x_label)
@@ -127,7 +149,7 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
             ax.plot(b.x, np.where(nominal > 0, nominal, np.nan), "--", color=c, lw=1.0,
                     label=f"{name}deterministic (nominal inputs)")
     if max_leak_rate is not None:
-        ax.axhline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate {max_leak_rate:.3g} {unit}")
+        ax.axhline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
     ax.set_ylim(bottom, top)
     if sealed_any:
         _sealed_strip(ax, strip_top, bottom)
@@ -179,12 +201,13 @@ def figure_tornado(labels: Sequence[str], first: np.ndarray, total: np.ndarray, 
 
 @laid_out
 def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = None, nominal: float | None = None,
-                             unit: str = "m³/s", notes: str = "") -> Figure:
+                             unit: str = "m³/s", notes: str = "", limit_text: str = "") -> Figure:
     """The distribution of the leak rate at one load over the samples: a histogram on a log axis.
 
     ``q``: the samples' leak rates (0 or NaN: sealed, counted in the legend, not drawn);
     ``max_leak_rate``: the specification (same unit), drawn with the share of samples at or below it
-    (the probability of passing; a sealed sample passes); ``nominal``: the deterministic prediction.
+    (the probability of passing; a sealed sample passes; ``limit_text``: as written); ``nominal``: the deterministic
+    prediction.
     """
     q = np.asarray(q, dtype=float).ravel()
     leaks = np.isfinite(q) & (q > 0)
@@ -196,7 +219,7 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
     lines.append(f"{q.size} samples; {100 * sealed:.0f} % sealed (Q = 0, not drawn)")
     if max_leak_rate is not None:
         passing = float(np.mean(~leaks | (q <= max_leak_rate)))
-        lines.append(f"probability of passing max_leak_rate = {max_leak_rate:.3g} {unit}: {100 * passing:.1f} %")
+        lines.append(f"probability of passing max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}: {100 * passing:.1f} %")
     if not leaks.any():
         say_nothing(ax, "sealed in every sample: no leak rate to draw")
         subtitle(ax, "\n".join(lines))
@@ -217,8 +240,66 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
     if nominal is not None and np.isfinite(nominal) and nominal > 0:
         ax.axvline(nominal, color="0.2", ls="--", lw=1.0, label="deterministic (nominal inputs)")
     if max_leak_rate is not None:
-        ax.axvline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate {max_leak_rate:.3g} {unit}")
+        ax.axvline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
     subtitle(ax, "\n".join(lines))
     finish_axes(ax)
     place_legend(ax)
     return fig
+
+
+# ---------------------------------------------------------------------- from a propagation
+_SAMPLERS = {"sobol": "scrambled Sobol' points", "lhs": "Latin hypercube"}
+
+
+def uncertainty_figure_names(sensitivity: bool) -> tuple[str, ...]:
+    """The files :func:`uncertainty_figures` returns (sensitivity.png only with Sobol' indices)."""
+    return tuple(n for n in UNCERTAINTY_FIGURE_NAMES if sensitivity or n != "sensitivity.png")
+
+
+def _volume_limit(unc: UncertaintyResult) -> float | None:
+    """``max_leak_rate`` in m³/s when it is compared with Q itself (a volume flow), else None (a gas unit: not on a Q axis)."""
+    if unc.limits is None or not unc.limit_keys or any(k != "leak_rate" for k in unc.limit_keys):
+        return None
+    return float(unc.limits[0])
+
+
+def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
+    """(scale, axis label) of the loads: P0 in kPa or MPa, compression in %, a profile's scale as it is."""
+    if load_name == "squeeze_pressure":
+        scale, unit = pressure_axis(loads)
+        return scale, f"squeeze pressure P0 ({unit})"
+    return (0.01 if load_name == "compression" else 1.0), load_axis_label(load_name)
+
+
+def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None = None) -> dict[str, Figure]:
+    """The figures of ``predict --plots`` for a case file with uncertain inputs, by file name
+    (:func:`uncertainty_figure_names`): Q (m³/s) with its band, its distribution at the first case's middle load,
+    and with ``sensitivity`` the tornado chart there."""
+    rows, q = unc.study.rows, unc.values["leak_rate"]
+    loads = np.array([r.load for r in rows])
+    scale, x_label = _load_x(rows[0].load_name, loads)
+    p05, p25, p50, p75, p95 = np.percentile(q, [5.0, 25.0, 50.0, 75.0, 95.0], axis=0)
+    nominal = record_leak_rates(unc.nominal)["leak_rate"]
+    bands = []
+    for i, case in enumerate(unc.study.cases):
+        idx = np.array([j for j, r in enumerate(rows) if r.case == i])
+        idx = idx[np.argsort(loads[idx], kind="stable")]
+        bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label))
+    inputs = ", ".join(inp.key for inp in unc.study.inputs)
+    sampled = f"{unc.samples} samples ({_SAMPLERS.get(unc.sampler, unc.sampler)}, seed {unc.seed}) of {inputs}"
+    limit = _volume_limit(unc)
+    written = str(unc.study.max_leak_rate) if limit is not None else ""
+    figures = {"leak_rate_band.png": figure_fan_chart(bands, x_label, max_leak_rate=limit, log_x=spans_decades(loads), limit_text=written,
+                                                      notes=sampled + "\ndashed: the deterministic prediction; bands: 5–95 % and 25–75 %")}
+    j = chosen_rows(unc.study)[0]
+    at = (f"{rows[j].variant}, " if rows[j].variant else "") + load_text(rows[j].load_name, rows[j].load)
+    figures["leak_rate_distribution.png"] = figure_leak_distribution(q[:, j], max_leak_rate=limit, nominal=float(nominal[j]),
+                                                                     notes=f"at {at}; sampled: {inputs}", limit_text=written)
+    if sensitivity is not None:
+        labels = [inp.label for inp in unc.study.inputs]
+        figures["sensitivity.png"] = figure_tornado(labels, sensitivity.first[j], sensitivity.total[j], sensitivity.first_conf[j],
+                                                    sensitivity.total_conf[j],
+                                                    notes=f"at {at}: {sensitivity_summary(sensitivity, j)}\n"
+                                                          f"{sensitivity.base_samples} base samples, {sensitivity.evaluations} predictions, "
+                                                          f"seed {sensitivity.seed}")
+    return figures
