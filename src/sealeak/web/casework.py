@@ -33,6 +33,7 @@ from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.form_help import FIELD_HELP
 from ..cases.schema import SURFACE_KEYS
+from ..cases.uncertainty import UncertaintyResult, propagate, uncertain_study
 from ..errors import FileFormatError, InputError
 from ..io.leak_units import STANDARD_PRESSURE, leak_rate_unit
 from ..io.tomlscan import MAX_DEPTH, scan_toml
@@ -394,17 +395,28 @@ def field_of(exc: InputError) -> str:
 
 @dataclass(frozen=True)
 class Prediction:
-    """A case file run as ``sealeak predict`` runs it: the case file and the result of each case."""
+    """A case file run as ``sealeak predict`` runs it: the case file, the result of each case and, for a case file with
+    uncertain inputs, their propagation (``predict``'s default samples and seed)."""
 
     case_file: CaseFile
     results: list[CaseResult]
     rendered: dict[str, str] = field(default_factory=dict, compare=False)  # documents rendered once, by name
+    uncertainty: UncertaintyResult | None = field(default=None, compare=False)
 
     def json(self) -> str:
         """The ``sealeak predict --json`` document (rendered once)."""
         if "json" not in self.rendered:
-            self.rendered["json"] = prediction_json(self.results)
+            self.rendered["json"] = prediction_json(self.results, self.uncertainty)
         return self.rendered["json"]
+
+
+def run_prediction(case_file: CaseFile) -> Prediction:
+    """Run a case file as ``sealeak predict`` does without options: the nominal cases, and with uncertain inputs their
+    propagation with the default samples and seed (docs/web.md)."""
+    if case_file.spreads.active:
+        unc = propagate(uncertain_study(case_file))
+        return Prediction(case_file, unc.nominal, uncertainty=unc)
+    return Prediction(case_file, [run_case(c) for c in case_file.cases])
 
 
 class PredictionCache:
@@ -471,8 +483,8 @@ class PredictionCache:
             # a case naming "Probe Ø5.csv" is read with the name its upload is stored under
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
             case_file = parse_case_bytes(loaded, uploads, source)
-            result = Prediction(case_file, [run_case(c) for c in case_file.cases])
-            size = len(data) + footprint(result.results)
+            result = run_prediction(case_file)
+            size = len(data) + footprint(result.results) + (footprint(result.uncertainty.values) if result.uncertainty else 0)
             with self._lock:
                 if size <= self.max_bytes:
                     self._items[key], self._sizes[key] = result, size
