@@ -14,9 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..io.quantities import quantity
 from .uncertainty import UncertainStudy
 
-__all__ = ["SobolIndices", "check_base_samples", "check_design", "log_leak_rate", "sensitivity_summary", "chosen_rows", "MIN_BASE_SAMPLES",
+__all__ = ["SobolIndices", "SensitivityColumns", "check_base_samples", "check_design", "log_leak_rate", "sensitivity_summary", "chosen_rows", "MIN_BASE_SAMPLES",
            "MAX_BASE_SAMPLES", "MAX_EVALUATIONS", "MAX_PREDICTIONS", "CONFIDENCE_LEVEL", "BOOTSTRAP_RESAMPLES", "FLOOR_DECADES"]
 
 #: The fewest and most base samples N (a power of two): Saltelli's design runs the model N·(d + 2) times.
@@ -60,6 +61,21 @@ class SobolIndices:
         """The inputs of ``row`` by decreasing total index (NaN last): the measurement to improve first leads."""
         total = self.total[row]
         return sorted(range(len(self.names)), key=lambda i: (not np.isfinite(total[i]), -np.nan_to_num(total[i], nan=0.0)))
+
+
+@dataclass(frozen=True, kw_only=True)
+class SensitivityColumns:
+    """The Sobol' fields of a result row (``predict --sensitivity N``), one of each per uncertain input ``<input>``
+    (its case-file key, e.g. ``sobol_total[surface.h_rms]``); NaN (null) where log10 Q has no variance."""
+
+    sobol_first: float = quantity("1", "first-order Sobol' index S1 of log10 Q: the share of its variance the input explains "
+                                       "alone", key="sobol_first[<input>]")
+    sobol_first_conf: float = quantity("1", "half-width of the 95 % bootstrap interval of sobol_first",
+                                       key="sobol_first_conf[<input>]")
+    sobol_total: float = quantity("1", "total Sobol' index ST of log10 Q: the share the input explains alone and with "
+                                       "every interaction", key="sobol_total[<input>]")
+    sobol_total_conf: float = quantity("1", "half-width of the 95 % bootstrap interval of sobol_total",
+                                       key="sobol_total_conf[<input>]")
 
 
 def check_base_samples(value: object, field: str = "sensitivity") -> int:

@@ -15,7 +15,16 @@ from typing import Any
 
 import numpy as np
 
-from ..cases.sobol import BOOTSTRAP_RESAMPLES, CONFIDENCE_LEVEL, FLOOR_DECADES, SobolIndices, chosen_rows, sensitivity_summary
+from ..cases.sobol import (
+    BOOTSTRAP_RESAMPLES,
+    CONFIDENCE_LEVEL,
+    FLOOR_DECADES,
+    SensitivityColumns,
+    SobolIndices,
+    chosen_rows,
+    sensitivity_summary,
+)
+from ..io.quantities import descriptions_of, expand_keys, units_of
 from ..cases.uncertainty import UncertainStudy
 from .notes import load_text
 from .uncertainty import _load_column
@@ -24,12 +33,7 @@ __all__ = ["sensitivity_columns", "sensitivity_heading", "sensitivity_legend", "
            "sensitivity_units", "sensitivity_json", "SENSITIVITY_FIELDS"]
 
 #: The per-row fields of each input (``FIELD[KEY]``), what they hold (all dimensionless).
-SENSITIVITY_FIELDS = {
-    "sobol_first": "first-order Sobol' index S1 of log10 Q: the share of its variance the input explains alone",
-    "sobol_first_conf": "half-width of the 95 % bootstrap interval of sobol_first",
-    "sobol_total": "total Sobol' index ST of log10 Q: the share the input explains alone and with every interaction",
-    "sobol_total_conf": "half-width of the 95 % bootstrap interval of sobol_total",
-}
+SENSITIVITY_FIELDS = {k.split("[")[0]: v for k, v in descriptions_of(SensitivityColumns).items()}
 
 
 def _cell(total: float, first: float) -> str:
@@ -83,7 +87,7 @@ def sensitivity_fields(s: SobolIndices) -> list[dict[str, float]]:
 
 def sensitivity_units(s: SobolIndices) -> dict[str, str]:
     """The unit of every field of :func:`sensitivity_fields` (all "1")."""
-    return {f"{name}[{key}]": "1" for key in s.names for name in SENSITIVITY_FIELDS}
+    return expand_keys(units_of(SensitivityColumns), input=s.names)
 
 
 def sensitivity_json(s: SobolIndices, study: UncertainStudy) -> dict[str, Any]:
