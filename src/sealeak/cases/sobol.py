@@ -17,7 +17,8 @@ from ..errors import InputError
 from ..io.quantities import quantity
 from .uncertainty import UncertainStudy
 
-__all__ = ["SobolIndices", "SensitivityColumns", "check_base_samples", "check_design", "log_leak_rate", "sensitivity_summary", "chosen_rows", "MIN_BASE_SAMPLES",
+__all__ = ["SobolIndices", "SensitivityColumns", "check_base_samples", "check_design",
+           "log_leak_rate", "sensitivity_summary", "chosen_rows", "MIN_BASE_SAMPLES",
            "MAX_BASE_SAMPLES", "MAX_EVALUATIONS", "MAX_PREDICTIONS", "CONFIDENCE_LEVEL", "BOOTSTRAP_RESAMPLES", "FLOOR_DECADES"]
 
 #: The fewest and most base samples N (a power of two): Saltelli's design runs the model N·(d + 2) times.

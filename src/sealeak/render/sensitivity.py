@@ -24,8 +24,8 @@ from ..cases.sobol import (
     chosen_rows,
     sensitivity_summary,
 )
-from ..io.quantities import descriptions_of, expand_keys, units_of
 from ..cases.uncertainty import UncertainStudy
+from ..io.quantities import descriptions_of, expand_keys, units_of
 from .notes import load_text
 from .uncertainty import _load_column
 
