@@ -92,3 +92,15 @@ def test_sensitivity_needs_uncertain_inputs(tmp_path, capsys):
     assert main(["predict", str(case), "--sensitivity", "16"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("sealeak: error: --sensitivity = 16: the case file has no uncertain inputs")
+
+
+def test_report_has_the_uncertainty_section_with_its_figures(tmp_path):
+    case = tmp_path / "case.toml"
+    case.write_text(UNCERTAIN)
+    out = tmp_path / "r.html"
+    assert main(["report", str(case), "--samples", "16", "--sensitivity", "16", "-q", "-o", str(out)]) == 0
+    html = out.read_text()
+    assert '<h2 id="uncertainty">' in html and '<h3 id="sensitivity">' in html
+    for name in ("leak_rate_band.png", "leak_rate_distribution.png", "sensitivity.png"):
+        assert f'id="fig-{name}"' in html
+    assert html.index('id="fig-leak_rate_band.png"') > html.index('<h2 id="uncertainty">')

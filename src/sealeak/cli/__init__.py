@@ -13,10 +13,9 @@ import shutil
 import sys
 import textwrap
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 from .._version import __version__
-from ..errors import InputError, SealeakError
+from ..errors import SealeakError
 from . import lab, serve, simulate, surface
 from ._common import (
     EXIT_INTERRUPTED,
@@ -24,18 +23,17 @@ from ._common import (
     Parser,
     add_case_args,
     add_output_args,
+    add_sensitivity_arg,
     add_uncertainty_args,
+    check_sensitivity,
     emit,
     inputs,
     load_case_file,
     outputs,
     propagation,
-    say,
+    sobol_sensitivity,
     usage_message,
 )
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..cases import CaseFile
 
 __all__ = ["main", "build_parser"]
 
@@ -50,18 +48,12 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     case_file = load_case_file(args)  # read first: the figures of an O-ring or profile seal are other files
     cases = case_file.cases
     uncertain = case_file.spreads.active
-    _check_sensitivity(args, case_file)  # before any sample runs
+    check_sensitivity(args, case_file)  # before any sample runs
     names = prediction_figure_names(cases) + (uncertainty_figure_names(args.sensitivity is not None) if uncertain else ())
     check_outputs(outputs(args, names, files=("table", "json", "csv")), args.force, inputs=inputs(args))
     uncertainty = propagation(args, case_file)  # None without uncertain inputs
     results = uncertainty.nominal if uncertainty is not None else [run_case(c) for c in cases]
-    sensitivity = None
-    if uncertainty is not None and args.sensitivity is not None:
-        from ..cases.sensitivity import study_sensitivity  # SALib (about 1 s to import) only when asked for
-
-        say(args, f"Sobol' sensitivity: {args.sensitivity} base samples, "
-                  f"{args.sensitivity * (len(uncertainty.study.inputs) + 2)} predictions ...")
-        sensitivity = study_sensitivity(uncertainty.study, args.sensitivity, uncertainty.seed)
+    sensitivity = sobol_sensitivity(args, uncertainty)
     # render everything first, then write: a failure while rendering leaves no file behind
     table = prediction_table(results, uncertainty, sensitivity)
     texts = {path: render(results, uncertainty, sensitivity) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv))
@@ -71,18 +63,6 @@ def _cmd_predict(args: argparse.Namespace) -> int:
         figures = prediction_figures(results) | (uncertainty_figures(uncertainty, sensitivity) if uncertainty is not None else {})
     emit(args, table, ({args.table: table} if args.table else {}) | texts, render_figures(figures) if figures else {})
     return 0
-
-
-def _check_sensitivity(args: argparse.Namespace, case_file: CaseFile) -> None:
-    """``--sensitivity N``: a case file with uncertain inputs and an N the design allows (docs/cli.md)."""
-    from ..cases.sobol import check_design
-
-    if args.sensitivity is None:
-        return
-    if not case_file.spreads.active or not case_file.spreads.inputs:
-        raise InputError("--sensitivity", args.sensitivity, "the case file has no uncertain inputs: give a value a spread, e.g. "
-                                                            "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
-    check_design(len(case_file.spreads.inputs), args.sensitivity)
 
 
 def _cmd_examples(args: argparse.Namespace) -> int:
@@ -123,9 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
     p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
     add_uncertainty_args(p)
-    p.add_argument("--sensitivity", type=int, metavar="N",
-                   help="Sobol' indices of log10 Q per uncertain input with N base samples (a power of two from 16; "
-                        "N·(inputs + 2) more predictions): which measurement narrows the band most")
+    add_sensitivity_arg(p)
     add_output_args(p, json="write the results as JSON", plots="write the figures (PNG) into DIR")
     p.set_defaults(func=_cmd_predict)
 

@@ -65,7 +65,8 @@ def sensitivity_legend() -> str:
     """What the cells of the sensitivity table mean."""
     return ("ST (S1): the share of the variance of log10 Q an input explains with its interactions (alone); "
             f"a sealed sample counts {FLOOR_DECADES:g} decade below the row's smallest leak; —: no variance "
-            "(the same Q in every sample)")
+            "(the same Q in every sample); estimates: with few base samples they stray beyond 0–1 or put S1 above ST, "
+            "by about the interval")
 
 
 def sensitivity_sentences(s: SobolIndices, study: UncertainStudy) -> list[str]:

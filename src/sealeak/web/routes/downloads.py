@@ -79,5 +79,5 @@ def download_figures(state: StateDep, s: SessionDep) -> Response:
 def download_report(state: StateDep, s: SessionDep) -> Response:
     """The HTML report of ``sealeak report``."""
     pred = current(state, s)
-    return download(scrub(html_report(pred.results, pred.case_file.inputs), s, state.root), "report.html",
+    return download(scrub(html_report(pred.results, pred.case_file.inputs, pred.uncertainty), s, state.root), "report.html",
                     "text/html; charset=utf-8")
