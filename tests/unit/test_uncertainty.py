@@ -5,11 +5,12 @@ import json
 import numpy as np
 import pytest
 
+import sealeak.cases.uncertainty as unc
 from sealeak.cases import parse_case_file, run_case
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
 from sealeak.errors import InputError
 from sealeak.render import prediction_csv, prediction_json
-from tests.casefiles import BASE
+from tests.casefiles import BASE, ORING
 
 #: BASE at two pressures where the seal leaks, h_rms given a spread (the leak rate rises steeply with it).
 LEAKS = BASE.replace('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["20 kPa", "60 kPa"]')
@@ -159,3 +160,23 @@ def test_gas_limit_needs_a_gas_or_the_helium_equivalent():
     text = LEAKS.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1e-6 mbar*l/s"')
     with pytest.raises(InputError, match="helium_equivalent"):
         parse_uncertain_case(spread(text))
+
+
+def _alpha_and_viscosity(model):
+    text = spread(LEAKS, old='viscosity = "1 mPa*s"', new='viscosity = "1 mPa*s ± 20 %"')
+    return text.replace("alpha = 0.2", f'alpha = "0.2 ± 0.05"\nmodel = "{model}"')
+
+
+@pytest.mark.parametrize("text", [_alpha_and_viscosity("critical-junction"), _alpha_and_viscosity("effective-medium"),
+                                  spread(ORING, 'viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s ± 20 %"')
+                                  + '[theory]\nalpha = "1.0 ± 0.2"\n'])
+def test_alpha_and_viscosity_samples_share_the_contact(text, monkeypatch):
+    """Only α and η uncertain: the shared-contact scaling Q ∝ α/η (∝ 1/η for the effective medium) gives what a full
+    prediction of each sample gives (a uniform seal, and an O-ring's band)."""
+    study = parse_uncertain_case(text)
+    points = unit_points(2, 4, seed=2)
+    shared = leak_rates(study, points)
+    monkeypatch.setattr(unc, "_shares_contact", lambda study: False)
+    full = leak_rates(study, points)
+    assert np.allclose(shared, full, rtol=1e-9, atol=0)
+    assert np.ptp(shared[:, 0]) > 0

@@ -37,7 +37,7 @@ from .spreads import UncertainInput
 
 __all__ = ["UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
            "SAMPLERS", "DEFAULT_SAMPLES", "MAX_SAMPLES", "PASS_PROBABILITY", "SPREAD_KEYS", "UNCERTAINTY_UNITS",
-           "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "unit_points", "sample_values",
+           "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "check_sampling", "unit_points", "sample_values",
            "leak_rates", "propagate"]
 
 #: The samplers of the unit hypercube: scrambled Sobol' points, or a Latin hypercube.
@@ -108,21 +108,26 @@ def parse_uncertain_case(text: str, case_dir: Path | str = ".", source: str = "<
     return uncertain_study(parse_case_file(text, case_dir, source))
 
 
+def check_sampling(samples: int, seed: int, sampler: str) -> None:
+    """Refuse a number of samples, a seed or a sampler :func:`unit_points` cannot use (one line naming the option)."""
+    if sampler not in SAMPLERS:
+        raise InputError("--sampler", sampler, f"allowed: {', '.join(SAMPLERS)}")
+    whole_number("--samples", samples, 2, MAX_SAMPLES, " (each sample is a full prediction)")
+    whole_number("--seed", seed, 0, 2**63 - 1)
+    if sampler == "sobol" and samples & (samples - 1):
+        raise InputError("--samples", samples, "Sobol' points come in powers of two: give e.g. "
+                                               f"{1 << (samples - 1).bit_length()} (or --sampler lhs for any number)")
+
+
 def unit_points(dimensions: int, samples: int, seed: int, sampler: str = "sobol") -> NDArray[np.float64]:
     """``samples`` points of the unit hypercube of ``dimensions`` (an array [samples, dimensions]), reproducible for a
     ``seed``: scrambled Sobol' points (``samples`` a power of two) or a Latin hypercube."""
-    if sampler not in SAMPLERS:
-        raise InputError("--sampler", sampler, f"allowed: {', '.join(SAMPLERS)}")
-    samples = whole_number("--samples", samples, 2, MAX_SAMPLES, " (each sample is a full prediction)")
-    seed = whole_number("--seed", seed, 0, 2**63 - 1)
+    check_sampling(samples, seed, sampler)
     if dimensions == 0:
         return np.zeros((samples, 0))
     rng = np.random.default_rng(seed)
     if sampler == "lhs":
         return qmc.LatinHypercube(dimensions, rng=rng).random(samples)
-    if samples & (samples - 1):
-        raise InputError("--samples", samples, "Sobol' points come in powers of two: give e.g. "
-                                               f"{1 << (samples - 1).bit_length()} (or --sampler lhs for any number)")
     return qmc.Sobol(dimensions, scramble=True, rng=rng).random(samples)
 
 
@@ -142,15 +147,20 @@ def _values(results: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
     return out
 
 
-def sample_values(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+def sample_values(study: UncertainStudy, points: NDArray[np.float64],
+                  nominal: list[CaseResult] | None = None) -> dict[str, NDArray[np.float64]]:
     """The leak rates of every :data:`SPREAD_KEYS` the records hold at each point of the unit hypercube
     ([samples, inputs]), as arrays [samples, rows] in the records' SI units; a row without a leak channel holds 0.
 
-    Points that write the same values (a spread of zero) are run once.
+    Points that write the same values (a spread of zero) are run once. When only α and the viscosity of a liquid are
+    uncertain, the samples share the nominal contact: Q ∝ α/η (critical junction), ∝ 1/η (effective medium), with
+    ``nominal`` the nominal cases' results (run here when not given).
     """
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
         raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
+    if _shares_contact(study):
+        return _scaled(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
     written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
     done: dict[str, dict[str, NDArray[np.float64]]] = {}
     out: dict[str, list[NDArray[np.float64]]] = {}
@@ -162,6 +172,30 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64]) -> dict[st
         for key, v in done[tag].items():
             out.setdefault(key, []).append(v)
     return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}
+
+
+#: The inputs that scale a liquid's leak rate without changing the contact (docs/theory.md §14).
+_SCALING = ("theory.alpha", "fluid.viscosity")
+
+
+def _shares_contact(study: UncertainStudy) -> bool:
+    """Whether every uncertain input is α or the viscosity, and every case a liquid without gas rows or capillarity."""
+    return bool(study.inputs) and all(i.key in _SCALING and i.distribution != "choice" for i in study.inputs) and all(
+        c.gas is None and not c.helium_equivalent and c.capillarity is None for c in study.cases)
+
+
+def _scaled(study: UncertainStudy, points: NDArray[np.float64], nominal: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
+    """:func:`sample_values` of α and viscosity samples: the nominal Q times α/α₀ (critical junction) and η₀/η."""
+    ratio = {key: np.ones(points.shape[0]) for key in _SCALING}
+    for j, inp in enumerate(study.inputs):
+        v = inp.values(points[:, j])
+        if not np.all(v > 0):
+            raise InputError(f"{inp.key} (uncertainty sample)", float(v[~(v > 0)][0]), "must be > 0; narrow the spread")
+        ratio[inp.key] = v / quantity_parts(inp.key, inp.nominal)[0]
+    base = _values(nominal)["leak_rate"]
+    alpha = np.concatenate([np.tile(ratio["theory.alpha"][:, None] if r.shows_critical_junction else np.ones((points.shape[0], 1)),
+                                    len(r.records())) for r in nominal], axis=1)
+    return {"leak_rate": base * alpha / ratio["fluid.viscosity"][:, None]}
 
 
 def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
@@ -383,6 +417,6 @@ def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int =
     ``seed``): the same arguments give the same numbers bit for bit."""
     points = unit_points(len(study.inputs), samples, seed, sampler)
     nominal = [run_case(c) for c in study.cases]
-    values = sample_values(study, points)
+    values = sample_values(study, points, nominal)
     keys, limits = _limits(study, study.cases) if study.max_leak_rate is not None else (None, None)
     return UncertaintyResult(study, points, values, nominal, sampler, seed, keys, limits)

@@ -85,7 +85,7 @@ def add_uncertainty_args(p: argparse.ArgumentParser) -> None:
 def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyResult | None:
     """The propagation of the case file's uncertain inputs (spreads or ``conditions.max_leak_rate``) with the
     options of :func:`add_uncertainty_args`, or None for a case file without them (the options are then refused)."""
-    from ..cases.uncertainty import DEFAULT_SAMPLES, propagate, uncertain_study
+    from ..cases.uncertainty import DEFAULT_SAMPLES, check_sampling, propagate, uncertain_study
 
     options = {"--samples": args.samples, "--seed": args.seed, "--sampler": args.sampler}
     if not case_file.spreads.active:
@@ -95,10 +95,12 @@ def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyRes
                                                 "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
         return None
     study = uncertain_study(case_file)
-    samples = DEFAULT_SAMPLES if args.samples is None else args.samples
+    samples, seed, sampler = (DEFAULT_SAMPLES if args.samples is None else args.samples, args.seed or 0,
+                              args.sampler or "sobol")
+    check_sampling(samples, seed, sampler)
     say(args, f"sampling {len(study.inputs)} uncertain input{'s' if len(study.inputs) != 1 else ''} with {samples} samples "
               "(each a full prediction) ...")
-    return propagate(study, samples, 0 if args.seed is None else args.seed, args.sampler or "sobol")
+    return propagate(study, samples, seed, sampler)
 
 
 def add_sensitivity_arg(p: argparse.ArgumentParser) -> None:

@@ -69,9 +69,9 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
 
     p = sub.add_parser("report", help="write one self-contained HTML report of a case")
     add_case_args(p)
+    p.add_argument("-o", "--output", metavar="REPORT.html", required=True, help="the HTML file to write")
     add_uncertainty_args(p)
     add_sensitivity_arg(p)
-    p.add_argument("-o", "--output", metavar="REPORT.html", required=True, help="the HTML file to write")
     p.set_defaults(func=_cmd_report)
 
 

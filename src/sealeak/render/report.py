@@ -487,15 +487,17 @@ UNCERTAINTY_CAPTIONS = {
 def _uncertainty_section(unc: UncertaintyResult, sensitivity: SobolIndices | None, number: int) -> list[str]:
     """The Uncertainty heading: the inputs, the percentiles per row (the table of ``sealeak predict``), the passing loads,
     the Sobol' indices with ``sensitivity``, and the figures numbered from ``number``."""
-    parts = ["<h2 id=\"uncertainty\">Uncertainty</h2>", f"<p>{_e(uncertainty_heading(unc))}</p>",
-             "<ul>" + "".join(f"<li><code>{_e(i.label)}</code></li>" for i in unc.study.inputs) + "</ul>"]
     header, rows = uncertainty_columns(unc)
-    parts += [_table(header, rows), f"<p class=\"legend\">{_e(uncertainty_legend(unc))}</p>"]
-    parts += [f"<p class=\"note\">{_e(line)}</p>" for line in passing_lines(unc)]
+    parts = ["<h2 id=\"uncertainty\">Uncertainty</h2>", f"<p>{_e(uncertainty_heading(unc))}</p>"]
+    if unc.study.inputs:
+        parts.append("<ul>" + "".join(f"<li>{_e(i.label)}</li>" for i in unc.study.inputs) + "</ul>")
+    parts.append(_table(header, rows, left=0))
+    parts.append(f"<p class=\"legend\">{_e(uncertainty_legend(unc))}.</p>")
+    parts += [f"<p>{_e(line)}</p>" for line in passing_lines(unc)]
     if sensitivity is not None:
         header, rows = sensitivity_columns(sensitivity, unc.study)
-        parts += [f"<h3 id=\"sensitivity\">Sensitivity</h3><p>{_e(sensitivity_heading(sensitivity))}</p>", _table(header, rows),
-                  f"<p class=\"legend\">{_e(sensitivity_legend())}</p>"]
+        parts += [f"<h3 id=\"sensitivity\">Sensitivity</h3><p>{_e(sensitivity_heading(sensitivity))}</p>",
+                  _table(header, rows, left=0), f"<p class=\"legend\">{_e(sensitivity_legend())}.</p>"]
         parts += [f"<p class=\"note\">{_e(line)}</p>" for line in sensitivity_sentences(sensitivity, unc.study)]
     parts.append("<div class=\"figures\">")
     for n, (name, fig) in enumerate(uncertainty_figures(unc, sensitivity).items(), start=number):
