@@ -33,13 +33,16 @@ from ..cases.uncertainty import UncertaintyResult
 from ..cases.uncertainty import _values as record_leak_rates
 from .notes import load_axis_label, load_text
 from .plotstyle import (
+    GAS_LEAK_LABEL,
     ML_PER_MIN_PER_M3_PER_S,
+    PA_M3_PER_MBAR_L,
     color,
     finish_axes,
     laid_out,
     log_axis,
     ml_per_min_axis,
     new_figure,
+    pa_m3_axis,
     place_legend,
     pressure_axis,
     say_nothing,
@@ -102,6 +105,11 @@ def _sealed_strip(ax, top: float, bottom: float) -> None:
             va="center", ha="left")
 
 
+def _leak_label(unit: str) -> str:
+    """The axis label of leak rates in ``unit``: a gas's pV throughput in mbar·l/s, else the leak rate Q."""
+    return f"{GAS_LEAK_LABEL} ({unit})" if unit == "mbar·l/s" else f"leak rate Q ({unit})"
+
+
 def _blank_below(axis: Axis, limit: float) -> None:
     """Leave the tick labels of ``axis`` below ``limit`` empty ."""
     label = axis.get_major_formatter()
@@ -113,13 +121,13 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
                      notes: str = "", log_x: bool = False, limit_text: str = "") -> Figure:
     """The leak rate with its 5–95 % band against the load, per case (see the module's text).
 
-    ``unit``: the unit of the leak rates (m³/s adds an axis in ml/min); ``max_leak_rate``: the
+    ``unit``: the unit of the leak rates (m³/s adds an axis in ml/min, a gas's mbar·l/s one in Pa·m³/s); ``max_leak_rate``: the
     specification in that unit, or None (``limit_text``: as the case file writes it, for the legend);
     ``notes``: subtitle lines (samples, seed, inputs); ``log_x``: a log load axis.
     """
     fig, ax = new_figure("Leak rate with its uncertainty: median and 5–95 % band")
     ax.set_xlabel(x_label)
-    ax.set_ylabel(f"leak rate Q ({unit})")
+    ax.set_ylabel(_leak_label(unit))
     values = _positive(*[a for b in bands for a in (b.p05, b.p50, b.p95, b.nominal)],
                        np.array([max_leak_rate if max_leak_rate is not None else np.nan]))
     if not values.size:
@@ -156,11 +164,13 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     subtitle(ax, notes)
     finish_axes(ax)
     log_axis(ax.yaxis, bottom, top)
-    second = ml_per_min_axis(ax) if unit == "m³/s" else None
+    second, factor = {"m³/s": (ml_per_min_axis, ML_PER_MIN_PER_M3_PER_S), "mbar·l/s": (pa_m3_axis, PA_M3_PER_MBAR_L)}.get(
+        unit, (None, 1.0))
+    axis2 = second(ax) if second is not None else None
     if sealed_any:  # no leak-rate tick in the strip of the sealed samples
         _blank_below(ax.yaxis, strip_top)
-        if second is not None:
-            _blank_below(second.yaxis, strip_top * ML_PER_MIN_PER_M3_PER_S)
+        if axis2 is not None:
+            _blank_below(axis2.yaxis, strip_top * factor)
     place_legend(ax)
     return fig
 
@@ -213,7 +223,7 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
     leaks = np.isfinite(q) & (q > 0)
     sealed = 1.0 - float(leaks.mean()) if q.size else 0.0
     fig, ax = new_figure("Distribution of the leak rate over the samples")
-    ax.set_xlabel(f"leak rate Q ({unit})")
+    ax.set_xlabel(_leak_label(unit))
     ax.set_ylabel("share of the samples per bin (1)")
     lines = [notes] if notes else []
     lines.append(f"{q.size} samples; {100 * sealed:.0f} % sealed (Q = 0, not drawn)")
@@ -241,6 +251,8 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
         ax.axvline(nominal, color="0.2", ls="--", lw=1.0, label="deterministic (nominal inputs)")
     if max_leak_rate is not None:
         ax.axvline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
+    shown = [bins[0], bins[-1]] + [v for v in (nominal, max_leak_rate) if v is not None and np.isfinite(v) and v > 0]
+    ax.set_xlim(min(shown) / 10 ** 0.1, max(shown) * 10 ** 0.1)  # the bins and the lines, a tenth of a decade beyond
     subtitle(ax, "\n".join(lines))
     finish_axes(ax)
     place_legend(ax)
@@ -256,11 +268,15 @@ def uncertainty_figure_names(sensitivity: bool) -> tuple[str, ...]:
     return tuple(n for n in UNCERTAINTY_FIGURE_NAMES if sensitivity or n != "sensitivity.png")
 
 
-def _volume_limit(unc: UncertaintyResult) -> float | None:
-    """``max_leak_rate`` in m³/s when it is compared with Q itself (a volume flow), else None (a gas unit: not on a Q axis)."""
-    if unc.limits is None or not unc.limit_keys or any(k != "leak_rate" for k in unc.limit_keys):
-        return None
-    return float(unc.limits[0])
+def _leak_key(unc: UncertaintyResult) -> tuple[str, str, float | None]:
+    """(record key, unit, ``max_leak_rate`` in that unit or None) of the figures: a gas's pV throughput in mbar·l/s (the
+    unit of its other figures), else Q in m³/s; the limit where it is compared with that quantity."""
+    gas = "leak_rate_mbar_l_s" in unc.values
+    key, unit, compared, factor = (("leak_rate_mbar_l_s", "mbar·l/s", "leak_rate_pv", 1.0 / PA_M3_PER_MBAR_L) if gas
+                                   else ("leak_rate", "m³/s", "leak_rate", 1.0))
+    if unc.limits is None or not unc.limit_keys or any(k != compared for k in unc.limit_keys):
+        return key, unit, None
+    return key, unit, float(unc.limits[0]) * factor
 
 
 def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
@@ -273,13 +289,14 @@ def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
 
 def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None = None) -> dict[str, Figure]:
     """The figures of ``predict --plots`` for a case file with uncertain inputs, by file name
-    (:func:`uncertainty_figure_names`): Q (m³/s) with its band, its distribution at the first case's middle load,
+    (:func:`uncertainty_figure_names`): Q (m³/s; a gas's Q_pV in mbar·l/s) with its band, its distribution at the first case's middle load,
     and with ``sensitivity`` the tornado chart there."""
-    rows, q = unc.study.rows, unc.values["leak_rate"]
+    key, unit, limit = _leak_key(unc)
+    rows, q = unc.study.rows, unc.values[key]
     loads = np.array([r.load for r in rows])
     scale, x_label = _load_x(rows[0].load_name, loads)
     p05, p25, p50, p75, p95 = np.percentile(q, [5.0, 25.0, 50.0, 75.0, 95.0], axis=0)
-    nominal = record_leak_rates(unc.nominal)["leak_rate"]
+    nominal = record_leak_rates(unc.nominal)[key]
     bands = []
     for i, case in enumerate(unc.study.cases):
         idx = np.array([j for j, r in enumerate(rows) if r.case == i])
@@ -287,13 +304,13 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
         bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({_SAMPLERS.get(unc.sampler, unc.sampler)}, seed {unc.seed}) of {inputs}"
-    limit = _volume_limit(unc)
     written = str(unc.study.max_leak_rate) if limit is not None else ""
-    figures = {"leak_rate_band.png": figure_fan_chart(bands, x_label, max_leak_rate=limit, log_x=spans_decades(loads), limit_text=written,
+    figures = {"leak_rate_band.png": figure_fan_chart(bands, x_label, max_leak_rate=limit, unit=unit, log_x=spans_decades(loads),
+                                                      limit_text=written,
                                                       notes=sampled + "\ndashed: the deterministic prediction; bands: 5–95 % and 25–75 %")}
     j = chosen_rows(unc.study)[0]
     at = (f"{rows[j].variant}, " if rows[j].variant else "") + load_text(rows[j].load_name, rows[j].load)
-    figures["leak_rate_distribution.png"] = figure_leak_distribution(q[:, j], max_leak_rate=limit, nominal=float(nominal[j]),
+    figures["leak_rate_distribution.png"] = figure_leak_distribution(q[:, j], max_leak_rate=limit, nominal=float(nominal[j]), unit=unit,
                                                                      notes=f"at {at}; sampled: {inputs}", limit_text=written)
     if sensitivity is not None:
         labels = [inp.label for inp in unc.study.inputs]
