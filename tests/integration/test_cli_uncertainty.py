@@ -1,6 +1,9 @@
 """``sealeak predict`` and ``report`` with uncertain inputs: the band under the table, the files, the refusals."""
 
 import json
+import warnings
+
+import pytest
 
 from sealeak.cli import main
 from tests.casefiles import BASE, edit
@@ -48,3 +51,23 @@ def test_bad_samples_leave_no_file(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "powers of two" in err and "Traceback" not in err
     assert not (tmp_path / "r.json").exists()
+
+
+def test_web_predict_gives_the_band_as_the_command_line_does(tmp_path):
+    """POST /api/predict answers what `sealeak predict --json` writes: with uncertain inputs, the band (α and η only:
+    the samples share the nominal contact, so this runs in a moment)."""
+    pytest.importorskip("fastapi", reason="the web extra (sealeak[web]) is not installed")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        from fastapi.testclient import TestClient
+    from sealeak.web import create_app
+
+    text = edit("alpha = 0.2", 'alpha = "0.2 ± 0.05"', edit('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s ± 10 %"'))
+    (tmp_path / "c.toml").write_text(text)
+    assert main(["predict", str(tmp_path / "c.toml"), "--json", str(tmp_path / "r.json"), "-q"]) == 0
+    with TestClient(create_app(), base_url="http://127.0.0.1:8765") as client:
+        answer = client.post("/api/predict", content=text.encode(), headers={"Content-Type": "application/toml"})
+    assert answer.status_code == 200
+    web, cli = answer.json(), json.loads((tmp_path / "r.json").read_text())
+    assert web["uncertainty"] == cli["uncertainty"]
+    assert [r["leak_rate_p95"] for r in web["results"]] == [r["leak_rate_p95"] for r in cli["results"]]

@@ -112,9 +112,11 @@ def test_json_rows_carry_percentiles_and_units():
     assert doc["uncertainty"]["samples"] == 8 and doc["uncertainty"]["inputs"][0]["key"] == "surface.h_rms"
 
 
-def test_absolute_spread_in_another_unit():
-    study = parse_uncertain_case(spread(LEAKS, new='h_rms = "44 um ± 0.0044 mm"'))
-    assert study.inputs[0].parameters["sd"] == pytest.approx(4.4)
+@pytest.mark.parametrize("written", ["44 um ± 0.0044 mm", "44 um +/- 4.4 um", "44 um ± 10 %", "44um±10%"])
+def test_spread_written_absolute_or_relative(written):
+    study = parse_uncertain_case(spread(LEAKS, new=f'h_rms = "{written}"'))
+    assert study.inputs[0].parameters["sd"] == pytest.approx(4.4)  # in the value's unit, µm
+    assert study.cases[0].spectrum.h_rms == pytest.approx(44e-6)  # the deterministic case: the value
 
 
 @pytest.mark.parametrize("edit, field", [

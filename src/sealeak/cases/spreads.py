@@ -189,7 +189,8 @@ def _bound(field: str, value: Any, unit: str) -> float:
 
 def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], written: str) -> UncertainInput:
     """The :class:`UncertainInput` of ``key`` (value ``nominal``) with the parameters as written."""
-    where = f"{key} ({written})"
+    table = written == "[uncertainty]"
+    where, shown = (f"uncertainty.{key}.sd", params.get("sd")) if table else (key, f"{nominal} ± {params.get('sd')}")
     if distribution == "choice":
         values = params.get("values")
         if not isinstance(values, list) or not 2 <= len(values) <= _CHOICE_MAX:
@@ -202,19 +203,18 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
     x, unit = quantity_parts(key, nominal)
     p: dict[str, float] = {}
     if distribution in ("normal", "lognormal"):
-        sd = _number(f"uncertainty.{key}.sd" if written == "[uncertainty]" else key,
-                     params["sd"], unit, relative_to=x)
+        sd = _number(where, params["sd"], unit, relative_to=x)
         if not (math.isfinite(sd) and sd >= 0):
-            raise InputError(where, params["sd"], "the spread must be a standard deviation >= 0")
+            raise InputError(where, shown, "the spread must be a standard deviation >= 0")
         if distribution == "normal":
             if x > 0 and sd > 0 and sd * TRUNCATION >= x:
-                raise InputError(where, params["sd"], f"a normal spread must stay below 1/{TRUNCATION:g} of the value "
+                raise InputError(where, shown, f"a normal spread must stay below 1/{TRUNCATION:g} of the value "
                                                       f"({x:g} {unit}) so that no sample reaches zero (the normal is "
                                                       f"truncated at ±{TRUNCATION:g} sd); use a lognormal for wider spreads")
             p = {"mean": x, "sd": sd}
         else:
             if not x > 0:
-                raise InputError(where, nominal, "a lognormal needs a value > 0 (its median)")
+                raise InputError(key, nominal, "a lognormal needs a value > 0 (its median)")
             p = {"median": x, "sd": sd, "sigma": math.sqrt(math.log1p((sd / x) ** 2))}
     else:
         lo = _bound(f"uncertainty.{key}.low", params["low"], unit)

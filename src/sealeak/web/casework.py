@@ -33,7 +33,7 @@ from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.form_help import FIELD_HELP
 from ..cases.schema import SURFACE_KEYS
-from ..cases.uncertainty import UncertaintyResult, propagate, uncertain_study
+from ..cases.uncertainty import DEFAULT_SAMPLES, UncertaintyResult, propagate, uncertain_study
 from ..errors import FileFormatError, InputError
 from ..io.leak_units import STANDARD_PRESSURE, leak_rate_unit
 from ..io.tomlscan import MAX_DEPTH, scan_toml
@@ -401,22 +401,13 @@ class Prediction:
     case_file: CaseFile
     results: list[CaseResult]
     rendered: dict[str, str] = field(default_factory=dict, compare=False)  # documents rendered once, by name
-    uncertainty: UncertaintyResult | None = field(default=None, compare=False)
+    uncertainty: UncertaintyResult | None = None
 
     def json(self) -> str:
         """The ``sealeak predict --json`` document (rendered once)."""
         if "json" not in self.rendered:
             self.rendered["json"] = prediction_json(self.results, self.uncertainty)
         return self.rendered["json"]
-
-
-def run_prediction(case_file: CaseFile) -> Prediction:
-    """Run a case file as ``sealeak predict`` does without options: the nominal cases, and with uncertain inputs their
-    propagation with the default samples and seed (docs/web.md)."""
-    if case_file.spreads.active:
-        unc = propagate(uncertain_study(case_file))
-        return Prediction(case_file, unc.nominal, uncertainty=unc)
-    return Prediction(case_file, [run_case(c) for c in case_file.cases])
 
 
 class PredictionCache:
@@ -483,8 +474,12 @@ class PredictionCache:
             # a case naming "Probe Ø5.csv" is read with the name its upload is stored under
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
             case_file = parse_case_bytes(loaded, uploads, source)
-            result = run_prediction(case_file)
-            size = len(data) + footprint(result.results) + (footprint(result.uncertainty.values) if result.uncertainty else 0)
+            if case_file.spreads.active:  # as `sealeak predict` without options: its default samples and seed
+                unc = propagate(uncertain_study(case_file), DEFAULT_SAMPLES, 0)
+                result = Prediction(case_file, unc.nominal, uncertainty=unc)
+            else:
+                result = Prediction(case_file, [run_case(c) for c in case_file.cases])
+            size = len(data) + footprint((result.results, result.uncertainty))
             with self._lock:
                 if size <= self.max_bytes:
                     self._items[key], self._sizes[key] = result, size
