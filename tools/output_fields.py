@@ -34,6 +34,7 @@ from sealeak.cases.run import CaseResult
 from sealeak.cases.simulation import SweepRecord, ThresholdRecord
 from sealeak.cases.simulation_band import BandRecord, BandSimulationResult
 from sealeak.cases.simulation_map import MapInfo, MapSimulationResult
+from sealeak.cases.sobol import SensitivityColumns
 from sealeak.cases.uncertainty import PassingLoad, UncertaintyColumns
 from sealeak.lab.data import LeakData
 from sealeak.lab.fitting import LinearFit, ScaleFit
@@ -65,6 +66,12 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      "The JSON's `uncertainty` object lists per case its `passing_loads` (`<load>`: `Pa` for a squeeze pressure, `1` "
      "for a compression or profile scale).",
      (UncertaintyColumns, PassingLoad)),
+    ("sealeak predict --sensitivity N --json / --csv",
+     "With `--sensitivity N` each row adds, per uncertain input (`<input>`: its case-file key, e.g. "
+     "`sobol_total[surface.h_rms]`), the Sobol' indices of log10 Q and their intervals (docs/theory.md §15); the JSON's "
+     "`sensitivity` object says how they were computed, per row the share of sealed samples and the floor they count "
+     "at, and per case one sentence in plain words.",
+     (SensitivityColumns,)),
     ("sealeak simulate --json",
      "A uniform seal's per-pressure records (a gas adds its gas leak), then an O-ring's per-compression records; "
      "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`.",

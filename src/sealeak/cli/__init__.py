@@ -23,12 +23,15 @@ from ._common import (
     Parser,
     add_case_args,
     add_output_args,
+    add_sensitivity_arg,
     add_uncertainty_args,
+    check_sensitivity,
     emit,
     inputs,
     load_case_file,
     outputs,
     propagation,
+    sobol_sensitivity,
     usage_message,
 )
 
@@ -40,18 +43,25 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs
     from ..render import prediction_csv, prediction_figures, prediction_json, prediction_table, render_figures
     from ..render.figures import prediction_figure_names
+    from ..render.uncertainty_figures import uncertainty_figure_names, uncertainty_figures
 
     case_file = load_case_file(args)  # read first: the figures of an O-ring or profile seal are other files
     cases = case_file.cases
-    check_outputs(outputs(args, prediction_figure_names(cases), files=("table", "json", "csv")), args.force, inputs=inputs(args))
+    uncertain = case_file.spreads.active
+    check_sensitivity(args, case_file)  # before any sample runs
+    names = prediction_figure_names(cases) + (uncertainty_figure_names(args.sensitivity is not None) if uncertain else ())
+    check_outputs(outputs(args, names, files=("table", "json", "csv")), args.force, inputs=inputs(args))
     uncertainty = propagation(args, case_file)  # None without uncertain inputs
     results = uncertainty.nominal if uncertainty is not None else [run_case(c) for c in cases]
+    sensitivity = sobol_sensitivity(args, uncertainty)
     # render everything first, then write: a failure while rendering leaves no file behind
-    table = prediction_table(results, uncertainty)
-    texts = {path: render(results, uncertainty) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv))
+    table = prediction_table(results, uncertainty, sensitivity)
+    texts = {path: render(results, uncertainty, sensitivity) for path, render in ((args.json, prediction_json), (args.csv, prediction_csv))
              if path}
-    pngs = render_figures(prediction_figures(results)) if args.plots else {}
-    emit(args, table, ({args.table: table} if args.table else {}) | texts, pngs)
+    figures = {}
+    if args.plots:
+        figures = prediction_figures(results) | (uncertainty_figures(uncertainty, sensitivity) if uncertainty is not None else {})
+    emit(args, table, ({args.table: table} if args.table else {}) | texts, render_figures(figures) if figures else {})
     return 0
 
 
@@ -93,6 +103,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--table", metavar="FILE", help="also write the printed table to FILE (text)")
     p.add_argument("--csv", metavar="FILE", help="write the results as CSV (units in the header)")
     add_uncertainty_args(p)
+    add_sensitivity_arg(p)
     add_output_args(p, json="write the results as JSON", plots="write the figures (PNG) into DIR")
     p.set_defaults(func=_cmd_predict)
 

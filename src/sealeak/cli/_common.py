@@ -21,10 +21,12 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..cases import Case, CaseFile
+    from ..cases.sobol import SobolIndices
     from ..cases.uncertainty import UncertaintyResult
 
 __all__ = ["Parser", "EXIT_USER_ERROR", "EXIT_INTERRUPTED", "add_case_args", "load_case_file", "load",
-           "one_case", "say", "emit", "outputs", "inputs", "positive_pressure", "add_uncertainty_args", "propagation"]
+           "one_case", "say", "emit", "outputs", "inputs", "positive_pressure", "add_uncertainty_args", "propagation",
+           "add_sensitivity_arg", "check_sensitivity", "sobol_sensitivity"]
 
 EXIT_USER_ERROR = 2
 EXIT_INTERRUPTED = 130
@@ -99,6 +101,36 @@ def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyRes
     say(args, f"sampling {len(study.inputs)} uncertain input{'s' if len(study.inputs) != 1 else ''} with {samples} samples "
               "(each a full prediction) ...")
     return propagate(study, samples, seed, sampler)
+
+
+def add_sensitivity_arg(p: argparse.ArgumentParser) -> None:
+    """``--sensitivity N``: Sobol' indices of the case file's uncertain inputs (docs/cli.md)."""
+    p.add_argument("--sensitivity", type=int, metavar="N",
+                   help="Sobol' indices of log10 Q per uncertain input with N base samples (a power of two from 16; "
+                        "N·(inputs + 2) more predictions): which measurement narrows the band most")
+
+
+def check_sensitivity(args: argparse.Namespace, case_file: CaseFile) -> None:
+    """``--sensitivity N``: a case file with uncertain inputs and an N the design allows; checked before any sample runs."""
+    from ..cases.sobol import check_design
+
+    if args.sensitivity is None:
+        return
+    if not case_file.spreads.active or not case_file.spreads.inputs:
+        raise InputError("--sensitivity", args.sensitivity, "the case file has no uncertain inputs: give a value a spread, e.g. "
+                                                            "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
+    check_design(len(case_file.spreads.inputs), args.sensitivity)
+
+
+def sobol_sensitivity(args: argparse.Namespace, uncertainty: UncertaintyResult | None) -> SobolIndices | None:
+    """The Sobol' indices of ``--sensitivity N`` (with the propagation's seed), or None without the option."""
+    if uncertainty is None or args.sensitivity is None:
+        return None
+    from ..cases.sensitivity import study_sensitivity  # SALib (about 1 s to import) only when asked for
+
+    say(args, f"Sobol' sensitivity: {args.sensitivity} base samples, "
+              f"{args.sensitivity * (len(uncertainty.study.inputs) + 2)} predictions ...")
+    return study_sensitivity(uncertainty.study, args.sensitivity, uncertainty.seed)
 
 
 def load_case_file(args: argparse.Namespace) -> CaseFile:

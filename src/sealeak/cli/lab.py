@@ -11,7 +11,21 @@ import argparse
 from collections.abc import Callable
 
 from ..errors import InputError, SealeakError
-from ._common import add_output_args, add_uncertainty_args, emit, inputs, load, load_case_file, outputs, positive_pressure, propagation, say
+from ._common import (
+    add_output_args,
+    add_sensitivity_arg,
+    add_uncertainty_args,
+    check_sensitivity,
+    emit,
+    inputs,
+    load,
+    load_case_file,
+    outputs,
+    positive_pressure,
+    propagation,
+    say,
+    sobol_sensitivity,
+)
 
 __all__ = ["register"]
 
@@ -57,6 +71,7 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     add_case_args(p)
     p.add_argument("-o", "--output", metavar="REPORT.html", required=True, help="the HTML file to write")
     add_uncertainty_args(p)
+    add_sensitivity_arg(p)
     p.set_defaults(func=_cmd_report)
 
 
@@ -196,9 +211,12 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
     check_outputs(outputs(args, files=("output",), folders=()), args.force, inputs=inputs(args))
     case_file = load_case_file(args)
+    check_sensitivity(args, case_file)
     single = len(case_file.cases) == 1  # the report shows the rig of a single case
     uncertainty = propagation(args, case_file)  # None without uncertain inputs
-    write_output(args.output, html_report([run_case(c, rig=single) for c in case_file.cases], case_file.inputs, uncertainty))
+    sensitivity = sobol_sensitivity(args, uncertainty)
+    write_output(args.output, html_report([run_case(c, rig=single) for c in case_file.cases], case_file.inputs,
+                                          uncertainty, sensitivity))
     if args.output != STDOUT:
         say(args, f"wrote {args.output}")
     return 0

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..cases import CaseResult, prediction_curves
+from ..cases.uncertainty import UncertaintyResult
 from .records import json_value
 
 __all__ = ["prediction_plot_data"]
@@ -24,18 +25,33 @@ def _list(a: Any) -> list[Any]:
     return [json_value(x) for x in np.asarray(a, dtype=float).ravel()]
 
 
-def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
+def _bands(results: Sequence[CaseResult], unc: UncertaintyResult | None) -> list[dict[str, Any] | None]:
+    """Per case, the 5th, 50th and 95th percentiles of its leak rate over the samples (m³/s, a gas's mbar·l/s; 0: sealed
+    in at least that share of the samples), in the order of its records; None without uncertain inputs."""
+    if unc is None:
+        return [None] * len(results)
+    out: list[dict[str, Any] | None] = []
+    for i, r in enumerate(results):
+        key = "leak_rate_mbar_l_s" if r.case.gas is not None and "leak_rate_mbar_l_s" in unc.values else "leak_rate"
+        idx = [j for j, row in enumerate(unc.study.rows) if row.case == i]
+        p = unc.percentiles(key)[:, idx]
+        out.append({"p05": _list(p[0]), "p50": _list(p[1]), "p95": _list(p[2]), "samples": unc.samples})
+    return out
+
+
+def prediction_plot_data(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> dict[str, Any]:
     """Series of the interactive plots of a run (one case, or the variants of a study), SI units.
 
     ``leak``: per case, P0 (Pa), Q of the critical junction and, when computed, of the effective
     medium (m³/s; for a gas case, ``gas`` true, the pV throughput Q_pV in mbar·l/s, the unit of leak tests:
     the records' ``leak_rate_mbar_l_s``), ``valid`` the verdict of each point (false: outside the theory; a sealed
-    point has Q = NaN, null in JSON); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
+    point has Q = NaN, null in JSON), ``band`` with uncertain inputs the percentiles ``p05``, ``p50``, ``p95`` of Q
+    over the samples in the same unit (else null); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
     A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
     """
     curves = prediction_curves(list(results))
     leak = []
-    for r in results:
+    for r, band in zip(results, _bands(results, uncertainty)):
         recs = r.records()
         x = next((k for k in ("squeeze_pressure", "compression", "profile_scale") if recs and k in recs[0]), "squeeze_pressure")
         gas = r.case.gas is not None  # a gas: the pV throughput in the leak-test unit (docs/theory.md §11.6)
@@ -46,7 +62,8 @@ def prediction_plot_data(results: Sequence[CaseResult]) -> dict[str, Any]:
                      "valid": [bool(rec.get("valid", True)) for rec in recs],  # the validity verdict of each point
                      "leak_rate": _list([rec.get(key, np.nan) for rec in recs]),
                      "leak_rate_effective_medium": (_list([rec.get(f"{key}_effective_medium", np.nan) for rec in recs])
-                                                    if any(f"{key}_effective_medium" in rec for rec in recs) else None)})
+                                                    if any(f"{key}_effective_medium" in rec for rec in recs) else None),
+                     "band": band})
     label = len(results) > 1
     sets = [{"label": (f"{cs.case.label}: " if label and cs.case.label else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",
              "squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),

@@ -17,8 +17,10 @@ import numpy as np
 
 from .._version import __version__
 from ..cases import Case, CaseResult
+from ..cases.sobol import SobolIndices
 from ..cases.uncertainty import UncertaintyResult
 from .notes import worded
+from .sensitivity import sensitivity_fields, sensitivity_json, sensitivity_units
 from .text import validity_notes
 from .uncertainty import uncertainty_summary
 
@@ -99,22 +101,34 @@ def _units(results: Sequence[CaseResult]) -> dict[str, str]:
     return units
 
 
-def _records(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None) -> list[dict[str, Any]]:
-    """Every row's record (SI), with the uncertainty fields of the row joined at its end."""
+def _records(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None,
+             sensitivity: SobolIndices | None = None) -> list[dict[str, Any]]:
+    """Every row's record (SI), with the uncertainty fields of the row joined at its end, then its Sobol' indices."""
     records = [rec for r in results for rec in r.records()]
     if uncertainty is not None:
         records = [rec | extra for rec, extra in zip(records, uncertainty.row_fields(), strict=True)]
+    if sensitivity is not None:
+        records = [rec | extra for rec, extra in zip(records, sensitivity_fields(sensitivity), strict=True)]
     return records
 
 
-def prediction_json(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> str:
+def _all_units(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None,
+               sensitivity: SobolIndices | None) -> dict[str, str]:
+    """The unit of every field of :func:`_records`."""
+    return (_units(results) | (uncertainty.units if uncertainty is not None else {})
+            | (sensitivity_units(sensitivity) if sensitivity is not None else {}))
+
+
+def prediction_json(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None,
+                    sensitivity: SobolIndices | None = None) -> str:
     """The ``predict --json`` document: ``units``, ``results`` (one object per pressure), cases, messages.
 
     Effective-medium fields (``leak_rate_effective_medium`` etc.) join each results object of a
     case that asks for that model; with ``uncertainty`` its percentiles join each object, and the
-    ``uncertainty`` object says how they were sampled.
+    ``uncertainty`` object says how they were sampled; with ``sensitivity`` (its study's) the Sobol' indices
+    of each input join each object (``sobol_first[KEY]`` ...) and the ``sensitivity`` object describes them.
     """
-    records = [{k: json_value(v) for k, v in rec.items()} for rec in _records(results, uncertainty)]
+    records = [{k: json_value(v) for k, v in rec.items()} for rec in _records(results, uncertainty, sensitivity)]
     messages: list[str] = []
     warnings: list[str] = []
     for r in results:
@@ -129,24 +143,26 @@ def prediction_json(results: Sequence[CaseResult], uncertainty: UncertaintyResul
     doc = {
         "sealeak_version": __version__,
         "theory": theory,
-        "units": _units(results) | (uncertainty.units if uncertainty is not None else {}),
+        "units": _all_units(results, uncertainty, sensitivity),
         "results": records,
         "cases": [case_summary(r.case) for r in results],
         "warnings": warnings,
         "messages": messages,
-    } | ({"uncertainty": uncertainty_summary(uncertainty)} if uncertainty is not None else {})
+    } | ({"uncertainty": uncertainty_summary(uncertainty)} if uncertainty is not None else {}) | (
+        {"sensitivity": sensitivity_json(sensitivity, uncertainty.study)} if sensitivity is not None and uncertainty is not None else {})
     return json_document(doc)
 
 
-def prediction_csv(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> str:
+def prediction_csv(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None,
+                   sensitivity: SobolIndices | None = None) -> str:
     """CSV with a header naming each column and its unit, e.g. ``leak_rate (m^3/s)``; with ``uncertainty`` its
-    percentile columns last."""
+    percentile columns last, then with ``sensitivity`` the Sobol' indices (``sobol_total[KEY] (1)`` ...)."""
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     study = any(r.case.label for r in results)
-    units = _units(results) | (uncertainty.units if uncertainty is not None else {})
+    units = _all_units(results, uncertainty, sensitivity)
     writer.writerow((["variant"] if study else []) + [f"{k} ({u})" if u else k for k, u in units.items()])
-    for raw in _records(results, uncertainty):
+    for raw in _records(results, uncertainty, sensitivity):
         rec = {k: json_value(v) for k, v in raw.items()}
         row = ([rec["variant"]] if study else []) + [
             "" if rec.get(k) is None else (str(rec[k]).lower() if isinstance(rec[k], bool) else

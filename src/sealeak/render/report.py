@@ -30,6 +30,7 @@ from .._version import __version__
 from ..cases import Case, CaseResult
 from ..cases.leak_tests import DecayPrediction
 from ..cases.loader import shown_source
+from ..cases.sobol import SobolIndices
 from ..cases.uncertainty import UncertaintyResult
 from ..lab.rig import RigSetup
 from .band import is_band_run
@@ -37,8 +38,10 @@ from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction
 from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
 from .notes import worded
+from .sensitivity import sensitivity_columns, sensitivity_heading, sensitivity_legend, sensitivity_sentences
 from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, capillary_notes, capillary_tables, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
 from .uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend
+from .uncertainty_figures import uncertainty_figure_names, uncertainty_figures
 
 __all__ = ["html_report", "figure_to_data_uri"]
 
@@ -466,8 +469,24 @@ def _figures_section(results: Sequence[CaseResult], band: bool) -> tuple[list[st
     return parts, len(figures)
 
 
-def _uncertainty_section(unc: UncertaintyResult) -> list[str]:
-    """The uncertainty band: the sampled inputs, the percentiles per row (``predict``'s table), the passing loads."""
+#: What each uncertainty figure shows (the report's captions).
+UNCERTAINTY_CAPTIONS = {
+    "leak_rate_band.png": "The leak rate over the samples of the uncertain inputs against the load: the median (solid), "
+                          "the 5–95 % band (light) and the 25–75 % band (darker), the deterministic prediction of the "
+                          "nominal inputs (dashed) and conditions.max_leak_rate (dash-dotted); a band reaching into the "
+                          "grey strip at the foot seals in at least 5 % of the samples.",
+    "leak_rate_distribution.png": "The distribution of the leak rate over the samples at the first case's middle load "
+                                  "(log axis), with the share of sealed samples and the probability of passing "
+                                  "conditions.max_leak_rate (a sealed sample passes).",
+    "sensitivity.png": "Sobol' indices of log10 Q at the same load: the total index ST (the share of the variance an "
+                       "input explains with its interactions) and the first-order index S1 (alone), with their 95 % "
+                       "bootstrap intervals; the input on top is the one to measure better first.",
+}
+
+
+def _uncertainty_section(unc: UncertaintyResult, sensitivity: SobolIndices | None, number: int) -> list[str]:
+    """The Uncertainty heading: the inputs, the percentiles per row (the table of ``sealeak predict``), the passing loads,
+    the Sobol' indices with ``sensitivity``, and the figures numbered from ``number``."""
     header, rows = uncertainty_columns(unc)
     parts = ["<h2 id=\"uncertainty\">Uncertainty</h2>", f"<p>{_e(uncertainty_heading(unc))}</p>"]
     if unc.study.inputs:
@@ -475,15 +494,26 @@ def _uncertainty_section(unc: UncertaintyResult) -> list[str]:
     parts.append(_table(header, rows, left=0))
     parts.append(f"<p class=\"legend\">{_e(uncertainty_legend(unc))}.</p>")
     parts += [f"<p>{_e(line)}</p>" for line in passing_lines(unc)]
+    if sensitivity is not None:
+        header, rows = sensitivity_columns(sensitivity, unc.study)
+        parts += [f"<h3 id=\"sensitivity\">Sensitivity</h3><p>{_e(sensitivity_heading(sensitivity))}</p>",
+                  _table(header, rows, left=0), f"<p class=\"legend\">{_e(sensitivity_legend())}.</p>"]
+        parts += [f"<p class=\"note\">{_e(line)}</p>" for line in sensitivity_sentences(sensitivity, unc.study)]
+    parts.append("<div class=\"figures\">")
+    for n, (name, fig) in enumerate(uncertainty_figures(unc, sensitivity).items(), start=number):
+        parts.append(_figure(name, n, fig, UNCERTAINTY_CAPTIONS[name]))
+    parts.append("</div>")
     return parts
 
 
-def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any], uncertainty: UncertaintyResult | None = None) -> str:
+def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any], uncertainty: UncertaintyResult | None = None,
+                sensitivity: SobolIndices | None = None) -> str:
     """The HTML text of the report of a case file run (one case, or the variants of a study).
 
     ``results``: :func:`~sealeak.cases.run_case` of each case; ``inputs``: the case file as the user
-    wrote it (:attr:`~sealeak.cases.CaseFile.inputs`), shown with its units; ``uncertainty``: the propagation of
-    its uncertain inputs, shown after the results.
+    wrote it (:attr:`~sealeak.cases.CaseFile.inputs`), shown with its units; ``uncertainty``: the
+    propagation of its uncertain inputs, ``sensitivity`` their Sobol' indices (an Uncertainty section
+    with their tables and figures).
     """
     cases = [r.case for r in results]
     band = is_band_run(results)
@@ -495,10 +525,11 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any], uncert
         parts += _band_section(results)
     parts += _warnings_section(results)
     parts += _results_section(results, band)
-    if uncertainty is not None:
-        parts += _uncertainty_section(uncertainty)
     figures, n_figures = _figures_section(results, band)
     parts += figures
+    if uncertainty is not None:
+        parts += _uncertainty_section(uncertainty, sensitivity, n_figures + 1)
+        n_figures += len(uncertainty_figure_names(sensitivity is not None))
     if len(cases) == 1:
         parts += _rig_section(results[0], n_figures + 1)
     parts.append("</body>")

@@ -7,17 +7,19 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..cases import Case, CaseResult
+from ..cases.sobol import SobolIndices
 from ..cases.uncertainty import UncertaintyResult
 from ..io.leak_units import celsius, to_ml_per_min
 from ..io.units import length_unit
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import pressures_text
 from .notes import capillary_legend, load_text, worded
+from .sensitivity import sensitivity_columns, sensitivity_heading, sensitivity_legend, sensitivity_sentences
 from .uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend
 
 __all__ = ["prediction_table", "prediction_columns", "validity_notes", "fmt", "gas_tables", "gas_notes", "band_legend",
            "GAS_INCOMPRESSIBLE_NOTE"]
-__all__ += ["capillary_tables", "capillary_notes", "uncertainty_lines"]
+__all__ += ["capillary_tables", "capillary_notes", "uncertainty_lines", "sensitivity_lines"]
 
 
 def fmt(x: float | None, spec: str = ".4g") -> str:
@@ -425,7 +427,18 @@ def uncertainty_lines(unc: UncertaintyResult) -> list[str]:
     return lines
 
 
-def prediction_table(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None) -> str:
+def sensitivity_lines(s: SobolIndices, unc: UncertaintyResult) -> list[str]:
+    """The sensitivity block ``sealeak predict --sensitivity N`` prints under the uncertainty block: ST (S1) per row and
+    input, then one sentence per case on what to measure better first (docs/user-guide.md, Sensitivity)."""
+    headers, rows = sensitivity_columns(s, unc.study)
+    lines = ["", sensitivity_heading(s)]
+    lines += _table_lines([(h, 8, [r[i] for r in rows]) for i, h in enumerate(headers)])
+    lines.append("          " + sensitivity_legend())
+    return lines + sensitivity_sentences(s, unc.study)
+
+
+def prediction_table(results: Sequence[CaseResult], uncertainty: UncertaintyResult | None = None,
+                     sensitivity: SobolIndices | None = None) -> str:
     """A plain-text report: the case, then one table row per squeeze pressure.
 
     With effective-medium results (model "both") their leak rate stands next to the critical-junction
@@ -481,4 +494,6 @@ def prediction_table(results: Sequence[CaseResult], uncertainty: UncertaintyResu
         lines.extend("note: " + m for m in validity_notes(r))
     if uncertainty is not None:
         lines += uncertainty_lines(uncertainty)
+        if sensitivity is not None:
+            lines += sensitivity_lines(sensitivity, uncertainty)
     return "\n".join(lines) + "\n"

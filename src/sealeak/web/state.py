@@ -153,7 +153,7 @@ def case_state(state: AppState, s: Session, predict: bool = False) -> dict[str, 
     out["valid"] = True
     if predict:
         if "plots" not in pred.rendered:
-            pred.rendered["plots"] = json.dumps(prediction_plot_data(pred.results))
+            pred.rendered["plots"] = json.dumps(prediction_plot_data(pred.results, pred.uncertainty))
         out["prediction"] = {"json": json.loads(scrub(pred.json(), s, state.root)),
                              "plots": json.loads(pred.rendered["plots"])}
     return out

@@ -543,22 +543,36 @@ function drawPrediction(pred) {
   drawPlots(pred);
 }
 
-// the leak-rate curves of a prediction (and the pinned ones, dotted): sealed points at the axis' foot, invalid ones crossed
+// the colours of the cases whose uncertain inputs draw a band (the band filled, the curves in the same colour)
+const BAND_RGB = ["31,119,180", "255,127,14", "44,160,44", "214,39,40", "148,103,189"];
+
+// the leak-rate curves of a prediction (and the pinned ones, dotted): sealed points at the axis' foot, invalid ones crossed;
+// with uncertain inputs the 5–95 % band of the samples and their median (bands: the traces whose sealed values, 0, go to the foot)
 function leakCurves(p, rows, tagAll, style = {}) {
-  const traces = [], marks = [];
+  const traces = [], marks = [], bands = [];
   const kinds = new Set(p.leak.map(c => c.gas));
-  for (const c of p.leak) {
+  p.leak.forEach((c, k) => {
     const tag = (tagAll || p.leak.length > 1 ? `${c.label}: ` : "") + (kinds.size > 1 ? `(${Units.name(c.gas ? "throughput" : "volume_flow")}) ` : "");
     const dim = c.gas ? "throughput" : "volume_flow";
     const x = showX(c);
     const show = v => v === null ? null : Units.show(v, dim, rows);
+    const rgb = c.band ? BAND_RGB[k % BAND_RGB.length] : null;
+    if (c.band) {
+      const [lo, med, hi] = ["p05", "p50", "p95"].map(q => leakSI(c, c.band[q]).map(show));
+      const edge = { line: { width: 0.5, color: `rgba(${rgb},0.5)` } };
+      bands.push(line(x, lo, `${tag}5th percentile of the samples`, { showlegend: false, ...edge }));
+      bands.push(line(x, hi, `${tag}5–95 % of ${c.band.samples} samples`, { fill: "tonexty", fillcolor: `rgba(${rgb},0.18)`, ...edge }));
+      bands.push(line(x, med, `${tag}median of the samples`, { line: { dash: "dot", width: 2, color: `rgb(${rgb})` } }));
+      traces.push(...bands.slice(-3));
+    }
     const cj = leakSI(c, c.leak_rate).map(show);
-    traces.push(line(x, cj, `${tag}critical junction`, { mode: "lines+markers", marker: { size: 5 }, ...style }));
+    traces.push(line(x, cj, `${tag}critical junction${c.band ? " (nominal inputs)" : ""}`,
+      { mode: "lines+markers", marker: { size: 5 }, ...(rgb ? { line: { color: `rgb(${rgb})` } } : {}), ...style }));
     const em = leakSI(c, c.leak_rate_effective_medium);
     if (em) traces.push(line(x, em.map(show), `${tag}effective medium`, { mode: "lines+markers", marker: { size: 5 }, line: { dash: "dash" }, ...style }));
     marks.push({ x, y: cj, valid: c.valid || [] });
-  }
-  return { traces, marks };
+  });
+  return { traces, marks, bands };
 }
 
 // a set's label ("P0 = 20 kPa", after a study's label) with its pressure in the chosen unit
@@ -571,12 +585,13 @@ function drawPlots(pred) {
   p.sets = p.sets.map(s => ({ ...s, label: setLabel(s) }));
   p.gaps = { ...p.gaps, labels: p.sets.map(s => s.label) };
   const rows = pred.json.results;
-  const { traces: leak, marks } = leakCurves(p, rows, false);
+  const { traces: leak, marks, bands } = leakCurves(p, rows, false);
   const pinned = Pins.curves();
   const all = [...leak, ...pinned];
   const yr = fitRange(all.flatMap(t => t.y), true);
   // sealed points (no leak path: Q = 0) sit at the foot of the axis; points outside the theory (valid = NO) are crossed
   const foot = yr ? Math.pow(10, yr[0] + 0.1) : 1e-30;
+  for (const t of bands) t.y = t.y.map(v => v === null ? null : v > 0 ? v : foot);  // sealed in that share of the samples
   const sx = [], ix = [], iy = [];
   const sealedX = [];
   for (const m of marks) m.x.forEach((x, i) => {

@@ -1,0 +1,39 @@
+"""The prediction page of a case with uncertain inputs: the leak-rate plot draws the 5–95 % band (issue 24 item 5).
+
+The band must be the command line's percentiles (`sealeak predict --json` with the default samples and seed),
+the nominal curve must be the deterministic prediction, and the page is photographed for a person to look at.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from tests.browser.test_web_pages import cli, goto
+from tests.casefiles import edit
+
+UNCERTAIN = edit('[conditions]\n', '[conditions]\nmax_leak_rate = "100 ml/min"\n',
+                 edit('h_rms = "44 um"', 'h_rms = "44 um ± 15 %"'))
+
+
+def test_prediction_plot_draws_the_band_of_the_cli(page, artifacts, tmp_path, monkeypatch, capsys):
+    (tmp_path / "band.toml").write_text(UNCERTAIN, encoding="utf-8")
+    goto(page, "/case")
+    page.set_input_files("#case-file", str(tmp_path / "band.toml"))
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=120_000)
+    goto(page, "/prediction")
+    page.wait_for_function("(document.getElementById('plot-leak').data || []).some(t => t.fill === 'tonexty')", timeout=120_000)
+    traces = page.evaluate("document.getElementById('plot-leak').data.map(t => ({name: t.name, y: t.y, fill: t.fill || ''}))")
+    band = {t["name"]: t["y"] for t in traces}
+    assert cli(tmp_path, monkeypatch, capsys, "predict", "band.toml", "--json", "out.json", "-q")[0] == 0
+    rows = json.loads((tmp_path / "out.json").read_text())["results"]
+    # the page shows m³/s by default
+    assert band["5th percentile of the samples"] == pytest.approx([r["leak_rate_p05"] for r in rows], rel=1e-9)
+    assert band["5–95 % of 256 samples"] == pytest.approx([r["leak_rate_p95"] for r in rows], rel=1e-9)
+    assert band["median of the samples"] == pytest.approx([r["leak_rate_p50"] for r in rows], rel=1e-9)
+    assert band["critical junction (nominal inputs)"] == pytest.approx([r["leak_rate"] for r in rows], rel=1e-9)
+    assert all(lo < q < hi for lo, q, hi in zip(band["5th percentile of the samples"], band["critical junction (nominal inputs)"],
+                                                  band["5–95 % of 256 samples"]))
+    page.locator("#plot-leak").scroll_into_view_if_needed()
+    page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-band.png"))

@@ -1,0 +1,109 @@
+"""The figures of an uncertain prediction (sealeak.render.uncertainty_figures, issue 24 item 5), built from plain arrays.
+
+Each must read right (tests/integration/test_figures_render.py's checks) and draw what it is given: the
+band between the percentiles, sealed samples in the strip below the leak rates, the specification line,
+the inputs sorted by their total index, the probability of passing counted from the samples.
+"""
+
+import numpy as np
+import pytest
+from matplotlib.collections import PolyCollection
+
+from sealeak.render.figures import figure_png
+from sealeak.render.uncertainty_figures import LeakBand, figure_fan_chart, figure_leak_distribution, figure_tornado
+from tests.integration.test_figures_render import _build, figure_problems
+
+X = np.linspace(50.0, 400.0, 8)  # kPa
+MEDIAN = 1e-9 * np.exp(-X / 40.0)  # m³/s
+
+
+def _band(sealed_from=None):
+    p05, p25, p50 = MEDIAN / 5, MEDIAN / 2, MEDIAN.copy()
+    if sealed_from is not None:
+        p05[X >= sealed_from] = 0.0
+        p25[X >= sealed_from + 50] = 0.0
+        p50[X >= sealed_from + 100] = 0.0
+    return LeakBand(X, p05, p50, MEDIAN * 5, p25, MEDIAN * 2, MEDIAN * 1.2, "nominal")
+
+
+def test_fan_chart_draws_band_median_nominal_and_specification():
+    fig = _build(lambda: figure_fan_chart([_band()], "squeeze pressure P0 (kPa)", max_leak_rate=1e-11))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "log"
+    bands = [c for c in ax.collections if isinstance(c, PolyCollection)]
+    assert len(bands) == 2  # 5–95 % and 25–75 %
+    outer = bands[0].get_paths()[0].vertices
+    assert outer[:, 1].min() == pytest.approx((MEDIAN / 5).min(), rel=1e-9)
+    assert outer[:, 1].max() == pytest.approx((MEDIAN * 5).max(), rel=1e-9)
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert "median" in labels and "deterministic (nominal inputs)" in labels
+    spec = [line for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")]
+    assert len(spec) == 1 and spec[0].get_ydata()[0] == 1e-11
+    assert not [t for t in ax.texts if "sealed" in t.get_text()]  # nothing sealed: no strip
+    assert figure_png(fig).startswith(b"\x89PNG")
+
+
+def test_fan_chart_puts_sealed_samples_in_a_strip_below_the_leak_rates():
+    band = _band(sealed_from=250.0)
+    fig = _build(lambda: figure_fan_chart([band], "squeeze pressure P0 (kPa)"))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    strip = [t for t in ax.texts if "sealed (Q = 0)" in t.get_text()]
+    assert len(strip) == 1
+    drawn = np.r_[band.p05, band.p25, band.p50, band.p75, band.p95, band.nominal]
+    lowest_leak = drawn[drawn > 0].min()
+    sealed_marks = [line for line in ax.get_lines() if line.get_label().startswith("median sealed")]
+    assert len(sealed_marks) == 1
+    # the medians of the rows at or beyond 350 kPa are sealed, drawn below every leak rate
+    assert len(sealed_marks[0].get_xdata()) == int((X >= 350).sum())
+    assert (np.asarray(sealed_marks[0].get_ydata()) < lowest_leak).all()
+    # no leak-rate tick label in the strip: every labelled tick is a leak rate at or above the strip's top
+    ticks = [v for v, text in zip(ax.get_yticks(), ax.yaxis.get_ticklabels()) if text.get_text()]
+    assert min(ticks) >= sealed_marks[0].get_ydata()[0]
+
+
+def test_fan_chart_of_a_seal_that_never_leaks_says_so():
+    zero = np.zeros_like(X)
+    fig = _build(lambda: figure_fan_chart([LeakBand(X, zero, zero, zero)], "compression ε = δ/d (%)"))
+    assert not figure_problems(fig)
+    assert "sealed in every sample" in fig.axes[0].texts[0].get_text()
+
+
+def test_tornado_sorts_inputs_by_total_index_largest_on_top():
+    labels = ["rubber.youngs_modulus", "surface.h_rms", "surface.hurst", "fluid.viscosity"]
+    first, total = np.array([0.2, 0.62, 0.08, -0.004]), np.array([0.22, 0.7, 0.1, 0.002])
+    fig = _build(lambda: figure_tornado(labels, first, total, first / 10 + 0.01, total / 10 + 0.01,
+                                        notes="at P0 = 200 kPa"))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    shown = [text for _, text in sorted(zip(ax.get_yticks(), [t.get_text() for t in ax.get_yticklabels()]))]
+    assert shown[::-1] == ["surface.h_rms", "rubber.youngs_modulus", "surface.hurst", "fluid.viscosity"]
+    widths = sorted((p.get_y(), p.get_width()) for p in ax.patches)
+    assert max(w for _, w in widths) == pytest.approx(0.7) and min(w for _, w in widths) == 0.0  # -0.004 drawn at 0
+    assert "at P0 = 200 kPa" in ax.get_title()
+
+
+def test_distribution_counts_the_probability_of_passing_with_sealed_samples_passing():
+    rng = np.random.default_rng(1)
+    q = 10.0 ** rng.normal(-11.0, 0.5, 400)
+    q[:40] = 0.0  # sealed: pass
+    limit = 3e-11
+    fig = _build(lambda: figure_leak_distribution(q, max_leak_rate=limit, nominal=1e-11))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    passing = (40 + int(np.sum(q[40:] <= limit))) / 400
+    assert f"{100 * passing:.1f} %" in ax.get_title()
+    assert "10 % sealed" in ax.get_title()
+    heights = sum(p.get_height() for p in ax.patches)
+    assert heights == pytest.approx(0.9)  # the histogram holds the leaking share of the samples
+    assert ax.get_xscale() == "log"
+    assert [line.get_xdata()[0] for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")] == [limit]
+
+
+def test_distribution_of_a_sealed_load_says_so():
+    fig = _build(lambda: figure_leak_distribution(np.zeros(64), max_leak_rate=1e-12))
+    assert not figure_problems(fig)
+    assert "100.0 %" in fig.axes[0].get_title()
+    assert "sealed in every sample" in fig.axes[0].texts[0].get_text()
+
