@@ -42,7 +42,7 @@ from sealeak.physics.critical_junction import CriticalJunctionResult
 from sealeak.physics.effective_medium import EffectiveMediumResult
 from sealeak.physics.gas import Gas
 from sealeak.physics.spectrum import PowerSpectrum
-from sealeak.render.lab import DecayModelRecord, GasFitRow, RigModelRecord
+from sealeak.render.lab import DecayModelRecord, GasFitRow, RigCapillaryRecord, RigModelRecord
 from sealeak.topography import BinnedSpectrum, SurfaceStatistics, Topography
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "outputs.md"
@@ -76,8 +76,9 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      (LinearFit, LinearityCheck)),
     ("sealeak rig --json (a water column)",
      "The load, each model's `models` object and, with `--readings`, the readings; a band seal adds its load and "
-     "`band` (the band fields of `predict`, the seal line length and faces).",
-     (RigPrediction, RigSetup, RigModelRecord, ReadingsAnalysis, BandSeal)),
+     "`band` (the band fields of `predict`, the seal line length and faces); a liquid with a contact angle adds "
+     "to each model its capillary entry pressure and where the level stops.",
+     (RigPrediction, RigSetup, RigModelRecord, RigCapillaryRecord, ReadingsAnalysis, BandSeal)),
     ("sealeak rig --json (a pressure-decay test)",
      "The test, each model's `models` object and, with `--readings`, the readings and the factor they imply.",
      (DecayPrediction, DecayRigSetup, PressureDecaySetup, Gas, DecayModelRecord, DecayReadings, ScaleFromDecay)),

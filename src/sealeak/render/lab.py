@@ -28,7 +28,8 @@ from .text import fmt
 
 __all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition",
            "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3",
-           "is_gas_fit", "FIT_UNIT_TEXT", "GasFitRow", "RigModelRecord", "DecayModelRecord", "FIT_UNITS", "LINEARITY_UNITS",
+           "is_gas_fit", "FIT_UNIT_TEXT", "GasFitRow", "RigModelRecord", "RigCapillaryRecord", "DecayModelRecord", "FIT_UNITS",
+           "LINEARITY_UNITS",
            "RIG_UNITS", "DECAY_UNITS"]
 
 
@@ -62,6 +63,16 @@ class RigModelRecord:
 
 
 @dataclass(frozen=True, kw_only=True)
+class RigCapillaryRecord:
+    """What a liquid with a contact angle adds to each model of ``sealeak rig --json`` (a water column; SI units)."""
+
+    capillary_entry_pressure: float | None = quantity(
+        "Pa", "entry pressure −γ(cos θ_r + cos θ_s)/u of the narrowest gap u (null without a leak channel)")
+    stop_height: float | None = quantity("m", "height p_e/(ρg) at which the meniscus stops the fall (null: no stop)")
+    time_to_stop: float | None = quantity("s", "time the level reaches it (0: held from the start; null: not reached)")
+
+
+@dataclass(frozen=True, kw_only=True)
 class DecayModelRecord:
     """One model of ``sealeak rig --json`` for a pressure-decay test (``models``; SI units)."""
 
@@ -90,6 +101,7 @@ LINEARITY_UNITS = units_for(("slope", "slope_std", "intercept", "intercept_std",
 RIG_UNITS = units_for(("squeeze_pressure", "load", "final_height", "conductance", "time_constant", "time_to_final_height",
                        "time", "height", "interval_pressure_difference", "interval_leak_rate"),
                       RigPrediction, RigSetup, RigModelRecord, ReadingsAnalysis)
+_RIG_CAPILLARY_UNITS = units_of(RigCapillaryRecord)
 _RIG_BAND_UNITS = units_for(("contact_width", "mean_contact_pressure", "max_contact_pressure", "force_per_length",
                              "seal_line_length", "faces"), BandColumns, BandSeal)
 #: ``units`` of ``sealeak rig --json`` for a pressure-decay test (a band seal adds its load's).
@@ -303,9 +315,13 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     lines.append(f"{'model':<32} {'K = Q/ΔP (m³/(s·Pa))':>22} {'Q at H0 (ml/min)':>17} {'τ (min)':>10} "
                  f"{'t to H = ' + format(h1 * 100, '.3g') + ' cm (min)':>26}")
     for name, k in pred.conductance.items():
-        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(to_ml_per_min(k * dp0), '17.4g')} "
+        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(to_ml_per_min(pred.columns[name].leak_rate[0]), '17.4g')} "
                      f"{fmt(pred.time_constant[name] / 60, '10.4g')} {fmt(pred.drain_time[name] / 60, '26.4g')}")
-    lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
+    if case.coupled:
+        lines.append("(fluid pressure coupled, theory §13: Q(ΔP) grows faster than K ΔP; K and τ at H0, the time from "
+                     "the ODE of Q(ρgH) along the fall)")
+    else:
+        lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
     if readings is not None:
         t = readings.time
         lines += _readings_head(readings_source, t, f"{t[-1] - t[0]:.4g} s", f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}",
@@ -338,11 +354,17 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
             conductance=json_value(k), time_constant=json_value(pred.time_constant[name]),
             time_to_final_height=json_value(pred.drain_time[name]), time_to_final_height_ode=json_value(col.time_to_final),
             time=[json_value(x) for x in col.time[::10]], height=[json_value(x) for x in col.height[::10]]))
+        if case.capillarity is not None:
+            models[name] |= record_fields(RigCapillaryRecord(
+                capillary_entry_pressure=json_value(pred.entry_pressure[name]), stop_height=json_value(col.stop_height),
+                time_to_stop=json_value(col.time_to_stop)))
     doc: dict[str, Any] = {
         "case": case.title, "squeeze_pressure": pred.squeeze_pressure, "load": rig.load,
         "final_height": json_value(_final_height(pred)), "models": models,
         "units": dict(RIG_UNITS),
         "messages": worded(pred.messages)}
+    if case.capillarity is not None:
+        doc["units"] |= _RIG_CAPILLARY_UNITS
     b = pred.band
     if b is not None:  # a band seal: its load and contact; "load" is the contact force f·Ly, P0 its mean pressure
         doc[b.band.load_name] = float(b.band.loads[0])

@@ -172,8 +172,7 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float, condit
         power, tunit = power_unit([longest / YEAR], "years")
         tscale, lscale, lunit = YEAR * power, YEAR, "years"
     for i, (name, col) in enumerate(columns.items()):
-        label = name + (f": H = {col.final_height * 100:.3g} cm after {col.time_to_final / lscale:.3g} {lunit}"
-                        if np.isfinite(col.time_to_final) else ": no leak, the level stays")
+        label = name + _column_label(col, lscale, lunit)
         ax.plot(col.time / tscale, col.height * 100, ("-", "--")[i % 2], color=color(i), label=label)
         if np.isfinite(col.time_to_final):
             ax.plot([col.time_to_final / tscale], [col.final_height * 100], "o", color=color(i), ms=4)
@@ -190,6 +189,18 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float, condit
     finish_axes(ax)
     place_legend(ax)
     return fig
+
+
+def _column_label(col: WaterColumn, lscale: float, lunit: str) -> str:
+    """What the legend says of a water column: when it reached the final height, where capillarity stopped it
+    (docs/theory.md §12.1), or that it did not leak."""
+    if np.isfinite(col.time_to_final):
+        return f": H = {col.final_height * 100:.3g} cm after {col.time_to_final / lscale:.3g} {lunit}"
+    if col.stop_height is not None and col.time_to_stop == 0:
+        return ": held by capillarity, the level stays"
+    if col.stop_height is not None and np.isfinite(col.time_to_stop):
+        return f": held by capillarity at H = {col.stop_height * 100:.3g} cm after {col.time_to_stop / lscale:.3g} {lunit}"
+    return ": no leak, the level stays" if col.leak_rate[0] == 0 else ": the final height not reached"
 
 
 @laid_out

@@ -7,6 +7,7 @@ in one way only (:func:`load_text`, :func:`loads_text`, :func:`kpa_text`). Table
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
@@ -208,6 +209,17 @@ def _rig_no_leak(v: Mapping[str, Any]) -> str:
     return f"{v['model']}: no leak at P0 = {v['squeeze_pressure']:.6g} Pa, the level stays at {v['initial_height']:g} m"
 
 
+def _rig_held_by_capillarity(v: Mapping[str, Any]) -> str:
+    head = (f"{v['model']}: the capillary entry pressure of the narrowest gap is p_e = "
+            f"{format_quantity(v['entry_pressure'], 'pressure', 4)}")
+    if v["time_to_stop"] == 0:
+        return (head + f", above ρgH0: the meniscus holds the liquid (Q = 0) and the level stays at H0 = "
+                f"{v['initial_height']:.4g} m")
+    when = (f" after {v['time_to_stop']:.4g} s" if math.isfinite(v["time_to_stop"])
+            else " (not reached within the simulated span)")
+    return head + f": the level stops at H = p_e/(ρg) = {v['stop_height']:.4g} m{when}, where the meniscus holds the liquid"
+
+
 def _rig_pressure_difference_large(v: Mapping[str, Any]) -> str:
     if v["band"]:
         return (f"ΔP = ρgH0 = {v['pressure_difference']:.4g} Pa is not small against the peak contact pressure "
@@ -295,6 +307,7 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "decay_not_lost": _decay_not_lost,
     "decay_pressure_difference_large": _decay_pressure_difference_large,
     "rig_no_leak": _rig_no_leak,
+    "rig_held_by_capillarity": _rig_held_by_capillarity,
     "rig_pressure_difference_large": _rig_pressure_difference_large,
     "linearity_one_load_needed": _linearity_one_load_needed,
     "spectrum_cut_by_grid": _spectrum_cut_by_grid,
