@@ -20,11 +20,11 @@ from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, 
 from ..physics.critical_junction import pressure_difference_not_small
 from ..physics.validity import strain_warning
 from .band import BandResult
-from .capillarity import band_capillarity, uniform_capillarity
+from .capillarity import entry_pressures
 from .leak_tests import DecayPrediction, decay_prediction
 from .model import Case
 from .notes import Note, NoteLike
-from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name, leak_curve, predict, predict_effective_medium
+from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name, leak_curve
 
 __all__ = ["RigPrediction", "rig_prediction", "rig_readings"]
 
@@ -92,21 +92,6 @@ def _coupled_leak(case: Case, load: float, model: Model, dp0: float,
 UNIFORM_POINTS, BAND_POINTS = 33, 17
 
 
-def _entry_pressures(case: Case, p0: float, models: list[Model], band: BandResult | None) -> dict[str, float]:
-    """The capillary entry pressure p_e (Pa) of each model's narrowest gap at the rig's load, by display name
-    (docs/theory.md eq. 12.2; NaN without a leak channel); empty without a contact angle."""
-    if case.capillarity is None:
-        return {}
-    if band is not None:
-        rows = band_capillarity(case, band)[1]
-    else:
-        cj = predict(case, squeeze_pressure=[p0], pressure_difference=1.0)
-        em = predict_effective_medium(case, squeeze_pressure=[p0], pressure_difference=1.0) \
-            if "effective-medium" in models else None
-        rows = uniform_capillarity(case, cj, em)[2]
-    return {_model_name(case, m): float(rows[m.replace("-", "_")].entry_pressure[0]) for m in models}
-
-
 def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     """Simulate the case's [rig]: P0 = load/(seal area), ΔP = ρgH, H(t) for each model of ``case.model`` (docs/theory.md §4.2).
 
@@ -160,7 +145,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
             k = k if band is None else q0 / dp0  # a band's K from _band_conductance is at the case's ΔP
         k_of[name] = k
         messages.extend(notes)
-    entry = _entry_pressures(case, p0, models, band)
+    entry = {_model_name(case, m): p for m, p in entry_pressures(case, models, p0, band).items()}
     columns, tau, t_final = {}, {}, {}
     area = rig.cylinder_area
     for name, k in k_of.items():

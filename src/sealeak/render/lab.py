@@ -95,8 +95,8 @@ class DecayModelRecord:
 #: ``units`` of ``sealeak fit --json`` (a gas fit adds :class:`GasFitRow`'s for its ``rows``).
 FIT_UNITS = units_for(("alpha", "alpha_std", "rms_log10_residual", "reference_pressure"), ScaleFit, LeakData)
 #: ``units`` of ``sealeak fit --linearity --json`` (a band seal adds its load's).
-LINEARITY_UNITS = units_for(("slope", "slope_std", "intercept", "intercept_std", "squeeze_pressure", "model_slopes"),
-                            LinearFit, LinearityCheck)
+LINEARITY_UNITS = units_for(("slope", "slope_std", "intercept", "intercept_std", "squeeze_pressure", "model_slopes",
+                             "model_intercepts", "model_nonlinearity"), LinearFit, LinearityCheck)
 #: ``units`` of ``sealeak rig --json`` for a water column (a band seal adds :data:`_RIG_BAND_UNITS` and its load's).
 RIG_UNITS = units_for(("squeeze_pressure", "load", "final_height", "conductance", "time_constant", "time_to_final_height",
                        "time", "height", "interval_pressure_difference", "interval_leak_rate"),
@@ -231,11 +231,23 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
         lines.append(f"P0         {p0 / 1e3:.4g} kPa (from {check.squeeze_pressure_source})")
     if p0 is not None:
         for name, k in check.model_slopes.items():
-            lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa)")
+            lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa), intercept {check.model_intercepts[name]:.3g} m³/s"
+                         + _model_nonlinearity(check, name))
+        for name, p_e in check.capillary_entry_pressure.items():
+            lines.append(f"           {name}: capillary entry pressure {fmt(p_e / 1e3 if np.isfinite(p_e) else None, '.4g')} "
+                         "kPa (Q = 0 below it)")
         if check.alpha_from_slope is not None:
             lines.append(f"           α implied by the measured slope: {check.alpha_from_slope:.3g}")
     lines += ["note: " + m for m in worded(check.messages)]
     return "\n".join(lines) + "\n"
+
+
+def _model_nonlinearity(check: LinearityCheck, name: str) -> str:
+    """How far a model's Q/ΔP changes over the measured ΔP (the fluid pressure coupled), for the text."""
+    change = check.model_nonlinearity.get(name, 0.0)
+    if abs(change) < 5e-4:
+        return " (linear in ΔP)"
+    return f"; its Q/ΔP {'rises' if change > 0 else 'falls'} by {abs(change) * 100:.3g} % over the measured ΔP"
 
 
 def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
@@ -247,10 +259,15 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
                          "r_squared": json_value(line.r_squared), "points": line.n,
                          "squeeze_pressure": json_value(p0) if p0 is not None else None,
                          "model_slopes": {k: json_value(v) for k, v in check.model_slopes.items()},
+                         "model_intercepts": {k: json_value(v) for k, v in check.model_intercepts.items()},
+                         "model_nonlinearity": {k: json_value(v) for k, v in check.model_nonlinearity.items()},
                          "alpha_from_slope": (json_value(check.alpha_from_slope)
                                               if check.alpha_from_slope is not None else None)},
            "units": dict(LINEARITY_UNITS),
            "messages": worded(check.messages)}
+    if case.capillarity is not None:
+        doc["linearity"]["capillary_entry_pressure"] = {k: json_value(v) for k, v in check.capillary_entry_pressure.items()}
+        doc["units"]["capillary_entry_pressure"] = "Pa"
     if case.band is not None:  # the band's load; squeeze_pressure is its mean contact pressure
         doc["linearity"][check.load_name] = json_value(check.load) if check.load is not None else None
         doc["units"] |= expand_keys(units_for(("<load>",), LinearityCheck), load=[check.load_name])

@@ -132,8 +132,8 @@ def _model_lines(ax: Axes, x: np.ndarray, models: dict[str, np.ndarray], qscale:
 
 @laid_out
 def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Figure:
-    """Measured Q against ΔP with the fitted straight line (and the models' lines through 0), with ml/min."""
-    line, model_lines, p0 = check.line, check.model_slopes, check.squeeze_pressure
+    """Measured Q against ΔP with the fitted straight line and the models' Q(ΔP) (coupled, with capillarity), with ml/min."""
+    line, p0 = check.line, check.squeeze_pressure
     fig, ax = new_figure("Leak rate against pressure difference")
     x = np.linspace(0.0, dp.max() * 1.1, 50)
     fitted = line.slope * x + line.intercept
@@ -143,7 +143,7 @@ def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Fi
             label=f"fit: slope {line.slope:.3g} ± {line.slope_std:.2g} m³/(s·Pa),\n"
                   f"intercept {line.intercept:.2g} ± {line.intercept_std:.2g} m³/s")
     ax.set_ylim(bottom=0)
-    hidden = _model_lines(ax, x, {name: slope * x for name, slope in model_lines.items()}, qscale)
+    hidden = _model_lines(ax, check.curve_pressure_difference, check.model_curves, qscale)
     ax.set_xlabel("pressure difference ΔP (kPa)")
     ax.set_xlim(left=0)
     at = f"P0 = {p0 / 1e3:.3g} kPa" if p0 else ""

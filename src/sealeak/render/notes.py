@@ -228,6 +228,16 @@ def _rig_pressure_difference_large(v: Mapping[str, Any]) -> str:
             "theory assumes P0 >> ΔP")
 
 
+def _linearity_held_by_capillarity(v: Mapping[str, Any]) -> str:
+    text = (f"{v['model']}: {v['points']} measured point(s) lie below the capillary entry pressure p_e = "
+            f"{format_quantity(v['entry_pressure'], 'pressure', 4)}, where the model holds the liquid (Q = 0), so its "
+            "line through the measured ΔP has an offset")
+    if v["leaking"]:
+        text += (f"; {v['leaking']} of them leaked: the narrowest gap is wider, or the liquid wets it better, than "
+                 "the model's")
+    return text
+
+
 def _linearity_one_load_needed(v: Mapping[str, Any]) -> str:
     name = v["load_name"]
     one = "compression" if name == "compression" else "profile scale"
@@ -310,6 +320,7 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "rig_held_by_capillarity": _rig_held_by_capillarity,
     "rig_pressure_difference_large": _rig_pressure_difference_large,
     "linearity_one_load_needed": _linearity_one_load_needed,
+    "linearity_held_by_capillarity": _linearity_held_by_capillarity,
     "spectrum_cut_by_grid": _spectrum_cut_by_grid,
     "waviness_left_out": _waviness_left_out,
     "threshold_not_found": _threshold_not_found,
