@@ -31,7 +31,7 @@ from sealeak.cases.model import BandSeal
 from sealeak.cases.pipeline import GasSimulation
 from sealeak.cases.rig import RigPrediction
 from sealeak.cases.run import CaseResult
-from sealeak.cases.simulation import SweepRecord, ThresholdRecord
+from sealeak.cases.simulation import SimulationCapillarity, SweepRecord, ThresholdRecord
 from sealeak.cases.simulation_band import BandRecord, BandSimulationResult
 from sealeak.cases.simulation_map import MapInfo, MapSimulationResult
 from sealeak.lab.data import LeakData
@@ -60,8 +60,9 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
       HeliumColumns, PermeationColumns, CapillaryColumns)),
     ("sealeak simulate --json",
      "A uniform seal's per-pressure records (a gas adds its gas leak), then an O-ring's per-compression records; "
-     "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`.",
-     (SimulationResult, GasSimulation, BandSimulationResult)),
+     "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`; a "
+     "uniform seal's liquid with a contact angle adds the capillarity keys.",
+     (SimulationResult, GasSimulation, SimulationCapillarity, BandSimulationResult)),
     ("sealeak simulate --json (measured maps: --surface maps)",
      "Per map (or sub-window) its statistics, and per map and squeeze pressure the exact flow and α against both "
      "theories of the map's own C(q).",

@@ -70,11 +70,29 @@ from .pipeline import (
 )
 from .prediction import predict
 
-__all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
+__all__ = ["SimulationResult", "SimulationCapillarity", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
            "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "SweepRecord", "ThresholdRecord", "ensemble_tasks", "run_task", "task_memory_bytes",
            "TASK_BASE_BYTES", "PeriodicSquare", "gas_identity", "pack_mask", "unpack_mask", "FlowMethod"]
 
 FloatArray = NDArray[np.float64]
+
+@dataclass(frozen=True, kw_only=True)
+class SimulationCapillarity:
+    """A liquid with a contact angle in ``simulate`` (docs/theory.md §12.4): per pressure, the capillary entry pressure of
+    each realisation's critical constriction (the narrowest gap on the widest path across its gap field) and the
+    realisations it holds. The simulated leak rates are the flow without capillarity (α compares flows)."""
+
+    capillary_entry_pressure: FloatArray = quantity(
+        "Pa", "entry pressure −γ(cos θ_r + cos θ_s)/u of each realisation's critical constriction u, mean over the "
+              "realisations the fluid crosses")
+    capillary_entry_pressure_std: FloatArray = quantity("Pa", "standard deviation of that entry pressure")
+    capillary_entry_pressure_critical_junction: FloatArray = quantity(
+        "Pa", "the entry pressure at the theory's critical gap u_c")
+    held_fraction: FloatArray = quantity("1", "fraction of realisations the fluid crosses but ΔP is below their entry "
+                                              "pressure: held, Q = 0")
+    held_by_capillarity: NDArray[np.bool_] = quantity(
+        "1", "the fluid crosses some realisation, and capillarity holds it in every one it crosses")
+
 
 @dataclass(frozen=True, kw_only=True)
 class SimulationResult:
@@ -87,7 +105,8 @@ class SimulationResult:
     ``junction_cells`` is N/ζc, the grid cells across the theory's critical wavelength λc (NaN where
     there is no junction); below :data:`JUNCTION_CELLS` the α of that pressure is flagged.
     ``gas`` holds the gas leak and α_gas of a gas case (None for a liquid); the other fields are then
-    the incompressible formula with the gas's viscosity.
+    the incompressible formula with the gas's viscosity. ``capillarity``: a liquid with a contact angle's entry
+    pressures and held realisations (None without a contact angle).
     """
 
     squeeze_pressure: FloatArray = quantity("Pa", "nominal squeeze pressure P0")
@@ -118,6 +137,7 @@ class SimulationResult:
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)  # realisation 0
     gas: GasSimulation | None = None
+    capillarity: SimulationCapillarity | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "junction_resolved", junction_resolved(self.junction_cells))
@@ -224,7 +244,8 @@ class PeriodicSquare:
     def tasks(self, plan: _SquarePlan, common: RunSettings, realizations: int) -> list[EnsembleTask]:
         """Each realisation's sweep, then (if asked) its threshold search."""
         spec = common.spec(EnsembleSpec, spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
-                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor)
+                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor,
+                           capillary=plan.case.capillarity is not None)
         return ensemble_tasks(spec, realizations, self.threshold)
 
     def aggregate(self, plan: _SquarePlan, records: Records, notes: list[NoteLike]) -> SimulationResult:
@@ -248,6 +269,7 @@ class PeriodicSquare:
         if self.threshold and np.isnan(thresholds).all():
             notes.append(Note("no_threshold_found"))
         gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
+        capillarity, per_capillary = _capillarity(case, records, plan.u_c, perc)
         return SimulationResult(
             squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
             relative_contact_area_std=area_s, relative_contact_area_theory=plan.contact_theory, mean_gap=gap_m,
@@ -258,9 +280,30 @@ class PeriodicSquare:
             notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, case), contact_maps=flows.contact_maps,
             junction_cells=plan.junction_cells,
             per_realization={"relative_contact_area": flows.area, "mean_gap": gap, "percolates": perc,
-                             "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas,
-            gas=gas_result,
+                             "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas
+                            | per_capillary,
+            gas=gas_result, capillarity=capillarity,
         )
+
+
+def _capillarity(case: Case, records: Records, u_c: FloatArray, percolates: NDArray[np.bool_]
+                 ) -> tuple[SimulationCapillarity | None, dict[str, Any]]:
+    """Each realisation's entry pressure p_e = −γ(cos θ_r + cos θ_s)/u at its critical constriction u (Pa, [R, n_p]) and
+    where it holds the liquid (ΔP < p_e, docs/theory.md eq. 12.3), summed up per pressure; (None, {}) without a contact
+    angle."""
+    wetting = case.capillarity
+    if wetting is None:
+        return None, {}
+    n_p = u_c.size
+    gap = records.stack(SweepRecord, lambda rec: rec.critical_gap if rec.critical_gap is not None else [np.nan] * n_p, n_p)
+    entry = wetting.entry_pressure(np.where(percolates & (gap > 0), gap, np.nan))
+    held = percolates & (case.pressure_difference < entry)
+    entry_m, entry_s = mean_std(entry)
+    return (SimulationCapillarity(
+        capillary_entry_pressure=entry_m, capillary_entry_pressure_std=entry_s,
+        capillary_entry_pressure_critical_junction=wetting.entry_pressure(u_c), held_fraction=held.mean(axis=0),
+        held_by_capillarity=percolates.any(axis=0) & (held.sum(axis=0) == percolates.sum(axis=0))),
+            {"capillary_entry_pressure": entry, "held_by_capillarity": held})
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -268,17 +311,20 @@ class EnsembleSpec(TaskSpec):
     """Everything one task of a uniform seal's ensemble needs, in SI units (shared by all tasks of a run).
 
     :class:`~sealeak.cases.pipeline.TaskSpec`'s fields, and ``pressures`` the sorted squeeze pressures (Pa),
-    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa).
+    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa), ``capillary`` whether each
+    sweep also finds its gap fields' critical constrictions (a liquid with a contact angle, docs/theory.md §12.4).
     """
 
     pressures: FloatArray
     aspect: float
     threshold_anchor: float
+    capillary: bool = False
 
     def geometry_identity(self) -> dict[str, Any]:
-        """The square's own inputs: the squeeze pressures, Ly/Lx and the threshold search's anchor."""
+        """The square's own inputs: the squeeze pressures, Ly/Lx and the threshold search's anchor (and, for a liquid
+        with a contact angle, that the sweeps find each gap field's critical constriction)."""
         return {"squeeze_pressure": [float(x) for x in self.pressures], "aspect": float(self.aspect),
-                "threshold_anchor": float(self.threshold_anchor)}
+                "threshold_anchor": float(self.threshold_anchor)} | ({"capillary": True} if self.capillary else {})
 
 
 @dataclass(frozen=True)
@@ -334,6 +380,8 @@ class SweepRecord(FlowRecord):
     KIND = "sweep"
 
     mean_gap: list[float] = quantity("m", "mean gap")
+    critical_gap: list[float] | None = quantity(
+        "m", "gap of the narrowest constriction on the widest path across (a liquid with a contact angle)", default=None)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -368,6 +416,7 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
         return ThresholdRecord(realization=r, threshold=float(th), notes=notes)
     log = FlowLog(gas=spec.gas is not None)
     gaps: list[float] = []
+    critical: list[float] = []
     results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
                                            workers=spec.fft_workers)
 
@@ -375,11 +424,13 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
         for i, res in enumerate(results):
             gaps.append(float(res.mean_gap))
             log.add(spec, r, res, spec.aspect, res.contact_area)
+            if spec.capillary:
+                critical.append(numerics.critical_constriction(res.gap, ~res.contact))
             keep_load(spec, kept, r, i, h, res, progress)
 
     kept = with_fields(spec, r, h, sweep, load_name="squeeze_pressure", loads=spec.pressures, load_unit="Pa",
                        attributes=spec.field_attributes(f"sweep-r{r}", r))
-    return log.record(SweepRecord, r, kept, mean_gap=gaps)
+    return log.record(SweepRecord, r, kept, mean_gap=gaps, critical_gap=critical if spec.capillary else None)
 
 
 def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,

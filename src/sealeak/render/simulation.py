@@ -15,7 +15,7 @@ from matplotlib.lines import Line2D
 from numpy.typing import NDArray
 
 from ..cases import Case, SimulationResult
-from ..cases.simulation import JUNCTION_CELLS, GasSimulation
+from ..cases.simulation import JUNCTION_CELLS, GasSimulation, SimulationCapillarity
 from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..io.leak_units import celsius, to_mbar_l_per_s
 from ..io.quantities import record_fields, units_of
@@ -43,7 +43,7 @@ from .records import case_summary, json_document, json_rows, json_value
 from .text import fmt
 
 __all__ = ["simulation_json", "simulation_rows", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
-           "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES",
+           "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES", "SIMULATION_CAPILLARY_UNITS",
            "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
            "BAND_SIMULATION_FIGURE_NAMES", "BAND_SIMULATION_GAS_UNITS"]
 
@@ -56,6 +56,8 @@ _ROW_KEYS = ("squeeze_pressure", "relative_contact_area", "relative_contact_area
              "leak_rate_critical_junction", "alpha", "alpha_std", "pressure_difference", "junction_cells",
              "junction_resolved")
 SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png")
+#: Units of the capillarity keys of a ``simulate --json`` row (a liquid with a contact angle).
+SIMULATION_CAPILLARY_UNITS = units_of(SimulationCapillarity)
 #: The extra figure of a gas case.
 SIMULATION_GAS_FIGURE_NAMES = ("simulate_gas_leak_rate.png",)
 #: Units of the gas keys of a ``simulate --json`` row (a gas case), declared on the gas result's fields; names as
@@ -81,6 +83,11 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
     }
     if res.gas is not None:
         _gas_json(doc, res)
+    if res.capillarity is not None:  # a liquid with a contact angle: each row's entry pressures and held realisations
+        doc["units"] = doc["units"] | SIMULATION_CAPILLARY_UNITS
+        columns = record_fields(res.capillarity)
+        for row, extra in zip(doc["results"], json_rows(columns, tuple(columns), len(doc["results"])), strict=True):
+            row |= extra
     return json_document(doc)
 
 
@@ -188,6 +195,8 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
                      f"{'*' if _coarse(res, i) and np.isfinite(res.alpha[i]) else ' '}{fmt(res.alpha_std[i], '7.2g')}")
     if res.gas is not None:
         lines += _gas_lines(res)
+    if res.capillarity is not None:
+        lines += _capillary_lines(res, res.capillarity)
     lines.append("")
     lines.append(_spread_legend(res.realizations))
     if np.isfinite(res.percolation_threshold):
@@ -198,6 +207,22 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
                      f"critical-junction theory assumes 1 - p_c = {1 - case.percolation_threshold:.3f})")
     lines += ["note: " + n for n in worded(res.notes)]
     return "\n".join(lines) + "\n"
+
+
+def _capillary_lines(res: SimulationResult, c: SimulationCapillarity) -> list[str]:
+    """The capillarity table of ``sealeak simulate``: per pressure the entry pressure of the realisations' critical
+    constrictions against the theory's at u_c, and the realisations held (docs/theory.md §12.4)."""
+    lines = ["", f"capillarity at ΔP = {res.pressure_difference / 1e3:.4g} kPa: entry pressure p_e = −γ(cos θ_r + cos θ_s)/u "
+                 "of each realisation's critical constriction u (the narrowest gap on the widest path across)",
+             f"{'P0 (kPa)':>9} {'p_e sim (kPa)':>13} {'± sd':>9} {'p_e at u_c (kPa)':>16} {'held':>5} {'all held':>8}"]
+    for i in range(res.squeeze_pressure.size):
+        lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {fmt(c.capillary_entry_pressure[i] / 1e3, '13.4g')} "
+                     f"{fmt(c.capillary_entry_pressure_std[i] / 1e3, '9.2g')} "
+                     f"{fmt(c.capillary_entry_pressure_critical_junction[i] / 1e3, '16.4g')} {c.held_fraction[i]:5.2f} "
+                     f"{'yes' if c.held_by_capillarity[i] else 'no':>8}")
+    lines.append("held: fraction of realisations the fluid crosses but ΔP < p_e holds (Q = 0 there; the leak rates and α "
+                 "above are the flow without capillarity)")
+    return lines
 
 
 def _coarse(res: SimulationResult, i: int) -> bool:
