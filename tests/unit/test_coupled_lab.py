@@ -5,6 +5,7 @@ checked against scipy's quad in tests/unit/test_fluid_pressure.py) and the line 
 not from the linearity check's own route.
 """
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -13,6 +14,8 @@ import pytest
 from sealeak.cases import predict
 from sealeak.cases.fitting import fit_models
 from sealeak.cases.linearity_check import linearity
+from sealeak.lab.data import read_leak_data
+from sealeak.render.lab import linearity_json, linearity_text
 from sealeak.render.notes import word
 from tests.unit.test_coupled_rig import NON_WETTING, P, band_case, uniform_case
 
@@ -117,3 +120,20 @@ def test_band_fit_takes_the_coupled_flow_at_each_rows_pressure_difference(tmp_pa
     fit = fit_models(band, np.ones(dp.size), dp, q)["critical_junction"]
     assert fit.alpha == pytest.approx(0.7, rel=1e-4)
     assert fit.rms_log10_residual < 1e-5
+
+
+def test_linearity_outputs_carry_the_models_lines(tmp_path):
+    case = uniform_case(NON_WETTING)
+    path = tmp_path / "dp.csv"
+    path.write_text("pressure_difference (kPa), leak_rate (m^3/s)\n20, 1e-17\n60, 4e-17\n100, 8e-17\n")
+    data = read_leak_data(path, required=("pressure_difference", "leak_rate"))
+    check = linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure=P)
+    doc = json.loads(linearity_json(case, data, check))["linearity"]
+    assert doc["model_intercepts"][CJ] == pytest.approx(check.model_intercepts[CJ], rel=1e-12)
+    assert doc["model_nonlinearity"][CJ] > 0  # coupled: Q/ΔP rises over the data
+    assert doc["capillary_entry_pressure"][CJ] == pytest.approx(check.capillary_entry_pressure[CJ], rel=1e-12)
+    text = linearity_text(case, data, check)
+    assert "Q/ΔP rises by" in text and "capillary entry pressure" in text
+    plain = json.loads(linearity_json(uniform_case(), data, linearity(uniform_case(), data.pressure_difference,
+                                                                      data.leak_rate, squeeze_pressure=P)))
+    assert "capillary_entry_pressure" not in plain["linearity"] and "capillary_entry_pressure" not in plain["units"]

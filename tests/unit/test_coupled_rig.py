@@ -5,6 +5,7 @@ rig against the band's, scipy's quad of the time to fall t = A ∫ dH / Q(ρgH),
 exponential fall and of the capillary stop H_e = p_e/(ρg).
 """
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -14,6 +15,7 @@ from scipy import integrate
 from sealeak.cases import parse_cases, predict
 from sealeak.cases.prediction import leak_curve
 from sealeak.cases.rig import rig_prediction
+from sealeak.render.lab import rig_json, rig_text
 from sealeak.render.notes import word
 
 SURFACE = """
@@ -172,3 +174,21 @@ def test_contact_angle_of_90_degrees_changes_nothing(tmp_path):
         np.testing.assert_array_equal(right.columns[name].height, plain.columns[name].height)
         assert right.drain_time[name] == plain.drain_time[name]
         assert right.messages == plain.messages
+
+
+def test_rig_outputs_name_the_stop():
+    case = uniform_case(NON_WETTING)
+    pred = rig_prediction(case)
+    (name,) = pred.conductance
+    col = pred.columns[name]
+    doc = json.loads(rig_json(case, pred))
+    model = doc["models"][name]
+    assert model["capillary_entry_pressure"] == pytest.approx(pred.entry_pressure[name], rel=1e-12)
+    assert model["stop_height"] == pytest.approx(col.stop_height, rel=1e-12)
+    assert model["time_to_stop"] == pytest.approx(col.time_to_stop, rel=1e-12)
+    assert model["time_to_final_height"] is None  # the final height lies below the stop
+    assert doc["units"]["stop_height"] == "m" and doc["units"]["capillary_entry_pressure"] == "Pa"
+    text = rig_text(case, pred)
+    assert "the level stops at H = p_e/(ρg)" in text and "fluid pressure coupled" in text
+    plain = json.loads(rig_json(uniform_case(), rig_prediction(uniform_case())))
+    assert "stop_height" not in plain["models"][name] and "stop_height" not in plain["units"]
