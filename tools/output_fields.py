@@ -61,7 +61,7 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
     ("sealeak simulate --json",
      "A uniform seal's per-pressure records (a gas adds its gas leak), then an O-ring's per-compression records; "
      "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`; a "
-     "uniform seal's liquid with a contact angle adds the capillarity keys.",
+     "liquid with a contact angle adds the capillarity keys.",
      (SimulationResult, GasSimulation, SimulationCapillarity, BandSimulationResult)),
     ("sealeak simulate --json (measured maps: --surface maps)",
      "Per map (or sub-window) its statistics, and per map and squeeze pressure the exact flow and α against both "

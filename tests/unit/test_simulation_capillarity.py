@@ -1,5 +1,5 @@
-"""``simulate`` of a liquid with a contact angle: each realisation's critical constriction and its entry pressure
-(docs/theory.md §12.4). The constriction is recomputed here from the gap fields the run writes, by a search of every
+"""``simulate`` of a liquid with a contact angle (a uniform seal and an O-ring): each realisation's critical
+constriction and its entry pressure (docs/theory.md §12.4). The constriction is recomputed here from the gap fields the run writes, by a search of every
 gap value with :func:`sealeak.numerics.spans`."""
 
 
@@ -8,8 +8,10 @@ import pytest
 
 from sealeak.cases import parse_cases
 from sealeak.cases.simulation import simulate
+from sealeak.cases.simulation_band import simulate_band
 from sealeak.numerics import spans
-from sealeak.render.simulation import simulation_json, simulation_table
+from sealeak.render.simulation import band_simulation_json, band_simulation_table, simulation_json, simulation_table
+from tests.integration.test_cli_simulate_oring import ORING
 
 CASE = """
 title = "capillarity in the simulation"
@@ -83,3 +85,20 @@ def test_simulate_with_a_contact_angle_of_90_degrees_changes_no_flow():
     np.testing.assert_array_equal(right.alpha, plain.alpha)
     assert right.capillarity is not None and not right.capillarity.held_fraction.any()
     assert np.all(np.nan_to_num(right.capillarity.capillary_entry_pressure) == 0.0)
+
+
+def test_simulate_of_an_o_ring_reports_the_constriction_across_its_band(tmp_path):
+    text = ORING.replace('viscosity = "1 mPa*s"', f'viscosity = "1 mPa*s"\nsurface_tension = "{GAMMA} N/m"\n'
+                                                   f'contact_angle = {THETA}')
+    (case,) = parse_cases(text)
+    res = simulate_band(case, grid=32, realizations=1, seed=3, fields_dir=tmp_path)
+    c = res.capillarity
+    assert c is not None and res.per_realization["percolates"].any()
+    factor = -GAMMA * 2.0 * np.cos(np.radians(THETA))
+    for i in range(res.loads.size):
+        with np.load(tmp_path / f"r0-p{i}.npz") as f:
+            u = _widest_path_gap(f["gap"], f["pressure"] <= 0)
+        entry = res.per_realization["capillary_entry_pressure"][0, i]
+        assert entry == pytest.approx(factor / u, rel=1e-12) if np.isfinite(u) else np.isnan(entry)
+    assert "p_e at u_c, peak (kPa)" in band_simulation_table(case, res)
+    assert "held_by_capillarity" in band_simulation_json(case, res)

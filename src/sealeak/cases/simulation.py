@@ -52,8 +52,10 @@ from .pipeline import (
     GasSimulation,
     Records,
     RunSettings,
+    SimulationCapillarity,
     TaskRecord,
     TaskSpec,
+    capillary_part,
     cut_spectrum,
     gas_identity,
     gas_part,
@@ -75,24 +77,6 @@ __all__ = ["SimulationResult", "SimulationCapillarity", "GasSimulation", "simula
            "TASK_BASE_BYTES", "PeriodicSquare", "gas_identity", "pack_mask", "unpack_mask", "FlowMethod"]
 
 FloatArray = NDArray[np.float64]
-
-@dataclass(frozen=True, kw_only=True)
-class SimulationCapillarity:
-    """A liquid with a contact angle in ``simulate`` (docs/theory.md §12.4): per pressure, the capillary entry pressure of
-    each realisation's critical constriction (the narrowest gap on the widest path across its gap field) and the
-    realisations it holds. The simulated leak rates are the flow without capillarity (α compares flows)."""
-
-    capillary_entry_pressure: FloatArray = quantity(
-        "Pa", "entry pressure −γ(cos θ_r + cos θ_s)/u of each realisation's critical constriction u, mean over the "
-              "realisations the fluid crosses")
-    capillary_entry_pressure_std: FloatArray = quantity("Pa", "standard deviation of that entry pressure")
-    capillary_entry_pressure_critical_junction: FloatArray = quantity(
-        "Pa", "the entry pressure at the theory's critical gap u_c")
-    held_fraction: FloatArray = quantity("1", "fraction of realisations the fluid crosses but ΔP is below their entry "
-                                              "pressure: held, Q = 0")
-    held_by_capillarity: NDArray[np.bool_] = quantity(
-        "1", "the fluid crosses some realisation, and capillarity holds it in every one it crosses")
-
 
 @dataclass(frozen=True, kw_only=True)
 class SimulationResult:
@@ -269,7 +253,7 @@ class PeriodicSquare:
         if self.threshold and np.isnan(thresholds).all():
             notes.append(Note("no_threshold_found"))
         gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
-        capillarity, per_capillary = _capillarity(case, records, plan.u_c, perc)
+        capillarity, per_capillary = capillary_part(case, records, SweepRecord, plan.u_c, perc)
         return SimulationResult(
             squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
             relative_contact_area_std=area_s, relative_contact_area_theory=plan.contact_theory, mean_gap=gap_m,
@@ -286,45 +270,22 @@ class PeriodicSquare:
         )
 
 
-def _capillarity(case: Case, records: Records, u_c: FloatArray, percolates: NDArray[np.bool_]
-                 ) -> tuple[SimulationCapillarity | None, dict[str, Any]]:
-    """Each realisation's entry pressure p_e = −γ(cos θ_r + cos θ_s)/u at its critical constriction u (Pa, [R, n_p]) and
-    where it holds the liquid (ΔP < p_e, docs/theory.md eq. 12.3), summed up per pressure; (None, {}) without a contact
-    angle."""
-    wetting = case.capillarity
-    if wetting is None:
-        return None, {}
-    n_p = u_c.size
-    gap = records.stack(SweepRecord, lambda rec: rec.critical_gap if rec.critical_gap is not None else [np.nan] * n_p, n_p)
-    entry = wetting.entry_pressure(np.where(percolates & (gap > 0), gap, np.nan))
-    held = percolates & (case.pressure_difference < entry)
-    entry_m, entry_s = mean_std(entry)
-    return (SimulationCapillarity(
-        capillary_entry_pressure=entry_m, capillary_entry_pressure_std=entry_s,
-        capillary_entry_pressure_critical_junction=wetting.entry_pressure(u_c), held_fraction=held.mean(axis=0),
-        held_by_capillarity=percolates.any(axis=0) & (held.sum(axis=0) == percolates.sum(axis=0))),
-            {"capillary_entry_pressure": entry, "held_by_capillarity": held})
-
-
 @dataclass(frozen=True, kw_only=True)
 class EnsembleSpec(TaskSpec):
     """Everything one task of a uniform seal's ensemble needs, in SI units (shared by all tasks of a run).
 
     :class:`~sealeak.cases.pipeline.TaskSpec`'s fields, and ``pressures`` the sorted squeeze pressures (Pa),
-    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa), ``capillary`` whether each
-    sweep also finds its gap fields' critical constrictions (a liquid with a contact angle, docs/theory.md §12.4).
+    ``aspect`` Ly/Lx, ``threshold_anchor`` the threshold search's first pressure (Pa).
     """
 
     pressures: FloatArray
     aspect: float
     threshold_anchor: float
-    capillary: bool = False
 
     def geometry_identity(self) -> dict[str, Any]:
-        """The square's own inputs: the squeeze pressures, Ly/Lx and the threshold search's anchor (and, for a liquid
-        with a contact angle, that the sweeps find each gap field's critical constriction)."""
+        """The square's own inputs: the squeeze pressures, Ly/Lx and the threshold search's anchor."""
         return {"squeeze_pressure": [float(x) for x in self.pressures], "aspect": float(self.aspect),
-                "threshold_anchor": float(self.threshold_anchor)} | ({"capillary": True} if self.capillary else {})
+                "threshold_anchor": float(self.threshold_anchor)}
 
 
 @dataclass(frozen=True)
@@ -380,8 +341,6 @@ class SweepRecord(FlowRecord):
     KIND = "sweep"
 
     mean_gap: list[float] = quantity("m", "mean gap")
-    critical_gap: list[float] | None = quantity(
-        "m", "gap of the narrowest constriction on the widest path across (a liquid with a contact angle)", default=None)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -414,9 +373,8 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
         notes: list[dict[str, Any]] = []
         th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
         return ThresholdRecord(realization=r, threshold=float(th), notes=notes)
-    log = FlowLog(gas=spec.gas is not None)
+    log = FlowLog(gas=spec.gas is not None, capillary=spec.capillary)
     gaps: list[float] = []
-    critical: list[float] = []
     results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
                                            workers=spec.fft_workers)
 
@@ -424,13 +382,11 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
         for i, res in enumerate(results):
             gaps.append(float(res.mean_gap))
             log.add(spec, r, res, spec.aspect, res.contact_area)
-            if spec.capillary:
-                critical.append(numerics.critical_constriction(res.gap, ~res.contact))
             keep_load(spec, kept, r, i, h, res, progress)
 
     kept = with_fields(spec, r, h, sweep, load_name="squeeze_pressure", loads=spec.pressures, load_unit="Pa",
                        attributes=spec.field_attributes(f"sweep-r{r}", r))
-    return log.record(SweepRecord, r, kept, mean_gap=gaps, critical_gap=critical if spec.capillary else None)
+    return log.record(SweepRecord, r, kept, mean_gap=gaps)
 
 
 def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,

@@ -83,12 +83,19 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
     }
     if res.gas is not None:
         _gas_json(doc, res)
-    if res.capillarity is not None:  # a liquid with a contact angle: each row's entry pressures and held realisations
-        doc["units"] = doc["units"] | SIMULATION_CAPILLARY_UNITS
-        columns = record_fields(res.capillarity)
-        for row, extra in zip(doc["results"], json_rows(columns, tuple(columns), len(doc["results"])), strict=True):
-            row |= extra
+    _capillary_json(doc, res.capillarity)
     return json_document(doc)
+
+
+def _capillary_json(doc: dict[str, Any], c: SimulationCapillarity | None) -> None:
+    """A liquid with a contact angle: each row of a ``simulate --json`` document gets its entry pressures and held
+    realisations (nothing without a contact angle)."""
+    if c is None:
+        return
+    doc["units"] = doc["units"] | SIMULATION_CAPILLARY_UNITS
+    columns = record_fields(c)
+    for row, extra in zip(doc["results"], json_rows(columns, tuple(columns), len(doc["results"])), strict=True):
+        row |= extra
 
 
 def _document_end(case: Case, res: SimulationResult | BandSimulationResult, theory: tuple[str, str],
@@ -196,7 +203,8 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
     if res.gas is not None:
         lines += _gas_lines(res)
     if res.capillarity is not None:
-        lines += _capillary_lines(res, res.capillarity)
+        lines += _capillary_lines(res.capillarity, res.pressure_difference, ("P0 (kPa)", res.squeeze_pressure / 1e3),
+                                  "p_e at u_c (kPa)")
     lines.append("")
     lines.append(_spread_legend(res.realizations))
     if np.isfinite(res.percolation_threshold):
@@ -209,16 +217,19 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _capillary_lines(res: SimulationResult, c: SimulationCapillarity) -> list[str]:
-    """The capillarity table of ``sealeak simulate``: per pressure the entry pressure of the realisations' critical
-    constrictions against the theory's at u_c, and the realisations held (docs/theory.md §12.4)."""
-    lines = ["", f"capillarity at ΔP = {res.pressure_difference / 1e3:.4g} kPa: entry pressure p_e = −γ(cos θ_r + cos θ_s)/u "
+def _capillary_lines(c: SimulationCapillarity, pressure_difference: float, first: tuple[str, NDArray[np.float64]],
+                     theory: str) -> list[str]:
+    """The capillarity table of ``sealeak simulate``: per load (``first``: the column's header and values) the entry
+    pressure of the realisations' critical constrictions against the theory's (header ``theory``), and the
+    realisations held (docs/theory.md §12.4)."""
+    head, loads = first
+    lines = ["", f"capillarity at ΔP = {pressure_difference / 1e3:.4g} kPa: entry pressure p_e = −γ(cos θ_r + cos θ_s)/u "
                  "of each realisation's critical constriction u (the narrowest gap on the widest path across)",
-             f"{'P0 (kPa)':>9} {'p_e sim (kPa)':>13} {'± sd':>9} {'p_e at u_c (kPa)':>16} {'held':>5} {'all held':>8}"]
-    for i in range(res.squeeze_pressure.size):
-        lines.append(f"{res.squeeze_pressure[i] / 1e3:9.4g} {fmt(c.capillary_entry_pressure[i] / 1e3, '13.4g')} "
+             f"{head:>16} {'p_e sim (kPa)':>13} {'± sd':>9} {theory:>22} {'held':>5} {'all held':>8}"]
+    for i, load in enumerate(loads):
+        lines.append(f"{load:16.4g} {fmt(c.capillary_entry_pressure[i] / 1e3, '13.4g')} "
                      f"{fmt(c.capillary_entry_pressure_std[i] / 1e3, '9.2g')} "
-                     f"{fmt(c.capillary_entry_pressure_critical_junction[i] / 1e3, '16.4g')} {c.held_fraction[i]:5.2f} "
+                     f"{fmt(c.capillary_entry_pressure_critical_junction[i] / 1e3, '22.4g')} {c.held_fraction[i]:5.2f} "
                      f"{'yes' if c.held_by_capillarity[i] else 'no':>8}")
     lines.append("held: fraction of realisations the fluid crosses but ΔP < p_e holds (Q = 0 there; the leak rates and α "
                  "above are the flow without capillarity)")
@@ -287,6 +298,7 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
     }
     if res.gas is not None:
         _band_gas_json(doc, res)
+    _capillary_json(doc, res.capillarity)
     return json_document(doc)
 
 
@@ -359,6 +371,9 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
               _spread_legend(res.realizations)]
     if res.gas is not None:
         lines += _band_gas_lines(res)
+    if res.capillarity is not None:
+        lines += _capillary_lines(res.capillarity, res.pressure_difference, (label, res.loads * factor),
+                                  "p_e at u_c, peak (kPa)")
     lines += ["note: " + n for n in worded(res.notes)]
     return "\n".join(lines) + "\n"
 
