@@ -108,9 +108,9 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     it is infinite.
 
     An O-ring or pressure-profile seal runs at the case's one load (its compression or profile
-    scale sets the contact; the [rig] has no load): K = faces · Ly / ∫dx/σ of the band
-    (docs/theory.md §10.5). Several loads raise an InputError naming conditions.compression or
-    conditions.profile_scale.
+    scale sets the contact; the [rig] has no load): as printed K = faces · Ly / ∫dx/σ of the band
+    (docs/theory.md §10.5), with the fluid pressure coupled its flow of eq. 13.3 at ρgH over ρgH. Several loads
+    raise an InputError naming conditions.compression or conditions.profile_scale.
     """
     rig = case.rig
     if rig is None:
@@ -130,7 +130,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
         by_model, band = _band_conductance(case, None, tuple(models))
         p0 = float(band.mean_contact_pressure[0])
         load, points = float(case.band.loads[0]), BAND_POINTS
-        ks = {m: (by_model[m][0], by_model[m][1]) for m in models}
+        ks = {m: by_model[m] for m in models}
     else:
         p0 = load = rig.squeeze_pressure(case.seal)
         strained = strain_warning(p0, case.youngs_modulus, "the pressure of the rig's load")
