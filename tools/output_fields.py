@@ -31,7 +31,7 @@ from sealeak.cases.model import BandSeal
 from sealeak.cases.pipeline import GasSimulation
 from sealeak.cases.rig import RigPrediction
 from sealeak.cases.run import CaseResult
-from sealeak.cases.simulation import SweepRecord, ThresholdRecord
+from sealeak.cases.simulation import SimulationCapillarity, SweepRecord, ThresholdRecord
 from sealeak.cases.simulation_band import BandRecord, BandSimulationResult
 from sealeak.cases.simulation_map import MapInfo, MapSimulationResult
 from sealeak.cases.sobol import SensitivityColumns
@@ -44,7 +44,7 @@ from sealeak.physics.critical_junction import CriticalJunctionResult
 from sealeak.physics.effective_medium import EffectiveMediumResult
 from sealeak.physics.gas import Gas
 from sealeak.physics.spectrum import PowerSpectrum
-from sealeak.render.lab import DecayModelRecord, GasFitRow, RigModelRecord
+from sealeak.render.lab import DecayModelRecord, GasFitRow, RigCapillaryRecord, RigModelRecord
 from sealeak.topography import BinnedSpectrum, SurfaceStatistics, Topography
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "outputs.md"
@@ -74,8 +74,9 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      (SensitivityColumns,)),
     ("sealeak simulate --json",
      "A uniform seal's per-pressure records (a gas adds its gas leak), then an O-ring's per-compression records; "
-     "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`.",
-     (SimulationResult, GasSimulation, BandSimulationResult)),
+     "for an O-ring the gas leak's `leak_rate_pv_critical_junction` is named `leak_rate_pv_series_resistance`; a "
+     "liquid with a contact angle adds the capillarity keys.",
+     (SimulationResult, GasSimulation, SimulationCapillarity, BandSimulationResult)),
     ("sealeak simulate --json (measured maps: --surface maps)",
      "Per map (or sub-window) its statistics, and per map and squeeze pressure the exact flow and α against both "
      "theories of the map's own C(q).",
@@ -90,8 +91,9 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      (LinearFit, LinearityCheck)),
     ("sealeak rig --json (a water column)",
      "The load, each model's `models` object and, with `--readings`, the readings; a band seal adds its load and "
-     "`band` (the band fields of `predict`, the seal line length and faces).",
-     (RigPrediction, RigSetup, RigModelRecord, ReadingsAnalysis, BandSeal)),
+     "`band` (the band fields of `predict`, the seal line length and faces); a liquid with a contact angle adds "
+     "to each model its capillary entry pressure and where the level stops.",
+     (RigPrediction, RigSetup, RigModelRecord, RigCapillaryRecord, ReadingsAnalysis, BandSeal)),
     ("sealeak rig --json (a pressure-decay test)",
      "The test, each model's `models` object and, with `--readings`, the readings and the factor they imply.",
      (DecayPrediction, DecayRigSetup, PressureDecaySetup, Gas, DecayModelRecord, DecayReadings, ScaleFromDecay)),

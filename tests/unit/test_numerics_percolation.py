@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from sealeak.errors import InputError
-from sealeak.numerics import label_clusters, percolation_threshold, solve_contact, spanning_mask, spans
+from sealeak.numerics import critical_constriction, label_clusters, percolation_threshold, solve_contact, spanning_mask, spans
 from sealeak.numerics.synthesis import synthesize
 from sealeak.physics.spectrum import PowerSpectrum
 
@@ -63,6 +63,30 @@ def test_labels_match_breadth_first_search(seed: int) -> None:
     assert k == count
     assert sorted(np.unique(labels)) == list(range(count + 1))
     assert spans(m) == bool(spanning)
+
+
+def test_critical_constriction_of_two_channels() -> None:
+    """Two channels across a wall: the wider one's narrowest gap (3) decides, not the narrower one's (1)."""
+    gap = np.zeros((5, 7))
+    gap[:, 1] = [5.0, 1.0, 6.0, 6.0, 5.0]
+    gap[:, 4] = [4.0, 4.0, 3.0, 8.0, 4.0]
+    fluid = gap > 0
+    assert critical_constriction(gap, fluid) == 3.0
+    gap[2, 4] = 0.5  # now the other channel is the wider one
+    assert critical_constriction(gap, gap > 0) == 1.0
+    fluid[3, :] = False  # a wall of contact across: no path
+    assert math.isnan(critical_constriction(gap, fluid))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_critical_constriction_matches_a_search_over_every_gap(seed: int) -> None:
+    """The largest h at which the cells with gap >= h still span, found by breadth-first search at every value."""
+    rng = np.random.default_rng(seed)
+    gap = rng.random((19, 13))
+    fluid = rng.random((19, 13)) < 0.8
+    want = next((h for h in np.unique(gap[fluid])[::-1] if _bfs_count(fluid & (gap >= h))[1]), float("nan"))
+    got = critical_constriction(gap, fluid)
+    assert got == want or (math.isnan(got) and math.isnan(want))
 
 
 def test_site_percolation_threshold_square_lattice() -> None:

@@ -27,11 +27,11 @@ from ..physics.properties import canonical_fluid_name, surface_tension
 from .band import BandResult, BandTheory
 from .model import Case
 from .notes import Note
-from .prediction import FloatArray, _band_effective_gap
+from .prediction import FloatArray, Model, _band_effective_gap, predict, predict_effective_medium
 from .schema import CAPILLARITY_KEYS, Section, case_keys
 
 __all__ = ["CapillaryColumns", "CapillaryRows", "CAPILLARY_UNITS", "build_wetting", "uniform_capillarity",
-           "band_capillarity", "entry_steps", "held_sweep"]
+           "band_capillarity", "entry_steps", "held_sweep", "entry_pressures"]
 
 #: The record key of each theory's columns (the effective medium's carry the suffix).
 SUFFIX = {"critical_junction": "", "effective_medium": "_effective_medium"}
@@ -184,3 +184,23 @@ def held_sweep(rows: CapillaryRows | None, row: int, pressure_difference: FloatA
     if rows is None:
         return q
     return np.where(pressure_difference < rows.entry_pressure[row], 0.0, q)
+
+
+def entry_pressures(case: Case, models: tuple[Model, ...] | list[Model], squeeze_pressure: float,
+                    band: BandResult | None = None) -> dict[Model, float]:
+    """The capillary entry pressure p_e (Pa) of each model's narrowest gap at one load, without a contact angle none.
+
+    A uniform seal at ``squeeze_pressure`` P0 (Pa): u_c or u_e there; a band seal: ``band``, its result at the one load
+    (u_c at the peak, the effective medium's narrowest u_e). NaN where the model has no leak channel (docs/theory.md
+    eq. 12.2). p_e does not depend on ΔP.
+    """
+    if case.capillarity is None:
+        return {}
+    if band is not None:
+        rows = band_capillarity(case, band)[1]
+    else:
+        cj = predict(case, squeeze_pressure=[squeeze_pressure], pressure_difference=1.0)
+        em = (predict_effective_medium(case, squeeze_pressure=[squeeze_pressure], pressure_difference=1.0)
+              if "effective-medium" in models else None)
+        rows = uniform_capillarity(case, cj, em)[2]
+    return {m: float(rows[m.replace("-", "_")].entry_pressure[0]) for m in models}

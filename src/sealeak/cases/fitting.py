@@ -20,10 +20,11 @@ from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
 from .band import BandResult, load_value
+from .capillarity import CapillaryRows, band_capillarity, uniform_capillarity
 from .gas import gas_throughput
 from .model import Case
 from .notes import Note, NoteLike
-from .prediction import FloatArray, _band_at, _band_conductance, _band_effective_gap, _band_k, predict, predict_effective_medium
+from .prediction import FloatArray, Model, _band_at, _band_conductance, _band_effective_gap, _band_k, leak_curve, predict, predict_effective_medium
 from .verdicts import Verdicts, _band_verdicts, _uniform_verdicts
 
 __all__ = ["fit_models", "FitResult", "run_fit", "seal_description"]
@@ -76,30 +77,51 @@ def fit_models(case: Case, squeeze_pressure: ArrayLike, pressure_difference: Arr
     return _uniform_fit(case, np.asarray(squeeze_pressure, dtype=float), dp, q)[0]
 
 
+def _held(rows: dict[str, CapillaryRows], name: str, dp: FloatArray, at: NDArray[np.int_] | None = None
+          ) -> NDArray[np.bool_] | None:
+    """The data rows at which model ``name`` holds the liquid by capillarity: ΔP (Pa) below the entry pressure of the
+    row's load (``at``: each row's index into ``rows``; docs/theory.md eq. 12.3); None without capillarity."""
+    if name not in rows:
+        return None
+    entry = rows[name].entry_pressure if at is None else rows[name].entry_pressure[at]
+    return np.asarray(np.isfinite(entry) & (dp < entry), dtype=bool)
+
+
 def _uniform_fit(case: Case, p0: FloatArray, dp: FloatArray, q: FloatArray) -> tuple[dict[str, ScaleFit], Verdicts]:
-    """:func:`fit_models` of a uniform seal, with each row's validity verdicts (without the ΔP one)."""
+    """:func:`fit_models` of a uniform seal, with each row's validity verdicts (without the ΔP one); rows held by
+    capillarity (a case with a contact angle) are excluded, naming whether they leaked."""
     cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=dp)
     em = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp)
-    return ({"critical_junction": fit_scale(q, cj.leak_rate, "critical_junction"),
-             "effective_medium": fit_scale(q, em.leak_rate, "effective_medium")},
+    rows = uniform_capillarity(case, cj, em)[2] if case.capillarity is not None else {}
+    return ({"critical_junction": fit_scale(q, cj.leak_rate, "critical_junction", _held(rows, "critical_junction", dp)),
+             "effective_medium": fit_scale(q, em.leak_rate, "effective_medium", _held(rows, "effective_medium", dp))},
             _uniform_verdicts(case, cj, em, pressure_difference=False))
 
 
 def _band_fit(case: Case, loads: ArrayLike, dp: FloatArray, q: FloatArray
               ) -> tuple[dict[str, ScaleFit], BandResult, NDArray[np.int_]]:
-    """:func:`fit_models` of a band seal: Q_i = α K(load_i) ΔP_i with K at α = 1 (docs/theory.md §10.5).
+    """:func:`fit_models` of a band seal: Q_i = α q(load_i, ΔP_i) with q at α = 1 (docs/theory.md §10.5, §13.5).
 
-    Both theories are linear in ΔP (and the critical junction in α), so the band is run once per
-    distinct load at the case's ΔP and scaled to each row's. Returns the fits, the band result at the
-    distinct loads and each row's index into them.
+    The band is run once per distinct load at the case's ΔP; as printed it is linear in ΔP, q = K ΔP_i, and with the
+    fluid pressure coupled a row at another ΔP takes the band's coupled flow there (eq. 13.3). Rows held by
+    capillarity are excluded. Returns the fits, the band result at the distinct loads and each row's index into them.
     """
     distinct, inverse = np.unique(np.asarray(loads, dtype=float), return_inverse=True)
-    ks, res = _band_conductance(replace(case, alpha=1.0), distinct, ("critical-junction", "effective-medium"))
+    at_one = replace(case, alpha=1.0)
+    ks, res = _band_conductance(at_one, distinct, ("critical-junction", "effective-medium"))
+    rows = band_capillarity(case, res)[1] if case.capillarity is not None else {}
     fits = {}
-    for model, name in (("critical-junction", "critical_junction"), ("effective-medium", "effective_medium")):
+    models: tuple[tuple[Model, str], ...] = (("critical-junction", "critical_junction"), ("effective-medium", "effective_medium"))
+    for model, name in models:
         k = ks[model][0]
         prediction = np.where(k > 0, k, np.nan)[inverse] * dp  # NaN: no leak channel at that load
-        fits[name] = fit_scale(q, prediction, name)
+        other = np.isfinite(prediction) & (dp != case.pressure_difference) & (dp > 0)
+        if case.coupled and other.any():  # K is the band's at the case's ΔP: the flow at each other ΔP, per load
+            for j in np.unique(inverse[other]):
+                mine = other & (inverse == j)
+                values, back = np.unique(dp[mine], return_inverse=True)
+                prediction[mine] = leak_curve(at_one, model, float(distinct[j]), values)[back]
+        fits[name] = fit_scale(q, prediction, name, _held(rows, name, dp, inverse))
     return fits, res, inverse
 
 

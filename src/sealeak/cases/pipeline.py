@@ -53,7 +53,7 @@ from .notes import Note, NoteLike
 from .options import grid_number, seed_number
 
 __all__ = ["Geometry", "junction_resolved", "run_ensemble", "RunSettings", "TaskSpec", "Records", "Flows", "TaskRecord", "FlowRecord",
-           "FlowLog", "GasSimulation", "compute_task", "cut_spectrum",
+           "FlowLog", "GasSimulation", "SimulationCapillarity", "capillary_part", "compute_task", "cut_spectrum",
            "resolved_spectrum_cut", "mean_std", "ratio", "gas_part", "gas_identity", "pack_mask", "unpack_mask",
            "task_memory_bytes", "TASK_BASE_BYTES", "POINTS_PER_WAVELENGTH", "JUNCTION_CELLS", "FlowMethod",
            "StagedFolder"]
@@ -224,13 +224,15 @@ class TaskSpec(RunSettings):
     their field files into (None: none), ``fields_store`` the task store folder whose ``fields.zarr`` they
     write their fields into (:mod:`sealeak.io.fieldstore`; None: none), ``fft_workers`` the FFT threads of
     each task (-1: all cores; 1 on a cluster, whose worker processes share the cores). None of these
-    changes a number. A geometry's spec adds its own fields and :meth:`geometry_identity`.
+    changes a number. ``capillary``: each sweep also finds its gap fields' critical constrictions (a liquid with a
+    contact angle, docs/theory.md §12.4). A geometry's spec adds its own fields and :meth:`geometry_identity`.
     """
 
     spectrum: Any
     size: float
     fft_workers: int = -1
     fields_store: str | None = None
+    capillary: bool = False
 
     def geometry_identity(self) -> dict[str, Any]:
         """The geometry's own inputs of the tasks, as plain JSON values."""
@@ -248,7 +250,8 @@ class TaskSpec(RunSettings):
             "seed": int(self.seed),
             "case": {"size": float(self.size), "e_star": float(self.e_star), "viscosity": float(self.viscosity),
                      "pressure_difference": float(self.pressure_difference), "flow_method": self.flow_method,
-                     "contact_tol": float(self.contact_tol), "gas": gas_identity(self.gas)} | self.geometry_identity(),
+                     "contact_tol": float(self.contact_tol), "gas": gas_identity(self.gas)} | self.geometry_identity()
+                    | ({"capillary": True} if self.capillary else {}),
         }
 
     def surface(self, r: int) -> FloatArray:
@@ -351,6 +354,8 @@ class FlowRecord(TaskRecord):
     leak_rate_pv_no_slip: list[float] | None = quantity("Pa*m^3/s", "pV throughput without rarefaction (a gas)",
                                                         default=None)
     gas_iterations: list[int] | None = quantity("1", "fixed-point iterations of the gas flow (a gas)", default=None)
+    critical_gap: list[float] | None = quantity(
+        "m", "gap of the narrowest constriction on the widest path across (a liquid with a contact angle)", default=None)
     fields: dict[str, Any] | None = None
 
 
@@ -363,6 +368,7 @@ class FlowLog:
     """A task's flow scalars as its loads are solved (:meth:`add`), made into its record by :meth:`record`."""
 
     gas: bool
+    capillary: bool = False
     area: list[float] = field(default_factory=list)
     percolates: list[bool] = field(default_factory=list)
     leak_rate: list[float] = field(default_factory=list)
@@ -370,6 +376,7 @@ class FlowLog:
     pv_no_slip: list[float] = field(default_factory=list)
     iterations: list[int] = field(default_factory=list)
     contact_maps: list[PackedMask] = field(default_factory=list)
+    critical: list[float] = field(default_factory=list)
 
     def add(self, spec: TaskSpec, r: int, res: Any, scale: float, area: float) -> None:
         """The flow through one contact solution's gap field (and a gas's), and its relative contact ``area``.
@@ -390,6 +397,8 @@ class FlowLog:
             self.pv.append(float(scale * gflow.throughput))
             self.pv_no_slip.append(float(scale * gflow.throughput_no_slip))
             self.iterations.append(int(gflow.iterations))
+        if self.capillary:  # the narrowest gap of the widest path across (docs/theory.md eq. 12.5)
+            self.critical.append(numerics.critical_constriction(res.gap, ~np.asarray(res.contact, dtype=bool)))
         if r == 0:
             self.contact_maps.append(pack_mask(np.asarray(res.contact, dtype=bool)))
 
@@ -398,7 +407,8 @@ class FlowLog:
         return cls(realization=r, relative_contact_area=self.area, percolates=self.percolates, leak_rate=self.leak_rate,
                    contact_maps=self.contact_maps, leak_rate_pv=self.pv if self.gas else None,
                    leak_rate_pv_no_slip=self.pv_no_slip if self.gas else None,
-                   gas_iterations=self.iterations if self.gas else None, fields=kept, **own)
+                   gas_iterations=self.iterations if self.gas else None,
+                   critical_gap=self.critical if self.capillary else None, fields=kept, **own)
 
 
 def keep_load(spec: TaskSpec, kept: TaskFields | None, r: int, i: int, h: FloatArray, res: Any,
@@ -500,6 +510,44 @@ class Flows:
                    pv_no_slip=records.stack(kind, lambda rec: rec.leak_rate_pv_no_slip or 0.0, n),
                    iterations=records.stack(kind, lambda rec: rec.gas_iterations or 0, n, np.int64),
                    contact_maps={} if first is None else {i: unpack_mask(m) for i, m in enumerate(first.contact_maps)})
+
+
+@dataclass(frozen=True, kw_only=True)
+class SimulationCapillarity:
+    """A liquid with a contact angle in ``simulate`` (docs/theory.md §12.4): per load, the capillary entry pressure of
+    each realisation's critical constriction (the narrowest gap on the widest path across its gap field) and the
+    realisations it holds. The simulated leak rates are the flow without capillarity (α compares flows)."""
+
+    capillary_entry_pressure: FloatArray = quantity(
+        "Pa", "entry pressure −γ(cos θ_r + cos θ_s)/u of each realisation's critical constriction u, mean over the "
+              "realisations the fluid crosses")
+    capillary_entry_pressure_std: FloatArray = quantity("Pa", "standard deviation of that entry pressure")
+    capillary_entry_pressure_critical_junction: FloatArray = quantity(
+        "Pa", "the entry pressure at the theory's critical gap u_c (an O-ring: at its peak contact pressure)")
+    held_fraction: FloatArray = quantity("1", "fraction of realisations the fluid crosses but ΔP is below their entry "
+                                              "pressure: held, Q = 0")
+    held_by_capillarity: NDArray[np.bool_] = quantity(
+        "1", "the fluid crosses some realisation, and capillarity holds it in every one it crosses")
+
+
+def capillary_part(case: Case, records: Records, kind: type[FlowRecord], u_c: FloatArray, percolates: NDArray[np.bool_]
+                   ) -> tuple[SimulationCapillarity | None, dict[str, Any]]:
+    """Each realisation's entry pressure p_e = −γ(cos θ_r + cos θ_s)/u at its critical constriction u (Pa, [R, n]) from
+    the ``kind`` records, where it holds the liquid (ΔP < p_e, docs/theory.md eq. 12.3), summed up per load beside
+    p_e at the theory's gap ``u_c`` (m); (None, {}) without a contact angle."""
+    wetting = case.capillarity
+    if wetting is None:
+        return None, {}
+    n = u_c.size
+    gap = records.stack(kind, lambda rec: rec.critical_gap if rec.critical_gap is not None else [np.nan] * n, n)
+    entry = wetting.entry_pressure(np.where(percolates & (gap > 0), gap, np.nan))
+    held = percolates & (case.pressure_difference < entry)
+    entry_m, entry_s = mean_std(entry)
+    return (SimulationCapillarity(
+        capillary_entry_pressure=entry_m, capillary_entry_pressure_std=entry_s,
+        capillary_entry_pressure_critical_junction=wetting.entry_pressure(u_c), held_fraction=held.mean(axis=0),
+        held_by_capillarity=percolates.any(axis=0) & (held.sum(axis=0) == percolates.sum(axis=0))),
+            {"capillary_entry_pressure": entry, "held_by_capillarity": held})
 
 
 def mean_std(x: FloatArray) -> tuple[FloatArray, FloatArray]:

@@ -18,17 +18,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
-from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
+from ..physics.coupling import LIFT_OFF_FLOOR, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.seal import Seal
-from .band import BandResult, BandTheory, _cj_sigma, _em_sigma_table, run_band
+from .band import BandResult, BandTheory, _cj_sigma, _contact, _em_sigma_table, run_band
 from .model import Case
 from .notes import NoteLike
 from .schema import case_keys
 from .seals import with_loads
 
-__all__ = ["predict", "predict_effective_medium", "conductance", "Model", "MODEL_NAMES"]
+__all__ = ["predict", "predict_effective_medium", "conductance", "leak_curve", "Model", "MODEL_NAMES"]
 
 FloatArray = NDArray[np.float64]
 ResultT = TypeVar("ResultT", CriticalJunctionResult, EffectiveMediumResult)
@@ -125,6 +125,31 @@ def _conductance(case: Case, squeeze_pressure: ArrayLike, model: Model,
     else:
         res = predict_effective_medium(case, squeeze_pressure=p0, pressure_difference=dp)
     return np.where(res.percolates, res.leak_rate / dp, 0.0), res.messages
+
+
+def leak_curve(case: Case, model: Model, load: float, pressure_difference: ArrayLike) -> FloatArray:
+    """Q(ΔP) (m³/s) of one model at one load and each pressure difference ΔP > 0 (Pa); 0 where it has no leak channel.
+
+    ``load``: P0 (Pa) of a uniform seal, a band seal's compression ε or profile scale (1). With the fluid pressure
+    coupled, Q is eq. 13.2 (a uniform seal) or the band's eq. 13.3 solved at each ΔP, one σ(p) for all; ignored,
+    Q = K ΔP (docs/theory.md §13.5). Capillarity is not applied (docs/theory.md §12: the caller's threshold).
+    """
+    dp = np.atleast_1d(np.asarray(pressure_difference, dtype=float))
+    if case.band is None:
+        run = predict if model == "critical-junction" else predict_effective_medium
+        return np.nan_to_num(run(case, squeeze_pressure=np.full(dp.size, load), pressure_difference=dp).leak_rate)
+    at = _band_at(case, [load])
+    band = at.band
+    assert band is not None
+    if not case.coupled:
+        return _band_conductance(at, None, (model,))[0][model][0][0] * dp
+    profile = band.profiles[0]
+    with case_keys():
+        contact = _contact(at, float(band.q0[0]))
+        sigma = (_cj_sigma(at, contact) if model == "critical-junction"
+                 else _em_sigma_table(at, contact, profile.max_pressure, LIFT_OFF_FLOOR))
+        flows = [coupled_band_flow(profile, sigma, float(x)).flow for x in dp]
+    return band.faces * band.length * np.array(flows)
 
 
 # ---------------------------------------------------------------------- band seals at other loads

@@ -52,8 +52,10 @@ from .pipeline import (
     GasSimulation,
     Records,
     RunSettings,
+    SimulationCapillarity,
     TaskRecord,
     TaskSpec,
+    capillary_part,
     cut_spectrum,
     gas_identity,
     gas_part,
@@ -70,7 +72,7 @@ from .pipeline import (
 )
 from .prediction import predict
 
-__all__ = ["SimulationResult", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
+__all__ = ["SimulationResult", "SimulationCapillarity", "GasSimulation", "simulate", "resolved_spectrum_cut", "POINTS_PER_WAVELENGTH",
            "JUNCTION_CELLS", "EnsembleSpec", "EnsembleTask", "SweepRecord", "ThresholdRecord", "ensemble_tasks", "run_task", "task_memory_bytes",
            "TASK_BASE_BYTES", "PeriodicSquare", "gas_identity", "pack_mask", "unpack_mask", "FlowMethod"]
 
@@ -87,7 +89,8 @@ class SimulationResult:
     ``junction_cells`` is N/ζc, the grid cells across the theory's critical wavelength λc (NaN where
     there is no junction); below :data:`JUNCTION_CELLS` the α of that pressure is flagged.
     ``gas`` holds the gas leak and α_gas of a gas case (None for a liquid); the other fields are then
-    the incompressible formula with the gas's viscosity.
+    the incompressible formula with the gas's viscosity. ``capillarity``: a liquid with a contact angle's entry
+    pressures and held realisations (None without a contact angle).
     """
 
     squeeze_pressure: FloatArray = quantity("Pa", "nominal squeeze pressure P0")
@@ -118,6 +121,7 @@ class SimulationResult:
     per_realization: dict[str, FloatArray] = field(default_factory=dict, repr=False)
     contact_maps: dict[int, NDArray[np.bool_]] = field(default_factory=dict, repr=False)  # realisation 0
     gas: GasSimulation | None = None
+    capillarity: SimulationCapillarity | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "junction_resolved", junction_resolved(self.junction_cells))
@@ -224,7 +228,8 @@ class PeriodicSquare:
     def tasks(self, plan: _SquarePlan, common: RunSettings, realizations: int) -> list[EnsembleTask]:
         """Each realisation's sweep, then (if asked) its threshold search."""
         spec = common.spec(EnsembleSpec, spectrum=plan.spectrum, size=plan.size, pressures=plan.pressures,
-                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor)
+                           aspect=plan.case.seal.aspect_ratio, threshold_anchor=plan.threshold_anchor,
+                           capillary=plan.case.capillarity is not None)
         return ensemble_tasks(spec, realizations, self.threshold)
 
     def aggregate(self, plan: _SquarePlan, records: Records, notes: list[NoteLike]) -> SimulationResult:
@@ -248,6 +253,7 @@ class PeriodicSquare:
         if self.threshold and np.isnan(thresholds).all():
             notes.append(Note("no_threshold_found"))
         gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
+        capillarity, per_capillary = capillary_part(case, records, SweepRecord, plan.u_c, perc)
         return SimulationResult(
             squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
             relative_contact_area_std=area_s, relative_contact_area_theory=plan.contact_theory, mean_gap=gap_m,
@@ -258,8 +264,9 @@ class PeriodicSquare:
             notes=tuple(notes), spectrum_note=spectrum_text(plan.spectrum, case), contact_maps=flows.contact_maps,
             junction_cells=plan.junction_cells,
             per_realization={"relative_contact_area": flows.area, "mean_gap": gap, "percolates": perc,
-                             "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas,
-            gas=gas_result,
+                             "leak_rate": q_seal, "alpha": alpha_r, "percolation_threshold": thresholds} | per_gas
+                            | per_capillary,
+            gas=gas_result, capillarity=capillarity,
         )
 
 
@@ -366,7 +373,7 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
         notes: list[dict[str, Any]] = []
         th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
         return ThresholdRecord(realization=r, threshold=float(th), notes=notes)
-    log = FlowLog(gas=spec.gas is not None)
+    log = FlowLog(gas=spec.gas is not None, capillary=spec.capillary)
     gaps: list[float] = []
     results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
                                            workers=spec.fft_workers)

@@ -112,6 +112,10 @@ class BandSimulationResult:
         gap u_c at the peak pressure, the case's rarefaction model), Kn and regime at that gap and the
         mean pressure, and α_gas = Q_pV/Q_pV,sr (docs/theory.md §11.9, §11.10). The other leak rates
         are then the incompressible formula with the gas's viscosity.
+    capillarity
+        A liquid with a contact angle: per load the entry pressure of each realisation's critical constriction
+        across the band, p_e at u_c of the peak contact pressure, and the realisations held (docs/theory.md §12.4);
+        None without a contact angle.
     """
 
     load_name: str
@@ -156,6 +160,7 @@ class BandSimulationResult:
     line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
     smooth_line_pressure: dict[int, FloatArray] = field(default_factory=dict, repr=False)
     gas: pipeline.GasSimulation | None = None
+    capillarity: pipeline.SimulationCapillarity | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "junction_resolved", pipeline.junction_resolved(self.junction_cells))
@@ -368,7 +373,8 @@ class OringBand:
         band = plan.band
         spec = common.spec(BandSpec, spectrum=plan.spectrum, size=plan.size, radius=plan.radius, forces=plan.force,
                            half_widths=plan.half_width, loads=plan.loads, load_name=band.load_name,
-                           scale=float(band.faces * band.length / plan.size))  # Q of the seal per Q of the W-wide strip
+                           scale=float(band.faces * band.length / plan.size),  # Q of the seal per Q of the W-wide strip
+                           capillary=plan.case.capillarity is not None)
         return band_tasks(spec, realizations)
 
     def aggregate(self, plan: _BandPlan, records: pipeline.Records, notes: list[NoteLike]) -> BandSimulationResult:
@@ -393,6 +399,8 @@ class OringBand:
         # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
         u_c = np.where(np.isfinite(q_sr), np.asarray(plan.theory.critical_gap_at_max_pressure, dtype=float), np.nan)
         gas_result, per_gas = pipeline.gas_part(plan.theory_case, q_sr, u_c, flows)
+        capillarity, per_capillary = pipeline.capillary_part(plan.case, records, BandRecord,
+                                                             np.asarray(plan.theory.critical_gap_at_max_pressure, float), perc)
         return BandSimulationResult(
             load_name=band.load_name, loads=loads, force_per_length=plan.force, model_contact_width=plan.model_width,
             model_max_pressure=plan.model_pmax, hertz_contact_width=2.0 * plan.half_width, hertz_max_pressure=plan.hertz_pmax,
@@ -405,8 +413,9 @@ class OringBand:
             period=plan.size, seal_length=float(band.length), faces=int(band.faces), radius=plan.radius,
             q_cut=plan.cut_at, q_low=plan.q_low, notes=tuple(notes), spectrum_note=pipeline.spectrum_text(plan.spectrum, plan.case),
             per_realization={"contact_width": width, "relative_contact_area": flows.area, "percolates": perc,
-                             "leak_rate": q_num, "alpha": alpha_r} | per_gas,
+                             "leak_rate": q_num, "alpha": alpha_r} | per_gas | per_capillary,
             contact_maps=flows.contact_maps, line_pressure=lines, smooth_line_pressure=sm.lines, gas=gas_result,
+            capillarity=capillarity,
         )
 
 
@@ -518,7 +527,7 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
     h = spec.surface(r)
     x = (np.arange(n) + 0.5) * (size / n)
     in_band = np.abs(x - size / 2.0)[:, None] < np.asarray(spec.half_widths)[None, :]  # [x, load]
-    log = pipeline.FlowLog(gas=spec.gas is not None)
+    log = pipeline.FlowLog(gas=spec.gas is not None, capillary=spec.capillary)
     widths: list[float] = []
     touched: list[int] = []
     lines: list[list[float]] = []

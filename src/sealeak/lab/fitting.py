@@ -75,26 +75,33 @@ class ScaleFit:
         return self.n_used > 0 and np.isfinite(self.alpha)
 
 
-def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model") -> ScaleFit:
+def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model", held: ArrayLike | None = None) -> ScaleFit:
     """Closed-form least squares of ln(measured) = ln α + ln(predicted); excluded points explained.
 
     A point is excluded when the prediction is missing (NaN: no leak channel) or zero (no pressure
-    difference), or the measurement is 0. ln α = mean(ln Q_i - ln q_i), se(ln α) = std(ddof=1)/√n
-    (docs/theory.md §8.1). Both arrays in m³/s (any common unit: α is a ratio).
+    difference), or the measurement is 0, or ``held`` marks it (the model holds the liquid by capillarity there,
+    Q = 0 whatever α: docs/theory.md eq. 12.3; the reason says whether the measurement leaked all the same).
+    ln α = mean(ln Q_i - ln q_i), se(ln α) = std(ddof=1)/√n (docs/theory.md §8.1). Both arrays in m³/s (any
+    common unit: α is a ratio).
     """
     q = np.asarray(measured, dtype=float).ravel()
     p = np.asarray(predicted, dtype=float).ravel()
     if q.shape != p.shape:
         raise InputError("fit", (q.size, p.size), "one prediction per measurement")
     excluded = []
-    no_model = ~(np.isfinite(p) & (p > 0))
-    zero = (q <= 0) & ~no_model
+    capillary = np.zeros(q.shape, dtype=bool) if held is None else np.asarray(held, dtype=bool).ravel()
+    no_model = ~(np.isfinite(p) & (p > 0)) & ~capillary
+    for i in np.flatnonzero(capillary):
+        excluded.append((int(i), "the model holds the liquid there by capillarity (ΔP below its entry pressure, Q = 0)"
+                         + (", yet it leaked: the narrowest gap is wider, or wetted better, than the model's" if q[i] > 0
+                            else ", as measured")))
+    zero = (q <= 0) & ~no_model & ~capillary
     for i in np.flatnonzero(no_model):
         excluded.append((int(i), "the model predicts no leak channel there (the non-contact area does not percolate)"
                          if not np.isfinite(p[i]) else "the model predicts no flow there (zero pressure difference)"))
     for i in np.flatnonzero(zero):
         excluded.append((int(i), "the measured leak rate is zero (no logarithm; a fit in log Q cannot use it)"))
-    used = ~no_model & ~zero
+    used = ~no_model & ~capillary & ~zero
     n = int(used.sum())
     if n == 0:
         return ScaleFit(model=model, alpha=np.nan, alpha_std=np.nan, log10_alpha_std=np.nan, rms_log10_residual=np.nan,

@@ -149,6 +149,11 @@ class WaterColumn:
         The level whose time of arrival is reported (m).
     time_to_final
         The time the level reached ``final_height`` (s; NaN if it did not within the simulated span).
+    stop_height
+        The level at which capillarity stops the fall, ρ g H_e = the entry pressure p_e (m; None: no stop;
+        docs/theory.md §12.1): Q = 0 there and below.
+    time_to_stop
+        The time the level reached ``stop_height`` (s; 0 if held from the start, NaN if not within the span).
     """
 
     time: FloatArray
@@ -156,19 +161,27 @@ class WaterColumn:
     leak_rate: FloatArray
     final_height: float
     time_to_final: float
+    stop_height: float | None = None
+    time_to_stop: float = float("nan")
 
 
 def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *, t_end: float | None = None,
-                 t_eval: ArrayLike | None = None, rtol: float = 1e-12, atol: float | None = None) -> WaterColumn:
+                 t_eval: ArrayLike | None = None, rtol: float = 1e-12, atol: float | None = None,
+                 entry_pressure: float = 0.0) -> WaterColumn:
     """Integrate A_cyl dH/dt = -Q(ρ g H) from H0 with ``leak_rate(ΔP)`` (m³/s) by solve_ivp (Radau).
 
     The time of arrival at ``rig.final_height`` (H0/2 if None) is located by an event. ``t_end`` (s)
     defaults to the last of ``t_eval``, else ``rig.duration``, else 1.5× the arrival time estimated
     from the initial leak rate with τ = A_cyl H0/Q(ρgH0) (at least τ; 3600 s when that leak rate is 0).
     docs/theory.md §4.2.
+
+    ``entry_pressure`` p_e > 0 (Pa): capillarity holds the liquid where ρ g H < p_e (docs/theory.md eq. 12.3), so
+    the level stops at H_e = p_e/(ρ g) (a terminal event; ``leak_rate`` is the leak without capillarity) and
+    stays there with Q = 0; a column with ρ g H0 < p_e does not fall at all. p_e <= 0: no stop.
     """
     area = rig.cylinder_area
     h1 = rig.final_height if rig.final_height is not None else 0.5 * rig.initial_height
+    h_stop = entry_pressure / (rig.density * rig.gravity) if entry_pressure > 0 else None
     q0 = float(np.asarray(leak_rate(np.array([rig.pressure_difference(rig.initial_height)])))[0])
     if not np.isfinite(q0) or q0 < 0:
         raise InputError("leak rate at the initial height", q0, "must be finite and >= 0 (m^3/s)")
@@ -182,6 +195,12 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
         else:  # linear estimate: τ = A H0/Q0; go to the final level and a bit beyond
             tau = area * rig.initial_height / q0
             t_end = tau * max(1.5 * np.log(rig.initial_height / h1), 1.0)
+    if t_eval is None:
+        t_eval = np.linspace(0.0, t_end, 401)
+    t_eval = np.asarray(t_eval, float)
+    if h_stop is not None and h_stop >= rig.initial_height:  # held from the start: H = H0, Q = 0
+        return WaterColumn(time=t_eval, height=np.full(t_eval.size, rig.initial_height), leak_rate=np.zeros(t_eval.size),
+                           final_height=h1, time_to_final=float("nan"), stop_height=h_stop, time_to_stop=0.0)
     if atol is None:
         atol = 1e-14 * rig.initial_height
 
@@ -191,19 +210,30 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
     def reach(t, y):
         return y[0] - h1
 
+    def stop(t, y):
+        return y[0] - (h_stop or 0.0)
+
     reach.terminal = False  # type: ignore[attr-defined]  # scipy's event attributes
     reach.direction = -1  # type: ignore[attr-defined]
-    if t_eval is None:
-        t_eval = np.linspace(0.0, t_end, 401)
-    sol = solve_ivp(rhs, (0.0, float(t_end)), [rig.initial_height], method="Radau", t_eval=np.asarray(t_eval, float),
-                    events=reach, rtol=rtol, atol=atol)
+    stop.terminal = True  # type: ignore[attr-defined]
+    stop.direction = -1  # type: ignore[attr-defined]
+    sol = solve_ivp(rhs, (0.0, float(t_end)), [rig.initial_height], method="Radau", t_eval=t_eval,
+                    events=[reach] if h_stop is None else [reach, stop], rtol=rtol, atol=atol)
     if not sol.success:
         raise ConvergenceError(f"water column: the ODE solver failed ({sol.message})")
     hits = sol.t_events[0]
     t_final = float(hits[0]) if hits.size else float("nan")
-    heights = sol.y[0]
+    times, heights = sol.t, sol.y[0]
     q = np.asarray(leak_rate(rig.pressure_difference(heights)), dtype=float)
-    return WaterColumn(time=sol.t, height=heights, leak_rate=q, final_height=h1, time_to_final=t_final)
+    t_stop = float("nan")
+    if h_stop is not None and sol.t_events[1].size:  # the meniscus holds the rest: H = H_e, Q = 0
+        t_stop = float(sol.t_events[1][0])
+        after = t_eval[t_eval > t_stop]
+        times = np.concatenate([times, [t_stop], after])
+        heights = np.concatenate([heights, [h_stop], np.full(after.size, h_stop)])
+        q = np.concatenate([q, [0.0], np.zeros(after.size)])
+    return WaterColumn(time=times, height=heights, leak_rate=q, final_height=h1, time_to_final=t_final,
+                       stop_height=h_stop, time_to_stop=t_stop)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -14,7 +14,7 @@ Small public API over private modules:
                 solution checked);
 * gas flow:     :func:`solve_gas_flow`, :class:`GasFlowResult`, :func:`gas_flow_memory_bytes` (isothermal
                 gas with rarefaction: the same linear problem in p², a checked fixed point with slip);
-* percolation:  :func:`label_clusters`, :func:`spans`, :func:`spanning_mask`,
+* percolation:  :func:`label_clusters`, :func:`spans`, :func:`spanning_mask`, :func:`critical_constriction`,
                 :func:`percolation_threshold`, :class:`ThresholdResult`;
 * synthesis:    :func:`synthesize` random periodic surfaces with a given C(q), :func:`wavevector_grid`;
 * resources:    :func:`check_memory` refuses a grid that does not fit in memory.
@@ -40,7 +40,7 @@ from ._contact import ContactOptions, ContactResult, contact_memory_bytes, solve
 from ._flow import FlowResult, flow_memory_bytes, solve_flow
 from ._gas_flow import GasFlowResult, gas_flow_memory_bytes, solve_gas_flow
 from ._memory import available_memory_bytes, require_memory
-from ._percolation import ThresholdResult, label_clusters, percolation_threshold, spanning_mask, spans
+from ._percolation import ThresholdResult, critical_constriction, label_clusters, percolation_threshold, spanning_mask, spans
 from .synthesis import synthesis_memory_bytes, synthesize, wavevector_grid
 
 __all__ = [
@@ -65,6 +65,7 @@ __all__ = [
     "gas_flow_memory_bytes",
     "label_clusters",
     "spans",
+    "critical_constriction",
     "spanning_mask",
     "percolation_threshold",
     "contact_memory_bytes",

@@ -97,6 +97,27 @@ def spans(fluid_mask: ArrayLike, periodic_axis: int | None = 1) -> bool:
     return bool(common.size)
 
 
+def critical_constriction(gap: ArrayLike, fluid_mask: ArrayLike, periodic_axis: int | None = 1) -> float:
+    """The gap (m, the unit of ``gap``) of the narrowest constriction on the widest path from the inlet row x = 0 to
+    the outlet row x = N-1: the largest h such that the cells of ``fluid_mask`` with gap >= h still connect them
+    (a max–min path, the critical constriction of docs/theory.md eq. 12.5); NaN where the fluid
+    does not span at all. Binary search over the distinct gaps of the fluid cells: about log2(N²) labellings.
+    """
+    g = np.asarray(gap, dtype=float)
+    m = _as_mask(fluid_mask)
+    if not spans(m, periodic_axis):
+        return float("nan")
+    values = np.unique(g[m])
+    lo, hi = 0, values.size - 1  # the fluid spans with every gap >= values[lo]
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if spans(m & (g >= values[mid]), periodic_axis):
+            lo = mid
+        else:
+            hi = mid - 1
+    return float(values[lo])
+
+
 @dataclass(frozen=True, kw_only=True)
 class ThresholdResult:
     """Where the non-contact area stops percolating as the mean pressure grows.

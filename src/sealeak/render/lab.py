@@ -28,7 +28,8 @@ from .text import fmt
 
 __all__ = ["fit_text", "fit_json", "linearity_text", "linearity_json", "rig_text", "rig_json", "rig_condition",
            "decay_text", "decay_json", "decay_condition", "duration_text", "MBAR_L_PER_PA_M3",
-           "is_gas_fit", "FIT_UNIT_TEXT", "GasFitRow", "RigModelRecord", "DecayModelRecord", "FIT_UNITS", "LINEARITY_UNITS",
+           "is_gas_fit", "FIT_UNIT_TEXT", "GasFitRow", "RigModelRecord", "RigCapillaryRecord", "DecayModelRecord", "FIT_UNITS",
+           "LINEARITY_UNITS",
            "RIG_UNITS", "DECAY_UNITS"]
 
 
@@ -62,6 +63,16 @@ class RigModelRecord:
 
 
 @dataclass(frozen=True, kw_only=True)
+class RigCapillaryRecord:
+    """What a liquid with a contact angle adds to each model of ``sealeak rig --json`` (a water column; SI units)."""
+
+    capillary_entry_pressure: float | None = quantity(
+        "Pa", "entry pressure −γ(cos θ_r + cos θ_s)/u of the narrowest gap u (null without a leak channel)")
+    stop_height: float | None = quantity("m", "height p_e/(ρg) at which the meniscus stops the fall (null: no stop)")
+    time_to_stop: float | None = quantity("s", "time the level reaches it (0: held from the start; null: not reached)")
+
+
+@dataclass(frozen=True, kw_only=True)
 class DecayModelRecord:
     """One model of ``sealeak rig --json`` for a pressure-decay test (``models``; SI units)."""
 
@@ -84,12 +95,13 @@ class DecayModelRecord:
 #: ``units`` of ``sealeak fit --json`` (a gas fit adds :class:`GasFitRow`'s for its ``rows``).
 FIT_UNITS = units_for(("alpha", "alpha_std", "rms_log10_residual", "reference_pressure"), ScaleFit, LeakData)
 #: ``units`` of ``sealeak fit --linearity --json`` (a band seal adds its load's).
-LINEARITY_UNITS = units_for(("slope", "slope_std", "intercept", "intercept_std", "squeeze_pressure", "model_slopes"),
-                            LinearFit, LinearityCheck)
+LINEARITY_UNITS = units_for(("slope", "slope_std", "intercept", "intercept_std", "squeeze_pressure", "model_slopes",
+                             "model_intercepts", "model_nonlinearity"), LinearFit, LinearityCheck)
 #: ``units`` of ``sealeak rig --json`` for a water column (a band seal adds :data:`_RIG_BAND_UNITS` and its load's).
 RIG_UNITS = units_for(("squeeze_pressure", "load", "final_height", "conductance", "time_constant", "time_to_final_height",
                        "time", "height", "interval_pressure_difference", "interval_leak_rate"),
                       RigPrediction, RigSetup, RigModelRecord, ReadingsAnalysis)
+_RIG_CAPILLARY_UNITS = units_of(RigCapillaryRecord)
 _RIG_BAND_UNITS = units_for(("contact_width", "mean_contact_pressure", "max_contact_pressure", "force_per_length",
                              "seal_line_length", "faces"), BandColumns, BandSeal)
 #: ``units`` of ``sealeak rig --json`` for a pressure-decay test (a band seal adds its load's).
@@ -219,11 +231,23 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
         lines.append(f"P0         {p0 / 1e3:.4g} kPa (from {check.squeeze_pressure_source})")
     if p0 is not None:
         for name, k in check.model_slopes.items():
-            lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa)")
+            lines.append(f"model      {name}: slope {k:.4g} m³/(s·Pa), intercept {check.model_intercepts[name]:.3g} m³/s"
+                         + _model_nonlinearity(check, name))
+        for name, p_e in check.capillary_entry_pressure.items():
+            lines.append(f"           {name}: capillary entry pressure {fmt(p_e / 1e3 if np.isfinite(p_e) else None, '.4g')} "
+                         "kPa (Q = 0 below it)")
         if check.alpha_from_slope is not None:
             lines.append(f"           α implied by the measured slope: {check.alpha_from_slope:.3g}")
     lines += ["note: " + m for m in worded(check.messages)]
     return "\n".join(lines) + "\n"
+
+
+def _model_nonlinearity(check: LinearityCheck, name: str) -> str:
+    """How far a model's Q/ΔP changes over the measured ΔP (the fluid pressure coupled), for the text."""
+    change = check.model_nonlinearity.get(name, 0.0)
+    if abs(change) < 5e-4:
+        return " (linear in ΔP)"
+    return f"; its Q/ΔP {'rises' if change > 0 else 'falls'} by {abs(change) * 100:.3g} % over the measured ΔP"
 
 
 def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
@@ -235,10 +259,15 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
                          "r_squared": json_value(line.r_squared), "points": line.n,
                          "squeeze_pressure": json_value(p0) if p0 is not None else None,
                          "model_slopes": {k: json_value(v) for k, v in check.model_slopes.items()},
+                         "model_intercepts": {k: json_value(v) for k, v in check.model_intercepts.items()},
+                         "model_nonlinearity": {k: json_value(v) for k, v in check.model_nonlinearity.items()},
                          "alpha_from_slope": (json_value(check.alpha_from_slope)
                                               if check.alpha_from_slope is not None else None)},
            "units": dict(LINEARITY_UNITS),
            "messages": worded(check.messages)}
+    if case.capillarity is not None:
+        doc["linearity"]["capillary_entry_pressure"] = {k: json_value(v) for k, v in check.capillary_entry_pressure.items()}
+        doc["units"]["capillary_entry_pressure"] = "Pa"
     if case.band is not None:  # the band's load; squeeze_pressure is its mean contact pressure
         doc["linearity"][check.load_name] = json_value(check.load) if check.load is not None else None
         doc["units"] |= expand_keys(units_for(("<load>",), LinearityCheck), load=[check.load_name])
@@ -303,9 +332,13 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
     lines.append(f"{'model':<32} {'K = Q/ΔP (m³/(s·Pa))':>22} {'Q at H0 (ml/min)':>17} {'τ (min)':>10} "
                  f"{'t to H = ' + format(h1 * 100, '.3g') + ' cm (min)':>26}")
     for name, k in pred.conductance.items():
-        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(to_ml_per_min(k * dp0), '17.4g')} "
+        lines.append(f"{name:<32} {fmt(k, '22.4e')} {fmt(to_ml_per_min(pred.columns[name].leak_rate[0]), '17.4g')} "
                      f"{fmt(pred.time_constant[name] / 60, '10.4g')} {fmt(pred.drain_time[name] / 60, '26.4g')}")
-    lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
+    if case.coupled:
+        lines.append("(fluid pressure coupled, theory §13: Q(ΔP) grows faster than K ΔP; K and τ at H0, the time from "
+                     "the ODE of Q(ρgH) along the fall)")
+    else:
+        lines.append("(linear leak Q = K ΔP: H(t) = H0 exp(-t/τ), τ = A/(K ρ g); the ODE solution agrees)")
     if readings is not None:
         t = readings.time
         lines += _readings_head(readings_source, t, f"{t[-1] - t[0]:.4g} s", f"{'ΔP (kPa)':>10} {'Q (m³/s)':>12} {'Q (ml/min)':>11}",
@@ -338,11 +371,17 @@ def rig_json(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
             conductance=json_value(k), time_constant=json_value(pred.time_constant[name]),
             time_to_final_height=json_value(pred.drain_time[name]), time_to_final_height_ode=json_value(col.time_to_final),
             time=[json_value(x) for x in col.time[::10]], height=[json_value(x) for x in col.height[::10]]))
+        if case.capillarity is not None:
+            models[name] |= record_fields(RigCapillaryRecord(
+                capillary_entry_pressure=json_value(pred.entry_pressure[name]), stop_height=json_value(col.stop_height),
+                time_to_stop=json_value(col.time_to_stop)))
     doc: dict[str, Any] = {
         "case": case.title, "squeeze_pressure": pred.squeeze_pressure, "load": rig.load,
         "final_height": json_value(_final_height(pred)), "models": models,
         "units": dict(RIG_UNITS),
         "messages": worded(pred.messages)}
+    if case.capillarity is not None:
+        doc["units"] |= _RIG_CAPILLARY_UNITS
     b = pred.band
     if b is not None:  # a band seal: its load and contact; "load" is the contact force f·Ly, P0 its mean pressure
         doc[b.band.load_name] = float(b.band.loads[0])

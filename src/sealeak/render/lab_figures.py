@@ -132,8 +132,8 @@ def _model_lines(ax: Axes, x: np.ndarray, models: dict[str, np.ndarray], qscale:
 
 @laid_out
 def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Figure:
-    """Measured Q against ΔP with the fitted straight line (and the models' lines through 0), with ml/min."""
-    line, model_lines, p0 = check.line, check.model_slopes, check.squeeze_pressure
+    """Measured Q against ΔP with the fitted straight line and the models' Q(ΔP) (coupled, with capillarity), with ml/min."""
+    line, p0 = check.line, check.squeeze_pressure
     fig, ax = new_figure("Leak rate against pressure difference")
     x = np.linspace(0.0, dp.max() * 1.1, 50)
     fitted = line.slope * x + line.intercept
@@ -143,7 +143,7 @@ def figure_linearity(dp: np.ndarray, q: np.ndarray, check: LinearityCheck) -> Fi
             label=f"fit: slope {line.slope:.3g} ± {line.slope_std:.2g} m³/(s·Pa),\n"
                   f"intercept {line.intercept:.2g} ± {line.intercept_std:.2g} m³/s")
     ax.set_ylim(bottom=0)
-    hidden = _model_lines(ax, x, {name: slope * x for name, slope in model_lines.items()}, qscale)
+    hidden = _model_lines(ax, check.curve_pressure_difference, check.model_curves, qscale)
     ax.set_xlabel("pressure difference ΔP (kPa)")
     ax.set_xlim(left=0)
     at = f"P0 = {p0 / 1e3:.3g} kPa" if p0 else ""
@@ -172,8 +172,7 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float, condit
         power, tunit = power_unit([longest / YEAR], "years")
         tscale, lscale, lunit = YEAR * power, YEAR, "years"
     for i, (name, col) in enumerate(columns.items()):
-        label = name + (f": H = {col.final_height * 100:.3g} cm after {col.time_to_final / lscale:.3g} {lunit}"
-                        if np.isfinite(col.time_to_final) else ": no leak, the level stays")
+        label = name + _column_label(col, lscale, lunit)
         ax.plot(col.time / tscale, col.height * 100, ("-", "--")[i % 2], color=color(i), label=label)
         if np.isfinite(col.time_to_final):
             ax.plot([col.time_to_final / tscale], [col.final_height * 100], "o", color=color(i), ms=4)
@@ -190,6 +189,18 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float, condit
     finish_axes(ax)
     place_legend(ax)
     return fig
+
+
+def _column_label(col: WaterColumn, lscale: float, lunit: str) -> str:
+    """What the legend says of a water column: when it reached the final height, where capillarity stopped it
+    (docs/theory.md §12.1), or that it did not leak."""
+    if np.isfinite(col.time_to_final):
+        return f": H = {col.final_height * 100:.3g} cm after {col.time_to_final / lscale:.3g} {lunit}"
+    if col.stop_height is not None and col.time_to_stop == 0:
+        return ": held by capillarity, the level stays"
+    if col.stop_height is not None and np.isfinite(col.time_to_stop):
+        return f": held by capillarity at H = {col.stop_height * 100:.3g} cm after {col.time_to_stop / lscale:.3g} {lunit}"
+    return ": no leak, the level stays" if col.leak_rate[0] == 0 else ": the final height not reached"
 
 
 @laid_out

@@ -7,6 +7,7 @@ in one way only (:func:`load_text`, :func:`loads_text`, :func:`kpa_text`). Table
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
@@ -208,12 +209,33 @@ def _rig_no_leak(v: Mapping[str, Any]) -> str:
     return f"{v['model']}: no leak at P0 = {v['squeeze_pressure']:.6g} Pa, the level stays at {v['initial_height']:g} m"
 
 
+def _rig_held_by_capillarity(v: Mapping[str, Any]) -> str:
+    head = (f"{v['model']}: the capillary entry pressure of the narrowest gap is p_e = "
+            f"{format_quantity(v['entry_pressure'], 'pressure', 4)}")
+    if v["time_to_stop"] == 0:
+        return (head + f", above ρgH0: the meniscus holds the liquid (Q = 0) and the level stays at H0 = "
+                f"{v['initial_height']:.4g} m")
+    when = (f" after {v['time_to_stop']:.4g} s" if math.isfinite(v["time_to_stop"])
+            else " (not reached within the simulated span)")
+    return head + f": the level stops at H = p_e/(ρg) = {v['stop_height']:.4g} m{when}, where the meniscus holds the liquid"
+
+
 def _rig_pressure_difference_large(v: Mapping[str, Any]) -> str:
     if v["band"]:
         return (f"ΔP = ρgH0 = {v['pressure_difference']:.4g} Pa is not small against the peak contact pressure "
                 f"{v['pressure']:.4g} Pa: the theory assumes p >> ΔP")
     return (f"ΔP = ρgH0 = {v['pressure_difference']:.4g} Pa is not small against P0 = {v['pressure']:.4g} Pa: the "
             "theory assumes P0 >> ΔP")
+
+
+def _linearity_held_by_capillarity(v: Mapping[str, Any]) -> str:
+    text = (f"{v['model']}: {v['points']} measured point(s) lie below the capillary entry pressure p_e = "
+            f"{format_quantity(v['entry_pressure'], 'pressure', 4)}, where the model holds the liquid (Q = 0), so its "
+            "line through the measured ΔP has an offset")
+    if v["leaking"]:
+        text += (f"; {v['leaking']} of them leaked: the narrowest gap is wider, or the liquid wets it better, than "
+                 "the model's")
+    return text
 
 
 def _linearity_one_load_needed(v: Mapping[str, Any]) -> str:
@@ -295,8 +317,10 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "decay_not_lost": _decay_not_lost,
     "decay_pressure_difference_large": _decay_pressure_difference_large,
     "rig_no_leak": _rig_no_leak,
+    "rig_held_by_capillarity": _rig_held_by_capillarity,
     "rig_pressure_difference_large": _rig_pressure_difference_large,
     "linearity_one_load_needed": _linearity_one_load_needed,
+    "linearity_held_by_capillarity": _linearity_held_by_capillarity,
     "spectrum_cut_by_grid": _spectrum_cut_by_grid,
     "waviness_left_out": _waviness_left_out,
     "threshold_not_found": _threshold_not_found,

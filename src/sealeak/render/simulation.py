@@ -15,7 +15,7 @@ from matplotlib.lines import Line2D
 from numpy.typing import NDArray
 
 from ..cases import Case, SimulationResult
-from ..cases.simulation import JUNCTION_CELLS, GasSimulation
+from ..cases.simulation import JUNCTION_CELLS, GasSimulation, SimulationCapillarity
 from ..cases.simulation_band import HERTZ_TOL, BandSimulationResult
 from ..io.leak_units import celsius, to_mbar_l_per_s
 from ..io.quantities import record_fields, units_of
@@ -43,7 +43,7 @@ from .records import case_summary, json_document, json_rows, json_value
 from .text import fmt
 
 __all__ = ["simulation_json", "simulation_rows", "simulation_table", "simulation_figures", "SIMULATION_UNITS", "SIMULATION_FIGURE_NAMES",
-           "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES",
+           "SIMULATION_GAS_UNITS", "SIMULATION_GAS_FIGURE_NAMES", "SIMULATION_CAPILLARY_UNITS",
            "band_simulation_json", "band_simulation_table", "band_simulation_figures", "BAND_SIMULATION_UNITS",
            "BAND_SIMULATION_FIGURE_NAMES", "BAND_SIMULATION_GAS_UNITS"]
 
@@ -56,6 +56,8 @@ _ROW_KEYS = ("squeeze_pressure", "relative_contact_area", "relative_contact_area
              "leak_rate_critical_junction", "alpha", "alpha_std", "pressure_difference", "junction_cells",
              "junction_resolved")
 SIMULATION_FIGURE_NAMES = ("simulate_leak_rate.png", "simulate_alpha.png", "contact_map.png")
+#: Units of the capillarity keys of a ``simulate --json`` row (a liquid with a contact angle).
+SIMULATION_CAPILLARY_UNITS = units_of(SimulationCapillarity)
 #: The extra figure of a gas case.
 SIMULATION_GAS_FIGURE_NAMES = ("simulate_gas_leak_rate.png",)
 #: Units of the gas keys of a ``simulate --json`` row (a gas case), declared on the gas result's fields; names as
@@ -81,7 +83,19 @@ def simulation_json(case: Case, res: SimulationResult) -> str:
     }
     if res.gas is not None:
         _gas_json(doc, res)
+    _capillary_json(doc, res.capillarity)
     return json_document(doc)
+
+
+def _capillary_json(doc: dict[str, Any], c: SimulationCapillarity | None) -> None:
+    """A liquid with a contact angle: each row of a ``simulate --json`` document gets its entry pressures and held
+    realisations (nothing without a contact angle)."""
+    if c is None:
+        return
+    doc["units"] = doc["units"] | SIMULATION_CAPILLARY_UNITS
+    columns = record_fields(c)
+    for row, extra in zip(doc["results"], json_rows(columns, tuple(columns), len(doc["results"])), strict=True):
+        row |= extra
 
 
 def _document_end(case: Case, res: SimulationResult | BandSimulationResult, theory: tuple[str, str],
@@ -189,6 +203,9 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
                      f"{'*' if too_coarse[i] and np.isfinite(res.alpha[i]) else ' '}{fmt(res.alpha_std[i], '7.2g')}")
     if res.gas is not None:
         lines += _gas_lines(res)
+    if res.capillarity is not None:
+        lines += _capillary_lines(res.capillarity, res.pressure_difference, ("P0 (kPa)", res.squeeze_pressure / 1e3),
+                                  "p_e at u_c (kPa)")
     lines.append("")
     lines.append(_spread_legend(res.realizations))
     if np.isfinite(res.percolation_threshold):
@@ -199,6 +216,25 @@ def simulation_table(case: Case, res: SimulationResult) -> str:
                      f"critical-junction theory assumes 1 - p_c = {1 - case.percolation_threshold:.3f})")
     lines += ["note: " + n for n in worded(res.notes)]
     return "\n".join(lines) + "\n"
+
+
+def _capillary_lines(c: SimulationCapillarity, pressure_difference: float, first: tuple[str, NDArray[np.float64]],
+                     theory: str) -> list[str]:
+    """The capillarity table of ``sealeak simulate``: per load (``first``: the column's header and values) the entry
+    pressure of the realisations' critical constrictions against the theory's (header ``theory``), and the
+    realisations held (docs/theory.md §12.4)."""
+    head, loads = first
+    lines = ["", f"capillarity at ΔP = {pressure_difference / 1e3:.4g} kPa: entry pressure p_e = −γ(cos θ_r + cos θ_s)/u "
+                 "of each realisation's critical constriction u (the narrowest gap on the widest path across)",
+             f"{head:>16} {'p_e sim (kPa)':>13} {'± sd':>9} {theory:>22} {'held':>5} {'all held':>8}"]
+    for i, load in enumerate(loads):
+        lines.append(f"{load:16.4g} {fmt(c.capillary_entry_pressure[i] / 1e3, '13.4g')} "
+                     f"{fmt(c.capillary_entry_pressure_std[i] / 1e3, '9.2g')} "
+                     f"{fmt(c.capillary_entry_pressure_critical_junction[i] / 1e3, '22.4g')} {c.held_fraction[i]:5.2f} "
+                     f"{'yes' if c.held_by_capillarity[i] else 'no':>8}")
+    lines.append("held: fraction of realisations the fluid crosses but ΔP < p_e holds (Q = 0 there; the leak rates and α "
+                 "above are the flow without capillarity)")
+    return lines
 
 
 def coarse(junction_cells: NDArray[np.float64], rows: int) -> NDArray[np.bool_]:
@@ -260,6 +296,7 @@ def band_simulation_json(case: Case, res: BandSimulationResult) -> str:
     }
     if res.gas is not None:
         _band_gas_json(doc, res)
+    _capillary_json(doc, res.capillarity)
     return json_document(doc)
 
 
@@ -333,6 +370,9 @@ def band_simulation_table(case: Case, res: BandSimulationResult) -> str:
               _spread_legend(res.realizations)]
     if res.gas is not None:
         lines += _band_gas_lines(res)
+    if res.capillarity is not None:
+        lines += _capillary_lines(res.capillarity, res.pressure_difference, (label, res.loads * factor),
+                                  "p_e at u_c, peak (kPa)")
     lines += ["note: " + n for n in worded(res.notes)]
     return "\n".join(lines) + "\n"
 
