@@ -55,7 +55,7 @@ from ..errors import ConvergenceError, InputError
 from ..io.quantities import quantity
 from .contact import PerssonContact
 from .critical_junction import _pressures
-from .gaps import GapDistribution, folded_normal_cdf, gap_distribution
+from .gaps import ArrayCache, GapDistribution, contact_key, folded_normal_cdf, gap_distribution
 from .validity import no_channel_note
 
 __all__ = ["EffectiveMediumResult", "effective_medium", "bruggeman_conductivity", "bruggeman_residual",
@@ -65,6 +65,11 @@ FloatArray = NDArray[np.float64]
 
 #: Contact-area fraction at which plain 2D Bruggeman stops conducting.
 BRUGGEMAN_THRESHOLD = 0.5
+
+#: Bytes of discretised P(u) kept for reuse, by contact and the exact list of pressures discretised together.
+DISCRETE_CACHE_BYTES = 32 * 2**20
+
+_DISCRETE = ArrayCache(lambda: DISCRETE_CACHE_BYTES)
 
 
 def _g_and_slope(x: FloatArray, w: FloatArray, contact: FloatArray, s: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -558,9 +563,15 @@ def effective_medium(
     uniq, inverse = np.unique(p0, return_inverse=True)
     if distribution is None or distribution.squeeze_pressure.shape != uniq.shape or \
             not np.array_equal(distribution.squeeze_pressure, uniq):
+        # the discretisation of a list of pressures (its panels span them all) depends on the contact and the list
+        # alone, not on η: a second fluid, or the same σ table again, takes it from the cache
+        key = (contact_key(contact), uniq.tobytes())
+        kept = _DISCRETE.get(key)
         distribution = gap_distribution(contact, uniq)
+        gaps, weights = kept if kept is not None else _DISCRETE.put(key, discretise(distribution))
+    else:
+        gaps, weights = discretise(distribution)
     dist = distribution
-    gaps, weights = discretise(dist)
     sigma, resid = bruggeman_conductivity(gaps, weights, dist.contact_fraction, viscosity)
     percolates = sigma > 0
     sigma, resid, percolates = sigma[inverse], resid[inverse], percolates[inverse]

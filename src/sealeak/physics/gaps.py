@@ -39,11 +39,23 @@ i.e. the mean of P(u) exceeds ū(1) by the folding term alone; it is close to ū
 for the patches that matter (large separations, low squeeze pressure) and can be several times
 ū(1) at high squeeze pressure, where the separations are smaller than the unresolved roughness.
 :attr:`GapDistribution.mean` and :attr:`GapDistribution.mean_gap` (ū(1)) are reported side by side.
+
+Reuse
+-----
+Each row (squeeze pressure) is computed on its own, so a row is the same, bit for bit, alone or among others.
+:func:`gap_distribution` keeps the rows it computes, keyed on the contact (spectrum nodes, E*, q0, γ, quadrature)
+and P0, and takes them from there when asked again (up to :data:`GAP_CACHE_BYTES`, the least recently used
+dropped first): P(u) does not depend on the fluid, so the fluids of a study, an effective-medium σ table
+evaluated again at the same pressures, and a web update that changes only η, ΔP or α cost no new P(u).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import hashlib
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, fields
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -52,12 +64,16 @@ from scipy import special
 from ..errors import InputError, SolutionCheckError
 from .contact import PerssonContact
 
-__all__ = ["GapDistribution", "gap_distribution", "folded_normal_mean"]
+__all__ = ["GapDistribution", "gap_distribution", "folded_normal_mean", "GAP_CACHE_BYTES", "clear_caches",
+           "contact_key", "ArrayCache"]
 
 FloatArray = NDArray[np.float64]
 
 _SQRT2 = np.sqrt(2.0)
 _SQRT2PI = np.sqrt(2.0 * np.pi)
+
+#: Bytes of P(u) rows kept for reuse (least recently used dropped first): ~30 kB per squeeze pressure.
+GAP_CACHE_BYTES = 128 * 2**20
 
 
 def folded_normal_mean(centre: ArrayLike, width: ArrayLike) -> FloatArray:
@@ -202,6 +218,20 @@ def gap_distribution(
         if int(n) != n or n < 1:
             raise InputError(name, n, "must be a whole number >= 1")
 
+    key = contact_key(contact, uniform_panels, log_panels, graded_panels, order, unresolved)
+    kept = {p: row for p in p0.tolist() if (row := _ROWS.get((key, p))) is not None}
+    missing = np.array(sorted({p for p in p0.tolist() if p not in kept}))
+    if missing.size:
+        new = _compute(contact, missing, uniform_panels, log_panels, graded_panels, order, unresolved)
+        for i, p in enumerate(missing.tolist()):
+            kept[p] = _ROWS.put((key, p), tuple(np.array(getattr(new, name)[i]) for name in _FIELDS))
+    rows = [kept[p] for p in p0.tolist()]
+    return GapDistribution(**{name: np.array([row[k] for row in rows]) for k, name in enumerate(_FIELDS)})
+
+
+def _compute(contact: PerssonContact, p0: FloatArray, uniform_panels: int, log_panels: int, graded_panels: int,
+             order: int, unresolved: float) -> GapDistribution:
+    """:func:`gap_distribution` at the valid pressures ``p0`` (Pa), computed (each row on its own: no row depends on another)."""
     a1 = contact.area(contact.zeta_max, p0)
     g1 = contact.G(contact.zeta_max)
     b1 = special.erfc(p0 / (2.0 * np.sqrt(g1)))  # 1 - A(ζ1)/A0 without cancellation
@@ -247,3 +277,80 @@ def gap_distribution(
         squeeze_pressure=p0, contact_fraction=a1, weights=weights, centres=u1, widths=h, magnification=zeta,
         unresolved_weight=unresolved_weight, unresolved_mean=np.maximum(unresolved_mean, 0.0), mean_gap=ubar1,
     )
+
+
+_FIELDS = tuple(f.name for f in fields(GapDistribution))
+
+
+def contact_key(contact: PerssonContact, *quadrature: float) -> bytes:
+    """A digest of everything a row of P(u) depends on besides P0: the spectrum's nodes, E*, q0, γ and both quadratures."""
+    spec = contact.spectrum
+    numbers = np.array([contact.e_star, contact.q0, contact.gamma, contact.panel_width, contact.order, *quadrature], dtype=float)
+    digest = hashlib.blake2b(digest_size=16)
+    for part in (spec.q, spec.C, numbers):
+        digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
+    return digest.digest()
+
+
+class ArrayCache:
+    """Tuples of arrays by key, least recently used dropped first beyond ``limit()`` bytes; thread-safe (the web
+    app's requests share it). What is kept must be a function of the key alone, bit for bit."""
+
+    def __init__(self, limit: Callable[[], int]) -> None:
+        self._items: OrderedDict[Hashable, tuple[FloatArray, ...]] = OrderedDict()
+        self._bytes = 0
+        self._limit = limit
+        self._lock = threading.Lock()
+        _CACHES.append(self)
+
+    def get(self, key: Hashable) -> tuple[FloatArray, ...] | None:
+        """The item kept under ``key`` (now the most recently used), or None."""
+        with self._lock:
+            item = self._items.get(key)
+            if item is not None:
+                self._items.move_to_end(key)
+            return item
+
+    def put(self, key: Hashable, item: tuple[FloatArray, ...]) -> tuple[FloatArray, ...]:
+        """Keep ``item`` (read-only from now on) under ``key``; returns it."""
+        for a in item:
+            a.setflags(write=False)
+        with self._lock:
+            if key not in self._items:
+                self._items[key] = item
+                self._bytes += _nbytes(item)
+            while self._bytes > self._limit() and self._items:
+                _, old = self._items.popitem(last=False)
+                self._bytes -= _nbytes(old)
+        return item
+
+    def clear(self) -> None:
+        """Forget everything kept."""
+        with self._lock:
+            self._items.clear()
+            self._bytes = 0
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    @property
+    def nbytes(self) -> int:
+        """The bytes kept (arrays, and 200 per entry for the keys and tuples)."""
+        return self._bytes
+
+
+def _nbytes(item: tuple[FloatArray, ...]) -> int:
+    return sum(a.nbytes for a in item) + 200
+
+
+_CACHES: list[ArrayCache] = []
+
+#: Rows of P(u) by (contact, P0): a row depends only on the contact, the quadrature and its own P0 (the rows are
+#: computed independently, bit for bit the same alone or among others), not on the fluid.
+_ROWS = ArrayCache(lambda: GAP_CACHE_BYTES)
+
+
+def clear_caches() -> None:
+    """Forget every P(u) row (and the effective medium's discretisations) kept for reuse, for timings that start cold."""
+    for cache in _CACHES:
+        cache.clear()
