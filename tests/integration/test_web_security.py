@@ -18,6 +18,7 @@ import zipfile
 
 import numpy as np
 import pytest
+from starlette.exceptions import HTTPException as StarletteHTTPException
 
 pytest.importorskip("fastapi", reason="the web extra (sealeak[web]) is not installed")
 with warnings.catch_warnings():  # starlette's TestClient on httpx 0.28 warns that httpx2 exists
@@ -274,6 +275,23 @@ def test_the_prediction_cache_is_bounded_by_bytes(tmp_path):
     first.rendered["json"] = "x" * one.nbytes
     cache.predict(cases[1].encode(), "a.toml", tmp_path)
     assert len(cache) == 1 and cache.nbytes <= cache.max_bytes
+
+
+def test_predictions_computed_at_once_are_capped_per_server(tmp_path):
+    """A server computes at most ``computing`` predictions at once (a case with uncertain inputs is hundreds of them):
+    another waits for a slot, and is refused (503) when none frees in time; the cached answer needs no slot."""
+    cache = PredictionCache(computing=1, wait=0.2)
+    cache.predict(REF.encode(), "a.toml", tmp_path)
+    cache._slots.acquire()  # a long prediction holds the server's only slot
+    try:
+        assert cache.predict(REF.encode(), "a.toml", tmp_path) is not None  # cached: computes nothing
+        with pytest.raises(StarletteHTTPException) as err:
+            cache.predict(REF.replace("[surface]", "# another case\n[surface]").encode(), "a.toml", tmp_path)
+        assert err.value.status_code == 503 and "at most 1" in err.value.detail
+    finally:
+        cache._slots.release()
+    other = REF.replace("[surface]", "# another case\n[surface]").encode()
+    assert cache.predict(other, "a.toml", tmp_path) is not None  # the slot is free again; nothing was left waiting
 
 
 # ------------------------------------------------------------------ per-server caps

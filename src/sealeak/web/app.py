@@ -144,7 +144,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     cfg = config or WebConfig()
     root = _root(cfg)
     state = AppState(cfg, root, SessionStore(root, cfg.session_idle, cfg.max_sessions),
-                     PredictionCache(max_bytes=cfg.cache_bytes))
+                     PredictionCache(max_bytes=cfg.cache_bytes, computing=cfg.max_predictions))
     app = FastAPI(title="sealeak", version=__version__, lifespan=_lifespan(state, own_root=cfg.root is None),
                   docs_url=None, redoc_url=None, openapi_url="/openapi.json",
                   description="The JSON API of `sealeak serve` (docs/web.md): the answers are the command line's.")

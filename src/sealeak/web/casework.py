@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 import tomli_w
 import tomlkit
+from starlette.exceptions import HTTPException as StarletteHTTPException
 from tomlkit.exceptions import TOMLKitError
 
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
@@ -46,6 +47,8 @@ __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fi
 
 #: The most bytes the prediction cache holds (case texts and their results): 256 MB.
 DEFAULT_CACHE_BYTES = 256 * 2**20
+#: How long (s) a prediction waits for one of the server's computing slots before it is refused (status 503).
+PREDICTION_WAIT = 60.0
 
 #: The keys whose values are file names (each must be a file uploaded in the session).
 FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
@@ -422,9 +425,13 @@ class PredictionCache:
     cached: each of them then computes, and reports, it for itself).
     """
 
-    def __init__(self, size: int = 64, max_bytes: int = DEFAULT_CACHE_BYTES) -> None:
+    def __init__(self, size: int = 64, max_bytes: int = DEFAULT_CACHE_BYTES, computing: int = 2,
+                 wait: float = PREDICTION_WAIT) -> None:
         self.size = size
         self.max_bytes = max_bytes
+        self.computing = computing
+        self.wait = wait
+        self._slots = threading.BoundedSemaphore(computing)  # predictions computed at once on this server
         self._sizes: dict[tuple[Any, ...], int] = {}  # the case text and results of each entry (bytes)
         self._items: OrderedDict[tuple[Any, ...], Prediction] = OrderedDict()
         self._lock = threading.Lock()
@@ -470,6 +477,12 @@ class PredictionCache:
                     running = self._running[key] = threading.Event()
                     break
             running.wait()
+        if not self._slots.acquire(timeout=self.wait):  # the server's cores are busy with other cases
+            with self._lock:
+                del self._running[key]
+            running.set()
+            raise StarletteHTTPException(503, f"predict: {self.computing} predictions are running on this server "
+                                              f"already (at most {self.computing}); try again when one has finished")
         try:
             # a case naming "Probe Ø5.csv" is read with the name its upload is stored under
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
@@ -488,6 +501,7 @@ class PredictionCache:
                     del self._sizes[old]
             return result
         finally:
+            self._slots.release()
             with self._lock:
                 del self._running[key]
             running.set()

@@ -58,7 +58,8 @@ class WebConfig:
     per server (default half the cores, at least 1); ``max_workers``, ``max_realizations``: the most a
     job may ask for; ``session_quota``: the bytes of the files a session may hold (uploads and simulation
     results); ``server_quota``: the bytes of the files of all sessions together; ``max_sessions``:
-    sessions at once; ``cache_bytes``: the prediction cache's size; ``host``, ``port``,
+    sessions at once; ``cache_bytes``: the prediction cache's size; ``max_predictions``: predictions computed at
+    once on the server (default the cores, at least 2; a case with uncertain inputs is hundreds of them); ``host``, ``port``,
     ``allow_hosts``: the address the server listens on and further names it answers to (``port``
     None: any port, for an app not bound to a socket yet).
     """
@@ -75,6 +76,7 @@ class WebConfig:
     server_quota: int = DEFAULT_SERVER_QUOTA
     max_sessions: int = DEFAULT_MAX_SESSIONS
     cache_bytes: int = DEFAULT_CACHE_BYTES
+    max_predictions: int = field(default_factory=lambda: max(2, _cores()))
     host: str = "127.0.0.1"
     port: int | None = None
     allow_hosts: tuple[str, ...] = ()
