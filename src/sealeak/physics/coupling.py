@@ -38,7 +38,7 @@ from scipy.integrate import quad, solve_ivp
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
-from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate
+from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate_at
 from .gas import Gas, _integrand, check_rarefaction_model
 from .profile import PressureProfile, series_resistance
 
@@ -254,7 +254,7 @@ class GasSheet:
         # kinetic: P f = (12 c/√π) G_P(max(δ, δ_ℓ)), δ = (√π/2) P/c (docs/theory.md §11.5); an infinite slit's
         # G_P diverges (integrably) at P = 0: δ is kept above 1e-12
         delta = max(0.5 * math.sqrt(math.pi) * p / c, math.exp(cap) if self.finite else 1e-12)
-        return sigma * 12.0 * c / math.sqrt(math.pi) * float(poiseuille_flow_rate(delta))
+        return sigma * 12.0 * c / math.sqrt(math.pi) * poiseuille_flow_rate_at(delta)
 
 
 def gas_sheet(sheet: Sheet, low: float, high: float) -> GasSheet | None:
@@ -297,13 +297,14 @@ def coupled_gas_integral(sheet: GasSheet, squeeze_pressure: ArrayLike, downstrea
 
 
 def coupled_gas_band_flow(profile: PressureProfile, sheet: GasSheet | None, downstream_pressure: float,
-                          pressure_difference: float, *, rtol: float = 1e-8) -> CoupledBand:
+                          pressure_difference: float, *, rtol: float = 1e-9) -> CoupledBand:
     """The pV flow per unit length q (Pa·m²/s) of a band with the gas pressure acting on it (docs/theory.md eq. 13.7).
 
-    The position is integrated as a function of the absolute gas pressure, dx/dP = −g(p(x) − (P − P_b), P)/q from
-    x = 0 at P_a = P_b + ΔP down to P_b (DOP853, relative tolerance 1e-9; the integration stops where x reaches w),
-    and q is found by Brent's method such that x(P_b) = w, bracketed by steps q → q (1 + (x(P_b) − w)/w) from the
-    uniform seal at the mean pressure. ``sheet`` None (σ(p_max) = 0): sealed, q = 0. ΔP ≥ p_max lifts the seal: q is then that of ΔP = p_max.
+    In y = P² (regular at a vacuum outlet), dy/dx = −2 q P/g(p(x) − (P − P_b), P) is integrated across the band
+    from y = P_a² (DOP853 in θ on each piece, as :func:`coupled_band_flow`, relative tolerance 1e-10; y below 0
+    continues with P = √|y|), and q is found by Brent's method such that P(w) = P_b (P = ±√|y|), bracketed by doubling or
+    halving from the uniform seal at the mean pressure. ``sheet`` None (σ(p_max) = 0): sealed, q = 0. ΔP ≥ p_max
+    lifts the seal: q is then that of ΔP = p_max.
     """
     p_max, w = profile.max_pressure, profile.width
     lifted = pressure_difference >= p_max
@@ -312,31 +313,30 @@ def coupled_gas_band_flow(profile: PressureProfile, sheet: GasSheet | None, down
         return CoupledBand(0.0, lifted, True, 0)
     g = sheet
     pb, pa = float(downstream_pressure), float(downstream_pressure) + dp
-    contact = profile.at
+    pieces = _pieces(profile)
     shots = 0
 
     def mismatch(q: float) -> float:
         nonlocal shots
         shots += 1
+        y = pa * pa
 
-        def rhs(p: float, x: NDArray[np.float64]) -> list[float]:
-            return [-g(float(contact(x[0])) - (p - pb), p) / q]
+        def rhs(t: float, u: NDArray[np.float64], dxdt: Callable[..., float], p: Callable[..., float]) -> list[float]:
+            gas = math.sqrt(abs(u[0]))
+            return [-2.0 * q * dxdt(t) * gas / g(p(t) - (gas - pb), gas)] if gas > 0 else [0.0]
 
-        def outlet(p: float, x: NDArray[np.float64]) -> float:
-            return float(x[0]) - w
+        for dxdt, p in pieces:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                sol = solve_ivp(rhs, (0.0, np.pi), [y], method="DOP853", args=(dxdt, p), rtol=1e-10,
+                                atol=1e-12 * pa * pa)
+            y = float(sol.y[0, -1])
+        return (math.copysign(math.sqrt(abs(y)), y) - pb) / dp  # in P, not y: linear in q on both sides of the root
 
-        outlet.terminal = True  # type: ignore[attr-defined]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            sol = solve_ivp(rhs, (pa, pb), [0.0], method="DOP853", events=outlet, rtol=1e-9, atol=1e-12 * w)
-        if sol.t_events[0].size:  # the band ends before the gas reaches P_b: q too small
-            return float(sol.t_events[0][0] - pb) / dp
-        return float(sol.y[0, -1] - w) / w
-
-    # x(P_b) ≈ C/q, so q (1 + mismatch) is close to the root: step there, 0.1 % beyond, until the sign changes
     q0 = float(coupled_gas_integral(g, profile.mean_pressure, pb, dp).value[0]) / w
     m0 = mismatch(q0)
+    step = 2.0 if m0 > 0 else 0.5
     while m0 != 0:
-        q1 = q0 * max(1.0 + m0, 0.5) * (1.0 + math.copysign(1e-3, m0))
+        q1 = q0 * step
         m1 = mismatch(q1)
         if (m1 > 0) != (m0 > 0):
             q, info = brentq(mismatch, min(q0, q1), max(q0, q1), xtol=1e-12 * q0, rtol=rtol, full_output=True)
