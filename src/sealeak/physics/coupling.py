@@ -291,7 +291,10 @@ def coupled_gas_integral(sheet: GasSheet, squeeze_pressure: ArrayLike, downstrea
             s = lo + span * v * v
             return 2.0 * span * v * sheet(s, downstream_pressure + top - s)
 
-        value[i], err = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=rtol, limit=200) if span > 0 else (0.0, 0.0)
+        if span > 0:  # full_output: quad's roundoff message stays here (``change`` reports the error)
+            value[i], err, *_ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=rtol, limit=200, full_output=1)
+        else:
+            value[i], err = 0.0, 0.0
         change = max(change, err / value[i] if value[i] > 0 else 0.0)
     return CoupledIntegral(value, lifted, change)
 
