@@ -21,7 +21,7 @@ from ..physics.coupling import LIFT_OFF_FLOOR, GasSheet, Sheet, coupled_gas_band
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral, with_throughput
-from ..physics.permeation import OringPermeation, oring_permeation
+from ..physics.permeation import OringPermeation, oring_permeation, slab_permeation
 from ..physics.profile import PressureProfile
 from ..physics.properties import fluid_state
 from .band import BandResult, _contact, _em_sigma_table
@@ -57,7 +57,7 @@ class HeliumColumns:
 
 @dataclass(frozen=True, kw_only=True)
 class PermeationColumns:
-    """The permeation columns of an O-ring gas case with ``rubber.permeability`` (docs/theory.md §11.11)."""
+    """The permeation columns of a gas case with ``rubber.permeability`` (docs/theory.md §11.11)."""
 
     leak_rate_permeation_pv: FloatArray = quantity("Pa*m^3/s", "steady pV throughput of the gas through the rubber")
     permeation_breakthrough_time: FloatArray = quantity("s", "time lag t²/(6D) of the permeation (null without "
@@ -105,8 +105,8 @@ class GasRows:
         Q_pV of helium in the standard test (1 bar against vacuum, 20 °C) through the same seal,
         Pa·m³/s (None: not asked for).
     permeation
-        The permeation through the rubber of an O-ring gas case with ``rubber.permeability``, per
-        row, else None; the total (interface + permeation) counts a row without a leak channel as
+        The permeation through the rubber of a gas case with ``rubber.permeability`` (an O-ring, a ring or
+        rectangle with ``seal.height``), per row, else None; the total (interface + permeation) counts a row without a leak channel as
         permeation alone.
 
     Rows without a leak channel hold NaN leak rates (``null`` in JSON), as the liquid's ``leak_rate``.
@@ -193,17 +193,25 @@ def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike, length: ArrayLi
 def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
     """Gas rows of a uniform seal: K = Q/ΔP of each theory; the gap u_c, or u_e for the effective medium; the
     constriction's length λ_c for both (docs/theory.md §11.9); with the fluid pressure coupled, the exact gas
-    coupling of each row (§13.5)."""
+    coupling of each row (§13.5); with the permeation through the rubber slab ``seal.height`` × w (§11.11) when the
+    case gives it."""
     def seals(model: Model, percolates: NDArray[np.bool_]) -> list[CoupledGasSeal] | None:
         return uniform_gas_seals(case, model, res.squeeze_pressure, percolates) if case.coupled else None
 
+    perm = None
+    if case.permeation is not None and case.gas is not None and case.permeation.height is not None:
+        with case_keys({"permeability": "rubber.permeability", "diffusivity": "rubber.diffusivity"}):
+            perm = slab_permeation(case.permeation.permeability, case.permeation.diffusivity,
+                                   np.full(res.squeeze_pressure.size, case.permeation.height), case.seal.width,
+                                   case.seal.length, case.gas.upstream_pressure - case.gas.downstream_pressure)
+
     out = {"critical_junction": gas_rows(case, np.where(res.percolates, res.leak_rate / res.pressure_difference, 0.0),
-                                         res.critical_gap, res.critical_wavelength,
-                                         seals=seals("critical-junction", res.percolates))}
+                                         res.critical_gap, res.critical_wavelength, perm,
+                                         seals("critical-junction", res.percolates))}
     if em is not None:
         out["effective_medium"] = gas_rows(case, np.where(em.percolates, em.leak_rate / em.pressure_difference, 0.0),
                                            np.where(em.percolates, em.effective_gap, np.nan), res.critical_wavelength,
-                                           seals=seals("effective-medium", em.percolates))
+                                           perm, seals("effective-medium", em.percolates))
     return out
 
 

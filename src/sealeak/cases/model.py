@@ -148,10 +148,14 @@ class RubberPermeation:
         thick layer per Pa of pressure difference.
     diffusivity
         D (m²/s), or None (no breakthrough time).
+    height
+        H (m), ``seal.height`` of a flat ring or rectangle seal: the rubber face the gas enters by (the slab H × w
+        of docs/theory.md §11.11); None for an O-ring (its squeezed cord is the path).
     """
 
     permeability: float
     diffusivity: float | None = None
+    height: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -150,7 +150,8 @@ def gas_notes(r: CaseResult) -> list[str]:
     if case.helium_equivalent:
         notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
     if case.gas is not None and case.permeation is not None:
-        notes.append("Q_perm: the gas's steady permeation through the rubber of the squeezed cord (rubber.permeability), "
+        path = "the squeezed cord" if case.permeation.height is None else "the slab seal.height × seal width"
+        notes.append(f"Q_perm: the gas's steady permeation through the rubber of {path} (rubber.permeability), "
                      "reached after about t_lag (rubber.diffusivity); Q_total = Q_pV + Q_perm, what a leak test measures "
                      "once the permeation has broken through (docs/theory.md §11.11)")
     return notes
