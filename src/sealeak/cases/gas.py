@@ -40,7 +40,8 @@ class GasColumns:
 
     knudsen_number: FloatArray = quantity("1", "Knudsen number λ/h at the mean pressure")
     flow_regime: list[str] = quantity("", "flow regime named by the Knudsen number")
-    leak_rate_pv: FloatArray = quantity("Pa*m^3/s", "pV throughput of the gas at its temperature")
+    leak_rate_pv: FloatArray = quantity("Pa*m^3/s", "pV throughput of the gas at its temperature (fluid pressure "
+                                                    "coupled: the gas pressure taken off the contact, docs/theory.md §13.5)")
     leak_rate_mbar_l_s: FloatArray = quantity("mbar*l/s", "pV throughput in mbar·l/s")
     leak_rate_mass: FloatArray = quantity("kg/s", "mass flow")
     leak_rate_molar: FloatArray = quantity("mol/s", "molar flow")
@@ -59,7 +60,8 @@ class HeliumColumns:
 class PermeationColumns:
     """The permeation columns of a gas case with ``rubber.permeability`` (docs/theory.md §11.11)."""
 
-    leak_rate_permeation_pv: FloatArray = quantity("Pa*m^3/s", "steady pV throughput of the gas through the rubber")
+    leak_rate_permeation_pv: FloatArray = quantity("Pa*m^3/s", "steady pV throughput of the gas through the rubber "
+                                                               "(an O-ring's cord, or the slab seal.height × width)")
     permeation_breakthrough_time: FloatArray = quantity("s", "time lag t²/(6D) of the permeation (null without "
                                                              "rubber.diffusivity)")
     leak_rate_total_pv: FloatArray = quantity("Pa*m^3/s", "interface leak plus permeation: what a leak test measures "

@@ -63,8 +63,8 @@ class DecayModel:
     initial_leak
         The gas leak at t = 0 (between P1 and P2): throughput, mass and molar flow, Kn, regime.
     viscous_time_to_loss
-        Δt (s) of the same K without rarefaction, in closed form (docs/theory.md §11.7): the
-        continuum reference (inf without a leak channel).
+        Δt (s) of the same seal without rarefaction: the continuum reference (inf without a leak channel), in closed
+        form (docs/theory.md §11.7), or with the fluid pressure coupled by integrating the no-slip coupled throughput.
     flow
         Q_pV(P, P2) (Pa·m³/s) of the seal at the test temperature, absolute pressures P, P2 (Pa).
     """
@@ -246,8 +246,12 @@ def decay_prediction(case: Case) -> DecayPrediction:
             messages.append(Note("decay_no_leak_channel", {"model": name, "squeeze_pressure": float(p0),
                                                            "initial_pressure": float(p1)}))
         decay = pressure_decay(test, throughput)
+        if seal.coupled is not None and k > 0 and rig.rarefaction_model != "no-slip":
+            viscous = pressure_decay(test, _flow(seal, k, gas, "no-slip", p1, p2)).time_to_loss
+        else:
+            viscous = decay.time_to_loss if seal.coupled is not None and k > 0 else viscous_decay_time(test, k)
         out[name] = DecayModel(name=name, conductance=k, gap=seal.gap, decay=decay, initial_leak=leak,
-                               viscous_time_to_loss=viscous_decay_time(test, k), flow=throughput)
+                               viscous_time_to_loss=viscous, flow=throughput)
         if leak is not None and leak.regime != "continuum" and rig.rarefaction_model != "no-slip":
             messages.append(Note("decay_rarefied", {"model": name, "knudsen": float(leak.knudsen_mean), "gap": float(seal.gap),
                                                     "regime": leak.regime,
@@ -257,7 +261,7 @@ def decay_prediction(case: Case) -> DecayPrediction:
                                                     "duration": float(decay.time[-1])}))
     dp = p1 - p2
     p_ref = float(band.max_contact_pressure[0]) if band is not None else p0
-    if dp > 0.1 * p_ref:
+    if dp > 0.1 * p_ref and not case.coupled:  # coupled: the gas pressure's action on the contact is computed
         messages.append(Note("decay_pressure_difference_large", {"pressure_difference": float(dp), "pressure": float(p_ref),
                                                                  "band": band is not None}))
     return DecayPrediction(squeeze_pressure=p0, models=out, messages=tuple(messages), band=band)

@@ -226,7 +226,8 @@ class Case:
     rarefaction
         The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
     permeation
-        The gas's permeability (and diffusivity) in the rubber of an O-ring gas case, or None: the
+        The gas's permeability (and diffusivity) in the rubber of a gas case (an O-ring, or a ring or rectangle with
+        ``seal.height``), or None: the
         results then carry the permeation leak beside the interface leak (docs/theory.md §11.11).
     capillarity
         A liquid's surface tension and contact angles (``fluid.contact_angle`` etc.), or None: no
