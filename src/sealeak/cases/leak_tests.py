@@ -40,6 +40,7 @@ from .band import BandResult, chebyshev_lobatto_interpolate, run_band
 from .gas import CoupledGasSeal, band_gas_seal, uniform_gas_seals
 from .model import Case
 from .notes import Note, NoteLike
+from .prediction import Model
 from .schema import case_keys
 
 __all__ = ["DecayModel", "DecayPrediction", "decay_prediction", "DecayReadingsResult", "decay_readings", "decay_rig"]
@@ -114,8 +115,9 @@ def decay_rig(case: Case) -> DecayRigSetup:
     return rig
 
 
-def _models(case: Case) -> list[str]:
-    return [m for m in ("critical-junction", "effective-medium") if case.model in (m, "both")]
+def _models(case: Case) -> list[Model]:
+    models: tuple[Model, ...] = ("critical-junction", "effective-medium")
+    return [m for m in models if case.model in (m, "both")]
 
 
 @dataclass(frozen=True)
@@ -131,7 +133,7 @@ class _Seal:
     coupled: CoupledGasSeal | None = None
 
 
-def _uniform(case: Case, rig: DecayRigSetup, model: str) -> _Seal:
+def _uniform(case: Case, rig: DecayRigSetup, model: Model) -> _Seal:
     """One model's :class:`_Seal` at the rig's P0 (flat seal): K at ΔP = 1 Pa, u_c or u_e, the critical junction's λ_c."""
     p0 = rig.squeeze_pressure(case.seal)
     with case_keys():
@@ -139,16 +141,17 @@ def _uniform(case: Case, rig: DecayRigSetup, model: str) -> _Seal:
                                aspect_ratio=case.seal.aspect_ratio, alpha=case.alpha,
                                percolation_threshold=case.percolation_threshold)
         length = float(cj.critical_wavelength[0]) if cj.percolates[0] else math.nan
-        res = cj if model == "critical-junction" else effective_medium(
-            case.contact(), squeeze_pressure=[p0], pressure_difference=1.0, viscosity=case.fluid.viscosity,
-            aspect_ratio=case.seal.aspect_ratio)
-        ok = bool(res.percolates[0])
-        gap = cj.critical_gap[0] if model == "critical-junction" else res.effective_gap[0]  # type: ignore[union-attr]
-        coupled = uniform_gas_seals(case, model, [p0], [ok])[0] if case.coupled else None  # type: ignore[arg-type]
-        return _Seal(float(res.leak_rate[0]) if ok else 0.0, float(gap) if ok else math.nan, length, res.messages, coupled)
+        if model == "critical-junction":
+            ok, k, gap, notes = bool(cj.percolates[0]), float(cj.leak_rate[0]), float(cj.critical_gap[0]), cj.messages
+        else:
+            em = effective_medium(case.contact(), squeeze_pressure=[p0], pressure_difference=1.0,
+                                  viscosity=case.fluid.viscosity, aspect_ratio=case.seal.aspect_ratio)
+            ok, k, gap, notes = bool(em.percolates[0]), float(em.leak_rate[0]), float(em.effective_gap[0]), em.messages
+        coupled = uniform_gas_seals(case, model, [p0], [ok])[0] if case.coupled else None
+        return _Seal(k if ok else 0.0, gap if ok else math.nan, length, notes, coupled)
 
 
-def _band(case: Case, models: list[str]) -> tuple[dict[str, _Seal], BandResult]:
+def _band(case: Case, models: list[Model]) -> tuple[dict[Model, _Seal], BandResult]:
     """Each model's :class:`_Seal` of a band seal at its one load (docs/theory.md §10.1): K = faces · Ly/R, the gap
     u_c at the peak contact pressure or the narrowest effective gap, λ_c at the peak pressure."""
     band = case.band
@@ -171,7 +174,7 @@ def _band(case: Case, models: list[str]) -> tuple[dict[str, _Seal], BandResult]:
         else:  # the narrowest effective gap along the band: u_e = (12 μ σ_min)^(1/3)
             sigma = theory.integrals[0].conductance
             gap = float((12.0 * case.fluid.viscosity * np.min(sigma[sigma > 0])) ** (1.0 / 3.0))
-        coupled = band_gas_seal(case, model, 0, ok) if case.coupled else None  # type: ignore[arg-type]
+        coupled = band_gas_seal(case, model, 0, ok) if case.coupled else None
         out[model] = _Seal(k, gap, float(res.critical_wavelength_at_max_pressure[0]), theory.messages, coupled)
     return out, res
 

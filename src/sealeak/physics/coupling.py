@@ -39,7 +39,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate_at
-from .gas import Gas, _integrand, check_rarefaction_model
+from .gas import Gas, bk_pressure_integrand, check_rarefaction_model
 from .profile import PressureProfile, series_resistance
 
 __all__ = ["LIFT_OFF_FLOOR", "CoupledIntegral", "CoupledBand", "effective_pressure_integral", "coupled_band_flow",
@@ -120,6 +120,23 @@ class CoupledBand:
     shots: int
 
 
+class _Splines:
+    """Cubic splines sharing their knots ``t`` (clipped to them), evaluated at one point in plain floats (an ODE calls
+    them ~10⁵ times)."""
+
+    def __init__(self, t: FloatArray, values: Sequence[FloatArray]) -> None:
+        self.splines = [CubicSpline(t, v) for v in values]
+        self.knots = t.tolist()
+        self.lo, self.hi = float(self.knots[0]), float(self.knots[-1])
+        self.pieces = [tuple(tuple(sp.c[:, i].tolist()) for sp in self.splines) for i in range(len(self.knots) - 1)]
+
+    def __call__(self, t: float) -> list[float]:
+        t = min(max(t, self.lo), self.hi)
+        i = min(max(bisect.bisect_right(self.knots, t) - 1, 0), len(self.pieces) - 1)
+        h = t - self.knots[i]
+        return [((a * h + b) * h + c) * h + d for a, b, c, d in self.pieces[i]]
+
+
 def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callable[..., float]]]:
     """(dx/dθ (m), p (Pa)) as functions of θ ∈ [0, π] for each piece of the band, inlet to outlet.
 
@@ -155,18 +172,12 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     sigma_grid = np.asarray(sheet_conductance(s_grid), dtype=float)
     if not np.all(sigma_grid > 0):
         return CoupledBand(0.0, lifted, True, 0)
-    spline = CubicSpline(np.log(s_grid), np.log(sigma_grid))
-    lo, hi = float(np.log(floor)), float(np.log(p_max))
-
-    knots = spline.x.tolist()
-    pieces_c = [tuple(spline.c[:, i].tolist()) for i in range(len(knots) - 1)]
+    table = _Splines(np.log(s_grid), (np.log(sigma_grid),))
+    spline = table.splines[0]
+    lo, hi = table.lo, table.hi
 
     def sigma(s: float) -> float:  # the spline at one point, in plain floats (the ODE calls it ~10⁵ times)
-        t = min(max(math.log(s) if s > 0 else lo, lo), hi)
-        i = min(max(bisect.bisect_right(knots, t) - 1, 0), len(pieces_c) - 1)
-        a, b, c, d = pieces_c[i]
-        h = t - knots[i]
-        return math.exp(((a * h + b) * h + c) * h + d)
+        return math.exp(table(math.log(s) if s > 0 else lo)[0])
 
     if dp <= 0:
         return CoupledBand(0.0, lifted, True, 0)
@@ -204,22 +215,6 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
 Sheet = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray]]
 
 
-class _Splines:
-    """Cubic splines sharing their knots, evaluated at one point in plain floats (an ODE calls them ~10⁴ times)."""
-
-    def __init__(self, t: FloatArray, values: Sequence[FloatArray]) -> None:
-        splines = [CubicSpline(t, v) for v in values]
-        self.knots = t.tolist()
-        self.lo, self.hi = self.knots[0], self.knots[-1]
-        self.pieces = [tuple(tuple(sp.c[:, i].tolist()) for sp in splines) for i in range(len(self.knots) - 1)]
-
-    def __call__(self, t: float) -> list[float]:
-        t = min(max(t, self.lo), self.hi)
-        i = min(max(bisect.bisect_right(self.knots, t) - 1, 0), len(self.pieces) - 1)
-        h = t - self.knots[i]
-        return [((a * h + b) * h + c) * h + d for a, b, c, d in self.pieces[i]]
-
-
 @dataclass(frozen=True)
 class GasSheet:
     """The pV sheet conductance of a gas in one theory's contact, g(s, P) = σ(s) P f(Kn) (m³/s; docs/theory.md eq. 13.5).
@@ -250,7 +245,7 @@ class GasSheet:
         assert self.gas is not None, "a rarefied sheet needs its gas (for_gas)"
         c = self.gas.rarefaction_pressure_scale / math.exp(ln_h)  # Kn = c/P
         if self.model == "beskok-karniadakis":
-            return sigma * _integrand(p, c)
+            return sigma * bk_pressure_integrand(p, c)
         # kinetic: P f = (12 c/√π) G_P(max(δ, δ_ℓ)), δ = (√π/2) P/c (docs/theory.md §11.5); an infinite slit's
         # G_P diverges (integrably) at P = 0: δ is kept above 1e-12
         delta = max(0.5 * math.sqrt(math.pi) * p / c, math.exp(cap) if self.finite else 1e-12)
