@@ -3,7 +3,9 @@
 :func:`gas_rows` turns a seal's conductance K and narrowest gap h into the pV throughput, molar,
 mass and standard volume flow of the case's gas with its rarefaction, and the helium leak of the
 same seal in the standard test (1 bar against vacuum, 20 °C); :func:`gas_throughput` is the pV
-throughput at other pressure differences (the fit, the Q(ΔP) curves).
+throughput at other pressure differences (the fit, the Q(ΔP) curves). With the fluid pressure coupled, the leak
+and the helium equivalent are the exact gas coupling of each row's seal (:class:`CoupledGasSeal`,
+docs/theory.md §13.5); with ``rubber.permeability``, the permeation through the rubber (§11.11).
 """
 
 from __future__ import annotations
