@@ -56,7 +56,7 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      "Each object of `results` (JSON) or row (CSV), one per squeeze pressure; a band seal's rows lead with its "
      "load (`compression` or `profile_scale`) and list the band fields instead of the uniform seal's. The "
      "effective-medium fields join when the case asks for that model, the gas fields for a gas (the permeation "
-     "fields for an O-ring gas case with `rubber.permeability`), the capillarity fields for a liquid with a contact "
+     "fields for a gas case with `rubber.permeability`), the capillarity fields for a liquid with a contact "
      "angle (`_effective_medium` added for that model's).",
      (CriticalJunctionResult, EffectiveMediumResult, BandColumns, BandEffectiveMediumColumns, CaseResult, GasColumns,
       HeliumColumns, PermeationColumns, CapillaryColumns)),

@@ -8,10 +8,15 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
+from sealeak.cases import example_path
+from sealeak.cases.leak_tests import decay_prediction
+from sealeak.cases.loader import parse_cases
+from sealeak.cases.run import run_case
 from sealeak.cli import main
 from tests.casefiles import edit
 
-#: A flat ring (area 5.498 cm²) on a self-affine face, air at 20 °C; P0 = 76 N / 5.498 cm² = 138 kPa.
+#: A flat ring (area 5.498 cm²) on a self-affine face, air at 20 °C; P0 = 76 N / 5.498 cm² = 138 kPa. The fluid
+#: pressure is ignored (K independent of the pressure: the closed forms of docs/theory.md §11.7 hold).
 DECAY = edit("""[fluid]
 viscosity = "1 mPa*s"
 [conditions]
@@ -29,6 +34,7 @@ downstream_pressure = "1 bar"
 [theory]
 alpha = 0.2
 rarefaction = "RAREFACTION"
+fluid_pressure = "ignored"
 [rig]
 kind = "pressure-decay"
 volume = "0.5 l"
@@ -171,3 +177,44 @@ def test_bad_readings_one_line_exit_2(tmp_path, capsys, header, why):
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "Traceback" not in err and "r.csv" in err and why in err, err
     assert not out.exists()
+
+
+def _same_pressures(text):
+    """The case's squeeze pressure set to the rig's P0 = load/area, so that predict and the rig see the same seal."""
+    case = parse_cases(text)[0]
+    p0 = case.rig.squeeze_pressure(case.seal)
+    return parse_cases(text.replace('squeeze_pressure = "0.3 MPa"', f'squeeze_pressure = "{p0!r} Pa"'))[0]
+
+
+@pytest.mark.parametrize("fluid_pressure", ["coupled", "ignored"])
+@pytest.mark.parametrize("rarefaction", ["kinetic", "no-slip"])
+def test_initial_leak_is_predicts_gas_leak(tmp_path, fluid_pressure, rarefaction):
+    """The rig's leak at t = 0 (P1 against P2) is predict's gas leak at the same pressures, for both models: the same
+    slit length λc and, with the fluid pressure coupled, the same exact gas coupling (docs/theory.md §11.7.1, §13.5)."""
+    text = decay_case(tmp_path, rarefaction).read_text().replace('fluid_pressure = "ignored"',
+                                                                 f'fluid_pressure = "{fluid_pressure}"')
+    case = _same_pressures(text.replace('alpha = 0.2\n', 'alpha = 0.2\nmodel = "both"\n', 1))
+    gas = run_case(case).gas
+    assert gas is not None
+    rig = decay_prediction(case)
+    for name, model in rig.models.items():
+        rows = gas["critical_junction" if name.startswith("critical") else "effective_medium"]
+        assert model.initial_leak is not None and rows.leaks is not None and rows.leaks[0] is not None
+        assert model.initial_leak.throughput == pytest.approx(rows.leaks[0].throughput, rel=1e-6)
+        assert model.decay.throughput[0] == pytest.approx(rows.leaks[0].throughput, rel=1e-6)
+
+
+def test_band_rig_initial_leak_is_predicts_gas_leak():
+    """An O-ring at one compression, tested by pressure decay at predict's pressures (helium, 1 bar against vacuum):
+    the rig's coupled throughput, interpolated in P, is exact at P1."""
+    text = example_path("helium-test").read_text(encoding="utf-8").replace(
+        'compression = ["10 %", "15 %", "20 %", "25 %"]', 'compression = "15 %"') + (
+        '\n[rig]\nkind = "pressure-decay"\nvolume = "0.1 l"\ninitial_pressure = "1 bar"\noutside_pressure = "0 Pa"\n'
+        'pressure_loss = "1 mbar"\n')
+    case = parse_cases(text)[0]
+    rows = run_case(case).gas["critical_junction"]
+    (model,) = decay_prediction(case).models.values()
+    assert model.initial_leak.throughput == pytest.approx(rows.leaks[0].throughput, rel=1e-6)
+    # the interpolated Q(P) below P1 lies between 0 and Q(P1) and falls with P
+    q = model.decay.throughput
+    assert np.all(np.diff(q) < 0) and q[-1] > 0

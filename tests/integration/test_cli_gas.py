@@ -18,11 +18,14 @@ from tests.cli_errors import one_line_error
 
 R = 6.02214076e23 * 1.380649e-23  # J/(mol K), exact
 
-#: The base case with helium between two absolute pressures, at squeeze pressures where it leaks.
+#: The base case with helium between two absolute pressures, at squeeze pressures where it leaks; the fluid pressure
+#: is ignored, so that K does not depend on the pressure and the formulas of docs/theory.md §11 hold as written
+#: (the coupled gas leak, §13.5: tests/unit/test_gas_coupling.py and the last test here).
+GAS_BASE = edit("alpha = 0.2", 'alpha = 0.2\nfluid_pressure = "ignored"', BASE)
 GAS = edit('viscosity = "1 mPa*s"', 'name = "helium"',
            edit('pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"',
                 edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]',
-                     BASE)))
+                     GAS_BASE)))
 
 
 def gas_case(fluid="helium", upstream="1 bar", downstream="0 Pa", extra_theory="", extra_fluid=""):
@@ -69,7 +72,7 @@ def test_small_pressure_drop_tends_to_the_liquid_formula_with_the_gas_viscosity(
     liquid_text = edit('pressure_difference = "10 kPa"', f'pressure_difference = "{pa - pb} Pa"',
                        edit('viscosity = "1 mPa*s"', f'viscosity = "{mu!r} Pa*s"',
                             edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
-                                 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]')))
+                                 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]', GAS_BASE)))
     liquid = predict_json(tmp_path, capsys, liquid_text)
     pm = 0.5 * (pa + pb)
     for g, q in zip(gas["results"], liquid["results"]):
@@ -115,10 +118,14 @@ def test_helium_equivalent_of_a_gas_case_is_gas_leak_of_helium(tmp_path, capsys)
         assert rec["leak_rate_pv_effective_medium"] > 0
 
 
+def _liquid_with_helium_equivalent(base):
+    return edit('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nhelium_equivalent = true',
+                edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]',
+                     base))
+
+
 def test_helium_equivalent_of_a_liquid_when_asked(tmp_path, capsys):
-    text = edit('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nhelium_equivalent = true',
-                edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["0.3 MPa", "0.5 MPa"]'))
-    doc = predict_json(tmp_path, capsys, text)
+    doc = predict_json(tmp_path, capsys, _liquid_with_helium_equivalent(GAS_BASE))
     for rec in leaking(doc):
         expected = _helium_by_hand(rec["leak_rate"] / rec["pressure_difference"], 1e-3, rec["critical_gap"],
                                    rec["critical_wavelength"])
@@ -126,6 +133,22 @@ def test_helium_equivalent_of_a_liquid_when_asked(tmp_path, capsys):
         assert "leak_rate_pv" not in rec  # a liquid has no gas throughput of its own
     plain = predict_json(tmp_path, capsys, BASE)
     assert not any(k.startswith("leak_rate_helium") for k in plain["units"])
+
+
+def test_coupled_helium_equivalent_is_the_helium_test_of_the_same_seal(tmp_path, capsys):
+    """With the fluid pressure coupled (the default), the helium equivalent of a liquid case is the exact gas coupling
+    of helium at 1 bar against vacuum (docs/theory.md §13.5): the gas leak of a helium case with the same seal, not
+    the liquid's K at its own ΔP."""
+    liquid = predict_json(tmp_path, capsys, _liquid_with_helium_equivalent(BASE))
+    helium = predict_json(tmp_path, capsys, edit('fluid_pressure = "ignored"', 'fluid_pressure = "coupled"', GAS))
+    for rec, he in zip(leaking(liquid), leaking(helium), strict=True):
+        assert rec["squeeze_pressure"] == he["squeeze_pressure"]
+        assert rec["leak_rate_helium_pv"] == pytest.approx(he["leak_rate_pv"], rel=1e-6)
+        # ΔP = 1 bar against P0 = 0.3–0.5 MPa: the helium presses on the contact and leaks more than the liquid's
+        # K at its 10 kPa would let it (the old approximation)
+        by_k = _helium_by_hand(rec["leak_rate"] / rec["pressure_difference"], 1e-3, rec["critical_gap"],
+                               rec["critical_wavelength"])
+        assert rec["leak_rate_helium_pv"] > 1.2 * by_k
 
 
 def test_gas_table_is_printed(tmp_path, capsys):
@@ -146,12 +169,17 @@ def test_oring_with_a_gas_uses_the_band_conductance(tmp_path, capsys):
     text = text.replace('pressure_difference = "1 bar"', 'upstream_pressure = "2 bar"\ndownstream_pressure = "1 bar"')
     text = text.replace('model = "both"', 'model = "critical-junction"\nrarefaction = "no-slip"')
     text = text.replace('num = 9', 'num = 3')
-    doc = predict_json(tmp_path, capsys, text)
-    rows = leaking(doc)
-    for rec in rows:
+    ignored = predict_json(tmp_path, capsys, text.replace('rarefaction = "no-slip"',
+                                                          'rarefaction = "no-slip"\nfluid_pressure = "ignored"'))
+    for rec in leaking(ignored):
         k = rec["leak_rate"] / rec["pressure_difference"]
         assert rec["leak_rate_pv"] == pytest.approx(k * (4e10 - 1e10) / 2, rel=1e-10)
         assert rec["knudsen_number"] > 0
+    # coupled (the default): the gas pressure, largest where σ is (upstream), weights the band's conductance, so
+    # the no-slip leak exceeds the coupled liquid K times (P_a² − P_b²)/2 (docs/theory.md §13.5)
+    for rec in leaking(predict_json(tmp_path, capsys, text)):
+        k = rec["leak_rate"] / rec["pressure_difference"]
+        assert rec["leak_rate_pv"] > 1.001 * k * (4e10 - 1e10) / 2
 
 
 def test_kinetic_default_predicts_more_than_beskok_karniadakis(tmp_path, capsys):

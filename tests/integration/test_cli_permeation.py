@@ -103,12 +103,47 @@ def test_bad_permeation_input_is_one_line(tmp_path, capsys, edit, field, words):
     assert not out.exists()
 
 
-def test_refused_for_a_liquid_and_for_a_ring(tmp_path, capsys):
+#: The test ring (tests.casefiles.BASE) with helium at 1 bar against vacuum and a permeability.
+RING = BASE.replace('[fluid]\nviscosity = "1 mPa*s"', '[fluid]\nname = "helium"').replace(
+    'pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"').replace(
+    "poisson_ratio = 0.5\n", PERM, 1)
+
+
+def test_refused_for_a_liquid_and_for_a_ring_without_height(tmp_path, capsys):
     oring = example_path("o-ring").read_text(encoding="utf-8")
     rc, out, cap = _run(tmp_path, capsys, oring.replace(RUBBER, PERM))
     assert rc == 2 and "rubber.permeability" in cap.err and "gas" in cap.err and not out.exists()
-    ring = BASE.replace('[fluid]\nviscosity = "1 mPa*s"', '[fluid]\nname = "helium"').replace(
-        'pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"').replace(
-        "poisson_ratio = 0.5\n", PERM, 1)
-    rc, out, cap = _run(tmp_path, capsys, ring)
-    assert rc == 2 and "rubber.permeability" in cap.err and "O-ring" in cap.err and not out.exists(), cap.err
+    rc, out, cap = _run(tmp_path, capsys, RING)
+    assert rc == 2 and cap.err.count("\n") == 1 and not out.exists(), cap.err
+    assert "rubber.permeability" in cap.err and "seal.height" in cap.err, cap.err
+
+
+def test_refused_for_a_pressure_profile(tmp_path, capsys):
+    lip = example_path("lip-profile").read_text(encoding="utf-8")
+    lip = lip.replace('name = "oil"\nviscosity = "30 mPa*s"', 'name = "helium"').replace(
+        'pressure_difference = "20 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"').replace(
+        'poisson_ratio = 0.5\n', PERM, 1)
+    (tmp_path / "lip-profile.csv").write_text(example_path("lip-profile").with_suffix(".csv").read_text(encoding="utf-8"),
+                                              encoding="utf-8")
+    rc, out, cap = _run(tmp_path, capsys, lip)
+    assert rc == 2 and cap.err.count("\n") == 1 and not out.exists(), cap.err
+    assert "rubber.permeability" in cap.err and "pressure profile" in cap.err, cap.err
+
+
+def test_a_ring_with_its_height_permeates_through_the_slab(tmp_path, capsys):
+    """Fick's law through the slab of the seal's height H across its width w (docs/theory.md §11.11): Q = P ΔP Ly H/w,
+    the time lag w²/(6D), the same at every squeeze pressure; doubling H doubles Q."""
+    rows = {}
+    for height in ("2 mm", "4 mm"):
+        rc, out, cap = _run(tmp_path, capsys, RING.replace('outer_diameter = "4 cm"\n',
+                                                           f'outer_diameter = "4 cm"\nheight = "{height}"\n'))
+        assert rc == 0, cap.err
+        rows[height] = json.loads(out.read_text(encoding="utf-8"))["results"]
+    w, ly = 5e-3, math.pi * 35e-3  # the ring 30/40 mm: width (Do − Di)/2, seal line π (Do + Di)/2
+    for row in rows["2 mm"]:
+        assert row["leak_rate_permeation_pv"] == pytest.approx(2e-12 * 1e5 * ly * 2e-3 / w, rel=1e-12)
+        assert row["permeation_breakthrough_time"] == pytest.approx(w**2 / (6 * 1e-10), rel=1e-12)
+        total = row["leak_rate_pv"] + row["leak_rate_permeation_pv"] if row["leak_rate_pv"] else row["leak_rate_permeation_pv"]
+        assert row["leak_rate_total_pv"] == pytest.approx(total, rel=1e-12)
+    for thin, thick in zip(rows["2 mm"], rows["4 mm"], strict=True):
+        assert thick["leak_rate_permeation_pv"] == pytest.approx(2 * thin["leak_rate_permeation_pv"], rel=1e-12)

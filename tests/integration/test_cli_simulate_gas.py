@@ -13,6 +13,8 @@ import numpy as np
 import pytest
 
 from sealeak.cli import main
+from sealeak.physics.gas import pressure_integral
+from sealeak.physics.properties import fluid_state
 from tests.casefiles import BASE, edit
 
 R = 8.314462618  # J/(mol K)
@@ -141,3 +143,22 @@ def test_helium_mean_free_path_sets_the_reported_knudsen_number(slip):
     kn = _rows(doc, "knudsen_number")
     q = _rows(doc, "leak_rate_critical_junction")
     assert kn[0] / kn[1] == pytest.approx(math.pow(q[1] / q[0], 1 / 3), rel=1e-9)
+
+
+def test_theory_column_is_a_slit_of_the_critical_wavelength(slip):
+    """The theory's gas leak is predict's: K ∫ p f dp through a slit of height u_c and length λc, whose kinetic
+    free-molecular flow is capped (docs/theory.md §11.4); against vacuum an infinite slit's f grows without bound as
+    p → 0, so the capped slit passes less."""
+    doc, _ = slip
+    he = fluid_state("helium", T, PA).gas()
+    grid, size = doc["settings"]["grid"], doc["settings"]["size"]
+    for row in doc["results"]:
+        if row["leak_rate_pv_critical_junction"] is None:
+            continue
+        k = row["leak_rate_critical_junction"] / (PA - PB)
+        gap = float(he.mean_free_path(0.5 * (PA + PB))) / row["knudsen_number"]
+        lam_c = size * row["junction_cells"] / grid  # λc = L/ζc, the cells N/ζc
+        capped = k * pressure_integral(gap, he, PA, PB, "kinetic", lam_c)
+        assert row["leak_rate_pv_critical_junction"] == pytest.approx(capped, rel=1e-9)
+        # the test's gaps (tens of µm) are nearly continuum: the cap is small here, but well above the tolerance
+        assert abs(k * pressure_integral(gap, he, PA, PB, "kinetic") / capped - 1) > 1e-7

@@ -371,7 +371,8 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
 
 def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | None,
                 temperature: float) -> RubberPermeation | None:
-    """``[rubber] permeability`` and ``diffusivity`` (m²/s) of an O-ring gas case (docs/case-files.md), else None.
+    """``[rubber] permeability`` and ``diffusivity`` (m²/s) of a gas case with an O-ring, or a ring or rectangle seal
+    with ``seal.height`` (docs/case-files.md), else None; a pressure profile has no rubber path (refused).
 
     The permeability as written in m²/s (pV form), or published (mol/(m·s·Pa), Barrer) and turned into the pV
     form at the gas temperature (K) by :func:`~sealeak.io.leak_units.parse_permeability`."""
@@ -384,15 +385,20 @@ def _permeation(rubber: Section, seal: Section, is_gas: bool, band: BandSeal | N
         raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
                          "is for a gas case (fluid.name a gas, with upstream_pressure and downstream_pressure): "
                          "the permeation through the rubber is a gas leak")
-    if band is None or band.kind != "o-ring":
+    if band is not None and band.kind != "o-ring":
         raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
-                         f"is for an O-ring (seal.shape = \"o-ring\"): the permeation path is its squeezed cord; "
-                         f"{seal.field('shape')} is {seal.raw('shape', 'not given')!r}")
+                         "is for an O-ring, a ring or a rectangle seal: a pressure profile gives no rubber cross-section "
+                         "for the gas to diffuse through")
+    if band is None and not seal.has("height"):
+        raise InputError(rubber.field("permeability"), rubber.raw("permeability"),
+                         f"needs {seal.field('height')} for a {seal.raw('shape', 'flat')} seal: the gas diffuses through "
+                         "the rubber slab of that height across the seal's width")
     permeability = parse_permeability(rubber.field("permeability"), rubber.raw("permeability"), temperature=temperature)
     if not permeability > 0:
         raise InputError(rubber.field("permeability"), rubber.raw("permeability"), "must be > 0")
     return RubberPermeation(permeability=permeability,
-                            diffusivity=rubber.quantity("diffusivity", "area_per_time") if rubber.has("diffusivity") else None)
+                            diffusivity=rubber.quantity("diffusivity", "area_per_time") if rubber.has("diffusivity") else None,
+                            height=seal.quantity("height", "length") if band is None else None)
 
 
 #: Known fluids that are liquids at 20 °C and 1 atm: with a viscosity given and no absolute pressures,

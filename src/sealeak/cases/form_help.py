@@ -84,12 +84,14 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "Shore A hardness S instead of E: E from Gent's relation E = 0.0981 (56 + 7.62336 S)/(0.137505 (254 − 2.54 S)) MPa (theory §10.2); "
                      "uncertain by −20 %…+28 % at 70 Shore A: a measured E is better"),
     "rubber.permeability": FieldHelp("Gas permeability P", "rubber-the-rubber",
-                     "O-ring gas case: the gas's pV permeability P in the rubber, the pV throughput (Pa·m³/s of the gas at its "
+                     "gas case: the gas's pV permeability P in the rubber, the pV throughput (Pa·m³/s of the gas at its "
                      "temperature) through 1 m² of a 1 m thick layer per Pa of pressure difference, in m²/s, or as published "
-                     "in Barrer (\"3 barrer\") or mol/(m·s·Pa), converted at the gas temperature (P = Π R T); adds the permeation "
-                     "leak through the squeezed cord to the results (theory §11.11)"),
+                     "in Barrer (\"3 barrer\") or mol/(m·s·Pa), converted at the gas temperature (P = Π R T); adds the "
+                     "permeation leak through the rubber to the results: an O-ring's squeezed cord, or a ring or rectangle "
+                     "seal's slab seal.height × width (theory §11.11)"),
     "rubber.diffusivity": FieldHelp("Gas diffusivity D", "rubber-the-rubber",
-                     "O-ring gas case: the gas's diffusivity D in the rubber; sets the permeation's breakthrough time t_lag = t²/(6D)"),
+                     "gas case: the gas's diffusivity D in the rubber; sets the permeation's breakthrough time t_lag = "
+                     "t²/(6D), t the path across the rubber (the cord's width, or a flat seal's width)"),
     "substrate.youngs_modulus": FieldHelp("Young's modulus E", "substrate-an-elastic-substrate-optional",
                      "Young's modulus E2 of the substrate"),
     "substrate.poisson_ratio": FieldHelp("Poisson ratio ν", "substrate-an-elastic-substrate-optional",
@@ -107,7 +109,9 @@ FIELD_HELP: dict[str, FieldHelp] = {
     "seal.length": FieldHelp("Length Ly", "seal-the-seal-geometry",
                      "rectangle: length Ly across the flow"),
     "seal.height": FieldHelp("Height", "seal-the-seal-geometry",
-                     "height of the seal (e.g. \"0.5 cm\" in reference-experiment); listed in the report's inputs, not used in any calculation"),
+                     "height H of a ring or rectangle seal (e.g. \"0.5 cm\" in reference-experiment): the face the gas "
+                     "enters the rubber by, for the permeation of a gas case with rubber.permeability (Q = P ΔP Ly H/w, "
+                     "theory §11.11); else listed in the report's inputs and not used"),
     "seal.cross_section_diameter": FieldHelp("Cross-section diameter d", "seal-the-seal-geometry",
                      "O-ring: cross-section (cord) diameter d"),
     "seal.mean_diameter": FieldHelp("Mean diameter D", "seal-the-seal-geometry",

@@ -148,10 +148,14 @@ class RubberPermeation:
         thick layer per Pa of pressure difference.
     diffusivity
         D (m²/s), or None (no breakthrough time).
+    height
+        H (m), ``seal.height`` of a flat ring or rectangle seal: the rubber face the gas enters by (the slab H × w
+        of docs/theory.md §11.11); None for an O-ring (its squeezed cord is the path).
     """
 
     permeability: float
     diffusivity: float | None = None
+    height: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -222,7 +226,8 @@ class Case:
     rarefaction
         The slip model of gas flow (``theory.rarefaction``), also used by the helium equivalent.
     permeation
-        The gas's permeability (and diffusivity) in the rubber of an O-ring gas case, or None: the
+        The gas's permeability (and diffusivity) in the rubber of a gas case (an O-ring, or a ring or rectangle with
+        ``seal.height``), or None: the
         results then carry the permeation leak beside the interface leak (docs/theory.md §11.11).
     capillarity
         A liquid's surface tension and contact angles (``fluid.contact_angle`` etc.), or None: no

@@ -624,20 +624,21 @@ class GasSimulation:
         object.__setattr__(self, "throughput_mbar_l_s", to_mbar_l_per_s(self.throughput))
 
 
-def gas_part(case: Case, q_theory: FloatArray, u_c: FloatArray,
+def gas_part(case: Case, q_theory: FloatArray, u_c: FloatArray, length: FloatArray,
              flows: Flows) -> tuple[GasSimulation | None, dict[str, NDArray[Any]]]:
     """A gas case's :class:`GasSimulation` and its per-realisation arrays (None and {} for a liquid).
 
-    The theory is ``predict``'s (:func:`sealeak.cases.run.gas_rows`): the channel of conductance
+    The theory is ``predict``'s (:func:`sealeak.cases.gas.gas_rows`): the channel of conductance
     K = Q/ΔP of the liquid theory ``q_theory`` (α = 1, the gas's viscosity; m³/s) whose gap is ``u_c`` (m),
-    integrated along the pressure drop with the case's rarefaction model (docs/theory.md §11.5).
+    a slit of length ``length`` λ_c (m; the kinetic model's free-molecular cap, NaN: an infinite slit), integrated
+    along the pressure drop with the case's rarefaction model (docs/theory.md §11.4, §11.5).
     """
     gas = case.gas
     if gas is None:
         return None, {}
     with np.errstate(invalid="ignore", divide="ignore"):
         k = np.where(np.isfinite(q_theory) & (q_theory > 0), q_theory / case.pressure_difference, 0.0)
-    leaks = gas_rows(case, k, np.where(np.isfinite(u_c), u_c, np.nan)).leaks or ()
+    leaks = gas_rows(case, k, np.where(np.isfinite(u_c), u_c, np.nan), length, helium=False).leaks or ()
     theory = np.array([g.throughput if g is not None else np.nan for g in leaks])
     perc, pv = flows.percolates, flows.pv
     pv_m, pv_s = mean_std(pv)

@@ -191,6 +191,7 @@ class _SquarePlan:
     q_cj: FloatArray
     junction_cells: FloatArray
     u_c: FloatArray
+    critical_wavelength: FloatArray
     contact_theory: FloatArray
     threshold_anchor: float
 
@@ -219,10 +220,10 @@ class PeriodicSquare:
         pressures = np.sort(np.asarray(case.squeeze_pressure, dtype=float))
         if not np.array_equal(pressures, case.squeeze_pressure):
             notes.append(Note("pressures_sorted"))
-        q_cj, junction_cells, u_c = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
+        q_cj, junction_cells, u_c, lam_c = _theory_leak_rate(sim_case, pressures, grid, cut_at, notes)
         contact_theory = sim_case.contact().area(sim_case.spectrum.q_max / sim_case.q0, pressures)
         return _SquarePlan(case=sim_case, spectrum=spectrum, size=size, cut_at=cut_at, pressures=pressures, q_cj=q_cj,
-                           junction_cells=junction_cells, u_c=u_c, contact_theory=contact_theory,
+                           junction_cells=junction_cells, u_c=u_c, critical_wavelength=lam_c, contact_theory=contact_theory,
                            threshold_anchor=_threshold_anchor(sim_case))
 
     def tasks(self, plan: _SquarePlan, common: RunSettings, realizations: int) -> list[EnsembleTask]:
@@ -252,7 +253,7 @@ class PeriodicSquare:
         thr_m, thr_s = mean_std(thresholds[:, None])
         if self.threshold and np.isnan(thresholds).all():
             notes.append(Note("no_threshold_found"))
-        gas_result, per_gas = gas_part(case, q_cj, plan.u_c, flows)
+        gas_result, per_gas = gas_part(case, q_cj, plan.u_c, plan.critical_wavelength, flows)
         capillarity, per_capillary = capillary_part(case, records, SweepRecord, plan.u_c, perc)
         return SimulationResult(
             squeeze_pressure=pressures, pressure_difference=float(case.pressure_difference), relative_contact_area=area_m,
@@ -390,10 +391,11 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
 
 
 def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: float | None,
-                      notes: list[NoteLike]) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Critical-junction Q (α = 1, m³/s) of the (cut) spectrum, the grid cells across each junction, and u_c.
+                      notes: list[NoteLike]) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Critical-junction Q (α = 1, m³/s) of the (cut) spectrum, the grid cells across each junction, u_c and λc.
 
-    Returns ``(q_cj, cells, u_c)``: u_c is ``predict``'s critical gap (m; NaN where Q_cj is not computed);
+    Returns ``(q_cj, cells, u_c, λc)``: u_c and λc are ``predict``'s critical gap and wavelength (m; NaN where Q_cj
+    is not computed);
     cells = N/ζc, the grid cells across the critical wavelength
     λc = L/ζc (NaN where the theory has no junction). The critical gap u_c = u1(ζc) falls to zero as
     ζc approaches the end of the spectrum ζ1 (u1(ζ1) = 0, docs/theory.md §2.10); on a coarse grid
@@ -410,11 +412,13 @@ def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: floa
     at_end = percolates & ~(np.isfinite(u_c) & (u_c > 0)) & (zeta_c - 1.0 > 0.5 * (zeta_1 - 1.0))
     q_cj = np.full(pressures.size, np.nan)
     gap_c = np.full(pressures.size, np.nan)
+    lam_c = np.full(pressures.size, np.nan)
     keep = ~at_end
     if keep.any():
         cj = predict(replace(case, alpha=1.0), squeeze_pressure=pressures[keep])
         q_cj[keep] = cj.leak_rate
         gap_c[keep] = np.where(cj.percolates, cj.critical_gap, np.nan)
+        lam_c[keep] = np.where(cj.percolates, cj.critical_wavelength, np.nan)
     cells = np.where(percolates, grid / zeta_c, np.nan)
     coarse = percolates & (cells < JUNCTION_CELLS)
     if coarse.any():
@@ -422,7 +426,7 @@ def _theory_leak_rate(case: Case, pressures: FloatArray, grid: int, cut_at: floa
             "grid": grid, "cut_at": cut_at, "zeta_1": float(zeta_1), "min_cells": JUNCTION_CELLS,
             "coarse": tuple(float(p) for p in pressures[coarse & ~at_end]),
             "at_end": tuple(float(p) for p in pressures[at_end])}))
-    return q_cj, cells, gap_c
+    return q_cj, cells, gap_c, lam_c
 
 
 def _threshold_anchor(case: Case) -> float:

@@ -398,7 +398,8 @@ class OringBand:
         alpha_m, alpha_s = pipeline.mean_std(alpha_r)
         # the series-resistance gas leak: K = Q_sr/ΔP (α = 1, the gas's viscosity), gap u_c at the peak pressure (§11.9)
         u_c = np.where(np.isfinite(q_sr), np.asarray(plan.theory.critical_gap_at_max_pressure, dtype=float), np.nan)
-        gas_result, per_gas = pipeline.gas_part(plan.theory_case, q_sr, u_c, flows)
+        gas_result, per_gas = pipeline.gas_part(plan.theory_case, q_sr, u_c,
+                                                np.asarray(plan.theory.critical_wavelength_at_max_pressure, dtype=float), flows)
         capillarity, per_capillary = pipeline.capillary_part(plan.case, records, BandRecord,
                                                              np.asarray(plan.theory.critical_gap_at_max_pressure, float), perc)
         return BandSimulationResult(

@@ -285,7 +285,7 @@ class MapSquares:
             # q0 = 2π/L, and the grid cells across the critical wavelength are counted on the solver's grid
             sim_case = replace(case, spectrum=spectrum, q0=2.0 * np.pi / info.domain, alpha=1.0,
                                spectrum_note=f"{info.label}: its own C(q)")
-            cj, cells_r, _ = _theory_leak_rate(sim_case, pressures, grid, cut_at, map_notes)
+            cj, cells_r, _, _ = _theory_leak_rate(sim_case, pressures, grid, cut_at, map_notes)
             em = predict_effective_medium(sim_case, squeeze_pressure=pressures).leak_rate
             notes.extend(map_notes)
             infos.append(replace(info, spectrum=spectrum))

@@ -14,6 +14,9 @@ substitution s = P0 − p_f separates it (eq. 13.2):
     Q = (Ly/w) ∫_{P0−ΔP}^{P0} σ(s) ds           (:func:`effective_pressure_integral`)
 
 and for a band seal it is an ODE in x solved by shooting on Q (:func:`coupled_band_flow`, eq. 13.3).
+A gas conserves its pV throughput instead, Q_pV = −Ly σ(p(x) − (P − P_b)) f(Kn) P dP/dx with the
+rarefaction factor f at the local gas pressure P and the local gap (eq. 13.5; :class:`GasSheet`,
+:func:`coupled_gas_integral`, :func:`coupled_gas_band_flow`).
 The seal opens (lifts off) where the fluid pressure reaches the contact pressure; it can first do
 so at the peak p_max (P0 for a uniform seal), so ΔP ≥ p_max opens the seal: the functions then
 return the limit ΔP → p_max and say so (``lifted``). Effective pressures below
@@ -27,18 +30,21 @@ from __future__ import annotations
 import bisect
 import math
 import warnings
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import ode, solve_ivp
+from scipy.integrate import ode, quad, solve_ivp
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
+from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate_at
+from .gas import Gas, bk_pressure_integrand, check_rarefaction_model
 from .profile import PressureProfile, series_resistance
 
-__all__ = ["LIFT_OFF_FLOOR", "CoupledIntegral", "CoupledBand", "effective_pressure_integral", "coupled_band_flow"]
+__all__ = ["LIFT_OFF_FLOOR", "CoupledIntegral", "CoupledBand", "effective_pressure_integral", "coupled_band_flow",
+           "GasSheet", "gas_sheet", "coupled_gas_integral", "coupled_gas_band_flow"]
 
 FloatArray = NDArray[np.float64]
 
@@ -115,6 +121,23 @@ class CoupledBand:
     shots: int
 
 
+class _Splines:
+    """Cubic splines sharing their knots ``t`` (clipped to them), evaluated at one point in plain floats (an ODE calls
+    them ~10⁵ times)."""
+
+    def __init__(self, t: FloatArray, values: Sequence[FloatArray]) -> None:
+        self.splines = [CubicSpline(t, v) for v in values]
+        self.knots = t.tolist()
+        self.lo, self.hi = float(self.knots[0]), float(self.knots[-1])
+        self.pieces = [tuple(tuple(sp.c[:, i].tolist()) for sp in self.splines) for i in range(len(self.knots) - 1)]
+
+    def __call__(self, t: float) -> list[float]:
+        t = min(max(t, self.lo), self.hi)
+        i = min(max(bisect.bisect_right(self.knots, t) - 1, 0), len(self.pieces) - 1)
+        h = t - self.knots[i]
+        return [((a * h + b) * h + c) * h + d for a, b, c, d in self.pieces[i]]
+
+
 def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callable[..., float]]]:
     """(dx/dθ (m), p (Pa)) as functions of θ ∈ [0, π] for each piece of the band, inlet to outlet.
 
@@ -178,18 +201,12 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     sigma_grid = np.asarray(sheet_conductance(s_grid), dtype=float)
     if not np.all(sigma_grid > 0):
         return CoupledBand(0.0, lifted, True, 0)
-    spline = CubicSpline(np.log(s_grid), np.log(sigma_grid))
-    lo, hi = float(np.log(floor)), float(np.log(p_max))
-
-    knots = spline.x.tolist()
-    pieces_c = [tuple(spline.c[:, i].tolist()) for i in range(len(knots) - 1)]
+    table = _Splines(np.log(s_grid), (np.log(sigma_grid),))
+    spline = table.splines[0]
+    lo, hi = table.lo, table.hi
 
     def sigma(s: float) -> float:  # the spline at one point, in plain floats (the ODE calls it ~10⁵ times)
-        t = min(max(math.log(s) if s > 0 else lo, lo), hi)
-        i = min(max(bisect.bisect_right(knots, t) - 1, 0), len(pieces_c) - 1)
-        a, b, c, d = pieces_c[i]
-        h = t - knots[i]
-        return math.exp(((a * h + b) * h + c) * h + d)
+        return math.exp(table(math.log(s) if s > 0 else lo)[0])
 
     if dp <= 0:
         return CoupledBand(0.0, lifted, True, 0)
@@ -227,3 +244,139 @@ def _shoot(pieces: list[tuple[Callable[..., float], Callable[..., float]]], sigm
             return CoupledBand(q_hi, lifted, False, shots)
     q, info = brentq(outlet, q_lo, q_hi, xtol=1e-12 * q_lo, rtol=rtol, full_output=True)
     return CoupledBand(float(q), lifted, bool(info.converged), shots)
+
+
+# ---------------------------------------------------------------------- gases (docs/theory.md §13.5)
+#: The sheet of one theory at effective pressures s (Pa, an array): its σ(s) (m³/(Pa·s), with the gas's viscosity),
+#: the gap h(s) of its narrowest constriction (m) and that constriction's length L(s) along the flow (m; NaN: an infinite slit).
+Sheet = Callable[[FloatArray], tuple[FloatArray, FloatArray, FloatArray]]
+
+
+@dataclass(frozen=True)
+class GasSheet:
+    """The pV sheet conductance of a gas in one theory's contact, g(s, P) = σ(s) P f(Kn) (m³/s; docs/theory.md eq. 13.5).
+
+    σ(s), the gap h(s) and the kinetic cap δ_ℓ(s) of the slit length ℓ = L(s)/h(s) are cubic splines in ln s
+    through :data:`TABLE_POINTS` values over [``low``, ``high``] (effective pressures outside are clipped to it);
+    Kn = λ(P)/h(s) is the gas's at the absolute pressure P. ``scale`` multiplies σ (another viscosity:
+    σ ∝ 1/μ). Build the contact's tables with :func:`gas_sheet` (no-slip, no gas); :meth:`for_gas` names the gas.
+    """
+
+    tables: _Splines
+    finite: bool
+    gas: Gas | None = None
+    model: str = "no-slip"
+    scale: float = 1.0
+
+    def for_gas(self, gas: Gas, model: str, scale: float) -> GasSheet:
+        """The same contact and gaps with ``gas``, rarefaction ``model`` and σ multiplied by ``scale`` (μ_old/μ_new)."""
+        check_rarefaction_model(model)
+        return replace(self, gas=gas, model=model, scale=scale)
+
+    def __call__(self, s: float, p: float) -> float:
+        """g(s, P) in m³/s at the effective contact pressure s (Pa) and the absolute gas pressure P (Pa, >= 0)."""
+        ln_sigma, ln_h, cap = self.tables(math.log(s) if s > 0 else self.tables.lo)
+        sigma = self.scale * math.exp(ln_sigma)
+        if self.model == "no-slip":
+            return sigma * p
+        assert self.gas is not None, "a rarefied sheet needs its gas (for_gas)"
+        c = self.gas.rarefaction_pressure_scale / math.exp(ln_h)  # Kn = c/P
+        if self.model == "beskok-karniadakis":
+            return sigma * bk_pressure_integrand(p, c)
+        # kinetic: P f = (12 c/√π) G_P(max(δ, δ_ℓ)), δ = (√π/2) P/c (docs/theory.md §11.5); an infinite slit's
+        # G_P diverges (integrably) at P = 0: δ is kept above 1e-12
+        delta = max(0.5 * math.sqrt(math.pi) * p / c, math.exp(cap) if self.finite else 1e-12)
+        return sigma * 12.0 * c / math.sqrt(math.pi) * poiseuille_flow_rate_at(delta)
+
+
+def gas_sheet(sheet: Sheet, low: float, high: float) -> GasSheet | None:
+    """The :class:`GasSheet` of ``sheet`` (σ, h, L at effective pressures, Pa) over [``low``, ``high``] (Pa), or None
+    where σ vanishes somewhere in that range (the contact seals); no-slip until :meth:`GasSheet.for_gas`."""
+    s = np.geomspace(min(low, 0.5 * high), high, TABLE_POINTS)
+    sigma, gap, length = (np.asarray(v, dtype=float) for v in sheet(s))
+    if not (np.all(sigma > 0) and np.all(np.isfinite(gap) & (gap > 0))):
+        return None
+    finite = bool(np.all(np.isfinite(length) & (length > 0)))
+    cap = np.log([capped_rarefaction(float(r)) for r in length / gap]) if finite else np.zeros(s.size)
+    return GasSheet(_Splines(np.log(s), (np.log(sigma), np.log(gap), cap)), finite)
+
+
+def coupled_gas_integral(sheet: GasSheet, squeeze_pressure: ArrayLike, downstream_pressure: float,
+                         pressure_difference: float, *, rtol: float = 1e-10) -> CoupledIntegral:
+    """I = ∫_{P_b}^{P_a} g(P0 − (P − P_b), P) dP (Pa·m³/s per unit of Ly/w) of a uniform seal, per row P0 (Pa):
+    Q_pV = (Ly/w) I (docs/theory.md eq. 13.6).
+
+    ``downstream_pressure`` P_b and ``pressure_difference`` ΔP = P_a − P_b (Pa). Rows with ΔP ≥ P0 are lifted and
+    integrated to the limit ΔP → P0 (effective pressures down to :data:`LIFT_OFF_FLOOR` P0). Adaptive quadrature
+    (scipy.integrate.quad, relative tolerance ``rtol``) in v with s = s_lo + (P0 − s_lo) v², as
+    :func:`effective_pressure_integral`; ``change`` is the largest estimated relative error.
+    """
+    p0 = np.atleast_1d(np.asarray(squeeze_pressure, dtype=float))
+    lifted = pressure_difference >= p0
+    value = np.empty(p0.size)
+    change = 0.0
+    for i, top in enumerate(p0.tolist()):
+        lo = max(top - pressure_difference, LIFT_OFF_FLOOR * top)
+        span = top - lo
+
+        def integrand(v: float, lo: float = lo, span: float = span, top: float = top) -> float:
+            s = lo + span * v * v
+            return 2.0 * span * v * sheet(s, downstream_pressure + top - s)
+
+        if span > 0:  # full_output: quad's roundoff message stays here (``change`` reports the error)
+            value[i], err, *_ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=rtol, limit=200, full_output=1)
+        else:
+            value[i], err = 0.0, 0.0
+        change = max(change, err / value[i] if value[i] > 0 else 0.0)
+    return CoupledIntegral(value, lifted, change)
+
+
+def coupled_gas_band_flow(profile: PressureProfile, sheet: GasSheet | None, downstream_pressure: float,
+                          pressure_difference: float, *, rtol: float = 1e-9) -> CoupledBand:
+    """The pV flow per unit length q (Pa·m²/s) of a band with the gas pressure acting on it (docs/theory.md eq. 13.7).
+
+    In y = P² (regular at a vacuum outlet), dy/dx = −2 q P/g(p(x) − (P − P_b), P) is integrated across the band
+    from y = P_a² (DOP853 in θ on each piece, as :func:`coupled_band_flow`, relative tolerance 1e-10; y below 0
+    continues with P = √|y|), and q is found by Brent's method such that P(w) = P_b (P = ±√|y|), bracketed by doubling or
+    halving from the uniform seal at the mean pressure. ``sheet`` None (σ(p_max) = 0): sealed, q = 0. ΔP ≥ p_max
+    lifts the seal: q is then that of ΔP = p_max.
+    """
+    p_max, w = profile.max_pressure, profile.width
+    lifted = pressure_difference >= p_max
+    dp = min(float(pressure_difference), p_max)
+    if sheet is None or dp <= 0:
+        return CoupledBand(0.0, lifted, True, 0)
+    g = sheet
+    pb, pa = float(downstream_pressure), float(downstream_pressure) + dp
+    pieces = _pieces(profile)
+    shots = 0
+
+    def mismatch(q: float) -> float:
+        nonlocal shots
+        shots += 1
+        y = pa * pa
+
+        def rhs(t: float, u: NDArray[np.float64], dxdt: Callable[..., float], p: Callable[..., float]) -> list[float]:
+            gas = math.sqrt(abs(u[0]))
+            return [-2.0 * q * dxdt(t) * gas / g(p(t) - (gas - pb), gas)] if gas > 0 else [0.0]
+
+        for dxdt, p in pieces:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                sol = solve_ivp(rhs, (0.0, np.pi), [y], method="DOP853", args=(dxdt, p), rtol=1e-10,
+                                atol=1e-12 * pa * pa)
+            y = float(sol.y[0, -1])
+        return (math.copysign(math.sqrt(abs(y)), y) - pb) / dp  # in P, not y: linear in q on both sides of the root
+
+    q0 = float(coupled_gas_integral(g, profile.mean_pressure, pb, dp).value[0]) / w
+    m0 = mismatch(q0)
+    step = 2.0 if m0 > 0 else 0.5
+    while m0 != 0:
+        q1 = q0 * step
+        m1 = mismatch(q1)
+        if (m1 > 0) != (m0 > 0):
+            q, info = brentq(mismatch, min(q0, q1), max(q0, q1), xtol=1e-12 * q0, rtol=rtol, full_output=True)
+            return CoupledBand(float(q), lifted, bool(info.converged), shots)
+        if shots > 60:
+            return CoupledBand(q1, lifted, False, shots)
+        q0, m0 = q1, m1
+    return CoupledBand(q0, lifted, True, shots)

@@ -20,7 +20,7 @@ Errors name the functions' own parameters (``upstream_pressure``, ``temperature`
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -35,7 +35,7 @@ from ._kinetic_slit import pressure_integral as kinetic_pressure_integral
 __all__ = [
     "MOLAR_GAS_CONSTANT", "RAREFACTION_MODELS", "DEFAULT_RAREFACTION", "check_rarefaction_model", "BK_ALPHA0", "BK_ALPHA1", "BK_BETA", "Gas", "check_pressures",
     "flow_regime", "slip_factor", "kinetic_pressure_integral", "free_molecular_coefficient", "sheet_conductance", "pressure_integral",
-    "viscous_throughput", "viscous_mass_flow", "GasLeak", "gas_leak",
+    "viscous_throughput", "viscous_mass_flow", "GasLeak", "gas_leak", "with_throughput", "bk_pressure_integrand",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -219,7 +219,7 @@ def sheet_conductance(gap: ArrayLike, gas: Gas, pressure: ArrayLike, model: str 
     return h**3 / (12.0 * gas.viscosity) * slip_factor(gas.knudsen_number(h, pressure), model, ratio)
 
 
-def _integrand(p: float, c: float) -> float:
+def bk_pressure_integrand(p: float, c: float) -> float:
     """p f(c/p) for the Beskok–Karniadakis f, written so that p = 0 (Kn = ∞) is finite: (p + α c)(1 + 6c/(p + c))."""
     if p <= 0.0:
         alpha = BK_ALPHA0
@@ -255,7 +255,7 @@ def pressure_integral(gap: float, gas: Gas, upstream: float, downstream: float, 
         return float(kinetic_pressure_integral(c, pa, pb, cap))
     if c == 0.0:
         return 0.5 * (pa - pb) * (pa + pb)
-    value, _err = quad(_integrand, pb, pa, args=(c,), epsabs=0.0, epsrel=1e-12, limit=400)
+    value, _err = quad(bk_pressure_integrand, pb, pa, args=(c,), epsabs=0.0, epsrel=1e-12, limit=400)
     return float(value)
 
 
@@ -318,3 +318,10 @@ def gas_leak(conductance: float, gap: float, gas: Gas, upstream: float, downstre
     return GasLeak(throughput=q, throughput_no_slip=k * 0.5 * (pa - pb) * (pa + pb), mass_flow=q * gas.molar_mass / rt,
                    molar_flow=q / rt, knudsen_upstream=kn[0], knudsen_mean=kn[1], knudsen_downstream=kn[2],
                    regime=flow_regime(kn[1]), rarefaction_model=model)
+
+
+def with_throughput(leak: GasLeak, throughput: float, gas: Gas) -> GasLeak:
+    """``leak`` carrying another pV throughput Q_pV (Pa·m³/s; e.g. the exact coupling of docs/theory.md §13.5), its
+    mass and molar flow recomputed; the Knudsen numbers and the no-slip throughput stay those of ``leak``."""
+    rt = MOLAR_GAS_CONSTANT * gas.temperature
+    return replace(leak, throughput=throughput, mass_flow=throughput * gas.molar_mass / rt, molar_flow=throughput / rt)

@@ -1,4 +1,5 @@
-"""Gas permeation through the rubber of a squeezed O-ring: the steady leak and its breakthrough time.
+"""Gas permeation through the rubber of a seal (a squeezed O-ring, a flat ring or rectangle): the steady leak and its
+breakthrough time.
 
 A gas dissolves in the elastomer where the high-pressure side touches it, diffuses through the
 cross-section and leaves on the low-pressure side (solution–diffusion with Henry's law). This leak
@@ -13,7 +14,8 @@ throughput through a seal line of length L_y is Fick's law over that slab,
 
 with P the pV permeability in m²/s: the pV throughput (Pa·m³/s of the gas at its temperature)
 through 1 m² of a 1 m thick layer per Pa of partial-pressure difference (P = D S for a diffusivity D
-and a Henry solubility S in m³(pV)/(m³·Pa)). A layer starting free of gas passes its steady flux
+and a Henry solubility S in m³(pV)/(m³·Pa)). A flat ring or rectangle seal of height H and width w is the slab h = H, t = w itself
+(:func:`slab_permeation`): Q_perm = P ΔP L_y H/w. A layer starting free of gas passes its steady flux
 after the Daynes–Barrer time lag t_lag = t² / (6 D) (Crank, *The Mathematics of Diffusion*, 2nd ed.
 (1975) eq. 4.24a).
 """
@@ -27,14 +29,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError
 
-__all__ = ["OringPermeation", "oring_permeation", "permeation_path", "time_lag"]
+__all__ = ["OringPermeation", "oring_permeation", "slab_permeation", "permeation_path", "time_lag"]
 
 FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
 class OringPermeation:
-    """The permeation of an O-ring, one entry per compression (SI units).
+    """The permeation of an O-ring (one entry per compression) or of a flat seal (one per row), SI units.
 
     Attributes
     ----------
@@ -82,10 +84,22 @@ def oring_permeation(permeability: float, diffusivity: float | None, cross_secti
     pressure_difference
         ΔP = P_a − P_b in Pa (the gas's partial-pressure difference across the seal).
     """
+    t, h = permeation_path(cross_section_diameter, compression)
+    return slab_permeation(permeability, diffusivity, h, t, seal_line_length, pressure_difference)
+
+
+def slab_permeation(permeability: float, diffusivity: float | None, height: ArrayLike, path: ArrayLike,
+                    seal_line_length: float, pressure_difference: float) -> OringPermeation:
+    """Steady permeation leak Q = P ΔP L_y h/t (Pa·m³/s) and time lag t²/(6D) (s) of a rubber slab of ``height`` h (m,
+    the face the gas enters by) and ``path`` t (m, along the flow), per row (docs/theory.md §11.11, eqs. 11.19–11.21).
+
+    ``permeability`` P and ``diffusivity`` D (or None) in m²/s, ``seal_line_length`` L_y (m), ``pressure_difference``
+    ΔP (Pa). A flat ring or rectangle seal is the slab h = ``seal.height``, t = its width w.
+    """
     for name, value in (("permeability", permeability), ("diffusivity", diffusivity)):
         if value is not None and not (np.isfinite(value) and value > 0):
             raise InputError(name, value, "must be a finite value > 0 (m²/s)")
-    t, h = permeation_path(cross_section_diameter, compression)
+    h, t = np.broadcast_arrays(np.atleast_1d(np.asarray(height, dtype=float)), np.atleast_1d(np.asarray(path, dtype=float)))
     q = permeability * pressure_difference * seal_line_length * h / t
     lag = time_lag(t, diffusivity) if diffusivity is not None else np.full(t.size, np.nan)
     return OringPermeation(throughput=q, breakthrough_time=lag, path=t, height=h)

@@ -432,7 +432,9 @@ def decay_text(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
              f"{'gas':<8} {rig.gas_note}",
              f"{'volume':<8} V = {test.volume * 1e3:.4g} l, P1 = {test.initial_pressure / 100:.6g} mbar, "
              f"P2 = {test.outside_pressure / 100:.6g} mbar (absolute), ΔP to time = {test.loss / 100:.4g} mbar",
-             f"{'flow':<8} Q_pV = K ∫ p f(Kn(p)) dp from P2 to P, rarefaction: {rig.rarefaction_model}"]
+             f"{'flow':<8} " + ("Q_pV from P2 to P with the gas pressure taken off the contact pressure, slip at the local "
+                                "gas pressure and gap (docs/theory.md §13.5)" if case.coupled else "Q_pV = K ∫ p f(Kn(p)) dp from P2 to P")
+             + f", rarefaction: {rig.rarefaction_model}"]
     for name, m in pred.models.items():
         d, leak = m.decay, m.initial_leak
         lines += ["", name]

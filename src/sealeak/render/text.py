@@ -153,8 +153,14 @@ def gas_notes(r: CaseResult) -> list[str]:
                      f"{celsius(case.temperature):.4g} °C; sccm: cm³/min at 0 °C and 101.325 kPa")
     if case.helium_equivalent:
         notes.append("He-eq: helium through the same seal at 1 bar against vacuum, 20 °C (the helium leak test)")
+    coupled = " and ".join(name for name, on in (("Q_pV", case.gas is not None), ("He-eq", case.helium_equivalent)) if on)
+    if case.coupled and coupled:
+        notes.append(f"fluid pressure coupled: {coupled} take the gas pressure off the contact pressure along its drop, "
+                     "each strip with its own gap and slip (docs/theory.md §13.5); the gap and Kn shown are the "
+                     "narrowest constriction's")
     if case.gas is not None and case.permeation is not None:
-        notes.append(f"Q_perm: the gas's steady permeation through the rubber of the squeezed cord (rubber.permeability: "
+        path = "the squeezed cord" if case.permeation.height is None else "the slab seal.height × seal width"
+        notes.append(f"Q_perm: the gas's steady permeation through the rubber of {path} (rubber.permeability: "
                      f"P = {case.permeation.permeability:.4g} m²/s, pV at {celsius(case.temperature):.4g} °C), "
                      "reached after about t_lag (rubber.diffusivity); Q_total = Q_pV + Q_perm, what a leak test measures "
                      "once the permeation has broken through (docs/theory.md §11.11)")
