@@ -31,6 +31,7 @@ from scipy.interpolate import PchipInterpolator
 from scipy.optimize import brentq, least_squares
 
 from ..errors import InputError, positive_number
+from ..io.leak_units import celsius
 
 __all__ = [
     "PronySeries", "MasterCurve", "WLFShift", "ArrheniusShift", "modulus_at", "universal_wlf_glass_transition",
@@ -433,11 +434,11 @@ def glass_transition_warnings(temperature: float, glass_transition: float, *, es
     t, tg = float(temperature), float(glass_transition)
     how = " (estimated from the WLF constants)" if estimated else ""
     if t < tg:
-        return (f"{t - 273.15:.4g} °C is below the glass transition ({tg - 273.15:.4g} °C{how}): the rubber is glassy, "
+        return (f"{celsius(t):.4g} °C is below the glass transition ({celsius(tg):.4g} °C{how}): the rubber is glassy, "
                 "its modulus some hundred to a thousand times the rubbery one; it no longer follows the squeeze and the "
                 "seal may leak; the viscoelastic model does not hold there",)
     if t < tg + GLASS_MARGIN:
-        return (f"{t - 273.15:.4g} °C is within {GLASS_MARGIN:.0f} K of the glass transition ({tg - 273.15:.4g} °C{how}): "
+        return (f"{celsius(t):.4g} °C is within {GLASS_MARGIN:.0f} K of the glass transition ({celsius(tg):.4g} °C{how}): "
                 "the modulus rises by decades and the relaxation slows as the rubber approaches Tg; check the seal "
                 "against the compound's TR10 (ISO 2921)",)
     return ()
