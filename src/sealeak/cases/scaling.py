@@ -1,0 +1,123 @@
+"""The critical-junction leak rate of many samples at once, by the scaling of Persson's contact (docs/theory.md eq. 14.4).
+
+A sample that multiplies h_rms by s (the spectrum's shape kept), E* by k, α/η by f and ΔP by d has the nominal
+contact's critical gap at the scaled pressure P0/(k s), times s: u_c(P0) = s u_c,nom(P0/(k s)). So one nominal
+contact serves every sample:
+
+* the fluid pressure ignored, Q = (Ly/Lx) d ΔP s³ f σ_nom(P0/(k s)), σ_nom evaluated exactly, all samples' scaled
+  pressures in one vectorised call;
+* coupled (docs/theory.md eq. 13.2), Q = (Ly/Lx) k s⁴ f ∫ σ_nom(τ) dτ over (P0 − d ΔP)/(k s) .. P0/(k s): one
+  Gauss–Legendre quadrature of all rows of all samples, σ_nom from a table (:func:`sigma_table`) below 90 % of the
+  percolation limit, exact above.
+
+:func:`scaled_leak_rate` does this for one uniform case; which samples may use it is
+:func:`sealeak.cases.uncertainty.sample_values`' choice.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import brentq
+
+from ..physics.contact import PerssonContact
+from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
+from ..physics.critical_junction import CriticalJunctionResult, critical_junction
+from .band import _cj_sigma, _Table
+from .model import Case
+
+__all__ = ["scaled_leak_rate", "sigma_table", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP"]
+
+FloatArray = NDArray[np.float64]
+
+#: The table of σ_nom(τ) is refined (Chebyshev–Lobatto points in ln τ, doubled) until its value at the new points
+#: differs from the coarser table's by less than this (relative).
+SCALING_RTOL = 1e-9
+#: The table's first and largest number of points; a table that has not met :data:`SCALING_RTOL` at the largest
+#: gives way to the exact σ_nom.
+SCALING_TABLE_POINTS = (17, 513)
+#: The table covers scaled pressures up to this fraction of the percolation limit; above it σ_nom falls by tens of
+#: decades within a few per cent (ζ_c runs to the end of the resolved band) and is evaluated exactly.
+SCALING_TABLE_TOP = 0.9
+
+
+def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArray], low: float, high: float,
+                percolation_threshold: float) -> Callable[[FloatArray], FloatArray]:
+    """σ_nom(τ) (m³/(Pa·s)) for scaled pressures τ in [``low``, ``high``] (Pa): interpolated in ln σ against ln τ
+    through exact values at Chebyshev–Lobatto points up to :data:`SCALING_TABLE_TOP` of the percolation limit,
+    ``exact`` above it (and everywhere when the table does not converge)."""
+    top = min(high, SCALING_TABLE_TOP * _percolation_limit(contact, percolation_threshold, high))
+    if not top > low:
+        return exact
+    table = _Table(exact, top, SCALING_TABLE_POINTS[0], low / top)
+    while table.ok and table.s.size < SCALING_TABLE_POINTS[1]:
+        finer = table.refine(exact)
+        new = finer.values[1::2]
+        done = bool(np.all(np.abs(table(np.exp(finer.s[1::2])) / new - 1.0) < SCALING_RTOL))
+        table = finer
+        if done:
+            break
+    else:
+        return exact
+
+    def sigma(p: FloatArray) -> FloatArray:
+        out = np.empty(p.shape)
+        inside = p <= top
+        out[inside] = table(p[inside])
+        out[~inside] = exact(p[~inside])
+        return out
+    return sigma
+
+
+def _percolation_limit(contact: PerssonContact, percolation_threshold: float, high: float) -> float:
+    """The squeeze pressure (Pa) where A(ζ1)/A0 reaches 1 − p_c (no leak channel above), or ∞ if above 2^40 ``high``."""
+    def excess(log_p: float) -> float:
+        return float(contact.area(contact.zeta_max, np.array([np.exp(log_p)]))[0]) - (1.0 - percolation_threshold)
+    lo, hi = np.log(high), np.log(high)
+    while excess(lo) >= 0.0:
+        lo -= 1.0
+        if lo < np.log(high) - 60.0:
+            return 0.0
+    while excess(hi) < 0.0:
+        hi += 1.0
+        if hi > np.log(high) + 28.0:
+            return float("inf")
+    return float(np.exp(brentq(excess, lo, hi, xtol=1e-12, rtol=1e-12)))
+
+
+def scaled_leak_rate(case: Case, result: CriticalJunctionResult, length: FloatArray, modulus: FloatArray,
+                     flow: FloatArray, pressure_difference: FloatArray) -> FloatArray:
+    """The critical-junction leak rate Q (m³/s) of a uniform liquid ``case`` per sample and squeeze pressure,
+    [samples, rows], NaN where no leak channel percolates.
+
+    ``result`` is the case's own prediction; per sample, ``length`` = s (h_rms/h_rms,nom), ``modulus`` = k
+    (E*/E*_nom), ``flow`` = f ((α/η)/(α/η)_nom) and ``pressure_difference`` = d (ΔP/ΔP_nom), all > 0
+    (docs/theory.md eq. 14.4).
+    """
+    p0 = result.squeeze_pressure
+    dp = np.broadcast_to(result.pressure_difference, p0.shape)
+    ks = (modulus * length)[:, None]
+    tau = p0[None, :] / ks
+    contact = case.contact()
+    exact = critical_junction(contact, squeeze_pressure=tau.ravel(), pressure_difference=1.0,
+                              viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
+                              percolation_threshold=case.percolation_threshold)
+    percolates = exact.percolates.reshape(tau.shape)
+    out = np.full(tau.shape, np.nan)
+    factor = result.aspect_ratio * flow[:, None] * length[:, None] ** 3
+    if not case.coupled:
+        sigma = np.where(exact.percolates, exact.leak_rate, 0.0).reshape(tau.shape)
+        q = factor * sigma * dp[None, :] * pressure_difference[:, None]
+        out[percolates] = q[percolates]
+        return out
+    if not percolates.any():
+        return out
+    dtau = dp[None, :] * pressure_difference[:, None] / ks
+    top, low = tau[percolates], np.maximum(tau - dtau, LIFT_OFF_FLOOR * tau)[percolates]
+    sigma_nom = sigma_table(contact, _cj_sigma(case, contact), float(low.min()), float(top.max()),
+                            case.percolation_threshold)
+    integral = effective_pressure_integral(sigma_nom, top, dtau[percolates]).value
+    out[percolates] = np.broadcast_to(factor * ks, tau.shape)[percolates] * integral
+    return out
