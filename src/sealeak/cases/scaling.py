@@ -20,24 +20,25 @@ from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
-from .band import _cj_sigma, _Table
+from .band import _cj_sigma
 from .model import Case
 
 __all__ = ["scaled_leak_rate", "sigma_table", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP"]
 
 FloatArray = NDArray[np.float64]
 
-#: The table of σ_nom(τ) is refined (Chebyshev–Lobatto points in ln τ, doubled) until its value at the new points
-#: differs from the coarser table's by less than this (relative).
-SCALING_RTOL = 1e-9
+#: The table of σ_nom(τ) (a cubic spline of ln σ in ln τ) is refined, its intervals halved, until it meets the exact
+#: σ_nom at the midpoints of its intervals within this (relative).
+SCALING_RTOL = 1e-7
 #: The table's first and largest number of points; a table that has not met :data:`SCALING_RTOL` at the largest
 #: gives way to the exact σ_nom.
-SCALING_TABLE_POINTS = (17, 513)
+SCALING_TABLE_POINTS = (65, 4097)
 #: The table covers scaled pressures up to this fraction of the percolation limit; above it σ_nom falls by tens of
 #: decades within a few per cent (ζ_c runs to the end of the resolved band) and is evaluated exactly.
 SCALING_TABLE_TOP = 0.9
@@ -45,28 +46,39 @@ SCALING_TABLE_TOP = 0.9
 
 def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArray], low: float, high: float,
                 percolation_threshold: float) -> Callable[[FloatArray], FloatArray]:
-    """σ_nom(τ) (m³/(Pa·s)) for scaled pressures τ in [``low``, ``high``] (Pa): interpolated in ln σ against ln τ
-    through exact values at Chebyshev–Lobatto points up to :data:`SCALING_TABLE_TOP` of the percolation limit,
-    ``exact`` above it (and everywhere when the table does not converge)."""
+    """σ_nom(τ) (m³/(Pa·s)) for scaled pressures τ in [``low``, ``high``] (Pa): a cubic spline of ln σ against ln τ
+    through exact values at equally spaced ln τ up to :data:`SCALING_TABLE_TOP` of the percolation limit, ``exact``
+    above it (and everywhere when the spline does not meet :data:`SCALING_RTOL`)."""
     top = min(high, SCALING_TABLE_TOP * _percolation_limit(contact, percolation_threshold, high))
     if not top > low:
         return exact
-    table = _Table(exact, top, SCALING_TABLE_POINTS[0], low / top)
-    while table.ok and table.s.size < SCALING_TABLE_POINTS[1]:
-        finer = table.refine(exact)
-        new = finer.values[1::2]
-        done = bool(np.all(np.abs(table(np.exp(finer.s[1::2])) / new - 1.0) < SCALING_RTOL))
-        table = finer
-        if done:
+    n = SCALING_TABLE_POINTS[0]
+    x = np.linspace(np.log(low), np.log(top), n)
+    values = exact(np.exp(x))
+    while np.all(values > 0):
+        spline = CubicSpline(x, np.log(values))
+        mid = (x[1:] + x[:-1]) / 2.0
+        at_mid = exact(np.exp(mid))
+        if not np.all(at_mid > 0):
             break
-    else:
-        return exact
+        if np.all(np.abs(np.expm1(spline(mid) - np.log(at_mid))) < SCALING_RTOL):
+            return _spliced(spline, top, exact)
+        if 2 * n - 1 > SCALING_TABLE_POINTS[1]:
+            break
+        x = np.insert(x, np.arange(1, n), mid)
+        values = np.insert(values, np.arange(1, n), at_mid)
+        n = x.size
+    return exact
 
+
+def _spliced(spline: CubicSpline, top: float, exact: Callable[[FloatArray], FloatArray]) -> Callable[[FloatArray], FloatArray]:
+    """σ from ``spline`` (ln σ against ln τ) up to ``top`` (Pa), ``exact`` above."""
     def sigma(p: FloatArray) -> FloatArray:
         out = np.empty(p.shape)
         inside = p <= top
-        out[inside] = table(p[inside])
-        out[~inside] = exact(p[~inside])
+        out[inside] = np.exp(spline(np.log(p[inside])))
+        if not inside.all():
+            out[~inside] = exact(p[~inside])
         return out
     return sigma
 
