@@ -1,4 +1,4 @@
-"""The scaling of Persson's contact (docs/theory.md eq. 14.4) and the uncertainty band it computes (issue 24 item 6).
+"""The scaling of Persson's contact (docs/theory.md eq. 14.6) and the uncertainty band it computes (issue 24 item 6).
 
 h_rms × s (the spectrum's shape kept) and E* × k: P(ζ) and ζ_c depend on P0/(k s) alone, the gaps scale as s at
 P0/(k s). Each claim is checked by computing the scaled contact directly.
@@ -47,7 +47,7 @@ def test_contact_area_and_gaps_scale():
 
 
 def test_critical_junction_scales():
-    """ζ_c and λ_c are the nominal ones at P0/(k s), u_c s times, the leak rate s³ times (eq. 14.4)."""
+    """ζ_c and λ_c are the nominal ones at P0/(k s), u_c s times, the leak rate s³ times (eq. 14.6)."""
     scaled = critical_junction(SCALED, squeeze_pressure=P0, **FLOW)
     nominal = critical_junction(NOMINAL, squeeze_pressure=P0 / (K * S), **FLOW)
     assert np.array_equal(scaled.percolates, nominal.percolates) and nominal.percolates.any()
@@ -68,7 +68,7 @@ def test_effective_medium_scales_to_its_solver_tolerance():
 
 
 def test_coupled_integral_scales():
-    """∫σ_s ds over P0 − ΔP .. P0 is k s⁴ times the nominal integral over the scaled pressures (eq. 14.5)."""
+    """∫σ_s ds over P0 − ΔP .. P0 is k s⁴ times the nominal integral over the scaled pressures (eq. 14.7)."""
     case = parse_case_file(example_text("hrms-study").split("[study]")[0]).cases[0]
     sigma = _cj_sigma(case, NOMINAL)
     sigma_s = _cj_sigma(case, SCALED)

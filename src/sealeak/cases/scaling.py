@@ -1,4 +1,4 @@
-"""The critical-junction leak rate of many samples at once, by the scaling of Persson's contact (docs/theory.md eq. 14.4).
+"""The critical-junction leak rate of many samples at once, by the scaling of Persson's contact (docs/theory.md eq. 14.6).
 
 A sample that multiplies h_rms by s (the spectrum's shape kept), E* by k, α/η by f and ΔP by d has the nominal
 contact's critical gap at the scaled pressure P0/(k s), times s: u_c(P0) = s u_c,nom(P0/(k s)). So one nominal
@@ -106,7 +106,7 @@ def scaled_leak_rate(case: Case, result: CriticalJunctionResult, length: FloatAr
 
     ``result`` is the case's own prediction; per sample, ``length`` = s (h_rms/h_rms,nom), ``modulus`` = k
     (E*/E*_nom), ``flow`` = f ((α/η)/(α/η)_nom) and ``pressure_difference`` = d (ΔP/ΔP_nom), all > 0
-    (docs/theory.md eq. 14.4).
+    (docs/theory.md eq. 14.6).
     """
     p0 = result.squeeze_pressure
     dp = np.broadcast_to(result.pressure_difference, p0.shape)

@@ -203,7 +203,7 @@ def _scaled(study: UncertainStudy, points: NDArray[np.float64], nominal: list[Ca
     return {"leak_rate": base * alpha / ratio["fluid.viscosity"][:, None]}
 
 
-#: The inputs the scaling of the contact carries (docs/theory.md eq. 14.4): h_rms, the modulus, ΔP, α and η.
+#: The inputs the scaling of the contact carries (docs/theory.md eq. 14.6): h_rms, the modulus, ΔP, α and η.
 _SCALED = ("surface.h_rms", "rubber.youngs_modulus", "rubber.poisson_ratio", "conditions.pressure_difference", *_SCALING)
 
 
@@ -219,7 +219,7 @@ def _scales(study: UncertainStudy) -> bool:
 
 def _factors(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
     """Per sample, s = h_rms/h_rms,nom, k = E*/E*_nom, f = (α/η)/(α/η)_nom and d = ΔP/ΔP_nom (docs/theory.md
-    eq. 14.4), and ``nominal``: whether the sample is the nominal case (every input at its nominal value)."""
+    eq. 14.6), and ``nominal``: whether the sample is the nominal case (every input at its nominal value)."""
     ones = np.ones(points.shape[0])
     value = {key: ones for key in _SCALED}
     nominal = {key: 1.0 for key in _SCALED}
