@@ -38,7 +38,7 @@ FloatArray = NDArray[np.float64]
 SCALING_RTOL = 1e-7
 #: The table's first and largest number of points; a table that has not met :data:`SCALING_RTOL` at the largest
 #: gives way to the exact σ_nom.
-SCALING_TABLE_POINTS = (65, 4097)
+SCALING_TABLE_POINTS = (65, 8193)
 #: The table covers scaled pressures up to this fraction of the percolation limit; above it σ_nom falls by tens of
 #: decades within a few per cent (ζ_c runs to the end of the resolved band) and is evaluated exactly.
 SCALING_TABLE_TOP = 0.9
