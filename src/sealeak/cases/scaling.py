@@ -29,7 +29,7 @@ from ..physics.critical_junction import CriticalJunctionResult, critical_junctio
 from .band import _cj_sigma
 from .model import Case
 
-__all__ = ["scaled_leak_rate", "sigma_table", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP"]
+__all__ = ["scaled_leak_rate", "sigma_table", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
 
 FloatArray = NDArray[np.float64]
 
@@ -42,6 +42,9 @@ SCALING_TABLE_POINTS = (65, 8193)
 #: The table covers scaled pressures up to this fraction of the percolation limit; above it σ_nom falls by tens of
 #: decades within a few per cent (ζ_c runs to the end of the resolved band) and is evaluated exactly.
 SCALING_TABLE_TOP = 0.9
+#: Rows (samples × squeeze pressures) computed at once: bounds the memory of the quadrature (up to 128 nodes a row)
+#: and of the exact σ.
+SCALING_BLOCK = 4096
 
 
 def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArray], low: float, high: float,
@@ -106,30 +109,39 @@ def scaled_leak_rate(case: Case, result: CriticalJunctionResult, length: FloatAr
 
     ``result`` is the case's own prediction; per sample, ``length`` = s (h_rms/h_rms,nom), ``modulus`` = k
     (E*/E*_nom), ``flow`` = f ((α/η)/(α/η)_nom) and ``pressure_difference`` = d (ΔP/ΔP_nom), all > 0
-    (docs/theory.md eq. 14.6).
+    (docs/theory.md eqs. 14.6, 14.7). The samples are taken :data:`SCALING_BLOCK` rows at a time.
     """
     p0 = result.squeeze_pressure
     dp = np.broadcast_to(result.pressure_difference, p0.shape)
-    ks = (modulus * length)[:, None]
-    tau = p0[None, :] / ks
+    ks = modulus * length
+    tau = p0[None, :] / ks[:, None]  # the scaled squeeze pressures P0/(k s) (Pa)
+    dtau = dp[None, :] * pressure_difference[:, None] / ks[:, None]  # the scaled ΔP
     contact = case.contact()
-    exact = critical_junction(contact, squeeze_pressure=tau.ravel(), pressure_difference=1.0,
-                              viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
-                              percolation_threshold=case.percolation_threshold)
-    percolates = exact.percolates.reshape(tau.shape)
+    sigma = _cj_sigma(case, contact)
+    if case.coupled:
+        low = np.maximum(tau - dtau, LIFT_OFF_FLOOR * tau)
+        sigma = sigma_table(contact, sigma, float(low.min()), float(tau.max()), case.percolation_threshold)
+    value = np.full(tau.shape, np.nan)
+    step = max(1, SCALING_BLOCK // p0.size)
+    for i in range(0, tau.shape[0], step):
+        value[i:i + step] = _block(case, contact, sigma, tau[i:i + step], dtau[i:i + step])
+    factor = result.aspect_ratio * flow * length**3
+    if case.coupled:
+        return (factor * ks)[:, None] * value  # eq. 14.7
+    return factor[:, None] * value * dp[None, :] * pressure_difference[:, None]  # eq. 14.6
+
+
+def _block(case: Case, contact: PerssonContact, sigma: Callable[[FloatArray], FloatArray], tau: FloatArray,
+           dtau: FloatArray) -> FloatArray:
+    """Per sample and row at scaled pressures ``tau`` (Pa): σ_nom(τ) (m³/(Pa·s)), or with the fluid pressure coupled
+    ∫σ_nom over τ − ``dtau`` .. τ (m³/s; ``sigma`` the table); NaN where no leak channel percolates at τ."""
+    res = critical_junction(contact, squeeze_pressure=tau.ravel(), pressure_difference=1.0,
+                            viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
+                            percolation_threshold=case.percolation_threshold)
+    percolates = res.percolates.reshape(tau.shape)
     out = np.full(tau.shape, np.nan)
-    factor = result.aspect_ratio * flow[:, None] * length[:, None] ** 3
     if not case.coupled:
-        sigma = np.where(exact.percolates, exact.leak_rate, 0.0).reshape(tau.shape)
-        q = factor * sigma * dp[None, :] * pressure_difference[:, None]
-        out[percolates] = q[percolates]
-        return out
-    if not percolates.any():
-        return out
-    dtau = dp[None, :] * pressure_difference[:, None] / ks
-    top, low = tau[percolates], np.maximum(tau - dtau, LIFT_OFF_FLOOR * tau)[percolates]
-    sigma_nom = sigma_table(contact, _cj_sigma(case, contact), float(low.min()), float(top.max()),
-                            case.percolation_threshold)
-    integral = effective_pressure_integral(sigma_nom, top, dtau[percolates]).value
-    out[percolates] = np.broadcast_to(factor * ks, tau.shape)[percolates] * integral
+        out[percolates] = res.leak_rate.reshape(tau.shape)[percolates]
+    elif percolates.any():
+        out[percolates] = effective_pressure_integral(sigma, tau[percolates], dtau[percolates]).value
     return out
