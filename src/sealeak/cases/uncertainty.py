@@ -9,7 +9,9 @@ samples that seal, and with ``conditions.max_leak_rate`` the probability that th
 per case the load at which the seal passes with 95 % probability (docs/theory.md §14).
 
 A sample whose row has no leak channel counts as Q = 0 (it seals). Samples that write the same values
-(a spread of zero, a choice between theories) are run once.
+(a spread of zero, a choice between theories) are run once. Samples of a uniform liquid seal that vary only
+h_rms, E, ν, ΔP, α and η are computed together from the nominal contact at scaled pressures
+(:mod:`sealeak.cases.scaling`, docs/theory.md §14.5).
 """
 
 from __future__ import annotations
@@ -155,7 +157,8 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
 
     Points that write the same values (a spread of zero) are run once. When only α and the viscosity of a liquid are
     uncertain, the samples share the nominal contact: Q ∝ α/η (critical junction), ∝ 1/η (effective medium), with
-    ``nominal`` the nominal cases' results (run here when not given).
+    ``nominal`` the nominal cases' results (run here when not given); when h_rms, E, ν and ΔP vary too (a uniform
+    liquid seal on the critical junction), the nominal contact at the scaled pressures P0/(k s) (:func:`_by_scaling`).
     """
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
