@@ -284,7 +284,10 @@ def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
     except InputError:
         return None
     out = np.concatenate(columns, axis=1)
-    out[factors["nominal"]] = _values(nominal)["leak_rate"]
+    base = _values(nominal)["leak_rate"]
+    if base.shape != out.shape[1:]:  # records that are not one per squeeze pressure: not what the scaling computes
+        return None
+    out[factors["nominal"]] = base
     return {"leak_rate": out}
 
 
