@@ -179,6 +179,7 @@ def test_alpha_and_viscosity_samples_share_the_contact(text, monkeypatch):
     points = unit_points(2, 4, seed=2)
     shared = leak_rates(study, points)
     monkeypatch.setattr(unc, "_shares_contact", lambda study: False)
+    monkeypatch.setattr(unc, "_scales", lambda study: False)
     full = leak_rates(study, points)
     assert np.allclose(shared, full, rtol=1e-9, atol=0)
     assert np.ptp(shared[:, 0]) > 0

@@ -9,7 +9,9 @@ samples that seal, and with ``conditions.max_leak_rate`` the probability that th
 per case the load at which the seal passes with 95 % probability (docs/theory.md §14).
 
 A sample whose row has no leak channel counts as Q = 0 (it seals). Samples that write the same values
-(a spread of zero, a choice between theories) are run once.
+(a spread of zero, a choice between theories) are run once. Samples of a uniform liquid seal that vary only
+h_rms, E, ν, ΔP, α and η are computed together from the nominal contact at scaled pressures
+(:mod:`sealeak.cases.scaling`, docs/theory.md §14.5).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from .limits import whole_number
 from .loader import CaseFile, build_cases, parse_case_file, read_case_file
 from .model import Case
 from .run import CaseResult, run_case
+from .scaling import scaled_leak_rate
 from .spreads import UncertainInput
 
 __all__ = ["UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
@@ -154,13 +157,18 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
 
     Points that write the same values (a spread of zero) are run once. When only α and the viscosity of a liquid are
     uncertain, the samples share the nominal contact: Q ∝ α/η (critical junction), ∝ 1/η (effective medium), with
-    ``nominal`` the nominal cases' results (run here when not given).
+    ``nominal`` the nominal cases' results (run here when not given); when h_rms, E, ν and ΔP vary too (a uniform
+    liquid seal on the critical junction), the nominal contact at the scaled pressures P0/(k s) (:func:`_by_scaling`).
     """
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
         raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
     if _shares_contact(study):
         return _scaled(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
+    if _scales(study):
+        fast = _by_scaling(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
+        if fast is not None:
+            return fast
     written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
     done: dict[str, dict[str, NDArray[np.float64]]] = {}
     out: dict[str, list[NDArray[np.float64]]] = {}
@@ -196,6 +204,91 @@ def _scaled(study: UncertainStudy, points: NDArray[np.float64], nominal: list[Ca
     alpha = np.concatenate([np.tile(ratio["theory.alpha"][:, None] if r.shows_critical_junction else np.ones((points.shape[0], 1)),
                                     len(r.records())) for r in nominal], axis=1)
     return {"leak_rate": base * alpha / ratio["fluid.viscosity"][:, None]}
+
+
+#: The inputs the scaling of the contact carries (docs/theory.md eq. 14.6): h_rms, the modulus, ΔP, α and η.
+_SCALED = ("surface.h_rms", "rubber.youngs_modulus", "rubber.poisson_ratio", "conditions.pressure_difference", *_SCALING)
+
+
+def _scales(study: UncertainStudy) -> bool:
+    """Whether every uncertain input is one :data:`_SCALED` names (no choice) and every case a uniform liquid seal
+    without gas rows or capillarity whose rows show the critical junction, its rubber on a rigid counterface."""
+    keys = {i.key for i in study.inputs}
+    return bool(keys) and keys <= set(_SCALED) and all(i.distribution != "choice" for i in study.inputs) and all(
+        c.band is None and c.gas is None and not c.helium_equivalent and c.capillarity is None
+        and c.model != "effective-medium" for c in study.cases) and (
+        "substrate" not in (study.case_file.document or {}) or not keys & {"rubber.youngs_modulus", "rubber.poisson_ratio"})
+
+
+def _factors(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+    """Per sample, s = h_rms/h_rms,nom, k = E*/E*_nom, f = (α/η)/(α/η)_nom and d = ΔP/ΔP_nom (docs/theory.md
+    eq. 14.6), and ``nominal``: whether the sample is the nominal case (every input at its nominal value)."""
+    ones = np.ones(points.shape[0])
+    value = {key: ones for key in _SCALED}
+    nominal = {key: 1.0 for key in _SCALED}
+    same = np.ones(points.shape[0], dtype=bool)
+    for j, inp in enumerate(study.inputs):
+        value[inp.key], nominal[inp.key] = inp.values(points[:, j]), quantity_parts(inp.key, inp.nominal)[0]
+        same &= value[inp.key] == nominal[inp.key]
+    ratio = {key: value[key] / nominal[key] for key in _SCALED}
+    nu, nu0 = value["rubber.poisson_ratio"], nominal["rubber.poisson_ratio"]
+    modulus = ratio["rubber.youngs_modulus"] * ((1.0 - nu0**2) / (1.0 - nu**2) if "rubber.poisson_ratio" in
+                                                 {i.key for i in study.inputs} else 1.0)
+    return {"length": ratio["surface.h_rms"], "modulus": modulus,
+            "flow": ratio["theory.alpha"] / ratio["fluid.viscosity"],
+            "pressure_difference": ratio["conditions.pressure_difference"], "nominal": same}
+
+
+def _scaling_holds(study: UncertainStudy, points: NDArray[np.float64]) -> bool:
+    """Whether the cases built at the lowest and the highest sampled values (every input at once) are the nominal
+    cases scaled by their :func:`_factors` (the spectrum's shape, q0, γ, p_c, the pressures and the seal unchanged); False also
+    where such a case is refused (the full path then names the sample)."""
+    for pick in (np.argmin, np.argmax):
+        rows = [int(pick(inp.values(points[:, j]))) for j, inp in enumerate(study.inputs)]
+        point = np.array([[points[i, j] for j, i in enumerate(rows)]])
+        values = [inp.written(point[:, j])[0] for j, inp in enumerate(study.inputs)]
+        f = _factors(study, point)
+        try:
+            built = _sample_cases(study, values)
+        except InputError:
+            return False
+        s, k, flow, d = (float(f[key][0]) for key in ("length", "modulus", "flow", "pressure_difference"))
+        for b, c in zip(built, study.cases, strict=True):
+            if not (b.band is None and b.gas is None and b.capillarity is None and b.coupled == c.coupled
+                    and b.model == c.model and b.q0 == c.q0 and b.gamma == c.gamma
+                    and b.percolation_threshold == c.percolation_threshold
+                    and b.seal.aspect_ratio == c.seal.aspect_ratio
+                    and np.array_equal(b.squeeze_pressure, c.squeeze_pressure)
+                    and np.array_equal(b.spectrum.q, c.spectrum.q)
+                    and np.allclose(b.spectrum.C, s * s * c.spectrum.C, rtol=1e-12, atol=0.0)
+                    and math.isclose(b.e_star, k * c.e_star, rel_tol=1e-12)
+                    and math.isclose(b.alpha / b.fluid.viscosity, flow * c.alpha / c.fluid.viscosity, rel_tol=1e-12)
+                    and np.allclose(b.pressure_difference, d * np.asarray(c.pressure_difference), rtol=1e-12, atol=0.0)):
+                return False
+    return True
+
+
+def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
+                nominal: list[CaseResult]) -> dict[str, NDArray[np.float64]] | None:
+    """:func:`sample_values` by the scaling of the nominal contact (:mod:`sealeak.cases.scaling`), None where the
+    cases do not scale (then every sample is a full prediction); the nominal samples hold the nominal rows bit for bit."""
+    if not _scaling_holds(study, points):
+        return None
+    factors = _factors(study, points)
+    columns: list[NDArray[np.float64]] = []
+    try:
+        for case, result in zip(study.cases, nominal, strict=True):
+            q = scaled_leak_rate(case, result.critical_junction, factors["length"], factors["modulus"], factors["flow"],
+                                 factors["pressure_difference"])
+            columns.append(np.where(np.isnan(q), 0.0, q))
+    except InputError:
+        return None
+    out = np.concatenate(columns, axis=1)
+    base = _values(nominal)["leak_rate"]
+    if base.shape != out.shape[1:]:  # records that are not one per squeeze pressure: not what the scaling computes
+        return None
+    out[factors["nominal"]] = base
+    return {"leak_rate": out}
 
 
 def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
