@@ -70,8 +70,11 @@ class _Life:
 
 
 def life_label(time: float, temperature: float) -> str:
-    """``"t = 1 h, T = -20 °C"``: a time (s) in the largest unit of a, d, h, min, s it spans, a temperature (K) in °C."""
-    unit, factor = next(((u, f) for u, f in _TIME_UNITS if time >= f), ("s", 1.0))
+    """``"t = 1 h, T = -20 °C"``: a time (s) in the largest of a, d, h, min, s in which 4 digits show it exactly
+    (else the largest it spans), a temperature (K) in °C."""
+    spanned = [(u, f) for u, f in _TIME_UNITS if time >= f] or [("s", 1.0)]
+    exact = [(u, f) for u, f in spanned if math.isclose(float(f"{time / f:.4g}"), time / f, rel_tol=1e-9)]
+    unit, factor = (exact or spanned)[0]
     return f"t = {time / factor:.4g} {unit}, T = {temperature - 273.15:.4g} °C"
 
 
