@@ -154,6 +154,7 @@ def test_a_warning_near_the_glass_transition():
     (RING, PRONY + "\nwlf_c1 = 8\nwlf_c2 = 100", "", "", "rubber.reference_temperature"),
     (RING, PRONY.replace('"3 MPa"', '"-3 MPa"'), "", "", "rubber.relaxation.moduli[0]"),
     (RING, PRONY.replace('"100 s"', '"100 m"'), "", "", "rubber.relaxation.times[0]"),
+    (RING, PRONY.replace('"100 s"', '"100 s", "1 h"'), "", "", "rubber.relaxation.times"),
     (RING, 'youngs_modulus = "5 MPa"\nthermal_expansion = "2e-4 1/K"', "", "", "rubber.thermal_expansion"),
     (ORING, 'youngs_modulus = "5 MPa"\nthermal_expansion = "2e-4 1/K"', "", "", "seal.gland_thermal_expansion"),
     (RING, 'youngs_modulus = "5 MPa"', 'time = "-1 s"', "", "conditions.time"),

@@ -137,7 +137,10 @@ def _relaxation(rubber: Section) -> PronySeries | None:
         return tuple(parse_quantity(f"{field}.{key}[{i}]", v, dimension) for i, v in enumerate(items))
 
     e_inf = parse_quantity(f"{field}.equilibrium_modulus", raw.get("equilibrium_modulus"), "pressure")
-    return PronySeries(e_inf, terms("moduli", "pressure"), terms("times", "time"), field=field)
+    moduli, times = terms("moduli", "pressure"), terms("times", "time")
+    if len(moduli) != len(times):
+        raise InputError(f"{field}.times", raw["times"], f"must have one relaxation time per modulus ({len(moduli)})")
+    return PronySeries(e_inf, moduli, times, field=field)
 
 
 def _shift(rubber: Section, relaxation: PronySeries | None) -> WLFShift | ArrheniusShift | None:
