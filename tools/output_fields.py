@@ -27,7 +27,7 @@ from sealeak.cases.convergence import Extrapolation, GridStatistics
 from sealeak.cases.gas import GasColumns, HeliumColumns, PermeationColumns
 from sealeak.cases.leak_tests import DecayPrediction
 from sealeak.cases.linearity_check import LinearityCheck
-from sealeak.cases.model import BandSeal
+from sealeak.cases.model import BandSeal, LifePoint
 from sealeak.cases.pipeline import GasSimulation
 from sealeak.cases.rig import RigPrediction
 from sealeak.cases.run import CaseResult
@@ -57,9 +57,10 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      "load (`compression` or `profile_scale`) and list the band fields instead of the uniform seal's. The "
      "effective-medium fields join when the case asks for that model, the gas fields for a gas (the permeation "
      "fields for a gas case with `rubber.permeability`), the capillarity fields for a liquid with a contact "
-     "angle (`_effective_medium` added for that model's).",
-     (CriticalJunctionResult, EffectiveMediumResult, BandColumns, BandEffectiveMediumColumns, CaseResult, GasColumns,
-      HeliumColumns, PermeationColumns, CapillaryColumns)),
+     "angle (`_effective_medium` added for that model's). A case of the seal over its life (`[conditions] time` or "
+     "`temperature`, `[rubber] relaxation`) leads each row with `time`, `temperature` and `modulus`.",
+     (LifePoint, CriticalJunctionResult, EffectiveMediumResult, BandColumns, BandEffectiveMediumColumns, CaseResult,
+      GasColumns, HeliumColumns, PermeationColumns, CapillaryColumns)),
     ("sealeak predict --json / --csv (uncertain inputs)",
      "A case file with uncertain inputs (docs/case-files.md, Uncertain inputs) adds these fields to each row; the gas "
      "and helium percentiles where the row has those leak rates, `exceed_probability` with `conditions.max_leak_rate`. "

@@ -100,6 +100,19 @@ FIELD_KINDS |= {
     "fluid.surface_tension": _q("surface tension", "72.8 mN/m"),
 }
 
+# the seal over its life (docs/case-files.md, "The seal over its life")
+_TEMPERATURE = _q("temperature", "20 degC")
+FIELD_KINDS |= {
+    "rubber.relaxation": FieldKind("list", example='{equilibrium_modulus = "4 MPa", moduli = ["2 MPa"], times = ["10 s"]}'),
+    "rubber.reference_temperature": _TEMPERATURE, "rubber.wlf_c1": _n("8.86"), "rubber.wlf_c2": _n("101.6"),
+    "rubber.activation_energy": _q("molar_energy", "80 kJ/mol"), "rubber.glass_transition": _q("temperature", "-30 degC"),
+    "rubber.thermal_expansion": _q("thermal_expansion", "23e-5 1/K"),
+    "seal.gland_thermal_expansion": _q("thermal_expansion", "1.2e-5 1/K"),
+    "conditions.time": _q("time (one, a list or a range)", '["1 h", "1 a", "10 a"]'),
+    "conditions.temperature": _q("temperature (one, a list or a range)", '["-20 degC", "80 degC"]'),
+    "conditions.assembly_temperature": _TEMPERATURE,
+}
+
 
 def _documented_order(section: str) -> Callable[[str], int]:
     """Sort key of a section's keys: their order in :data:`FIELD_KINDS` (that of ``docs/case-files.md``), others last."""

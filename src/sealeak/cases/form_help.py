@@ -230,3 +230,37 @@ FIELD_HELP |= {
     "fluid.surface_tension": FieldHelp("Surface tension γ", "fluid-the-fluid",
                      "surface tension γ of the liquid, used with a contact angle"),
 }
+
+# the seal over its life (docs/case-files.md, "The seal over its life")
+FIELD_HELP |= {
+    "rubber.relaxation": FieldHelp("Relaxation modulus E(t)", "the-seal-over-its-life-time-and-temperature",
+                     "the rubber's relaxation modulus E(t) = E∞ + Σ Ei exp(−t/τi), a Prony series: {equilibrium_modulus = \"4 MPa\", "
+                     'moduli = ["2 MPa", "1 MPa"], times = ["10 s", "1e4 s"]}, measured at rubber.reference_temperature; each time '
+                     'and temperature takes its modulus from it instead of youngs_modulus (theory §16.7)'),
+    "rubber.reference_temperature": FieldHelp("Reference temperature Tref", "the-seal-over-its-life-time-and-temperature",
+                     "the temperature Tref at which rubber.relaxation was measured, the shift law's reference"),
+    "rubber.wlf_c1": FieldHelp("WLF constant C1", "the-seal-over-its-life-time-and-temperature",
+                     'C1 of the WLF shift log10 a_T = −C1 (T − Tref)/(C2 + T − Tref): the relaxation at T runs a_T times slower than'
+                     ' at Tref'),
+    "rubber.wlf_c2": FieldHelp("WLF constant C2 (K)", "the-seal-over-its-life-time-and-temperature",
+                     'C2 of the WLF shift, in K'),
+    "rubber.activation_energy": FieldHelp("Activation energy Ea", "the-seal-over-its-life-time-and-temperature",
+                     'activation energy Ea of an Arrhenius shift ln a_T = (Ea/R)(1/T − 1/Tref), instead of the WLF constants'),
+    "rubber.glass_transition": FieldHelp("Glass transition Tg", "the-seal-over-its-life-time-and-temperature",
+                     "the rubber's glass-transition temperature Tg: each case within 20 K of it or below gets a warning; without it,"
+                     ' estimated from the WLF constants as Tg ≈ Tref − C2 + 51.6 K'),
+    "rubber.thermal_expansion": FieldHelp("Rubber thermal expansion α_r", "the-seal-over-its-life-time-and-temperature",
+                     "O-ring: the rubber's linear thermal expansion coefficient α_r (an NBR compound about 23e-5 1/K): the cord "
+                     'diameter d(T) = d0 (1 + α_r (T − Ta))'),
+    "seal.gland_thermal_expansion": FieldHelp("Gland thermal expansion α_g", "the-seal-over-its-life-time-and-temperature",
+                     "O-ring: the gland's linear thermal expansion coefficient α_g (steel about 1.2e-5 1/K): the gland depth h(T) = "
+                     'h0 (1 + α_g (T − Ta)), so the compression at T is 1 − h(T)/d(T)'),
+    "conditions.time": FieldHelp("Time since assembly t", "the-seal-over-its-life-time-and-temperature",
+                     'time since assembly: one case per time (one value, a list or a range {start, stop, num, spacing}), in s, min, '
+                     'h, d or a (years)'),
+    "conditions.temperature": FieldHelp("Temperature T", "the-seal-over-its-life-time-and-temperature",
+                     'temperature of the rubber and the fluid: one case per temperature (one value, a list or a linear range {start,'
+                     ' stop, num})'),
+    "conditions.assembly_temperature": FieldHelp("Assembly temperature Ta", "the-seal-over-its-life-time-and-temperature",
+                     'O-ring: the temperature Ta at which it was assembled with its compression or groove_depth'),
+}

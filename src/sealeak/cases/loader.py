@@ -56,6 +56,7 @@ from ..errors import FileFormatError, InputError, SealeakError, show_value
 from ..io.files import input_file
 from ..io.tomlscan import parse_toml
 from .builders import build_case
+from .life import life_cases
 from .limits import MAX_CASE_FILE_BYTES, MAX_STUDY_VALUES, at_most
 from .model import Case
 from .schema import SECTIONS, Section
@@ -125,8 +126,13 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
     """The cases of a parsed case document without spreads (one, or one per value of its ``[study]``; ``doc`` loses
     its ``[study]``) and the data files they name."""
     study = doc.pop("study", None)
+
+    def build(variant: dict[str, Any], label: str = "") -> list[Case]:  # one case, or one per time and temperature
+        life = life_cases(variant, lambda d, lbl: build_case(d, case_dir, source, label=lbl), label)
+        return [build_case(variant, case_dir, source, label=label)] if life is None else life
+
     if study is None:
-        return [build_case(doc, case_dir, source)], tuple(named_files(doc, case_dir))
+        return build(doc), tuple(named_files(doc, case_dir))
     sec = Section("study", study)
     vary = sec.raw("vary")
     whole = isinstance(vary, str) and vary in SECTIONS and vary not in ("study", "simulation")
@@ -158,7 +164,7 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
             variant.setdefault(section, {})[key] = value
         files += named_files(variant, case_dir)
         try:
-            cases.append(build_case(variant, case_dir, source, label=str(label)))
+            cases += build(variant, str(label))
         except InputError as exc:
             raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
     return cases, tuple(dict.fromkeys(files))

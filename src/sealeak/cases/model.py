@@ -25,7 +25,7 @@ from ..physics.properties import FluidState
 from ..physics.seal import Seal
 from ..physics.spectrum import PowerSpectrum
 
-__all__ = ["Case", "MODELS", "FLUID_PRESSURE", "BandSeal", "GasConditions", "RubberPermeation", "STANDARD_TEMPERATURE_CASE"]
+__all__ = ["Case", "LifePoint", "MODELS", "FLUID_PRESSURE", "BandSeal", "GasConditions", "RubberPermeation", "STANDARD_TEMPERATURE_CASE"]
 
 #: The temperature of a case whose ``[fluid]`` gives none: 20 °C, in K.
 STANDARD_TEMPERATURE_CASE = 293.15
@@ -101,6 +101,16 @@ class BandSeal:
     def load_unit(self) -> str:
         """How front ends label a load: compression in %, a scale factor as is."""
         return "%" if self.load_name == "compression" else "1"
+
+
+@dataclass(frozen=True)
+class LifePoint:
+    """Where in its life a case is (``[conditions] time`` and ``temperature``; docs/theory.md §16.7)."""
+
+    time: float = quantity("s", "time since assembly of the seal over its life")
+    temperature: float = quantity("K", "temperature of the seal over its life (rubber and fluid)")
+    modulus: float = quantity("Pa", "the rubber's modulus used at that time and temperature: E(t/a_T) of an O-ring, "
+                                    "1/J(t/a_T) of a seal under a squeeze pressure, else the elastic E")
 
 
 @dataclass(frozen=True)
@@ -232,6 +242,9 @@ class Case:
     capillarity
         A liquid's surface tension and contact angles (``fluid.contact_angle`` etc.), or None: no
         capillarity (docs/theory.md §12).
+    life
+        The time (s) and temperature (K) of a case of the seal over its life, and the modulus (Pa) used
+        (:mod:`sealeak.cases.life`), or None.
     fluid_pressure
         ``theory.fluid_pressure``, one of :data:`FLUID_PRESSURE`: whether the fluid pressure in the band
         lowers the effective squeeze pressure (docs/theory.md §13).
@@ -270,6 +283,7 @@ class Case:
     # capillarity of a liquid (fluid.contact_angle, docs/theory.md §12)
     capillarity: Wetting | None = None
     fluid_pressure: str = "coupled"
+    life: LifePoint | None = None
 
     @property
     def coupled(self) -> bool:

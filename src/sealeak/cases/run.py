@@ -28,13 +28,13 @@ from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
 from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarity, uniform_capillarity
 from .gas import GAS_UNITS, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
-from .model import Case
+from .model import Case, LifePoint
 from .notes import NoteLike
 from .prediction import predict, predict_effective_medium
 from .rig import RigPrediction, rig_prediction
 from .verdicts import _band_verdicts, _uniform_verdicts, case_warnings
 
-__all__ = ["CaseResult", "run_case", "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS"]
+__all__ = ["CaseResult", "run_case", "LIFE_UNITS", "RESULT_UNITS", "EFFECTIVE_MEDIUM_UNITS"]
 
 _VERDICTS = ("valid", "validity")
 _VERDICTS_EFFECTIVE_MEDIUM = ("valid_effective_medium", "validity_effective_medium")
@@ -114,7 +114,11 @@ class CaseResult:
 
     @property
     def units(self) -> dict[str, str]:
-        """SI unit of every field of :meth:`records`."""
+        """SI unit of every field of :meth:`records`: a life case's time, temperature and modulus lead."""
+        return (LIFE_UNITS if self.case.life is not None else {}) | self._result_units
+
+    @property
+    def _result_units(self) -> dict[str, str]:
         if self.band is not None:
             em = BAND_EFFECTIVE_MEDIUM_UNITS if self.band.effective_medium is not None else {}
             regime = {"regime": ""} if self.band.band.oring is not None else {}
@@ -177,7 +181,8 @@ class CaseResult:
     def _rows(self, columns: dict[str, Any], n: int) -> list[dict[str, Any]]:
         """One record per row from ``columns`` (record key: values per row), led by the variant's label."""
         label = {"variant": self.case.label} if self.case.label else {}
-        return [label | {k: _plain(v[i]) for k, v in columns.items()} for i in range(n)]
+        life = record_fields(self.case.life) if self.case.life is not None else {}
+        return [label | life | {k: _plain(v[i]) for k, v in columns.items()} for i in range(n)]
 
     def _band_records(self, b: BandResult) -> list[dict[str, Any]]:
         columns: dict[str, Any] = {b.band.load_name: b.band.loads}
@@ -195,6 +200,8 @@ def _verdict_units(names: tuple[str, ...]) -> dict[str, str]:
     return {k: u for k, u in units_of(CaseResult).items() if k in names}
 
 
+#: SI unit of the fields that lead each record of a case of the seal over its life (time, temperature, modulus).
+LIFE_UNITS: dict[str, str] = units_of(LifePoint)
 #: SI unit of every field of a critical-junction result record (JSON ``units``, CSV headers), from the fields' declarations.
 RESULT_UNITS: dict[str, str] = units_of(CriticalJunctionResult) | _verdict_units(_VERDICTS)
 #: SI unit of the effective-medium fields (added to a record when the case asks for that model).

@@ -64,6 +64,8 @@ SI_UNITS = {
     "time": "s",
     "acceleration": "m/s^2",
     "volume": "m^3",
+    "thermal_expansion": "1/K",
+    "molar_energy": "J/mol",
     "dimensionless": "1",
 }
 
@@ -86,6 +88,8 @@ DIMENSIONS = {
     "time": "[time]",
     "acceleration": "[length] / [time] ** 2",
     "volume": "[length] ** 3",
+    "thermal_expansion": "1 / [temperature]",
+    "molar_energy": "[mass] * [length] ** 2 / [time] ** 2 / [substance]",
     "dimensionless": "",
 }
 
@@ -107,6 +111,8 @@ _EXAMPLES = {
     "time": "'10 s', '5 min'",
     "acceleration": "'9.81 m/s^2'",
     "volume": "'0.5 l', '250 ml', '1e-4 m^3'",
+    "thermal_expansion": "'2.3e-4 1/K' (a linear expansion coefficient)",
+    "molar_energy": "'80 kJ/mol'",
     "dimensionless": "'0.5'",
 }
 

@@ -1,0 +1,283 @@
+"""The seal over its life: one case per (time, temperature) of ``[conditions] time`` and ``temperature``.
+
+A case file with any of the keys of :data:`LIFE_KEYS` is expanded, like a ``[study]``, into one case per
+temperature and time (labels ``"t = 1 h, T = -20 °C"``), each built from a copy of the document in which
+(docs/theory.md §16.7):
+
+* the rubber's modulus is the relaxed one, E(t/a_T(T)) of ``[rubber] relaxation`` (a Prony series, eq. 16.8) for an
+  O-ring at fixed compression (Lindley's force scales with it, eq. 16.13; the width follows the compression), and the
+  creep modulus 1/J(t/a_T(T)) for a seal under a fixed squeeze pressure (a ring, a rectangle or a pressure profile);
+* an O-ring's compression is the one at T of its cord and gland expanding from ``assembly_temperature`` (eq. 16.9:
+  ``conditions.compression`` becomes 1 − h(T)/d(T), ``conditions.groove_depth`` h0 (1 + α_g ΔT)/(1 + α_r ΔT));
+* the fluid's properties are taken at T (``fluid.temperature``).
+
+Without ``[rubber] relaxation`` the modulus is the elastic one at every time. Each case carries its :class:`LifePoint`
+(time in s, temperature in K) and a warning near or below the glass transition (§16.5).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..io.units import parse_quantity, parse_temperature
+from ..physics.viscoelastic import (
+    MAX_TERMS,
+    ArrheniusShift,
+    PronySeries,
+    WLFShift,
+    glass_transition_warnings,
+    modulus_at,
+    thermal_compression,
+    universal_wlf_glass_transition,
+)
+from .limits import MAX_STUDY_VALUES, at_most
+from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
+from .schema import Section, case_keys
+from .seals import _values
+
+__all__ = ["LIFE_KEYS", "life_cases", "life_label"]
+
+#: The keys of each section that describe the seal over its life (docs/case-files.md, "The seal over its life").
+LIFE_KEYS: dict[str, tuple[str, ...]] = {
+    "rubber": ("relaxation", "reference_temperature", "wlf_c1", "wlf_c2", "activation_energy", "glass_transition",
+               "thermal_expansion"),
+    "seal": ("gland_thermal_expansion",),
+    "conditions": ("time", "temperature", "assembly_temperature"),
+}
+
+_RELAXATION_KEYS = ("equilibrium_modulus", "moduli", "times")
+_TIME_UNITS = (("a", 365.25 * 86400.0), ("d", 86400.0), ("h", 3600.0), ("min", 60.0), ("s", 1.0))
+
+
+@dataclass(frozen=True)
+class _Life:
+    """The life keys of a case, read: the relaxation (or None), its shift law (or None), the glass transition
+    (K, or None) and whether it is estimated, the expansion coefficients (1/K), the assembly temperature (K)."""
+
+    relaxation: PronySeries | None
+    shift: WLFShift | ArrheniusShift | None
+    glass_transition: float | None
+    estimated: bool
+    expansion: tuple[float, float] | None
+    assembly_temperature: float
+
+
+def life_label(time: float, temperature: float) -> str:
+    """``"t = 1 h, T = -20 °C"``: a time (s) in the largest of a, d, h, min, s in which 4 digits show it exactly
+    (else the largest it spans), a temperature (K) in °C."""
+    spanned = [(u, f) for u, f in _TIME_UNITS if time >= f] or [("s", 1.0)]
+    exact = [(u, f) for u, f in spanned if math.isclose(float(f"{time / f:.4g}"), time / f, rel_tol=1e-9)]
+    unit, factor = (exact or spanned)[0]
+    return f"t = {time / factor:.4g} {unit}, T = {temperature - 273.15:.4g} °C"
+
+
+def _temperatures(cond: Section, key: str) -> list[float]:
+    """``conditions.<key>``: one temperature, a list or a ``{start, stop, num}`` range (linear), in K."""
+    value, field = cond.raw(key), cond.field(key)
+    if isinstance(value, dict):
+        unknown = sorted(set(value) - {"start", "stop", "num"})
+        if unknown:
+            raise InputError(f"{field}.{unknown[0]}", value[unknown[0]], "unknown key; a range takes start, stop, num")
+        start = parse_temperature(f"{field}.start", value.get("start"))
+        stop = parse_temperature(f"{field}.stop", value.get("stop"))
+        num = value.get("num", 5)
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= MAX_STUDY_VALUES:
+            raise InputError(f"{field}.num", num, f"must be a whole number from 1 to {MAX_STUDY_VALUES}")
+        if not stop > start:
+            raise InputError(f"{field}.stop", value.get("stop"), f"must exceed start ({value.get('start')})")
+        return [float(t) for t in np.linspace(start, stop, num)]
+    items = value if isinstance(value, list) else [value]
+    if not items:
+        raise InputError(field, [], "is empty: give at least one temperature, e.g. [\"-20 degC\", \"80 degC\"]")
+    at_most(field, items, MAX_STUDY_VALUES, "temperatures (one case each)")
+    return [parse_temperature(f"{field}[{i}]" if isinstance(value, list) else field, v) for i, v in enumerate(items)]
+
+
+def _times(cond: Section) -> list[float]:
+    """``conditions.time`` in s (>= 0): one value, a list or a range; default 0 s (just after assembly)."""
+    if not cond.has("time"):
+        return [0.0]
+    values, raw = _values(cond, "time", "time")
+    for i, t in enumerate(values):
+        if not (math.isfinite(t) and t >= 0):
+            raise InputError(f"conditions.time[{i}]" if len(values) > 1 else "conditions.time", raw[i],
+                             "must be >= 0 s: the time since assembly")
+    return [float(t) for t in values]
+
+
+def _relaxation(rubber: Section) -> PronySeries | None:
+    """``rubber.relaxation = {equilibrium_modulus, moduli, times}``, a Prony series (Pa, s), or None."""
+    if not rubber.has("relaxation"):
+        return None
+    field, raw = rubber.field("relaxation"), rubber.raw("relaxation")
+    for other in ("youngs_modulus", "shore_a"):
+        if rubber.has(other):
+            raise InputError(rubber.field(other), rubber.raw(other), "give either rubber.relaxation or "
+                             f"rubber.{other}, not both: the relaxation sets the modulus")
+    if not isinstance(raw, dict):
+        raise InputError(field, raw, "must be a table {equilibrium_modulus = \"4 MPa\", moduli = [\"2 MPa\"], "
+                                     "times = [\"10 s\"]}")
+    unknown = sorted(set(raw) - set(_RELAXATION_KEYS))
+    if unknown:
+        raise InputError(f"{field}.{unknown[0]}", raw[unknown[0]], f"unknown key; allowed: {', '.join(_RELAXATION_KEYS)}")
+
+    def terms(key: str, dimension: str) -> tuple[float, ...]:
+        items = raw.get(key)
+        if not isinstance(items, list) or not items:
+            raise InputError(f"{field}.{key}", items, "must be a non-empty list of quantities with their units, "
+                                                      "one per term of the series")
+        at_most(f"{field}.{key}", items, MAX_TERMS, "terms")
+        return tuple(parse_quantity(f"{field}.{key}[{i}]", v, dimension) for i, v in enumerate(items))
+
+    e_inf = parse_quantity(f"{field}.equilibrium_modulus", raw.get("equilibrium_modulus"), "pressure")
+    moduli, times = terms("moduli", "pressure"), terms("times", "time")
+    if len(moduli) != len(times):
+        raise InputError(f"{field}.times", raw["times"], f"must have one relaxation time per modulus ({len(moduli)})")
+    return PronySeries(e_inf, moduli, times, field=field)
+
+
+def _shift(rubber: Section, relaxation: PronySeries | None) -> WLFShift | ArrheniusShift | None:
+    """The shift law of ``rubber.wlf_c1``/``wlf_c2`` (WLF) or ``activation_energy`` (Arrhenius) at
+    ``reference_temperature``, or None (the relaxation holds at every temperature)."""
+    keys = [k for k in ("reference_temperature", "wlf_c1", "wlf_c2", "activation_energy") if rubber.has(k)]
+    if not keys:
+        return None
+    if relaxation is None:
+        raise InputError(rubber.field(keys[0]), rubber.raw(keys[0]), "shifts rubber.relaxation in time with temperature: "
+                                                                     "give the relaxation too")
+    wlf = rubber.has("wlf_c1") or rubber.has("wlf_c2")
+    if wlf and rubber.has("activation_energy"):
+        raise InputError(rubber.field("activation_energy"), rubber.raw("activation_energy"),
+                         "give either wlf_c1 and wlf_c2 (WLF) or activation_energy (Arrhenius), not both")
+    if not rubber.has("reference_temperature"):
+        raise InputError(rubber.field("reference_temperature"), None, "is required with a shift law: the temperature "
+                                                                      "at which rubber.relaxation was measured")
+    tref = parse_temperature(rubber.field("reference_temperature"), rubber.raw("reference_temperature"))
+    if wlf:
+        return WLFShift(tref, rubber.number("wlf_c1", low=0.0), rubber.number("wlf_c2", low=0.0))
+    if not rubber.has("activation_energy"):
+        raise InputError(rubber.field("reference_temperature"), rubber.raw("reference_temperature"),
+                         "needs a shift law: wlf_c1 and wlf_c2 (WLF), or activation_energy (Arrhenius)")
+    return ArrheniusShift(tref, rubber.quantity("activation_energy", "molar_energy"))
+
+
+def _read(doc: dict[str, Any]) -> _Life:
+    """The life keys of ``doc`` (its sections as written), checked."""
+    def section(name: str) -> Section:
+        table = doc.get(name)
+        return Section(name, table if isinstance(table, dict) else {})
+
+    rubber, seal, cond, fluid = section("rubber"), section("seal"), section("conditions"), section("fluid")
+    relaxation = _relaxation(rubber)
+    shift = _shift(rubber, relaxation)
+    estimated = False
+    if rubber.has("glass_transition"):
+        tg: float | None = parse_temperature(rubber.field("glass_transition"), rubber.raw("glass_transition"))
+    elif isinstance(shift, WLFShift):
+        tg, estimated = universal_wlf_glass_transition(shift), True
+    else:
+        tg = None
+    given = [(s, k) for s, k in ((rubber, "thermal_expansion"), (seal, "gland_thermal_expansion")) if s.has(k)]
+    expansion = None
+    if given:
+        if seal.raw("shape") != "o-ring":
+            raise InputError(given[0][0].field(given[0][1]), given[0][0].raw(given[0][1]),
+                             "is for an O-ring (seal.shape = \"o-ring\"), whose compression changes with temperature; "
+                             "a seal under a squeeze pressure keeps its pressure")
+        if len(given) == 1:
+            other = "seal.gland_thermal_expansion" if given[0][1] == "thermal_expansion" else "rubber.thermal_expansion"
+            raise InputError(other, None, f"is required with {given[0][0].field(given[0][1])}: the cord and the gland "
+                                          "each expand with their own coefficient (1/K)")
+        expansion = (rubber.quantity("thermal_expansion", "thermal_expansion", positive=False),
+                     seal.quantity("gland_thermal_expansion", "thermal_expansion", positive=False))
+    if cond.has("assembly_temperature") and expansion is None:
+        raise InputError(cond.field("assembly_temperature"), cond.raw("assembly_temperature"),
+                         "is for the thermal contraction of an O-ring: give rubber.thermal_expansion and "
+                         "seal.gland_thermal_expansion too")
+    if cond.has("temperature") and fluid.has("temperature"):
+        raise InputError(fluid.field("temperature"), fluid.raw("temperature"), "give either fluid.temperature or "
+                         "conditions.temperature, not both: the fluid is taken at each conditions.temperature")
+    assembly = (parse_temperature(cond.field("assembly_temperature"), cond.raw("assembly_temperature"))
+                if cond.has("assembly_temperature") else STANDARD_TEMPERATURE_CASE)
+    return _Life(relaxation, shift, tg, estimated, expansion, assembly)
+
+
+#: Physics parameter names of the thermal contraction → the case-file keys.
+_THERMAL_KEYS = {"compression": "conditions.compression", "temperature": "conditions.temperature",
+                 "assembly_temperature": "conditions.assembly_temperature", "rubber_expansion": "rubber.thermal_expansion",
+                 "gland_expansion": "seal.gland_thermal_expansion"}
+
+
+def _variant(base: dict[str, Any], life: _Life, time: float, temperature: float, swept: bool) -> dict[str, Any]:
+    """A copy of ``base`` (life keys removed) at ``time`` (s) and ``temperature`` (K): its modulus, compression and
+    (``swept``: ``conditions.temperature`` given) fluid temperature set."""
+    variant = copy.deepcopy(base)
+    if life.relaxation is not None:
+        with case_keys({"temperature": "conditions.temperature"}):
+            if variant.get("seal", {}).get("shape") == "o-ring":  # fixed compression: the force relaxes (eq. 16.13)
+                modulus = float(modulus_at(life.relaxation, time, temperature, life.shift))
+            else:  # fixed squeeze pressure: the contact creeps with 1/J (§16.7)
+                shift = 1.0 if life.shift is None else float(life.shift.shift(temperature))
+                modulus = float(1.0 / life.relaxation.creep_compliance(time / shift))
+        variant["rubber"]["youngs_modulus"] = f"{modulus!r} Pa"
+    if life.expansion is not None:
+        cond = Section("conditions", variant["conditions"])
+        thermal = (temperature, life.assembly_temperature, *life.expansion)
+        with case_keys(_THERMAL_KEYS):
+            if cond.has("compression"):  # eq. 16.9: 1 − h(T)/d(T)
+                eps, _ = _values(cond, "compression", "dimensionless")
+                variant["conditions"]["compression"] = [float(e) for e in thermal_compression(eps, *thermal)]
+            if cond.has("groove_depth"):  # h(T)/d(T) = h0 (1 + α_g ΔT)/(1 + α_r ΔT) over the cord's d0
+                depth, _ = _values(cond, "groove_depth", "length")
+                ratio = 1.0 - float(thermal_compression(0.0, *thermal))
+                variant["conditions"]["groove_depth"] = [f"{float(h) * ratio!r} m" for h in depth]
+    if swept and isinstance(variant.get("fluid"), dict):
+        variant["fluid"]["temperature"] = f"{temperature!r} K"
+    return variant
+
+
+def life_cases(doc: dict[str, Any], build: Callable[[dict[str, Any], str], Case], label: str = "") -> list[Case] | None:
+    """The cases of ``doc`` (a case document without its ``[study]``), one per temperature and time of
+    ``[conditions]``; None when ``doc`` has no key of :data:`LIFE_KEYS` (the case is then built as it is).
+
+    ``build(document, label)`` builds one case (:func:`~sealeak.cases.builders.build_case`); ``label`` (a study
+    variant's) leads each case's label. An error in one case names its time and temperature.
+    """
+    if not any(isinstance(doc.get(s), dict) and any(k in doc[s] for k in keys) for s, keys in LIFE_KEYS.items()):
+        return None
+    life = _read(doc)
+    cond = Section("conditions", doc["conditions"] if isinstance(doc.get("conditions"), dict) else {})
+    fluid = doc.get("fluid")
+    default_t = (parse_temperature("fluid.temperature", fluid["temperature"])
+                 if isinstance(fluid, dict) and "temperature" in fluid else STANDARD_TEMPERATURE_CASE)
+    temperatures = _temperatures(cond, "temperature") if cond.has("temperature") else [default_t]
+    times = _times(cond)
+    at_most("conditions.time", [(t, T) for T in temperatures for t in times], MAX_STUDY_VALUES,
+            "times × temperatures (one case each)", shown=cond.raw("time"))
+    base = copy.deepcopy(doc)
+    for section, keys in LIFE_KEYS.items():
+        for key in keys:
+            if isinstance(base.get(section), dict):
+                base[section].pop(key, None)
+    shown = cond.has("time") or cond.has("temperature")
+    cases = []
+    for temperature in temperatures:
+        for time in times:
+            where = life_label(time, temperature)
+            try:
+                variant = _variant(base, life, time, temperature, cond.has("temperature"))
+                case = build(variant, "; ".join(x for x in (label, where if shown else "") if x))
+            except InputError as exc:
+                raise InputError(f"{exc.field} (at {where})", exc.value, exc.allowed) from None
+            warnings = () if life.glass_transition is None else glass_transition_warnings(
+                temperature, life.glass_transition, estimated=life.estimated)
+            cases.append(replace(case, life=LifePoint(time, temperature, case.youngs_modulus),
+                                 input_warnings=case.input_warnings + warnings))
+    return cases

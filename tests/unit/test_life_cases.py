@@ -1,0 +1,178 @@
+"""The seal over its life in a case file: [conditions] time and temperature, [rubber] relaxation (docs/theory.md §16.7).
+
+Expected values come from the closed forms of a one-term Prony series (a standard linear solid: E(t), and its creep
+compliance J(t) = 1/E∞ − (1/E∞ − 1/E0) exp(−t E∞/(E0 τ))), the WLF equation and eq. 16.9, never from the code's output.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from sealeak.cases import parse_case_file
+from sealeak.cases.run import run_case
+from sealeak.errors import InputError
+
+SURFACE = """
+[surface]
+model = "self-affine"
+h_rms = "5 um"
+hurst = 0.8
+rolloff_wavelength = "100 um"
+cutoff_wavelength = "1 um"
+"""
+ORING = SURFACE + """
+[rubber]
+{rubber}
+[seal]
+shape = "o-ring"
+cross_section_diameter = "2.62 mm"
+inner_diameter = "20 mm"
+{seal}
+[fluid]
+viscosity = "1 mPa*s"
+
+[conditions]
+compression = "20 %"
+pressure_difference = "1 bar"
+{conditions}
+[theory]
+fluid_pressure = "ignored"
+"""
+RING = SURFACE + """
+[rubber]
+{rubber}
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+
+[fluid]
+viscosity = "1 mPa*s"
+
+[conditions]
+squeeze_pressure = ["50 kPa", "200 kPa"]
+pressure_difference = "10 kPa"
+{conditions}
+"""
+E_INF, E_1, TAU = 2e6, 3e6, 100.0  # Pa, Pa, s: one Prony term
+PRONY = 'relaxation = { equilibrium_modulus = "2 MPa", moduli = ["3 MPa"], times = ["100 s"] }'
+
+
+def cases(template: str, rubber: str = 'youngs_modulus = "5 MPa"', conditions: str = "", seal: str = ""):
+    return parse_case_file(template.format(rubber=rubber, conditions=conditions, seal=seal)).cases
+
+
+def test_a_one_term_prony_series_relaxes_the_oring_force_by_e_t_over_e_0():
+    times = [0.0, 30.0, 100.0, 3600.0]
+    relaxed = cases(ORING, PRONY, 'time = ["0 s", "30 s", "100 s", "1 h"]')
+    (elastic,) = cases(ORING, 'youngs_modulus = "5 MPa"')  # E(0) = E∞ + E1
+    f_el = elastic.band.profiles[0].force_per_length
+    assert [c.life.time for c in relaxed] == times
+    for case, t in zip(relaxed, times):
+        ratio = (E_INF + E_1 * math.exp(-t / TAU)) / (E_INF + E_1)
+        assert case.band.profiles[0].force_per_length == pytest.approx(ratio * f_el, rel=1e-9)
+        assert case.band.profiles[0].width == pytest.approx(elastic.band.profiles[0].width, rel=1e-12)  # ε alone sets w
+        assert case.life.modulus == pytest.approx(ratio * (E_INF + E_1), rel=1e-9)
+
+
+def test_a_seal_under_a_squeeze_pressure_creeps_with_one_over_j():
+    times = [0.0, 100.0, 1e4]
+    crept = cases(RING, PRONY, 'time = ["0 s", "100 s", "1e4 s"]')
+    e0 = E_INF + E_1
+    for case, t in zip(crept, times):
+        j = 1 / E_INF - (1 / E_INF - 1 / e0) * math.exp(-t * E_INF / (e0 * TAU))
+        assert case.youngs_modulus == pytest.approx(1 / j, rel=1e-9)
+    assert crept[-1].youngs_modulus == pytest.approx(E_INF, rel=1e-6)  # long times: the equilibrium modulus
+
+
+def test_the_wlf_shift_slows_the_relaxation_in_the_cold():
+    # C1 = 1, C2 = 50 K at Tref = 20 °C; at −5 °C (ΔT = −25 K) log10 a_T = −1 × (−25)/(50 − 25) = 1: a_T = 10
+    rubber = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+    (cold,) = cases(ORING, rubber, 'time = "100 s"\ntemperature = "-5 degC"')
+    expected = E_INF + E_1 * math.exp(-100.0 / 10 / TAU)  # E(t/a_T), a_T = 10
+    assert cold.youngs_modulus == pytest.approx(expected, rel=1e-9)
+    assert cold.life.temperature == pytest.approx(268.15, rel=1e-12)
+    assert cold.temperature == pytest.approx(268.15, rel=1e-12)  # the fluid is taken there too
+    assert cold.label == "t = 100 s, T = -5 °C"
+
+
+def test_colder_gives_less_compression_and_more_leak():
+    alpha_r, alpha_g, eps0 = 23e-5, 1.2e-5, 0.2
+    both = cases(ORING, conditions='temperature = ["-20 degC", "60 degC"]',
+                 rubber='youngs_modulus = "5 MPa"\nthermal_expansion = "23e-5 1/K"',
+                 seal='gland_thermal_expansion = "1.2e-5 1/K"')
+    for case, dt in zip(both, (-40.0, 40.0)):  # assembled at 20 °C
+        expected = 1 - (1 - eps0) * (1 + alpha_g * dt) / (1 + alpha_r * dt)
+        assert case.band.loads[0] == pytest.approx(expected, rel=1e-12)
+    cold, hot = (run_case(c).band.critical_junction.leak_rate[0] for c in both)
+    assert both[0].band.loads[0] < eps0 < both[1].band.loads[0]
+    assert cold > hot
+
+
+def test_groove_depth_follows_the_gland_and_the_cord():
+    both = cases(ORING.replace('compression = "20 %"', 'groove_depth = "2.1 mm"'), conditions='temperature = "-30 degC"',
+                 rubber='youngs_modulus = "5 MPa"\nthermal_expansion = "2e-4 1/K"',
+                 seal='gland_thermal_expansion = "1e-5 1/K"\n')
+    dt = -50.0
+    expected = 1 - 2.1 * (1 + 1e-5 * dt) / (2.62 * (1 + 2e-4 * dt))
+    assert both[0].band.loads[0] == pytest.approx(expected, rel=1e-9)
+
+
+def test_without_relaxation_time_changes_nothing():
+    (plain,) = cases(RING)
+    over_life = cases(RING, conditions='time = ["1 s", "30 a"]')
+    base = run_case(plain).records()
+    for case in over_life:
+        rows = run_case(case).records()
+        assert [{k: v for k, v in r.items() if k not in ("variant", "time", "temperature", "modulus")} for r in rows] == base
+        assert all(r["modulus"] == plain.youngs_modulus for r in rows)
+    assert [r["time"] for c in over_life for r in run_case(c).records()[:1]] == [1.0, 30 * 365.25 * 86400]
+    assert plain.life is None and "time" not in base[0]
+
+
+def test_rows_lead_with_time_temperature_and_modulus():
+    (case,) = cases(RING, PRONY, 'time = "1 h"')
+    result = run_case(case)
+    assert list(result.units)[:3] == ["time", "temperature", "modulus"]
+    assert list(result.records()[0])[:4] == ["variant", "time", "temperature", "modulus"]
+    assert result.units["modulus"] == "Pa" and result.units["temperature"] == "K"
+
+
+def test_a_warning_near_the_glass_transition():
+    rubber = 'youngs_modulus = "5 MPa"\nglass_transition = "-35 degC"'
+    near, far = cases(RING, rubber, 'temperature = ["-30 degC", "40 degC"]')
+    assert any("glass transition" in w for w in near.input_warnings)
+    assert not any("glass transition" in w for w in far.input_warnings)
+
+
+@pytest.mark.parametrize("template, rubber, conditions, seal, field", [
+    (RING, PRONY + '\nyoungs_modulus = "5 MPa"', "", "", "rubber.youngs_modulus"),
+    (RING, PRONY + "\nshore_a = 70", "", "", "rubber.shore_a"),
+    (RING, 'youngs_modulus = "5 MPa"\nwlf_c1 = 8', "", "", "rubber.wlf_c1"),
+    (RING, PRONY + "\nwlf_c1 = 8\nwlf_c2 = 100", "", "", "rubber.reference_temperature"),
+    (RING, PRONY.replace('"3 MPa"', '"-3 MPa"'), "", "", "rubber.relaxation.moduli[0]"),
+    (RING, PRONY.replace('"100 s"', '"100 m"'), "", "", "rubber.relaxation.times[0]"),
+    (RING, PRONY.replace('"100 s"', '"100 s", "1 h"'), "", "", "rubber.relaxation.times"),
+    (RING, 'youngs_modulus = "5 MPa"\nthermal_expansion = "2e-4 1/K"', "", "", "rubber.thermal_expansion"),
+    (ORING, 'youngs_modulus = "5 MPa"\nthermal_expansion = "2e-4 1/K"', "", "", "seal.gland_thermal_expansion"),
+    (RING, 'youngs_modulus = "5 MPa"', 'time = "-1 s"', "", "conditions.time"),
+    (RING, 'youngs_modulus = "5 MPa"', 'time = "3 kg"', "", "conditions.time"),
+    (RING, 'youngs_modulus = "5 MPa"', "temperature = 20", "", "conditions.temperature"),
+    (RING, 'youngs_modulus = "5 MPa"', 'time = {start = "0 s", stop = "1 a", num = 20}\n'
+                                       'temperature = ["0 degC", "10 degC", "20 degC", "30 degC", "40 degC", "50 degC"]',
+     "", "conditions.time"),
+    (RING, 'youngs_modulus = "5 MPa"', 'assembly_temperature = "20 degC"', "", "conditions.assembly_temperature"),
+])
+def test_bad_life_keys_get_one_line_naming_the_key(template, rubber, conditions, seal, field):
+    with pytest.raises(InputError) as err:
+        cases(template, rubber, conditions, seal)
+    assert err.value.field.startswith(field) and "\n" not in str(err.value)
+
+
+def test_the_fluid_temperature_and_conditions_temperature_are_not_both_given():
+    text = RING.format(rubber='youngs_modulus = "5 MPa"', conditions='temperature = "0 degC"')
+    with pytest.raises(InputError) as err:
+        parse_case_file(text.replace('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\ntemperature = "20 degC"'))
+    assert err.value.field == "fluid.temperature"
