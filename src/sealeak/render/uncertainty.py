@@ -50,7 +50,7 @@ def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[st
         p = convert(unc.percentiles(key))
         for i, which in enumerate(("p05", "p50", "p95")):
             headers.append(name.format(which))
-            cols.append([f"{v:.3g}" for v in p[i]])
+            cols.append([f"{v:.3e}" if v else "0" for v in p[i]])  # as the leak rates above; a sealed percentile: 0
     headers.append("sealed")
     cols.append([f"{100 * v:.0f} %" for v in np.mean(unc.sealed, axis=0)])
     exceed = unc.exceed_probability
