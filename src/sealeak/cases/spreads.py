@@ -54,6 +54,8 @@ MAX_UNCERTAIN_INPUTS = 32
 _NO_SPREAD = ("study", "simulation", "uncertainty")
 _PLUS_MINUS = re.compile(r"±|\+/-")
 _CHOICE_MAX = 16
+#: How a number starts (nan and inf too: they are refused as numbers, not as text).
+_NUMBER_START = re.compile(r"\s*([-+.0-9]|[-+]?(nan|inf))", re.IGNORECASE)
 
 
 @dataclass(frozen=True)
@@ -197,7 +199,7 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
             raise InputError(f"uncertainty.{key}.values", values, f"must be a list of 2 to {_CHOICE_MAX} values to choose from")
         return UncertainInput(key, f"{key}: one of {', '.join(map(str, values))}", "choice", nominal,
                               choices=tuple(values))
-    if isinstance(nominal, str) and not _PLUS_MINUS.search(nominal) and not re.match(r"\s*[-+.0-9]", nominal):
+    if isinstance(nominal, str) and not _PLUS_MINUS.search(nominal) and not _NUMBER_START.match(nominal):
         raise InputError(key, nominal, f"is text: a spread needs a number or a quantity ({distribution} allowed only on "
                                        "numbers; for text give { distribution = \"choice\", values = [...] })")
     x, unit = quantity_parts(key, nominal)
