@@ -177,6 +177,14 @@ def _number(field: str, value: Any, unit: str, *, relative_to: float | None = No
     return magnitude * difference_factor(field, value, u, unit)
 
 
+def _log_sd(ratio: float) -> float:
+    """The standard deviation of the logarithm of a lognormal whose standard deviation is ``ratio`` times its median,
+    sqrt(ln(1 + ratio²)), without overflowing for a large ratio (inf where even that overflows)."""
+    if ratio < 1e150:
+        return math.sqrt(math.log1p(ratio * ratio))
+    return math.sqrt(2.0 * math.log(ratio) + math.log1p(1.0 / (ratio * ratio)))
+
+
 def _bound(field: str, value: Any, unit: str) -> float:
     """A bound (low, high) in the value's unit (an absolute value: offsets converted)."""
     magnitude, u = quantity_parts(field, value)
@@ -217,7 +225,10 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
         else:
             if not x > 0:
                 raise InputError(key, nominal, "a lognormal needs a value > 0 (its median)")
-            p = {"median": x, "sd": sd, "sigma": math.sqrt(math.log1p((sd / x) ** 2))}
+            sigma = _log_sd(sd / x)
+            if not math.isfinite(sigma):
+                raise InputError(where, shown, f"the spread is too wide for a lognormal of median {x:g} {unit}")
+            p = {"median": x, "sd": sd, "sigma": sigma}
     else:
         lo = _bound(f"uncertainty.{key}.low", params["low"], unit)
         hi = _bound(f"uncertainty.{key}.high", params["high"], unit)
@@ -303,7 +314,7 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
         if not isinstance(spec, dict):
             raise InputError(where, spec, "must be a table, e.g. { distribution = \"normal\", sd = \"10 %\" }")
         dist = spec.get("distribution")
-        if dist not in DISTRIBUTIONS:
+        if not isinstance(dist, str) or dist not in DISTRIBUTIONS:
             raise InputError(f"{where}.distribution", dist, f"allowed: {', '.join(DISTRIBUTIONS)}"
                              + (did_you_mean(dist, tuple(DISTRIBUTIONS)) if isinstance(dist, str) else ""))
         allowed = set(DISTRIBUTIONS[dist]) | {"distribution"}
