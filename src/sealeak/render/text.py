@@ -373,7 +373,7 @@ def prediction_columns(result: CaseResult, table: str = "critical-junction") -> 
 
 
 def _table_lines(cols: Sequence[Column | GasColumn]) -> list[str]:
-    widths = [max(c[1], len(c[0]) + 1) for c in cols]
+    widths = [max(c[1], len(c[0]) + 1, *(len(v) for v in c[2])) for c in cols]
     lines = [" ".join(c[0].rjust(w) for c, w in zip(cols, widths))]
     for i in range(len(cols[0][2])):
         lines.append(" ".join(c[2][i].rjust(w) for c, w in zip(cols, widths)))
