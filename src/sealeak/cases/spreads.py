@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 from scipy import stats
 
 from ..errors import InputError, did_you_mean
+from ..io.leak_units import MOL_PER_M_S_PA_PER_BARRER
 from ..io.units import difference_factor, pint_unit, quantity_parts, registry
 from .limits import at_most
 from .schema import SECTIONS
@@ -54,6 +55,8 @@ MAX_UNCERTAIN_INPUTS = 32
 _NO_SPREAD = ("study", "simulation", "uncertainty")
 _PLUS_MINUS = re.compile(r"±|\+/-")
 _CHOICE_MAX = 16
+#: How a number starts (nan and inf too: they are refused as numbers, not as text).
+_NUMBER_START = re.compile(r"\s*([-+.0-9]|[-+]?(nan|inf))", re.IGNORECASE)
 
 
 @dataclass(frozen=True)
@@ -175,6 +178,14 @@ def _number(field: str, value: Any, unit: str, *, relative_to: float | None = No
     return magnitude * difference_factor(field, value, u, unit)
 
 
+def _log_sd(ratio: float) -> float:
+    """The standard deviation of the logarithm of a lognormal whose standard deviation is ``ratio`` times its median,
+    sqrt(ln(1 + ratio²)), without overflowing for a large ratio (inf where even that overflows)."""
+    if ratio < 1e150:
+        return math.sqrt(math.log1p(ratio * ratio))
+    return math.sqrt(2.0 * math.log(ratio) + math.log1p(1.0 / (ratio * ratio)))
+
+
 def _bound(field: str, value: Any, unit: str) -> float:
     """A bound (low, high) in the value's unit (an absolute value: offsets converted)."""
     magnitude, u = quantity_parts(field, value)
@@ -187,8 +198,22 @@ def _bound(field: str, value: Any, unit: str) -> float:
                                        "same kind") from None
 
 
+def _molar(field: str, value: Any) -> Any:
+    """A permeability written in Barrer as the same value in mol/(m*s*Pa) (pint knows no Barrer; the builders read
+    both, :func:`~sealeak.io.leak_units.parse_permeability`); any other value as it is."""
+    barrer = re.fullmatch(r"\s*(\S+)\s*barrer\s*", value, re.IGNORECASE) if isinstance(value, str) else None
+    if barrer is None:
+        return value
+    return f"{quantity_parts(field, barrer.group(1))[0] * MOL_PER_M_S_PA_PER_BARRER!r} mol/(m*s*Pa)"
+
+
 def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], written: str) -> UncertainInput:
     """The :class:`UncertainInput` of ``key`` (value ``nominal``) with the parameters as written."""
+    label = f"{key}: {nominal}" + (f" ± {params.get('sd')}" if written == "±" else f" ({distribution}, "
+                                   + ", ".join(f"{k} = {v}" for k, v in params.items() if k != "distribution") + ")")
+    if distribution != "choice":
+        nominal = _molar(key, nominal)
+        params = {k: _molar(f"uncertainty.{key}.{k}", v) for k, v in params.items()}
     table = written == "[uncertainty]"
     where, shown = (f"uncertainty.{key}.sd", params.get("sd")) if table else (key, f"{nominal} ± {params.get('sd')}")
     if distribution == "choice":
@@ -197,7 +222,7 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
             raise InputError(f"uncertainty.{key}.values", values, f"must be a list of 2 to {_CHOICE_MAX} values to choose from")
         return UncertainInput(key, f"{key}: one of {', '.join(map(str, values))}", "choice", nominal,
                               choices=tuple(values))
-    if isinstance(nominal, str) and not _PLUS_MINUS.search(nominal) and not re.match(r"\s*[-+.0-9]", nominal):
+    if isinstance(nominal, str) and not _PLUS_MINUS.search(nominal) and not _NUMBER_START.match(nominal):
         raise InputError(key, nominal, f"is text: a spread needs a number or a quantity ({distribution} allowed only on "
                                        "numbers; for text give { distribution = \"choice\", values = [...] })")
     x, unit = quantity_parts(key, nominal)
@@ -215,7 +240,10 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
         else:
             if not x > 0:
                 raise InputError(key, nominal, "a lognormal needs a value > 0 (its median)")
-            p = {"median": x, "sd": sd, "sigma": math.sqrt(math.log1p((sd / x) ** 2))}
+            sigma = _log_sd(sd / x)
+            if not math.isfinite(sigma):
+                raise InputError(where, shown, f"the spread is too wide for a lognormal of median {x:g} {unit}")
+            p = {"median": x, "sd": sd, "sigma": sigma}
     else:
         lo = _bound(f"uncertainty.{key}.low", params["low"], unit)
         hi = _bound(f"uncertainty.{key}.high", params["high"], unit)
@@ -226,8 +254,6 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
                              f"the value {nominal!r} must lie between low and high (it is the deterministic case's value"
                              + (" and the triangle's mode)" if distribution == "triangular" else ")"))
         p = {"low": lo, "high": hi} | ({"mode": x} if distribution == "triangular" else {})
-    label = f"{key}: {nominal}" + (f" ± {params['sd']}" if written == "±" else f" ({distribution}, "
-                                   + ", ".join(f"{k} = {v}" for k, v in params.items() if k != "distribution") + ")")
     return UncertainInput(key, label, distribution, nominal, unit, p, si_factor=_si_factor(key, unit))
 
 
@@ -301,7 +327,7 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
         if not isinstance(spec, dict):
             raise InputError(where, spec, "must be a table, e.g. { distribution = \"normal\", sd = \"10 %\" }")
         dist = spec.get("distribution")
-        if dist not in DISTRIBUTIONS:
+        if not isinstance(dist, str) or dist not in DISTRIBUTIONS:
             raise InputError(f"{where}.distribution", dist, f"allowed: {', '.join(DISTRIBUTIONS)}"
                              + (did_you_mean(dist, tuple(DISTRIBUTIONS)) if isinstance(dist, str) else ""))
         allowed = set(DISTRIBUTIONS[dist]) | {"distribution"}

@@ -36,7 +36,7 @@ from ..io.leak_units import celsius
 __all__ = [
     "PronySeries", "MasterCurve", "WLFShift", "ArrheniusShift", "modulus_at", "universal_wlf_glass_transition",
     "thermal_compression", "glass_transition_warnings", "CompressionSet", "fit_compression_set", "remaining_compression",
-    "MAX_TERMS", "MAX_POINTS", "UNIVERSAL_WLF_C1", "UNIVERSAL_WLF_C2", "GLASS_MARGIN", "NBR_LINEAR_EXPANSION",
+    "MAX_TERMS", "MAX_POINTS", "PRONY_MODULI", "PRONY_TIMES", "UNIVERSAL_WLF_C1", "UNIVERSAL_WLF_C2", "GLASS_MARGIN", "NBR_LINEAR_EXPANSION",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -46,6 +46,14 @@ MAX_TERMS = 64
 
 MAX_POINTS = 10_000
 """The most points a master curve or a compression-set table may have."""
+
+PRONY_MODULI = (1.0, 1e12)
+"""The range (Pa) of a Prony series' moduli: from a gel's to beyond a glassy polymer's (about 3 GPa). Beyond it the
+retardation spectrum's roots leave the range of floating-point numbers."""
+
+PRONY_TIMES = (1e-15, 1e15)
+"""The range (s) of a Prony series' relaxation times: a femtosecond to 30 million years (a master curve's reduced
+times span about 10⁻¹² to 10¹² s)."""
 
 UNIVERSAL_WLF_C1 = 17.44
 """C1 of the WLF equation with Tg as the reference temperature, averaged over many polymers (Williams, Landel &
@@ -141,10 +149,14 @@ class PronySeries:
             raise InputError(f"{f}.moduli", self.moduli, f"must have at most {MAX_TERMS} terms")
         if moduli.size != times.size:
             raise InputError(f"{f}.times", self.times, f"must have one relaxation time per modulus ({moduli.size})")
-        for name, arr, unit in (("moduli", moduli, "Pa"), ("times", times, "s")):
+        if not PRONY_MODULI[0] <= e_inf <= PRONY_MODULI[1]:
+            raise InputError(f"{f}.equilibrium_modulus", e_inf, f"must lie in [{PRONY_MODULI[0]:g}, {PRONY_MODULI[1]:g}] Pa")
+        for name, arr, unit, (lo, hi) in (("moduli", moduli, "Pa", PRONY_MODULI), ("times", times, "s", PRONY_TIMES)):
             for i, v in enumerate(arr):
                 if not v > 0:
                     raise InputError(f"{f}.{name}[{i}]", float(v), f"must be > 0 ({unit})")
+                if not lo <= v <= hi:
+                    raise InputError(f"{f}.{name}[{i}]", float(v), f"must lie in [{lo:g}, {hi:g}] {unit}")
         ordered = np.sort(times)
         close = np.flatnonzero(ordered[1:] <= ordered[:-1] * (1 + 1e-9))
         if close.size:

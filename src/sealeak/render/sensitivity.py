@@ -27,7 +27,7 @@ from ..cases.sobol import (
 from ..cases.uncertainty import UncertainStudy
 from ..io.quantities import descriptions_of, expand_keys, units_of
 from .notes import load_text
-from .uncertainty import _load_column
+from .uncertainty import row_columns
 
 __all__ = ["sensitivity_columns", "sensitivity_heading", "sensitivity_legend", "sensitivity_sentences", "sensitivity_fields",
            "sensitivity_units", "sensitivity_json", "SENSITIVITY_FIELDS"]
@@ -44,10 +44,8 @@ def sensitivity_columns(s: SobolIndices, study: UncertainStudy) -> tuple[list[st
     """The headers and cells of the sensitivity table: per row its variant (a study), load, "ST (S1)" of each input, and
     the share of samples that sealed."""
     rows = study.rows
-    variants = any(r.variant for r in rows)
-    head, loads = _load_column(rows[0].load_name, [r.load for r in rows])
-    headers = (["variant"] if variants else []) + [head] + [f"{k} ST (S1)" for k in s.names] + ["sealed"]
-    cols: list[list[str]] = ([[r.variant for r in rows]] if variants else []) + [loads]
+    headers, cols = row_columns(rows)
+    headers += [f"{k} ST (S1)" for k in s.names] + ["sealed"]
     cols += [[_cell(s.total[j, i], s.first[j, i]) for j in range(len(rows))] for i in range(len(s.names))]
     cols.append([f"{100 * v:.0f} %" for v in s.sealed_fraction])
     return headers, [list(r) for r in zip(*cols)]

@@ -420,14 +420,18 @@ def validity_notes(result: CaseResult) -> list[str]:
     return out
 
 
+def _cell_columns(headers: list[str], rows: list[list[str]]) -> list[Column]:
+    """The columns of a table given as headers and rows of cells, each at least 8 wide and as wide as its widest cell
+    (a study's variant names are longer than "variant")."""
+    return [(h, max([8] + [len(r[i]) for r in rows]), [r[i] for r in rows]) for i, h in enumerate(headers)]
+
+
 def uncertainty_lines(unc: UncertaintyResult) -> list[str]:
     """The uncertainty block ``sealeak predict`` prints under the deterministic table: the inputs, the percentiles per
     row, the passing loads (docs/user-guide.md, Uncertain inputs)."""
-    headers, rows = uncertainty_columns(unc)
-    cols = [(h, 8, [r[i] for r in rows]) for i, h in enumerate(headers)]
     lines = ["", uncertainty_heading(unc)]
     lines += [f"  {inp.label}" for inp in unc.study.inputs]
-    lines += _table_lines(cols)
+    lines += _table_lines(_cell_columns(*uncertainty_columns(unc)))
     lines.append("          " + uncertainty_legend(unc))
     lines += passing_lines(unc)
     return lines
@@ -436,9 +440,8 @@ def uncertainty_lines(unc: UncertaintyResult) -> list[str]:
 def sensitivity_lines(s: SobolIndices, unc: UncertaintyResult) -> list[str]:
     """The sensitivity block ``sealeak predict --sensitivity N`` prints under the uncertainty block: ST (S1) per row and
     input, then one sentence per case on what to measure better first (docs/user-guide.md, Sensitivity)."""
-    headers, rows = sensitivity_columns(s, unc.study)
     lines = ["", sensitivity_heading(s)]
-    lines += _table_lines([(h, 8, [r[i] for r in rows]) for i, h in enumerate(headers)])
+    lines += _table_lines(_cell_columns(*sensitivity_columns(s, unc.study)))
     lines.append("          " + sensitivity_legend())
     return lines + sensitivity_sentences(s, unc.study)
 

@@ -3,15 +3,16 @@ table, the report's table and the JSON ``uncertainty`` object (:class:`~sealeak.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
-from ..cases.uncertainty import PASS_PROBABILITY, PassingLoad, UncertaintyResult
+from ..cases.uncertainty import PASS_PROBABILITY, PassingLoad, ResultRow, UncertaintyResult
 from ..io.leak_units import to_ml_per_min
 from .notes import load_text
 
-__all__ = ["uncertainty_columns", "uncertainty_heading", "uncertainty_legend", "passing_lines",
+__all__ = ["row_columns", "uncertainty_columns", "uncertainty_heading", "uncertainty_legend", "passing_lines",
            "uncertainty_summary"]
 
 _SAMPLER_NAMES = {"sobol": "scrambled Sobol' points", "lhs": "Latin hypercube"}
@@ -30,22 +31,25 @@ def _shown(unc: UncertaintyResult) -> list[tuple[str, str, Any]]:
     return out
 
 
-def _load_column(name: str, values: list[float]) -> tuple[str, list[str]]:
+def row_columns(rows: Sequence[ResultRow]) -> tuple[list[str], list[list[str]]]:
+    """The headers and cells of the first columns of a table with one row per result row: its variant (a study only)
+    and its load (P0 in kPa, compression in %, a profile's scale)."""
+    name, values = rows[0].load_name, [r.load for r in rows]
     if name == "squeeze_pressure":
-        return "P0 (kPa)", [f"{v / 1e3:.4g}" for v in values]
-    if name == "compression":
-        return "ε (%)", [f"{100 * v:.4g}" for v in values]
-    return "scale", [f"{v:.4g}" for v in values]
+        head, loads = "P0 (kPa)", [f"{v / 1e3:.4g}" for v in values]
+    elif name == "compression":
+        head, loads = "ε (%)", [f"{100 * v:.4g}" for v in values]
+    else:
+        head, loads = "scale", [f"{v:.4g}" for v in values]
+    if any(r.variant for r in rows):
+        return ["variant", head], [[r.variant for r in rows], loads]
+    return [head], [loads]
 
 
 def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[str]]]:
     """The headers and cells of the uncertainty table: per result row its variant (a study), load, the 5th, 50th and
     95th percentiles of Q, the share of samples that seal, and the probability of exceeding ``max_leak_rate``."""
-    rows = unc.study.rows
-    study = any(r.variant for r in rows)
-    head, loads = _load_column(rows[0].load_name, [r.load for r in rows])
-    headers = (["variant"] if study else []) + [head]
-    cols: list[list[str]] = ([[r.variant for r in rows]] if study else []) + [loads]
+    headers, cols = row_columns(unc.study.rows)
     for key, name, convert in _shown(unc):
         p = convert(unc.percentiles(key))
         for i, which in enumerate(("p05", "p50", "p95")):

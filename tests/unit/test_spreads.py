@@ -1,0 +1,60 @@
+"""Hostile spreads: each refusal is one line naming the key and saying what is wrong (cases/spreads.py)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sealeak.cases.uncertainty import parse_uncertain_case
+from sealeak.errors import InputError
+from sealeak.io.leak_units import parse_permeability
+from tests.casefiles import BASE
+
+
+@pytest.mark.parametrize("value", ["nan um ± 10 %", "inf um ± 10 %", "-inf um ± 10 %", "NaN ± 0.1 um"])
+def test_a_value_that_is_no_finite_number_is_refused_as_such_not_as_text(value):
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(BASE.replace('h_rms = "44 um"', f'h_rms = "{value}"'))
+    assert exc.value.field == "surface.h_rms" and "\n" not in str(exc.value)
+    assert "finite" in str(exc.value) and "is text" not in str(exc.value)
+
+
+def test_a_word_with_a_spread_is_refused_as_text():
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(BASE.replace('shape = "ring"', 'shape = "ring ± 1"'))
+    assert exc.value.field == "seal.shape" and "is text" in str(exc.value)
+
+
+@pytest.mark.parametrize("entry", ['{ distribution = ["normal"], sd = "1 %" }', '{ distribution = { a = 1 }, sd = "1 %" }'])
+def test_a_distribution_that_is_no_name_is_one_line_naming_it(entry):
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(BASE + f'[uncertainty]\n"surface.h_rms" = {entry}\n')
+    assert exc.value.field == "uncertainty.surface.h_rms.distribution" and "normal" in exc.value.allowed
+
+
+@pytest.mark.parametrize("sd", ["1e300 %", "1e308 um"])
+def test_a_huge_lognormal_spread_gives_a_finite_log_sd_not_an_overflow(sd):
+    """sd/median of 1e300 overflows its square; sigma = sqrt(ln(1 + r²)) is still about sqrt(2 ln r)."""
+    study = parse_uncertain_case(BASE + f'[uncertainty]\n"surface.h_rms" = {{ distribution = "lognormal", sd = "{sd}" }}\n')
+    inp = study.inputs[0]
+    ratio = inp.parameters["sd"] / inp.parameters["median"]
+    assert inp.parameters["sigma"] == pytest.approx(math.sqrt(2 * math.log(ratio)), rel=1e-6)
+
+
+#: A gas case (a flat seal of height 2 mm, helium against vacuum) whose rubber has a permeability in Barrer.
+PERMEATION = BASE.replace("poisson_ratio = 0.5", 'poisson_ratio = 0.5\npermeability = "3 barrer"').replace(
+    'outer_diameter = "4 cm"', 'outer_diameter = "4 cm"\nheight = "2 mm"').replace(
+    'viscosity = "1 mPa*s"', 'name = "helium"\ntemperature = "20 degC"').replace(
+    'pressure_difference = "10 kPa"', 'upstream_pressure = "1 bar"\ndownstream_pressure = "0 Pa"')
+
+
+@pytest.mark.parametrize("written", ["3 barrer ± 10 %", "3 Barrer ± 0.3 barrer", "3 barrer ± 1.0039e-16 mol/(m*s*Pa)"])
+def test_a_permeability_in_barrer_takes_a_spread(written):
+    """Barrer is no pint unit: the spread is carried in mol/(m·s·Pa), the same permeability (1 Barrer = 3.346e-16)."""
+    study = parse_uncertain_case(PERMEATION.replace('permeability = "3 barrer"', f'permeability = "{written}"'))
+    inp = study.inputs[0]
+    assert inp.key == "rubber.permeability" and written in inp.label
+    median, upper = (parse_permeability("p", w, temperature=293.15) for w in inp.written(np.array([0.5, 0.8413])))
+    nominal = parse_permeability("p", "3 barrer", temperature=293.15)
+    assert median == pytest.approx(nominal, rel=1e-12)
+    assert upper == pytest.approx(1.1 * nominal, rel=1e-3)  # one standard deviation (10 %) above
