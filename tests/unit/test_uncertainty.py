@@ -164,6 +164,13 @@ def test_gas_limit_needs_a_gas_or_the_helium_equivalent():
         parse_uncertain_case(spread(text))
 
 
+def test_a_limit_that_is_no_leak_rate_is_named_as_written():
+    text = LEAKS.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1 kg"')
+    with pytest.raises(InputError) as err:
+        parse_uncertain_case(spread(text))
+    assert err.value.field == "conditions.max_leak_rate" and err.value.value == "1 kg" and "not a leak rate" in str(err.value)
+
+
 def _alpha_and_viscosity(model):
     text = spread(LEAKS, old='viscosity = "1 mPa*s"', new='viscosity = "1 mPa*s ± 20 %"')
     return text.replace("alpha = 0.2", f'alpha = "0.2 ± 0.05"\nmodel = "{model}"')

@@ -38,7 +38,7 @@ from .run import CaseResult, run_case
 from .scaling import scaled_leak_rate
 from .spreads import UncertainInput
 
-__all__ = ["UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
+__all__ = ["record_values", "UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
            "SAMPLERS", "DEFAULT_SAMPLES", "MAX_SAMPLES", "PASS_PROBABILITY", "SPREAD_KEYS", "UNCERTAINTY_UNITS",
            "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "check_sampling", "unit_points", "sample_values",
            "leak_rates", "propagate"]
@@ -139,7 +139,7 @@ def _shown(result: CaseResult, key: str) -> str:
     return key if result.shows_critical_junction else key + "_effective_medium"
 
 
-def _values(results: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
+def record_values(results: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
     """The :data:`SPREAD_KEYS` the records hold, one value per row (NaN → 0: no leak channel, it seals)."""
     records = [(r, rec) for r in results for rec in r.records()]
     out: dict[str, NDArray[np.float64]] = {}
@@ -176,7 +176,7 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
         values = [w[i] for w in written]
         tag = repr(values)
         if tag not in done:
-            done[tag] = _values([run_case(c) for c in _sample_cases(study, values)])
+            done[tag] = record_values([run_case(c) for c in _sample_cases(study, values)])
         for key, v in done[tag].items():
             out.setdefault(key, []).append(v)
     return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}
@@ -200,7 +200,7 @@ def _scaled(study: UncertainStudy, points: NDArray[np.float64], nominal: list[Ca
         if not np.all(v > 0):
             raise InputError(f"{inp.key} (uncertainty sample)", float(v[~(v > 0)][0]), "must be > 0; narrow the spread")
         ratio[inp.key] = v / quantity_parts(inp.key, inp.nominal)[0]
-    base = _values(nominal)["leak_rate"]
+    base = record_values(nominal)["leak_rate"]
     alpha = np.concatenate([np.tile(ratio["theory.alpha"][:, None] if r.shows_critical_junction else np.ones((points.shape[0], 1)),
                                     len(r.records())) for r in nominal], axis=1)
     return {"leak_rate": base * alpha / ratio["fluid.viscosity"][:, None]}
@@ -284,7 +284,7 @@ def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
     except InputError:
         return None
     out = np.concatenate(columns, axis=1)
-    base = _values(nominal)["leak_rate"]
+    base = record_values(nominal)["leak_rate"]
     if base.shape != out.shape[1:]:  # records that are not one per squeeze pressure: not what the scaling computes
         return None
     out[factors["nominal"]] = base
@@ -320,7 +320,10 @@ def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArra
     if isinstance(value, bool) or not isinstance(value, str):
         raise InputError(field, value, "must be a leak rate with its unit, e.g. '1e-6 mbar*l/s' or '0.1 ml/min'")
     number, unit = _leak_parts(field, value)
-    kind, factor = leak_rate_unit(field, unit)
+    try:
+        kind, factor = leak_rate_unit(field, unit)
+    except InputError as exc:  # named with the whole value as written, not its unit alone
+        raise InputError(field, value, exc.allowed) from None
     if not number > 0:
         raise InputError(field, value, "must be > 0")
     keys: list[str] = []

@@ -30,7 +30,7 @@ from matplotlib.ticker import FuncFormatter
 
 from ..cases.sobol import SobolIndices, chosen_rows, sensitivity_summary
 from ..cases.uncertainty import UncertaintyResult
-from ..cases.uncertainty import _values as record_leak_rates
+from ..cases.uncertainty import record_values as record_leak_rates
 from .notes import load_axis_label, load_text
 from .plotstyle import (
     GAS_LEAK_LABEL,
