@@ -135,8 +135,10 @@ def test_fields_that_is_a_file_is_refused(layout, tmp_path, capsys):
 # ---------------------------------------------------------------- Ctrl-C leaves no field files
 def _interrupt_after_first_field(args, folder, cwd):
     """Run ``sealeak simulate`` in a subprocess and send SIGINT once its first field file exists."""
+    # SIGINT as a terminal sends it, also where this suite runs in a background job (which ignores SIGINT, and a
+    # Python started with it ignored never raises KeyboardInterrupt)
     proc = subprocess.Popen([sys.executable, "-c", "import sys; from sealeak.cli import main; sys.exit(main())", *args], cwd=cwd, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
         if any(folder.glob(".sealeak-fields-*/*.npz")):

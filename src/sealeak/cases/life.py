@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..io.leak_units import celsius
 from ..io.units import parse_quantity, parse_temperature
 from ..physics.viscoelastic import (
     MAX_TERMS,
@@ -75,7 +76,7 @@ def life_label(time: float, temperature: float) -> str:
     spanned = [(u, f) for u, f in _TIME_UNITS if time >= f] or [("s", 1.0)]
     exact = [(u, f) for u, f in spanned if math.isclose(float(f"{time / f:.4g}"), time / f, rel_tol=1e-9)]
     unit, factor = (exact or spanned)[0]
-    return f"t = {time / factor:.4g} {unit}, T = {temperature - 273.15:.4g} °C"
+    return f"t = {time / factor:.4g} {unit}, T = {celsius(temperature):.4g} °C"
 
 
 def _temperatures(cond: Section, key: str) -> list[float]:
