@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from sealeak.cases import example_path, prediction_curves, read_case_file, run_case, run_fit
+from sealeak.cases.gas import gas_throughput
 from sealeak.cli import main
 from sealeak.lab.data import read_leak_data
 from sealeak.render.band import figure_band_leak_rate
@@ -155,6 +156,30 @@ def test_pressure_difference_figure_of_a_gas_draws_q_pv_through_the_records_poin
     no_slip = ((1e5 + sw.pressure_difference[1:]) ** 2 - 1e5 ** 2) / 2
     ratio = sw.critical_junction[1:] / no_slip
     assert np.all(np.diff(ratio) < 0)
+
+
+@pytest.mark.parametrize("fluid_pressure", ["coupled", "ignored"])
+def test_gas_sweep_passes_through_the_records_leak_with_the_fluid_pressure_coupled_or_not(tmp_path, fluid_pressure):
+    text = _uniform_text().replace('fluid_pressure = "ignored"', f'fluid_pressure = "{fluid_pressure}"')
+    results = _run(tmp_path, text)
+    (r,) = results
+    sw, _ax = _dp_curves(results)
+    row = int(np.flatnonzero(r.critical_junction.squeeze_pressure == sw.squeeze_pressure)[0])
+    at = int(np.flatnonzero(np.isclose(sw.pressure_difference, 2e5))[0])  # the case's ΔP: 3 bar - 1 bar
+    # the curve at the case's pressures is predict's leak of that row, each theory (exact coupling or not, §13.5)
+    assert sw.critical_junction[at] == pytest.approx(_records(r, "leak_rate_pv")[row], rel=1e-9)
+    assert sw.effective_medium[at] == pytest.approx(_records(r, "leak_rate_pv_effective_medium")[row], rel=1e-9)
+    assert sw.critical_junction[0] == 0.0 and np.all(np.diff(sw.critical_junction) > 0)
+    # K ∫ p f dp at each P_a (K and h of the row) only without the coupling; coupled, the gas pressure opens the contact
+    # further as P_a rises, so the sweep grows faster than that
+    rows = r.gas["critical_junction"]
+    approx = gas_throughput(r.case, np.full(sw.pressure_difference.size, rows.conductance[row]),
+                            np.full(sw.pressure_difference.size, rows.gap[row]), sw.pressure_difference,
+                            np.full(sw.pressure_difference.size, rows.length[row]))
+    if fluid_pressure == "ignored":
+        np.testing.assert_allclose(sw.critical_junction, approx, rtol=1e-12)
+    else:
+        assert np.all(np.diff(sw.critical_junction[1:] / approx[1:]) > 0)
 
 
 def test_pressure_difference_figure_no_slip_is_k_times_half_the_difference_of_squares(tmp_path):

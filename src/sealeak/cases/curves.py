@@ -102,7 +102,8 @@ class PressureDifferenceSweep:
 
     For a gas case (``gas`` True) the leak rates are pV throughputs Q_pV = K ∫ p f(Kn) dp from P_b to
     P_b + ΔP (Pa·m³/s) at the case's downstream pressure P_b, with each theory's K and narrowest gap at
-    this squeeze pressure (docs/theory.md §11.5, §11.9): not linear in ΔP.
+    this squeeze pressure (docs/theory.md §11.5, §11.9): not linear in ΔP; with the fluid pressure coupled, the exact
+    gas coupling of this row's seal at each P_a (§13.5), which passes through the row's leak at the case's ΔP.
 
     ``valid``, ``valid_effective_medium``: whether each prediction at this pressure is within the
     continuum theory (docs/theory.md §9.11).
@@ -219,7 +220,8 @@ def prediction_curves(results: list[CaseResult]) -> PredictionCurves:
 
 
 def _gas_sweep(result: CaseResult, row: int, dp: FloatArray, valid: bool) -> PressureDifferenceSweep:
-    """Q_pV against ΔP = P_a − P_b at the case's P_b, each theory's K and gap of row ``row`` (docs/theory.md §11.9)."""
+    """Q_pV against ΔP = P_a − P_b at the case's P_b, each theory's K and gap of row ``row`` (docs/theory.md §11.9); with
+    the fluid pressure coupled, the exact gas coupling of that row's seal at each P_a (§13.5)."""
     case, gas = result.case, result.gas or {}
 
     def curve(name: str) -> FloatArray | None:
@@ -227,7 +229,8 @@ def _gas_sweep(result: CaseResult, row: int, dp: FloatArray, valid: bool) -> Pre
         if rows is None:
             return None
         return gas_throughput(case, np.full(dp.size, rows.conductance[row]), np.full(dp.size, rows.gap[row]), dp,
-                              np.full(dp.size, rows.length[row]))
+                              np.full(dp.size, rows.length[row]),
+                              [rows.seals[row]] * dp.size if rows.seals is not None else None)
 
     cj, em = curve("critical_junction"), curve("effective_medium")
     valid_em = result.valid_effective_medium

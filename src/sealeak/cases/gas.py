@@ -10,6 +10,7 @@ docs/theory.md §13.5); with ``rubber.permeability``, the permeation through the
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -112,6 +113,9 @@ class GasRows:
         The permeation through the rubber of a gas case with ``rubber.permeability`` (an O-ring, a ring or
         rectangle with ``seal.height``), per row, else None; the total (interface + permeation) counts a row without a leak channel as
         permeation alone.
+    seals
+        The :class:`CoupledGasSeal` of each row when the fluid pressure is coupled (docs/theory.md §13.5), else None:
+        the Q_pV(ΔP) curves use them.
 
     Rows without a leak channel hold NaN leak rates (``null`` in JSON), as the liquid's ``leak_rate``.
     """
@@ -122,6 +126,7 @@ class GasRows:
     leaks: tuple[GasLeak | None, ...] | None
     helium: FloatArray | None
     permeation: OringPermeation | None = None
+    seals: tuple[CoupledGasSeal, ...] | None = None
 
     def fields(self, suffix: str = "") -> dict[str, Any]:
         """The record fields (:data:`GAS_UNITS`, :data:`HELIUM_UNITS`, with ``suffix``) as arrays per row."""
@@ -191,7 +196,7 @@ def gas_rows(case: Case, conductance: ArrayLike, gap: ArrayLike, length: ArrayLi
                               gas_leak(float(k[i]) * scale, float(h[i]), he, pa, pb, case.rarefaction, cap(i)).throughput
                               for i in range(k.size)])
     return GasRows(np.where(channel, k, 0.0), np.where(channel, h, np.nan), np.array(lengths, dtype=float), leaks, he_pv,
-                   permeation if leaks is not None else None)
+                   permeation if leaks is not None else None, tuple(seals) if seals is not None else None)
 
 
 def _uniform_gas(case: Case, res: CriticalJunctionResult, em: EffectiveMediumResult | None) -> dict[str, GasRows]:
@@ -243,12 +248,15 @@ def _band_gas(case: Case, band: BandResult) -> dict[str, GasRows]:
     return out
 
 
-def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray, length: FloatArray | None = None) -> FloatArray:
-    """Q_pV = K ∫ p f dp (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row (docs/theory.md §11.5, §11.9).
+def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray, length: FloatArray | None = None,
+                   seals: Sequence[CoupledGasSeal] | None = None) -> FloatArray:
+    """Q_pV (Pa·m³/s) per row: P_b the case's, P_a = P_b + ΔP of the row (docs/theory.md §11.5, §11.9, §13.5).
 
     ``k`` the no-slip conductance K (m³/(Pa·s)), ``gap`` the narrowest gap h (m) and ``dp`` ΔP (Pa) per
-    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0. ``length`` (m, per row): the constriction's
-    length λ_c, as in :func:`gas_rows` (None or NaN: an infinite slit).
+    row; NaN where K = 0 or there is no gap, 0 where ΔP = 0. Without ``seals``: K ∫ p f dp at the gap h, ``length``
+    (m, per row) the constriction's length λ_c, as in :func:`gas_rows` (None or NaN: an infinite slit). With
+    ``seals`` (one :class:`CoupledGasSeal` per row, the fluid pressure coupled): the exact gas coupling of each row's
+    seal at its P_a (eqs. 13.6, 13.7), as :func:`gas_rows` computes the leak at the case's pressures.
     """
     gas = case.gas
     assert gas is not None
@@ -259,6 +267,9 @@ def gas_throughput(case: Case, k: FloatArray, gap: FloatArray, dp: FloatArray, l
             out[i] = 0.0
         elif k[i] > 0 and np.isfinite(gap[i]) and gap[i] > 0 and dp[i] > 0:
             with case_keys():
+                if seals is not None:
+                    out[i] = seals[i].throughput(gas.gas, gas.rarefaction, pb + float(dp[i]), pb)
+                    continue
                 cap = None if length is None or not np.isfinite(length[i]) or length[i] <= 0 else float(length[i])
                 out[i] = k[i] * pressure_integral(float(gap[i]), gas.gas, pb + float(dp[i]), pb, gas.rarefaction, cap)
     return out
