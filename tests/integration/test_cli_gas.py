@@ -269,6 +269,37 @@ def test_fit_of_gas_leak_data_recovers_alpha_in_any_leak_unit(tmp_path, capsys, 
     assert "pV throughputs of nitrogen" in capsys.readouterr().out
 
 
+def test_fit_of_a_coupled_gas_case_recovers_alpha_from_the_exact_coupling_at_each_rows_pressures(tmp_path, capsys):
+    """Data made from predict's coupled gas leak (theory §13.5) at α = 0.3: fit's α of the critical junction is 0.3
+    (σ ∝ α, while u_c and so the slip do not depend on α). Rows measured at 5 bar, each with its ΔP, fit to 0.3 as
+    well, to the gas's properties, which the fit takes at the case's pressures (3 bar)."""
+    def text(upstream):
+        coupled = edit('fluid_pressure = "ignored"', 'fluid_pressure = "coupled"', gas_case("nitrogen", upstream, "1 bar"))
+        return edit("alpha = 0.2", "alpha = 0.3", coupled)
+
+    def lines(upstream, dp_kpa):
+        rows = leaking(predict_json(tmp_path, capsys, text(upstream)))
+        assert len(rows) >= 2
+        return [f"{r['squeeze_pressure'] / 1e3!r}, {r['leak_rate_pv']!r}, {dp_kpa!r}\n" for r in rows]
+
+    def fit(rows):
+        data = tmp_path / "measured.csv"
+        data.write_text("squeeze_pressure (kPa), leak_rate (Pa*m^3/s), pressure_difference (kPa)\n" + "".join(rows))
+        case = tmp_path / "case.toml"
+        case.write_text(text("3 bar"))
+        out = tmp_path / "fit.json"
+        assert main(["fit", str(case), "--data", str(data), "--json", str(out), "--force"]) == 0
+        capsys.readouterr()
+        result = json.loads(out.read_text())["critical_junction"]
+        assert result["points_used"] == len(rows)
+        return result["alpha"]
+
+    at_case = lines("3 bar", 200.0)
+    assert fit(at_case) == pytest.approx(0.3, rel=1e-6)
+    # the uncoupled K ∫ p f dp at 5 bar would be off by a factor (the gas pressure opens the contact more at 5 bar)
+    assert fit(at_case + lines("5 bar", 400.0)) == pytest.approx(0.3, rel=1e-2)
+
+
 @pytest.mark.parametrize("unit", ["sccm", "mol/s", "kg/s"])
 def test_a_gas_leak_unit_for_a_liquid_case_is_one_line(tmp_path, capsys, unit):
     case = tmp_path / "case.toml"

@@ -21,7 +21,7 @@ from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
 from .band import BandResult, load_value
 from .capillarity import CapillaryRows, band_capillarity, uniform_capillarity
-from .gas import gas_throughput
+from .gas import CoupledGasSeal, band_gas_seal, gas_throughput, uniform_gas_seals
 from .model import Case
 from .notes import Note, NoteLike
 from .prediction import FloatArray, Model, _band_at, _band_conductance, _band_effective_gap, _band_k, leak_curve, predict, predict_effective_medium
@@ -271,6 +271,10 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
                      messages=tuple(messages), outside_validity=outside)
 
 
+#: One theory of a gas fit at its loads: K at α = 1 (m³/(Pa·s)), the narrowest gap (m), the constriction's length λ_c
+#: (m), and with the fluid pressure coupled the :class:`~sealeak.cases.gas.CoupledGasSeal` at α = 1 of each load (else None).
+_GasModel = tuple[FloatArray, FloatArray, FloatArray, list[CoupledGasSeal] | None]
+
 #: Leak-rate kinds only a gas case can convert (:mod:`sealeak.io.leak_units`).
 _GAS_ONLY_KINDS = ("standard_volume_flow", "molar_flow", "mass_flow")
 
@@ -279,8 +283,11 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     """:func:`run_fit` of a gas case: measured and predicted pV throughputs (Pa·m³/s), α scaling K (docs/theory.md §11.9).
 
     Each theory's prediction at a row is K(α = 1) ∫ p f(Kn(p)) dp from P_b to P_b + ΔP_row with the
-    gap of :func:`gas_rows` (u_c, u_e, or u_c at the band's peak pressure), which does not depend on
-    α: the throughput is proportional to α, and :func:`~sealeak.lab.fitting.fit_scale` applies.
+    gap of :func:`gas_rows` (u_c, u_e, or u_c at the band's peak pressure), or with the fluid pressure coupled the
+    exact gas coupling at α = 1 of the row's load at its P_a (:class:`~sealeak.cases.gas.CoupledGasSeal`, docs/theory.md
+    §13.5). α scales σ(s) and not the critical junction's gap u_c(s), so Kn and f do not depend on α: the throughput is
+    proportional to α, and :func:`~sealeak.lab.fitting.fit_scale` applies (the effective medium's α is a factor on
+    its prediction).
     """
     gas = case.gas
     assert gas is not None
@@ -290,29 +297,44 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                       pressure=data.reference_pressure)
     dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
 
-    def models(at: Case, loads: FloatArray) -> tuple[dict[str, tuple[FloatArray, FloatArray, FloatArray]], Verdicts]:
-        """(K at α = 1, gap, length λ_c) of both theories at ``loads`` (those of :func:`gas_rows`), and their verdicts there."""
+    def models(at: Case, loads: FloatArray) -> tuple[dict[str, _GasModel], Verdicts]:
+        """(K at α = 1, gap, length λ_c, coupled seals at α = 1 or None) of both theories at ``loads`` (those of
+        :func:`gas_rows`), and their verdicts there."""
+        one = replace(at, alpha=1.0)
         if at.band is not None:
-            ks, res = _band_conductance(replace(at, alpha=1.0), loads, ("critical-junction", "effective-medium"))
+            ks, res = _band_conductance(one, loads, ("critical-junction", "effective-medium"))
             assert res.effective_medium is not None
             lam = res.critical_wavelength_at_max_pressure
-            return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure, lam),
-                     "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium), lam)},
+            at_loads = _band_at(one, loads)
+
+            def band_seals(model: Model, percolates: NDArray[np.bool_]) -> list[CoupledGasSeal] | None:
+                return ([band_gas_seal(at_loads, model, i, bool(ok)) for i, ok in enumerate(percolates)]
+                        if at.coupled else None)
+            return ({"critical_junction": (ks["critical-junction"][0], res.critical_gap_at_max_pressure, lam,
+                                           band_seals("critical-junction", res.critical_junction.percolates)),
+                     "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium), lam,
+                                          band_seals("effective-medium", res.effective_medium.percolates))},
                     _band_verdicts(at, res, pressure_difference=False))
         # K = Q/ΔP: at ΔP → 0 as printed; with the fluid pressure coupled at the case's ΔP, as predict (theory §13.5)
         dp_k = at.pressure_difference if at.coupled else 1.0
-        cj = predict(replace(at, alpha=1.0), squeeze_pressure=loads, pressure_difference=dp_k)
+        cj = predict(one, squeeze_pressure=loads, pressure_difference=dp_k)
         em = predict_effective_medium(at, squeeze_pressure=loads, pressure_difference=dp_k)
-        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate / dp_k, 0.0), cj.critical_gap, cj.critical_wavelength),
+
+        def seals(model: Model, percolates: NDArray[np.bool_]) -> list[CoupledGasSeal] | None:
+            return uniform_gas_seals(one, model, loads, percolates) if at.coupled else None
+        return ({"critical_junction": (np.where(cj.percolates, cj.leak_rate / dp_k, 0.0), cj.critical_gap, cj.critical_wavelength,
+                                       seals("critical-junction", cj.percolates)),
                  "effective_medium": (np.where(em.percolates, em.leak_rate / dp_k, 0.0),
-                                      np.where(em.percolates, em.effective_gap, np.nan), cj.critical_wavelength)},
+                                      np.where(em.percolates, em.effective_gap, np.nan), cj.critical_wavelength,
+                                      seals("effective-medium", em.percolates))},
                 _uniform_verdicts(at, cj, em, pressure_difference=False))
 
     loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
     distinct, inverse = np.unique(loads, return_inverse=True)
     at_distinct, verdicts = models(case, distinct)
-    fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp, lam[inverse]), name)
-            for name, (k, gap, lam) in at_distinct.items()}
+    fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp, lam[inverse],
+                                              None if seals is None else [seals[j] for j in inverse]), name)
+            for name, (k, gap, lam, seals) in at_distinct.items()}
     load_name = case.band.load_name if case.band is not None else "squeeze_pressure"
     messages = _fit_messages(data, fits, load_name, loads)
     notes, outside = _outside_validity(data, fits, verdicts, inverse, load_name, loads)
@@ -330,7 +352,8 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     else:
         grid = np.geomspace(loads.min(), loads.max(), 40) if loads.max() > loads.min() else loads[:1].copy()
         at_grid = models(case, grid)[0]
-    curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp), lam) for name, (k, gap, lam) in at_grid.items()}
+    curves = {name: gas_throughput(case, k, gap, np.full(grid.size, ref_dp), lam, seals)
+              for name, (k, gap, lam, seals) in at_grid.items()}
     return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp, same_pressure_difference=same,
                      measured=measured, grid=grid, curves=curves, messages=tuple(messages), load_name=load_name,
                      leak_rate_unit="Pa*m^3/s", outside_validity=outside)
