@@ -7,9 +7,12 @@ where the gas leak is the liquid formula with the gas's viscosity.
 """
 
 import json
+import re
+from pathlib import Path
 
 import pytest
 
+from sealeak.cases import example_path
 from sealeak.cli import main
 from sealeak.physics.gas import Gas, gas_leak, slip_factor
 from sealeak.physics.properties import fluid_state
@@ -298,6 +301,23 @@ def test_fit_of_a_coupled_gas_case_recovers_alpha_from_the_exact_coupling_at_eac
     assert fit(at_case) == pytest.approx(0.3, rel=1e-6)
     # the uncoupled K ∫ p f dp at 5 bar would be off by a factor (the gas pressure opens the contact more at 5 bar)
     assert fit(at_case + lines("5 bar", 400.0)) == pytest.approx(0.3, rel=1e-2)
+
+
+def test_fit_of_a_coupled_band_gas_case_recovers_alpha(tmp_path, capsys):
+    """An O-ring's helium leak (the helium-test example, fluid pressure coupled) at α = 0.3: fit's α is 0.3."""
+    text = re.sub(r"(?m)^compression = .*$", 'compression = ["10 %", "15 %"]', Path(example_path("helium-test")).read_text())
+    text = edit("alpha = 1.0", "alpha = 0.3", text)
+    assert "fluid_pressure" not in text  # coupled by default
+    rows = leaking(predict_json(tmp_path, capsys, text))
+    data = tmp_path / "measured.csv"
+    data.write_text("compression (%), leak_rate (Pa*m^3/s)\n"
+                    + "".join(f"{100 * r['compression']!r}, {r['leak_rate_pv']!r}\n" for r in rows))
+    out = tmp_path / "fit.json"
+    assert main(["fit", str(tmp_path / "case.toml"), "--data", str(data), "--json", str(out), "--force"]) == 0
+    capsys.readouterr()
+    fit = json.loads(out.read_text())["critical_junction"]
+    assert fit["points_used"] == len(rows) == 2
+    assert fit["alpha"] == pytest.approx(0.3, rel=1e-6)
 
 
 @pytest.mark.parametrize("unit", ["sccm", "mol/s", "kg/s"])
