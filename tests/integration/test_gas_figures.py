@@ -163,7 +163,8 @@ def test_gas_sweep_passes_through_the_records_leak_with_the_fluid_pressure_coupl
     text = _uniform_text().replace('fluid_pressure = "ignored"', f'fluid_pressure = "{fluid_pressure}"')
     results = _run(tmp_path, text)
     (r,) = results
-    sw, _ax = _dp_curves(results)
+    sw, ax = _dp_curves(results)
+    assert ("§13.5" in ax.get_title()) == (fluid_pressure == "coupled") != ("K ∫ p f(Kn) dp" in ax.get_title())
     row = int(np.flatnonzero(r.critical_junction.squeeze_pressure == sw.squeeze_pressure)[0])
     at = int(np.flatnonzero(np.isclose(sw.pressure_difference, 2e5))[0])  # the case's ΔP: 3 bar - 1 bar
     # the curve at the case's pressures is predict's leak of that row, each theory (exact coupling or not, §13.5)

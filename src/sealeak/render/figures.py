@@ -477,6 +477,11 @@ def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
     return fig
 
 
+#: The title line of a gas's Q_pV(ΔP) figure, uncoupled (False) or with the fluid pressure coupled in any case (True).
+_GAS_SWEEP_FORMULA = {False: "Q_pV = K ∫ p f(Kn) dp at fixed P_b: not linear in ΔP (no slip: K (P_a² − P_b²)/2)",
+                      True: "Q_pV at fixed P_b, the gas pressure taken off the contact (theory §13.5): not linear in ΔP"}
+
+
 @laid_out
 def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     """Q against ΔP at a fixed squeeze pressure (paper Fig. 5: linear through the origin), with ml/min.
@@ -488,7 +493,8 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     For gas cases (every case of the run a gas) it draws the pV throughput Q_pV = K ∫ p f(Kn) dp from P_b
     to P_b + ΔP at the case's downstream pressure P_b (mbar·l/s, second axis Pa·m³/s; docs/theory.md §11.5,
     §11.9): curved, since the flow is compressible (no slip: K (P_a² − P_b²)/2) and the Knudsen number
-    falls as the pressure rises; a dotted line marks the case's own ΔP.
+    falls as the pressure rises; a dotted line marks the case's own ΔP. With the fluid pressure coupled each point is the
+    exact gas coupling at its P_a (§13.5).
     """
     fig, ax = new_figure("Leak rate against fluid pressure difference")
     ax.set_xlabel("pressure difference ΔP = P_a - P_b (kPa)")
@@ -536,7 +542,8 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
             ax.axvline(dp_case / 1e3, color="0.5", lw=0.8, ls=":")
         conditions = {gas_conditions_text(sw.case) for sw in sweeps}
         notes = [next(iter(conditions)) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
-                 "Q_pV = K ∫ p f(Kn) dp at fixed P_b: not linear in ΔP (no slip: K (P_a² − P_b²)/2)", "dotted: the case's ΔP"]
+                 _GAS_SWEEP_FORMULA[len({sw.case.coupled for sw in sweeps}) > 1 or sweeps[0].case.coupled],
+                 "dotted: the case's ΔP"]
         if log:
             notes.append("log-log: the leak rates differ by decades")
     else:
