@@ -514,7 +514,8 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
              "contact pressure"]
     ax.set_ylabel("leak rate Q (m³/s)")
     if gas:
-        settings[0] = "Q_pV = K ∫ p f(Kn) dp over P_b…P_a, K through the band (strips in series)"
+        settings[0] = ("Q_pV through the band, the gas pressure taken off the contact (theory §13.5)" if case.coupled
+                       else "Q_pV = K ∫ p f(Kn) dp over P_b…P_a, K through the band (strips in series)")
         if len(etas) == 1:
             settings[2] = f"η = {case.fluid.viscosity * 1e6:.4g} µPa·s"
         conditions = {plotstyle.gas_conditions_text(r.case) for r in results}

@@ -394,7 +394,9 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
     series, rows = _gas_leak_series(results, scale)
     conditions = {gas_conditions_text(r.case) for r in results}
     notes = [gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)"]
-    settings = f"Q_pV = K ∫ p f(Kn) dp over P_b…P_a, Ly/Lx = {case.seal.aspect_ratio:.3g}"
+    formula = ("Q_pV with the gas pressure taken off the contact (theory §13.5)" if case.coupled
+               else "Q_pV = K ∫ p f(Kn) dp over P_b…P_a")
+    settings = f"{formula}, Ly/Lx = {case.seal.aspect_ratio:.3g}"
     if any(r.shows_critical_junction for r in results):
         settings += f", α = {case.alpha:g}"
     if any(s.style == "--" for s in series):
