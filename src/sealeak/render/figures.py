@@ -42,6 +42,7 @@ from ..io.files import atomic_write
 from ..io.units import length_unit
 from ..physics.validity import pressures_text
 from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
+from .life import life_figure_names, life_figures
 from .plotstyle import (
     GAS_LEAK_LABEL,
     ML_PER_MIN_PER_M3_PER_S,
@@ -573,7 +574,7 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
     cases = [r.case for r in results]
     if is_band_run(results):
         spectra = [c.spectrum.sample(400) for c in cases]
-        return {"spectrum.png": figure_spectrum(cases, spectra, _band_q0(results))} | band_figures(results)
+        return {"spectrum.png": figure_spectrum(cases, spectra, _band_q0(results))} | band_figures(results) | life_figures(results)
     if curves is None:
         curves = prediction_curves(list(results))
     return {
@@ -586,14 +587,16 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
         "critical_junction.png": figure_critical_junction(results),
         "critical_magnification.png": figure_critical_magnification(results),
         "leak_rate_vs_pressure_difference.png": figure_pressure_difference(curves),
-    }
+    } | life_figures(results)
 
 
 def prediction_figure_names(cases: Sequence[Case]) -> tuple[str, ...]:
     """The files :func:`prediction_figures` writes for these cases (known before they are run)."""
+    points = [c.life for c in cases if c.life is not None]
+    life = life_figure_names(len({p.time for p in points}), len({p.temperature for p in points}))
     if cases and all(c.band is not None for c in cases):
-        return ("spectrum.png", *BAND_FIGURE_NAMES)
-    return PREDICTION_FIGURE_NAMES
+        return ("spectrum.png", *BAND_FIGURE_NAMES, *life)
+    return (*PREDICTION_FIGURE_NAMES, *life)
 
 
 def figure_png(fig: Figure) -> bytes:

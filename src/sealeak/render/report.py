@@ -183,8 +183,17 @@ GAS_BAND_CAPTIONS = {
 }
 
 
+#: What the figures of the seal over its life show (:mod:`sealeak.render.life`).
+LIFE_CAPTIONS = {
+    "leak_rate_vs_time.png": "The leak rate against the time since assembly (log axis) at each temperature, at the "
+                             "middle load: the rubber relaxes (or creeps) with time, faster when warm.",
+    "leak_rate_vs_temperature.png": "The leak rate against the temperature at each time since assembly, at the middle "
+                                    "load: the fluid, the relaxation and an O-ring's compression follow the temperature.",
+}
+
+
 def _caption(name: str, any_invalid: bool, band: bool = False, gas: bool = False) -> str:
-    text = ((GAS_BAND_CAPTIONS if band else GAS_CAPTIONS).get(name) if gas else None) or \
+    text = ((GAS_BAND_CAPTIONS if band else GAS_CAPTIONS).get(name) if gas else None) or LIFE_CAPTIONS.get(name) or \
         (BAND_CAPTIONS if band else CAPTIONS).get(name, name)
     return text + (_HOLLOW if any_invalid and name in _WITH_VERDICTS else "")
 
