@@ -64,4 +64,5 @@ def test_a_life_file_with_a_specification_answers_per_load():
     assert any(line.startswith("P0 = 50 kPa: at -10 °C exceeds 0.05 ml/min already at t = 10 s") for line in lines)
     life = uncertainty_summary(result)["life"]
     assert [x["values"] for x in life] == [[50e3], [200e3]]
+    assert life[0]["temperatures"] == pytest.approx([263.15, 333.15], rel=1e-12)
     assert life[0]["latest_time"] == 86400.0

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..io.quantities import quantity
 from .uncertainty import UncertaintyResult
 
 __all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature"]
@@ -43,12 +44,17 @@ class LifeAnswer:
 
     row: int
     load_name: str
-    loads: tuple[float, ...]
-    temperatures: tuple[float, ...]
-    exceeded_from: tuple[float | None, ...]
-    earliest_time: float
-    latest_time: float
-    holds_from: float | None
+    loads: tuple[float, ...] = quantity("<load>", "the load's values over the life cases (an O-ring's compression "
+                                                   "changes with temperature)", key="values")
+    temperatures: tuple[float, ...] = quantity("K", "the temperatures computed, ascending")
+    exceeded_from: tuple[float | None, ...] = quantity(
+        "s", "per temperature, the time from which the leak rate first exceeds conditions.max_leak_rate, interpolated "
+             "in log t (the earliest time: already there; null: it holds to the latest time)")
+    earliest_time: float = quantity("s", "the earliest time since assembly computed")
+    latest_time: float = quantity("s", "the latest time since assembly computed")
+    holds_from: float | None = quantity(
+        "K", "the lowest temperature from which up the leak rate holds conditions.max_leak_rate at the latest time, "
+             "interpolated (the coldest computed: holds at every one; null: exceeds even at the warmest)")
 
 
 def _crossing(x0: float, x1: float, q0: float, q1: float, limit: float, log_x: bool) -> float:

@@ -135,7 +135,7 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
 
 
 def _life_record(a: LifeAnswer) -> dict[str, Any]:
-    """The JSON of one load's life answers: SI (s, K, Pa or 1)."""
+    """The JSON of one load's life answers: its load (``values`` in ``unit``) and its fields in SI (s, K)."""
     return {"load": a.load_name, "values": sorted(set(a.loads)), "unit": "Pa" if a.load_name == "squeeze_pressure" else "1",
-            "exceeded_from": [{"temperature": t, "time": e} for t, e in zip(a.temperatures, a.exceeded_from)],
-            "earliest_time": a.earliest_time, "latest_time": a.latest_time, "holds_from_temperature": a.holds_from}
+            "temperatures": list(a.temperatures), "exceeded_from": list(a.exceeded_from),
+            "earliest_time": a.earliest_time, "latest_time": a.latest_time, "holds_from": a.holds_from}
