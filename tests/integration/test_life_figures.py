@@ -55,3 +55,24 @@ def test_one_time_gives_no_time_figure_and_one_temperature_no_temperature_figure
     assert "leak_rate_vs_temperature.png" in figures and "leak_rate_vs_time.png" not in figures
     cases, figures = _figures(RING, "")
     assert not {"leak_rate_vs_time.png", "leak_rate_vs_temperature.png"} & set(figures)
+
+
+def test_the_specification_is_a_line_and_coinciding_curves_are_said_only_where_they_coincide():
+    """A ring creeps (Q changes with time and temperature: no 'coincide' note); an O-ring at fixed compression whose
+    compound only relaxes keeps Q with time (its pressure and modulus fall together): the note says so."""
+    cases = parse_case_file(RING.format(rubber=WLF, conditions=TIMES + '\ntemperature = ["-10 degC", "60 degC"]',
+                                        seal="")).cases
+    results = [run_case(c) for c in cases]
+    figures = _build(lambda: prediction_figures(results, limit=(1e-12, "6e-5 ml/min")))
+    _assert_reads_right({k: figures[k] for k in ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png")})
+    for name in ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png"):
+        ax = figures[name].axes[0]
+        assert "coincide" not in ax.get_title()
+        spec = [ln for ln in ax.get_lines() if ln.get_label() == "max_leak_rate = 6e-5 ml/min"]
+        assert len(spec) == 1 and spec[0].get_linestyle() == "-."
+    cases = parse_case_file(ORING.format(rubber=WLF, conditions=TIMES + '\ntemperature = ["-10 degC", "60 degC"]',
+                                         seal="")).cases  # no thermal expansion, a fixed viscosity: nothing moves Q
+    results = [run_case(c) for c in cases]
+    figures = _build(lambda: prediction_figures(results))
+    assert "the curves coincide: Q does not change with temperature" in figures["leak_rate_vs_time.png"].axes[0].get_title()
+    assert "the curves coincide: Q does not change with time" in figures["leak_rate_vs_temperature.png"].axes[0].get_title()
