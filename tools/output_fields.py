@@ -26,6 +26,7 @@ from sealeak.cases.capillarity import CapillaryColumns
 from sealeak.cases.convergence import Extrapolation, GridStatistics
 from sealeak.cases.gas import GasColumns, HeliumColumns, PermeationColumns
 from sealeak.cases.leak_tests import DecayPrediction
+from sealeak.cases.life_answers import LifeAnswer
 from sealeak.cases.linearity_check import LinearityCheck
 from sealeak.cases.model import BandSeal, LifePoint
 from sealeak.cases.pipeline import GasSimulation
@@ -65,8 +66,9 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      "A case file with uncertain inputs (docs/case-files.md, Uncertain inputs) adds these fields to each row; the gas "
      "and helium percentiles where the row has those leak rates, `exceed_probability` with `conditions.max_leak_rate`. "
      "The JSON's `uncertainty` object lists per case its `passing_loads` (`<load>`: `Pa` for a squeeze pressure, `1` "
-     "for a compression or profile scale).",
-     (UncertaintyColumns, PassingLoad)),
+     "for a compression or profile scale) and, for the seal over its life with `conditions.max_leak_rate`, per load "
+     "its `life` answers (`load`, its `values` in `unit`, and the fields below from `temperatures` on).",
+     (UncertaintyColumns, PassingLoad, LifeAnswer)),
     ("sealeak predict --sensitivity N --json / --csv",
      "With `--sensitivity N` each row adds, per uncertain input (`<input>`: its case-file key, e.g. "
      "`sobol_total[surface.h_rms]`), the Sobol' indices of log10 Q and their intervals (docs/theory.md §15); the JSON's "

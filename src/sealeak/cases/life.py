@@ -43,7 +43,7 @@ from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
 from .seals import _values
 
-__all__ = ["LIFE_KEYS", "life_cases", "life_label"]
+__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit"]
 
 #: The keys of each section that describe the seal over its life (docs/case-files.md, "The seal over its life").
 LIFE_KEYS: dict[str, tuple[str, ...]] = {
@@ -70,13 +70,23 @@ class _Life:
     assembly_temperature: float
 
 
-def life_label(time: float, temperature: float) -> str:
-    """``"t = 1 h, T = -20 °C"``: a time (s) in the largest of a, d, h, min, s in which 4 digits show it exactly
-    (else the largest it spans), a temperature (K) in °C."""
+def time_unit(seconds: float) -> tuple[str, float]:
+    """(unit, its length in s) to show a time (s) in: the largest of a, d, h, min, s that it reaches (else s)."""
+    return next(((u, f) for u, f in _TIME_UNITS if seconds >= f), ("s", 1.0))
+
+
+def time_text(time: float) -> str:
+    """``"1 h"``: a time (s) in the largest of a, d, h, min, s in which 4 digits show it exactly (else the largest
+    it spans)."""
     spanned = [(u, f) for u, f in _TIME_UNITS if time >= f] or [("s", 1.0)]
     exact = [(u, f) for u, f in spanned if math.isclose(float(f"{time / f:.4g}"), time / f, rel_tol=1e-9)]
     unit, factor = (exact or spanned)[0]
-    return f"t = {time / factor:.4g} {unit}, T = {celsius(temperature):.4g} °C"
+    return f"{time / factor:.4g} {unit}"
+
+
+def life_label(time: float, temperature: float) -> str:
+    """``"t = 1 h, T = -20 °C"``: the time (s) as :func:`time_text` writes it, the temperature (K) in °C."""
+    return f"t = {time_text(time)}, T = {celsius(temperature):.4g} °C"
 
 
 def _temperatures(cond: Section, key: str) -> list[float]:

@@ -43,6 +43,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
     from ..io.files import check_outputs
     from ..render import prediction_csv, prediction_figures, prediction_json, prediction_table, render_figures
     from ..render.figures import prediction_figure_names
+    from ..render.life import volume_limit
     from ..render.uncertainty_figures import uncertainty_figure_names, uncertainty_figures
 
     case_file = load_case_file(args)  # read first: the figures of an O-ring or profile seal are other files
@@ -60,7 +61,8 @@ def _cmd_predict(args: argparse.Namespace) -> int:
              if path}
     figures = {}
     if args.plots:
-        figures = prediction_figures(results) | (uncertainty_figures(uncertainty, sensitivity) if uncertainty is not None else {})
+        figures = prediction_figures(results, limit=volume_limit(uncertainty))
+        figures |= uncertainty_figures(uncertainty, sensitivity) if uncertainty is not None else {}
     emit(args, table, ({args.table: table} if args.table else {}) | texts, render_figures(figures) if figures else {})
     return 0
 

@@ -42,6 +42,7 @@ from ..io.files import atomic_write
 from ..io.units import length_unit
 from ..physics.validity import pressures_text
 from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
+from .life import life_figure_names, life_figures
 from .plotstyle import (
     GAS_LEAK_LABEL,
     ML_PER_MIN_PER_M3_PER_S,
@@ -569,8 +570,12 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     return fig
 
 
-def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves | None = None) -> dict[str, Figure]:
+def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves | None = None,
+                       limit: tuple[float, str] | None = None) -> dict[str, Figure]:
     """Every figure of a prediction, keyed by PNG file name (:func:`prediction_figure_names`).
+
+    ``limit``: ``conditions.max_leak_rate`` (m³/s, as written) for the figures of the seal over its life
+    (:func:`~sealeak.render.life.volume_limit`).
 
     ``curves`` defaults to :func:`~sealeak.cases.prediction_curves` of ``results``. Effective-medium
     curves are drawn dashed next to the critical-junction ones (model "both"), or alone
@@ -582,7 +587,7 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
     cases = [r.case for r in results]
     if is_band_run(results):
         spectra = [c.spectrum.sample(400) for c in cases]
-        return {"spectrum.png": figure_spectrum(cases, spectra, _band_q0(results))} | band_figures(results)
+        return {"spectrum.png": figure_spectrum(cases, spectra, _band_q0(results))} | band_figures(results) | life_figures(results, limit)
     if curves is None:
         curves = prediction_curves(list(results))
     return {
@@ -595,14 +600,16 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
         "critical_junction.png": figure_critical_junction(results),
         "critical_magnification.png": figure_critical_magnification(results),
         "leak_rate_vs_pressure_difference.png": figure_pressure_difference(curves),
-    }
+    } | life_figures(results, limit)
 
 
 def prediction_figure_names(cases: Sequence[Case]) -> tuple[str, ...]:
     """The files :func:`prediction_figures` writes for these cases (known before they are run)."""
+    points = [c.life for c in cases if c.life is not None]
+    life = life_figure_names(len({p.time for p in points}), len({p.temperature for p in points}))
     if cases and all(c.band is not None for c in cases):
-        return ("spectrum.png", *BAND_FIGURE_NAMES)
-    return PREDICTION_FIGURE_NAMES
+        return ("spectrum.png", *BAND_FIGURE_NAMES, *life)
+    return (*PREDICTION_FIGURE_NAMES, *life)
 
 
 def figure_png(fig: Figure) -> bytes:

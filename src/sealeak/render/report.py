@@ -37,6 +37,7 @@ from .band import is_band_run
 from .figures import ML_PER_MIN_PER_M3_PER_S, figure_png, is_gas_run, prediction_figures
 from .lab import decay_condition, decay_text
 from .lab_figures import figure_decay, figure_rig
+from .life import volume_limit
 from .notes import worded
 from .sensitivity import sensitivity_columns, sensitivity_heading, sensitivity_legend, sensitivity_sentences
 from .text import GAS_INCOMPRESSIBLE_NOTE, band_legend, capillary_notes, capillary_tables, fmt, gas_notes, gas_tables, prediction_columns, validity_notes
@@ -183,8 +184,17 @@ GAS_BAND_CAPTIONS = {
 }
 
 
+#: What the figures of the seal over its life show (:mod:`sealeak.render.life`).
+LIFE_CAPTIONS = {
+    "leak_rate_vs_time.png": "The leak rate against the time since assembly (log axis) at each temperature, at the "
+                             "middle load: the rubber relaxes (or creeps) with time, faster when warm.",
+    "leak_rate_vs_temperature.png": "The leak rate against the temperature at each time since assembly, at the middle "
+                                    "load: the fluid, the relaxation and an O-ring's compression follow the temperature.",
+}
+
+
 def _caption(name: str, any_invalid: bool, band: bool = False, gas: bool = False) -> str:
-    text = ((GAS_BAND_CAPTIONS if band else GAS_CAPTIONS).get(name) if gas else None) or \
+    text = ((GAS_BAND_CAPTIONS if band else GAS_CAPTIONS).get(name) if gas else None) or LIFE_CAPTIONS.get(name) or \
         (BAND_CAPTIONS if band else CAPTIONS).get(name, name)
     return text + (_HOLLOW if any_invalid and name in _WITH_VERDICTS else "")
 
@@ -456,12 +466,13 @@ def _results_section(results: Sequence[CaseResult], band: bool) -> list[str]:
     return parts
 
 
-def _figures_section(results: Sequence[CaseResult], band: bool) -> tuple[list[str], int]:
+def _figures_section(results: Sequence[CaseResult], band: bool,
+                     uncertainty: UncertaintyResult | None = None) -> tuple[list[str], int]:
     """The grid of prediction figures with their captions, and how many figures it numbered."""
     parts = ["<h2 id=\"figures\">Figures</h2>"]
     any_invalid = any((~r.shown_valid).any() for r in results)
     parts.append("<div class=\"figures\">")
-    figures = prediction_figures(results)
+    figures = prediction_figures(results, limit=volume_limit(uncertainty))
     gas = is_gas_run(results)
     for number, (name, fig) in enumerate(figures.items(), start=1):
         parts.append(_figure(name, number, fig, _caption(name, any_invalid, band, gas)))
@@ -525,7 +536,7 @@ def html_report(results: Sequence[CaseResult], inputs: Mapping[str, Any], uncert
         parts += _band_section(results)
     parts += _warnings_section(results)
     parts += _results_section(results, band)
-    figures, n_figures = _figures_section(results, band)
+    figures, n_figures = _figures_section(results, band, uncertainty)
     parts += figures
     if uncertainty is not None:
         parts += _uncertainty_section(uncertainty, sensitivity, n_figures + 1)

@@ -8,9 +8,11 @@ from typing import Any
 
 import numpy as np
 
+from ..cases.life import time_text
+from ..cases.life_answers import LifeAnswer, life_answers
 from ..cases.uncertainty import PASS_PROBABILITY, PassingLoad, ResultRow, UncertaintyResult
-from ..io.leak_units import to_ml_per_min
-from .notes import load_text
+from ..io.leak_units import celsius, to_ml_per_min
+from .notes import load_text, loads_text
 
 __all__ = ["row_columns", "uncertainty_columns", "uncertainty_heading", "uncertainty_legend", "passing_lines",
            "uncertainty_summary"]
@@ -84,8 +86,27 @@ def uncertainty_legend(unc: UncertaintyResult) -> str:
 
 
 def passing_lines(unc: UncertaintyResult) -> list[str]:
-    """One line per case: the load at which it passes ``max_leak_rate`` with 95 % probability, or why there is none."""
-    return [_passing_line(unc, p) for p in unc.passing_loads()]
+    """One line per case: the load at which it passes ``max_leak_rate`` with 95 % probability, or why there is none;
+    for the seal over its life then one line per load: when it first exceeds it at each temperature and from which
+    temperature up it holds at the latest time (:func:`~sealeak.cases.life_answers.life_answers`)."""
+    return [_passing_line(unc, p) for p in unc.passing_loads()] + [_life_line(unc, a) for a in life_answers(unc)]
+
+
+def _life_line(unc: UncertaintyResult, a: LifeAnswer) -> str:
+    """``"P0 = 600 kPa: at -20 °C first exceeds 1e-6 mbar*l/s at t = 3.2 a; at 20 °C holds to 10 a; holds from
+    -15 °C up at 10 a"``."""
+    spec, latest = unc.study.max_leak_rate, time_text(a.latest_time)
+    parts = [f"at {celsius(t):.4g} °C " + (
+        f"holds to {latest}" if e is None else
+        f"exceeds {spec} already at t = {time_text(e) if e > 0 else '0'} (the earliest computed)" if e == a.earliest_time
+        else f"first exceeds {spec} at t = {time_text(e)}") for t, e in zip(a.temperatures, a.exceeded_from)]
+    if len(a.temperatures) > 1:
+        if a.holds_from is None:
+            parts.append(f"exceeds it at every temperature at {latest}")
+        else:
+            coldest = " (the coldest computed)" if a.holds_from == a.temperatures[0] else ""
+            parts.append(f"holds from {celsius(a.holds_from):.3g} °C{coldest} up at {latest}")
+    return f"{loads_text(a.load_name, sorted(set(a.loads)))}: " + "; ".join(parts)
 
 
 def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
@@ -110,4 +131,11 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
                            "passing_load": None if not np.isfinite(p.passing_load) else p.passing_load,
                            "unit": "Pa" if p.load_name == "squeeze_pressure" else "1", "note": p.note or None}
                           for p in unc.passing_loads()],
-    }
+    } | ({"life": [_life_record(a) for a in answers]} if (answers := life_answers(unc)) else {})
+
+
+def _life_record(a: LifeAnswer) -> dict[str, Any]:
+    """The JSON of one load's life answers: its load (``values`` in ``unit``) and its fields in SI (s, K)."""
+    return {"load": a.load_name, "values": sorted(set(a.loads)), "unit": "Pa" if a.load_name == "squeeze_pressure" else "1",
+            "temperatures": list(a.temperatures), "exceeded_from": list(a.exceeded_from),
+            "earliest_time": a.earliest_time, "latest_time": a.latest_time, "holds_from": a.holds_from}

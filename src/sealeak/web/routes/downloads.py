@@ -11,6 +11,7 @@ from fastapi.responses import Response
 
 from ...errors import SealeakError
 from ...render import html_report, prediction_csv, prediction_figures, render_figures
+from ...render.life import volume_limit
 from ...render.uncertainty_figures import uncertainty_figures
 from ..casework import check_files, file_names, resolve_files, toml_text
 from ..state import NO_CASE, SessionDep, StateDep, current, download, scrub
@@ -67,7 +68,8 @@ def download_csv(state: StateDep, s: SessionDep) -> Response:
 def download_figures(state: StateDep, s: SessionDep) -> Response:
     """The PNG figures of ``predict --plots``, zipped (with uncertain inputs the band and the distribution too)."""
     pred = current(state, s)
-    pngs = render_figures(prediction_figures(pred.results) | (uncertainty_figures(pred.uncertainty) if pred.uncertainty else {}))
+    figures = prediction_figures(pred.results, limit=volume_limit(pred.uncertainty))
+    pngs = render_figures(figures | (uncertainty_figures(pred.uncertainty) if pred.uncertainty else {}))
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
         for name, data in pngs.items():

@@ -1,0 +1,126 @@
+"""Answers about the seal over its life against ``conditions.max_leak_rate``: per load, the time at which the leak
+rate first exceeds the specification at each temperature, and the lowest temperature at which it holds at the latest
+time (docs/user-guide.md, "The seal over its life").
+
+The answers use the deterministic (nominal) leak rate of each (time, temperature) case, compared as
+:mod:`sealeak.cases.uncertainty` compares it (Q, or the gas's pV throughput, or a liquid's helium equivalent).
+Between two computed times the leak rate is taken as a power law of the time (log Q linear in log t); between two
+temperatures log Q is linear in T. A row without a leak channel seals (Q = 0).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..io.quantities import quantity
+from .uncertainty import UncertaintyResult
+
+__all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature"]
+
+
+@dataclass(frozen=True)
+class LifeAnswer:
+    """The answers for one load of the seal (the row index ``row`` of every life case).
+
+    Attributes
+    ----------
+    load_name, loads
+        The load's record key and its values over the cases (Pa, or 1: an O-ring's compression changes with T).
+    temperatures
+        The temperatures computed (K), ascending.
+    exceeded_from
+        Per temperature, the time (s) from which the leak rate exceeds the specification, or None where it holds
+        to the latest time.
+    earliest_time, latest_time
+        The earliest and the latest time computed (s).
+    holds_from
+        The lowest temperature (K) from which up it holds at the latest time, or None where it holds at none;
+        ``holds_from == temperatures[0]`` where it holds already at the coldest computed.
+    """
+
+    row: int
+    load_name: str
+    loads: tuple[float, ...] = quantity("<load>", "the load's values over the life cases (an O-ring's compression "
+                                                   "changes with temperature)", key="values")
+    temperatures: tuple[float, ...] = quantity("K", "the temperatures computed, ascending")
+    exceeded_from: tuple[float | None, ...] = quantity(
+        "s", "per temperature, the time from which the leak rate first exceeds conditions.max_leak_rate, interpolated "
+             "in log t (the earliest time: already there; null: it holds to the latest time)")
+    earliest_time: float = quantity("s", "the earliest time since assembly computed")
+    latest_time: float = quantity("s", "the latest time since assembly computed")
+    holds_from: float | None = quantity(
+        "K", "the lowest temperature from which up the leak rate holds conditions.max_leak_rate at the latest time, "
+             "interpolated (the coldest computed: holds at every one; null: exceeds even at the warmest)")
+
+
+def _crossing(x0: float, x1: float, q0: float, q1: float, limit: float, log_x: bool) -> float:
+    """Where Q goes through ``limit`` between (x0, q0) and (x1, q1): log Q linear in x (in log x with ``log_x``);
+    Q linear where one end is 0 (it seals), x linear where x0 is 0 (no log)."""
+    if q0 > 0 and q1 > 0:
+        f = (math.log(limit) - math.log(q0)) / (math.log(q1) - math.log(q0))
+    else:
+        f = (limit - q0) / (q1 - q0)
+    if log_x and x0 > 0:
+        return math.exp(math.log(x0) + f * (math.log(x1) - math.log(x0)))
+    return x0 + f * (x1 - x0)
+
+
+def first_exceeded(times: Sequence[float], q: Sequence[float], limit: float) -> float | None:
+    """The first time (s) at which Q (at ``times``, ascending, s) exceeds ``limit``, interpolated in log t between
+    the last time it holds and the first it does not (:func:`_crossing`), or None where it holds at every time."""
+    for k, (t, v) in enumerate(zip(times, q)):
+        if v > limit:
+            return float(t) if k == 0 else _crossing(times[k - 1], t, q[k - 1], v, limit, log_x=True)
+    return None
+
+
+def lowest_holding_temperature(temperatures: Sequence[float], q: Sequence[float], limit: float) -> float | None:
+    """The lowest temperature (K) from which up Q (at ``temperatures``, ascending, K) holds ``limit``: interpolated
+    between the warmest temperature at which it exceeds and the next, the coldest where it holds at every one,
+    None where it exceeds at the warmest."""
+    failing = [k for k, v in enumerate(q) if v > limit]
+    if not failing:
+        return float(temperatures[0])
+    k = failing[-1]
+    if k == len(q) - 1:
+        return None
+    return _crossing(temperatures[k], temperatures[k + 1], q[k], q[k + 1], limit, log_x=False)
+
+
+def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
+    """Per load of the seal, the answers of its life cases against ``conditions.max_leak_rate`` (the nominal
+    results); empty without the specification or without life cases with more than one time or temperature."""
+    if unc.limits is None or unc.limit_keys is None:
+        return []
+    index: dict[int, list[int]] = {}
+    for j, row in enumerate(unc.study.rows):
+        index.setdefault(row.case, []).append(j)
+    life = {i: r.case.life for i, r in enumerate(unc.nominal) if r.case.life is not None}
+    if not life:
+        return []
+    times = sorted({p.time for p in life.values()})
+    temps = sorted({p.temperature for p in life.values()})
+    if len(times) < 2 and len(temps) < 2:
+        return []
+    loads = min(len(index.get(i, [])) for i in life)
+    out = []
+    for n in range(loads):
+        q = np.zeros((len(temps), len(times)))
+        limits, values = [], []
+        for i, point in life.items():
+            j = index[i][n]
+            record = unc.nominal[i].records()[n]
+            v = record.get(unc.limit_keys[j])
+            q[temps.index(point.temperature), times.index(point.time)] = v if v is not None and v == v else 0.0
+            limits.append(float(unc.limits[j]))
+            values.append(float(unc.study.rows[j].load))
+        limit = limits[0]
+        out.append(LifeAnswer(
+            row=n, load_name=unc.study.rows[index[next(iter(life))][n]].load_name, loads=tuple(values),
+            temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, q[i].tolist(), limit) for i in range(len(temps))),
+            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, q[:, -1].tolist(), limit)))
+    return out

@@ -1,0 +1,78 @@
+"""Figures of the seal over its life (issue 25 item 5): Q against time at each temperature, against temperature at
+each time, written by ``predict --plots`` when a file has several times or temperatures, and read right
+(the checks of tests/integration/test_figures_render.py)."""
+
+import numpy as np
+import pytest
+
+from sealeak.cases import parse_case_file, run_case
+from sealeak.render import prediction_figures
+from sealeak.render.figures import prediction_figure_names
+from tests.integration.test_figures_render import _assert_reads_right, _build, _data_lines
+from tests.unit.test_life_cases import ORING, PRONY, RING
+
+WLF = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+TIMES = 'time = ["0 s", "100 s", "1 h", "1 d"]'
+
+
+EXPANSION = ('\nthermal_expansion = "23e-5 1/K"', 'gland_thermal_expansion = "1.2e-5 1/K"')  # the O-ring's compression
+
+
+def _figures(template, conditions):
+    rubber, seal = (WLF + EXPANSION[0], EXPANSION[1]) if template is ORING else (WLF, "")
+    cases = parse_case_file(template.format(rubber=rubber, conditions=conditions, seal=seal)).cases
+    results = [run_case(c) for c in cases]
+    return cases, _build(lambda: prediction_figures(results))
+
+
+@pytest.mark.parametrize("template", [RING, ORING], ids=["ring", "o-ring"])
+def test_life_figures_are_drawn_one_line_per_temperature_and_per_time(template):
+    cases, figures = _figures(template, TIMES + '\ntemperature = ["-10 degC", "20 degC", "60 degC"]')
+    assert {"leak_rate_vs_time.png", "leak_rate_vs_temperature.png"} <= set(figures)
+    assert set(figures) == set(prediction_figure_names(cases))
+    _assert_reads_right({k: figures[k] for k in ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png")})
+
+    (ax_t,) = [ax for ax in figures["leak_rate_vs_time.png"].axes if ax.get_lines()][:1]
+    assert ax_t.get_xscale() == "log"
+    assert "t = 0" in ax_t.get_title()  # the time 0 cannot be on a log axis: said so
+    lines = _data_lines(ax_t)
+    assert [ln.get_label() for ln in lines] == ["T = -10 °C", "T = 20 °C", "T = 60 °C"]
+    assert all(len(ln.get_xdata()) == 3 for ln in lines)  # 100 s, 1 h, 1 d
+    assert ax_t.get_xlabel() == "time since assembly t (min)"  # the shortest time shown, 100 s, in minutes
+    assert np.allclose(lines[0].get_xdata(), [100 / 60, 60, 1440], rtol=1e-12)
+
+    ax_T = figures["leak_rate_vs_temperature.png"].axes[0]
+    lines = _data_lines(ax_T)
+    assert [ln.get_label() for ln in lines] == ["t = 0 s", "t = 100 s", "t = 1 h", "t = 1 d"]
+    assert np.allclose(lines[0].get_xdata(), [-10, 20, 60], rtol=1e-12)
+
+
+def test_one_time_gives_no_time_figure_and_one_temperature_no_temperature_figure():
+    cases, figures = _figures(RING, TIMES)
+    assert "leak_rate_vs_time.png" in figures and "leak_rate_vs_temperature.png" not in figures
+    assert set(figures) == set(prediction_figure_names(cases))
+    cases, figures = _figures(RING, 'temperature = ["-10 degC", "20 degC"]')
+    assert "leak_rate_vs_temperature.png" in figures and "leak_rate_vs_time.png" not in figures
+    cases, figures = _figures(RING, "")
+    assert not {"leak_rate_vs_time.png", "leak_rate_vs_temperature.png"} & set(figures)
+
+
+def test_the_specification_is_a_line_and_coinciding_curves_are_said_only_where_they_coincide():
+    """A ring creeps (Q changes with time and temperature: no 'coincide' note); an O-ring at fixed compression whose
+    compound only relaxes keeps Q with time (its pressure and modulus fall together): the note says so."""
+    cases = parse_case_file(RING.format(rubber=WLF, conditions=TIMES + '\ntemperature = ["-10 degC", "60 degC"]',
+                                        seal="")).cases
+    results = [run_case(c) for c in cases]
+    figures = _build(lambda: prediction_figures(results, limit=(1e-12, "6e-5 ml/min")))
+    _assert_reads_right({k: figures[k] for k in ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png")})
+    for name in ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png"):
+        ax = figures[name].axes[0]
+        assert "coincide" not in ax.get_title()
+        spec = [ln for ln in ax.get_lines() if ln.get_label() == "max_leak_rate = 6e-5 ml/min"]
+        assert len(spec) == 1 and spec[0].get_linestyle() == "-."
+    cases = parse_case_file(ORING.format(rubber=WLF, conditions=TIMES + '\ntemperature = ["-10 degC", "60 degC"]',
+                                         seal="")).cases  # no thermal expansion, a fixed viscosity: nothing moves Q
+    results = [run_case(c) for c in cases]
+    figures = _build(lambda: prediction_figures(results))
+    assert "the curves coincide: Q does not change with temperature" in figures["leak_rate_vs_time.png"].axes[0].get_title()
+    assert "the curves coincide: Q does not change with time" in figures["leak_rate_vs_temperature.png"].axes[0].get_title()

@@ -1,0 +1,68 @@
+"""When does a seal over its life first exceed conditions.max_leak_rate, and from which temperature up does it hold
+(issue 25 item 5)? The crossings are checked against hand computations on synthetic leak rates: a power law
+Q ∝ t^n is exact under interpolation in log t, log Q linear in T exact between temperatures."""
+
+import math
+
+import pytest
+
+from sealeak.cases.life_answers import first_exceeded, life_answers, lowest_holding_temperature
+from sealeak.cases.uncertainty import parse_uncertain_case, propagate
+from sealeak.render.uncertainty import passing_lines, uncertainty_summary
+from tests.unit.test_life_cases import PRONY, RING
+
+
+def test_the_first_time_a_power_law_exceeds_the_limit_is_interpolated_in_log_t():
+    times = [1.0, 100.0, 1e4, 1e6]
+    q = [1e-9 * math.sqrt(t) for t in times]  # 1e-9, 1e-8, 1e-7, 1e-6 m³/s
+    # 1e-9 √t = 3e-8 at t = 30² = 900 s, between 100 s and 1e4 s
+    assert first_exceeded(times, q, 3e-8) == pytest.approx(900.0, rel=1e-12)
+    assert first_exceeded(times, q, 2e-6) is None  # holds to the latest time
+    assert first_exceeded(times, q, 1e-10) == 1.0  # exceeds already at the earliest
+    assert first_exceeded(times, q, 1e-7) == pytest.approx(1e4, rel=1e-12)  # reaches it there, exceeds after
+
+
+def test_a_time_of_zero_or_a_sealed_row_is_interpolated_linearly():
+    # from 0 (no log) to 100 s, Q from 0 (it seals, no log) to 1e-8: Q = 1e-10 t, 4e-9 at 40 s
+    assert first_exceeded([0.0, 100.0], [0.0, 1e-8], 4e-9) == pytest.approx(40.0, rel=1e-12)
+
+
+def test_the_lowest_temperature_at_which_it_holds():
+    temps = [250.0, 270.0, 290.0]
+    q = [1e-6 * 10 ** (-(t - 250.0) / 10) for t in temps]  # falls a decade per 10 K
+    assert lowest_holding_temperature(temps, q, 10 ** -7.5) == pytest.approx(265.0, rel=1e-12)
+    assert lowest_holding_temperature(temps, q, 1e-5) == 250.0  # the coldest computed
+    assert lowest_holding_temperature(temps, q, 1e-11) is None  # exceeds even at the warmest
+    # holds in the cold, exceeds at 270 K, holds at 290 K: it holds from above 270 K up, not from 250 K
+    assert 270.0 < lowest_holding_temperature(temps, [1e-9, 1e-7, 1e-9], 1e-8) < 290.0
+
+
+def test_a_life_file_with_a_specification_answers_per_load():
+    rubber = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+    text = RING.format(rubber=rubber, seal="", conditions='time = ["10 s", "1 h", "1 d"]\n'
+                       'temperature = ["-10 degC", "60 degC"]\nmax_leak_rate = "0.05 ml/min"')
+    result = propagate(parse_uncertain_case(text), 4, seed=0)
+    answers = life_answers(result)
+    assert [a.load_name for a in answers] == ["squeeze_pressure"] * 2  # one per load: 50 and 200 kPa
+    limit = 0.05 * 1e-6 / 60  # m³/s
+    for n, a in enumerate(answers):
+        assert set(a.loads) == {(50e3, 200e3)[n]}
+        for t_k, first in zip(a.temperatures, a.exceeded_from):
+            q = {r.case.life.time: r.records()[n]["leak_rate"] for r in result.nominal
+                 if r.case.life.temperature == t_k}
+            exceeding = [t for t in sorted(q) if q[t] > limit]
+            assert (first is None) == (not exceeding)
+            if exceeding:  # between the last time it holds and the first it exceeds
+                earlier = [t for t in sorted(q) if t < exceeding[0]]
+                assert (earlier[-1] if earlier else exceeding[0]) <= first <= exceeding[0]
+        latest = [r.records()[n]["leak_rate"] for r in result.nominal if r.case.life.time == a.latest_time]
+        assert (a.holds_from is None) == (latest[-1] > limit)  # exceeds even at the warmest
+        assert (a.holds_from == a.temperatures[0]) == all(q <= limit for q in latest)
+    assert any(e is not None for a in answers for e in a.exceeded_from)  # the checks above are not empty
+    assert {a.holds_from is None for a in answers} == {True, False}
+    lines = passing_lines(result)
+    assert any(line.startswith("P0 = 50 kPa: at -10 °C exceeds 0.05 ml/min already at t = 10 s") for line in lines)
+    life = uncertainty_summary(result)["life"]
+    assert [x["values"] for x in life] == [[50e3], [200e3]]
+    assert life[0]["temperatures"] == pytest.approx([263.15, 333.15], rel=1e-12)
+    assert life[0]["latest_time"] == 86400.0
