@@ -490,8 +490,8 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
     """Q against ΔP at a fixed squeeze pressure (paper Fig. 5: linear through the origin), with ml/min.
 
     With effective-medium results for a case (model "both"), its Bruggeman leak rate is drawn dashed.
-    When the cases' leak rates differ by more than two decades, both axes are logarithmic (Q ∝ ΔP
-    is then a line of slope one).
+    When the cases' leak rates differ by more than a decade, or one curve spans more than two, both axes are
+    logarithmic (Q ∝ ΔP is then a line of slope one).
 
     For gas cases (every case of the run a gas) it draws the pV throughput Q_pV = K ∫ p f(Kn) dp from P_b
     to P_b + ΔP at the case's downstream pressure P_b (mbar·l/s, second axis Pa·m³/s; docs/theory.md §11.5,
@@ -532,7 +532,8 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
         ax.set_ylabel(ylabel)
         finish_axes(ax)
         return fig
-    log = spans_decades(peaks, 1.0)
+    # log-log where the cases differ by a decade, or where one curve spans two (a coupled gas leak grows steeply with ΔP)
+    log = spans_decades(peaks, 1.0) or spans_decades(np.concatenate([s.y for s in series]), 2.0)
     base = "mbar·l/s" if gas else "m³/s"
     qscale, qunit = (1.0, base) if log else power_unit(peaks, base)
     scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]
