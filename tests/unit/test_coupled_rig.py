@@ -17,22 +17,9 @@ from sealeak.cases.prediction import leak_curve
 from sealeak.cases.rig import rig_prediction
 from sealeak.render.lab import rig_json, rig_text
 from sealeak.render.notes import word
+from tests.unit.test_band_lab import SURFACE as BAND_SURFACE
 
-SURFACE = """
-[surface]
-model = "self-affine"
-h_rms = "0.3 um"
-hurst = 0.8
-rolloff_wavelength = "50 um"
-cutoff_wavelength = "5 nm"
-[rubber]
-youngs_modulus = "8 MPa"
-poisson_ratio = 0.5
-[fluid]
-viscosity = "1 mPa*s"
-density = "1000 kg/m^3"
-{fluid}
-"""
+SURFACE = BAND_SURFACE + "{fluid}\n"  # the band-lab tests' surface, rubber and water, and the fluid's other keys
 
 #: A flat band: 0.2 MPa over 0.5 mm, seal line 100 mm; q0 fixed so that a rectangle of the same size has the same.
 FLAT = "x (mm), pressure (MPa)\n0, 0.2\n0.5, 0.2\n"
