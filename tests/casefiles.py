@@ -50,6 +50,21 @@ pressure_difference = "1 bar"
 """
 
 
+#: A fine self-affine surface (h_rms 0.3 µm down to 5 nm) on a rubber of 8 MPa: the band, rig and simulation tests'
+#: seal, small enough that its contact is light at 0.1-0.6 MPa.
+FINE_SURFACE = """
+[surface]
+model = "self-affine"
+h_rms = "0.3 um"
+hurst = 0.8
+rolloff_wavelength = "50 um"
+cutoff_wavelength = "5 nm"
+[rubber]
+youngs_modulus = "8 MPa"
+poisson_ratio = 0.5
+"""
+
+
 def edit(old, new, text=BASE):
     assert old in text, old
     return text.replace(old, new)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from sealeak.cli import main
-from tests.casefiles import ORING
+from tests.casefiles import FINE_SURFACE, ORING
 
 PROFILE_CSV = """# a lip-like profile
 x (mm), pressure (MPa)
@@ -20,15 +20,7 @@ x (mm), pressure (MPa)
 
 PROFILE = """
 title = "profile test"
-[surface]
-model = "self-affine"
-h_rms = "0.3 um"
-hurst = 0.8
-rolloff_wavelength = "50 um"
-cutoff_wavelength = "5 nm"
-[rubber]
-youngs_modulus = "8 MPa"
-[seal]
+""" + FINE_SURFACE + """[seal]
 pressure_profile = "p.csv"
 length = "100 mm"
 [fluid]

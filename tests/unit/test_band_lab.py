@@ -21,18 +21,9 @@ from sealeak.cases.rig import rig_prediction
 from sealeak.lab.data import read_leak_data
 from sealeak.lab.rig import drain_time, exponential_height
 from sealeak.render.notes import word
+from tests.casefiles import FINE_SURFACE
 
-SURFACE = """
-[surface]
-model = "self-affine"
-h_rms = "0.3 um"
-hurst = 0.8
-rolloff_wavelength = "50 um"
-cutoff_wavelength = "5 nm"
-[rubber]
-youngs_modulus = "8 MPa"
-poisson_ratio = 0.5
-[fluid]
+SURFACE = FINE_SURFACE + """[fluid]
 viscosity = "1 mPa*s"
 density = "1000 kg/m^3"
 """

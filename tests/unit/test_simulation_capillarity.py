@@ -11,20 +11,12 @@ from sealeak.cases.simulation import simulate
 from sealeak.cases.simulation_band import simulate_band
 from sealeak.numerics import spans
 from sealeak.render.simulation import band_simulation_json, band_simulation_table, simulation_json, simulation_table
+from tests.casefiles import FINE_SURFACE
 from tests.integration.test_cli_simulate_oring import ORING
 
 CASE = """
 title = "capillarity in the simulation"
-[surface]
-model = "self-affine"
-h_rms = "0.3 um"
-hurst = 0.8
-rolloff_wavelength = "50 um"
-cutoff_wavelength = "5 nm"
-[rubber]
-youngs_modulus = "8 MPa"
-poisson_ratio = 0.5
-[seal]
+""" + FINE_SURFACE + """[seal]
 shape = "rectangle"
 width = "0.5 mm"
 length = "100 mm"
