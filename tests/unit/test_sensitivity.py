@@ -10,9 +10,12 @@ so the test models return Q = 10^y.
 import numpy as np
 import pytest
 
+from sealeak.cases import parse_case_file, run_case
 from sealeak.cases.sensitivity import sobol_indices, sobol_points
 from sealeak.cases.sobol import MAX_BASE_SAMPLES, check_base_samples, log_leak_rate, sensitivity_summary
+from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case
 from sealeak.errors import InputError
+from tests.casefiles import BASE
 
 A = np.array([1.0, 2.0, 0.5, 0.0, 3.0])
 NAMES = ["a", "b", "c", "d", "e"]
@@ -37,11 +40,6 @@ def ishigami(u):
     return 10.0**y
 
 
-def test_published_ishigami_indices_are_those_written_here():
-    assert ISHIGAMI_S1 == pytest.approx([0.3139, 0.4424, 0.0], abs=1e-4)
-    assert ISHIGAMI_ST == pytest.approx([0.5576, 0.4424, 0.2437], abs=1e-4)
-
-
 def test_additive_function_indices_equal_their_closed_form():
     s = sobol_indices(additive, NAMES, 1024, seed=3)
     assert s.first.shape == s.total.shape == (1, 5)
@@ -55,6 +53,9 @@ def test_additive_function_indices_equal_their_closed_form():
 
 
 def test_ishigami_indices_match_the_published_values():
+    # the closed forms above against the published table (Saltelli et al. 2008), then the estimates against them
+    assert ISHIGAMI_S1 == pytest.approx([0.3139, 0.4424, 0.0], abs=1e-4)
+    assert ISHIGAMI_ST == pytest.approx([0.5576, 0.4424, 0.2437], abs=1e-4)
     s = sobol_indices(ishigami, ["x1", "x2", "x3"], 4096, seed=11)
     # tolerance 0.03 absolute: about the 95 % bootstrap half-width at N = 4096
     assert s.first[0] == pytest.approx(ISHIGAMI_S1, abs=0.03)
@@ -147,3 +148,35 @@ def test_the_design_is_bounded():
         sobol_points(32, MAX_BASE_SAMPLES, 1)
     with pytest.raises(InputError, match="at least one uncertain input"):
         sobol_points(0, 16, 1)
+
+
+GAS = BASE.replace('[fluid]\nviscosity = "1 mPa*s"', '[fluid]\nname = "helium"\ntemperature = "20 degC"').replace(
+    'pressure_difference = "10 kPa"', 'upstream_pressure = "2 bar"\ndownstream_pressure = "1 bar"')
+
+
+def test_a_gas_is_analysed_on_the_pv_throughput_its_band_shows():
+    # The slip model changes a gas's pV throughput but not the no-slip volume flow: analysed on the latter, a spread
+    # of theory.rarefaction alone would look like no sensitivity at all.
+    models = ["no-slip", "kinetic"]
+    def with_model(model):
+        return GAS.replace("alpha = 0.2", f'alpha = 0.2\nrarefaction = "{model}"')
+
+    text = with_model("kinetic") + '[uncertainty]\n"theory.rarefaction" = { distribution = "choice", values = ["no-slip", "kinetic"] }\n'
+    sampled = leak_rates(parse_uncertain_case(text), np.array([[0.25], [0.75]]))
+    alone = [[rec["leak_rate_pv"] for c in parse_case_file(with_model(m)).cases for rec in run_case(c).records()]
+             for m in models]
+    np.testing.assert_allclose(sorted(sampled.tolist()), sorted(alone), rtol=1e-12)
+    assert (np.array(alone[1]) > 1.001 * np.array(alone[0])).all()  # slip: the kinetic flow is larger
+
+
+def test_a_design_whose_answers_do_not_fit_the_bound_is_refused_before_any_prediction(monkeypatch):
+    import sealeak.cases.sensitivity as sensitivity
+
+    study = parse_uncertain_case(BASE.replace('h_rms = "44 um"', 'h_rms = "44 um ± 10 %"'))
+    calls = []
+    monkeypatch.setattr(sensitivity, "leak_rates", lambda *a: calls.append(a))
+    # 16 base samples, 1 input: 48 points; BASE has 3 rows, so 144 answers
+    monkeypatch.setattr(sensitivity, "MAX_EVALUATIONS", 143)
+    with pytest.raises(InputError, match=r"--sensitivity = 16: with 1 uncertain inputs and 3 rows holds 144 numbers"):
+        sensitivity.study_sensitivity(study, 16, 0)
+    assert not calls

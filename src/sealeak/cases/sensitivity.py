@@ -31,6 +31,7 @@ from SALib.analyze import sobol as sobol_analyze
 from SALib.sample import sobol as sobol_sample
 
 from ..errors import InputError
+from .run import CaseResult
 from .sobol import (
     BOOTSTRAP_RESAMPLES,
     CONFIDENCE_LEVEL,
@@ -64,9 +65,15 @@ def sobol_points(d: int, base_samples: int, seed: int) -> np.ndarray:
     n = check_base_samples(base_samples)
     if d < 1:
         raise InputError("uncertainty", d, "needs at least one uncertain input for a sensitivity analysis")
-    if n * (d + 2) * d > MAX_EVALUATIONS:
-        raise InputError("sensitivity", base_samples, f"with {d} uncertain inputs must be at most {MAX_EVALUATIONS // ((d + 2) * d)}")
+    _check_evaluations(base_samples, n * (d + 2) * d, f"with {d} uncertain inputs", "sensitivity")
     return sobol_sample.sample(_problem(d), n, calc_second_order=False, scramble=True, seed=_seeds(seed)[0])
+
+
+def _check_evaluations(base_samples: int, numbers: int, what: str, field: str) -> None:
+    """Refuse a design whose arrays would hold more than :data:`MAX_EVALUATIONS` numbers (``what``: why so many)."""
+    if numbers > MAX_EVALUATIONS:
+        raise InputError(field, base_samples, f"{what} holds {numbers} numbers; at most {MAX_EVALUATIONS}: "
+                                              "give a smaller N")
 
 
 def sobol_analysis(names: Sequence[str], q: np.ndarray, base_samples: int, seed: int,
@@ -109,14 +116,18 @@ def sobol_indices(f: Callable[[np.ndarray], np.ndarray], names: Sequence[str], b
     return sobol_analysis(names, f(points), base_samples, seed, floor)
 
 
-def study_sensitivity(study: UncertainStudy, base_samples: int, seed: int) -> SobolIndices:
+def study_sensitivity(study: UncertainStudy, base_samples: int, seed: int,
+                      nominal: list[CaseResult] | None = None) -> SobolIndices:
     """Sobol' indices of log10 Q of every row of an uncertain study (``predict --sensitivity N``).
 
-    The model is :func:`~sealeak.cases.uncertainty.leak_rates` (Q of the theory each row shows, 0 where
-    sealed), run on the N·(d + 2) points of :func:`sobol_points`; the inputs are named by their keys.
+    The model is :func:`~sealeak.cases.uncertainty.leak_rates` (the leak rate each row shows: a liquid's Q, a gas's
+    pV throughput; 0 where sealed), run on the N·(d + 2) points of :func:`sobol_points`; the inputs are named by their
+    keys. ``nominal``: the nominal cases' results, when already at hand (else run where a fast path needs them).
     """
     if not study.inputs:
         raise InputError("--sensitivity", base_samples, "needs uncertain inputs: give a value a spread, e.g. "
                                                          "h_rms = \"1.5 um ± 10 %\" (docs/case-files.md, Uncertain inputs)")
-    check_design(len(study.inputs), base_samples)
-    return sobol_indices(lambda u: leak_rates(study, u), [i.key for i in study.inputs], base_samples, seed)
+    n = check_design(len(study.inputs), base_samples)
+    _check_evaluations(base_samples, n * (len(study.inputs) + 2) * len(study.rows),
+                       f"with {len(study.inputs)} uncertain inputs and {len(study.rows)} rows", "--sensitivity")
+    return sobol_indices(lambda u: leak_rates(study, u, nominal), [i.key for i in study.inputs], base_samples, seed)

@@ -24,7 +24,8 @@ __all__ = ["SobolIndices", "SensitivityColumns", "check_base_samples", "check_de
 #: The fewest and most base samples N (a power of two): Saltelli's design runs the model N·(d + 2) times.
 MIN_BASE_SAMPLES = 16
 MAX_BASE_SAMPLES = 65536
-#: The most model evaluations (points × rows) one analysis may hold in memory (≈ 80 MB of float64).
+#: The most numbers one analysis may hold in memory (≈ 80 MB of float64): the design's points × inputs, and the
+#: model's answers, points × rows.
 MAX_EVALUATIONS = 10_000_000
 #: The most predictions one ``predict --sensitivity`` may run (each a full prediction of every row).
 MAX_PREDICTIONS = 16384

@@ -307,10 +307,13 @@ def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
                                        "(docs/case-files.md, Uncertain inputs)") from None
 
 
-def leak_rates(study: UncertainStudy, points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Q (m³/s) of the theory each row shows at each point of the unit hypercube: an array [samples, rows]; a row
-    without a leak channel (it seals) holds 0."""
-    return sample_values(study, points)["leak_rate"]
+def leak_rates(study: UncertainStudy, points: NDArray[np.float64],
+               nominal: list[CaseResult] | None = None) -> NDArray[np.float64]:
+    """The leak rate of the theory each row shows at each point of the unit hypercube, an array [samples, rows]: the
+    gas's pV throughput Q_pV (Pa·m³/s) where every row is a gas's (what its band shows), else Q (m³/s); a row without a
+    leak channel (it seals) holds 0. ``nominal`` as for :func:`sample_values`."""
+    values = sample_values(study, points, nominal)
+    return values.get("leak_rate_pv", values["leak_rate"])
 
 
 def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArray[np.float64]]:

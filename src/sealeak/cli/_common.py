@@ -130,7 +130,7 @@ def sobol_sensitivity(args: argparse.Namespace, uncertainty: UncertaintyResult |
 
     say(args, f"Sobol' sensitivity: {args.sensitivity} base samples, "
               f"{args.sensitivity * (len(uncertainty.study.inputs) + 2)} predictions ...")
-    return study_sensitivity(uncertainty.study, args.sensitivity, uncertainty.seed)
+    return study_sensitivity(uncertainty.study, args.sensitivity, uncertainty.seed, uncertainty.nominal)
 
 
 def load_case_file(args: argparse.Namespace) -> CaseFile:
