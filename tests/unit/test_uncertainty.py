@@ -190,3 +190,9 @@ def test_alpha_and_viscosity_samples_share_the_contact(text, monkeypatch):
     full = leak_rates(study, points)
     assert np.allclose(shared, full, rtol=1e-9, atol=0)
     assert np.ptp(shared[:, 0]) > 0
+
+
+def test_every_value_of_a_choice_is_checked_before_any_sample_runs():
+    text = BASE + '[uncertainty]\n"theory.alpha" = { distribution = "choice", values = [0.2, 0.3, 0.4, "zz"] }\n'
+    with pytest.raises(InputError, match=r"theory\.alpha \(uncertainty sample theory\.alpha = .?zz"):
+        parse_uncertain_case(text)

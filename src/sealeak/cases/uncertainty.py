@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -98,6 +98,9 @@ def uncertain_study(case_file: CaseFile) -> UncertainStudy:
     study = UncertainStudy(case_file, case_file.spreads.inputs, _rows(case_file.cases))
     if study.max_leak_rate is not None:
         _limits(study, case_file.cases)  # checked now: one line before any sample runs
+    for inp in study.inputs:  # each value of a choice builds (a sample may not draw it)
+        for value in inp.choices:
+            _sample_cases(replace(study, inputs=(inp,)), [value])
     return study
 
 
@@ -326,7 +329,7 @@ def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArra
     try:
         kind, factor = leak_rate_unit(field, unit)
     except InputError as exc:  # named with the whole value as written, not its unit alone
-        raise InputError(field, value, exc.allowed) from None
+        raise InputError(field, value, exc.allowed + "; for a liquid a volume flow ('ml/min', 'm^3/s')") from None
     if not number > 0:
         raise InputError(field, value, "must be > 0")
     keys: list[str] = []
@@ -357,7 +360,10 @@ def _leak_parts(field: str, value: str) -> tuple[float, str]:
     try:
         return quantity_parts(field, value)
     except InputError:
-        number, _ = quantity_parts(field, head)
+        try:
+            number, _ = quantity_parts(field, head)
+        except InputError as exc:  # named as written, not by its number alone
+            raise InputError(field, value, exc.allowed) from None
         return number, unit.strip()
 
 

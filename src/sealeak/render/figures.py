@@ -533,7 +533,7 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
         finish_axes(ax)
         return fig
     # log-log where the cases differ by a decade, or where one curve spans two (a coupled gas leak grows steeply with ΔP)
-    log = spans_decades(peaks, 1.0) or spans_decades(np.concatenate([s.y for s in series]), 2.0)
+    log = spans_decades(peaks, 1.0) or any(spans_decades(s.y, 2.0) for s in series)
     base = "mbar·l/s" if gas else "m³/s"
     qscale, qunit = (1.0, base) if log else power_unit(peaks, base)
     scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]

@@ -270,11 +270,12 @@ def uncertainty_figure_names(sensitivity: bool) -> tuple[str, ...]:
 
 def _leak_key(unc: UncertaintyResult) -> tuple[str, str, float | None]:
     """(record key, unit, ``max_leak_rate`` in that unit or None) of the figures: a gas's pV throughput in mbar·l/s (the
-    unit of its other figures), else Q in m³/s; the limit where it is compared with that quantity."""
+    unit of its other figures), else Q in m³/s; the limit where every row compares that quantity with the same one."""
     gas = "leak_rate_mbar_l_s" in unc.values
     key, unit, compared, factor = (("leak_rate_mbar_l_s", "mbar·l/s", "leak_rate_pv", 1.0 / PA_M3_PER_MBAR_L) if gas
                                    else ("leak_rate", "m³/s", "leak_rate", 1.0))
-    if unc.limits is None or not unc.limit_keys or any(k != compared for k in unc.limit_keys):
+    if (unc.limits is None or not unc.limit_keys or any(k != compared for k in unc.limit_keys)
+            or np.ptp(unc.limits) > 1e-12 * np.max(unc.limits)):  # one line only where every row has the same limit
         return key, unit, None
     return key, unit, float(unc.limits[0]) * factor
 
