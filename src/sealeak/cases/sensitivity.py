@@ -102,7 +102,7 @@ def sobol_analysis(names: Sequence[str], q: np.ndarray, base_samples: int, seed:
         for k in out:
             out[k][j] = s[k]
     return SobolIndices(tuple(names), out["S1"], out["S1_conf"], out["ST"], out["ST_conf"], sealed, floors, variance,
-                        n, n * (d + 2), seed)
+                        n, seed)
 
 
 def sobol_indices(f: Callable[[np.ndarray], np.ndarray], names: Sequence[str], base_samples: int, seed: int,

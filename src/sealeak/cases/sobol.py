@@ -56,8 +56,12 @@ class SobolIndices:
     floor: np.ndarray
     variance: np.ndarray
     base_samples: int
-    evaluations: int
     seed: int
+
+    @property
+    def evaluations(self) -> int:
+        """The model runs of Saltelli's design, N·(d + 2)."""
+        return self.base_samples * (len(self.names) + 2)
 
     def ranking(self, row: int) -> list[int]:
         """The inputs of ``row`` by decreasing total index (NaN last): the measurement to improve first leads."""

@@ -39,12 +39,14 @@ from .scaling import scaled_leak_rate
 from .spreads import UncertainInput
 
 __all__ = ["record_values", "UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
-           "SAMPLERS", "DEFAULT_SAMPLES", "MAX_SAMPLES", "PASS_PROBABILITY", "SPREAD_KEYS", "UNCERTAINTY_UNITS",
+           "SAMPLERS", "SAMPLER_NAMES", "DEFAULT_SAMPLES", "MAX_SAMPLES", "PASS_PROBABILITY", "SPREAD_KEYS", "UNCERTAINTY_UNITS",
            "read_uncertain_case", "parse_uncertain_case", "uncertain_study", "check_sampling", "unit_points", "sample_values",
            "leak_rates", "propagate"]
 
 #: The samplers of the unit hypercube: scrambled Sobol' points, or a Latin hypercube.
-SAMPLERS = ("sobol", "lhs")
+#: The samplers of ``--sampler`` and how outputs name them.
+SAMPLER_NAMES = {"sobol": "scrambled Sobol' points", "lhs": "Latin hypercube"}
+SAMPLERS = tuple(SAMPLER_NAMES)
 #: Samples of ``predict`` when the case file has uncertain inputs and ``--samples`` is not given.
 DEFAULT_SAMPLES = 256
 #: The most samples one propagation may ask for (each a full prediction).

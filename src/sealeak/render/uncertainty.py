@@ -10,14 +10,13 @@ import numpy as np
 
 from ..cases.life import time_text
 from ..cases.life_answers import LifeAnswer, life_answers
-from ..cases.uncertainty import PASS_PROBABILITY, PassingLoad, ResultRow, UncertaintyResult
+from ..cases.uncertainty import PASS_PROBABILITY, SAMPLER_NAMES, PassingLoad, ResultRow, UncertaintyResult
 from ..io.leak_units import celsius, to_ml_per_min
 from .notes import load_text, loads_text
 
 __all__ = ["row_columns", "uncertainty_columns", "uncertainty_heading", "uncertainty_legend", "passing_lines",
            "uncertainty_summary"]
 
-_SAMPLER_NAMES = {"sobol": "scrambled Sobol' points", "lhs": "Latin hypercube"}
 
 
 def _shown(unc: UncertaintyResult) -> list[tuple[str, str, Any]]:
@@ -70,7 +69,7 @@ def uncertainty_heading(unc: UncertaintyResult) -> str:
     """The sentence above the table: how many samples of which inputs."""
     inputs = unc.study.inputs
     what = f"{len(inputs)} uncertain input{'s' if len(inputs) != 1 else ''}" if inputs else "no uncertain inputs"
-    return (f"uncertainty: {unc.samples} samples ({_SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {what}"
+    return (f"uncertainty: {unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {what}"
             + (":" if inputs else ""))
 
 

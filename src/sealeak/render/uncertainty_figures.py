@@ -29,7 +29,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FuncFormatter
 
 from ..cases.sobol import SobolIndices, chosen_rows, sensitivity_summary
-from ..cases.uncertainty import UncertaintyResult
+from ..cases.uncertainty import SAMPLER_NAMES, UncertaintyResult
 from ..cases.uncertainty import record_values as record_leak_rates
 from .notes import load_axis_label, load_text
 from .plotstyle import (
@@ -260,7 +260,6 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
 
 
 # ---------------------------------------------------------------------- from a propagation
-_SAMPLERS = {"sobol": "scrambled Sobol' points", "lhs": "Latin hypercube"}
 
 
 def uncertainty_figure_names(sensitivity: bool) -> tuple[str, ...]:
@@ -304,7 +303,7 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
         idx = idx[np.argsort(loads[idx], kind="stable")]
         bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
-    sampled = f"{unc.samples} samples ({_SAMPLERS.get(unc.sampler, unc.sampler)}, seed {unc.seed}) of {inputs}"
+    sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
     written = str(unc.study.max_leak_rate) if limit is not None else ""
     figures = {"leak_rate_band.png": figure_fan_chart(bands, x_label, max_leak_rate=limit, unit=unit, log_x=spans_decades(loads),
                                                       limit_text=written,
