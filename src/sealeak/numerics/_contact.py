@@ -46,8 +46,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
-from typing import TypedDict, Unpack
+from dataclasses import dataclass, replace
+from typing import Self, TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -56,7 +56,7 @@ from ..errors import ConvergenceError, InputError, positive_values
 from ._checks import square_grid
 from ._linalg import dot
 from ._memory import require_memory
-from ._xp import irfft2, maximum_into, minimum_into, multiply_into, namespace, rfft2, to_namespace
+from ._xp import irfft2, is_numpy_array, maximum_into, minimum_into, multiply_into, namespace, rfft2, to_namespace, to_numpy
 from .synthesis import wavevector_grid
 
 FloatArray = NDArray[np.float64]
@@ -123,6 +123,12 @@ class ContactField:
     def contact(self) -> NDArray[np.bool_]:
         """Contact mask (pressure > 0)."""
         return self.pressure > 0
+
+    def on_host(self) -> Self:
+        """This solution with its gap and pressure as NumPy arrays (itself when they are; copied from a GPU)."""
+        if is_numpy_array(self.pressure) and is_numpy_array(self.gap):
+            return self
+        return replace(self, gap=to_numpy(self.gap), pressure=to_numpy(self.pressure))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -466,12 +472,16 @@ def solve_contact_sweep(
     size: float,
     e_star: float,
     pressures: Iterable[float],
+    *,
+    host: bool = False,
     **kwargs: object,
 ) -> list[ContactResult]:
     """Solve at several mean pressures (Pa), in increasing order, each warm-started from the last.
 
     Returns the results in the order of the sorted pressures. Keyword arguments go to
-    :func:`solve_contact` (``initial`` is managed here).
+    :func:`solve_contact` (``initial`` is managed here). ``host``: each result is moved to the host
+    (:meth:`ContactField.on_host`) as soon as the next has started from it, so that heights on a GPU keep
+    only one solution there.
     """
     if "initial" in kwargs:
         raise InputError("initial", "given", "solve_contact_sweep manages warm starts itself")
@@ -482,5 +492,5 @@ def solve_contact_sweep(
     prev: ContactResult | None = None
     for p in ps:
         prev = solve_contact(heights, size, e_star, p, initial=prev, **kwargs)  # type: ignore[arg-type]
-        out.append(prev)
+        out.append(prev.on_host() if host else prev)
     return out

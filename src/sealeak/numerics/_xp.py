@@ -44,13 +44,16 @@ def to_namespace(a: Any, like: Array) -> Array:
     return namespace(like).asarray(a, device=device(like))
 
 
-def to_numpy(a: Array) -> np.ndarray:
-    """``a`` as a NumPy array on the host: itself for NumPy, copied from a GPU for CuPy, through DLPack otherwise."""
+def to_numpy(a: Any) -> np.ndarray:
+    """``a`` as a NumPy array on the host: itself for NumPy, copied from the GPU for CuPy, through DLPack for another
+    array namespace, ``np.asarray`` for anything else (lists)."""
     if is_numpy_array(a):
         return a
     if is_cupy_array(a):
         return a.get()
-    return np.from_dlpack(a)
+    if hasattr(a, "__dlpack__"):
+        return np.from_dlpack(a)
+    return np.asarray(a)
 
 
 def rfft2(x: Array, xp: Any, workers: int, s: tuple[int, int] | None = None) -> Array:
