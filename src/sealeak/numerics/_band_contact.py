@@ -89,6 +89,9 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
 class BandContactResult(ContactField):
     """Solution of one cylinder-on-rough-surface problem on an nx × ny grid (arrays indexed [x, y]).
 
+    The derived properties (the contact columns, width and edges) work on NumPy arrays: take a GPU solution's
+    :meth:`~sealeak.numerics.ContactField.on_host` first.
+
     :class:`~sealeak.numerics._contact.ContactField`'s gap (m) and pressure (Pa), and
 
     Attributes
@@ -260,7 +263,8 @@ def solve_band_contact(
     Parameters
     ----------
     heights:
-        Rough-surface heights h[x, y] (m) on an nx × ny grid (any mean); zeros for a smooth surface.
+        Rough-surface heights h[x, y] (m) on an nx × ny grid (any mean); zeros for a smooth surface. An array
+        of another namespace (CuPy on a GPU) is solved there, as for :func:`~sealeak.numerics.solve_contact`.
     width:
         Domain across the band W (m); cells dx = W/nx. It must hold the whole contact band.
     period:

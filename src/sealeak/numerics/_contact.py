@@ -208,7 +208,9 @@ def solve_contact(
     Parameters
     ----------
     heights:
-        Rigid-surface heights h[x, y] (m) on an N×N periodic grid (any mean).
+        Rigid-surface heights h[x, y] (m) on an N×N periodic grid (any mean). An array of another namespace
+        (CuPy on a GPU, any array-API array) is solved there, and the result's gap and pressure are arrays
+        of it (:meth:`ContactField.on_host` copies them to NumPy); the kernels are built on the host.
     size:
         Side of the square cell (m); grid spacing size/N.
     e_star:
