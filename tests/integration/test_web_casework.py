@@ -6,6 +6,7 @@ from __future__ import annotations
 import io
 import json
 import re
+import sys
 import warnings
 import zipfile
 from pathlib import Path
@@ -177,6 +178,15 @@ def test_a_simulation_option_given_as_a_float_is_named_as_given(client):
     client.post("/api/case/example", json={"name": "reference-experiment"})
     r = client.post("/api/jobs", json={"grid": 64.0})
     assert r.status_code == 422 and r.json()["error"] == "--grid = 64.0: must be an integer"
+    assert client.get("/api/jobs").json() == []  # refused before any process started
+
+
+def test_a_gpu_case_on_a_server_without_cupy_is_refused_naming_its_key(client, monkeypatch):
+    monkeypatch.setitem(sys.modules, "cupy", None)  # `import cupy` fails, as on a server without the gpu extra
+    up = client.post("/api/case/upload", files={"file": ("g.toml", (REF + '\n[simulation]\ndevice = "cuda"\n').encode())})
+    assert up.json()["valid"], up.json()["error"]
+    r = client.post("/api/jobs", json={"grid": "32"})
+    assert r.status_code == 422 and r.json()["error"].startswith("simulation.device = 'cuda': needs CuPy")
     assert client.get("/api/jobs").json() == []  # refused before any process started
 
 

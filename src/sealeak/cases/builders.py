@@ -31,7 +31,7 @@ from ..topography import Analysis, analyze, case_option_names
 from .capillarity import build_wetting
 from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import FLUID_PRESSURE, STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
-from .options import grid_number, parse_grid_list, seed_number
+from .options import device_name, grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import SEAL_SHAPES, build_band, is_band_seal
@@ -694,4 +694,6 @@ def _simulation(sec: Section) -> dict[str, Any]:
         out["grid"] = grids[0] if len(grids) == 1 else grids
     if sec.has("seed"):
         out["seed"] = seed_number(sec.field("seed"), sec.raw("seed"))
+    if sec.has("device"):
+        out["device"] = device_name(sec.field("device"), sec.raw("device"))
     return out

@@ -306,13 +306,13 @@ class ConvergenceStudy:
 def convergence_study(case: Case, grids: Iterable[int], *, realizations: int, seed: int, threshold: bool = True,
                       runner_for: Callable[[int], Any] | None = None,
                       progress_for: Callable[[int], Callable[[int], None] | None] | None = None,
-                      simulate_grid: Callable[..., SimulationResult] = simulate) -> ConvergenceStudy:
+                      simulate_grid: Callable[..., SimulationResult] = simulate, device: str = "cpu") -> ConvergenceStudy:
     """Simulate ``case`` at every grid (same square, realisations and seed) and analyse the convergence.
 
     Each grid is an ordinary :func:`~sealeak.cases.simulation.simulate` run, so its numbers are exactly
     those of a single-grid run with the same seed. ``runner_for(N)`` gives the runner of grid N (e.g.
     :func:`sealeak.cases.ensemble.make_runner` with a store of its own), ``progress_for(N)`` its progress
-    callback for the plain loop.
+    callback for the plain loop; ``device`` where each grid's synthesis and contact run (``"cpu"``, ``"cuda"``).
     """
     grids = parse_grid_list(list(grids), "grid")
     if len(grids) < 2:
@@ -322,7 +322,7 @@ def convergence_study(case: Case, grids: Iterable[int], *, realizations: int, se
         runner = runner_for(n) if runner_for is not None else None
         progress = progress_for(n) if progress_for is not None and runner is None else None
         results.append(simulate_grid(case, grid=n, realizations=realizations, seed=seed, threshold=threshold,
-                                     runner=runner, progress=progress))
+                                     runner=runner, progress=progress, device=device))
     return analyse_convergence(case, results)
 
 

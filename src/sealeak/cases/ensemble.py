@@ -61,7 +61,8 @@ from ..io.files import OutputWriteError
 from .limits import MAX_WORKERS, whole_number
 from .pipeline import TaskRecord, compute_task
 
-__all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "DASK_FROM_GRID",
+__all__ = ["TaskStore", "TaskEvent", "make_runner", "STORE_FORMAT", "THREAD_ENV", "default_workers", "run_workers",
+           "gpu_of_worker", "DASK_FROM_GRID",
            "machine_memory", "CLUSTER_FROM_TASKS"]
 
 #: The format tag of a store's manifest.
@@ -94,6 +95,31 @@ def default_workers(grid: int | None = None) -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+def run_workers(workers: int | None, grid: int | None, device: str = "cpu", gpus: int = 0) -> int:
+    """Worker processes of a run: ``workers`` (``--workers``) if given, else :func:`default_workers` of the grid.
+
+    On ``device = "cuda"`` one worker process per GPU (``gpus``, as many as CuPy sees; ``workers`` may lower it,
+    more would share a GPU), each given its own card (:func:`gpu_of_worker`); with one GPU, 0: this process
+    alone runs the tasks one after the other, which a cluster of one worker could only slow down.
+    """
+    if device != "cuda":
+        return default_workers(grid) if workers is None else workers
+    n = gpus if workers is None else min(workers, gpus)
+    return n if n > 1 else 0
+
+
+def gpu_of_worker(index: int, gpus: int, visible: str | None) -> str:
+    """``CUDA_VISIBLE_DEVICES`` of worker ``index`` of a local cluster with one worker per GPU: one card of those
+    this process sees (``visible``, the variable's value here, None: cards 0 .. gpus-1), round the cards."""
+    cards = [c.strip() for c in visible.split(",") if c.strip()] if visible else [str(i) for i in range(gpus)]
+    return cards[index % len(cards)]
+
+
+def _pin_gpu(card: str) -> None:
+    """In a worker process before any task: see only GPU ``card`` (CUDA reads the variable when it starts there)."""
+    os.environ["CUDA_VISIBLE_DEVICES"] = card
 
 
 @dataclass(frozen=True)
@@ -319,8 +345,9 @@ def _placement(client: Any, tasks: list[Any], todo: list[int], need: dict[int, i
 
 
 @contextmanager
-def _client(workers: int, scheduler: str | None, memory_limit: int | None = None) -> Iterator[Any]:
-    """A ``distributed.Client`` of the running cluster at ``scheduler``, or of a new local cluster."""
+def _client(workers: int, scheduler: str | None, memory_limit: int | None = None, gpus: int = 0) -> Iterator[Any]:
+    """A ``distributed.Client`` of the running cluster at ``scheduler``, or of a new local cluster (with ``gpus``,
+    worker i sees only GPU i: :func:`gpu_of_worker`)."""
     if scheduler is not None:
         try:
             client = Client(scheduler, timeout="20s")
@@ -345,6 +372,9 @@ def _client(workers: int, scheduler: str | None, memory_limit: int | None = None
         if main:
             signal.signal(signal.SIGINT, previous)
     with cluster, Client(cluster) as client:
+        visible = os.environ.get("CUDA_VISIBLE_DEVICES")
+        for i, address in enumerate(sorted(client.scheduler_info()["workers"]) if gpus else ()):
+            client.run(_pin_gpu, gpu_of_worker(i, gpus, visible), workers=[address])
         yield client
 
 
@@ -490,7 +520,8 @@ def _run_dask(tasks: list[Any], todo: list[int], finished: Callable[[int, TaskRe
               start: float, clock: list[float], need: dict[int, int], memory_limit: int | None = None) -> None:
     """Submit the tasks ``todo``, each to the workers that can hold it, and hand each result to ``finished`` as
     soon as it arrives (in any order)."""
-    with _client(workers, scheduler, memory_limit) as client:
+    gpus = workers if getattr(tasks[0].spec, "device", "cpu") == "cuda" else 0  # one worker per GPU (run_workers)
+    with _client(workers, scheduler, memory_limit, gpus) as client:
         where = _placement(client, tasks, todo, need)  # raises before anything is submitted
         clock[0] = time.monotonic()
         link = getattr(client, "dashboard_link", None) if progress is not None else None

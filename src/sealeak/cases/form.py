@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from ..numerics import DEVICES
 from ..physics.gas import RAREFACTION_MODELS
 from .model import FLUID_PRESSURE, MODELS
 from .rig_builders import RIG_KEYS
@@ -93,6 +94,7 @@ FIELD_KINDS: dict[str, FieldKind] = {
     "rig.pressure_loss": _q("pressure", "10 mbar"),
     "simulation.grid": FieldKind("integer", example="256"), "simulation.realizations": FieldKind("integer", example="4"),
     "simulation.seed": FieldKind("integer", example="0"),
+    "simulation.device": FieldKind("choice", choices=DEVICES),
 }
 # capillarity of a liquid ([fluid], docs/case-files.md)
 FIELD_KINDS |= {

@@ -216,6 +216,9 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "random surfaces R"),
     "simulation.seed": FieldHelp("Random seed", "simulation-defaults-of-sealeak-simulate-optional",
                      "random seed (realisation r uses numpy.random.default_rng([seed, r]))"),
+    "simulation.device": FieldHelp("Device", "simulation-defaults-of-sealeak-simulate-optional",
+                     "where the surfaces are synthesized and the contact solved: cpu (NumPy) or cuda (an NVIDIA GPU "
+                     "with CuPy, the gpu extra); the flow runs on the CPU either way"),
 }
 
 # capillarity of a liquid ([fluid], docs/case-files.md)

@@ -1,4 +1,4 @@
-"""The options of a simulation (grid N, realisations R, seed, workers): one validator for every front end.
+"""The options of a simulation (grid N, realisations R, seed, workers, device): one validator for every front end.
 
 ``sealeak simulate``'s options, a case file's ``[simulation]`` section and the web app's simulation jobs
 all go through :func:`simulation_options` (and the case builders through :func:`grid_number`,
@@ -16,11 +16,13 @@ from typing import Any
 
 import numpy as np
 
+from .. import numerics
 from ..errors import InputError
+from ..numerics import DEVICES
 from .limits import MAX_GRIDS, MAX_REALIZATIONS, MAX_WORKERS, at_most, whole_number
 
-__all__ = ["SimulationOptions", "simulation_options", "grid_number", "seed_number", "parse_grid_list", "MIN_GRID",
-           "GRID_RULE", "DEFAULT_OPTIONS"]
+__all__ = ["SimulationOptions", "simulation_options", "grid_number", "seed_number", "device_name", "parse_grid_list",
+           "MIN_GRID", "GRID_RULE", "DEFAULT_OPTIONS"]
 
 #: The smallest grid N (points per side).
 MIN_GRID = 16
@@ -48,6 +50,17 @@ def seed_number(field: str, value: Any) -> int:
     if not _integer(value) or value < 0:
         raise InputError(field, value, "must be an integer >= 0")
     return int(value)
+
+
+def device_name(field: str, value: Any) -> str:
+    """``value`` as a device (``"cpu"`` or ``"cuda"``, :data:`sealeak.numerics.DEVICES`), else an InputError naming ``field``.
+
+    Only the word is checked here (a case file may name a GPU the machine reading it lacks);
+    :func:`simulation_options` also checks that a GPU is there.
+    """
+    if not isinstance(value, str) or value not in DEVICES:
+        raise InputError(field, value, "allowed: " + ", ".join(map(repr, DEVICES)))
+    return value
 
 
 def parse_grid_list(value: Any, field: str) -> tuple[int, ...]:
@@ -94,6 +107,10 @@ class SimulationOptions:
         The random seed; realisation r draws from the seed sequence (seed, r).
     workers
         Worker processes of a local Dask cluster (0: this process alone; None: not given, the runner's default).
+    device
+        Where the surfaces are synthesized and the contact solved: ``"cpu"`` or ``"cuda"`` (a GPU CuPy sees).
+    gpus
+        GPUs CuPy sees for ``"cuda"`` (0 for ``"cpu"``): one Dask worker each (:func:`sealeak.cases.ensemble.run_workers`).
     grid_field
         Where the grid came from (``--grid``, ``simulation.grid``), for later messages about it.
     """
@@ -103,6 +120,8 @@ class SimulationOptions:
     seed: int
     workers: int | None = None
     grid_field: str = "grid"
+    device: str = "cpu"
+    gpus: int = 0
 
     @property
     def grid(self) -> int:
@@ -111,7 +130,7 @@ class SimulationOptions:
 
 
 def simulation_options(*, grid: Any = None, realizations: Any = None, seed: Any = None, workers: Any = None,
-                       defaults: Mapping[str, Any] | None = None, prefix: str = "--",
+                       device: Any = None, defaults: Mapping[str, Any] | None = None, prefix: str = "--",
                        max_realizations: int = MAX_REALIZATIONS, max_workers: int = MAX_WORKERS,
                        limit_note: str = "") -> SimulationOptions:
     """The options of a simulation, checked: the one validator of the command line, the case files and the web app.
@@ -121,7 +140,9 @@ def simulation_options(*, grid: Any = None, realizations: Any = None, seed: Any 
     ``prefix + key`` for a given value or a built-in default (``--grid``), ``simulation.<key>`` for the
     case's. ``grid`` may be one integer, a list of them or ``--grid`` text (``"64,128"``; a convergence
     study); ``max_realizations`` and ``max_workers`` may be lowered (a server's limits, ``limit_note`` then
-    says so in the message, e.g. ``" (this server's limit)"``).
+    says so in the message, e.g. ``" (this server's limit)"``). ``device`` (``"cpu"``, the default, or
+    ``"cuda"``) is checked here, before any work: ``"cuda"`` without CuPy, or with CuPy but no GPU, is an
+    InputError naming ``--device`` or ``simulation.device`` and what is missing.
     """
     defaults = defaults or {}
     values: dict[str, Any] = {}
@@ -135,4 +156,8 @@ def simulation_options(*, grid: Any = None, realizations: Any = None, seed: Any 
     chosen = seed_number(fields["seed"], values["seed"])
     cores = None if workers is None else whole_number(f"{prefix}workers", workers, 0, max_workers,
                                                       _WORKERS_NOTE + limit_note)
-    return SimulationOptions(grids=grids, realizations=count, seed=chosen, workers=cores, grid_field=fields["grid"])
+    from_case = device is None and "device" in defaults
+    device_field = "simulation.device" if from_case else f"{prefix}device"
+    where = device_name(device_field, defaults["device"] if from_case else "cpu" if device is None else device)
+    return SimulationOptions(grids=grids, realizations=count, seed=chosen, workers=cores, grid_field=fields["grid"],
+                             device=where, gpus=numerics.device_count(where, device_field))

@@ -104,7 +104,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
                  grid_field: str = "grid", fields_dir: str | Path | None = None, contact_tol: float = 1e-8,
                  flow_method: FlowMethod = "auto", progress: Callable[[int], None] | None = None,
                  memory_limit: float | None = None,
-                 runner: Callable[[list[Any]], Iterable[TaskRecord]] | None = None) -> ResultT:
+                 runner: Callable[[list[Any]], Iterable[TaskRecord]] | None = None, device: str = "cpu") -> ResultT:
     """Run ``geometry``'s simulation of ``case`` (module docstring): check, prepare, run the tasks, aggregate.
 
     ``grid`` N (even, >= 16; ``grid_field`` names it in messages), ``realizations`` R, ``seed``: realisation r
@@ -112,11 +112,15 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     field files (npz) there, staged until all are written. ``progress`` is called with the number of finished
     solves (without a runner). ``runner`` runs the tasks and returns their records in the order given (None:
     one after the other in this process); the records are aggregated in realisation order, so the numbers
-    do not depend on the runner.
+    do not depend on the runner. ``device``: where the tasks synthesize their surfaces and solve the contact,
+    ``"cpu"`` (NumPy) or ``"cuda"`` (CuPy on a GPU, :mod:`sealeak.numerics._device`; its free memory is checked
+    here, before any work); the flow runs on the host either way.
     """
     grid = grid_number(grid_field, grid)
     realizations = whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
     seed = seed_number("seed", seed)
+    numerics.require_device_memory(numerics.device_memory_bytes(grid), f"the {grid}x{grid} synthesis and contact",
+                                   device)
     if not getattr(runner, "checks_memory", False):  # a runner of make_runner checks each task where it runs
         geometry.check_memory(grid, memory_limit)
         numerics.check_memory(grid, "flow", available=memory_limit)
@@ -131,7 +135,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     with StagedFolder(fields_dir) as fields:
         common = RunSettings(grid=grid, seed=seed, e_star=case.e_star, viscosity=case.fluid.viscosity,
                              pressure_difference=float(case.pressure_difference), gas=case.gas, flow_method=flow_method,
-                             contact_tol=contact_tol, memory_limit=memory_limit,
+                             contact_tol=contact_tol, memory_limit=memory_limit, device=device,
                              fields_stage=None if fields.stage is None else str(fields.stage),
                              fields_target=None if fields.target is None else str(fields.target))
         tasks = geometry.tasks(plan, common, realizations)
@@ -208,6 +212,7 @@ class RunSettings:
     memory_limit: float | None = None
     fields_stage: str | None = None
     fields_target: str | None = None
+    device: str = "cpu"
 
     def spec(self, cls: type[S], **own: Any) -> S:
         """A task spec of type ``cls`` with these settings and the geometry's ``own`` fields."""
@@ -224,7 +229,8 @@ class TaskSpec(RunSettings):
     their field files into (None: none), ``fields_store`` the task store folder whose ``fields.zarr`` they
     write their fields into (:mod:`sealeak.io.fieldstore`; None: none), ``fft_workers`` the FFT threads of
     each task (-1: all cores; 1 on a cluster, whose worker processes share the cores). None of these
-    changes a number. ``capillary``: each sweep also finds its gap fields' critical constrictions (a liquid with a
+    changes a number; nor does ``device`` (``"cpu"`` or ``"cuda"``: where the surfaces are synthesized and the
+    contact solved, :meth:`on_device`) beyond FFT round-off. ``capillary``: each sweep also finds its gap fields' critical constrictions (a liquid with a
     contact angle, docs/theory.md §12.4). A geometry's spec adds its own fields and :meth:`geometry_identity`.
     """
 
@@ -255,9 +261,14 @@ class TaskSpec(RunSettings):
         }
 
     def surface(self, r: int) -> FloatArray:
-        """Realisation ``r``'s heights (m): ``synthesize`` with the seed sequence (seed, r) (docs/theory.md §6.1)."""
+        """Realisation ``r``'s heights (m): ``synthesize`` with the seed sequence (seed, r) (docs/theory.md §6.1),
+        on the run's device (drawn on the host, so the same on every device)."""
         return numerics.synthesize(self.spectrum, self.grid, self.size, seed=np.random.default_rng([int(self.seed), r]),
-                                   workers=self.fft_workers)
+                                   workers=self.fft_workers, xp=numerics.array_namespace_for(self.device))
+
+    def on_device(self, heights: Any) -> Any:
+        """``heights`` as an array of the run's device (NumPy for ``"cpu"``: itself, no copy)."""
+        return numerics.array_namespace_for(self.device).asarray(heights)
 
     def field_attributes(self, task: str, r: int) -> dict[str, Any]:
         """The attributes of a task's group of fields (JSON values; lengths in m, E* in Pa)."""
@@ -413,7 +424,8 @@ class FlowLog:
 
 def keep_load(spec: TaskSpec, kept: TaskFields | None, r: int, i: int, h: FloatArray, res: Any,
               progress: Callable[[int], None] | None, **extra: Any) -> None:
-    """Load ``i``'s fields (a field file, the store) of realisation ``r``, and one step of progress."""
+    """Load ``i``'s fields (a field file, the store) of realisation ``r``, and one step of progress (``h`` and
+    ``res`` on the host)."""
     if spec.fields_stage is not None:
         _write_fields(spec, f"r{r}-p{i}.npz", height=h, gap=res.gap, pressure=res.pressure, size=np.float64(spec.size),
                       **extra)

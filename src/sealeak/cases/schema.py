@@ -44,7 +44,7 @@ SECTIONS: dict[str, set[str]] = {
                "fluid_pressure"},
     "study": {"vary", "values", "labels"},
     "rig": {"cylinder_diameter", "initial_height", "final_height", "load", "density", "duration", "gravity"},
-    "simulation": {"grid", "realizations", "seed"},
+    "simulation": {"grid", "realizations", "seed", "device"},
 }
 #: [fluid] keys of capillarity (docs/case-files.md): a liquid's contact angles on the two walls, its surface tension.
 CAPILLARITY_KEYS = ("contact_angle", "contact_angle_rubber", "contact_angle_surface", "surface_tension")

@@ -141,6 +141,7 @@ def simulate(
     memory_limit: float | None = None,
     grid_name: str = "grid",
     runner: Callable[[list[EnsembleTask]], Iterable[TaskRecord]] | None = None,
+    device: str = "cpu",
 ) -> SimulationResult:
     """Numerically exact leak rate and α for ``case`` at its squeeze pressures.
 
@@ -173,10 +174,14 @@ def simulate(
         them one after the other in this process. :func:`sealeak.cases.ensemble.make_runner` runs them
         on a Dask cluster and keeps them in a store. Results are aggregated in realisation order, so
         they do not depend on the runner.
+    device:
+        ``"cpu"`` (NumPy, the default) or ``"cuda"``: surface synthesis and contact on an NVIDIA GPU with CuPy
+        (the ``gpu`` extra; the flow stays on the CPU). The same surfaces; the numbers agree with the CPU's to
+        FFT round-off (docs/performance.md).
     """
     return run_ensemble(PeriodicSquare(threshold), case, grid=grid, realizations=realizations, seed=seed,
                         grid_field=grid_name, fields_dir=fields_dir, contact_tol=contact_tol, flow_method=flow_method,
-                        progress=progress, memory_limit=memory_limit, runner=runner)
+                        progress=progress, memory_limit=memory_limit, runner=runner, device=device)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -362,14 +367,15 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     at every squeeze pressure (warm-started upwards) and the flow through each gap field (§6.2–6.3); it
     returns per pressure the relative contact area, mean gap (m), whether the fluid percolates and the
     seal's leak rate (Ly/Lx)·Q_sq (m³/s), for a gas also the pV throughputs (Pa·m³/s, §11.10), and for
-    realisation 0 the contact maps (packed). Field files, if asked, are written by the task itself: npz files
+    realisation 0 the contact maps (packed). Synthesis and contact run on ``spec.device``, the flow on the host.
+    Field files, if asked, are written by the task itself: npz files
     into ``spec.fields_stage``, or, with ``spec.fields_store``, the Zarr group ``r<r>`` of the store
     (:class:`sealeak.io.fieldstore.TaskFields`, renamed in when complete; its name and the SHA-256 of each
     array are its record's ``fields``). A threshold task returns the relative contact area at the
     percolation threshold (§6.4) and its notes.
     """
     spec, r = task.spec, task.realization
-    h = spec.surface(r)
+    h = spec.on_device(spec.surface(r))
     if task.kind == "threshold":
         notes: list[dict[str, Any]] = []
         th = _threshold(h, spec.size, spec.e_star, spec.threshold_anchor, spec.contact_tol, notes, r, spec.fft_workers)
@@ -377,7 +383,8 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     log = FlowLog(gas=spec.gas is not None, capillary=spec.capillary)
     gaps: list[float] = []
     results = numerics.solve_contact_sweep(h, spec.size, spec.e_star, spec.pressures, tol=spec.contact_tol,
-                                           workers=spec.fft_workers)
+                                           workers=spec.fft_workers, host=True)
+    h = numerics.to_numpy(h)  # the flow and the fields on the host
 
     def sweep(kept: Any) -> None:
         for i, res in enumerate(results):

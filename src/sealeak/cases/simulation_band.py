@@ -204,6 +204,7 @@ def simulate_band(
     memory_limit: float | None = None,
     grid_name: str = "grid",
     runner: Callable[[list[BandTask]], Iterable[pipeline.TaskRecord]] | None = None,
+    device: str = "cpu",
 ) -> BandSimulationResult:
     """Numerically exact leak rate of an O-ring case and the α of its series-resistance theory.
 
@@ -232,10 +233,13 @@ def simulate_band(
         Runs the realisations' tasks (:func:`band_tasks`, :func:`run_band_task`) and returns their results
         in the order given; None runs them one after the other in this process.
         :func:`sealeak.cases.ensemble.make_runner` runs them on Dask and keeps them in a store.
+    device:
+        ``"cpu"`` or ``"cuda"``: where the surfaces are synthesized and the band contact solved, as for
+        :func:`sealeak.cases.simulate`.
     """
     return pipeline.run_ensemble(OringBand.of(case, contact_tol), case, grid=grid, realizations=realizations, seed=seed,
                         grid_field=grid_name, fields_dir=fields_dir, contact_tol=contact_tol, flow_method=flow_method,
-                        progress=progress, memory_limit=memory_limit, runner=runner)
+                        progress=progress, memory_limit=memory_limit, runner=runner, device=device)
 
 
 @dataclass(frozen=True)
@@ -525,7 +529,8 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
     """
     spec, r = task.spec, task.realization
     n, size = spec.grid, spec.size
-    h = spec.surface(r)
+    h_dev = spec.on_device(spec.surface(r))  # synthesis and contact on the run's device, the flow and fields on the host
+    h = numerics.to_numpy(h_dev)
     x = (np.arange(n) + 0.5) * (size / n)
     in_band = np.abs(x - size / 2.0)[:, None] < np.asarray(spec.half_widths)[None, :]  # [x, load]
     log = pipeline.FlowLog(gas=spec.gas is not None, capillary=spec.capillary)
@@ -536,9 +541,9 @@ def run_band_task(task: BandTask, progress: Callable[[int], None] | None = None)
     def sweep(kept: Any) -> None:
         prev = None
         for i, f in enumerate(spec.forces):
-            res = numerics.solve_band_contact(h, size, size, spec.e_star, spec.radius, float(f), tol=spec.contact_tol,
-                                              initial=prev, workers=spec.fft_workers)
-            prev = res
+            prev = numerics.solve_band_contact(h_dev, size, size, spec.e_star, spec.radius, float(f), tol=spec.contact_tol,
+                                               initial=prev, workers=spec.fft_workers)
+            res = prev.on_host()
             widths.append(float(res.contact_width))
             log.add(spec, r, res, spec.scale, res.contact[in_band[:, i]].mean() if in_band[:, i].any() else np.nan)
             if res.touches_edge:

@@ -338,7 +338,8 @@ def simulate_maps(maps: Sequence[Topography], case: Case, *, grid: int | None = 
                   flow_method: FlowMethod = "auto", progress: Callable[[int], None] | None = None,
                   memory_limit: float | None = None, grid_name: str = "grid", field_name: str = "heights",
                   windows_name: str = "windows",
-                  runner: Callable[[list[EnsembleTask]], Iterable[TaskRecord]] | None = None) -> MapSimulationResult:
+                  runner: Callable[[list[EnsembleTask]], Iterable[TaskRecord]] | None = None,
+                  device: str = "cpu") -> MapSimulationResult:
     """The exact leak rate of ``case``'s seal on each of ``maps`` (module docstring), α against both theories.
 
     ``maps`` are height maps (:class:`sealeak.topography.Topography`, heights in m; e.g.
@@ -347,7 +348,7 @@ def simulate_maps(maps: Sequence[Topography], case: Case, *, grid: int | None = 
     squeeze pressures and ΔP (its spectrum and q0 are replaced by each map's own). Messages name the
     maps ``field_name``, the windows ``windows_name``. ``grid`` N (even,
     >= 16) or None: the largest map's own points per side (doubled when mirrored), so that no map is
-    upsampled beyond its data. The other arguments as for :func:`sealeak.cases.simulate`.
+    upsampled beyond its data. The other arguments (``device`` too) as for :func:`sealeak.cases.simulate`.
     """
     _refuse_case(case)
     items = [w for m in maps for w in map_windows(m, windows, windows_name)]
@@ -360,7 +361,7 @@ def simulate_maps(maps: Sequence[Topography], case: Case, *, grid: int | None = 
     return run_ensemble(MapSquares(tuple(items), grid, threshold, field_name), case, grid=grid,
                         realizations=len(items), seed=0, grid_field=grid_name, fields_dir=fields_dir,
                         contact_tol=contact_tol, flow_method=flow_method, progress=progress,
-                        memory_limit=memory_limit, runner=runner)
+                        memory_limit=memory_limit, runner=runner, device=device)
 
 
 def simulate_map(heights: ArrayLike, pixel_size: float | tuple[float, float], case: Case, *, periodic: bool = False,

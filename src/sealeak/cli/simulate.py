@@ -44,7 +44,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     case = cases[0]
     # options override the case's [simulation] section, which overrides the built-in defaults
     opts = simulation_options(grid=args.grid, realizations=args.realizations, seed=args.seed, workers=args.workers,
-                              defaults=case.simulation)
+                              device=args.device, defaults=case.simulation)
     if _map_route(args, case):
         return _simulate_maps(args, case, opts)
     if args.windows is not None:
@@ -96,12 +96,12 @@ def _run_pipeline(args: argparse.Namespace, opts: SimulationOptions, route: str,
     from tqdm import tqdm
 
     from ..cases import simulation, simulation_band
-    from ..cases.ensemble import default_workers
+    from ..cases.ensemble import run_workers
 
     run = simulation.simulate if route == "simulate" else simulation_band.simulate_band
     common = {"grid": opts.grid, "realizations": opts.realizations, "seed": opts.seed, "fields_dir": args.fields,
-              "grid_name": opts.grid_field, **options}
-    runner = _runner(args, default_workers(opts.grid) if opts.workers is None else opts.workers, args.store)
+              "grid_name": opts.grid_field, "device": opts.device, **options}
+    runner = _runner(args, run_workers(opts.workers, opts.grid, opts.device, opts.gpus), args.store)
     if runner is not None:
         return run(case, runner=runner, **common)
     with tqdm(total=solves, desc="contact + flow", unit="solve", disable=args.quiet or None, file=sys.stderr) as bar:
@@ -113,14 +113,14 @@ def _convergence(args: argparse.Namespace, case: Case, opts: SimulationOptions) 
     from tqdm import tqdm
 
     from ..cases.convergence import convergence_study
-    from ..cases.ensemble import default_workers
+    from ..cases.ensemble import run_workers
     from ..render.convergence import convergence_figures, convergence_json, convergence_table
 
     bars: list[tqdm] = []
     grids = opts.grids
 
     def runner_for(grid: int) -> Any:
-        workers = default_workers(grid) if opts.workers is None else opts.workers
+        workers = run_workers(opts.workers, grid, opts.device, opts.gpus)
         if not args.quiet:
             sys.stderr.write(f"simulate: grid {grid}x{grid} ({grids.index(grid) + 1} of {len(grids)})\n")
         return _runner(args, workers, None if args.store is None else Path(args.store) / f"grid-{grid}")
@@ -135,7 +135,8 @@ def _convergence(args: argparse.Namespace, case: Case, opts: SimulationOptions) 
 
     try:
         study = convergence_study(case, grids, realizations=opts.realizations, seed=opts.seed,
-                                  threshold=not args.no_threshold, runner_for=runner_for, progress_for=progress_for)
+                                  threshold=not args.no_threshold, runner_for=runner_for, progress_for=progress_for,
+                                  device=opts.device)
     finally:
         for bar in bars:
             bar.close()
@@ -169,7 +170,7 @@ def _simulate_maps(args: argparse.Namespace, case: Case, opts: SimulationOptions
     """``simulate`` on a topography case's maps: each map (or sub-window) is the surface, one realisation each."""
     from tqdm import tqdm
 
-    from ..cases.ensemble import default_workers
+    from ..cases.ensemble import run_workers
     from ..cases.simulation_map import case_maps, simulate_maps
     from ..render.simulation_map import map_simulation_json, map_simulation_table
 
@@ -185,9 +186,9 @@ def _simulate_maps(args: argparse.Namespace, case: Case, opts: SimulationOptions
     maps = case_maps(case_file.inputs["surface"], Path(case_file.source).parent)
     grid = None if args.grid is None and "grid" not in case.simulation else opts.grid
     windows = 1 if args.windows is None else args.windows
-    workers = default_workers(grid or 0) if opts.workers is None else opts.workers
+    workers = run_workers(opts.workers, grid or 0, opts.device, opts.gpus)
     runner = _runner(args, workers, None)
-    common: dict[str, Any] = {"grid": grid, "windows": windows, "threshold": not args.no_threshold,
+    common: dict[str, Any] = {"grid": grid, "windows": windows, "threshold": not args.no_threshold, "device": opts.device,
                               "fields_dir": args.fields, "grid_name": opts.grid_field, "field_name": "surface.file",
                               "windows_name": "--windows"}
     if runner is not None:
@@ -257,6 +258,10 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
                    help="run the realisations on a local Dask cluster of N worker processes, one thread each "
                         "(default: all cores from a 512x512 grid up, else 0); 0: no Dask, one after the other in "
                         "this process")
+    p.add_argument("--device", metavar="cpu|cuda",
+                   help="where the surfaces are synthesized and the contact solved (default: [simulation] device, else "
+                        "cpu): cpu, or cuda for an NVIDIA GPU with CuPy (pip install 'sealeak[gpu]'), one Dask worker "
+                        "per GPU; the flow runs on the CPU either way")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask cluster whose scheduler is at ADDRESS (e.g. tcp://10.0.0.5:8786) "
                         "instead of a local one")

@@ -17,7 +17,11 @@ Small public API over private modules:
 * percolation:  :func:`label_clusters`, :func:`spans`, :func:`spanning_mask`, :func:`critical_constriction`,
                 :func:`percolation_threshold`, :class:`ThresholdResult`;
 * synthesis:    :func:`synthesize` random periodic surfaces with a given C(q), :func:`wavevector_grid`;
-* resources:    :func:`check_memory` refuses a grid that does not fit in memory.
+* resources:    :func:`check_memory` refuses a grid that does not fit in memory;
+* devices:      :func:`array_namespace_for` (``"cpu"``: NumPy, ``"cuda"``: CuPy, imported only then),
+                :func:`device_count`, :func:`device_name`, :func:`device_memory_bytes`,
+                :func:`require_device_memory`, :func:`to_numpy`: synthesis and contact run in the namespace of
+                their arrays (one code path, array-api-compat), the flow on the host.
 
 Arrays are indexed [x, y] with flow along x (axis 0) and periodicity along y (axis 1); all
 quantities are SI (m, Pa, Pa·s, m³/s).
@@ -36,11 +40,13 @@ from ._band_contact import (
     hertz_line_contact,
     solve_band_contact,
 )
-from ._contact import ContactOptions, ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
+from ._contact import ContactField, ContactOptions, ContactResult, contact_memory_bytes, solve_contact, solve_contact_sweep
+from ._device import DEVICES, array_namespace_for, device_count, device_memory_bytes, device_name, require_device_memory
 from ._flow import FlowResult, flow_memory_bytes, solve_flow
 from ._gas_flow import GasFlowResult, gas_flow_memory_bytes, solve_gas_flow
 from ._memory import available_memory_bytes, require_memory
 from ._percolation import ThresholdResult, critical_constriction, label_clusters, percolation_threshold, spanning_mask, spans
+from ._xp import to_numpy
 from .synthesis import synthesis_memory_bytes, synthesize, wavevector_grid
 
 __all__ = [
@@ -73,6 +79,14 @@ __all__ = [
     "check_memory",
     "available_memory_bytes",
     "require_memory",
+    "ContactField",
+    "DEVICES",
+    "array_namespace_for",
+    "device_count",
+    "device_name",
+    "device_memory_bytes",
+    "require_device_memory",
+    "to_numpy",
 ]
 
 

@@ -54,7 +54,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Unpack
+from typing import Any, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -64,6 +64,7 @@ from scipy import special
 from ..errors import InputError, positive_values
 from ._contact import ContactField, ContactOptions, _constrained_cg, contact_options
 from ._memory import require_memory
+from ._xp import contiguous, irfft2, maximum_into, namespace, rfft2, to_namespace
 
 __all__ = ["BandContactResult", "solve_band_contact", "band_displacement", "band_contact_memory_bytes",
            "hertz_line_contact", "contact_edges"]
@@ -87,6 +88,9 @@ def hertz_line_contact(force_per_length: float, radius: float, e_star: float) ->
 @dataclass(frozen=True, eq=False, kw_only=True)
 class BandContactResult(ContactField):
     """Solution of one cylinder-on-rough-surface problem on an nx × ny grid (arrays indexed [x, y]).
+
+    The derived properties (the contact columns, width and edges) work on NumPy arrays: take a GPU solution's
+    :meth:`~sealeak.numerics.ContactField.on_host` first.
 
     :class:`~sealeak.numerics._contact.ContactField`'s gap (m) and pressure (Pa), and
 
@@ -205,10 +209,11 @@ def _band_kernel(nx: int, ny: int, width: float, period: float, e_star: float) -
 
 
 def _check_grid(heights: ArrayLike, width: float, period: float, e_star: float) -> FloatArray:
-    h = np.asarray(heights, dtype=np.float64)
+    xp = namespace(heights)
+    h = xp.asarray(heights, dtype=xp.float64)
     if h.ndim != 2 or h.shape[0] < 4 or h.shape[1] < 1:
-        raise InputError("heights", f"array of shape {h.shape}", "must be an nx × ny array with nx >= 4, ny >= 1")
-    if not np.isfinite(h).all():
+        raise InputError("heights", f"array of shape {tuple(h.shape)}", "must be an nx × ny array with nx >= 4, ny >= 1")
+    if not bool(xp.all(xp.isfinite(h))):
         raise InputError("heights", "non-finite values", "heights must be finite (no NaN or inf)")
     positive_values(("width", width, "a length > 0 (m)"), ("period", period, "a length > 0 (m)"),
                     ("e_star", e_star, "a contact modulus > 0 (Pa)"))
@@ -225,14 +230,14 @@ def band_displacement(pressure: ArrayLike, width: float, period: float, e_star: 
     p = _check_grid(pressure, width, period, e_star)
     nx, ny = p.shape
     kernel = _band_kernel(nx, ny, float(width), float(period), float(e_star))
-    return _convolver(kernel, nx, ny, workers)(p)
+    return _convolver(to_namespace(kernel, p), nx, ny, workers, namespace(p))(p)
 
 
-def _convolver(kernel: FloatArray, nx: int, ny: int, workers: int) -> Callable[[FloatArray], FloatArray]:
+def _convolver(kernel: FloatArray, nx: int, ny: int, workers: int, xp: Any) -> Callable[[FloatArray], FloatArray]:
     def convolve(x: FloatArray) -> FloatArray:
-        spec = sfft.rfft2(x, s=(2 * nx, ny), workers=workers)  # zero-padded to 2nx columns
+        spec = rfft2(x, xp, workers, s=(2 * nx, ny))  # zero-padded to 2nx columns
         spec *= kernel
-        return np.ascontiguousarray(sfft.irfft2(spec, s=(2 * nx, ny), workers=workers, overwrite_x=True)[:nx])
+        return contiguous(irfft2(spec, xp, workers, (2 * nx, ny))[:nx, ...], xp)
 
     return convolve
 
@@ -258,7 +263,8 @@ def solve_band_contact(
     Parameters
     ----------
     heights:
-        Rough-surface heights h[x, y] (m) on an nx × ny grid (any mean); zeros for a smooth surface.
+        Rough-surface heights h[x, y] (m) on an nx × ny grid (any mean); zeros for a smooth surface. An array
+        of another namespace (CuPy on a GPU) is solved there, as for :func:`~sealeak.numerics.solve_contact`.
     width:
         Domain across the band W (m); cells dx = W/nx. It must hold the whole contact band.
     period:
@@ -283,6 +289,7 @@ def solve_band_contact(
     BandContactResult
     """
     h = _check_grid(heights, width, period, e_star)
+    xp = namespace(h)
     positive_values(("radius", radius, "a length > 0 (m)"),
                     ("force_per_length", force_per_length, "a force per length > 0 (N/m)"))
     o = contact_options(options)
@@ -293,47 +300,48 @@ def solve_band_contact(
     nx, ny = h.shape
     require_memory(band_contact_memory_bytes(nx, ny), f"the {nx}x{ny} band contact problem", o["memory_limit"])
     dx = width / nx
-    x = (np.arange(nx) + 0.5) * dx
-    rough = h - float(h.mean())
-    h_rms = float(np.sqrt(np.mean(rough**2)))
+    x = (np.arange(nx) + 0.5) * dx  # host arrays (the cylinder's shape, the Hertz start) are moved to h's device
+    rough = h - float(xp.mean(h))
+    h_rms = float(xp.sqrt(xp.mean(rough**2)))
     b_h, p_h = hertz_line_contact(f, radius, e_star)
     scale = max(h_rms, SAG_SCALE * b_h**2 / (2.0 * radius))
-    hs = rough - ((x - xc) ** 2 / (2.0 * radius))[:, None]
+    hs = rough - to_namespace(((x - xc) ** 2 / (2.0 * radius))[:, None], h)
     p0 = f / width  # mean pressure over the domain
 
     if initial is not None:
         if initial.pressure.shape != h.shape:
-            raise InputError("initial", f"result on a {initial.pressure.shape} grid", f"must come from the same {nx}x{ny} grid")
-        p = initial.pressure * (p0 / float(initial.pressure.mean()))
+            raise InputError("initial", f"result on a {tuple(initial.pressure.shape)} grid", f"must come from the same {nx}x{ny} grid")
+        p = initial.pressure * (p0 / float(xp.mean(initial.pressure)))
     else:
         s = 1.0 - ((x - xc) / b_h) ** 2
         line = p_h * np.sqrt(np.clip(s, 0.0, None))
         if np.count_nonzero(line) >= 2:
             p = np.repeat(line[:, None], ny, axis=1)
             p *= p0 / float(p.mean())
+            p = to_namespace(p, h)
         else:
-            p = np.full_like(hs, p0)
+            p = xp.full_like(hs, p0)
 
     kernel = _band_kernel(nx, ny, width, period, e_star)
     workers = o["workers"]
-    convolve = _convolver(kernel, nx, ny, workers)
+    convolve = _convolver(to_namespace(kernel, h), nx, ny, workers, xp)
     stiffness = None
     if o["precondition"]:
         kx = 2.0 * math.pi * sfft.fftfreq(nx, d=dx)
         ky = 2.0 * math.pi * sfft.rfftfreq(ny, d=period / ny)
-        stiff = 0.5 * e_star * np.sqrt(kx[:, None] ** 2 + ky[None, :] ** 2)
+        stiff = to_namespace(0.5 * e_star * np.sqrt(kx[:, None] ** 2 + ky[None, :] ** 2), h)
 
         def stiffness(g: FloatArray) -> FloatArray:
-            spec = sfft.rfft2(g, workers=workers)
+            spec = rfft2(g, xp, workers)
             spec *= stiff
-            return sfft.irfft2(spec, s=(nx, ny), workers=workers, overwrite_x=True)
+            return irfft2(spec, xp, workers, (nx, ny))
 
     label = f"{nx}x{ny} band, f = {f:.6g} N/m"
     p, g, _, residual, it = _constrained_cg(hs, p, p0, scale, convolve, stiffness, float(o["tol"]), int(o["max_iter"]), label)
-    gap = np.maximum(g, 0.0)
+    gap = maximum_into(g, 0.0, g, xp)
     return BandContactResult(
         gap=gap, pressure=p, force_per_length=f, width=width, period=period, radius=radius, center=xc,
-        e_star=e_star, contact_area=float(np.count_nonzero(p > 0)) / p.size, iterations=it, residual=residual,
+        e_star=e_star, contact_area=float(xp.count_nonzero(p > 0)) / p.size, iterations=it, residual=residual,
         tol=float(o["tol"]), height_scale=scale)
 
 

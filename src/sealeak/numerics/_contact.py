@@ -46,17 +46,17 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
-from typing import TypedDict, Unpack
+from dataclasses import dataclass, replace
+from typing import Self, TypedDict, Unpack
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import fft as sfft
 
 from ..errors import ConvergenceError, InputError, positive_values
 from ._checks import square_grid
 from ._linalg import dot
 from ._memory import require_memory
+from ._xp import irfft2, is_numpy_array, maximum_into, minimum_into, multiply_into, namespace, rfft2, to_namespace, to_numpy
 from .synthesis import wavevector_grid
 
 FloatArray = NDArray[np.float64]
@@ -123,6 +123,12 @@ class ContactField:
     def contact(self) -> NDArray[np.bool_]:
         """Contact mask (pressure > 0)."""
         return self.pressure > 0
+
+    def on_host(self) -> Self:
+        """This solution with its gap and pressure as NumPy arrays (itself when they are; copied from a GPU)."""
+        if is_numpy_array(self.pressure) and is_numpy_array(self.gap):
+            return self
+        return replace(self, gap=to_numpy(self.gap), pressure=to_numpy(self.pressure))
 
 
 @dataclass(frozen=True, eq=False, kw_only=True)
@@ -202,7 +208,9 @@ def solve_contact(
     Parameters
     ----------
     heights:
-        Rigid-surface heights h[x, y] (m) on an N×N periodic grid (any mean).
+        Rigid-surface heights h[x, y] (m) on an N×N periodic grid (any mean). An array of another namespace
+        (CuPy on a GPU, any array-API array) is solved there, and the result's gap and pressure are arrays
+        of it (:meth:`ContactField.on_host` copies them to NumPy); the kernels are built on the host.
     size:
         Side of the square cell (m); grid spacing size/N.
     e_star:
@@ -221,56 +229,59 @@ def solve_contact(
     ContactResult
     """
     h = _validate(heights, size, e_star)
+    xp = namespace(h)
     p0 = _check_pressure(mean_pressure)
     o = contact_options(options)
     tol, max_iter, workers = o["tol"], o["max_iter"], o["workers"]
     n = h.shape[0]
     require_memory(contact_memory_bytes(n), f"the {n}x{n} contact problem", o["memory_limit"])
 
-    h_mean = float(h.mean())
-    h_rms = float(np.sqrt(np.mean((h - h_mean) ** 2)))
+    h_mean = float(xp.mean(h))
+    h_rms = float(xp.sqrt(xp.mean((h - h_mean) ** 2)))
     if h_rms == 0.0 or h_rms <= 1e-14 * max(abs(h_mean), 1e-300):
         # flat surface: complete contact at uniform pressure
-        return ContactResult(gap=np.zeros_like(h), pressure=np.full_like(h, p0), contact_area=1.0, mean_gap=0.0,
+        return ContactResult(gap=xp.zeros_like(h), pressure=xp.full_like(h, p0), contact_area=1.0, mean_gap=0.0,
                              approach=0.0, mean_pressure=p0, iterations=0, residual=0.0,
                              tol=float(tol), size=float(size), e_star=float(e_star))
     hs = h - h_mean  # zero-mean heights (mean only shifts c)
 
-    q = wavevector_grid(n, float(size), half=True)
+    q = wavevector_grid(n, float(size), half=True)  # the kernels are built on the host, then moved to h's device
     kernel = np.zeros_like(q)
     np.divide(2.0 / e_star, q, out=kernel, where=q > 0)  # compliance 2/(E*|q|), q=0 mode dropped
     del q
-
-    def convolve(x: FloatArray, k: FloatArray = kernel) -> FloatArray:
-        spec = sfft.rfft2(x, workers=workers)
-        spec *= k
-        return sfft.irfft2(spec, s=(n, n), workers=workers, overwrite_x=True)
-
+    stiff = None
     if o["precondition"]:  # Fourier stiffness E*|q|/2: the inverse of the compliance for q != 0
         stiff = np.zeros_like(kernel)
         np.divide(1.0, kernel, out=stiff, where=kernel > 0)
+        stiff = to_namespace(stiff, h)
+    kernel = to_namespace(kernel, h)
+
+    def convolve(x: FloatArray, k: FloatArray = kernel) -> FloatArray:
+        spec = rfft2(x, xp, workers)
+        spec *= k
+        return irfft2(spec, xp, workers, (n, n))
 
     if initial is not None:
         if initial.pressure.shape != h.shape:
             raise InputError("initial", f"result on a {initial.pressure.shape} grid",
                              f"must come from the same {n}x{n} grid")
-        p = initial.pressure * (p0 / float(initial.pressure.mean()))
+        p = initial.pressure * (p0 / float(xp.mean(initial.pressure)))
     else:
-        p = np.full_like(hs, p0)
+        p = xp.full_like(hs, p0)
     ncell = float(n * n)
-    stiffness = (lambda x: convolve(x, stiff)) if o["precondition"] else None
+    stiffness = (lambda x: convolve(x, stiff)) if stiff is not None else None
     p, g, gbar, residual, it = _constrained_cg(hs, p, p0, h_rms, convolve, stiffness, tol, max_iter,
                                                f"N = {n}, P0 = {p0:.6g} Pa")
 
     mask = p > 0
-    gap = np.maximum(g, 0.0)
+    gap = maximum_into(g, 0.0, g, xp)
     c = -gbar  # g = u - hs + c  with mean(u) = 0
     return ContactResult(
         gap=gap,
         pressure=p,
-        contact_area=float(np.count_nonzero(mask)) / ncell,
-        mean_gap=float(gap.mean()),
-        approach=float(hs.max() - c),
+        contact_area=float(xp.count_nonzero(mask)) / ncell,
+        mean_gap=float(xp.mean(gap)),
+        approach=float(xp.max(hs) - c),
         mean_pressure=p0,
         iterations=it,
         residual=residual,
@@ -289,20 +300,21 @@ def _gap_and_residual(
     its cell count, the shift gbar that makes the mean gap over the contact set vanish (c = -gbar,
     m) and the scale-free residual. Leaves the gap on the contact set in ``gm`` (m); ``tmp`` is scratch.
     """
+    xp = namespace(u)
     ncell = float(p.size)
     g = u - hs
     mask = p > 0
-    nc = int(np.count_nonzero(mask))
+    nc = int(xp.count_nonzero(mask))
     # shift so that the mean gap over the contact set vanishes: that constant is c
-    np.multiply(g, mask, out=gm)
-    gbar = float(gm.sum()) / nc
+    multiply_into(g, mask, gm, xp)
+    gbar = float(xp.sum(gm)) / nc
     g -= gbar
-    np.multiply(g, mask, out=gm)  # gap on the contact set (should be 0)
-    np.minimum(g, 0.0, out=tmp)  # interpenetration (zero where contact: taken by gm)
-    tmp *= ~mask
+    multiply_into(g, mask, gm, xp)  # gap on the contact set (should be 0)
+    minimum_into(g, 0.0, tmp, xp)  # interpenetration (zero where contact: taken by gm)
+    multiply_into(tmp, ~mask, tmp, xp)
     r_gap = math.sqrt((dot(gm, gm)
                        + dot(tmp, tmp)) / ncell) / height_scale
-    r_comp = dot(p, np.abs(gm)) / (ncell * p0 * height_scale)
+    r_comp = dot(p, xp.abs(gm)) / (ncell * p0 * height_scale)
     return g, mask, nc, gbar, max(r_gap, r_comp)
 
 
@@ -312,10 +324,11 @@ def _preconditioned(
     """z = P_c S P_c g with its mean over the contact set removed (m·Pa/m), or g itself without a preconditioner."""
     if stiffness is None:
         return gm
+    xp = namespace(gm)
     z = stiffness(gm)
-    z *= mask
-    z -= float(z.sum()) / nc
-    z *= mask
+    multiply_into(z, mask, z, xp)
+    z -= float(xp.sum(z)) / nc
+    multiply_into(z, mask, z, xp)
     return z
 
 
@@ -323,10 +336,11 @@ def _response(
     t: FloatArray, mask: NDArray[np.bool_], nc: int, convolve: Callable[[FloatArray], FloatArray], tmp: FloatArray,
 ) -> tuple[FloatArray, float]:
     """r = K t (m) and the CG denominator t·(K t) on the contact set, K t's mean there removed (m·Pa)."""
+    xp = namespace(t)
     r = convolve(t)  # K t (its mean over the contact set is removed in the sums below)
-    np.multiply(r, mask, out=tmp)
-    rbar = float(tmp.sum()) / nc
-    return r, dot(tmp, t) - rbar * float(t.sum())
+    multiply_into(r, mask, tmp, xp)
+    rbar = float(xp.sum(tmp)) / nc
+    return r, dot(tmp, t) - rbar * float(xp.sum(t))
 
 
 def _step_pressure(
@@ -338,19 +352,20 @@ def _step_pressure(
     recurrence (cells out of contact interpenetrate and got pressure) or 1, and the factor that
     restored mean(p) = p0.
     """
+    xp = namespace(p)
     t_tau = tau * t
     p -= t_tau
-    clipped = bool((p < 0).any())
-    np.maximum(p, 0.0, out=p)
+    clipped = bool(xp.any(p < 0))
+    maximum_into(p, 0.0, p, xp)
     # cells out of contact that interpenetrate: give them pressure, restart CG
     overlap = ~mask
     overlap &= g < 0
-    if overlap.any():
+    if bool(xp.any(overlap)):
         delta = 0.0
         p[overlap] -= tau * g[overlap]
     else:
         delta = 1.0
-    scale = p0 / float(p.mean())
+    scale = p0 / float(xp.mean(p))
     p *= scale
     return clipped, delta, scale
 
@@ -395,9 +410,10 @@ def _constrained_cg(
         Pressure, gap before clipping (g = u - hs - gbar, m), the shift gbar (c = -gbar), the final
         residual and the iterations used.
     """
-    t = np.zeros_like(hs)
-    gm = np.empty_like(hs)
-    tmp = np.empty_like(hs)
+    xp = namespace(hs)
+    t = xp.zeros_like(hs)
+    gm = xp.empty_like(hs)
+    tmp = xp.empty_like(hs)
     u = convolve(p)  # elastic displacement (an additive constant goes into c), kept up to date incrementally
     fresh = True  # u was computed from p by a full convolution (not updated incrementally)
     since_fresh = 0
@@ -423,7 +439,7 @@ def _constrained_cg(
         beta = delta * G / g_old
         t *= beta
         t += z  # t = g + beta t on the contact set
-        t *= mask
+        multiply_into(t, mask, t, xp)
         g_old = G
         r, denom = _response(t, mask, nc, convolve, tmp)
         if denom <= 0.0:  # lost conjugacy (round-off): restart along steepest descent
@@ -458,12 +474,16 @@ def solve_contact_sweep(
     size: float,
     e_star: float,
     pressures: Iterable[float],
+    *,
+    host: bool = False,
     **kwargs: object,
 ) -> list[ContactResult]:
     """Solve at several mean pressures (Pa), in increasing order, each warm-started from the last.
 
     Returns the results in the order of the sorted pressures. Keyword arguments go to
-    :func:`solve_contact` (``initial`` is managed here).
+    :func:`solve_contact` (``initial`` is managed here). ``host``: each result is moved to the host
+    (:meth:`ContactField.on_host`) as soon as the next has started from it, so that heights on a GPU keep
+    only one solution there.
     """
     if "initial" in kwargs:
         raise InputError("initial", "given", "solve_contact_sweep manages warm starts itself")
@@ -474,5 +494,5 @@ def solve_contact_sweep(
     prev: ContactResult | None = None
     for p in ps:
         prev = solve_contact(heights, size, e_star, p, initial=prev, **kwargs)  # type: ignore[arg-type]
-        out.append(prev)
+        out.append(prev.on_host() if host else prev)
     return out

@@ -19,6 +19,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..errors import InputError
 from ._contact import ContactResult, solve_contact
+from ._xp import to_numpy
 
 IntArray = NDArray[np.int64]
 BoolArray = NDArray[np.bool_]
@@ -27,7 +28,7 @@ _FOUR = ndimage.generate_binary_structure(2, 1)
 
 
 def _as_mask(mask: ArrayLike, name: str = "fluid_mask") -> BoolArray:
-    m = np.asarray(mask)
+    m = to_numpy(mask)  # a mask on a GPU (a contact solved there) is labelled on the host
     if m.ndim != 2 or min(m.shape) < 1:
         raise InputError(name, f"array of shape {m.shape}", "must be a 2D boolean array")
     if m.dtype != np.bool_:

@@ -22,7 +22,7 @@ spectrum's band), which :func:`synthesize` refuses.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,6 +31,7 @@ from scipy import fft as sfft
 from ..errors import InputError
 from ..physics.spectrum import PowerSpectrum
 from ._memory import require_memory
+from ._xp import irfft2, is_numpy, namespace, rfft2, to_namespace
 
 __all__ = ["synthesize", "wavevector_grid", "synthesis_memory_bytes", "map_variance", "band_problem"]
 
@@ -130,6 +131,7 @@ def synthesize(
     amplitudes: Amplitudes = "gaussian",
     workers: int = -1,
     memory_limit: float | None = None,
+    xp: Any = None,
 ) -> NDArray[np.float64]:
     """A periodic random height map (m) of n×n points and side ``size`` (m) with spectrum C(q).
 
@@ -154,6 +156,12 @@ def synthesize(
         Bytes the job may use; default: the memory the OS reports as available. A job whose
         peak (:func:`synthesis_memory_bytes`) exceeds it is refused with ResourceError before
         anything is allocated.
+    xp:
+        Array namespace to build the map in (default NumPy): e.g. array-api-compat's CuPy namespace for a
+        GPU (:func:`sealeak.numerics.array_namespace_for`). The white noise is always drawn on the host
+        by NumPy's generator and then moved to the device, so a seed gives the same surface on every
+        device (to the FFT's round-off, ~1e-15 relative); the filter C(q) is evaluated on the host
+        block by block and moved likewise. On NumPy the FFTs are scipy.fft's with ``workers`` threads.
 
     Raises
     ------
@@ -164,7 +172,7 @@ def synthesize(
     Returns
     -------
     ndarray
-        Heights h[i, j] in m at x_i = i·size/n, y_j = j·size/n, float64, mean zero.
+        Heights h[i, j] in m at x_i = i·size/n, y_j = j·size/n, float64, mean zero; an array of ``xp``.
     """
     if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 4 or n % 2:
         raise InputError("grid", n, "must be an even integer >= 4")
@@ -179,8 +187,9 @@ def synthesize(
         rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     except (TypeError, ValueError) as exc:
         raise InputError("seed", seed, f"a non-negative integer or a numpy Generator ({exc})") from None
-    noise = rng.standard_normal((n, n))
-    spec = sfft.rfft2(noise, workers=workers)  # <|spec|²> = n²
+    xp = namespace(np.empty(0)) if xp is None else xp
+    noise = rng.standard_normal((n, n))  # on the host, whatever the device: the same surface everywhere
+    spec = rfft2(noise if is_numpy(xp) else xp.asarray(noise), xp, workers)  # <|spec|²> = n²
     del noise
     k = 2.0 * np.pi * sfft.fftfreq(n, d=size / n)
     ky2 = (2.0 * np.pi * sfft.rfftfreq(n, d=size / n)) ** 2
@@ -188,19 +197,33 @@ def synthesize(
     rows = max(1, _BLOCK_ELEMENTS // ky2.size)
     content = False
     for r0 in range(0, n, rows):  # blocks of rows: vectorised, temporaries bounded
-        blk = spec[r0:r0 + rows]
         q = np.sqrt(k[r0:r0 + rows, None] ** 2 + ky2[None, :])
         amp = np.sqrt(spectrum(q)) * scale
         content = content or bool(amp.any())
-        if amplitudes == "gaussian":
+        _filter(spec, r0, rows, to_namespace(amp, spec), amplitudes == "gaussian", n, xp)
+    spec[0, 0] = 0.0
+    if not content:
+        del spec
+        raise InputError("size", size, band_problem(spectrum, n, size) or "no mode of the map lies in the band of C(q)")
+    h = irfft2(spec, xp, workers, (n, n))
+    return np.ascontiguousarray(h, dtype=np.float64) if is_numpy(xp) else h
+
+
+def _filter(spec: Any, r0: int, rows: int, amp: Any, gaussian: bool, n: int, xp: Any) -> None:
+    """Rows r0 .. r0+rows of the noise's half-spectrum filtered by the amplitudes ``amp``, in place (module docstring)."""
+    if is_numpy(xp):  # in place on the rows' view: the NumPy-only code's operations, bit for bit
+        blk = spec[r0:r0 + rows]
+        if gaussian:
             blk *= amp
         else:
             mag = np.abs(blk)
             np.divide(blk, mag, out=blk, where=mag > 0)
             blk *= amp * n
-    spec[0, 0] = 0.0
-    if not content:
-        del spec
-        raise InputError("size", size, band_problem(spectrum, n, size) or "no mode of the map lies in the band of C(q)")
-    h = sfft.irfft2(spec, s=(n, n), workers=workers)
-    return np.ascontiguousarray(h, dtype=np.float64)
+        return
+    rows = min(rows, n - r0)  # the standard leaves slices past the end unspecified
+    blk = spec[r0:r0 + rows, ...]
+    if not gaussian:
+        mag = xp.abs(blk)
+        blk = blk / xp.where(mag > 0, mag, 1.0)
+        amp = amp * n
+    spec[r0:r0 + rows, ...] = blk * amp
