@@ -371,11 +371,33 @@ def _client(workers: int, scheduler: str | None, memory_limit: int | None = None
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
-    with cluster, Client(cluster) as client:
-        visible = os.environ.get("CUDA_VISIBLE_DEVICES")
-        for i, address in enumerate(sorted(client.scheduler_info()["workers"]) if gpus else ()):
-            client.run(_pin_gpu, gpu_of_worker(i, gpus, visible), workers=[address])
-        yield client
+    levels: dict[str, int] = {}
+    try:
+        with cluster, Client(cluster) as client, _quiet_when_interrupted(levels):
+            visible = os.environ.get("CUDA_VISIBLE_DEVICES")
+            for i, address in enumerate(sorted(client.scheduler_info()["workers"]) if gpus else ()):
+                client.run(_pin_gpu, gpu_of_worker(i, gpus, visible), workers=[address])
+            yield client
+    finally:  # the loggers as they were, once the cluster is down
+        for name, level in levels.items():
+            logging.getLogger(name).setLevel(level)
+
+
+#: The loggers that report, with tracebacks, the callbacks and connections a cluster drops when it is stopped by Ctrl-C.
+_SHUTDOWN_LOGGERS = ("distributed", "tornado", "tornado.application", "asyncio")
+
+
+@contextmanager
+def _quiet_when_interrupted(levels: dict[str, int]) -> Iterator[None]:
+    """On Ctrl-C, silence the shutdown of the cluster (it exits after this; the levels before go into ``levels``): the
+    interruption is said in one line by the command line, not by the event loop's tracebacks of the work it drops."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        for name in _SHUTDOWN_LOGGERS:
+            levels[name] = logging.getLogger(name).level
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+        raise
 
 
 def make_runner(*, workers: int, scheduler: str | None = None, store: str | Path | None = None,
