@@ -506,7 +506,12 @@ def _surface(case: Case, band: BandSeal) -> _SweepSurface | None:
     profiles = band.profiles
     low = (LIFT_OFF_FLOOR * min(p.mean_pressure for p in profiles) if case.coupled
            else TABLE_FLOOR * min(p.max_pressure for p in profiles))
-    return _SweepSurface.build(case, np.asarray(band.q0, dtype=float), low, max(p.max_pressure for p in profiles))
+    if not (np.isfinite(low) and low > 0):
+        return None
+    try:
+        return _SweepSurface.build(case, np.asarray(band.q0, dtype=float), low, max(p.max_pressure for p in profiles))
+    except InputError:  # a pressure the theory cannot use: the load that gives it says so below, exactly
+        return None
 
 
 def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
