@@ -20,11 +20,13 @@ width below 1e-12 for a Hertz profile).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy import special
 
 from ..errors import InputError
 from ..io.quantities import quantity
@@ -47,6 +49,15 @@ FloatArray = NDArray[np.float64]
 TABLE_FLOOR = 1e-3
 TABLE_POINTS = (9, 33)
 TABLE_RTOL = 1e-5
+
+#: The σ_eff surface the loads of a sweep share (:class:`_SweepSurface`): used from this many loads on; its relative
+#: error against the exact σ_eff, checked off its points as it is built; its Chebyshev points in ln p (first, most) and
+#: in ln q0 (first, most); its top as a fraction of the lowest Bruggeman threshold pressure of the loads.
+SURFACE_MIN_LOADS = 20
+SURFACE_RTOL = 1e-6
+SURFACE_P_POINTS = (33, 257)
+SURFACE_Q0_POINTS = (5, 9)
+SURFACE_TOP = 0.8
 
 @dataclass(frozen=True, kw_only=True)
 class BandColumns:
@@ -264,20 +275,24 @@ class _Table:
 
     def _nodes(self, n: int) -> FloatArray:
         """The ``n`` Chebyshev–Lobatto points of [lo, hi] (ln p), the ends exact."""
-        s = (self.lo + self.hi) / 2.0 - (self.hi - self.lo) / 2.0 * np.cos(np.pi * np.arange(n) / (n - 1))
-        s[0], s[-1] = self.lo, self.hi
-        return np.asarray(s, dtype=float)
+        return _lobatto(self.lo, self.hi, n)
 
     def __call__(self, p: FloatArray) -> FloatArray:
+        return np.exp(self.log_at(p))
+
+    def log_at(self, p: FloatArray) -> FloatArray:
+        """ln σ interpolated at the pressures ``p`` (Pa; clipped to the table's range)."""
         s = np.clip(np.log(p), self.lo, self.hi)
-        return np.exp(chebyshev_lobatto_interpolate(self.s, self.log_values, s))
+        return chebyshev_lobatto_interpolate(self.s, self.log_values, s)
 
 
-def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float) -> Callable[[FloatArray], FloatArray]:
+def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
+                    exact: Callable[[FloatArray], FloatArray] | None = None) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
     between them, refined until σ changes by < :data:`TABLE_RTOL` at the new points, at most to
-    2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range)."""
-    exact = _em_exact(case, contact)
+    2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range). ``exact``: σ_eff of
+    this contact (default the effective medium itself; a sweep passes its :class:`_SweepSurface`)."""
+    exact = _em_exact(case, contact) if exact is None else exact
     table = _Table(exact, p_max, TABLE_POINTS[0], floor)
     while table.ok and table.s.size < 2 * TABLE_POINTS[1] - 1:
         finer = table.refine(exact)
@@ -288,9 +303,108 @@ def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: fl
     return table if table.ok else exact
 
 
-def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile) -> tuple[BandIntegral, float, bool]:
-    """R of the effective medium through the σ(p) table, refined until R changes by < RTOL; (integral, change, converged)."""
-    exact = _em_exact(case, contact)
+class _SweepSurface:
+    """σ_eff(p; q0) (m³/(Pa·s)) shared by the loads of a sweep: the effective medium's P(u) costs ~10 ms per pressure,
+    and every load has its own q0 = 2π/w, so without it no exact value serves two loads.
+
+    q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
+    function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
+    (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p (at each of those q0 a :class:`_Table` of
+    ln σ against ln p over [``low``, ``high``] Pa, doubled until its values at the new points agree with the exact
+    ones to :data:`SURFACE_RTOL`). The q0 points are doubled until the surface agrees with exact values of the load
+    farthest from them, at pressures off the table's points, to :data:`SURFACE_RTOL`. ``high`` stays a factor
+    :data:`SURFACE_TOP` below every load's Bruggeman threshold (A(ζ1)/A0 = 1/2, closed form), where ln σ is smooth;
+    pressures outside [``low``, ``high``] take the exact σ_eff. :meth:`build` returns None where the surface does not
+    reach its tolerance within :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
+    """
+
+    def __init__(self, case: Case, nodes: FloatArray, tables: list[_Table], low: float, high: float) -> None:
+        self.case, self.nodes, self.tables, self.low, self.high = case, nodes, tables, low, high
+
+    @classmethod
+    def build(cls, case: Case, q0: FloatArray, low: float, high: float) -> _SweepSurface | None:
+        """The surface over the loads' ``q0`` (1/m) and pressures [``low``, ``high``] (Pa), or None."""
+        q0 = np.unique(np.asarray(q0, dtype=float))
+        threshold = 2.0 * special.erfinv(0.5) * min(
+            math.sqrt(float(c.G(c.zeta_max))) for c in (_contact(case, float(q)) for q in q0))
+        high = min(high, SURFACE_TOP * threshold)
+        if not high > low:
+            return None
+        m = np.log(q0)
+        n = 1 if q0.size == 1 else SURFACE_Q0_POINTS[0]
+        tables: dict[float, _Table | None] = {}
+        while True:
+            nodes = np.array([float(m[0])]) if n == 1 else _lobatto(float(m[0]), float(m[-1]), n)
+            for node in nodes.tolist():
+                if node not in tables:
+                    tables[node] = cls._table(case, cls._q0_at(node, q0, m), low, high)
+            if any(tables[node] is None for node in nodes.tolist()):
+                return None
+            surface = cls(case, nodes, [t for node in nodes.tolist() if (t := tables[node]) is not None], low, high)
+            far = int(np.argmax(np.min(np.abs(m[:, None] - nodes[None, :]), axis=1)))
+            if n == 1 or np.min(np.abs(m[far] - nodes)) == 0:
+                return surface
+            check = np.exp(np.linspace(math.log(low), math.log(high), 10)[:-1] + 0.5 * math.log(high / low) / 9)
+            exact = _em_exact(case, _contact(case, float(q0[far])))(check)
+            if np.all(exact > 0) and np.all(np.abs(surface.sigma(float(q0[far]), check) / exact - 1.0) < SURFACE_RTOL):
+                return surface
+            if 2 * n - 1 > SURFACE_Q0_POINTS[1]:
+                return None
+            n = 2 * n - 1
+
+    @staticmethod
+    def _q0_at(node: float, q0: FloatArray, m: FloatArray) -> float:
+        """The q0 (1/m) with ln q0 = ``node``: a load's own q0 at the ends of the range."""
+        at = np.flatnonzero(m == node)
+        return float(q0[at[0]]) if at.size else math.exp(node)
+
+    @staticmethod
+    def _table(case: Case, q0: float, low: float, high: float) -> _Table | None:
+        exact = _em_exact(case, _contact(case, q0))
+        table = _Table(exact, high, SURFACE_P_POINTS[0], low / high)
+        while table.ok and table.s.size < SURFACE_P_POINTS[1]:
+            finer = table.refine(exact)
+            if finer.ok and np.all(np.abs(table(np.exp(finer.s[1::2])) / finer.values[1::2] - 1.0) < SURFACE_RTOL):
+                return finer
+            table = finer
+        return None
+
+    def sigma(self, q0: float, p: FloatArray) -> FloatArray:
+        """σ_eff (m³/(Pa·s)) of the load with ``q0`` (1/m) at pressures ``p`` inside [low, high] (Pa)."""
+        if len(self.tables) == 1:
+            return self.tables[0](p)
+        m = np.full(1, math.log(q0))
+        weights = [float(chebyshev_lobatto_interpolate(self.nodes, e, m)[0]) for e in np.eye(self.nodes.size)]
+        return np.exp(np.sum([w * t.log_at(p) for w, t in zip(weights, self.tables, strict=True)], axis=0))
+
+    def for_load(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+        """σ_eff(p) of one load's contact: the surface inside [low, high], the exact effective medium outside."""
+        exact = _em_exact(self.case, contact)
+
+        def sigma(p: FloatArray) -> FloatArray:
+            p = np.asarray(p, dtype=float)
+            inside = (p >= self.low) & (p <= self.high)
+            out = np.empty(p.shape)
+            if inside.any():
+                out[inside] = self.sigma(contact.q0, p[inside])
+            if not inside.all():
+                out[~inside] = exact(p[~inside])
+            return out
+        return sigma
+
+
+def _lobatto(lo: float, hi: float, n: int) -> FloatArray:
+    """The ``n`` Chebyshev–Lobatto points of [lo, hi], ascending, the ends exact."""
+    s = (lo + hi) / 2.0 - (hi - lo) / 2.0 * np.cos(np.pi * np.arange(n) / (n - 1))
+    s[0], s[-1] = lo, hi
+    return np.asarray(s, dtype=float)
+
+
+def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile,
+                 exact: Callable[[FloatArray], FloatArray] | None = None) -> tuple[BandIntegral, float, bool]:
+    """R of the effective medium through the σ(p) table, refined until R changes by < RTOL; (integral, change, converged).
+    ``exact`` as for :func:`_em_sigma_table`."""
+    exact = _em_exact(case, contact) if exact is None else exact
     p_max = profile.max_pressure
     if float(exact(np.array([p_max]))[0]) <= 0:
         return series_resistance(profile, lambda p: np.zeros_like(p)), 0.0, True
@@ -383,6 +497,23 @@ def _load_error(band: BandSeal, i: int, profile: PressureProfile, exc: InputErro
                                     + exc.allowed.replace("a larger squeeze pressure (Pa)", f"a larger {band.load_name}"))
 
 
+def _surface(case: Case, band: BandSeal) -> _SweepSurface | None:
+    """The σ_eff surface of a sweep of at least :data:`SURFACE_MIN_LOADS` loads over every pressure its tables ask for
+    (down to :data:`LIFT_OFF_FLOOR` × the lowest mean pressure with the fluid pressure coupled, else
+    :data:`TABLE_FLOOR` × the lowest peak), or None."""
+    if band.loads.size < SURFACE_MIN_LOADS:
+        return None
+    profiles = band.profiles
+    low = (LIFT_OFF_FLOOR * min(p.mean_pressure for p in profiles) if case.coupled
+           else TABLE_FLOOR * min(p.max_pressure for p in profiles))
+    if not (np.isfinite(low) and low > 0):
+        return None
+    try:
+        return _SweepSurface.build(case, np.asarray(band.q0, dtype=float), low, max(p.max_pressure for p in profiles))
+    except InputError:  # a pressure the theory cannot use: the load that gives it says so below, exactly
+        return None
+
+
 def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     """Both theories (as ``case.model`` asks, or ``effective``) over the loads of a band seal (docs/theory.md §10.1)."""
     band = case.band
@@ -400,9 +531,11 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     em_flow: list[CoupledBand] = []
     dp = case.pressure_difference
     with case_keys():
+        surface = _surface(case, band) if want_em else None
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
             try:
                 contact = _contact(case, float(q0))
+                em_exact = surface.for_load(contact) if surface is not None else _em_exact(case, contact)
                 sigma = _cj_sigma(case, contact)
                 g = series_resistance(profile, sigma)
                 cj_int.append(g)
@@ -417,18 +550,18 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 uc_max.append(float(top.critical_gap[0]) if top.percolates[0] else np.nan)
                 lc_max.append(float(top.critical_wavelength[0]) if top.percolates[0] else np.nan)
                 if want_em:
-                    ge, change, ok = _em_integral(case, contact, profile)
+                    ge, change, ok = _em_integral(case, contact, profile, em_exact)
                     em_int.append(ge)
                     em_change.append(change)
                     em_ok.append(ok)
                     if case.coupled:  # a band sealed at its peak stays sealed: σ is tabulated up to the mean only
                         p_top = profile.mean_pressure if ge.sealed else profile.max_pressure
-                        em_sigma = _em_sigma_table(case, contact, p_top, LIFT_OFF_FLOOR)
+                        em_sigma = _em_sigma_table(case, contact, p_top, LIFT_OFF_FLOOR, em_exact)
                         em_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if ge.sealed
                                        else coupled_band_flow(profile, em_sigma, dp))
                         em_mean.append(_mean_sigma(case, em_sigma, profile.mean_pressure))
                     else:
-                        em_mean.append(float(_em_exact(case, contact)(np.array([profile.mean_pressure]))[0]))
+                        em_mean.append(float(em_exact(np.array([profile.mean_pressure]))[0]))
             except InputError as exc:  # the physics names the pressure; the case file gave the load
                 if exc.field.partition("[")[0] != "squeeze_pressure":
                     raise

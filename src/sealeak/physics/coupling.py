@@ -156,12 +156,53 @@ def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callab
     return out
 
 
+def _liquid_slopes(profile: PressureProfile, table: _Splines) -> list[Callable[[float], Callable[[float, FloatArray], float]]]:
+    """For each piece of the band (as :func:`_pieces`) a maker of dp_f/dθ = −q (dx/dθ) / σ(p(θ) − p_f) for a trial q:
+    σ the exp of ``table``'s first spline of ln σ in ln s (clipped to its knots; s <= 0 takes the lowest knot).
+
+    The same arithmetic as ``-q * dxdt(t) / sigma(p(t) - u)`` with :func:`_pieces` and the spline of :class:`_Splines`,
+    written out in one function of (θ, [p_f]) that the Fortran DOP853 calls directly: the ODE calls it ~10⁵ times, and
+    the nested calls cost half of it.
+    """
+    knots, last = table.knots, len(table.pieces) - 1
+    coef = [piece[0] for piece in table.pieces]
+    lo, hi = table.lo, table.hi
+    exp, log, sin, cos, right = math.exp, math.log, math.sin, math.cos, bisect.bisect_right
+
+    def ln_sigma(s: float) -> float:
+        x = min(max(log(s) if s > 0 else lo, lo), hi)
+        i = min(max(right(knots, x) - 1, 0), last)
+        h = x - knots[i]
+        a, b, c, d = coef[i]
+        return ((a * h + b) * h + c) * h + d
+
+    if profile.shape == "semi-elliptic":
+        w, peak = float(profile.width), float(profile.peak)
+
+        def hertz(q: float) -> Callable[[float, FloatArray], float]:
+            def slope(t: float, u: FloatArray) -> float:
+                st = sin(t)
+                return -q * (w * st / 2.0) / exp(ln_sigma(peak * st - u[0]))
+            return slope
+        return [hertz]
+    out: list[Callable[[float], Callable[[float, FloatArray], float]]] = []
+    for a, b, pa, pb in zip(profile.x[:-1].tolist(), profile.x[1:].tolist(), profile.pressure[:-1].tolist(),
+                            profile.pressure[1:].tolist(), strict=True):
+        if b > a:
+            def linear(q: float, width: float = b - a, pa: float = pa, rise: float = pb - pa) -> Callable[[float, FloatArray], float]:
+                def slope(t: float, u: FloatArray) -> float:
+                    return -q * (width * sin(t) / 2.0) / exp(ln_sigma(pa + rise * (1.0 - cos(t)) / 2.0 - u[0]))
+                return slope
+            out.append(linear)
+    return out
+
+
 class _GaveUp(Exception):
     """The Fortran DOP853 gave up on a piece of the band."""
 
 
-def _across(slope: Callable[[float, float], float], y: float, dp: float, fortran: bool) -> float:
-    """p_f at θ = π of dp_f/dθ = ``slope``(θ, p_f) from p_f(0) = ``y`` (Pa), relative tolerance 1e-10, absolute 1e-12 ΔP.
+def _across(slope: Callable[[float, FloatArray], float], y: float, dp: float, fortran: bool) -> float:
+    """p_f at θ = π of dp_f/dθ = ``slope``(θ, [p_f]) from p_f(0) = ``y`` (Pa), relative tolerance 1e-10, absolute 1e-12 ΔP.
 
     Hairer's DOP853 itself (Fortran, through scipy.integrate.ode): the method of solve_ivp's DOP853 without its
     per-step array work (3× faster here). With ``fortran`` False (a lifted band, or a band where the Fortran code gave
@@ -169,7 +210,7 @@ def _across(slope: Callable[[float, float], float], y: float, dp: float, fortran
     raises :class:`_GaveUp` where the Fortran code gives up, so the whole band is shot again with solve_ivp.
     """
     if fortran:
-        solver = ode(lambda t, u: slope(t, u[0])).set_integrator("dop853", rtol=1e-10, atol=1e-12 * dp, nsteps=10**6)
+        solver = ode(slope).set_integrator("dop853", rtol=1e-10, atol=1e-12 * dp, nsteps=10**6)
         with warnings.catch_warnings():  # (its failure is handled below)
             warnings.filterwarnings("ignore", message="dop853: ", category=UserWarning)
             end = float(solver.set_initial_value(y, 0.0).integrate(math.pi)[0])
@@ -178,7 +219,7 @@ def _across(slope: Callable[[float, float], float], y: float, dp: float, fortran
         return end
     # the step-size control divides 0 by 0 where a step's error vanishes (a flat stretch): not an error
     with np.errstate(invalid="ignore", divide="ignore"):
-        sol = solve_ivp(lambda t, u: [slope(t, u[0])], (0.0, np.pi), [y], method="DOP853", rtol=1e-10, atol=1e-12 * dp)
+        sol = solve_ivp(lambda t, u: [slope(t, u)], (0.0, np.pi), [y], method="DOP853", rtol=1e-10, atol=1e-12 * dp)
     return float(sol.y[0, -1])
 
 
@@ -204,34 +245,30 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     table = _Splines(np.log(s_grid), (np.log(sigma_grid),))
     spline = table.splines[0]
     lo, hi = table.lo, table.hi
-
-    def sigma(s: float) -> float:  # the spline at one point, in plain floats (the ODE calls it ~10⁵ times)
-        return math.exp(table(math.log(s) if s > 0 else lo)[0])
-
     if dp <= 0:
         return CoupledBand(0.0, lifted, True, 0)
     r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
-    pieces = _pieces(profile)
+    slopes = _liquid_slopes(profile, table)
     if not lifted:
         try:
-            return _shoot(pieces, sigma, dp, r0, lifted, rtol, fortran=True)
+            return _shoot(slopes, dp, r0, lifted, rtol, fortran=True)
         except _GaveUp:
             pass
-    return _shoot(pieces, sigma, dp, r0, lifted, rtol, fortran=False)
+    return _shoot(slopes, dp, r0, lifted, rtol, fortran=False)
 
 
-def _shoot(pieces: list[tuple[Callable[..., float], Callable[..., float]]], sigma: Callable[[float], float], dp: float,
-           r0: float, lifted: bool, rtol: float, fortran: bool) -> CoupledBand:
+def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
+           rtol: float, fortran: bool) -> CoupledBand:
     """q (m²/s) with p_f(w) = 0 (Pa): a lower bound ΔP/R, an upper one by doubling, then Brent's method; every shot
-    integrates across the band by :func:`_across`."""
+    integrates across the band's pieces (``slopes``, :func:`_liquid_slopes`) by :func:`_across`."""
     shots = 0
 
     def outlet(q: float) -> float:
         nonlocal shots
         shots += 1
         y = dp
-        for dxdt, p in pieces:
-            y = _across(lambda t, u: -q * dxdt(t) / sigma(p(t) - u), y, dp, fortran)
+        for slope in slopes:
+            y = _across(slope(q), y, dp, fortran)
         return y / dp
 
     q_lo = dp / r0

@@ -1,0 +1,89 @@
+"""The effective medium's σ_eff surface that the loads of a sweep share (cases/band.py, docs/architecture.md)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import sealeak.cases.band as band_module
+from sealeak.cases import example_path, load_cases
+from sealeak.cases.band import SURFACE_RTOL, TABLE_RTOL, _contact, _em_exact, _surface, _SweepSurface, run_band
+from sealeak.cases.seals import with_loads
+
+
+def _sweep(n: int, fluid_pressure: str = "ignored"):
+    """The bundled o-ring example (water, effective medium) over ``n`` compressions from 10 % to 30 %."""
+    case = load_cases(example_path("o-ring"))[0]
+    band = with_loads(case.band, np.linspace(0.10, 0.30, n), case.youngs_modulus, case.poisson_ratio)
+    return replace(case, band=band, model="effective-medium", fluid_pressure=fluid_pressure)
+
+
+pytestmark = pytest.mark.slow  # a surface costs ~650 exact effective-medium values (~10 s)
+
+
+@pytest.fixture(scope="module")
+def sweep():
+    case = _sweep(4)
+    assert case.band is not None
+    profiles = case.band.profiles
+    low = band_module.TABLE_FLOOR * min(p.max_pressure for p in profiles)
+    surface = _SweepSurface.build(case, np.asarray(case.band.q0), low, max(p.max_pressure for p in profiles))
+    assert surface is not None
+    return case, surface
+
+
+def test_surface_matches_the_exact_effective_medium_between_its_points(sweep):
+    """Off every point of the surface (q0 between its q0 points, p between its table's points) σ_eff is the exact one
+    to the stated tolerance."""
+    case, surface = sweep
+    nodes = surface.nodes
+    assert nodes.size >= 2  # the loads' q0 differ: the surface interpolates in q0
+    between = 0.5 * (nodes[:-1] + nodes[1:])
+    q0 = np.exp(between[[0, -1]])  # the surface's q0 points lie in ln q0
+    s = surface.tables[0].s
+    p = np.exp(0.5 * (s[:-1] + s[1:]))[::6]
+    p = p[(p >= surface.low) & (p <= surface.high)]
+    assert p.size > 10
+    for q in q0.tolist():
+        exact = _em_exact(case, _contact(case, q))(p)
+        assert np.all(exact > 0)
+        np.testing.assert_allclose(surface.sigma(q, p), exact, rtol=SURFACE_RTOL, atol=0)
+
+
+def test_surface_stays_below_the_bruggeman_threshold_and_takes_exact_values_above(sweep):
+    """Above its top (a factor below the pressure where A(ζ1)/A0 = 1/2) a load's σ is the exact one, bit for bit, and 0
+    beyond the threshold."""
+    case, surface = sweep
+    contact = _contact(case, float(case.band.q0[-1]))
+    threshold = 2.0 * 0.4769362762044699 * np.sqrt(contact.G(contact.zeta_max))  # erfinv(1/2) = 0.47693...
+    assert surface.high < threshold
+    p = np.array([surface.high * 1.01, 1.2 * threshold])
+    exact = _em_exact(case, contact)(p)
+    np.testing.assert_array_equal(surface.for_load(contact)(p), exact)
+    assert exact[0] > 0 and exact[1] == 0
+
+
+def test_a_sweep_with_the_surface_gives_the_exact_leak_rates(monkeypatch):
+    """The band's effective-medium leak rates through the shared surface equal those of the exact σ_eff per load."""
+    case = _sweep(4)
+    monkeypatch.setattr(band_module, "SURFACE_MIN_LOADS", 2)
+    assert case.band is not None and _surface(case, case.band) is not None
+    shared = run_band(case).effective_medium
+    monkeypatch.setattr(band_module, "SURFACE_MIN_LOADS", 10**6)
+    exact = run_band(case).effective_medium
+    assert shared is not None and exact is not None
+    np.testing.assert_array_equal(shared.percolates, exact.percolates)
+    assert shared.percolates.any() and not shared.percolates.all()  # a load seals: the exact top is exercised
+    for name in ("leak_rate", "uniform_mean_pressure", "resistance"):
+        np.testing.assert_allclose(getattr(shared, name), getattr(exact, name), rtol=TABLE_RTOL, atol=0)
+
+
+def test_no_surface_where_it_cannot_reach_its_tolerance(monkeypatch):
+    """Too few points allowed: no surface (the loads take the exact σ_eff)."""
+    case = _sweep(4)
+    monkeypatch.setattr(band_module, "SURFACE_P_POINTS", (5, 9))
+    assert case.band is not None
+    monkeypatch.setattr(band_module, "SURFACE_MIN_LOADS", 2)
+    assert _surface(case, case.band) is None
