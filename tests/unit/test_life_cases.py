@@ -8,11 +8,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from sealeak.cases import parse_case_file
 from sealeak.cases.run import run_case
-from sealeak.errors import InputError
+from sealeak.errors import FileFormatError, InputError
+from sealeak.physics.viscoelastic import PronySeries
 
 SURFACE = """
 [surface]
@@ -145,6 +147,55 @@ def test_a_warning_near_the_glass_transition():
     near, far = cases(RING, rubber, 'temperature = ["-30 degC", "40 degC"]')
     assert any("glass transition" in w for w in near.input_warnings)
     assert not any("glass transition" in w for w in far.input_warnings)
+
+
+def write_master_curve(tmp_path, series, rows=None):
+    """The relaxation modulus of ``series`` at 10 points per decade from 1 ms to 1e7 s, as a master-curve file
+    (modulus in MPa), or the rows given."""
+    t = np.geomspace(1e-3, 1e7, 101)
+    rows = rows or [f"{x:.17g}, {e / 1e6:.17g}" for x, e in zip(t, series.relaxation_modulus(t))]
+    (tmp_path / "nbr-master.csv").write_text("# sampled\ntime (s), modulus (MPa)\n" + "\n".join(rows) + "\n")
+
+
+MASTER = 'relaxation = { master_curve = "nbr-master.csv" }'
+
+
+def test_a_master_curve_file_relaxes_the_oring_and_creeps_the_ring_like_its_prony_series(tmp_path):
+    series = PronySeries(E_INF, (E_1,), (TAU,))
+    write_master_curve(tmp_path, series)
+    times = [1.0, 100.0, 1e4]
+    conditions = 'time = ["1 s", "100 s", "1e4 s"]'
+    for template, expected in ((ORING, series.relaxation_modulus), (RING, lambda t: 1 / series.creep_compliance(t))):
+        text = template.format(rubber=MASTER, conditions=conditions, seal="")
+        got = [c.youngs_modulus for c in parse_case_file(text, tmp_path).cases]
+        assert got == pytest.approx([float(expected(t)) for t in times], rel=1e-2)
+        assert got[0] > got[-1]
+
+
+def test_a_master_curve_shifts_with_the_wlf_constants(tmp_path):
+    series = PronySeries(E_INF, (E_1,), (TAU,))
+    write_master_curve(tmp_path, series)
+    rubber = MASTER + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+    (cold,) = parse_case_file(ORING.format(rubber=rubber, conditions='time = "100 s"\ntemperature = "-5 degC"', seal=""),
+                              tmp_path).cases
+    assert cold.youngs_modulus == pytest.approx(float(series.relaxation_modulus(10.0)), rel=1e-3)  # a_T = 10
+
+
+@pytest.mark.parametrize("row, shown", [("1e4, -2", "modulus = -2 MPa"), ("1e4, 9", "modulus = 9 MPa"),
+                                        ("0.5, 3", "time = 0.5 s"), ("1e4, nan", "modulus = nan MPa")])
+def test_a_bad_master_curve_row_gets_one_line_naming_the_file_line_and_value(tmp_path, row, shown):
+    write_master_curve(tmp_path, None, ["1, 5", "100, 3", row])
+    with pytest.raises(FileFormatError) as err:
+        parse_case_file(ORING.format(rubber=MASTER, conditions="", seal=""), tmp_path)
+    message = str(err.value)
+    assert "nbr-master.csv: line 5: " + shown in message and "\n" not in message  # a comment, the header, 2 rows
+
+
+def test_a_master_curve_is_given_alone(tmp_path):
+    write_master_curve(tmp_path, PronySeries(E_INF, (E_1,), (TAU,)))
+    with pytest.raises(InputError) as err:
+        cases(ORING, 'relaxation = { master_curve = "nbr-master.csv", equilibrium_modulus = "2 MPa" }')
+    assert err.value.field == "rubber.relaxation.equilibrium_modulus"
 
 
 @pytest.mark.parametrize("template, rubber, conditions, seal, field", [

@@ -154,6 +154,18 @@ def test_master_curve_refuses_bad_data(times, moduli, field):
     assert err.value.field == field
 
 
+def test_a_master_curve_sampled_from_a_prony_series_has_its_creep_compliance():
+    """J(t) of the Prony series fitted to the curve (§16.3) is the exact J (eq. 16.5) of the series it was sampled
+    from, to the fit's 1 %, from the glassy 1/E(0) to the rubbery 1/E∞."""
+    p = PronySeries(4e6, [3e7, 2e6, 1e6, 5e5], [1e-6, 1e-3, 10.0, 1e4])
+    t = np.geomspace(1e-9, 1e8, 69)
+    curve = MasterCurve(tuple(t), tuple(p.relaxation_modulus(t)))
+    at = np.geomspace(1e-10, 1e10, 201)
+    assert curve.creep_compliance(at) == pytest.approx(p.creep_compliance(at), rel=1e-2)
+    assert curve.prony.relaxation_modulus(at) == pytest.approx(p.relaxation_modulus(at), rel=1e-2)
+    assert float(curve.creep_compliance(1e10)) == pytest.approx(1 / p.equilibrium_modulus, rel=1e-3)
+
+
 # --- shift factors -------------------------------------------------------------------------------------------
 
 

@@ -235,8 +235,9 @@ FIELD_HELP |= {
 FIELD_HELP |= {
     "rubber.relaxation": FieldHelp("Relaxation modulus E(t)", "the-seal-over-its-life-time-and-temperature",
                      "the rubber's relaxation modulus E(t) = E∞ + Σ Ei exp(−t/τi), a Prony series: {equilibrium_modulus = \"4 MPa\", "
-                     'moduli = ["2 MPa", "1 MPa"], times = ["10 s", "1e4 s"]}, measured at rubber.reference_temperature; each time '
-                     'and temperature takes its modulus from it instead of youngs_modulus (theory §16.7)'),
+                     'moduli = ["2 MPa", "1 MPa"], times = ["10 s", "1e4 s"]}, or a master-curve file: {master_curve = '
+                     '"nbr-master.csv"}; measured at rubber.reference_temperature; each time and temperature takes its modulus '
+                     'from it instead of youngs_modulus (theory §16.7)'),
     "rubber.reference_temperature": FieldHelp("Reference temperature Tref", "the-seal-over-its-life-time-and-temperature",
                      "the temperature Tref at which rubber.relaxation was measured, the shift law's reference"),
     "rubber.wlf_c1": FieldHelp("WLF constant C1", "the-seal-over-its-life-time-and-temperature",

@@ -4,7 +4,8 @@ A case file with any of the keys of :data:`LIFE_KEYS` is expanded, like a ``[stu
 temperature and time (labels ``"t = 1 h, T = -20 °C"``), each built from a copy of the document in which
 (docs/theory.md §16.7):
 
-* the rubber's modulus is the relaxed one, E(t/a_T(T)) of ``[rubber] relaxation`` (a Prony series, eq. 16.8) for an
+* the rubber's modulus is the relaxed one, E(t/a_T(T)) of ``[rubber] relaxation`` (a Prony series, or a master-curve
+  file read by :func:`read_master_curve`; eq. 16.8) for an
   O-ring at fixed compression (Lindley's force scales with it, eq. 16.13; the width follows the compression), and the
   creep modulus 1/J(t/a_T(T)) for a seal under a fixed squeeze pressure (a ring, a rectangle or a pressure profile);
 * an O-ring's compression is the one at T of its cord and gland expanding from ``assembly_temperature`` (eq. 16.9:
@@ -21,16 +22,19 @@ import copy
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import FileFormatError, InputError
 from ..io.leak_units import celsius
 from ..io.units import parse_quantity, parse_temperature
 from ..physics.viscoelastic import (
+    MAX_POINTS,
     MAX_TERMS,
     ArrheniusShift,
+    MasterCurve,
     PronySeries,
     WLFShift,
     glass_transition_warnings,
@@ -41,9 +45,9 @@ from ..physics.viscoelastic import (
 from .limits import MAX_STUDY_VALUES, at_most
 from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
-from .seals import _values
+from .seals import _two_columns, _values
 
-__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit"]
+__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit", "read_master_curve"]
 
 #: The keys of each section that describe the seal over its life (docs/case-files.md, "The seal over its life").
 LIFE_KEYS: dict[str, tuple[str, ...]] = {
@@ -54,6 +58,9 @@ LIFE_KEYS: dict[str, tuple[str, ...]] = {
 }
 
 _RELAXATION_KEYS = ("equilibrium_modulus", "moduli", "times")
+_MASTER_CURVE = "master_curve"
+_TIME_NAMES = ("time", "t", "reduced_time")
+_MODULUS_NAMES = ("modulus", "e", "relaxation_modulus")
 _TIME_UNITS = (("a", 365.25 * 86400.0), ("d", 86400.0), ("h", 3600.0), ("min", 60.0), ("s", 1.0))
 
 
@@ -62,7 +69,7 @@ class _Life:
     """The life keys of a case, read: the relaxation (or None), its shift law (or None), the glass transition
     (K, or None) and whether it is estimated, the expansion coefficients (1/K), the assembly temperature (K)."""
 
-    relaxation: PronySeries | None
+    relaxation: PronySeries | MasterCurve | None
     shift: WLFShift | ArrheniusShift | None
     glass_transition: float | None
     estimated: bool
@@ -123,8 +130,41 @@ def _times(cond: Section) -> list[float]:
     return [float(t) for t in values]
 
 
-def _relaxation(rubber: Section) -> PronySeries | None:
-    """``rubber.relaxation = {equilibrium_modulus, moduli, times}``, a Prony series (Pa, s), or None."""
+def read_master_curve(path: Path, field: str) -> MasterCurve:
+    """A relaxation master curve from a text table with columns time and modulus, each with its unit.
+
+    Example header: ``time (s), modulus (MPa)``. 2 to :data:`~sealeak.physics.viscoelastic.MAX_POINTS` rows, times
+    > 0 increasing, moduli > 0 not increasing. Raises :class:`FileFormatError` naming the file, the line and the value.
+    ``field`` names the curve in the errors of :class:`MasterCurve` (``rubber.relaxation.master_curve``).
+    """
+    table, columns, (t, e) = _two_columns(path, ((_TIME_NAMES, "time", "s"), (_MODULUS_NAMES, "pressure", "MPa")),
+                                          "time (s), modulus (MPa)")
+    if t.size > MAX_POINTS:
+        raise FileFormatError(path, f"{t.size} rows: at most {MAX_POINTS}")
+    if t.size < 2:
+        raise FileFormatError(path, "one row: a master curve needs at least two (time, modulus) points")
+
+    def cell(i: int, k: int) -> str:  # row i's value of column k as written, with its unit
+        return f"{table.names[columns[k]]} = {table.data[i, columns[k]]:.6g} {table.units[columns[k]]}"
+
+    for i in range(t.size):
+        line = f"line {table.line_of(i)}"
+        for k, v in enumerate((t[i], e[i])):
+            if not (math.isfinite(v) and v > 0):
+                raise FileFormatError(path, f"{line}: {cell(i, k)}: must be finite and > 0 (the curve is interpolated "
+                                            "in log–log)")
+        if i and not t[i] > t[i - 1]:
+            raise FileFormatError(path, f"{line}: {cell(i, 0)} does not exceed the previous row's (times increase "
+                                        "row by row)")
+        if i and e[i] > e[i - 1]:
+            raise FileFormatError(path, f"{line}: {cell(i, 1)} exceeds the previous row's (a relaxation modulus falls "
+                                        "with time)")
+    return MasterCurve(tuple(t), tuple(e), field=field)
+
+
+def _relaxation(rubber: Section, case_dir: Path) -> PronySeries | MasterCurve | None:
+    """``rubber.relaxation``: ``{equilibrium_modulus, moduli, times}``, a Prony series (Pa, s), or ``{master_curve =
+    "file.csv"}`` (relative to ``case_dir``), or None."""
     if not rubber.has("relaxation"):
         return None
     field, raw = rubber.field("relaxation"), rubber.raw("relaxation")
@@ -135,9 +175,19 @@ def _relaxation(rubber: Section) -> PronySeries | None:
     if not isinstance(raw, dict):
         raise InputError(field, raw, "must be a table {equilibrium_modulus = \"4 MPa\", moduli = [\"2 MPa\"], "
                                      "times = [\"10 s\"]}")
+    if _MASTER_CURVE in raw:
+        other = sorted(set(raw) - {_MASTER_CURVE})
+        if other:
+            raise InputError(f"{field}.{other[0]}", raw[other[0]], "give either master_curve (a file) or a Prony "
+                                                                   "series (equilibrium_modulus, moduli, times), not both")
+        name = raw[_MASTER_CURVE]
+        if not isinstance(name, str) or not name or "\x00" in name:
+            raise InputError(f"{field}.{_MASTER_CURVE}", name, "must be the name of a file with columns time and modulus")
+        return read_master_curve(Path(name) if Path(name).is_absolute() else case_dir / name, f"{field}.{_MASTER_CURVE}")
     unknown = sorted(set(raw) - set(_RELAXATION_KEYS))
     if unknown:
-        raise InputError(f"{field}.{unknown[0]}", raw[unknown[0]], f"unknown key; allowed: {', '.join(_RELAXATION_KEYS)}")
+        raise InputError(f"{field}.{unknown[0]}", raw[unknown[0]],
+                         f"unknown key; allowed: {', '.join(_RELAXATION_KEYS)}, or {_MASTER_CURVE} alone")
 
     def terms(key: str, dimension: str) -> tuple[float, ...]:
         items = raw.get(key)
@@ -154,7 +204,7 @@ def _relaxation(rubber: Section) -> PronySeries | None:
     return PronySeries(e_inf, moduli, times, field=field)
 
 
-def _shift(rubber: Section, relaxation: PronySeries | None) -> WLFShift | ArrheniusShift | None:
+def _shift(rubber: Section, relaxation: PronySeries | MasterCurve | None) -> WLFShift | ArrheniusShift | None:
     """The shift law of ``rubber.wlf_c1``/``wlf_c2`` (WLF) or ``activation_energy`` (Arrhenius) at
     ``reference_temperature``, or None (the relaxation holds at every temperature)."""
     keys = [k for k in ("reference_temperature", "wlf_c1", "wlf_c2", "activation_energy") if rubber.has(k)]
@@ -179,14 +229,14 @@ def _shift(rubber: Section, relaxation: PronySeries | None) -> WLFShift | Arrhen
     return ArrheniusShift(tref, rubber.quantity("activation_energy", "molar_energy"))
 
 
-def _read(doc: dict[str, Any]) -> _Life:
-    """The life keys of ``doc`` (its sections as written), checked."""
+def _read(doc: dict[str, Any], case_dir: Path) -> _Life:
+    """The life keys of ``doc`` (its sections as written; files relative to ``case_dir``), checked."""
     def section(name: str) -> Section:
         table = doc.get(name)
         return Section(name, table if isinstance(table, dict) else {})
 
     rubber, seal, cond, fluid = section("rubber"), section("seal"), section("conditions"), section("fluid")
-    relaxation = _relaxation(rubber)
+    relaxation = _relaxation(rubber, case_dir)
     shift = _shift(rubber, relaxation)
     estimated = False
     if rubber.has("glass_transition"):
@@ -254,16 +304,18 @@ def _variant(base: dict[str, Any], life: _Life, time: float, temperature: float,
     return variant
 
 
-def life_cases(doc: dict[str, Any], build: Callable[[dict[str, Any], str], Case], label: str = "") -> list[Case] | None:
+def life_cases(doc: dict[str, Any], build: Callable[[dict[str, Any], str], Case], label: str = "",
+               case_dir: Path = Path(".")) -> list[Case] | None:
     """The cases of ``doc`` (a case document without its ``[study]``), one per temperature and time of
     ``[conditions]``; None when ``doc`` has no key of :data:`LIFE_KEYS` (the case is then built as it is).
 
     ``build(document, label)`` builds one case (:func:`~sealeak.cases.builders.build_case`); ``label`` (a study
-    variant's) leads each case's label. An error in one case names its time and temperature.
+    variant's) leads each case's label; a master-curve file is read relative to ``case_dir``. An error in one case
+    names its time and temperature.
     """
     if not any(isinstance(doc.get(s), dict) and any(k in doc[s] for k in keys) for s, keys in LIFE_KEYS.items()):
         return None
-    life = _read(doc)
+    life = _read(doc, case_dir)
     cond = Section("conditions", doc["conditions"] if isinstance(doc.get("conditions"), dict) else {})
     fluid = doc.get("fluid")
     default_t = (parse_temperature("fluid.temperature", fluid["temperature"])
