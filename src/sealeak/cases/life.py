@@ -174,11 +174,11 @@ def _relaxation(rubber: Section, case_dir: Path) -> PronySeries | MasterCurve | 
                              f"rubber.{other}, not both: the relaxation sets the modulus")
     if not isinstance(raw, dict):
         raise InputError(field, raw, "must be a table {equilibrium_modulus = \"4 MPa\", moduli = [\"2 MPa\"], "
-                                     "times = [\"10 s\"]}")
+                                     "times = [\"10 s\"]} or {master_curve = \"file.csv\"}")
     if _MASTER_CURVE in raw:
-        other = sorted(set(raw) - {_MASTER_CURVE})
-        if other:
-            raise InputError(f"{field}.{other[0]}", raw[other[0]], "give either master_curve (a file) or a Prony "
+        extra = sorted(set(raw) - {_MASTER_CURVE})
+        if extra:
+            raise InputError(f"{field}.{extra[0]}", raw[extra[0]], "give either master_curve (a file) or a Prony "
                                                                    "series (equilibrium_modulus, moduli, times), not both")
         name = raw[_MASTER_CURVE]
         if not isinstance(name, str) or not name or "\x00" in name:
