@@ -14,7 +14,7 @@ import pytest
 from sealeak.cases import parse_case_file
 from sealeak.cases.run import run_case
 from sealeak.errors import FileFormatError, InputError
-from sealeak.physics.viscoelastic import PronySeries
+from sealeak.physics.viscoelastic import CompressionSet, PronySeries
 
 SURFACE = """
 [surface]
@@ -227,3 +227,66 @@ def test_the_fluid_temperature_and_conditions_temperature_are_not_both_given():
     with pytest.raises(InputError) as err:
         parse_case_file(text.replace('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\ntemperature = "20 degC"'))
     assert err.value.field == "fluid.temperature"
+
+
+# --- ageing: compression set (docs/theory.md §16.6) ----------------------------------------------------------------
+
+AGEING = CompressionSet(time_constant=3e10, exponent=0.5, activation_energy=80e3, reference_temperature=293.15)
+
+
+def set_points(model: CompressionSet = AGEING) -> str:
+    """rubber.compression_set: the sets ``model`` gives after 1000 h and 1 a at 23, 70 and 100 °C."""
+    points = [(t, temp) for t in (3.6e6, 3.15576e7) for temp in (296.15, 343.15, 373.15)]
+    sets = [float(model(t, temp)) for t, temp in points]
+    return (f"compression_set = {{ times = {[f'{t!r} s' for t, _ in points]}, "
+            f"temperatures = {[f'{temp!r} K' for _, temp in points]}, sets = {sets} }}").replace("'", '"')
+
+
+def test_a_compression_set_reduces_the_oring_compression_by_one_minus_c():
+    times, temp = (0.0, 3600.0, 3.15576e8), 343.15
+    aged = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(),
+                 'time = ["0 s", "1 h", "10 a"]\ntemperature = "70 degC"')
+    for case, t in zip(aged, times):
+        c = float(AGEING(t, temp))  # the fit recovers the model of its exact points
+        assert case.life.compression_set == pytest.approx(c, rel=1e-6, abs=1e-12)
+        assert case.band.loads[0] == pytest.approx(0.2 * (1 - c), rel=1e-6)
+    assert aged[0].band.loads[0] == 0.2 and 0.2 > aged[1].band.loads[0] > aged[2].band.loads[0]
+
+
+def test_a_set_of_zero_changes_nothing_bit_for_bit():
+    (plain,) = cases(ORING, conditions='time = "0 s"')
+    (aged,) = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = "0 s"')  # c(0, T) = 0
+    rows = run_case(aged).records()
+    assert [r.pop("compression_set") for r in rows] == [0.0]
+    assert rows == run_case(plain).records()
+
+
+def test_more_set_means_less_compression_and_more_leak():
+    fresh, old = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = ["1 d", "10 a"]\ntemperature = "70 degC"')
+    assert fresh.life.compression_set < old.life.compression_set
+    assert fresh.band.loads[0] > old.band.loads[0]
+    q_fresh, q_old = (run_case(c).band.critical_junction.leak_rate[0] for c in (fresh, old))
+    assert q_old > q_fresh
+
+
+def test_rows_have_the_compression_set_only_where_given():
+    (aged,) = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = "1 a"')
+    (plain,) = cases(ORING, conditions='time = "1 a"')
+    assert run_case(aged).units["compression_set"] == "1" and "compression_set" in run_case(aged).records()[0]
+    assert "compression_set" not in run_case(plain).units and "compression_set" not in run_case(plain).records()[0]
+
+
+@pytest.mark.parametrize("template, rubber, field", [
+    (RING, 'youngs_modulus = "5 MPa"\n' + set_points(), "rubber.compression_set"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = { times = ["1 h"], temperatures = ["20 degC"], sets = [20] }',
+     "rubber.compression_set.sets[0]"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = { times = ["1 h"], temps = ["20 degC"], sets = [0.2] }',
+     "rubber.compression_set.temps"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = { times = ["1 h", "2 h", "3 h"], temperatures = ["20 degC", '
+            '"20 degC", "20 degC"], sets = [0.1, 0.2, 0.3] }', "rubber.compression_set.temperatures"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = "20 %"', "rubber.compression_set"),
+])
+def test_bad_compression_set_data_get_one_line_naming_the_key(template, rubber, field):
+    with pytest.raises(InputError) as err:
+        cases(template, rubber, 'time = "1 a"')
+    assert err.value.field.startswith(field) and "\n" not in str(err.value)

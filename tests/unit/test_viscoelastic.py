@@ -323,10 +323,10 @@ def test_remaining_compression():
 
 
 @pytest.mark.parametrize("times, temps, sets, field", [
-    ([1e5, 1e6, 1e7], [373.15] * 3, [0.1, 0.2, 0.3], "compression_set.temperature"),
-    ([1e5, 1e6, 1e7], [343.15, 373.15, 373.15], [0.1, 20.0, 0.3], "compression_set.set[1]"),
-    ([1e5, -1.0, 1e7], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.time[1]"),
-    ([1e5, 1e6], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.set"),
+    ([1e5, 1e6, 1e7], [373.15] * 3, [0.1, 0.2, 0.3], "compression_set.temperatures"),
+    ([1e5, 1e6, 1e7], [343.15, 373.15, 373.15], [0.1, 20.0, 0.3], "compression_set.sets[1]"),
+    ([1e5, -1.0, 1e7], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.times[1]"),
+    ([1e5, 1e6], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.sets"),
 ])
 def test_ageing_fit_refuses_bad_points(times, temps, sets, field):
     with pytest.raises(InputError) as err:

@@ -253,6 +253,10 @@ FIELD_HELP |= {
     "rubber.thermal_expansion": FieldHelp("Rubber thermal expansion α_r", "the-seal-over-its-life-time-and-temperature",
                      "O-ring: the rubber's linear thermal expansion coefficient α_r (an NBR compound about 23e-5 1/K): the cord "
                      'diameter d(T) = d0 (1 + α_r (T − Ta))'),
+    "rubber.compression_set": FieldHelp("Compression set data", "the-seal-over-its-life-time-and-temperature",
+                     "O-ring: measured compression sets (ISO 815) as points {times = [\"1000 h\", ...], temperatures = "
+                     '["70 degC", ...], sets = ["15 %", ...]}, fitted by c(t, T) = 1 − exp(−(t/τ(T))^β) with an Arrhenius '
+                     "τ(T); each time and temperature takes the compression ε (1 − c) (theory §16.6)"),
     "seal.gland_thermal_expansion": FieldHelp("Gland thermal expansion α_g", "the-seal-over-its-life-time-and-temperature",
                      "O-ring: the gland's linear thermal expansion coefficient α_g (steel about 1.2e-5 1/K): the gland depth h(T) = "
                      'h0 (1 + α_g (T − Ta)), so the compression at T is 1 − h(T)/d(T)'),

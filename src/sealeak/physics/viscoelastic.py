@@ -533,22 +533,22 @@ def fit_compression_set(times: ArrayLike, temperatures: ArrayLike, sets: ArrayLi
     two or more temperatures and two or more times. A straight-line least-squares fit of
     ln(−ln(1 − c)) = β ln t − β ln τref − (β Ea/R)(1/T − 1/Tref) starts a nonlinear least-squares fit of c itself.
     """
-    t = _array(f"{field}.time", times, "s")
-    temp = _array(f"{field}.temperature", temperatures, "K")
-    c = _array(f"{field}.set", sets, "fraction")
+    t = _array(f"{field}.times", times, "s")
+    temp = _array(f"{field}.temperatures", temperatures, "K")
+    c = _array(f"{field}.sets", sets, "fraction")
     if not (t.size == temp.size == c.size):
-        raise InputError(f"{field}.set", sets, f"must have one time, temperature and set per point "
+        raise InputError(f"{field}.sets", sets, f"must have one time, temperature and set per point "
                                                f"({t.size}, {temp.size}, {c.size} given)")
     tref = _positive("reference_temperature", reference_temperature, "K")
-    for name, arr, allowed in (("time", t, "must be > 0 (s)"), ("temperature", temp, "must be > 0 K")):
+    for name, arr, allowed in (("times", t, "must be > 0 (s)"), ("temperatures", temp, "must be > 0 K")):
         for i, v in enumerate(arr):
             if not v > 0:
                 raise InputError(f"{field}.{name}[{i}]", float(v), allowed)
     for i, v in enumerate(c):
         if not 0 < v < 1:
-            raise InputError(f"{field}.set[{i}]", float(v), "must be between 0 and 1, exclusive (a fraction, not %)")
+            raise InputError(f"{field}.sets[{i}]", float(v), "must be between 0 and 1, exclusive (a fraction, not %)")
     if t.size < 3 or np.unique(temp).size < 2 or np.unique(t).size < 2:
-        raise InputError(f"{field}.temperature", temperatures, "needs at least 3 points, at two or more temperatures "
+        raise InputError(f"{field}.temperatures", temperatures, "needs at least 3 points, at two or more temperatures "
                                                                "and two or more times, to fit β and Ea")
     x = 1 / temp - 1 / tref
     design = np.column_stack([np.log(t), np.ones_like(t), x])
