@@ -10,7 +10,7 @@ from sealeak.render import prediction_figures
 from sealeak.render.figures import prediction_figure_names
 from sealeak.render.life import life_figures
 from tests.integration.test_figures_render import _assert_reads_right, _build, _data_lines
-from tests.unit.test_life_cases import ORING, PRONY, RING
+from tests.unit.test_life_cases import ORING, PRONY, RING, SURFACE
 
 WLF = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
 TIMES = 'time = ["0 s", "100 s", "1 h", "1 d"]'
@@ -108,3 +108,34 @@ def test_each_load_gets_a_panel_of_its_own_and_many_loads_four_spread_ones():
     assert [ax.get_title().splitlines()[-1 if i else 1] for i, ax in enumerate(panels)] == [
         "at P0 = 50 kPa", "at P0 = 110 kPa", "at P0 = 140 kPa", "at P0 = 200 kPa"]
     _assert_reads_right(figures)
+
+
+def test_a_gas_is_drawn_as_its_pv_throughput_with_its_specification():
+    """A gas's leak rate is Q_pV in mbar·l/s (the gas figures' unit), not the incompressible K ΔP of its Q column."""
+    text = SURFACE + f"""
+[rubber]
+{WLF}
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+[fluid]
+name = "nitrogen"
+[conditions]
+squeeze_pressure = "100 kPa"
+upstream_pressure = "2 bar"
+downstream_pressure = "1 bar"
+time = ["100 s", "1 d"]
+[theory]
+fluid_pressure = "ignored"
+"""
+    results = [run_case(c) for c in parse_case_file(text).cases]
+    figures = _build(lambda: life_figures(results, limit=(1e-7, "1e-6 mbar*l/s")))  # 1e-7 Pa·m³/s = 1e-6 mbar·l/s
+    (ax,) = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)]
+    assert ax.get_ylabel() == "gas leak rate Q_pV (mbar·l/s)"
+    (line,) = [ln for ln in _data_lines(ax) if len(ln.get_xdata()) == 2]  # one temperature: one line of two times
+    expected = [r.records()[0]["leak_rate_mbar_l_s"] for r in results]
+    assert np.allclose(line.get_ydata(), expected, rtol=1e-12)
+    assert expected != [r.records()[0]["leak_rate"] for r in results]  # not the incompressible column
+    (spec,) = [ln for ln in ax.get_lines() if ln.get_label() == "max_leak_rate = 1e-6 mbar*l/s"]
+    assert spec.get_ydata()[0] == pytest.approx(1e-6, rel=1e-12)

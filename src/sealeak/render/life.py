@@ -4,7 +4,7 @@ each time (``[conditions] time`` and ``temperature``, :mod:`sealeak.cases.life`;
 Each case of such a file is one (time, temperature); each load of the seal (a row of the cases' records: a squeeze
 pressure, a compression or a load factor) gets a panel of its own, stacked with a shared time or temperature axis:
 up to :data:`MAX_PANELS`, evenly spread over the loads where there are more. Each draws the leak rate Q of the theory
-the tables show.
+the tables show, or a gas's pV throughput Q_pV in mbar·l/s (docs/theory.md §11.9) as the other gas figures do.
 """
 
 from __future__ import annotations
@@ -20,8 +20,9 @@ from matplotlib.figure import Figure
 from ..cases import CaseResult
 from ..cases.life import time_text, time_unit
 from ..cases.uncertainty import UncertaintyResult
-from ..io.leak_units import celsius
+from ..io.leak_units import PA_M3_PER_MBAR_L, celsius
 from .plotstyle import (
+    GAS_LEAK_LABEL,
     STYLE,
     Series,
     color,
@@ -29,6 +30,7 @@ from .plotstyle import (
     finish_axes,
     laid_out,
     ml_per_min_axis,
+    pa_m3_axis,
     place_legend,
     power_unit,
     say_nothing,
@@ -48,10 +50,13 @@ MAX_PANELS = 4
 _HEIGHT, _PANEL_HEIGHT = 4.6, 2.8
 
 
-def _grid(results: Sequence[CaseResult]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[str]]:
-    """(times s, temperatures K, Q [load, temperature, time] m³/s, valid [load, temperature, time], load text per
-    load) of the life cases among ``results`` (NaN where a (time, temperature) is missing or has no leak channel)."""
+def _grid(results: Sequence[CaseResult]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[str], bool]:
+    """(times s, temperatures K, Q [load, temperature, time], valid [load, temperature, time], load text per load,
+    gas) of the life cases among ``results`` (NaN where a (time, temperature) is missing or has no leak channel):
+    Q in m³/s, or a gas's Q_pV in mbar·l/s where every life case is a gas case (``gas``)."""
     life = [r for r in results if r.case.life is not None]
+    gas = bool(life) and all(r.case.gas is not None and r.gas for r in life)
+    key = "leak_rate_mbar_l_s" if gas else "leak_rate"
     times = np.unique([r.case.life.time for r in life if r.case.life is not None])
     temps = np.unique([r.case.life.temperature for r in life if r.case.life is not None])
     rows = min((len(r.records()) for r in life), default=0)
@@ -66,10 +71,10 @@ def _grid(results: Sequence[CaseResult]) -> tuple[np.ndarray, np.ndarray, np.nda
         i, j = int(np.searchsorted(temps, point.temperature)), int(np.searchsorted(times, point.time))
         name = r.band.band.load_name if r.band is not None else "squeeze_pressure"
         for n, row in enumerate(records[:rows]):
-            q[n, i, j] = row["leak_rate"] if row.get("percolates", True) else np.nan
+            q[n, i, j] = row[key] if row.get("percolates", True) else np.nan
             valid[n, i, j] = bool(row.get("valid", True))
             loads[n].append(float(row[name]))
-    return times, temps, q, valid, [_load_text(name, v) for v in loads]
+    return times, temps, q, valid, [_load_text(name, v) for v in loads], gas
 
 
 def _panels(rows: int) -> list[int]:
@@ -105,23 +110,27 @@ def life_figure_names(times: int, temperatures: int) -> tuple[str, ...]:
 
 
 def volume_limit(unc: UncertaintyResult | None) -> tuple[float, str] | None:
-    """``conditions.max_leak_rate`` as a leak rate Q (m³/s) and as written, where it is compared with Q (a volume
-    flow), else None (none given, or a gas's pV throughput: not on a Q axis)."""
-    if unc is None or unc.limits is None or not unc.limit_keys or set(unc.limit_keys) != {"leak_rate"}:
+    """``conditions.max_leak_rate`` as compared and as written: a leak rate Q (m³/s) where it is compared with Q (a
+    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV; else None (none given, or a liquid's helium
+    equivalent: on neither axis)."""
+    if unc is None or unc.limits is None or not unc.limit_keys or len(set(unc.limit_keys)) != 1 or \
+            unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv"):
         return None
     return float(unc.limits[0]), str(unc.study.max_leak_rate)
 
 
 def life_figures(results: Sequence[CaseResult], limit: tuple[float, str] | None = None) -> dict[str, Figure]:
     """The figures of the seal over its life (:data:`LIFE_FIGURE_NAMES`) that the life cases among ``results``
-    call for (none without life cases); ``limit``: ``conditions.max_leak_rate`` (m³/s, as written), drawn as a line
-    (:func:`volume_limit`)."""
-    times, temps, q, valid, loads = _grid(results)
+    call for (none without life cases); ``limit``: ``conditions.max_leak_rate`` (m³/s, or Pa·m³/s for a gas; as
+    written), drawn as a line (:func:`volume_limit`)."""
+    times, temps, q, valid, loads, gas = _grid(results)
+    if gas and limit is not None:  # drawn in the figure's mbar·l/s
+        limit = (limit[0] / PA_M3_PER_MBAR_L, limit[1])
     out: dict[str, Figure] = {}
     if times.size > 1:
-        out["leak_rate_vs_time.png"] = figure_leak_rate_vs_time(times, temps, q, valid, loads, limit)
+        out["leak_rate_vs_time.png"] = figure_leak_rate_vs_time(times, temps, q, valid, loads, limit, gas)
     if temps.size > 1:
-        out["leak_rate_vs_temperature.png"] = figure_leak_rate_vs_temperature(times, temps, q, valid, loads, limit)
+        out["leak_rate_vs_temperature.png"] = figure_leak_rate_vs_temperature(times, temps, q, valid, loads, limit, gas)
     return out
 
 
@@ -144,30 +153,33 @@ def _stack(title: str, loads: list[str], xlabel: str) -> tuple[Figure, list[tupl
     return fig, panels
 
 
-def _draw(ax: Axes, series: list[Series], notes: list[str], empty: str, limit: tuple[float, str] | None) -> None:
-    """Draw leak-rate series (m³/s) against the x set by the caller: a log axis where they span decades, the notes,
-    ``limit`` (m³/s, as written) as a dash-dotted line and the ml/min axis (the caller places the legend, once all
-    panels are drawn); an axes with nothing to draw says ``empty``."""
+def _draw(ax: Axes, series: list[Series], notes: list[str], empty: str, limit: tuple[float, str] | None,
+          gas: bool = False) -> None:
+    """Draw leak-rate series (m³/s; a gas's Q_pV in mbar·l/s) against the x set by the caller: a log axis where they
+    span decades, the notes, ``limit`` (in the series' unit, as written) as a dash-dotted line and the second axis
+    (ml/min; Pa·m³/s for a gas) (the caller places the legend, once all panels are drawn); an axes with nothing to
+    draw says ``empty``."""
+    quantity, base, second = (GAS_LEAK_LABEL, "mbar·l/s", pa_m3_axis) if gas else ("leak rate Q", "m³/s", ml_per_min_axis)
     q = np.concatenate([s.y for s in series] + ([np.array([limit[0]])] if limit else [])) if series else np.array([])
     if not np.any(np.isfinite(q) & (q > 0)):
         say_nothing(ax, empty)
-        ax.set_ylabel("leak rate Q (m³/s)")
+        ax.set_ylabel(f"{quantity} ({base})")
         subtitle(ax, "\n".join(notes))
         finish_axes(ax)
         return
     logy = spans_decades(q, 1.0)
-    scale, unit = (1.0, "m³/s") if logy else power_unit(q, "m³/s")
+    scale, unit = (1.0, base) if logy else power_unit(q, base)
     draw_series(ax, [replace(s, y=s.y / scale) for s in series], logy=logy, bottom_zero=not logy)
     if not logy:  # a flat curve (Q that does not change) is drawn below the top, not on it
         ax.set_ylim(0.0, max(ax.get_ylim()[1], 1.1 * float(np.nanmax(q)) / scale))
-    ax.set_ylabel(f"leak rate Q ({unit})")
+    ax.set_ylabel(f"{quantity} ({unit})")
     if limit is not None:
         ax.axhline(limit[0] / scale, color="0.2", linestyle="-.", linewidth=1.2, label=f"max_leak_rate = {limit[1]}")
     if any(not s.valid.all() for s in series):
         notes = [*notes, "hollow markers: outside the theory's validity"]
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
-    ml_per_min_axis(ax, scale)
+    second(ax, scale)
 
 
 _NO_LEAK = "no leak channel at any time and temperature\n(the non-contact area does not percolate)"
@@ -175,8 +187,8 @@ _NO_LEAK = "no leak channel at any time and temperature\n(the non-contact area d
 
 @laid_out
 def figure_leak_rate_vs_time(times: np.ndarray, temps: np.ndarray, q: np.ndarray, valid: np.ndarray,
-                             loads: list[str], limit: tuple[float, str] | None = None) -> Figure:
-    """Q (m³/s) against the time since assembly (log axis, in s … a) at each temperature (K, shown in °C), one line
+                             loads: list[str], limit: tuple[float, str] | None = None, gas: bool = False) -> Figure:
+    """Q (m³/s; ``gas``: Q_pV in mbar·l/s) against the time since assembly (log axis, in s … a) at each temperature (K, shown in °C), one line
     each, one panel per load (``q[load, temperature, time]``); a time of 0 s (just after assembly) has no place on a
     log axis and is left out, said below the title."""
     shown = times > 0
@@ -188,15 +200,15 @@ def figure_leak_rate_vs_time(times: np.ndarray, temps: np.ndarray, q: np.ndarray
         ax.set_xscale("log")
         notes = [*notes, *_coincide(series, "temperature")]
         notes += ["t = 0 (just after assembly) is not on the log time axis"] if k == 0 and not shown.all() else []
-        _draw(ax, series, notes, _NO_LEAK, limit)
+        _draw(ax, series, notes, _NO_LEAK, limit, gas)
     place_legend(panels[0][0])  # each panel draws the same temperatures: one legend, in the first
     return fig
 
 
 @laid_out
 def figure_leak_rate_vs_temperature(times: np.ndarray, temps: np.ndarray, q: np.ndarray, valid: np.ndarray,
-                                    loads: list[str], limit: tuple[float, str] | None = None) -> Figure:
-    """Q (m³/s) against the temperature (K, shown in °C) at each time since assembly (s), one line each, one panel
+                                    loads: list[str], limit: tuple[float, str] | None = None, gas: bool = False) -> Figure:
+    """Q (m³/s; ``gas``: Q_pV in mbar·l/s) against the temperature (K, shown in °C) at each time since assembly (s), one line each, one panel
     per load (``q[load, temperature, time]``)."""
     fig, panels = _stack("Leak rate against temperature over the life of the seal", loads, "temperature T (°C)")
     x = np.array([celsius(t) for t in temps])
@@ -204,6 +216,6 @@ def figure_leak_rate_vs_temperature(times: np.ndarray, temps: np.ndarray, q: np.
         series = [Series(x, q[n, :, j], valid[n, :, j], color(j), "-", f"t = {time_text(float(t))}")
                   for j, t in enumerate(times)] if n < q.shape[0] else []
         ax.set_xlim(x.min() - 0.04 * (x.max() - x.min()), x.max() + 0.04 * (x.max() - x.min()))
-        _draw(ax, series, [*notes, *_coincide(series, "time")], _NO_LEAK, limit)
+        _draw(ax, series, [*notes, *_coincide(series, "time")], _NO_LEAK, limit, gas)
     place_legend(panels[0][0])  # each panel draws the same times: one legend, in the first
     return fig
