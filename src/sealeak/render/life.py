@@ -19,6 +19,7 @@ from matplotlib.figure import Figure
 
 from ..cases import CaseResult
 from ..cases.life import time_text, time_unit
+from ..cases.model import STANDARD_TEMPERATURE_CASE
 from ..cases.uncertainty import UncertaintyResult
 from ..io.leak_units import PA_M3_PER_MBAR_L, celsius
 from .plotstyle import (
@@ -38,7 +39,7 @@ from .plotstyle import (
     subtitle,
 )
 
-__all__ = ["LIFE_FIGURE_NAMES", "MAX_PANELS", "life_figure_names", "life_figures", "volume_limit"]
+__all__ = ["LIFE_FIGURE_NAMES", "MAX_PANELS", "life_figure_names", "life_figures", "volume_limit", "as_assembled"]
 
 #: The figures :func:`life_figures` can return, by the number of times and temperatures they need.
 LIFE_FIGURE_NAMES = ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png")
@@ -101,6 +102,18 @@ def _coincide(series: list[Series], what: str) -> list[str]:
     first = series[0].y if series else np.array([])
     same = len(series) > 1 and all(np.allclose(s.y, first, rtol=1e-6, atol=0.0, equal_nan=True) for s in series[1:])
     return [f"the curves coincide: Q does not change with {what} here"] if same else []
+
+
+def as_assembled(results: Sequence[CaseResult]) -> list[CaseResult]:
+    """The results a band seal's own figures draw (pressure profile, leak rate against the load, local gap): of a file
+    of the seal over its life with several cases, the one as assembled (the earliest time, at the temperature nearest
+    the standard 20 °C), whose figures stay readable where the compression and the pressures of the cases differ by
+    decades (the life figures draw the others); every result otherwise."""
+    life = [r for r in results if r.case.life is not None]
+    if len(life) < 2 or len(life) != len(results):
+        return list(results)
+    return [min(life, key=lambda r: (r.case.life.time, abs(r.case.life.temperature - STANDARD_TEMPERATURE_CASE))
+                if r.case.life is not None else (0.0, 0.0))]
 
 
 def life_figure_names(times: int, temperatures: int) -> tuple[str, ...]:
