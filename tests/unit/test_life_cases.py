@@ -15,6 +15,7 @@ from sealeak.cases import parse_case_file
 from sealeak.cases.run import run_case
 from sealeak.errors import FileFormatError, InputError
 from sealeak.physics.viscoelastic import CompressionSet, PronySeries
+from sealeak.render import prediction_table
 
 SURFACE = """
 [surface]
@@ -290,3 +291,12 @@ def test_bad_compression_set_data_get_one_line_naming_the_key(template, rubber, 
     with pytest.raises(InputError) as err:
         cases(template, rubber, 'time = "1 a"')
     assert err.value.field.startswith(field) and "\n" not in str(err.value)
+
+
+def test_the_text_says_the_compression_set_of_each_case():
+    (aged,) = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = "10 a"\ntemperature = "70 degC"')
+    c = aged.life.compression_set
+    text = prediction_table([run_case(aged)])
+    assert f"compression set c = {100 * c:.3g} %" in text and 0.3 < c < 0.9
+    (plain,) = cases(ORING, conditions='time = "10 a"')
+    assert "compression set" not in prediction_table([run_case(plain)])
