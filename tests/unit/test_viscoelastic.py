@@ -166,6 +166,16 @@ def test_a_master_curve_sampled_from_a_prony_series_has_its_creep_compliance():
     assert float(curve.creep_compliance(1e10)) == pytest.approx(1 / p.equilibrium_modulus, rel=1e-3)
 
 
+def test_a_master_curve_that_does_not_relax_creeps_not_at_all():
+    """A flat curve (an elastic rubber measured as a master curve) has J = 1/E at every time; one that relaxes only
+    beyond a Prony series' times (10¹⁵ s) keeps its short-time modulus at every time one can ask for."""
+    flat = MasterCurve((1.0, 1e6), (5e6, 5e6))
+    assert flat.prony is None
+    assert flat.creep_compliance([0.0, 10.0, 1e9]) == pytest.approx([2e-7] * 3, rel=1e-12)
+    late = MasterCurve((1e20, 1e25), (5e9, 1e6))
+    assert late.creep_compliance([0.0, 3.15e8]) == pytest.approx([2e-10] * 2, rel=1e-12)
+
+
 # --- shift factors -------------------------------------------------------------------------------------------
 
 

@@ -320,15 +320,19 @@ class MasterCurve:
         return np.asarray(10.0 ** self._spline(x), dtype=float)
 
     @cached_property
-    def prony(self) -> PronySeries:
+    def prony(self) -> PronySeries | None:
         """A Prony series fitted to the curve (§16.3): relaxation times :data:`FIT_TERMS_PER_DECADE` per
-        decade over the measured times, E∞ and Ei >= 0 by non-negative least squares on the relative error at
-        :data:`FIT_POINTS_PER_DECADE` points per decade from two decades before to two after the measured times
-        (where the curve is held); terms below 10⁻⁶ E(0) are dropped."""
+        decade over the measured times (within :data:`PRONY_TIMES`), E∞ and Ei >= 0 by non-negative least squares on
+        the relative error at :data:`FIT_POINTS_PER_DECADE` points per decade from two decades before to two after the
+        measured times (where the curve is held); terms below 10⁻⁶ E(0) are dropped. None where no term is left (a
+        curve that does not relax, or relaxes only outside :data:`PRONY_TIMES`)."""
         return _fit_prony(self)
 
     def creep_compliance(self, t: ArrayLike) -> FloatArray:
-        """J(t) in 1/Pa at times t >= 0 in s: the exact creep compliance (eq. 16.5) of :attr:`prony`."""
+        """J(t) in 1/Pa at times t >= 0 in s: the exact creep compliance (eq. 16.5) of :attr:`prony`; 1/E(t) where it
+        is None (exact for a curve that does not relax)."""
+        if self.prony is None:
+            return np.asarray(1.0 / self.relaxation_modulus(t), dtype=float)
         return self.prony.creep_compliance(t)
 
 
@@ -339,17 +343,20 @@ FIT_POINTS_PER_DECADE = 8
 """Collocation points per decade of the fit of :attr:`MasterCurve.prony`."""
 
 
-def _fit_prony(curve: MasterCurve) -> PronySeries:
-    lo, hi = math.log10(curve.times[0]), math.log10(curve.times[-1])
+def _fit_prony(curve: MasterCurve) -> PronySeries | None:
+    bounds = [math.log10(b) for b in PRONY_TIMES]  # a Prony series' times stay in PRONY_TIMES
+    lo, hi = (min(max(math.log10(t), bounds[0]), bounds[1]) for t in (curve.times[0], curve.times[-1]))
     span = hi - lo
     terms = min(MAX_TERMS - 1, max(2, math.ceil(FIT_TERMS_PER_DECADE * span) + 1))
-    tau = np.clip(np.logspace(lo, hi, terms), *PRONY_TIMES)
+    tau = np.unique(np.logspace(lo, hi, terms))
     t = np.logspace(lo - 2, hi + 2, math.ceil(FIT_POINTS_PER_DECADE * (span + 4)) + 1)
     e = curve.relaxation_modulus(t)
     design = np.column_stack([np.ones_like(t), np.exp(-t[:, None] / tau[None, :])]) / e[:, None]
     coef, _ = nnls(design, np.ones_like(t), maxiter=50 * design.shape[1])
     keep = coef[1:] >= max(1e-6 * curve.instantaneous_modulus, PRONY_MODULI[0])
     e_inf = max(float(coef[0]), PRONY_MODULI[0])
+    if not keep.any():
+        return None
     return PronySeries(e_inf, tuple(coef[1:][keep]), tuple(tau[keep]), field=curve.field)
 
 
