@@ -67,7 +67,8 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
      "and helium percentiles where the row has those leak rates, `exceed_probability` with `conditions.max_leak_rate`. "
      "The JSON's `uncertainty` object lists per case its `passing_loads` (`<load>`: `Pa` for a squeeze pressure, `1` "
      "for a compression or profile scale) and, for the seal over its life with `conditions.max_leak_rate`, per load "
-     "its `life` answers (`load`, its `values` in `unit`, and the fields below from `temperatures` on).",
+     "its `life` answers (`load`, its `values` in `unit`, and the fields below from `temperatures` on); its `answers` "
+     "are the same in words, the sentences `predict` prints under its uncertainty table.",
      (UncertaintyColumns, PassingLoad, LifeAnswer)),
     ("sealeak predict --sensitivity N --json / --csv",
      "With `--sensitivity N` each row adds, per uncertain input (`<input>`: its case-file key, e.g. "

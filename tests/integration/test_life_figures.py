@@ -8,8 +8,9 @@ import pytest
 from sealeak.cases import parse_case_file, run_case
 from sealeak.render import prediction_figures
 from sealeak.render.figures import prediction_figure_names
+from sealeak.render.life import life_figures
 from tests.integration.test_figures_render import _assert_reads_right, _build, _data_lines
-from tests.unit.test_life_cases import ORING, PRONY, RING
+from tests.unit.test_life_cases import ORING, PRONY, RING, SURFACE
 
 WLF = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
 TIMES = 'time = ["0 s", "100 s", "1 h", "1 d"]'
@@ -38,7 +39,8 @@ def test_life_figures_are_drawn_one_line_per_temperature_and_per_time(template):
     lines = _data_lines(ax_t)
     assert [ln.get_label() for ln in lines] == ["T = -10 °C", "T = 20 °C", "T = 60 °C"]
     assert all(len(ln.get_xdata()) == 3 for ln in lines)  # 100 s, 1 h, 1 d
-    assert ax_t.get_xlabel() == "time since assembly t (min)"  # the shortest time shown, 100 s, in minutes
+    bottom = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)][-1]  # the panels share the x axis
+    assert bottom.get_xlabel() == "time since assembly t (min)"  # the shortest time shown, 100 s, in minutes
     assert np.allclose(lines[0].get_xdata(), [100 / 60, 60, 1440], rtol=1e-12)
 
     ax_T = figures["leak_rate_vs_temperature.png"].axes[0]
@@ -76,3 +78,64 @@ def test_the_specification_is_a_line_and_coinciding_curves_are_said_only_where_t
     figures = _build(lambda: prediction_figures(results))
     assert "the curves coincide: Q does not change with temperature" in figures["leak_rate_vs_time.png"].axes[0].get_title()
     assert "the curves coincide: Q does not change with time" in figures["leak_rate_vs_temperature.png"].axes[0].get_title()
+
+
+def _life_figures(template, conditions):
+    """Only the life figures (:func:`sealeak.render.life.life_figures`) of the RING or ORING file with WLF relaxation."""
+    cases = parse_case_file(template.format(rubber=WLF, conditions=conditions, seal="")).cases
+    results = [run_case(c) for c in cases]
+    return _build(lambda: life_figures(results))
+
+
+def test_each_load_gets_a_panel_of_its_own_and_many_loads_four_spread_ones():
+    """The ring of RING has two squeeze pressures: two panels, each headed by its load, one legend; six loads give
+    four panels (the first, the last and two between) and say so."""
+    figures = _life_figures(RING, 'time = ["100 s", "1 d"]\ntemperature = ["-10 degC", "60 degC"]')
+    for name in ("leak_rate_vs_time.png", "leak_rate_vs_temperature.png"):
+        panels = [ax for ax in figures[name].axes if _data_lines(ax)]
+        assert len(panels) == 2
+        assert "at P0 = 50 kPa" in panels[0].get_title() and panels[1].get_title() == "at P0 = 200 kPa"
+        assert sum(ax.get_legend() is not None for ax in panels) + len(figures[name].legends) == 1  # one legend
+        assert panels[0].get_xlabel() == "" and panels[1].get_xlabel() != ""  # the shared x axis, labelled below
+        low, high = (np.concatenate([ln.get_ydata() for ln in _data_lines(ax)]) for ax in panels)
+        assert np.nanmax(high) < np.nanmin(low)  # more squeeze, less leak: the panels are not the same load
+    six = RING.replace('squeeze_pressure = ["50 kPa", "200 kPa"]',
+                       'squeeze_pressure = ["50 kPa", "80 kPa", "110 kPa", "140 kPa", "170 kPa", "200 kPa"]')
+    figures = _life_figures(six, 'time = ["100 s", "1 d"]')
+    panels = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)]
+    assert len(panels) == 4
+    assert "4 of the 6 loads" in panels[0].get_title()
+    assert [ax.get_title().splitlines()[-1 if i else 1] for i, ax in enumerate(panels)] == [
+        "at P0 = 50 kPa", "at P0 = 110 kPa", "at P0 = 140 kPa", "at P0 = 200 kPa"]
+    _assert_reads_right(figures)
+
+
+def test_a_gas_is_drawn_as_its_pv_throughput_with_its_specification():
+    """A gas's leak rate is Q_pV in mbar·l/s (the gas figures' unit), not the incompressible K ΔP of its Q column."""
+    text = SURFACE + f"""
+[rubber]
+{WLF}
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+[fluid]
+name = "nitrogen"
+[conditions]
+squeeze_pressure = "100 kPa"
+upstream_pressure = "2 bar"
+downstream_pressure = "1 bar"
+time = ["100 s", "1 d"]
+[theory]
+fluid_pressure = "ignored"
+"""
+    results = [run_case(c) for c in parse_case_file(text).cases]
+    figures = _build(lambda: life_figures(results, limit=(1e-7, "1e-6 mbar*l/s")))  # 1e-7 Pa·m³/s = 1e-6 mbar·l/s
+    (ax,) = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)]
+    assert ax.get_ylabel() == "gas leak rate Q_pV (mbar·l/s)"
+    (line,) = [ln for ln in _data_lines(ax) if len(ln.get_xdata()) == 2]  # one temperature: one line of two times
+    expected = [r.records()[0]["leak_rate_mbar_l_s"] for r in results]
+    assert np.allclose(line.get_ydata(), expected, rtol=1e-12)
+    assert expected != [r.records()[0]["leak_rate"] for r in results]  # not the incompressible column
+    (spec,) = [ln for ln in ax.get_lines() if ln.get_label() == "max_leak_rate = 1e-6 mbar*l/s"]
+    assert spec.get_ydata()[0] == pytest.approx(1e-6, rel=1e-12)

@@ -20,3 +20,18 @@ def test_a_force_table_must_be_uploaded_in_the_session(value):
     body = r.json()
     assert body["field"] == "seal.force_table" and "uploaded in this session" in body["error"]
     assert "root:" not in r.text  # nothing of the file was read
+
+
+@pytest.mark.parametrize("rubber", ['relaxation = {{ master_curve = "{value}" }}',
+                                    'youngs_modulus = "5.5 MPa"\n[study]\nvary = "rubber.relaxation"\n'
+                                    'values = [{{ master_curve = "{value}" }}]'])
+@pytest.mark.parametrize("value", ["/etc/passwd", "../m.csv"])
+def test_a_master_curve_must_be_uploaded_in_the_session(rubber, value):
+    text = ORING.replace('youngs_modulus = "5.5 MPa"', rubber.format(value=value))
+    assert text != ORING
+    with web_client(create_app()) as c:
+        r = c.post("/api/predict", content=text.encode())
+    assert r.status_code == 422
+    body = r.json()
+    assert "master_curve" in body["error"] and "uploaded in this session" in body["error"]
+    assert "root:" not in r.text

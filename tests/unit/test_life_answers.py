@@ -6,9 +6,15 @@ import math
 
 import pytest
 
-from sealeak.cases.life_answers import first_exceeded, life_answers, lowest_holding_temperature
+from sealeak.cases.life_answers import (
+    LifeAnswer,
+    first_exceeded,
+    highest_holding_temperature,
+    life_answers,
+    lowest_holding_temperature,
+)
 from sealeak.cases.uncertainty import parse_uncertain_case, propagate
-from sealeak.render.uncertainty import passing_lines, uncertainty_summary
+from sealeak.render.uncertainty import _holding_text, passing_lines, uncertainty_summary
 from tests.unit.test_life_cases import PRONY, RING
 
 
@@ -58,11 +64,39 @@ def test_a_life_file_with_a_specification_answers_per_load():
         latest = [r.records()[n]["leak_rate"] for r in result.nominal if r.case.life.time == a.latest_time]
         assert (a.holds_from is None) == (latest[-1] > limit)  # exceeds even at the warmest
         assert (a.holds_from == a.temperatures[0]) == all(q <= limit for q in latest)
+        assert (a.holds_to is None) == (latest[0] > limit)  # exceeds even at the coldest
     assert any(e is not None for a in answers for e in a.exceeded_from)  # the checks above are not empty
     assert {a.holds_from is None for a in answers} == {True, False}
     lines = passing_lines(result)
     assert any(line.startswith("P0 = 50 kPa: at -10 °C exceeds 0.05 ml/min already at t = 10 s") for line in lines)
+    assert uncertainty_summary(result)["answers"] == lines  # the web app shows them as predict words them
     life = uncertainty_summary(result)["life"]
     assert [x["values"] for x in life] == [[50e3], [200e3]]
     assert life[0]["temperatures"] == pytest.approx([263.15, 333.15], rel=1e-12)
     assert life[0]["latest_time"] == 86400.0
+    assert [x["holds_to"] for x in life] == [a.holds_to for a in answers]
+
+
+def test_the_highest_temperature_at_which_it_holds_mirrors_the_lowest():
+    """Ageing runs faster when warm: Q rises with T, and the seal holds up to a temperature."""
+    temps = [250.0, 270.0, 290.0]
+    q = [1e-9 * 10 ** ((t - 250.0) / 10) for t in temps]  # rises a decade per 10 K
+    assert highest_holding_temperature(temps, q, 10 ** -7.5) == pytest.approx(265.0, rel=1e-12)
+    assert highest_holding_temperature(temps, q, 1.0) == 290.0  # the warmest computed
+    assert highest_holding_temperature(temps, q, 1e-10) is None  # exceeds even at the coldest
+    assert lowest_holding_temperature(temps, q, 10 ** -7.5) is None  # the warmest exceeds: no cold limit
+
+
+@pytest.mark.parametrize("cold, warm, exceeded, text", [
+    (250.0, 290.0, (None, None, None), "holds at every temperature computed at 1 a"),
+    (265.0, None, (1.0, None, None), "holds from -8.15 °C up at 1 a"),
+    (None, 265.0, (None, None, 1.0), "holds up to -8.15 °C at 1 a"),
+    (280.0, 260.0, (None, 1.0, None), "holds up to -13.1 °C and from 6.85 °C up at 1 a"),
+    (None, None, (1.0, None, 1.0), "exceeds it at the coldest and the warmest at 1 a, holds only between them"),
+    (None, None, (1.0, 1.0, 1.0), "exceeds it at every temperature at 1 a"),
+])
+def test_the_holding_range_is_said_from_both_ends(cold, warm, exceeded, text):
+    answer = LifeAnswer(row=0, load_name="squeeze_pressure", loads=(1e5,), temperatures=(250.0, 270.0, 290.0),
+                        exceeded_from=exceeded, earliest_time=1.0, latest_time=365.25 * 86400, holds_from=cold,
+                        holds_to=warm)
+    assert _holding_text(answer, "1 a").startswith(text)

@@ -8,11 +8,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from sealeak.cases import parse_case_file
 from sealeak.cases.run import run_case
-from sealeak.errors import InputError
+from sealeak.errors import FileFormatError, InputError
+from sealeak.physics.viscoelastic import CompressionSet, PronySeries
+from sealeak.render import prediction_table
 
 SURFACE = """
 [surface]
@@ -147,6 +150,55 @@ def test_a_warning_near_the_glass_transition():
     assert not any("glass transition" in w for w in far.input_warnings)
 
 
+def write_master_curve(tmp_path, series, rows=None):
+    """The relaxation modulus of ``series`` at 10 points per decade from 1 ms to 1e7 s, as a master-curve file
+    (modulus in MPa), or the rows given."""
+    t = np.geomspace(1e-3, 1e7, 101)
+    rows = rows or [f"{x:.17g}, {e / 1e6:.17g}" for x, e in zip(t, series.relaxation_modulus(t))]
+    (tmp_path / "nbr-master.csv").write_text("# sampled\ntime (s), modulus (MPa)\n" + "\n".join(rows) + "\n")
+
+
+MASTER = 'relaxation = { master_curve = "nbr-master.csv" }'
+
+
+def test_a_master_curve_file_relaxes_the_oring_and_creeps_the_ring_like_its_prony_series(tmp_path):
+    series = PronySeries(E_INF, (E_1,), (TAU,))
+    write_master_curve(tmp_path, series)
+    times = [1.0, 100.0, 1e4]
+    conditions = 'time = ["1 s", "100 s", "1e4 s"]'
+    for template, expected in ((ORING, series.relaxation_modulus), (RING, lambda t: 1 / series.creep_compliance(t))):
+        text = template.format(rubber=MASTER, conditions=conditions, seal="")
+        got = [c.youngs_modulus for c in parse_case_file(text, tmp_path).cases]
+        assert got == pytest.approx([float(expected(t)) for t in times], rel=1e-2)
+        assert got[0] > got[-1]
+
+
+def test_a_master_curve_shifts_with_the_wlf_constants(tmp_path):
+    series = PronySeries(E_INF, (E_1,), (TAU,))
+    write_master_curve(tmp_path, series)
+    rubber = MASTER + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+    (cold,) = parse_case_file(ORING.format(rubber=rubber, conditions='time = "100 s"\ntemperature = "-5 degC"', seal=""),
+                              tmp_path).cases
+    assert cold.youngs_modulus == pytest.approx(float(series.relaxation_modulus(10.0)), rel=1e-3)  # a_T = 10
+
+
+@pytest.mark.parametrize("row, shown", [("1e4, -2", "modulus = -2 MPa"), ("1e4, 9", "modulus = 9 MPa"),
+                                        ("0.5, 3", "time = 0.5 s"), ("1e4, nan", "modulus = nan MPa")])
+def test_a_bad_master_curve_row_gets_one_line_naming_the_file_line_and_value(tmp_path, row, shown):
+    write_master_curve(tmp_path, None, ["1, 5", "100, 3", row])
+    with pytest.raises(FileFormatError) as err:
+        parse_case_file(ORING.format(rubber=MASTER, conditions="", seal=""), tmp_path)
+    message = str(err.value)
+    assert "nbr-master.csv: line 5: " + shown in message and "\n" not in message  # a comment, the header, 2 rows
+
+
+def test_a_master_curve_is_given_alone(tmp_path):
+    write_master_curve(tmp_path, PronySeries(E_INF, (E_1,), (TAU,)))
+    with pytest.raises(InputError) as err:
+        cases(ORING, 'relaxation = { master_curve = "nbr-master.csv", equilibrium_modulus = "2 MPa" }')
+    assert err.value.field == "rubber.relaxation.equilibrium_modulus"
+
+
 @pytest.mark.parametrize("template, rubber, conditions, seal, field", [
     (RING, PRONY + '\nyoungs_modulus = "5 MPa"', "", "", "rubber.youngs_modulus"),
     (RING, PRONY + "\nshore_a = 70", "", "", "rubber.shore_a"),
@@ -176,3 +228,75 @@ def test_the_fluid_temperature_and_conditions_temperature_are_not_both_given():
     with pytest.raises(InputError) as err:
         parse_case_file(text.replace('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\ntemperature = "20 degC"'))
     assert err.value.field == "fluid.temperature"
+
+
+# --- ageing: compression set (docs/theory.md §16.6) ----------------------------------------------------------------
+
+AGEING = CompressionSet(time_constant=3e10, exponent=0.5, activation_energy=80e3, reference_temperature=293.15)
+
+
+def set_points(model: CompressionSet = AGEING) -> str:
+    """rubber.compression_set: the sets ``model`` gives after 1000 h and 1 a at 23, 70 and 100 °C."""
+    points = [(t, temp) for t in (3.6e6, 3.15576e7) for temp in (296.15, 343.15, 373.15)]
+    sets = [float(model(t, temp)) for t, temp in points]
+    return (f"compression_set = {{ times = {[f'{t!r} s' for t, _ in points]}, "
+            f"temperatures = {[f'{temp!r} K' for _, temp in points]}, sets = {sets} }}").replace("'", '"')
+
+
+def test_a_compression_set_reduces_the_oring_compression_by_one_minus_c():
+    times, temp = (0.0, 3600.0, 3.15576e8), 343.15
+    aged = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(),
+                 'time = ["0 s", "1 h", "10 a"]\ntemperature = "70 degC"')
+    for case, t in zip(aged, times):
+        c = float(AGEING(t, temp))  # the fit recovers the model of its exact points
+        assert case.life.compression_set == pytest.approx(c, rel=1e-6, abs=1e-12)
+        assert case.band.loads[0] == pytest.approx(0.2 * (1 - c), rel=1e-6)
+    assert aged[0].band.loads[0] == 0.2 and 0.2 > aged[1].band.loads[0] > aged[2].band.loads[0]
+
+
+def test_a_set_of_zero_changes_nothing_bit_for_bit():
+    (plain,) = cases(ORING, conditions='time = "0 s"')
+    (aged,) = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = "0 s"')  # c(0, T) = 0
+    rows = run_case(aged).records()
+    assert [r.pop("compression_set") for r in rows] == [0.0]
+    assert rows == run_case(plain).records()
+
+
+def test_more_set_means_less_compression_and_more_leak():
+    fresh, old = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = ["1 d", "10 a"]\ntemperature = "70 degC"')
+    assert fresh.life.compression_set < old.life.compression_set
+    assert fresh.band.loads[0] > old.band.loads[0]
+    q_fresh, q_old = (run_case(c).band.critical_junction.leak_rate[0] for c in (fresh, old))
+    assert q_old > q_fresh
+
+
+def test_rows_have_the_compression_set_only_where_given():
+    (aged,) = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = "1 a"')
+    (plain,) = cases(ORING, conditions='time = "1 a"')
+    assert run_case(aged).units["compression_set"] == "1" and "compression_set" in run_case(aged).records()[0]
+    assert "compression_set" not in run_case(plain).units and "compression_set" not in run_case(plain).records()[0]
+
+
+@pytest.mark.parametrize("template, rubber, field", [
+    (RING, 'youngs_modulus = "5 MPa"\n' + set_points(), "rubber.compression_set"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = { times = ["1 h"], temperatures = ["20 degC"], sets = [20] }',
+     "rubber.compression_set.sets[0]"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = { times = ["1 h"], temps = ["20 degC"], sets = [0.2] }',
+     "rubber.compression_set.temps"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = { times = ["1 h", "2 h", "3 h"], temperatures = ["20 degC", '
+            '"20 degC", "20 degC"], sets = [0.1, 0.2, 0.3] }', "rubber.compression_set.temperatures"),
+    (ORING, 'youngs_modulus = "5 MPa"\ncompression_set = "20 %"', "rubber.compression_set"),
+])
+def test_bad_compression_set_data_get_one_line_naming_the_key(template, rubber, field):
+    with pytest.raises(InputError) as err:
+        cases(template, rubber, 'time = "1 a"')
+    assert err.value.field.startswith(field) and "\n" not in str(err.value)
+
+
+def test_the_text_says_the_compression_set_of_each_case():
+    (aged,) = cases(ORING, 'youngs_modulus = "5 MPa"\n' + set_points(), 'time = "10 a"\ntemperature = "70 degC"')
+    c = aged.life.compression_set
+    text = prediction_table([run_case(aged)])
+    assert f"compression set c = {100 * c:.3g} %" in text and 0.3 < c < 0.9
+    (plain,) = cases(ORING, conditions='time = "10 a"')
+    assert "compression set" not in prediction_table([run_case(plain)])

@@ -154,6 +154,28 @@ def test_master_curve_refuses_bad_data(times, moduli, field):
     assert err.value.field == field
 
 
+def test_a_master_curve_sampled_from_a_prony_series_has_its_creep_compliance():
+    """J(t) of the Prony series fitted to the curve (§16.3) is the exact J (eq. 16.5) of the series it was sampled
+    from, to the fit's 1 %, from the glassy 1/E(0) to the rubbery 1/E∞."""
+    p = PronySeries(4e6, [3e7, 2e6, 1e6, 5e5], [1e-6, 1e-3, 10.0, 1e4])
+    t = np.geomspace(1e-9, 1e8, 69)
+    curve = MasterCurve(tuple(t), tuple(p.relaxation_modulus(t)))
+    at = np.geomspace(1e-10, 1e10, 201)
+    assert curve.creep_compliance(at) == pytest.approx(p.creep_compliance(at), rel=1e-2)
+    assert curve.prony.relaxation_modulus(at) == pytest.approx(p.relaxation_modulus(at), rel=1e-2)
+    assert float(curve.creep_compliance(1e10)) == pytest.approx(1 / p.equilibrium_modulus, rel=1e-3)
+
+
+def test_a_master_curve_that_does_not_relax_creeps_not_at_all():
+    """A flat curve (an elastic rubber measured as a master curve) has J = 1/E at every time; one that relaxes only
+    beyond a Prony series' times (10¹⁵ s) keeps its short-time modulus at every time one can ask for."""
+    flat = MasterCurve((1.0, 1e6), (5e6, 5e6))
+    assert flat.prony is None
+    assert flat.creep_compliance([0.0, 10.0, 1e9]) == pytest.approx([2e-7] * 3, rel=1e-12)
+    late = MasterCurve((1e20, 1e25), (5e9, 1e6))
+    assert late.creep_compliance([0.0, 3.15e8]) == pytest.approx([2e-10] * 2, rel=1e-12)
+
+
 # --- shift factors -------------------------------------------------------------------------------------------
 
 
@@ -311,10 +333,10 @@ def test_remaining_compression():
 
 
 @pytest.mark.parametrize("times, temps, sets, field", [
-    ([1e5, 1e6, 1e7], [373.15] * 3, [0.1, 0.2, 0.3], "compression_set.temperature"),
-    ([1e5, 1e6, 1e7], [343.15, 373.15, 373.15], [0.1, 20.0, 0.3], "compression_set.set[1]"),
-    ([1e5, -1.0, 1e7], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.time[1]"),
-    ([1e5, 1e6], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.set"),
+    ([1e5, 1e6, 1e7], [373.15] * 3, [0.1, 0.2, 0.3], "compression_set.temperatures"),
+    ([1e5, 1e6, 1e7], [343.15, 373.15, 373.15], [0.1, 20.0, 0.3], "compression_set.sets[1]"),
+    ([1e5, -1.0, 1e7], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.times[1]"),
+    ([1e5, 1e6], [343.15, 373.15, 373.15], [0.1, 0.2, 0.3], "compression_set.sets"),
 ])
 def test_ageing_fit_refuses_bad_points(times, temps, sets, field):
     with pytest.raises(InputError) as err:

@@ -109,6 +109,8 @@ FIELD_KINDS |= {
     "rubber.reference_temperature": _TEMPERATURE, "rubber.wlf_c1": _n("8.86"), "rubber.wlf_c2": _n("101.6"),
     "rubber.activation_energy": _q("molar_energy", "80 kJ/mol"), "rubber.glass_transition": _q("temperature", "-30 degC"),
     "rubber.thermal_expansion": _q("thermal_expansion", "23e-5 1/K"),
+    "rubber.compression_set": FieldKind("list", example='{times = ["1000 h", "1000 h", "1 a"], temperatures = ["70 degC", '
+                                                        '"100 degC", "70 degC"], sets = ["15 %", "35 %", "30 %"]}'),
     "seal.gland_thermal_expansion": _q("thermal_expansion", "1.2e-5 1/K"),
     "conditions.time": _q("time (one, a list or a range)", '["1 h", "1 a", "10 a"]'),
     "conditions.temperature": _q("temperature (one, a list or a range)", '["-20 degC", "80 degC"]'),

@@ -238,8 +238,9 @@ FIELD_HELP |= {
 FIELD_HELP |= {
     "rubber.relaxation": FieldHelp("Relaxation modulus E(t)", "the-seal-over-its-life-time-and-temperature",
                      "the rubber's relaxation modulus E(t) = E∞ + Σ Ei exp(−t/τi), a Prony series: {equilibrium_modulus = \"4 MPa\", "
-                     'moduli = ["2 MPa", "1 MPa"], times = ["10 s", "1e4 s"]}, measured at rubber.reference_temperature; each time '
-                     'and temperature takes its modulus from it instead of youngs_modulus (theory §16.7)'),
+                     'moduli = ["2 MPa", "1 MPa"], times = ["10 s", "1e4 s"]}, or a master-curve file: {master_curve = '
+                     '"nbr-master.csv"}; measured at rubber.reference_temperature; each time and temperature takes its modulus '
+                     'from it instead of youngs_modulus (theory §16.7)'),
     "rubber.reference_temperature": FieldHelp("Reference temperature Tref", "the-seal-over-its-life-time-and-temperature",
                      "the temperature Tref at which rubber.relaxation was measured, the shift law's reference"),
     "rubber.wlf_c1": FieldHelp("WLF constant C1", "the-seal-over-its-life-time-and-temperature",
@@ -255,6 +256,10 @@ FIELD_HELP |= {
     "rubber.thermal_expansion": FieldHelp("Rubber thermal expansion α_r", "the-seal-over-its-life-time-and-temperature",
                      "O-ring: the rubber's linear thermal expansion coefficient α_r (an NBR compound about 23e-5 1/K): the cord "
                      'diameter d(T) = d0 (1 + α_r (T − Ta))'),
+    "rubber.compression_set": FieldHelp("Compression set data", "the-seal-over-its-life-time-and-temperature",
+                     "O-ring: measured compression sets (ISO 815) as points {times = [\"1000 h\", ...], temperatures = "
+                     '["70 degC", ...], sets = ["15 %", ...]}, fitted by c(t, T) = 1 − exp(−(t/τ(T))^β) with an Arrhenius '
+                     "τ(T); each time and temperature takes the compression ε (1 − c) (theory §16.6)"),
     "seal.gland_thermal_expansion": FieldHelp("Gland thermal expansion α_g", "the-seal-over-its-life-time-and-temperature",
                      "O-ring: the gland's linear thermal expansion coefficient α_g (steel about 1.2e-5 1/K): the gland depth h(T) = "
                      'h0 (1 + α_g (T − Ta)), so the compression at T is 1 − h(T)/d(T)'),

@@ -4,11 +4,13 @@ A case file with any of the keys of :data:`LIFE_KEYS` is expanded, like a ``[stu
 temperature and time (labels ``"t = 1 h, T = -20 °C"``), each built from a copy of the document in which
 (docs/theory.md §16.7):
 
-* the rubber's modulus is the relaxed one, E(t/a_T(T)) of ``[rubber] relaxation`` (a Prony series, eq. 16.8) for an
+* the rubber's modulus is the relaxed one, E(t/a_T(T)) of ``[rubber] relaxation`` (a Prony series, or a master-curve
+  file read by :func:`read_master_curve`; eq. 16.8) for an
   O-ring at fixed compression (Lindley's force scales with it, eq. 16.13; the width follows the compression), and the
   creep modulus 1/J(t/a_T(T)) for a seal under a fixed squeeze pressure (a ring, a rectangle or a pressure profile);
 * an O-ring's compression is the one at T of its cord and gland expanding from ``assembly_temperature`` (eq. 16.9:
-  ``conditions.compression`` becomes 1 − h(T)/d(T), ``conditions.groove_depth`` h0 (1 + α_g ΔT)/(1 + α_r ΔT));
+  ``conditions.compression`` becomes 1 − h(T)/d(T), ``conditions.groove_depth`` h0 (1 + α_g ΔT)/(1 + α_r ΔT)), less
+  its compression set c(t, T) fitted to ``[rubber] compression_set`` (eqs. 16.10–16.12: ε (1 − c));
 * the fluid's properties are taken at T (``fluid.temperature``).
 
 Without ``[rubber] relaxation`` the modulus is the elastic one at every time. Each case carries its :class:`LifePoint`
@@ -21,53 +23,67 @@ import copy
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import FileFormatError, InputError
 from ..io.leak_units import celsius
 from ..io.units import parse_quantity, parse_temperature
 from ..physics.viscoelastic import (
+    MAX_POINTS,
     MAX_TERMS,
     ArrheniusShift,
+    CompressionSet,
+    MasterCurve,
     PronySeries,
     WLFShift,
+    fit_compression_set,
     glass_transition_warnings,
     modulus_at,
+    remaining_compression,
     thermal_compression,
     universal_wlf_glass_transition,
 )
 from .limits import MAX_STUDY_VALUES, at_most
 from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
-from .seals import _values
+from .seals import _two_columns, _values
 
-__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit"]
+__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit", "read_master_curve"]
 
 #: The keys of each section that describe the seal over its life (docs/case-files.md, "The seal over its life").
 LIFE_KEYS: dict[str, tuple[str, ...]] = {
     "rubber": ("relaxation", "reference_temperature", "wlf_c1", "wlf_c2", "activation_energy", "glass_transition",
-               "thermal_expansion"),
+               "thermal_expansion", "compression_set"),
     "seal": ("gland_thermal_expansion",),
     "conditions": ("time", "temperature", "assembly_temperature"),
 }
 
 _RELAXATION_KEYS = ("equilibrium_modulus", "moduli", "times")
+_MASTER_CURVE = "master_curve"
+_SET_KEYS = ("times", "temperatures", "sets")
+#: A compression-set fit whose rms residual (a fraction of the squeeze) exceeds this gets a warning.
+SET_RESIDUAL_WARNING = 0.03
+_TIME_NAMES = ("time", "t", "reduced_time")
+_MODULUS_NAMES = ("modulus", "e", "relaxation_modulus")
 _TIME_UNITS = (("a", 365.25 * 86400.0), ("d", 86400.0), ("h", 3600.0), ("min", 60.0), ("s", 1.0))
 
 
 @dataclass(frozen=True)
 class _Life:
     """The life keys of a case, read: the relaxation (or None), its shift law (or None), the glass transition
-    (K, or None) and whether it is estimated, the expansion coefficients (1/K), the assembly temperature (K)."""
+    (K, or None) and whether it is estimated, the expansion coefficients (1/K), the assembly temperature (K), the
+    compression set fitted to the data (or None)."""
 
-    relaxation: PronySeries | None
+    relaxation: PronySeries | MasterCurve | None
     shift: WLFShift | ArrheniusShift | None
     glass_transition: float | None
     estimated: bool
     expansion: tuple[float, float] | None
     assembly_temperature: float
+    compression_set: CompressionSet | None = None
 
 
 def time_unit(seconds: float) -> tuple[str, float]:
@@ -123,8 +139,41 @@ def _times(cond: Section) -> list[float]:
     return [float(t) for t in values]
 
 
-def _relaxation(rubber: Section) -> PronySeries | None:
-    """``rubber.relaxation = {equilibrium_modulus, moduli, times}``, a Prony series (Pa, s), or None."""
+def read_master_curve(path: Path, field: str) -> MasterCurve:
+    """A relaxation master curve from a text table with columns time and modulus, each with its unit.
+
+    Example header: ``time (s), modulus (MPa)``. 2 to :data:`~sealeak.physics.viscoelastic.MAX_POINTS` rows, times
+    > 0 increasing, moduli > 0 not increasing. Raises :class:`FileFormatError` naming the file, the line and the value.
+    ``field`` names the curve in the errors of :class:`MasterCurve` (``rubber.relaxation.master_curve``).
+    """
+    table, columns, (t, e) = _two_columns(path, ((_TIME_NAMES, "time", "s"), (_MODULUS_NAMES, "pressure", "MPa")),
+                                          "time (s), modulus (MPa)")
+    if t.size > MAX_POINTS:
+        raise FileFormatError(path, f"{t.size} rows: at most {MAX_POINTS}")
+    if t.size < 2:
+        raise FileFormatError(path, "one row: a master curve needs at least two (time, modulus) points")
+
+    def cell(i: int, k: int) -> str:  # row i's value of column k as written, with its unit
+        return f"{table.names[columns[k]]} = {table.data[i, columns[k]]:.6g} {table.units[columns[k]]}"
+
+    for i in range(t.size):
+        line = f"line {table.line_of(i)}"
+        for k, v in enumerate((t[i], e[i])):
+            if not (math.isfinite(v) and v > 0):
+                raise FileFormatError(path, f"{line}: {cell(i, k)}: must be finite and > 0 (the curve is interpolated "
+                                            "in log–log)")
+        if i and not t[i] > t[i - 1]:
+            raise FileFormatError(path, f"{line}: {cell(i, 0)} does not exceed the previous row's (times increase "
+                                        "row by row)")
+        if i and e[i] > e[i - 1]:
+            raise FileFormatError(path, f"{line}: {cell(i, 1)} exceeds the previous row's (a relaxation modulus falls "
+                                        "with time)")
+    return MasterCurve(tuple(t), tuple(e), field=field)
+
+
+def _relaxation(rubber: Section, case_dir: Path) -> PronySeries | MasterCurve | None:
+    """``rubber.relaxation``: ``{equilibrium_modulus, moduli, times}``, a Prony series (Pa, s), or ``{master_curve =
+    "file.csv"}`` (relative to ``case_dir``), or None."""
     if not rubber.has("relaxation"):
         return None
     field, raw = rubber.field("relaxation"), rubber.raw("relaxation")
@@ -134,10 +183,20 @@ def _relaxation(rubber: Section) -> PronySeries | None:
                              f"rubber.{other}, not both: the relaxation sets the modulus")
     if not isinstance(raw, dict):
         raise InputError(field, raw, "must be a table {equilibrium_modulus = \"4 MPa\", moduli = [\"2 MPa\"], "
-                                     "times = [\"10 s\"]}")
+                                     "times = [\"10 s\"]} or {master_curve = \"file.csv\"}")
+    if _MASTER_CURVE in raw:
+        extra = sorted(set(raw) - {_MASTER_CURVE})
+        if extra:
+            raise InputError(f"{field}.{extra[0]}", raw[extra[0]], "give either master_curve (a file) or a Prony "
+                                                                   "series (equilibrium_modulus, moduli, times), not both")
+        name = raw[_MASTER_CURVE]
+        if not isinstance(name, str) or not name or "\x00" in name:
+            raise InputError(f"{field}.{_MASTER_CURVE}", name, "must be the name of a file with columns time and modulus")
+        return read_master_curve(Path(name) if Path(name).is_absolute() else case_dir / name, f"{field}.{_MASTER_CURVE}")
     unknown = sorted(set(raw) - set(_RELAXATION_KEYS))
     if unknown:
-        raise InputError(f"{field}.{unknown[0]}", raw[unknown[0]], f"unknown key; allowed: {', '.join(_RELAXATION_KEYS)}")
+        raise InputError(f"{field}.{unknown[0]}", raw[unknown[0]],
+                         f"unknown key; allowed: {', '.join(_RELAXATION_KEYS)}, or {_MASTER_CURVE} alone")
 
     def terms(key: str, dimension: str) -> tuple[float, ...]:
         items = raw.get(key)
@@ -154,7 +213,7 @@ def _relaxation(rubber: Section) -> PronySeries | None:
     return PronySeries(e_inf, moduli, times, field=field)
 
 
-def _shift(rubber: Section, relaxation: PronySeries | None) -> WLFShift | ArrheniusShift | None:
+def _shift(rubber: Section, relaxation: PronySeries | MasterCurve | None) -> WLFShift | ArrheniusShift | None:
     """The shift law of ``rubber.wlf_c1``/``wlf_c2`` (WLF) or ``activation_energy`` (Arrhenius) at
     ``reference_temperature``, or None (the relaxation holds at every temperature)."""
     keys = [k for k in ("reference_temperature", "wlf_c1", "wlf_c2", "activation_energy") if rubber.has(k)]
@@ -179,14 +238,51 @@ def _shift(rubber: Section, relaxation: PronySeries | None) -> WLFShift | Arrhen
     return ArrheniusShift(tref, rubber.quantity("activation_energy", "molar_energy"))
 
 
-def _read(doc: dict[str, Any]) -> _Life:
-    """The life keys of ``doc`` (its sections as written), checked."""
+def _compression_set(rubber: Section, seal: Section) -> CompressionSet | None:
+    """``rubber.compression_set = {times, temperatures, sets}`` (measured points) fitted by eqs. 16.10–16.11, or None."""
+    if not rubber.has("compression_set"):
+        return None
+    field, raw = rubber.field("compression_set"), rubber.raw("compression_set")
+    if seal.raw("shape") != "o-ring":
+        raise InputError(field, raw, "is for an O-ring (seal.shape = \"o-ring\"), whose compression the set reduces; a "
+                                     "seal under a squeeze pressure keeps its pressure")
+    if not isinstance(raw, dict):
+        raise InputError(field, raw, "must be a table of measured points {times = [\"1000 h\", ...], temperatures = "
+                                     "[\"70 degC\", ...], sets = [\"15 %\", ...]}")
+    unknown = sorted(set(raw) - set(_SET_KEYS))
+    if unknown:
+        raise InputError(f"{field}.{unknown[0]}", raw[unknown[0]], f"unknown key; allowed: {', '.join(_SET_KEYS)}")
+
+    def points(key: str, parse: Callable[[str, Any], float]) -> list[float]:
+        items = raw.get(key)
+        if not isinstance(items, list) or not items:
+            raise InputError(f"{field}.{key}", items, "must be a non-empty list, one value per measured point")
+        at_most(f"{field}.{key}", items, MAX_POINTS, "points")
+        return [parse(f"{field}.{key}[{i}]", v) for i, v in enumerate(items)]
+
+    times = points("times", lambda f, v: parse_quantity(f, v, "time"))
+    temperatures = points("temperatures", parse_temperature)
+    sets = points("sets", lambda f, v: parse_quantity(f, v, "dimensionless"))
+    return fit_compression_set(times, temperatures, sets, reference_temperature=STANDARD_TEMPERATURE_CASE, field=field)
+
+
+def _fit_warnings(life: _Life) -> tuple[str, ...]:
+    """A warning where the compression-set fit misses its points by more than :data:`SET_RESIDUAL_WARNING` (rms)."""
+    fit = life.compression_set
+    if fit is None or not fit.rms_residual > SET_RESIDUAL_WARNING:
+        return ()
+    return (f"rubber.compression_set: the fit of eq. 16.10 misses the measured sets by {100 * fit.rms_residual:.2g} % "
+            "(rms): the data do not follow one stretched exponential with an Arrhenius time scale; check them",)
+
+
+def _read(doc: dict[str, Any], case_dir: Path) -> _Life:
+    """The life keys of ``doc`` (its sections as written; files relative to ``case_dir``), checked."""
     def section(name: str) -> Section:
         table = doc.get(name)
         return Section(name, table if isinstance(table, dict) else {})
 
     rubber, seal, cond, fluid = section("rubber"), section("seal"), section("conditions"), section("fluid")
-    relaxation = _relaxation(rubber)
+    relaxation = _relaxation(rubber, case_dir)
     shift = _shift(rubber, relaxation)
     estimated = False
     if rubber.has("glass_transition"):
@@ -217,7 +313,7 @@ def _read(doc: dict[str, Any]) -> _Life:
                          "conditions.temperature, not both: the fluid is taken at each conditions.temperature")
     assembly = (parse_temperature(cond.field("assembly_temperature"), cond.raw("assembly_temperature"))
                 if cond.has("assembly_temperature") else STANDARD_TEMPERATURE_CASE)
-    return _Life(relaxation, shift, tg, estimated, expansion, assembly)
+    return _Life(relaxation, shift, tg, estimated, expansion, assembly, _compression_set(rubber, seal))
 
 
 #: Physics parameter names of the thermal contraction → the case-file keys.
@@ -238,32 +334,37 @@ def _variant(base: dict[str, Any], life: _Life, time: float, temperature: float,
                 shift = 1.0 if life.shift is None else float(life.shift.shift(temperature))
                 modulus = float(1.0 / life.relaxation.creep_compliance(time / shift))
         variant["rubber"]["youngs_modulus"] = f"{modulus!r} Pa"
-    if life.expansion is not None:
+    if life.expansion is not None or life.compression_set is not None:
         cond = Section("conditions", variant["conditions"])
-        thermal = (temperature, life.assembly_temperature, *life.expansion)
+        thermal = (temperature, life.assembly_temperature, *(life.expansion or (0.0, 0.0)))
+        kept = 1.0 - (0.0 if life.compression_set is None else float(life.compression_set(time, temperature)))
         with case_keys(_THERMAL_KEYS):
-            if cond.has("compression"):  # eq. 16.9: 1 − h(T)/d(T)
+            if cond.has("compression"):  # eq. 16.9: 1 − h(T)/d(T); eq. 16.12: less the set, ε (1 − c)
                 eps, _ = _values(cond, "compression", "dimensionless")
-                variant["conditions"]["compression"] = [float(e) for e in thermal_compression(eps, *thermal)]
-            if cond.has("groove_depth"):  # h(T)/d(T) = h0 (1 + α_g ΔT)/(1 + α_r ΔT) over the cord's d0
+                eps = thermal_compression(eps, *thermal) if life.expansion is not None else eps
+                variant["conditions"]["compression"] = [float(e) for e in remaining_compression(eps, 1.0 - kept)]
+            if cond.has("groove_depth"):  # h(T)/d(T) = h0 (1 + α_g ΔT)/(1 + α_r ΔT) over d0; the set: d − (d − h)(1 − c)
                 depth, _ = _values(cond, "groove_depth", "length")
-                ratio = 1.0 - float(thermal_compression(0.0, *thermal))
-                variant["conditions"]["groove_depth"] = [f"{float(h) * ratio!r} m" for h in depth]
+                ratio = 1.0 - float(thermal_compression(0.0, *thermal)) if life.expansion is not None else 1.0
+                d = Section("seal", variant["seal"]).quantity("cross_section_diameter", "length") if kept != 1.0 else 0.0
+                variant["conditions"]["groove_depth"] = [f"{d - (d - float(h) * ratio) * kept!r} m" for h in depth]
     if swept and isinstance(variant.get("fluid"), dict):
         variant["fluid"]["temperature"] = f"{temperature!r} K"
     return variant
 
 
-def life_cases(doc: dict[str, Any], build: Callable[[dict[str, Any], str], Case], label: str = "") -> list[Case] | None:
+def life_cases(doc: dict[str, Any], build: Callable[[dict[str, Any], str], Case], label: str = "",
+               case_dir: Path = Path(".")) -> list[Case] | None:
     """The cases of ``doc`` (a case document without its ``[study]``), one per temperature and time of
     ``[conditions]``; None when ``doc`` has no key of :data:`LIFE_KEYS` (the case is then built as it is).
 
     ``build(document, label)`` builds one case (:func:`~sealeak.cases.builders.build_case`); ``label`` (a study
-    variant's) leads each case's label. An error in one case names its time and temperature.
+    variant's) leads each case's label; a master-curve file is read relative to ``case_dir``. An error in one case
+    names its time and temperature.
     """
     if not any(isinstance(doc.get(s), dict) and any(k in doc[s] for k in keys) for s, keys in LIFE_KEYS.items()):
         return None
-    life = _read(doc)
+    life = _read(doc, case_dir)
     cond = Section("conditions", doc["conditions"] if isinstance(doc.get("conditions"), dict) else {})
     fluid = doc.get("fluid")
     default_t = (parse_temperature("fluid.temperature", fluid["temperature"])
@@ -289,6 +390,7 @@ def life_cases(doc: dict[str, Any], build: Callable[[dict[str, Any], str], Case]
                 raise InputError(f"{exc.field} (at {where})", exc.value, exc.allowed) from None
             warnings = () if life.glass_transition is None else glass_transition_warnings(
                 temperature, life.glass_transition, estimated=life.estimated)
-            cases.append(replace(case, life=LifePoint(time, temperature, case.youngs_modulus),
-                                 input_warnings=case.input_warnings + warnings))
+            c = None if life.compression_set is None else float(life.compression_set(time, temperature))
+            cases.append(replace(case, life=LifePoint(time, temperature, case.youngs_modulus, c),
+                                 input_warnings=case.input_warnings + warnings + _fit_warnings(life)))
     return cases

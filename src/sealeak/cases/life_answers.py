@@ -1,6 +1,7 @@
 """Answers about the seal over its life against ``conditions.max_leak_rate``: per load, the time at which the leak
-rate first exceeds the specification at each temperature, and the lowest temperature at which it holds at the latest
-time (docs/user-guide.md, "The seal over its life").
+rate first exceeds the specification at each temperature, and at the latest time the lowest temperature from which up
+it holds (the cold limit: the cord shrinks, the rubber stiffens) and the highest up to which it holds (the warm limit:
+relaxation and compression set run faster) (docs/user-guide.md, "The seal over its life").
 
 The answers use the deterministic (nominal) leak rate of each (time, temperature) case, compared as
 :mod:`sealeak.cases.uncertainty` compares it (Q, or the gas's pV throughput, or a liquid's helium equivalent).
@@ -19,7 +20,7 @@ import numpy as np
 from ..io.quantities import quantity
 from .uncertainty import UncertaintyResult
 
-__all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature"]
+__all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature", "highest_holding_temperature"]
 
 
 @dataclass(frozen=True)
@@ -38,8 +39,11 @@ class LifeAnswer:
     earliest_time, latest_time
         The earliest and the latest time computed (s).
     holds_from
-        The lowest temperature (K) from which up it holds at the latest time, or None where it holds at none;
-        ``holds_from == temperatures[0]`` where it holds already at the coldest computed.
+        The lowest temperature (K) from which up it holds at the latest time, or None where it exceeds at the
+        warmest; ``holds_from == temperatures[0]`` where it holds already at the coldest computed.
+    holds_to
+        The highest temperature (K) up to which it holds at the latest time, or None where it exceeds at the
+        coldest; ``holds_to == temperatures[-1]`` where it holds still at the warmest computed.
     """
 
     row: int
@@ -55,6 +59,9 @@ class LifeAnswer:
     holds_from: float | None = quantity(
         "K", "the lowest temperature from which up the leak rate holds conditions.max_leak_rate at the latest time, "
              "interpolated (the coldest computed: holds at every one; null: exceeds even at the warmest)")
+    holds_to: float | None = quantity(
+        "K", "the highest temperature up to which the leak rate holds conditions.max_leak_rate at the latest time, "
+             "interpolated (the warmest computed: holds at every one; null: exceeds even at the coldest)")
 
 
 def _crossing(x0: float, x1: float, q0: float, q1: float, limit: float, log_x: bool) -> float:
@@ -91,6 +98,14 @@ def lowest_holding_temperature(temperatures: Sequence[float], q: Sequence[float]
     return _crossing(temperatures[k], temperatures[k + 1], q[k], q[k + 1], limit, log_x=False)
 
 
+def highest_holding_temperature(temperatures: Sequence[float], q: Sequence[float], limit: float) -> float | None:
+    """The highest temperature (K) up to which Q (at ``temperatures``, ascending, K) holds ``limit``: the mirror of
+    :func:`lowest_holding_temperature` (the warmest where it holds at every one, None where it exceeds at the
+    coldest)."""
+    mirrored = lowest_holding_temperature([-t for t in reversed(temperatures)], list(reversed(q)), limit)
+    return None if mirrored is None else -mirrored
+
+
 def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
     """Per load of the seal, the answers of its life cases against ``conditions.max_leak_rate`` (the nominal
     results); empty without the specification or without life cases with more than one time or temperature."""
@@ -122,5 +137,6 @@ def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
         out.append(LifeAnswer(
             row=n, load_name=unc.study.rows[index[next(iter(life))][n]].load_name, loads=tuple(values),
             temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, q[i].tolist(), limit) for i in range(len(temps))),
-            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, q[:, -1].tolist(), limit)))
+            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, q[:, -1].tolist(), limit),
+            holds_to=highest_holding_temperature(temps, q[:, -1].tolist(), limit)))
     return out

@@ -64,7 +64,7 @@ from .spreads import Spreads, split_spreads
 
 __all__ = ["CaseFile", "read_case_file", "parse_case_file", "parse_case_bytes", "load_cases", "load_case", "parse_cases",
            "example_names", "example_text", "example_path", "example_data_names", "example_description", "named_files",
-           "shown_source", "build_cases"]
+           "FILE_KEYS", "nested_value", "shown_source", "build_cases"]
 
 @dataclass(frozen=True)
 class CaseFile:
@@ -74,7 +74,7 @@ class CaseFile:
     cases: list[Case]
     inputs: dict[str, Any]
     source: str
-    #: The data files the case names (``surface.file``/``files``, ``seal.pressure_profile``, ``seal.force_table``), of every
+    #: The data files the case names (:data:`FILE_KEYS`: ``surface.file``/``files``, ``seal.pressure_profile``, ...), of every
     #: study variant, as paths (relative names joined to the case file's folder): inputs that no output
     #: of a run may replace.
     files: tuple[Path, ...] = ()
@@ -87,17 +87,27 @@ class CaseFile:
     case_dir: Path = Path(".")
 
 
-#: The keys whose values name data files, (section, key).
-_FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
+#: The keys whose values name data files, each as its path of keys ((section, key), or deeper in an inline table).
+FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"),
+             ("rubber", "relaxation", "master_curve"))
+
+
+def nested_value(table: Any, keys: tuple[str, ...] | list[str]) -> Any:
+    """The value at ``keys`` in nested tables (``doc["rubber"]["relaxation"]["master_curve"]``), or None where a
+    table on the way is missing or not a table."""
+    for key in keys:
+        if not isinstance(table, dict):
+            return None
+        table = table.get(key)
+    return table
 
 
 def named_files(doc: dict[str, Any], case_dir: Path) -> list[Path]:
     """The data files a parsed case document names (relative names joined to ``case_dir``); values
     that are not file names are left to the builders, which refuse them with the key's name."""
     out: list[Path] = []
-    for section, key in _FILE_KEYS:
-        table = doc.get(section)
-        value = table.get(key) if isinstance(table, dict) else None
+    for keys in FILE_KEYS:
+        value = nested_value(doc, keys)
         for name in value if isinstance(value, list) else [value]:
             if isinstance(name, str) and name and "\x00" not in name:
                 out.append(Path(name) if Path(name).is_absolute() else case_dir / name)
@@ -128,7 +138,7 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
     study = doc.pop("study", None)
 
     def build(variant: dict[str, Any], label: str = "") -> list[Case]:  # one case, or one per time and temperature
-        life = life_cases(variant, lambda d, lbl: build_case(d, case_dir, source, label=lbl), label)
+        life = life_cases(variant, lambda d, lbl: build_case(d, case_dir, source, label=lbl), label, case_dir)
         return [build_case(variant, case_dir, source, label=label)] if life is None else life
 
     if study is None:

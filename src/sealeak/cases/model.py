@@ -111,6 +111,9 @@ class LifePoint:
     temperature: float = quantity("K", "temperature of the seal over its life (rubber and fluid)")
     modulus: float = quantity("Pa", "the rubber's modulus used at that time and temperature: E(t/a_T) of an O-ring, "
                                     "1/J(t/a_T) of a seal under a squeeze pressure, else the elastic E")
+    compression_set: float | None = quantity(
+        "1", "the O-ring's compression set c(t, T) fitted to rubber.compression_set, a fraction of its squeeze: its "
+             "compression is ε (1 − c) (only where rubber.compression_set is given)")
 
 
 @dataclass(frozen=True)

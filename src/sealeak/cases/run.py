@@ -115,7 +115,7 @@ class CaseResult:
     @property
     def units(self) -> dict[str, str]:
         """SI unit of every field of :meth:`records`: a life case's time, temperature and modulus lead."""
-        return (LIFE_UNITS if self.case.life is not None else {}) | self._result_units
+        return {k: LIFE_UNITS[k] for k in _life_fields(self.case.life)} | self._result_units
 
     @property
     def _result_units(self) -> dict[str, str]:
@@ -181,7 +181,7 @@ class CaseResult:
     def _rows(self, columns: dict[str, Any], n: int) -> list[dict[str, Any]]:
         """One record per row from ``columns`` (record key: values per row), led by the variant's label."""
         label = {"variant": self.case.label} if self.case.label else {}
-        life = record_fields(self.case.life) if self.case.life is not None else {}
+        life = _life_fields(self.case.life)
         return [label | life | {k: _plain(v[i]) for k, v in columns.items()} for i in range(n)]
 
     def _band_records(self, b: BandResult) -> list[dict[str, Any]]:
@@ -193,6 +193,12 @@ class CaseResult:
         if em is not None:
             columns |= record_fields(em) | self._verdicts(_VERDICTS_EFFECTIVE_MEDIUM)
         return self._rows(columns | self._gas_fields() | self._capillary_fields(), len(b))
+
+
+def _life_fields(life: LifePoint | None) -> dict[str, Any]:
+    """The record fields of a life case (none for another case): time, temperature, modulus, and the compression set
+    where the case file gives one."""
+    return {} if life is None else {k: v for k, v in record_fields(life).items() if v is not None}
 
 
 def _verdict_units(names: tuple[str, ...]) -> dict[str, str]:

@@ -31,7 +31,7 @@ SECTIONS: dict[str, set[str]] = {
     "surface": {"model", "label"}.union(*SURFACE_KEYS.values()),
     "rubber": {"youngs_modulus", "poisson_ratio", "name", "shore_a",
                "permeability", "diffusivity", "relaxation", "reference_temperature", "wlf_c1", "wlf_c2",
-               "activation_energy", "glass_transition", "thermal_expansion"},
+               "activation_energy", "glass_transition", "thermal_expansion", "compression_set"},
     "substrate": {"youngs_modulus", "poisson_ratio", "name"},
     "seal": {"shape", "inner_diameter", "outer_diameter", "width", "length", "height", "cross_section_diameter",
              "mean_diameter", "faces", "pressure_profile",

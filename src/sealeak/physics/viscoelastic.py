@@ -3,7 +3,8 @@
 * :class:`PronySeries`: the relaxation modulus E(t) = E∞ + Σ Ei exp(−t/τi) (docs/theory.md §16.1, eq. 16.1), its
   storage and loss moduli (eq. 16.2) and its creep compliance J(t), exact by the roots of the Laplace transform
   (§16.2, eqs. 16.3–16.5);
-* :class:`MasterCurve`: E(t) from measured (time, modulus) points, PCHIP in log–log (§16.3);
+* :class:`MasterCurve`: E(t) from measured (time, modulus) points, PCHIP in log–log, and its creep compliance by a
+  Prony series fitted to it (§16.3);
 * :class:`WLFShift`, :class:`ArrheniusShift`: the shift factor a_T (eqs. 16.6, 16.7); the modulus at time t and
   temperature T is E(t/a_T(T)) (eq. 16.8, :func:`modulus_at`);
 * :func:`thermal_compression`: the O-ring's compression at temperature T in a gland that expands differently (eq. 16.9),
@@ -28,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.constants import R as GAS_CONSTANT
 from scipy.interpolate import PchipInterpolator
-from scipy.optimize import brentq, least_squares
+from scipy.optimize import brentq, least_squares, nnls
 
 from ..errors import InputError, positive_number
 from ..io.leak_units import celsius
@@ -36,7 +37,8 @@ from ..io.leak_units import celsius
 __all__ = [
     "PronySeries", "MasterCurve", "WLFShift", "ArrheniusShift", "modulus_at", "universal_wlf_glass_transition",
     "thermal_compression", "glass_transition_warnings", "CompressionSet", "fit_compression_set", "remaining_compression",
-    "MAX_TERMS", "MAX_POINTS", "PRONY_MODULI", "PRONY_TIMES", "UNIVERSAL_WLF_C1", "UNIVERSAL_WLF_C2", "GLASS_MARGIN", "NBR_LINEAR_EXPANSION",
+    "MAX_TERMS", "MAX_POINTS", "FIT_TERMS_PER_DECADE", "FIT_POINTS_PER_DECADE",
+    "PRONY_MODULI", "PRONY_TIMES", "UNIVERSAL_WLF_C1", "UNIVERSAL_WLF_C2", "GLASS_MARGIN", "NBR_LINEAR_EXPANSION",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -317,6 +319,46 @@ class MasterCurve:
             x = np.clip(np.log10(np.maximum(tt, 0.0)), math.log10(self.times[0]), math.log10(self.times[-1]))
         return np.asarray(10.0 ** self._spline(x), dtype=float)
 
+    @cached_property
+    def prony(self) -> PronySeries | None:
+        """A Prony series fitted to the curve (§16.3): relaxation times :data:`FIT_TERMS_PER_DECADE` per
+        decade over the measured times (within :data:`PRONY_TIMES`), E∞ and Ei >= 0 by non-negative least squares on
+        the relative error at :data:`FIT_POINTS_PER_DECADE` points per decade from two decades before to two after the
+        measured times (where the curve is held); terms below 10⁻⁶ E(0) are dropped. None where no term is left (a
+        curve that does not relax, or relaxes only outside :data:`PRONY_TIMES`)."""
+        return _fit_prony(self)
+
+    def creep_compliance(self, t: ArrayLike) -> FloatArray:
+        """J(t) in 1/Pa at times t >= 0 in s: the exact creep compliance (eq. 16.5) of :attr:`prony`; 1/E(t) where it
+        is None (exact for a curve that does not relax)."""
+        if self.prony is None:
+            return np.asarray(1.0 / self.relaxation_modulus(t), dtype=float)
+        return self.prony.creep_compliance(t)
+
+
+FIT_TERMS_PER_DECADE = 2
+"""Relaxation times per decade of the Prony series :attr:`MasterCurve.prony` fits (Park & Schapery 1999: one to two)."""
+
+FIT_POINTS_PER_DECADE = 8
+"""Collocation points per decade of the fit of :attr:`MasterCurve.prony`."""
+
+
+def _fit_prony(curve: MasterCurve) -> PronySeries | None:
+    bounds = [math.log10(b) for b in PRONY_TIMES]  # a Prony series' times stay in PRONY_TIMES
+    lo, hi = (min(max(math.log10(t), bounds[0]), bounds[1]) for t in (curve.times[0], curve.times[-1]))
+    span = hi - lo
+    terms = min(MAX_TERMS - 1, max(2, math.ceil(FIT_TERMS_PER_DECADE * span) + 1))
+    tau = np.unique(np.logspace(lo, hi, terms))
+    t = np.logspace(lo - 2, hi + 2, math.ceil(FIT_POINTS_PER_DECADE * (span + 4)) + 1)
+    e = curve.relaxation_modulus(t)
+    design = np.column_stack([np.ones_like(t), np.exp(-t[:, None] / tau[None, :])]) / e[:, None]
+    coef, _ = nnls(design, np.ones_like(t), maxiter=50 * design.shape[1])
+    keep = coef[1:] >= max(1e-6 * curve.instantaneous_modulus, PRONY_MODULI[0])
+    e_inf = max(float(coef[0]), PRONY_MODULI[0])
+    if not keep.any():
+        return None
+    return PronySeries(e_inf, tuple(coef[1:][keep]), tuple(tau[keep]), field=curve.field)
+
 
 # --- time–temperature superposition ----------------------------------------------------------------------------
 
@@ -498,22 +540,22 @@ def fit_compression_set(times: ArrayLike, temperatures: ArrayLike, sets: ArrayLi
     two or more temperatures and two or more times. A straight-line least-squares fit of
     ln(−ln(1 − c)) = β ln t − β ln τref − (β Ea/R)(1/T − 1/Tref) starts a nonlinear least-squares fit of c itself.
     """
-    t = _array(f"{field}.time", times, "s")
-    temp = _array(f"{field}.temperature", temperatures, "K")
-    c = _array(f"{field}.set", sets, "fraction")
+    t = _array(f"{field}.times", times, "s")
+    temp = _array(f"{field}.temperatures", temperatures, "K")
+    c = _array(f"{field}.sets", sets, "fraction")
     if not (t.size == temp.size == c.size):
-        raise InputError(f"{field}.set", sets, f"must have one time, temperature and set per point "
+        raise InputError(f"{field}.sets", sets, f"must have one time, temperature and set per point "
                                                f"({t.size}, {temp.size}, {c.size} given)")
     tref = _positive("reference_temperature", reference_temperature, "K")
-    for name, arr, allowed in (("time", t, "must be > 0 (s)"), ("temperature", temp, "must be > 0 K")):
+    for name, arr, allowed in (("times", t, "must be > 0 (s)"), ("temperatures", temp, "must be > 0 K")):
         for i, v in enumerate(arr):
             if not v > 0:
                 raise InputError(f"{field}.{name}[{i}]", float(v), allowed)
     for i, v in enumerate(c):
         if not 0 < v < 1:
-            raise InputError(f"{field}.set[{i}]", float(v), "must be between 0 and 1, exclusive (a fraction, not %)")
+            raise InputError(f"{field}.sets[{i}]", float(v), "must be between 0 and 1, exclusive (a fraction, not %)")
     if t.size < 3 or np.unique(temp).size < 2 or np.unique(t).size < 2:
-        raise InputError(f"{field}.temperature", temperatures, "needs at least 3 points, at two or more temperatures "
+        raise InputError(f"{field}.temperatures", temperatures, "needs at least 3 points, at two or more temperatures "
                                                                "and two or more times, to fit β and Ea")
     x = 1 / temp - 1 / tref
     design = np.column_stack([np.log(t), np.ones_like(t), x])

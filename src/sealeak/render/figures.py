@@ -42,7 +42,7 @@ from ..io.files import atomic_write
 from ..io.units import length_unit
 from ..physics.validity import pressures_text
 from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
-from .life import life_figure_names, life_figures
+from .life import as_assembled, life_figure_names, life_figures
 from .plotstyle import (
     GAS_LEAK_LABEL,
     ML_PER_MIN_PER_M3_PER_S,
@@ -583,12 +583,15 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
     (model "effective-medium"). For O-ring and pressure-profile seals (every result has a
     ``band``) the figures against one squeeze pressure P0 make no sense: C(q) stays, with the
     loads' q0, and the band figures of :mod:`sealeak.render.band` replace the rest (``curves`` is
-    not used).
+    not used; of a file of the seal over its life they draw the case as assembled,
+    :func:`~sealeak.render.life.as_assembled`).
     """
     cases = [r.case for r in results]
     if is_band_run(results):
-        spectra = [c.spectrum.sample(400) for c in cases]
-        return {"spectrum.png": figure_spectrum(cases, spectra, _band_q0(results))} | band_figures(results) | life_figures(results, limit)
+        shown = as_assembled(results)  # a life file's band figures: the seal as assembled (the same surface in each)
+        spectra = [r.case.spectrum.sample(400) for r in shown]
+        band = {"spectrum.png": figure_spectrum([r.case for r in shown], spectra, _band_q0(shown))} | band_figures(shown)
+        return band | life_figures(results, limit)
     if curves is None:
         curves = prediction_curves(list(results))
     return {

@@ -186,9 +186,9 @@ GAS_BAND_CAPTIONS = {
 
 #: What the figures of the seal over its life show (:mod:`sealeak.render.life`).
 LIFE_CAPTIONS = {
-    "leak_rate_vs_time.png": "The leak rate against the time since assembly (log axis) at each temperature, at the "
-                             "middle load: the rubber relaxes (or creeps) with time, faster when warm.",
-    "leak_rate_vs_temperature.png": "The leak rate against the temperature at each time since assembly, at the middle "
+    "leak_rate_vs_time.png": "The leak rate against the time since assembly (log axis) at each temperature, one panel "
+                             "per load: the rubber relaxes (or creeps) with time, faster when warm.",
+    "leak_rate_vs_temperature.png": "The leak rate against the temperature at each time since assembly, one panel per "
                                     "load: the fluid, the relaxation and an O-ring's compression follow the temperature.",
 }
 

@@ -44,12 +44,18 @@ def _setting_lines(case: Case, em: EffectiveMediumResult | None) -> dict[str, li
     theory += _coupling_lines(case)
     return {
         "rubber": [f"rubber    E = {case.youngs_modulus / 1e6:.4g} MPa, ν = {case.poisson_ratio:g}, "
-                   f"E* = {case.e_star / 1e6:.4g} MPa"],
+                   f"E* = {case.e_star / 1e6:.4g} MPa" + _set_text(case)],
         "seal": [f"seal      {geom}: Lx = {seal.width * 1e3:.4g} mm, Ly = {seal.length * 1e3:.4g} mm, "
                  f"Ly/Lx = {seal.aspect_ratio:.4g}"],
         "fluid": _fluid_lines(case),
         "theory": theory,
     }
+
+
+def _set_text(case: Case) -> str:
+    """``"; compression set c = 12.3 %: ε (1 − c) in the table"``: the set of an ageing O-ring (rubber.compression_set)."""
+    c = case.life.compression_set if case.life is not None else None
+    return "" if c is None else f"; compression set c = {100 * c:.3g} % (the table's ε is what it leaves: ε (1 − c))"
 
 
 def _kpa(p: float) -> str:

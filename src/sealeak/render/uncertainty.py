@@ -86,8 +86,8 @@ def uncertainty_legend(unc: UncertaintyResult) -> str:
 
 def passing_lines(unc: UncertaintyResult) -> list[str]:
     """One line per case: the load at which it passes ``max_leak_rate`` with 95 % probability, or why there is none;
-    for the seal over its life then one line per load: when it first exceeds it at each temperature and from which
-    temperature up it holds at the latest time (:func:`~sealeak.cases.life_answers.life_answers`)."""
+    for the seal over its life then one line per load: when it first exceeds it at each temperature and between which
+    temperatures it holds at the latest time (:func:`~sealeak.cases.life_answers.life_answers`)."""
     return [_passing_line(unc, p) for p in unc.passing_loads()] + [_life_line(unc, a) for a in life_answers(unc)]
 
 
@@ -100,12 +100,21 @@ def _life_line(unc: UncertaintyResult, a: LifeAnswer) -> str:
         f"exceeds {spec} already at t = {time_text(e) if e > 0 else '0'} (the earliest computed)" if e == a.earliest_time
         else f"first exceeds {spec} at t = {time_text(e)}") for t, e in zip(a.temperatures, a.exceeded_from)]
     if len(a.temperatures) > 1:
-        if a.holds_from is None:
-            parts.append(f"exceeds it at every temperature at {latest}")
-        else:
-            coldest = " (the coldest computed)" if a.holds_from == a.temperatures[0] else ""
-            parts.append(f"holds from {celsius(a.holds_from):.3g} °C{coldest} up at {latest}")
+        parts.append(_holding_text(a, latest))
     return f"{loads_text(a.load_name, sorted(set(a.loads)))}: " + "; ".join(parts)
+
+
+def _holding_text(a: LifeAnswer, latest: str) -> str:
+    """Where the seal holds at the latest time: from the cold limit up, up to the warm limit, or both."""
+    cold, warm = a.holds_from, a.holds_to
+    if cold == a.temperatures[0]:
+        return f"holds at every temperature computed at {latest}"
+    if cold is None and warm is None:
+        if any(e is None for e in a.exceeded_from):  # some temperature between holds to the latest time
+            return f"exceeds it at the coldest and the warmest at {latest}, holds only between them (see the rows)"
+        return f"exceeds it at every temperature at {latest}"
+    limits = [f"up to {celsius(warm):.3g} °C" if warm is not None else "", f"from {celsius(cold):.3g} °C up" if cold is not None else ""]
+    return f"holds {' and '.join(t for t in limits if t)} at {latest}"
 
 
 def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
@@ -117,7 +126,9 @@ def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
 
 
 def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
-    """The JSON ``uncertainty`` object: how it was sampled, the inputs, the specification and each case's passing load."""
+    """The JSON ``uncertainty`` object: how it was sampled, the inputs, the specification and each case's passing load,
+    and the sentences ``predict`` prints under its uncertainty table (``answers``: :func:`passing_lines`), which the web
+    app shows."""
     return {
         "samples": unc.samples, "sampler": unc.sampler, "seed": unc.seed, "percentiles": [5, 50, 95],
         "inputs": [{"key": i.key, "label": i.label, "distribution": i.distribution, "value": i.nominal,
@@ -130,6 +141,7 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
                            "passing_load": None if not np.isfinite(p.passing_load) else p.passing_load,
                            "unit": "Pa" if p.load_name == "squeeze_pressure" else "1", "note": p.note or None}
                           for p in unc.passing_loads()],
+        "answers": passing_lines(unc),
     } | ({"life": [_life_record(a) for a in answers]} if (answers := life_answers(unc)) else {})
 
 
@@ -137,4 +149,5 @@ def _life_record(a: LifeAnswer) -> dict[str, Any]:
     """The JSON of one load's life answers: its load (``values`` in ``unit``) and its fields in SI (s, K)."""
     return {"load": a.load_name, "values": sorted(set(a.loads)), "unit": "Pa" if a.load_name == "squeeze_pressure" else "1",
             "temperatures": list(a.temperatures), "exceeded_from": list(a.exceeded_from),
-            "earliest_time": a.earliest_time, "latest_time": a.latest_time, "holds_from": a.holds_from}
+            "earliest_time": a.earliest_time, "latest_time": a.latest_time, "holds_from": a.holds_from,
+            "holds_to": a.holds_to}

@@ -4,8 +4,9 @@ No physics here: a case is built by :func:`sealeak.cases.parse_case_bytes` (the 
 loader, so the messages are the CLI's) and run by :func:`sealeak.cases.run_case`; the documents
 come from :mod:`sealeak.render` (the same functions as ``sealeak predict --json``).
 
-**Files a case may name.** ``surface.file``, ``surface.files``, ``seal.pressure_profile`` and ``seal.force_table`` (also
-inside a ``[study]``'s values) may name only files uploaded in the same browser session, by their
+**Files a case may name.** ``surface.file``, ``surface.files``, ``seal.pressure_profile``, ``seal.force_table`` and
+``rubber.relaxation.master_curve`` (:data:`~sealeak.cases.loader.FILE_KEYS`; also inside a ``[study]``'s values)
+may name only files uploaded in the same browser session, by their
 upload name: never a path on the server (``/etc/passwd``, ``../x``, ``sub/x``).
 """
 
@@ -19,7 +20,7 @@ import threading
 import tomllib
 import unicodedata
 from collections import OrderedDict
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -33,6 +34,7 @@ from tomlkit.exceptions import TOMLKitError
 from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.form_help import FIELD_HELP
+from ..cases.loader import FILE_KEYS, nested_value
 from ..cases.schema import SURFACE_KEYS
 from ..cases.uncertainty import DEFAULT_SAMPLES, UncertaintyResult, propagate, uncertain_study
 from ..errors import FileFormatError, InputError
@@ -49,9 +51,6 @@ __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fi
 DEFAULT_CACHE_BYTES = 256 * 2**20
 #: How long (s) a prediction waits for one of the server's computing slots before it is refused (status 503).
 PREDICTION_WAIT = 60.0
-
-#: The keys whose values are file names (each must be a file uploaded in the session).
-FILE_KEYS = (("surface", "file"), ("surface", "files"), ("seal", "pressure_profile"), ("seal", "force_table"))
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._ +()-]{0,127}$")
 
@@ -275,21 +274,28 @@ def syntax_error(text: str) -> dict[str, Any] | None:
     return None
 
 
+def _study_paths(vary: Any) -> Iterator[tuple[str, ...]]:
+    """For each of :data:`FILE_KEYS` that ``study.vary`` is or holds, its keys below ``vary``: the study's values are
+    then the file names (no keys below) or tables holding them (``vary = "seal"``: ``{force_table = …}``)."""
+    for keys in FILE_KEYS:
+        for n in range(1, len(keys) + 1):
+            if vary == ".".join(keys[:n]):
+                yield keys[n:]
+
+
 def file_names(doc: dict[str, Any]) -> Iterator[tuple[str, Any]]:
     """Every (field, value) of ``doc`` that names a file, also in a ``[study]``'s values."""
-    for section, key in FILE_KEYS:
-        table = doc.get(section)
-        if isinstance(table, dict) and key in table:
-            yield f"{section}.{key}", table[key]
+    for keys in FILE_KEYS:
+        value = nested_value(doc, keys)
+        if value is not None:
+            yield ".".join(keys), value
     study = doc.get("study")
     if isinstance(study, dict) and isinstance(study.get("values"), list):
-        vary = study.get("vary")
         for i, value in enumerate(study["values"]):
-            for section, key in FILE_KEYS:
-                if vary == f"{section}.{key}":
-                    yield f"study.values[{i}]", value
-                elif vary == section and isinstance(value, dict) and key in value:
-                    yield f"study.values[{i}].{key}", value[key]
+            for below in _study_paths(study.get("vary")):
+                named = nested_value(value, below)
+                if named is not None:
+                    yield ".".join((f"study.values[{i}]", *below)), named
 
 
 #: Letters NFKD does not decompose into ASCII, as an engineer would write them in a file name.
@@ -347,33 +353,26 @@ def resolve_files(doc: dict[str, Any], uploaded: set[str]) -> dict[str, Any]:
     def swap(value: Any) -> Any:
         return [renames.get(v, v) if isinstance(v, str) else v for v in value] if isinstance(value, list) \
             else renames.get(value, value) if isinstance(value, str) else value
-    out = _copy(doc)
-    for section, key in FILE_KEYS:
-        if isinstance(out.get(section), dict) and key in out[section]:
-            out[section][key] = swap(out[section][key])
+    out = doc
+    for keys in FILE_KEYS:
+        out = _swapped(out, keys, swap)
     study = out.get("study")
     if isinstance(study, dict) and isinstance(study.get("values"), list):
-        vary = study.get("vary")
-        for i, value in enumerate(study["values"]):
-            if vary in {f"{s}.{k}" for s, k in FILE_KEYS}:
-                study["values"][i] = swap(value)
-            elif isinstance(value, dict):
-                for section, key in FILE_KEYS:
-                    if vary == section and key in value:
-                        value[key] = swap(value[key])
+        values = list(study["values"])
+        for i in range(len(values)):
+            for below in _study_paths(study.get("vary")):
+                values[i] = _swapped(values[i], below, swap) if below else swap(values[i])
+        out = {**out, "study": {**study, "values": values}}
     return out
 
 
-def _copy(doc: dict[str, Any]) -> dict[str, Any]:
-    """A copy of the tables a rename touches (the sections and the study's values; other values shared)."""
-    out = dict(doc)
-    for section in {s for s, _ in FILE_KEYS} | {"study"}:
-        if isinstance(out.get(section), dict):
-            out[section] = dict(out[section])
-    study = out.get("study")
-    if isinstance(study, dict) and isinstance(study.get("values"), list):
-        study["values"] = [dict(v) if isinstance(v, dict) else v for v in study["values"]]
-    return out
+def _swapped(table: Any, keys: tuple[str, ...], swap: Callable[[Any], Any]) -> Any:
+    """``table`` with ``swap`` applied to the value at ``keys`` in its nested tables (the tables on the way copied, the
+    others shared), or ``table`` itself where there is no such value."""
+    if not isinstance(table, dict) or keys[0] not in table:
+        return table
+    value = table[keys[0]]
+    return {**table, keys[0]: swap(value) if len(keys) == 1 else _swapped(value, keys[1:], swap)}
 
 
 def check_files(doc: dict[str, Any], uploaded: set[str]) -> None:

@@ -526,6 +526,10 @@ function drawPrediction(pred) {
     $("#leak-rate-em").textContent = typeof emSi === "number" ? `${fmt(Units.show(emSi, dim, rows), 5)} ${Units.name(dim)}` : "sealed";
     $("#leak-rate-em").dataset.si = String(emSi);
   }
+  // with conditions.max_leak_rate: the passing loads and the answers of the seal over its life, as predict words them
+  const answers = (doc.uncertainty && doc.uncertainty.answers) || [];
+  $("#answers").hidden = !answers.length;
+  $("#answers").innerHTML = answers.map(a => `<li>${esc(a)}</li>`).join("");
   const notes = [...doc.warnings, ...doc.messages];
   $("#warnings").hidden = !notes.length;
   $("#notes-count").textContent = `${notes.length} note${notes.length === 1 ? "" : "s"} on the validity of the results`;
