@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from scipy import stats
 
 from ..errors import InputError, did_you_mean
-from ..io.leak_units import MOL_PER_M_S_PA_PER_BARRER
+from ..io.leak_units import barrer_as_molar
 from ..io.units import difference_factor, pint_unit, quantity_parts, registry
 from .limits import at_most
 from .schema import SECTIONS
@@ -198,22 +198,13 @@ def _bound(field: str, value: Any, unit: str) -> float:
                                        "same kind") from None
 
 
-def _molar(field: str, value: Any) -> Any:
-    """A permeability written in Barrer as the same value in mol/(m*s*Pa) (pint knows no Barrer; the builders read
-    both, :func:`~sealeak.io.leak_units.parse_permeability`); any other value as it is."""
-    barrer = re.fullmatch(r"\s*(\S+)\s*barrer\s*", value, re.IGNORECASE) if isinstance(value, str) else None
-    if barrer is None:
-        return value
-    return f"{quantity_parts(field, barrer.group(1))[0] * MOL_PER_M_S_PA_PER_BARRER!r} mol/(m*s*Pa)"
-
-
 def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], written: str) -> UncertainInput:
     """The :class:`UncertainInput` of ``key`` (value ``nominal``) with the parameters as written."""
     label = f"{key}: {nominal}" + (f" ± {params.get('sd')}" if written == "±" else f" ({distribution}, "
                                    + ", ".join(f"{k} = {v}" for k, v in params.items() if k != "distribution") + ")")
     if distribution != "choice":
-        nominal = _molar(key, nominal)
-        params = {k: _molar(f"uncertainty.{key}.{k}", v) for k, v in params.items()}
+        nominal = barrer_as_molar(key, nominal)
+        params = {k: barrer_as_molar(f"uncertainty.{key}.{k}", v) for k, v in params.items()}
     table = written == "[uncertainty]"
     where, shown = (f"uncertainty.{key}.sd", params.get("sd")) if table else (key, f"{nominal} ± {params.get('sd')}")
     if distribution == "choice":

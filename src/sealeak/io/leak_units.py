@@ -37,7 +37,7 @@ __all__ = ["MOLAR_GAS_CONSTANT", "ZERO_CELSIUS", "ATMOSPHERE", "STANDARD_TEMPERA
            "M3_PER_S_PER_ML_PER_MIN", "ML_PER_MIN_PER_M3_PER_S", "PA_M3_PER_MBAR_L", "MBAR_L_PER_PA_M3", "MOL_PER_STANDARD_M3",
            "MOL_PER_S_PER_SCCM", "LEAK_RATE_KINDS", "celsius", "to_ml_per_min", "to_mbar_l_per_s", "to_sccm",
            "leak_rate_unit", "leak_rate_factor", "molar_flow_factor", "convert_leak_rate", "parse_leak_rate", "pv_throughput",
-           "MOL_PER_M_S_PA_PER_BARRER", "parse_permeability"]
+           "MOL_PER_M_S_PA_PER_BARRER", "parse_permeability", "barrer_as_molar"]
 
 #: The molar gas constant R = N_A k_B, J/(mol·K) (exact since 2019; :data:`scipy.constants.R`).
 MOLAR_GAS_CONSTANT: float = R
@@ -241,6 +241,29 @@ _PERMEABILITY_FORMS = ("; or a published permeability, converted at the gas temp
                        "('1e-15 mol/(m*s*Pa)') or in Barrer ('3 barrer')")
 
 
+def _barrer(field: str, value: Any) -> float | None:
+    """The number of Barrer of a permeability written in Barrer (``"3 barrer"``, any case), else None."""
+    if not isinstance(value, str):
+        return None
+    try:
+        number, unit = _split(_normalise(value))
+    except _Unreadable:
+        return None  # parse_quantity words what is wrong
+    if unit.lower() != "barrer":
+        return None
+    try:
+        return _finite(number)
+    except ValueError as exc:
+        raise UnitError(field, value, _with_allowed(str(exc), "a number of Barrer, e.g. '3 barrer'")) from None
+
+
+def barrer_as_molar(field: str, value: Any) -> Any:
+    """A permeability written in Barrer as the same value in mol/(m*s*Pa) (``"3 barrer"`` → ``"1.00...e-15
+    mol/(m*s*Pa)"``), for readers that know no Barrer (pint); any other value as it is."""
+    barrer = _barrer(field, value)
+    return value if barrer is None else f"{barrer * MOL_PER_M_S_PA_PER_BARRER!r} mol/(m*s*Pa)"
+
+
 def parse_permeability(field: str, value: Any, *, temperature: float) -> float:
     """A gas permeability written with its unit as the pV permeability P in m²/s of the gas at ``temperature`` T (K).
 
@@ -252,17 +275,9 @@ def parse_permeability(field: str, value: Any, *, temperature: float) -> float:
     """
     if not (math.isfinite(temperature) and temperature > 0):
         raise UnitError("temperature", temperature, "must be an absolute temperature > 0 K")
-    if isinstance(value, str):
-        try:
-            number, unit = _split(_normalise(value))
-        except _Unreadable:
-            number, unit = "", ""  # parse_quantity below words what is wrong
-        if unit.lower() == "barrer":
-            try:
-                magnitude = _finite(number)
-            except ValueError as exc:
-                raise UnitError(field, value, _with_allowed(str(exc), "a number of Barrer, e.g. '3 barrer'")) from None
-            return magnitude * MOL_PER_M_S_PA_PER_BARRER * MOLAR_GAS_CONSTANT * temperature
+    barrer = _barrer(field, value)
+    if barrer is not None:
+        return barrer * MOL_PER_M_S_PA_PER_BARRER * MOLAR_GAS_CONSTANT * temperature
     try:
         return parse_quantity(field, value, "area_per_time")
     except UnitError as exc:
