@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from sealeak.cases import parse_case_file
 from sealeak.cases.life_answers import (
     LifeAnswer,
     first_exceeded,
@@ -13,6 +14,7 @@ from sealeak.cases.life_answers import (
     life_answers,
     lowest_holding_temperature,
 )
+from sealeak.cases.run import run_case
 from sealeak.cases.uncertainty import parse_uncertain_case, propagate
 from sealeak.render.uncertainty import _holding_text, passing_lines, uncertainty_summary
 from tests.unit.test_life_cases import PRONY, RING
@@ -100,3 +102,47 @@ def test_the_holding_range_is_said_from_both_ends(cold, warm, exceeded, text):
                         exceeded_from=exceeded, earliest_time=1.0, latest_time=365.25 * 86400, holds_from=cold,
                         holds_to=warm)
     assert _holding_text(answer, "1 a").startswith(text)
+
+
+WLF_RUBBER = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+
+
+def _cell(text, time, temperature):
+    """The nominal result of ``text`` run alone at one (time, temperature): a deterministic run of its own."""
+    (case,) = parse_case_file(text.replace("{cell}", f'time = "{time}"\ntemperature = "{temperature}"')).cases
+    return run_case(case)
+
+
+def _check(answer, times, temperatures, q, limit):
+    """``answer`` agrees with Q and the limit per (temperature, time) cell (``q[T][t]``, ``limit[T][t]``) computed
+    apart: it first exceeds between the last time it holds and the first it does not, and holds at the latest time
+    where (and only where) Q does not exceed the limit there."""
+    for k, first in enumerate(answer.exceeded_from):
+        exceeding = [t for n, t in enumerate(times) if q[k][n] > limit[k][n]]
+        assert (first is None) == (not exceeding)
+        if exceeding:
+            earlier = [t for t in times if t < exceeding[0]]
+            assert (earlier[-1] if earlier else exceeding[0]) <= first <= exceeding[0]
+    latest = [q[k][-1] > limit[k][-1] for k in range(len(temperatures))]
+    assert (answer.holds_from is None) == latest[-1]
+    assert (answer.holds_to is None) == latest[0]
+    assert (answer.holds_from == answer.temperatures[0]) == (not any(latest))
+
+
+def test_the_effective_medium_answers_compare_its_own_leak_rate():
+    """With [theory] model = "effective-medium" the tables show its Q: the answers compare that one, not the
+    critical junction's (which exceeds 1.8 ml/min at 50 kPa, -10 °C and 10 s where the effective medium holds)."""
+    text = RING.format(rubber=WLF_RUBBER, seal="", conditions="{cell}") + '\n[theory]\nmodel = "effective-medium"\n'
+    times, temperatures = (10.0, 3600.0, 86400.0), (263.15, 333.15)
+    cells = [[_cell(text, f"{t} s", f"{T} K") for t in times] for T in temperatures]
+    limit = 1.8e-6 / 60  # m³/s
+    life = text.replace("{cell}", 'time = ["10 s", "1 h", "1 d"]\ntemperature = ["-10 degC", "60 degC"]\n'
+                                  'max_leak_rate = "1.8 ml/min"')
+    answers = life_answers(propagate(parse_uncertain_case(life), 4, seed=0))
+    assert len(answers) == 2
+    for n, a in enumerate(answers):
+        q = [[c.records()[n]["leak_rate_effective_medium"] for c in row] for row in cells]
+        _check(a, times, temperatures, q, [[limit] * len(times)] * len(temperatures))
+    critical = cells[0][0].records()[0]["leak_rate"]
+    assert critical > limit >= cells[0][0].records()[0]["leak_rate_effective_medium"]  # the theories disagree here
+    assert answers[0].exceeded_from[0] is None  # the effective medium holds to 1 d at -10 °C

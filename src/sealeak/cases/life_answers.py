@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..io.quantities import quantity
-from .uncertainty import UncertaintyResult
+from .uncertainty import UncertaintyResult, record_values
 
 __all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature", "highest_holding_temperature"]
 
@@ -122,15 +122,14 @@ def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
     if len(times) < 2 and len(temps) < 2:
         return []
     loads = min(len(index.get(i, [])) for i in life)
+    shown = {i: record_values([unc.nominal[i]]) for i in life}  # Q of the theory the tables show, 0 where it seals
     out = []
     for n in range(loads):
         q = np.zeros((len(temps), len(times)))
         limits, values = [], []
         for i, point in life.items():
             j = index[i][n]
-            record = unc.nominal[i].records()[n]
-            v = record.get(unc.limit_keys[j])
-            q[temps.index(point.temperature), times.index(point.time)] = v if v is not None and v == v else 0.0
+            q[temps.index(point.temperature), times.index(point.time)] = shown[i][unc.limit_keys[j]][n]
             limits.append(float(unc.limits[j]))
             values.append(float(unc.study.rows[j].load))
         limit = limits[0]

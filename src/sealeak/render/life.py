@@ -20,7 +20,7 @@ from matplotlib.figure import Figure
 from ..cases import CaseResult
 from ..cases.life import time_text, time_unit
 from ..cases.model import STANDARD_TEMPERATURE_CASE
-from ..cases.uncertainty import UncertaintyResult
+from ..cases.uncertainty import UncertaintyResult, record_values
 from ..io.leak_units import PA_M3_PER_MBAR_L, celsius
 from .plotstyle import (
     GAS_LEAK_LABEL,
@@ -71,8 +71,9 @@ def _grid(results: Sequence[CaseResult]) -> tuple[np.ndarray, np.ndarray, np.nda
             continue
         i, j = int(np.searchsorted(temps, point.temperature)), int(np.searchsorted(times, point.time))
         name = r.band.band.load_name if r.band is not None else "squeeze_pressure"
+        shown = record_values([r])[key]  # Q of the theory the tables show, as the answers compare it; 0: it seals
         for n, row in enumerate(records[:rows]):
-            q[n, i, j] = row[key] if row.get("percolates", True) else np.nan
+            q[n, i, j] = shown[n] if shown[n] > 0 else np.nan
             valid[n, i, j] = bool(row.get("valid", True))
             loads[n].append(float(row[name]))
     return times, temps, q, valid, [_load_text(name, v) for v in loads], gas
