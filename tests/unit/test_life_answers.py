@@ -16,8 +16,9 @@ from sealeak.cases.life_answers import (
 )
 from sealeak.cases.run import run_case
 from sealeak.cases.uncertainty import parse_uncertain_case, propagate
+from sealeak.render.life import volume_limit
 from sealeak.render.uncertainty import _holding_text, passing_lines, uncertainty_summary
-from tests.unit.test_life_cases import PRONY, RING
+from tests.unit.test_life_cases import PRONY, RING, SURFACE
 
 
 def test_the_first_time_a_power_law_exceeds_the_limit_is_interpolated_in_log_t():
@@ -146,3 +147,42 @@ def test_the_effective_medium_answers_compare_its_own_leak_rate():
     critical = cells[0][0].records()[0]["leak_rate"]
     assert critical > limit >= cells[0][0].records()[0]["leak_rate_effective_medium"]  # the theories disagree here
     assert answers[0].exceeded_from[0] is None  # the effective medium holds to 1 d at -10 °C
+
+
+GAS_RING = SURFACE + f"""
+[rubber]
+{WLF_RUBBER}
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+[fluid]
+name = "nitrogen"
+[conditions]
+squeeze_pressure = ["100 kPa", "300 kPa"]
+upstream_pressure = "2 bar"
+downstream_pressure = "1 bar"
+{{cell}}
+[theory]
+fluid_pressure = "ignored"
+"""
+
+
+def test_a_standard_flow_limit_is_the_gas_s_throughput_at_each_temperature():
+    """0.15 sccm is a molar flow: at 150 °C it is the pV throughput 0.15 cm³/min × 101325 Pa × 423.15 K/273.15 K,
+    44 % more than at 20 °C (ideal gas). Compared so, the ring at 300 kPa holds it after a day at 150 °C and not at
+    20 °C; against the 20 °C throughput it would exceed it at both."""
+    times, temperatures = (100.0, 86400.0), (293.15, 423.15)
+    cells = [[_cell(GAS_RING, f"{t} s", f"{T} K") for t in times] for T in temperatures]
+    limit = [[0.15e-6 / 60 * 101325 * T / 273.15] * len(times) for T in temperatures]  # Pa·m³/s
+    life = GAS_RING.replace("{cell}", 'time = ["100 s", "1 d"]\ntemperature = ["20 degC", "150 degC"]\n'
+                                      'max_leak_rate = "0.15 sccm"')
+    result = propagate(parse_uncertain_case(life), 4, seed=0)
+    answers = life_answers(result)
+    assert len(answers) == 2
+    assert volume_limit(result) is None  # no one line in the figures: a throughput per temperature
+    for n, a in enumerate(answers):
+        _check(a, times, temperatures, [[c.records()[n]["leak_rate_pv"] for c in row] for row in cells], limit)
+    hot = cells[1][1].records()[1]["leak_rate_pv"]
+    assert limit[0][0] < hot <= limit[1][1]  # the two limits give two answers here
+    assert answers[1].holds_from is not None and 293.15 < answers[1].holds_from < 423.15

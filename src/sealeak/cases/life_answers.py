@@ -4,7 +4,9 @@ it holds (the cold limit: the cord shrinks, the rubber stiffens) and the highest
 relaxation and compression set run faster) (docs/user-guide.md, "The seal over its life").
 
 The answers use the deterministic (nominal) leak rate of each (time, temperature) case, compared as
-:mod:`sealeak.cases.uncertainty` compares it (Q, or the gas's pV throughput, or a liquid's helium equivalent).
+:mod:`sealeak.cases.uncertainty` compares it (Q of the theory the tables show, or the gas's pV throughput, or a
+liquid's helium equivalent), each against the limit of its own case (a standard or molar flow, or a mass flow, is a
+pV throughput at the gas's temperature there).
 Between two computed times the leak rate is taken as a power law of the time (log Q linear in log t); between two
 temperatures log Q is linear in T. A row without a leak channel seals (Q = 0).
 """
@@ -125,17 +127,19 @@ def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
     shown = {i: record_values([unc.nominal[i]]) for i in life}  # Q of the theory the tables show, 0 where it seals
     out = []
     for n in range(loads):
-        q = np.zeros((len(temps), len(times)))
-        limits, values = [], []
+        # Q over the limit of its own (T, t) cell: a gas's limit in sccm, mol/s or kg/s is a pV throughput at the
+        # cell's temperature; Q/limit > 1 exceeds it, and log(Q/limit) is interpolated as log Q is
+        ratio = np.zeros((len(temps), len(times)))
+        values = []
         for i, point in life.items():
             j = index[i][n]
-            q[temps.index(point.temperature), times.index(point.time)] = shown[i][unc.limit_keys[j]][n]
-            limits.append(float(unc.limits[j]))
+            ratio[temps.index(point.temperature), times.index(point.time)] = \
+                shown[i][unc.limit_keys[j]][n] / float(unc.limits[j])
             values.append(float(unc.study.rows[j].load))
-        limit = limits[0]
+        latest = ratio[:, -1].tolist()
         out.append(LifeAnswer(
             row=n, load_name=unc.study.rows[index[next(iter(life))][n]].load_name, loads=tuple(values),
-            temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, q[i].tolist(), limit) for i in range(len(temps))),
-            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, q[:, -1].tolist(), limit),
-            holds_to=highest_holding_temperature(temps, q[:, -1].tolist(), limit)))
+            temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, r.tolist(), 1.0) for r in ratio),
+            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, latest, 1.0),
+            holds_to=highest_holding_temperature(temps, latest, 1.0)))
     return out

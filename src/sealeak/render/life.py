@@ -125,10 +125,11 @@ def life_figure_names(times: int, temperatures: int) -> tuple[str, ...]:
 
 def volume_limit(unc: UncertaintyResult | None) -> tuple[float, str] | None:
     """``conditions.max_leak_rate`` as compared and as written: a leak rate Q (m³/s) where it is compared with Q (a
-    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV; else None (none given, or a liquid's helium
-    equivalent: on neither axis)."""
+    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV; else None (none given, a liquid's helium
+    equivalent: on neither axis, or a limit that is no one line: a standard or molar flow, or a mass flow, is a pV
+    throughput that differs with the gas's temperature from case to case)."""
     if unc is None or unc.limits is None or not unc.limit_keys or len(set(unc.limit_keys)) != 1 or \
-            unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv"):
+            unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv") or len(set(unc.limits.tolist())) != 1:
         return None
     return float(unc.limits[0]), str(unc.study.max_leak_rate)
 
