@@ -169,3 +169,23 @@ def test_the_figures_draw_the_leak_rate_of_the_theory_the_tables_show(model, key
         for line, time in zip(_data_lines(ax), (100.0, 86400.0)):
             shown = sorted((r for r in results if r.case.life.time == time), key=lambda r: r.case.life.temperature)
             assert np.allclose(line.get_ydata() * _axis_scale(ax), [r.records()[n][key] for r in shown], rtol=1e-9, atol=0.0)
+
+
+def test_each_study_variant_gets_panels_of_its_own():
+    """A [study] with life keys: one panel per variant and load, headed by both, each drawing its variant's Q (the
+    last variant does not overwrite the others)."""
+    study = '\n[study]\nvary = "surface.h_rms"\nvalues = ["3 um", "5 um"]\n'
+    text = RING.format(rubber=WLF, seal="", conditions='time = ["100 s", "1 d"]') + study
+    results = [run_case(c) for c in parse_case_file(text).cases]
+    figures = _build(lambda: life_figures(results))
+    panels = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)]
+    heads = ["h_rms = 3 um: at P0 = 50 kPa", "h_rms = 3 um: at P0 = 200 kPa", "h_rms = 5 um: at P0 = 50 kPa",
+             "h_rms = 5 um: at P0 = 200 kPa"]
+    assert [ax.get_title().splitlines()[1 if k == 0 else 0] for k, ax in enumerate(panels)] == heads
+    for ax, head in zip(panels, heads):
+        (line,) = _data_lines(ax)
+        mine = sorted((r for r in results if r.case.label.startswith(head.split(":")[0])), key=lambda r: r.case.life.time)
+        n = 0 if "50 kPa" in head else 1
+        assert np.allclose(line.get_ydata() * _axis_scale(ax), [r.records()[n]["leak_rate"] for r in mine],
+                           rtol=1e-9, atol=0.0)
+    _assert_reads_right(figures)

@@ -186,3 +186,29 @@ def test_a_standard_flow_limit_is_the_gas_s_throughput_at_each_temperature():
     hot = cells[1][1].records()[1]["leak_rate_pv"]
     assert limit[0][0] < hot <= limit[1][1]  # the two limits give two answers here
     assert answers[1].holds_from is not None and 293.15 < answers[1].holds_from < 423.15
+
+
+STUDY = '\n[study]\nvary = "surface.h_rms"\nvalues = ["3 um", "5 um"]\n'
+
+
+def test_each_study_variant_gets_answers_of_its_own():
+    """A [study] with life keys: each variant's (T, t) cases are answered apart, named by the variant, from separate
+    runs of its own cells (the rougher surface exceeds 0.5 ml/min at 50 kPa where the smoother one holds)."""
+    text = RING.format(rubber=WLF_RUBBER, seal="", conditions="{cell}")
+    times, temperatures = (10.0, 3600.0, 86400.0), (263.15, 333.15)
+    limit = [[0.5e-6 / 60] * len(times)] * len(temperatures)  # m³/s
+    life = text.replace("{cell}", 'time = ["10 s", "1 h", "1 d"]\ntemperature = ["-10 degC", "60 degC"]\n'
+                                  'max_leak_rate = "0.5 ml/min"') + STUDY
+    result = propagate(parse_uncertain_case(life), 4, seed=0)
+    answers = life_answers(result)
+    assert [(a.variant, a.row) for a in answers] == [("h_rms = 3 um", 0), ("h_rms = 3 um", 1),
+                                                     ("h_rms = 5 um", 0), ("h_rms = 5 um", 1)]
+    for a in answers:
+        alone = text.replace('h_rms = "5 um"', f'h_rms = "{a.variant.split(" = ")[1]}"')
+        cells = [[_cell(alone, f"{t} s", f"{T} K") for t in times] for T in temperatures]
+        _check(a, times, temperatures, [[c.records()[a.row]["leak_rate"] for c in row] for row in cells], limit)
+    assert answers[0].exceeded_from == (None, None) and answers[2].exceeded_from == (10.0, 10.0)
+    lines = passing_lines(result)
+    assert any(line.startswith("h_rms = 3 um, P0 = 50 kPa: at -10 °C holds to 1 d") for line in lines)
+    assert any(line.startswith("h_rms = 5 um, P0 = 50 kPa: at -10 °C exceeds") for line in lines)
+    assert [x["variant"] for x in uncertainty_summary(result)["life"]] == [a.variant for a in answers]

@@ -51,7 +51,7 @@ from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
 from .seals import _two_columns, _values
 
-__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit", "read_master_curve"]
+__all__ = ["LIFE_KEYS", "life_cases", "life_label", "life_variant", "time_text", "time_unit", "read_master_curve"]
 
 #: The keys of each section that describe the seal over its life (docs/case-files.md, "The seal over its life").
 LIFE_KEYS: dict[str, tuple[str, ...]] = {
@@ -103,6 +103,15 @@ def time_text(time: float) -> str:
 def life_label(time: float, temperature: float) -> str:
     """``"t = 1 h, T = -20 °C"``: the time (s) as :func:`time_text` writes it, the temperature (K) in °C."""
     return f"t = {time_text(time)}, T = {celsius(temperature):.4g} °C"
+
+
+def life_variant(case: Case) -> str:
+    """The study variant a life case belongs to: its label without its life part (``"h_rms = 2 um"`` of
+    ``"h_rms = 2 um; t = 1 h, T = -20 °C"``; ``""`` without a ``[study]``)."""
+    if case.life is None:
+        return case.label
+    where = life_label(case.life.time, case.life.temperature)
+    return "" if case.label == where else case.label.removesuffix("; " + where)
 
 
 def _temperatures(cond: Section, key: str) -> list[float]:

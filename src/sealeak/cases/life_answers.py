@@ -20,6 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..io.quantities import quantity
+from .life import life_variant
+from .model import LifePoint
 from .uncertainty import UncertaintyResult, record_values
 
 __all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature", "highest_holding_temperature"]
@@ -27,7 +29,7 @@ __all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_tempe
 
 @dataclass(frozen=True)
 class LifeAnswer:
-    """The answers for one load of the seal (the row index ``row`` of every life case).
+    """The answers for one load of the seal (the row index ``row`` of every life case) of one study variant.
 
     Attributes
     ----------
@@ -46,6 +48,8 @@ class LifeAnswer:
     holds_to
         The highest temperature (K) up to which it holds at the latest time, or None where it exceeds at the
         coldest; ``holds_to == temperatures[-1]`` where it holds still at the warmest computed.
+    variant
+        The ``[study]`` variant whose life cases these are (their label without its life part; ``""`` without one).
     """
 
     row: int
@@ -64,6 +68,7 @@ class LifeAnswer:
     holds_to: float | None = quantity(
         "K", "the highest temperature up to which the leak rate holds conditions.max_leak_rate at the latest time, "
              "interpolated (the warmest computed: holds at every one; null: exceeds even at the coldest)")
+    variant: str = ""
 
 
 def _crossing(x0: float, x1: float, q0: float, q1: float, limit: float, log_x: bool) -> float:
@@ -109,16 +114,24 @@ def highest_holding_temperature(temperatures: Sequence[float], q: Sequence[float
 
 
 def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
-    """Per load of the seal, the answers of its life cases against ``conditions.max_leak_rate`` (the nominal
-    results); empty without the specification or without life cases with more than one time or temperature."""
+    """Per ``[study]`` variant and load of the seal, the answers of its life cases against
+    ``conditions.max_leak_rate`` (the nominal results); empty without the specification or without life cases with
+    more than one time or temperature."""
     if unc.limits is None or unc.limit_keys is None:
         return []
+    variants: dict[str, dict[int, LifePoint]] = {}
+    for i, r in enumerate(unc.nominal):
+        if r.case.life is not None:
+            variants.setdefault(life_variant(r.case), {})[i] = r.case.life
+    return [a for variant, life in variants.items() for a in _variant_answers(unc, variant, life)]
+
+
+def _variant_answers(unc: UncertaintyResult, variant: str, life: dict[int, LifePoint]) -> list[LifeAnswer]:
+    """The answers of one variant's life cases (``life``: case index → its (time, temperature)), one per load."""
+    assert unc.limits is not None and unc.limit_keys is not None
     index: dict[int, list[int]] = {}
     for j, row in enumerate(unc.study.rows):
         index.setdefault(row.case, []).append(j)
-    life = {i: r.case.life for i, r in enumerate(unc.nominal) if r.case.life is not None}
-    if not life:
-        return []
     times = sorted({p.time for p in life.values()})
     temps = sorted({p.temperature for p in life.values()})
     if len(times) < 2 and len(temps) < 2:
@@ -141,5 +154,5 @@ def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
             row=n, load_name=unc.study.rows[index[next(iter(life))][n]].load_name, loads=tuple(values),
             temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, r.tolist(), 1.0) for r in ratio),
             earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, latest, 1.0),
-            holds_to=highest_holding_temperature(temps, latest, 1.0)))
+            holds_to=highest_holding_temperature(temps, latest, 1.0), variant=variant))
     return out
