@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import FileFormatError, InputError
 from ..io.leak_units import celsius
-from ..io.units import parse_quantity, parse_temperature
+from ..io.units import TIME_UNITS, parse_quantity, parse_temperature
 from ..physics.viscoelastic import (
     MAX_POINTS,
     MAX_TERMS,
@@ -69,7 +69,6 @@ _SET_KEYS = ("times", "temperatures", "sets")
 SET_RESIDUAL_WARNING = 0.03
 _TIME_NAMES = ("time", "t", "reduced_time")
 _MODULUS_NAMES = ("modulus", "e", "relaxation_modulus")
-_TIME_UNITS = (("a", 365.25 * 86400.0), ("d", 86400.0), ("h", 3600.0), ("min", 60.0), ("s", 1.0))
 
 
 @dataclass(frozen=True)
@@ -104,13 +103,13 @@ def _filling(compression: Any, assembled: Any, temperature: float) -> None:
 
 def time_unit(seconds: float) -> tuple[str, float]:
     """(unit, its length in s) to show a time (s) in: the largest of a, d, h, min, s that it reaches (else s)."""
-    return next(((u, f) for u, f in _TIME_UNITS if seconds >= f), ("s", 1.0))
+    return next(((u, f) for f, u, _ in TIME_UNITS if seconds >= f), ("s", 1.0))
 
 
 def time_text(time: float) -> str:
     """``"1 h"``: a time (s) in the largest of a, d, h, min, s in which 4 digits show it exactly (else the largest
     it spans)."""
-    spanned = [(u, f) for u, f in _TIME_UNITS if time >= f] or [("s", 1.0)]
+    spanned = [(u, f) for f, u, _ in TIME_UNITS if time >= f] or [("s", 1.0)]
     exact = [(u, f) for u, f in spanned if math.isclose(float(f"{time / f:.4g}"), time / f, rel_tol=1e-9)]
     unit, factor = (exact or spanned)[0]
     return f"{time / factor:.4g} {unit}"
