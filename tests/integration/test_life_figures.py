@@ -135,7 +135,57 @@ fluid_pressure = "ignored"
     assert ax.get_ylabel() == "gas leak rate Q_pV (mbar·l/s)"
     (line,) = [ln for ln in _data_lines(ax) if len(ln.get_xdata()) == 2]  # one temperature: one line of two times
     expected = [r.records()[0]["leak_rate_mbar_l_s"] for r in results]
-    assert np.allclose(line.get_ydata(), expected, rtol=1e-12)
+    assert np.allclose(line.get_ydata(), expected, rtol=1e-12, atol=0.0)
     assert expected != [r.records()[0]["leak_rate"] for r in results]  # not the incompressible column
     (spec,) = [ln for ln in ax.get_lines() if ln.get_label() == "max_leak_rate = 1e-6 mbar*l/s"]
     assert spec.get_ydata()[0] == pytest.approx(1e-6, rel=1e-12)
+
+
+def _axis_scale(ax):
+    """The power of ten a linear leak-rate axis writes in its unit, "leak rate Q (10⁻⁹ m³/s)" → 1e-9 (else 1)."""
+    unit = ax.get_ylabel().rsplit("(", 1)[1]
+    if not unit.startswith("10"):
+        return 1.0
+    return 10.0 ** int(unit[2:].split()[0].translate(str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")))
+
+
+@pytest.mark.parametrize("model, key", [("critical-junction", "leak_rate"),
+                                        ("effective-medium", "leak_rate_effective_medium")])
+def test_the_figures_draw_the_leak_rate_of_the_theory_the_tables_show(model, key):
+    """Each line's y-data are Q of the shown theory at its (time, temperature), read from the record of a separate
+    run of that one case (not the other theory's Q: they differ by some 20 % here)."""
+    text = RING.format(rubber=WLF, seal="", conditions='time = ["100 s", "1 d"]\ntemperature = ["-10 degC", "60 degC"]')
+    results = [run_case(c) for c in parse_case_file(text + f'\n[theory]\nmodel = "{model}"\n').cases]
+    figures = _build(lambda: life_figures(results))
+    for n, ax in enumerate(ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)):
+        for line, temperature in zip(_data_lines(ax), (263.15, 333.15)):
+            shown = [r for r in results if r.case.life.temperature == pytest.approx(temperature, rel=1e-12)]
+            shown.sort(key=lambda r: r.case.life.time)
+            drawn = line.get_ydata() * _axis_scale(ax)
+            assert np.allclose(drawn, [r.records()[n][key] for r in shown], rtol=1e-9, atol=0.0)
+            if key != "leak_rate":  # the effective medium's records hold the critical junction's Q too: not drawn
+                assert not np.allclose(drawn, [r.records()[n]["leak_rate"] for r in shown], rtol=0.05, atol=0.0)
+    for n, ax in enumerate(ax for ax in figures["leak_rate_vs_temperature.png"].axes if _data_lines(ax)):
+        for line, time in zip(_data_lines(ax), (100.0, 86400.0)):
+            shown = sorted((r for r in results if r.case.life.time == time), key=lambda r: r.case.life.temperature)
+            assert np.allclose(line.get_ydata() * _axis_scale(ax), [r.records()[n][key] for r in shown], rtol=1e-9, atol=0.0)
+
+
+def test_each_study_variant_gets_panels_of_its_own():
+    """A [study] with life keys: one panel per variant and load, headed by both, each drawing its variant's Q (the
+    last variant does not overwrite the others)."""
+    study = '\n[study]\nvary = "surface.h_rms"\nvalues = ["3 um", "5 um"]\n'
+    text = RING.format(rubber=WLF, seal="", conditions='time = ["100 s", "1 d"]') + study
+    results = [run_case(c) for c in parse_case_file(text).cases]
+    figures = _build(lambda: life_figures(results))
+    panels = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)]
+    heads = ["h_rms = 3 um: at P0 = 50 kPa", "h_rms = 3 um: at P0 = 200 kPa", "h_rms = 5 um: at P0 = 50 kPa",
+             "h_rms = 5 um: at P0 = 200 kPa"]
+    assert [ax.get_title().splitlines()[1 if k == 0 else 0] for k, ax in enumerate(panels)] == heads
+    for ax, head in zip(panels, heads):
+        (line,) = _data_lines(ax)
+        mine = sorted((r for r in results if r.case.label.startswith(head.split(":")[0])), key=lambda r: r.case.life.time)
+        n = 0 if "50 kPa" in head else 1
+        assert np.allclose(line.get_ydata() * _axis_scale(ax), [r.records()[n]["leak_rate"] for r in mine],
+                           rtol=1e-9, atol=0.0)
+    _assert_reads_right(figures)

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from sealeak.cases import parse_case_file
 from sealeak.cases.life_answers import (
     LifeAnswer,
     first_exceeded,
@@ -13,9 +14,11 @@ from sealeak.cases.life_answers import (
     life_answers,
     lowest_holding_temperature,
 )
+from sealeak.cases.run import run_case
 from sealeak.cases.uncertainty import parse_uncertain_case, propagate
+from sealeak.render.life import volume_limit
 from sealeak.render.uncertainty import _holding_text, passing_lines, uncertainty_summary
-from tests.unit.test_life_cases import PRONY, RING
+from tests.unit.test_life_cases import PRONY, RING, SURFACE
 
 
 def test_the_first_time_a_power_law_exceeds_the_limit_is_interpolated_in_log_t():
@@ -100,3 +103,112 @@ def test_the_holding_range_is_said_from_both_ends(cold, warm, exceeded, text):
                         exceeded_from=exceeded, earliest_time=1.0, latest_time=365.25 * 86400, holds_from=cold,
                         holds_to=warm)
     assert _holding_text(answer, "1 a").startswith(text)
+
+
+WLF_RUBBER = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+
+
+def _cell(text, time, temperature):
+    """The nominal result of ``text`` run alone at one (time, temperature): a deterministic run of its own."""
+    (case,) = parse_case_file(text.replace("{cell}", f'time = "{time}"\ntemperature = "{temperature}"')).cases
+    return run_case(case)
+
+
+def _check(answer, times, temperatures, q, limit):
+    """``answer`` agrees with Q and the limit per (temperature, time) cell (``q[T][t]``, ``limit[T][t]``) computed
+    apart: it first exceeds between the last time it holds and the first it does not, and holds at the latest time
+    where (and only where) Q does not exceed the limit there."""
+    for k, first in enumerate(answer.exceeded_from):
+        exceeding = [t for n, t in enumerate(times) if q[k][n] > limit[k][n]]
+        assert (first is None) == (not exceeding)
+        if exceeding:
+            earlier = [t for t in times if t < exceeding[0]]
+            assert (earlier[-1] if earlier else exceeding[0]) <= first <= exceeding[0]
+    latest = [q[k][-1] > limit[k][-1] for k in range(len(temperatures))]
+    assert (answer.holds_from is None) == latest[-1]
+    assert (answer.holds_to is None) == latest[0]
+    assert (answer.holds_from == answer.temperatures[0]) == (not any(latest))
+
+
+def test_the_effective_medium_answers_compare_its_own_leak_rate():
+    """With [theory] model = "effective-medium" the tables show its Q: the answers compare that one, not the
+    critical junction's (which exceeds 1.8 ml/min at 50 kPa, -10 °C and 10 s where the effective medium holds)."""
+    text = RING.format(rubber=WLF_RUBBER, seal="", conditions="{cell}") + '\n[theory]\nmodel = "effective-medium"\n'
+    times, temperatures = (10.0, 3600.0, 86400.0), (263.15, 333.15)
+    cells = [[_cell(text, f"{t} s", f"{T} K") for t in times] for T in temperatures]
+    limit = 1.8e-6 / 60  # m³/s
+    life = text.replace("{cell}", 'time = ["10 s", "1 h", "1 d"]\ntemperature = ["-10 degC", "60 degC"]\n'
+                                  'max_leak_rate = "1.8 ml/min"')
+    answers = life_answers(propagate(parse_uncertain_case(life), 4, seed=0))
+    assert len(answers) == 2
+    for n, a in enumerate(answers):
+        q = [[c.records()[n]["leak_rate_effective_medium"] for c in row] for row in cells]
+        _check(a, times, temperatures, q, [[limit] * len(times)] * len(temperatures))
+    critical = cells[0][0].records()[0]["leak_rate"]
+    assert critical > limit >= cells[0][0].records()[0]["leak_rate_effective_medium"]  # the theories disagree here
+    assert answers[0].exceeded_from[0] is None  # the effective medium holds to 1 d at -10 °C
+
+
+GAS_RING = SURFACE + f"""
+[rubber]
+{WLF_RUBBER}
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+[fluid]
+name = "nitrogen"
+[conditions]
+squeeze_pressure = ["100 kPa", "300 kPa"]
+upstream_pressure = "2 bar"
+downstream_pressure = "1 bar"
+{{cell}}
+[theory]
+fluid_pressure = "ignored"
+"""
+
+
+def test_a_standard_flow_limit_is_the_gas_s_throughput_at_each_temperature():
+    """0.15 sccm is a molar flow: at 150 °C it is the pV throughput 0.15 cm³/min × 101325 Pa × 423.15 K/273.15 K,
+    44 % more than at 20 °C (ideal gas). Compared so, the ring at 300 kPa holds it after a day at 150 °C and not at
+    20 °C; against the 20 °C throughput it would exceed it at both."""
+    times, temperatures = (100.0, 86400.0), (293.15, 423.15)
+    cells = [[_cell(GAS_RING, f"{t} s", f"{T} K") for t in times] for T in temperatures]
+    limit = [[0.15e-6 / 60 * 101325 * T / 273.15] * len(times) for T in temperatures]  # Pa·m³/s
+    life = GAS_RING.replace("{cell}", 'time = ["100 s", "1 d"]\ntemperature = ["20 degC", "150 degC"]\n'
+                                      'max_leak_rate = "0.15 sccm"')
+    result = propagate(parse_uncertain_case(life), 4, seed=0)
+    answers = life_answers(result)
+    assert len(answers) == 2
+    assert volume_limit(result) is None  # no one line in the figures: a throughput per temperature
+    for n, a in enumerate(answers):
+        _check(a, times, temperatures, [[c.records()[n]["leak_rate_pv"] for c in row] for row in cells], limit)
+    hot = cells[1][1].records()[1]["leak_rate_pv"]
+    assert limit[0][0] < hot <= limit[1][1]  # the two limits give two answers here
+    assert answers[1].holds_from is not None and 293.15 < answers[1].holds_from < 423.15
+
+
+STUDY = '\n[study]\nvary = "surface.h_rms"\nvalues = ["3 um", "5 um"]\n'
+
+
+def test_each_study_variant_gets_answers_of_its_own():
+    """A [study] with life keys: each variant's (T, t) cases are answered apart, named by the variant, from separate
+    runs of its own cells (the rougher surface exceeds 0.5 ml/min at 50 kPa where the smoother one holds)."""
+    text = RING.format(rubber=WLF_RUBBER, seal="", conditions="{cell}")
+    times, temperatures = (10.0, 3600.0, 86400.0), (263.15, 333.15)
+    limit = [[0.5e-6 / 60] * len(times)] * len(temperatures)  # m³/s
+    life = text.replace("{cell}", 'time = ["10 s", "1 h", "1 d"]\ntemperature = ["-10 degC", "60 degC"]\n'
+                                  'max_leak_rate = "0.5 ml/min"') + STUDY
+    result = propagate(parse_uncertain_case(life), 4, seed=0)
+    answers = life_answers(result)
+    assert [(a.variant, a.row) for a in answers] == [("h_rms = 3 um", 0), ("h_rms = 3 um", 1),
+                                                     ("h_rms = 5 um", 0), ("h_rms = 5 um", 1)]
+    for a in answers:
+        alone = text.replace('h_rms = "5 um"', f'h_rms = "{a.variant.split(" = ")[1]}"')
+        cells = [[_cell(alone, f"{t} s", f"{T} K") for t in times] for T in temperatures]
+        _check(a, times, temperatures, [[c.records()[a.row]["leak_rate"] for c in row] for row in cells], limit)
+    assert answers[0].exceeded_from == (None, None) and answers[2].exceeded_from == (10.0, 10.0)
+    lines = passing_lines(result)
+    assert any(line.startswith("h_rms = 3 um, P0 = 50 kPa: at -10 °C holds to 1 d") for line in lines)
+    assert any(line.startswith("h_rms = 5 um, P0 = 50 kPa: at -10 °C exceeds") for line in lines)
+    assert [x["variant"] for x in uncertainty_summary(result)["life"]] == [a.variant for a in answers]

@@ -300,3 +300,38 @@ def test_the_text_says_the_compression_set_of_each_case():
     assert f"compression set c = {100 * c:.3g} %" in text and 0.3 < c < 0.9
     (plain,) = cases(ORING, conditions='time = "10 a"')
     assert "compression set" not in prediction_table([run_case(plain)])
+
+
+@pytest.mark.parametrize("squeeze", ['compression = "20 %"', 'groove_depth = "2.096 mm"'])
+def test_a_cord_the_cold_shrinks_out_of_its_gland_is_refused_naming_the_temperature(squeeze):
+    """α_r = 9e-3 1/K over 40 K: ε(T) = 1 − 0.8 (1 − 1.2e-5 × 40)/(1 − 9e-3 × 40) = −24.9 % (eq. 16.9), as the
+    user's temperature, not as a compression they never wrote (2.096 mm of a 2.62 mm cord is 20 % too)."""
+    eps = 1 - 0.8 * (1 - 1.2e-5 * 40) / (1 - 9e-3 * 40)
+    text = ORING.format(rubber='youngs_modulus = "5 MPa"\nthermal_expansion = "9e-3 1/K"',
+                        seal='gland_thermal_expansion = "1.2e-5 1/K"',
+                        conditions='temperature = ["20 degC", "-20 degC"]').replace('compression = "20 %"', squeeze)
+    with pytest.raises(InputError) as err:
+        parse_case_file(text)
+    assert err.value.field == "conditions.temperature (at t = 0 s, T = -20 °C)"
+    assert f"no longer fills the gland at -20 °C (ε(T) = {100 * eps:.3g} %, 20 % at assembly)" in str(err.value)
+    assert "conditions.compression" not in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_temperature_beyond_the_shift_law_is_shown_in_kelvin_and_celsius():
+    rubber = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50'  # diverges at -30 °C
+    with pytest.raises(InputError) as err:
+        cases(RING, rubber, 'temperature = ["-150 degC", "20 degC"]')
+    assert err.value.field.startswith("conditions.temperature")
+    assert "'123.15 K (-150 °C)'" in str(err.value) and "243.15 K (-30 °C)" in str(err.value)
+
+
+@pytest.mark.parametrize("rubber, seal, field, written", [
+    ("0.2 1/K", "1.2e-5 1/K", "rubber.thermal_expansion", "0.2 1/K"),
+    ("23e-5 1/K", "-0.5 1/K", "seal.gland_thermal_expansion", "-0.5 1/K"),
+])
+def test_an_expansion_coefficient_out_of_range_is_a_material_constant_not_a_case(rubber, seal, field, written):
+    """Checked once where the life keys are read: named without a time and temperature, shown as written."""
+    with pytest.raises(InputError) as err:
+        cases(ORING, f'youngs_modulus = "5 MPa"\nthermal_expansion = "{rubber}"',
+              'time = ["1 s", "1 h"]\ntemperature = ["-20 degC", "20 degC"]', f'gland_thermal_expansion = "{seal}"')
+    assert (err.value.field, err.value.value) == (field, written)

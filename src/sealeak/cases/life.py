@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import FileFormatError, InputError
 from ..io.leak_units import celsius
-from ..io.units import parse_quantity, parse_temperature
+from ..io.units import TIME_UNITS, parse_quantity, parse_temperature
 from ..physics.viscoelastic import (
     MAX_POINTS,
     MAX_TERMS,
@@ -39,6 +39,7 @@ from ..physics.viscoelastic import (
     MasterCurve,
     PronySeries,
     WLFShift,
+    expansion_coefficient,
     fit_compression_set,
     glass_transition_warnings,
     modulus_at,
@@ -51,7 +52,7 @@ from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
 from .seals import _two_columns, _values
 
-__all__ = ["LIFE_KEYS", "life_cases", "life_label", "time_text", "time_unit", "read_master_curve"]
+__all__ = ["LIFE_KEYS", "life_cases", "life_label", "life_variant", "time_text", "time_unit", "read_master_curve"]
 
 #: The keys of each section that describe the seal over its life (docs/case-files.md, "The seal over its life").
 LIFE_KEYS: dict[str, tuple[str, ...]] = {
@@ -68,7 +69,6 @@ _SET_KEYS = ("times", "temperatures", "sets")
 SET_RESIDUAL_WARNING = 0.03
 _TIME_NAMES = ("time", "t", "reduced_time")
 _MODULUS_NAMES = ("modulus", "e", "relaxation_modulus")
-_TIME_UNITS = (("a", 365.25 * 86400.0), ("d", 86400.0), ("h", 3600.0), ("min", 60.0), ("s", 1.0))
 
 
 @dataclass(frozen=True)
@@ -86,15 +86,30 @@ class _Life:
     compression_set: CompressionSet | None = None
 
 
+def _filling(compression: Any, assembled: Any, temperature: float) -> None:
+    """Refuse, naming ``conditions.temperature``, an O-ring's compression ε(T) (1) at ``temperature`` (K) that is
+    <= 0: the cord, assembled with the compression ``assembled``, has shrunk more than the gland and no longer fills
+    it (eq. 16.9)."""
+    eps = np.ravel(np.asarray(compression, dtype=float))
+    eps0 = np.ravel(np.broadcast_to(np.asarray(assembled, dtype=float), np.shape(compression)))
+    bad = (eps <= 0) & (eps0 > 0)  # an assembly compression of 0 or less is its own key's error
+    if np.any(bad):
+        k = int(np.flatnonzero(bad)[0])
+        raise InputError("conditions.temperature", None, f"the cord no longer fills the gland at "
+                         f"{celsius(temperature):.4g} °C (ε(T) = {100 * eps[k]:.3g} %, {100 * eps0[k]:.3g} % at "
+                         "assembly): it shrinks more than the gland (rubber.thermal_expansion against "
+                         "seal.gland_thermal_expansion); compute warmer temperatures or check the coefficients")
+
+
 def time_unit(seconds: float) -> tuple[str, float]:
     """(unit, its length in s) to show a time (s) in: the largest of a, d, h, min, s that it reaches (else s)."""
-    return next(((u, f) for u, f in _TIME_UNITS if seconds >= f), ("s", 1.0))
+    return next(((u, f) for f, u, _ in TIME_UNITS if seconds >= f), ("s", 1.0))
 
 
 def time_text(time: float) -> str:
     """``"1 h"``: a time (s) in the largest of a, d, h, min, s in which 4 digits show it exactly (else the largest
     it spans)."""
-    spanned = [(u, f) for u, f in _TIME_UNITS if time >= f] or [("s", 1.0)]
+    spanned = [(u, f) for f, u, _ in TIME_UNITS if time >= f] or [("s", 1.0)]
     exact = [(u, f) for u, f in spanned if math.isclose(float(f"{time / f:.4g}"), time / f, rel_tol=1e-9)]
     unit, factor = (exact or spanned)[0]
     return f"{time / factor:.4g} {unit}"
@@ -103,6 +118,15 @@ def time_text(time: float) -> str:
 def life_label(time: float, temperature: float) -> str:
     """``"t = 1 h, T = -20 °C"``: the time (s) as :func:`time_text` writes it, the temperature (K) in °C."""
     return f"t = {time_text(time)}, T = {celsius(temperature):.4g} °C"
+
+
+def life_variant(case: Case) -> str:
+    """The study variant a life case belongs to: its label without its life part (``"h_rms = 2 um"`` of
+    ``"h_rms = 2 um; t = 1 h, T = -20 °C"``; ``""`` without a ``[study]``)."""
+    if case.life is None:
+        return case.label
+    where = life_label(case.life.time, case.life.temperature)
+    return "" if case.label == where else case.label.removesuffix("; " + where)
 
 
 def _temperatures(cond: Section, key: str) -> list[float]:
@@ -275,6 +299,15 @@ def _fit_warnings(life: _Life) -> tuple[str, ...]:
             "(rms): the data do not follow one stretched exponential with an Arrhenius time scale; check them",)
 
 
+def _expansion(section: Section, key: str) -> float:
+    """A linear thermal expansion coefficient (1/K) of ``section.key``, checked; an error shows it as written."""
+    alpha = section.quantity(key, "thermal_expansion", positive=False)
+    try:
+        return expansion_coefficient(section.field(key), alpha)
+    except InputError as exc:
+        raise InputError(exc.field, section.raw(key), exc.allowed) from None
+
+
 def _read(doc: dict[str, Any], case_dir: Path) -> _Life:
     """The life keys of ``doc`` (its sections as written; files relative to ``case_dir``), checked."""
     def section(name: str) -> Section:
@@ -302,8 +335,8 @@ def _read(doc: dict[str, Any], case_dir: Path) -> _Life:
             other = "seal.gland_thermal_expansion" if given[0][1] == "thermal_expansion" else "rubber.thermal_expansion"
             raise InputError(other, None, f"is required with {given[0][0].field(given[0][1])}: the cord and the gland "
                                           "each expand with their own coefficient (1/K)")
-        expansion = (rubber.quantity("thermal_expansion", "thermal_expansion", positive=False),
-                     seal.quantity("gland_thermal_expansion", "thermal_expansion", positive=False))
+        # material constants: checked once here, not in every case of a time and temperature
+        expansion = (_expansion(rubber, "thermal_expansion"), _expansion(seal, "gland_thermal_expansion"))
     if cond.has("assembly_temperature") and expansion is None:
         raise InputError(cond.field("assembly_temperature"), cond.raw("assembly_temperature"),
                          "is for the thermal contraction of an O-ring: give rubber.thermal_expansion and "
@@ -341,12 +374,17 @@ def _variant(base: dict[str, Any], life: _Life, time: float, temperature: float,
         with case_keys(_THERMAL_KEYS):
             if cond.has("compression"):  # eq. 16.9: 1 − h(T)/d(T); eq. 16.12: less the set, ε (1 − c)
                 eps, _ = _values(cond, "compression", "dimensionless")
-                eps = thermal_compression(eps, *thermal) if life.expansion is not None else eps
+                if life.expansion is not None:
+                    eps, assembled = thermal_compression(eps, *thermal), eps
+                    _filling(eps, assembled, temperature)
                 variant["conditions"]["compression"] = [float(e) for e in remaining_compression(eps, 1.0 - kept)]
             if cond.has("groove_depth"):  # h(T)/d(T) = h0 (1 + α_g ΔT)/(1 + α_r ΔT) over d0; the set: d − (d − h)(1 − c)
                 depth, _ = _values(cond, "groove_depth", "length")
                 ratio = 1.0 - float(thermal_compression(0.0, *thermal)) if life.expansion is not None else 1.0
-                d = Section("seal", variant["seal"]).quantity("cross_section_diameter", "length") if kept != 1.0 else 0.0
+                d = Section("seal", variant["seal"]).quantity("cross_section_diameter", "length") \
+                    if kept != 1.0 or ratio != 1.0 else 0.0
+                if ratio != 1.0:
+                    _filling([1.0 - float(h) * ratio / d for h in depth], [1.0 - float(h) / d for h in depth], temperature)
                 variant["conditions"]["groove_depth"] = [f"{d - (d - float(h) * ratio) * kept!r} m" for h in depth]
     if swept and isinstance(variant.get("fluid"), dict):
         variant["fluid"]["temperature"] = f"{temperature!r} K"

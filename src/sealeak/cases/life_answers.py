@@ -4,7 +4,9 @@ it holds (the cold limit: the cord shrinks, the rubber stiffens) and the highest
 relaxation and compression set run faster) (docs/user-guide.md, "The seal over its life").
 
 The answers use the deterministic (nominal) leak rate of each (time, temperature) case, compared as
-:mod:`sealeak.cases.uncertainty` compares it (Q, or the gas's pV throughput, or a liquid's helium equivalent).
+:mod:`sealeak.cases.uncertainty` compares it (Q of the theory the tables show, or the gas's pV throughput, or a
+liquid's helium equivalent), each against the limit of its own case (a standard or molar flow, or a mass flow, is a
+pV throughput at the gas's temperature there).
 Between two computed times the leak rate is taken as a power law of the time (log Q linear in log t); between two
 temperatures log Q is linear in T. A row without a leak channel seals (Q = 0).
 """
@@ -18,14 +20,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..io.quantities import quantity
-from .uncertainty import UncertaintyResult
+from .life import life_variant
+from .model import LifePoint
+from .uncertainty import UncertaintyResult, record_values
 
 __all__ = ["LifeAnswer", "first_exceeded", "life_answers", "lowest_holding_temperature", "highest_holding_temperature"]
 
 
 @dataclass(frozen=True)
 class LifeAnswer:
-    """The answers for one load of the seal (the row index ``row`` of every life case).
+    """The answers for one load of the seal (the row index ``row`` of every life case) of one study variant.
 
     Attributes
     ----------
@@ -44,6 +48,8 @@ class LifeAnswer:
     holds_to
         The highest temperature (K) up to which it holds at the latest time, or None where it exceeds at the
         coldest; ``holds_to == temperatures[-1]`` where it holds still at the warmest computed.
+    variant
+        The ``[study]`` variant whose life cases these are (their label without its life part; ``""`` without one).
     """
 
     row: int
@@ -62,6 +68,7 @@ class LifeAnswer:
     holds_to: float | None = quantity(
         "K", "the highest temperature up to which the leak rate holds conditions.max_leak_rate at the latest time, "
              "interpolated (the warmest computed: holds at every one; null: exceeds even at the coldest)")
+    variant: str = ""
 
 
 def _crossing(x0: float, x1: float, q0: float, q1: float, limit: float, log_x: bool) -> float:
@@ -107,36 +114,45 @@ def highest_holding_temperature(temperatures: Sequence[float], q: Sequence[float
 
 
 def life_answers(unc: UncertaintyResult) -> list[LifeAnswer]:
-    """Per load of the seal, the answers of its life cases against ``conditions.max_leak_rate`` (the nominal
-    results); empty without the specification or without life cases with more than one time or temperature."""
+    """Per ``[study]`` variant and load of the seal, the answers of its life cases against
+    ``conditions.max_leak_rate`` (the nominal results); empty without the specification or without life cases with
+    more than one time or temperature."""
     if unc.limits is None or unc.limit_keys is None:
         return []
+    variants: dict[str, dict[int, LifePoint]] = {}
+    for i, r in enumerate(unc.nominal):
+        if r.case.life is not None:
+            variants.setdefault(life_variant(r.case), {})[i] = r.case.life
+    return [a for variant, life in variants.items() for a in _variant_answers(unc, variant, life)]
+
+
+def _variant_answers(unc: UncertaintyResult, variant: str, life: dict[int, LifePoint]) -> list[LifeAnswer]:
+    """The answers of one variant's life cases (``life``: case index → its (time, temperature)), one per load."""
+    assert unc.limits is not None and unc.limit_keys is not None
     index: dict[int, list[int]] = {}
     for j, row in enumerate(unc.study.rows):
         index.setdefault(row.case, []).append(j)
-    life = {i: r.case.life for i, r in enumerate(unc.nominal) if r.case.life is not None}
-    if not life:
-        return []
     times = sorted({p.time for p in life.values()})
     temps = sorted({p.temperature for p in life.values()})
     if len(times) < 2 and len(temps) < 2:
         return []
     loads = min(len(index.get(i, [])) for i in life)
+    shown = {i: record_values([unc.nominal[i]]) for i in life}  # Q of the theory the tables show, 0 where it seals
     out = []
     for n in range(loads):
-        q = np.zeros((len(temps), len(times)))
-        limits, values = [], []
+        # Q over the limit of its own (T, t) cell: a gas's limit in sccm, mol/s or kg/s is a pV throughput at the
+        # cell's temperature; Q/limit > 1 exceeds it, and log(Q/limit) is interpolated as log Q is
+        ratio = np.zeros((len(temps), len(times)))
+        values = []
         for i, point in life.items():
             j = index[i][n]
-            record = unc.nominal[i].records()[n]
-            v = record.get(unc.limit_keys[j])
-            q[temps.index(point.temperature), times.index(point.time)] = v if v is not None and v == v else 0.0
-            limits.append(float(unc.limits[j]))
+            ratio[temps.index(point.temperature), times.index(point.time)] = \
+                shown[i][unc.limit_keys[j]][n] / float(unc.limits[j])
             values.append(float(unc.study.rows[j].load))
-        limit = limits[0]
+        latest = ratio[:, -1].tolist()
         out.append(LifeAnswer(
             row=n, load_name=unc.study.rows[index[next(iter(life))][n]].load_name, loads=tuple(values),
-            temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, q[i].tolist(), limit) for i in range(len(temps))),
-            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, q[:, -1].tolist(), limit),
-            holds_to=highest_holding_temperature(temps, q[:, -1].tolist(), limit)))
+            temperatures=tuple(temps), exceeded_from=tuple(first_exceeded(times, r.tolist(), 1.0) for r in ratio),
+            earliest_time=times[0], latest_time=times[-1], holds_from=lowest_holding_temperature(temps, latest, 1.0),
+            holds_to=highest_holding_temperature(temps, latest, 1.0), variant=variant))
     return out

@@ -601,6 +601,17 @@ def parse_temperature(field: str, value: Any) -> float:
     return kelvin
 
 
+# The units a time is shown in.
+__all__ += ["TIME_UNITS", "YEAR"]
+
+#: A (Julian) year in s: 365.25 days.
+YEAR = 365.25 * 86400.0
+#: The units a time (s) is shown in, longest first: (seconds per unit, symbol, word) — the symbols of
+#: ``conditions.time`` ("a", "d"), the words of the rig's texts and figures ("years", "days").
+TIME_UNITS: tuple[tuple[float, str, str], ...] = (
+    (YEAR, "a", "years"), (86400.0, "d", "days"), (3600.0, "h", "h"), (60.0, "min", "min"), (1.0, "s", "s"))
+
+
 # Spreads written beside a value ("1.5 um ± 10 %"): the parts of a quantity and the ratio of two units.
 __all__ += ["quantity_parts", "difference_factor", "pint_unit"]
 

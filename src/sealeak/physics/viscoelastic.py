@@ -36,7 +36,7 @@ from ..io.leak_units import celsius
 
 __all__ = [
     "PronySeries", "MasterCurve", "WLFShift", "ArrheniusShift", "modulus_at", "universal_wlf_glass_transition",
-    "thermal_compression", "glass_transition_warnings", "CompressionSet", "fit_compression_set", "remaining_compression",
+    "thermal_compression", "expansion_coefficient", "glass_transition_warnings", "CompressionSet", "fit_compression_set", "remaining_compression",
     "MAX_TERMS", "MAX_POINTS", "FIT_TERMS_PER_DECADE", "FIT_POINTS_PER_DECADE",
     "PRONY_MODULI", "PRONY_TIMES", "UNIVERSAL_WLF_C1", "UNIVERSAL_WLF_C2", "GLASS_MARGIN", "NBR_LINEAR_EXPANSION",
 ]
@@ -105,10 +105,26 @@ def _positive(field: str, value: float, what: str) -> float:
     return positive_number(field, value, allowed=f"must be finite and > 0 ({what})")
 
 
-def _refuse_where(field: str, values: FloatArray, bad: NDArray[np.bool_], allowed: str) -> None:
-    """An InputError naming ``field`` and the first of ``values`` where ``bad`` holds (NaN included by the caller)."""
+def _refuse_where(field: str, values: FloatArray, bad: NDArray[np.bool_], allowed: str, *, kelvin: bool = False) -> None:
+    """An InputError naming ``field`` and the first of ``values`` where ``bad`` holds (NaN included by the caller);
+    ``kelvin``: the values are temperatures (K), shown with their unit and in °C (``"123.15 K (-150 °C)"``)."""
     if np.any(bad):
-        raise InputError(field, float(np.ravel(values)[np.flatnonzero(np.ravel(bad))[0]]), allowed)
+        value = float(np.ravel(values)[np.flatnonzero(np.ravel(bad))[0]])
+        raise InputError(field, _kelvin_text(value) if kelvin else value, allowed)
+
+
+def _kelvin_text(temperature: float) -> str:
+    """A temperature (K) as a message shows it: ``"123.15 K (-150 °C)"``."""
+    return f"{temperature:.6g} K ({celsius(temperature):.4g} °C)"
+
+
+def expansion_coefficient(field: str, alpha: float) -> float:
+    """A linear thermal expansion coefficient α (1/K) checked: finite, of magnitude below 1e-2 1/K (else an InputError
+    naming ``field``)."""
+    a = _floats(field, alpha, "must be a number (1/K)")
+    if a.ndim or not (math.isfinite(a) and abs(a) < 1e-2):
+        raise InputError(field, alpha, "must be a linear expansion coefficient of magnitude below 1e-2 1/K")
+    return float(a)
 
 
 class RelaxationModulus(Protocol):
@@ -402,8 +418,8 @@ class WLFShift(_Shift):
         """log10 a_T at temperatures T in K (> T∞ = Tref − C2; else an InputError naming ``field``)."""
         temp = _floats(field, temperature, "must be a number (K)")
         dt = temp - self.reference_temperature
-        _refuse_where(field, temp, ~(self.c2 + dt > 0), f"must be above Tref − C2 = {self.vogel_temperature:.6g} K, "
-                      "where the WLF shift diverges (the rubber is glassy long before)")
+        _refuse_where(field, temp, ~(self.c2 + dt > 0), f"must be above Tref − C2 = {_kelvin_text(self.vogel_temperature)}, "
+                      "where the WLF shift diverges (the rubber is glassy long before)", kelvin=True)
         return np.asarray(-self.c1 * dt / (self.c2 + dt), dtype=float)
 
 
@@ -423,7 +439,7 @@ class ArrheniusShift(_Shift):
     def log10_shift(self, temperature: ArrayLike, *, field: str = "temperature") -> FloatArray:
         """log10 a_T at temperatures T in K (> 0)."""
         temp = _floats(field, temperature, "must be a number (K)")
-        _refuse_where(field, temp, ~(temp > 0), "must be an absolute temperature > 0 K")
+        _refuse_where(field, temp, ~(temp > 0), "must be an absolute temperature > 0 K", kelvin=True)
         return np.asarray(self.activation_energy / GAS_CONSTANT * (1 / temp - 1 / self.reference_temperature)
                           / math.log(10), dtype=float)
 
@@ -465,18 +481,14 @@ def thermal_compression(compression: ArrayLike, temperature: ArrayLike, assembly
     _refuse_where("compression", eps0, ~((eps0 >= 0) & (eps0 < 1)), "must be in [0, 1): the squeeze over the cord diameter")
     ta = _positive("assembly_temperature", assembly_temperature, "K")
     temp = _floats("temperature", temperature, "must be a number (K)")
-    _refuse_where("temperature", temp, ~(temp > 0), "must be an absolute temperature > 0 K")
-    alphas = []
-    for name, alpha in (("rubber_expansion", rubber_expansion), ("gland_expansion", gland_expansion)):
-        a = _floats(name, alpha, "must be a number (1/K)")
-        if a.ndim or not (math.isfinite(a) and abs(a) < 1e-2):
-            raise InputError(name, alpha, "must be a linear expansion coefficient of magnitude below 1e-2 1/K")
-        alphas.append(float(a))
+    _refuse_where("temperature", temp, ~(temp > 0), "must be an absolute temperature > 0 K", kelvin=True)
+    alphas = [expansion_coefficient("rubber_expansion", rubber_expansion),
+              expansion_coefficient("gland_expansion", gland_expansion)]
     dt = temp - ta
     cord = 1 + alphas[0] * dt
     gland = 1 + alphas[1] * dt
     _refuse_where("temperature", np.broadcast_to(temp, cord.shape), ~((cord > 0) & (gland > 0)),
-                  "must keep 1 + α (T − Ta) > 0 for the cord and the gland")
+                  "must keep 1 + α (T − Ta) > 0 for the cord and the gland", kelvin=True)
     return np.asarray(1 - (1 - eps0) * gland / cord, dtype=float)
 
 

@@ -17,6 +17,7 @@ from ..cases.leak_tests import DecayPrediction, DecayReadingsResult, decay_rig
 from ..cases.model import BandSeal
 from ..io.leak_units import MBAR_L_PER_PA_M3, to_ml_per_min
 from ..io.quantities import expand_keys, quantity, record_fields, units_for, units_of
+from ..io.units import TIME_UNITS
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, ScaleFit
 from ..lab.pressure_decay import DecayReadings, PressureDecaySetup, ScaleFromDecay
@@ -402,7 +403,7 @@ def duration_text(seconds: float) -> str:
     """A time in s, with a readable unit beside it for long times: '1234 s (20.6 min)', '3.2e+08 s (10.1 years)'."""
     if not np.isfinite(seconds):
         return "never" if seconds > 0 else "n/a"
-    for size, unit in ((365.25 * 86400.0, "years"), (86400.0, "days"), (3600.0, "h"), (60.0, "min")):
+    for size, _, unit in TIME_UNITS[:-1]:  # years, days, h, min
         if seconds >= 2 * size:
             return f"{seconds:.4g} s ({seconds / size:.3g} {unit})"
     return f"{seconds:.4g} s"

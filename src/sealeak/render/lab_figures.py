@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from ..cases import FitResult, LinearityCheck
 from ..cases.leak_tests import DecayPrediction, DecayReadingsResult
 from ..io.leak_units import celsius
+from ..io.units import TIME_UNITS, YEAR
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, RigSetup, WaterColumn
 from .figures import (
     color,
@@ -34,10 +35,6 @@ from .plotstyle import second_leak_axis
 __all__ = ["figure_fit", "figure_linearity", "figure_rig", "figure_readings", "figure_decay", "figure_decay_readings"]
 
 _NAMES = {"critical_junction": "critical junction", "effective_medium": "effective medium"}
-
-#: A year (365.25 days) in s, the time unit of a rig that drains for longer than two years.
-YEAR = 365.25 * 86400.0
-
 
 def _load_x(ax: Axes, load_name: str, values: np.ndarray) -> float:
     """Label the x axis with the load of the fit (P0, or a band seal's compression in % or profile scale); returns its scale."""
@@ -233,7 +230,7 @@ DECAY_LOG_RATIO = 10.0
 
 def _time_unit(longest: float) -> tuple[float, str]:
     """(seconds per unit, unit) of a time axis reaching ``longest`` s."""
-    for size, unit in ((YEAR, "years"), (86400.0, "days"), (3600.0, "h"), (60.0, "min")):
+    for size, _, unit in TIME_UNITS[:-1]:  # years, days, h, min
         if longest > 2 * size:
             return size, unit
     return 1.0, "s"

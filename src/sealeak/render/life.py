@@ -2,8 +2,9 @@
 each time (``[conditions] time`` and ``temperature``, :mod:`sealeak.cases.life`; docs/user-guide.md).
 
 Each case of such a file is one (time, temperature); each load of the seal (a row of the cases' records: a squeeze
-pressure, a compression or a load factor) gets a panel of its own, stacked with a shared time or temperature axis:
-up to :data:`MAX_PANELS`, evenly spread over the loads where there are more. Each draws the leak rate Q of the theory
+pressure, a compression or a load factor) of each ``[study]`` variant gets a panel of its own, headed by the variant
+and the load, stacked with a shared time or temperature axis: up to :data:`MAX_PANELS`, evenly spread over them where
+there are more. Each draws the leak rate Q of the theory
 the tables show, or a gas's pV throughput Q_pV in mbar·l/s (docs/theory.md §11.9) as the other gas figures do.
 """
 
@@ -18,9 +19,9 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..cases import CaseResult
-from ..cases.life import time_text, time_unit
+from ..cases.life import life_variant, time_text, time_unit
 from ..cases.model import STANDARD_TEMPERATURE_CASE
-from ..cases.uncertainty import UncertaintyResult
+from ..cases.uncertainty import UncertaintyResult, record_values
 from ..io.leak_units import PA_M3_PER_MBAR_L, celsius
 from .plotstyle import (
     GAS_LEAK_LABEL,
@@ -52,30 +53,37 @@ _HEIGHT, _PANEL_HEIGHT = 4.6, 2.8
 
 
 def _grid(results: Sequence[CaseResult]) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[str], bool]:
-    """(times s, temperatures K, Q [load, temperature, time], valid [load, temperature, time], load text per load,
-    gas) of the life cases among ``results`` (NaN where a (time, temperature) is missing or has no leak channel):
-    Q in m³/s, or a gas's Q_pV in mbar·l/s where every life case is a gas case (``gas``)."""
+    """(times s, temperatures K, Q [panel, temperature, time], valid [panel, temperature, time], load text per panel,
+    gas) of the life cases among ``results``, one panel per load of each ``[study]`` variant (its text led by the
+    variant's label) (NaN where a (time, temperature) is missing or has no leak channel): Q of the theory the tables
+    show in m³/s, or a gas's Q_pV in mbar·l/s where every life case is a gas case (``gas``)."""
     life = [r for r in results if r.case.life is not None]
     gas = bool(life) and all(r.case.gas is not None and r.gas for r in life)
     key = "leak_rate_mbar_l_s" if gas else "leak_rate"
     times = np.unique([r.case.life.time for r in life if r.case.life is not None])
     temps = np.unique([r.case.life.temperature for r in life if r.case.life is not None])
+    variants = list(dict.fromkeys(life_variant(r.case) for r in life))
     rows = min((len(r.records()) for r in life), default=0)
-    q = np.full((rows, temps.size, times.size), np.nan)
+    q = np.full((len(variants) * rows, temps.size, times.size), np.nan)
     valid = np.ones_like(q, dtype=bool)
     name = "squeeze_pressure"
-    loads: list[list[float]] = [[] for _ in range(rows)]
+    loads: list[list[float]] = [[] for _ in range(q.shape[0])]
     for r in life:
         point, records = r.case.life, r.records()
         if point is None:
             continue
         i, j = int(np.searchsorted(temps, point.temperature)), int(np.searchsorted(times, point.time))
         name = r.band.band.load_name if r.band is not None else "squeeze_pressure"
+        shown = record_values([r])[key]  # Q of the theory the tables show, as the answers compare it; 0: it seals
+        first = variants.index(life_variant(r.case)) * rows
         for n, row in enumerate(records[:rows]):
-            q[n, i, j] = row[key] if row.get("percolates", True) else np.nan
-            valid[n, i, j] = bool(row.get("valid", True))
-            loads[n].append(float(row[name]))
-    return times, temps, q, valid, [_load_text(name, v) for v in loads], gas
+            q[first + n, i, j] = shown[n] if shown[n] > 0 else np.nan
+            valid[first + n, i, j] = bool(row.get("valid", True))
+            loads[first + n].append(float(row[name]))
+    texts = [_load_text(name, v) for v in loads]
+    if len(variants) > 1:
+        texts = [f"{variants[k // rows]}: {t}" for k, t in enumerate(texts)]
+    return times, temps, q, valid, texts, gas
 
 
 def _panels(rows: int) -> list[int]:
@@ -124,10 +132,11 @@ def life_figure_names(times: int, temperatures: int) -> tuple[str, ...]:
 
 def volume_limit(unc: UncertaintyResult | None) -> tuple[float, str] | None:
     """``conditions.max_leak_rate`` as compared and as written: a leak rate Q (m³/s) where it is compared with Q (a
-    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV; else None (none given, or a liquid's helium
-    equivalent: on neither axis)."""
+    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV; else None (none given, a liquid's helium
+    equivalent: on neither axis, or a limit that is no one line: a standard or molar flow, or a mass flow, is a pV
+    throughput that differs with the gas's temperature from case to case)."""
     if unc is None or unc.limits is None or not unc.limit_keys or len(set(unc.limit_keys)) != 1 or \
-            unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv"):
+            unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv") or len(set(unc.limits.tolist())) != 1:
         return None
     return float(unc.limits[0]), str(unc.study.max_leak_rate)
 

@@ -101,7 +101,8 @@ def _life_line(unc: UncertaintyResult, a: LifeAnswer) -> str:
         else f"first exceeds {spec} at t = {time_text(e)}") for t, e in zip(a.temperatures, a.exceeded_from)]
     if len(a.temperatures) > 1:
         parts.append(_holding_text(a, latest))
-    return f"{loads_text(a.load_name, sorted(set(a.loads)))}: " + "; ".join(parts)
+    prefix = f"{a.variant}, " if a.variant else ""
+    return f"{prefix}{loads_text(a.load_name, sorted(set(a.loads)))}: " + "; ".join(parts)
 
 
 def _holding_text(a: LifeAnswer, latest: str) -> str:
@@ -146,8 +147,8 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
 
 
 def _life_record(a: LifeAnswer) -> dict[str, Any]:
-    """The JSON of one load's life answers: its load (``values`` in ``unit``) and its fields in SI (s, K)."""
-    return {"load": a.load_name, "values": sorted(set(a.loads)), "unit": "Pa" if a.load_name == "squeeze_pressure" else "1",
+    """The JSON of one load's life answers: its study variant (null without one), its load (``values`` in ``unit``) and its fields in SI (s, K)."""
+    return {"variant": a.variant or None, "load": a.load_name, "values": sorted(set(a.loads)), "unit": "Pa" if a.load_name == "squeeze_pressure" else "1",
             "temperatures": list(a.temperatures), "exceeded_from": list(a.exceeded_from),
             "earliest_time": a.earliest_time, "latest_time": a.latest_time, "holds_from": a.holds_from,
             "holds_to": a.holds_to}
