@@ -30,6 +30,7 @@ from .plotstyle import (
     color,
     draw_series,
     finish_axes,
+    invalid_note,
     laid_out,
     ml_per_min_axis,
     pa_m3_axis,
@@ -197,8 +198,7 @@ def _draw(ax: Axes, series: list[Series], notes: list[str], empty: str, limit: t
     ax.set_ylabel(f"{quantity} ({unit})")
     if limit is not None:
         ax.axhline(limit[0] / scale, color="0.2", linestyle="-.", linewidth=1.2, label=f"max_leak_rate = {limit[1]}")
-    if any(not s.valid.all() for s in series):
-        notes = [*notes, "hollow markers: outside the theory's validity"]
+    notes = [*notes, invalid_note(series)] if invalid_note(series) else notes
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)
     second(ax, scale)
