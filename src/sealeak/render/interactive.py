@@ -47,8 +47,9 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
     medium (m³/s; for a gas case, ``gas`` true, the pV throughput Q_pV in mbar·l/s, the unit of leak tests:
     the records' ``leak_rate_mbar_l_s``), ``valid`` the verdict of each point (false: outside the theory; a sealed
     point has Q = NaN, null in JSON), ``band`` with uncertain inputs the percentiles ``p05``, ``p50``, ``p95`` of Q
-    over the samples in the same unit (else null); ``limit``: ``conditions.max_leak_rate`` where it is compared with Q (m³/s)
-    or a gas's Q_pV (Pa·m³/s), ``value`` in SI and ``text`` as written (else null: none, or a helium equivalent); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
+    over the samples in the same unit (else null); ``limit``: ``conditions.max_leak_rate`` where it is compared with Q
+    (m³/s) or a gas's Q_pV (Pa·m³/s), ``value`` in SI and ``text`` as written (else null: none given, or a helium
+    equivalent); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
     A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
     """
     curves = prediction_curves(list(results))

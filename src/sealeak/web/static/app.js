@@ -848,6 +848,8 @@ async function pagePrediction() {
     sel.addEventListener("change", () => { Units.choose(dim, sel.value); refresh(); });
   }
   $("#pin").addEventListener("click", () => { Pins.pin(lastState); refresh(); });
+  let resized = null;  // a legend's rows follow the plot's width: drawn again once the window is resized
+  window.addEventListener("resize", () => { clearTimeout(resized); resized = setTimeout(refresh, 250); });
   both.addEventListener("change", () => {
     const model = $('#case-form [name="theory.model"]');
     if (!model) return;
