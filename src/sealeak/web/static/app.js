@@ -634,6 +634,7 @@ const TIME_UNITS = [["a", 365.25 * 86400], ["d", 86400], ["h", 3600], ["min", 60
 const COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
 // the most loads a life plot draws a panel for (evenly spread beyond), its panels' height and the gap (px) for a heading
 const LIFE = { panels: 4, height: 210, gap: 46 };
+const KELVIN = 273.15;  // 0 °C in K
 
 // "1 h", "30 d": a time (s) in the largest unit in which 4 digits show it exactly, else the largest it reaches
 function timeText(t) {
@@ -655,8 +656,8 @@ function lifeGrid(rows) {
   }
   const sorted = v => [...new Set(v)].sort((a, b) => a - b);
   const loads = Math.min(...[...cases.values()].map(c => c.length));
-  const panels = [...new Set(Array.from({ length: Math.min(loads, LIFE.panels) },
-    (_, k, n = Math.min(loads, LIFE.panels)) => (n > 1 ? Math.round(k * (loads - 1) / (n - 1)) : 0)))];
+  const shown = Math.min(loads, LIFE.panels);  // the loads drawn: evenly spread, the first and the last
+  const panels = [...new Set(Array.from({ length: shown }, (_, k) => (shown > 1 ? Math.round(k * (loads - 1) / (shown - 1)) : 0)))];
   return { times: sorted(rows.map(r => r.time)), temps: sorted(rows.map(r => r.temperature)), loads, panels,
     cases: [...cases.values()], at: (n, t, T) => (cases.get(`${t} ${T}`) || [])[n] };
 }
@@ -682,13 +683,14 @@ function lifePlot(id, title, x, curves, grid, key, limit, rows) {
   const traces = [], extra = { annotations: [], margin: { t: 64 } };
   grid.panels.forEach((load, k) => {
     const yaxis = k ? `y${k + 1}` : "y", first = k === 0;
+    const out = [];  // the points outside the theory
     const panel = curves.map((c, i) => {
-      const pts = c.points(load);
-      return line(pts.map(p => p[0]), pts.map(p => q(p[1])), c.name, { mode: "lines+markers", marker: { size: 5 },
-        line: { color: COLORS[i % COLORS.length] }, yaxis, legendgroup: c.name, showlegend: first, meta: pts.map(p => (p[1] || {}).valid) });
+      const pts = c.points(load), y = pts.map(p => q(p[1]));
+      pts.forEach(([xv, r], j) => { if (y[j] !== null && r.valid === false) out.push([xv, y[j]]); });
+      return line(pts.map(p => p[0]), y, c.name, { mode: "lines+markers", marker: { size: 5 },
+        line: { color: COLORS[i % COLORS.length] }, yaxis, legendgroup: c.name, showlegend: first });
     });
     const xs = panel.flatMap(t => t.x), ys = panel.flatMap(t => t.y);
-    const out = panel.flatMap(t => t.x.map((xv, j) => [xv, t.y[j], t.meta[j]])).filter(([, y, valid]) => y !== null && valid === false);
     traces.push(...panel);
     if (out.length) traces.push(outsideTheory(out.map(o => o[0]), out.map(o => o[1]), { yaxis, legendgroup: "outside", showlegend: first }));
     const lim = limit ? Units.show(limit.value, dim, rows) : null;
@@ -716,13 +718,13 @@ function drawLife(pred) {
   const times = grid.times.filter(t => t > 0);  // t = 0 (just after assembly) has no place on a log axis
   if (times.length > 1) {
     const [unit, f] = TIME_UNITS.find(([, g]) => times[0] >= g) || ["s", 1];
-    const curves = grid.temps.map(T => ({ name: `T = ${fmt(T - 273.15)} °C`, points: n => times.map(t => [t / f, grid.at(n, t, T)]) }));
+    const curves = grid.temps.map(T => ({ name: `T = ${fmt(T - KELVIN)} °C`, points: n => times.map(t => [t / f, grid.at(n, t, T)]) }));
     lifePlot("plot-life-time", `Leak rate over the life of the seal${times.length < grid.times.length ? " (t = 0 not on the log axis)" : ""}`,
       { ...axis(`time since assembly t (${unit})`, true), range: fitRange(times.map(t => t / f), true, 20) }, curves, grid, key, limit, rows);
   }
   if (grid.temps.length > 1) {
-    const x = grid.temps.map(T => T - 273.15);
-    const curves = grid.times.map(t => ({ name: `t = ${timeText(t)}`, points: n => grid.temps.map(T => [T - 273.15, grid.at(n, t, T)]) }));
+    const x = grid.temps.map(T => T - KELVIN);
+    const curves = grid.times.map(t => ({ name: `t = ${timeText(t)}`, points: n => grid.temps.map((T, i) => [x[i], grid.at(n, t, T)]) }));
     lifePlot("plot-life-temperature", "Leak rate against temperature over the life of the seal",
       { ...axis("temperature T (°C)", false), range: fitRange(x, false) }, curves, grid, key, limit, rows);
   }
