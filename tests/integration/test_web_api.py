@@ -292,6 +292,16 @@ def test_case_form_round_trip_and_field_messages(client):
     assert json.loads(r.content)["results"] == good["prediction"]["json"]["results"]
 
 
+def test_the_plots_carry_the_specification_in_si(client):
+    """conditions.max_leak_rate reaches the page's plots as written and in SI (a liquid: m³/s); none without it."""
+    plots = client.put("/api/case/toml", json={"toml": REF, "predict": True}).json()["prediction"]["plots"]
+    assert plots["limit"] is None
+    spec = REF.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "0.5 ml/min"')
+    plots = client.put("/api/case/toml", json={"toml": spec, "predict": True}).json()["prediction"]["plots"]
+    assert plots["limit"]["text"] == "0.5 ml/min"
+    assert plots["limit"]["value"] == pytest.approx(0.5e-6 / 60, rel=1e-12)  # 1 ml = 1e-6 m³
+
+
 @pytest.mark.slow  # every prediction figure drawn twice (~18 s)
 def test_downloads_are_the_cli_renderings(client, tmp_path, monkeypatch, capsys):
     client.post("/api/case/example", json={"name": "reference-experiment"})

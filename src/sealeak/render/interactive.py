@@ -16,6 +16,7 @@ import numpy as np
 
 from ..cases import CaseResult, prediction_curves
 from ..cases.uncertainty import UncertaintyResult
+from .life import volume_limit
 from .records import json_value
 
 __all__ = ["prediction_plot_data"]
@@ -46,7 +47,9 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
     medium (m³/s; for a gas case, ``gas`` true, the pV throughput Q_pV in mbar·l/s, the unit of leak tests:
     the records' ``leak_rate_mbar_l_s``), ``valid`` the verdict of each point (false: outside the theory; a sealed
     point has Q = NaN, null in JSON), ``band`` with uncertain inputs the percentiles ``p05``, ``p50``, ``p95`` of Q
-    over the samples in the same unit (else null); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
+    over the samples in the same unit (else null); ``limit``: ``conditions.max_leak_rate`` where it is compared with Q
+    (m³/s) or a gas's Q_pV (Pa·m³/s), ``value`` in SI and ``text`` as written (else null: none given, or a helium
+    equivalent); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
     A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
     """
     curves = prediction_curves(list(results))
@@ -71,6 +74,7 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
             for cs in curves.sets]
     return {
         "leak": leak,
+        "limit": {"value": limit[0], "text": limit[1]} if (limit := volume_limit(uncertainty)) else None,
         "spectra": [{"label": r.case.label or r.case.spectrum.label or r.case.title, "q": _list(q), "C": _list(C)}
                     for r, (q, C) in zip(results, curves.spectra)],
         "sets": sets,

@@ -444,9 +444,13 @@ async function pageHelp() {
 
 // ---------------------------------------------------------------- Prediction page
 const LAYOUT = {
-  margin: { l: 70, r: 20, t: 40, b: 95 }, font: { size: 12 }, hovermode: "x",
-  legend: { orientation: "h", x: 0, y: -0.32, yanchor: "top" }, paper_bgcolor: "#fff", plot_bgcolor: "#fff",
+  margin: { l: 70, r: 20, t: 40, b: 62 }, font: { size: 12 }, hovermode: "x",
+  legend: { orientation: "h", x: 0, yanchor: "top", tracegroupgap: 0 }, paper_bgcolor: "#fff", plot_bgcolor: "#fff",
 };
+// a plot's area (px) between its title and its x axis; the legend goes LEGEND.below px under that axis (its ticks and
+// title above it), in rows of LEGEND.row px (Plotly's entry of a 12 px font, 19 px)
+const AREA = 250;
+const LEGEND = { below: 62, row: 20, symbol: 45, font: '12px "Open Sans", verdana, arial, sans-serif' };
 const CONFIG = { responsive: true, displaylogo: false, toImageButtonOptions: { format: "png", scale: 2 } };
 
 function axis(title, log) {
@@ -467,10 +471,36 @@ function fitRange(values, log, decades = 8) {
   return [lo - pad, hi + pad];
 }
 
-function plot(id, traces, title, x, y) {
+let textMeasure = null;
+
+// the width (px) of a legend entry's text, as Plotly draws it
+function textWidth(text) {
+  textMeasure = textMeasure || document.createElement("canvas").getContext("2d");
+  textMeasure.font = LEGEND.font;
+  return textMeasure.measureText(String(text)).width;
+}
+
+// the height, bottom margin and legend of a plot whose legend sits under its x-axis title, never on it: Plotly lays out
+// a legend of several rows in columns as wide as its widest entry, so the rows follow from the entries' text widths
+// and the plot's width; the figure grows by them, its plotting area (``area`` px) stays
+function legendRoom(el, traces, margin, area) {
+  const names = traces.filter(t => t.showlegend !== false && t.name).map(t => t.name);
+  if (names.length < 2) return { height: margin.t + area + margin.b, margin, legend: LAYOUT.legend };
+  const entry = Math.ceil(Math.max(...names.map(textWidth))) + LEGEND.symbol;
+  const perRow = Math.max(1, Math.floor((el.clientWidth - margin.l - margin.r) / entry));
+  const tall = Math.ceil(names.length / perRow) * LEGEND.row + 12;
+  const b = LEGEND.below + tall;
+  return { height: margin.t + area + b, margin: { ...margin, b },
+    legend: { ...LAYOUT.legend, y: -LEGEND.below / area, maxheight: tall + 10 } };
+}
+
+// a Plotly plot in the element ``id``: ``x``, ``y`` its axes, ``extra`` more of its layout (more axes, shapes, a margin)
+function plot(id, traces, title, x, y, extra = {}, area = AREA) {
   const el = document.getElementById(id);
   if (!el || typeof Plotly === "undefined") return;
-  Plotly.react(el, traces, { ...LAYOUT, title: { text: title, font: { size: 14 } }, xaxis: x, yaxis: y }, CONFIG);
+  const room = legendRoom(el, traces, { ...LAYOUT.margin, ...extra.margin }, area);
+  el.style.height = `${room.height}px`;  // CSSOM, not a style attribute (the pages' CSP)
+  Plotly.react(el, traces, { ...LAYOUT, title: { text: title, font: { size: 14 } }, xaxis: x, yaxis: y, ...extra, ...room }, CONFIG);
 }
 
 function line(x, y, name, extra = {}) {
@@ -584,7 +614,124 @@ function setLabel(s) {
   return s.label.replace(/P0 = .*$/, `P0 = ${fmt(Units.show(s.squeeze_pressure, "pressure"))} ${Units.name("pressure")}`);
 }
 
+// points outside the theory's validity (valid = NO), crossed
+function outsideTheory(x, y, extra = {}) {
+  return { x, y, name: "outside the theory (valid = NO)", type: "scatter", mode: "markers",
+    marker: { symbol: "x-thin-open", size: 12, color: "#b3261e", line: { width: 2 } },
+    hovertemplate: "%{x:.4~g}, %{y:.4~e}: outside the theory<extra></extra>", ...extra };
+}
+
+// the title of a leak-rate axis in the chosen unit: a gas's pV throughput, a liquid's volume flow
+function leakTitle(gas) {
+  return gas ? `gas leak rate${Units.name("throughput") === "sccm" ? "" : " Q_pV"} (${Units.name("throughput")})`
+    : `leak rate Q (${Units.name("volume_flow")})`;
+}
+
+// ---------------------------------------------------------------- the seal over its life ([conditions] time and temperature)
+// the units of a time, as sealeak.cases.life has them (a: the Julian year)
+const TIME_UNITS = [["a", 365.25 * 86400], ["d", 86400], ["h", 3600], ["min", 60], ["s", 1]];
+// Plotly's colours, one per temperature (or time) in every panel
+const COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+// the most loads a life plot draws a panel for (evenly spread beyond), its panels' height and the gap (px) for a heading
+const LIFE = { panels: 4, height: 210, gap: 46 };
+const KELVIN = 273.15;  // 0 °C in K
+
+// "1 h", "30 d": a time (s) in the largest unit in which 4 digits show it exactly, else the largest it reaches
+function timeText(t) {
+  const spanned = TIME_UNITS.filter(([, f]) => t >= f);
+  const exact = spanned.find(([, f]) => Math.abs(Number((t / f).toPrecision(4)) - t / f) <= 1e-9 * (t / f));
+  const [u, f] = exact || spanned[0] || ["s", 1];
+  return `${fmt(t / f)} ${u}`;
+}
+
+// the cases of a life file as a grid: its times (s) and temperatures (K), sorted, its loads (the n-th row of each case:
+// a pressure, a compression) and ``at(n, t, T)`` the row; null where the rows have no time
+function lifeGrid(rows) {
+  if (!rows.some(r => typeof r.time === "number")) return null;
+  const cases = new Map();
+  for (const r of rows) {
+    const key = `${r.time} ${r.temperature}`;
+    if (!cases.has(key)) cases.set(key, []);
+    cases.get(key).push(r);
+  }
+  const sorted = v => [...new Set(v)].sort((a, b) => a - b);
+  const loads = Math.min(...[...cases.values()].map(c => c.length));
+  const shown = Math.min(loads, LIFE.panels);  // the loads drawn: evenly spread, the first and the last
+  const panels = [...new Set(Array.from({ length: shown }, (_, k) => (shown > 1 ? Math.round(k * (loads - 1) / (shown - 1)) : 0)))];
+  return { times: sorted(rows.map(r => r.time)), temps: sorted(rows.map(r => r.temperature)), loads, panels,
+    cases: [...cases.values()], at: (n, t, T) => (cases.get(`${t} ${T}`) || [])[n] };
+}
+
+// a panel's heading: its load as shown (an O-ring's compression changes with the temperature and the compression set)
+function lifeHeading(grid, n, key) {
+  const xa = X_AXES[key] || X_AXES.profile_scale;
+  const v = showX({ x: key, squeeze_pressure: grid.cases.map(c => c[n][key]) }).filter(x => typeof x === "number");
+  const lo = fmt(Math.min(...v), 3), hi = fmt(Math.max(...v), 3);
+  return lo === hi ? `${xa.title()}: ${lo}` : `${xa.title()}: ${lo} … ${hi} (it changes over the life)`;
+}
+
+// a life plot: a panel per load (up to LIFE.panels, stacked over the shared x axis), in each a curve per ``curves``
+// entry ({name, points(n): [[x, row], ...]}) of the leak rate Q (a gas: Q_pV) in the chosen unit, ``limit``
+// (conditions.max_leak_rate, SI) dash-dotted, points outside the theory crossed
+function lifePlot(id, title, x, curves, grid, key, limit, rows) {
+  const el = document.getElementById(id);
+  if (!el) return;
+  el.hidden = false;
+  const gas = rows[0].leak_rate_pv !== undefined, dim = gas ? "throughput" : "volume_flow";
+  const q = r => { const v = r && (gas ? r.leak_rate_pv : r.leak_rate); return typeof v === "number" && v > 0 ? Units.show(v, dim, rows) : null; };
+  const n = grid.panels.length, area = n * LIFE.height + (n - 1) * LIFE.gap;
+  const traces = [], extra = { annotations: [], margin: { t: 64 } };
+  grid.panels.forEach((load, k) => {
+    const yaxis = k ? `y${k + 1}` : "y", first = k === 0;
+    const out = [];  // the points outside the theory
+    const panel = curves.map((c, i) => {
+      const pts = c.points(load), y = pts.map(p => q(p[1]));
+      pts.forEach(([xv, r], j) => { if (y[j] !== null && r.valid === false) out.push([xv, y[j]]); });
+      return line(pts.map(p => p[0]), y, c.name, { mode: "lines+markers", marker: { size: 5 },
+        line: { color: COLORS[i % COLORS.length] }, yaxis, legendgroup: c.name, showlegend: first });
+    });
+    const xs = panel.flatMap(t => t.x), ys = panel.flatMap(t => t.y);
+    traces.push(...panel);
+    if (out.length) traces.push(outsideTheory(out.map(o => o[0]), out.map(o => o[1]), { yaxis, legendgroup: "outside", showlegend: first }));
+    const lim = limit ? Units.show(limit.value, dim, rows) : null;
+    if (lim) traces.push(line([Math.min(...xs), Math.max(...xs)], [lim, lim], `max_leak_rate = ${limit.text}`,
+      { yaxis, legendgroup: "limit", showlegend: first, line: { dash: "dashdot", color: "#333", width: 1.5 } }));
+    const top = 1 - k * (LIFE.height + LIFE.gap) / area;
+    extra[k ? `yaxis${k + 1}` : "yaxis"] = { ...axis(leakTitle(gas), true), anchor: "x", domain: [top - LIFE.height / area, top],
+      range: fitRange(lim ? [...ys, lim] : ys, true, 20) };  // a cold, young seal may leak decades less: shown
+    extra.annotations.push({ text: lifeHeading(grid, load, key), xref: "paper", yref: "paper", x: 0, y: top, xanchor: "left",
+      yanchor: "bottom", showarrow: false, font: { size: 12 } });
+  });
+  const more = n < grid.loads ? ` (${n} of the ${grid.loads} loads, evenly spread)` : "";
+  plot(id, traces, title + more, { ...x, anchor: n > 1 ? `y${n}` : "y" }, extra.yaxis, extra, area);
+}
+
+// the life plots of a prediction whose rows carry a time: Q against the time since assembly (log axis; a curve per
+// temperature) and against the temperature (a curve per time); hidden otherwise, and where one time or temperature
+function drawLife(pred) {
+  const rows = pred.json.results, grid = lifeGrid(rows);
+  const [byTime, byTemp] = ["plot-life-time", "plot-life-temperature"].map(id => document.getElementById(id));
+  if (byTime) byTime.hidden = true;
+  if (byTemp) byTemp.hidden = true;
+  if (!grid) return;
+  const key = (pred.plots.leak[0] || {}).x || "squeeze_pressure", limit = pred.plots.limit;
+  const times = grid.times.filter(t => t > 0);  // t = 0 (just after assembly) has no place on a log axis
+  if (times.length > 1) {
+    const [unit, f] = TIME_UNITS.find(([, g]) => times[0] >= g) || ["s", 1];
+    const curves = grid.temps.map(T => ({ name: `T = ${fmt(T - KELVIN)} °C`, points: n => times.map(t => [t / f, grid.at(n, t, T)]) }));
+    lifePlot("plot-life-time", `Leak rate over the life of the seal${times.length < grid.times.length ? " (t = 0 not on the log axis)" : ""}`,
+      { ...axis(`time since assembly t (${unit})`, true), range: fitRange(times.map(t => t / f), true, 20) }, curves, grid, key, limit, rows);
+  }
+  if (grid.temps.length > 1) {
+    const x = grid.temps.map(T => T - KELVIN);
+    const curves = grid.times.map(t => ({ name: `t = ${timeText(t)}`, points: n => grid.temps.map((T, i) => [x[i], grid.at(n, t, T)]) }));
+    lifePlot("plot-life-temperature", "Leak rate against temperature over the life of the seal",
+      { ...axis("temperature T (°C)", false), range: fitRange(x, false) }, curves, grid, key, limit, rows);
+  }
+}
+
 function drawPlots(pred) {
+  drawLife(pred);
   const p = { ...pred.plots };
   p.sets = p.sets.map(s => ({ ...s, label: setLabel(s) }));
   p.gaps = { ...p.gaps, labels: p.sets.map(s => s.label) };
@@ -605,14 +752,11 @@ function drawPlots(pred) {
   sx.push(...sealedX);
   if (sx.length) all.push({ x: sx, y: sx.map(() => foot), name: "sealed (no leak path)", type: "scatter", mode: "markers",
     marker: { symbol: "triangle-down", size: 10, color: "#1e7d3a" }, hovertemplate: "%{x:.4~g}: sealed<extra></extra>" });
-  if (ix.length) all.push({ x: ix, y: iy, name: "outside the theory (valid = NO)", type: "scatter", mode: "markers",
-    marker: { symbol: "x-thin-open", size: 12, color: "#b3261e", line: { width: 2 } }, hovertemplate: "%{x:.4~g}, %{y:.4~e}: outside the theory<extra></extra>" });
+  if (ix.length) all.push(outsideTheory(ix, iy));
   const c0 = p.leak[0] || { x: "squeeze_pressure" };
   const xa = X_AXES[c0.x] || X_AXES.profile_scale;
   const kinds = new Set(p.leak.map(c => c.gas));
-  const ytitle = kinds.size > 1 ? "leak rate (the unit of each curve in its legend)"
-    : c0.gas ? `gas leak rate${Units.name("throughput") === "sccm" ? "" : " Q_pV"} (${Units.name("throughput")})`
-      : `leak rate Q (${Units.name("volume_flow")})`;
+  const ytitle = kinds.size > 1 ? "leak rate (the unit of each curve in its legend)" : leakTitle(c0.gas);
   plot("plot-leak", all, "Leak rate", { ...axis(xa.title(), xa.log), range: fitRange(all.flatMap(t => t.x), xa.log) },
     { ...axis(ytitle, true), range: yr });
   plot("plot-psd", p.spectra.map(s => line(s.q, s.C, s.label)), "Power spectrum C(q)",
@@ -706,6 +850,8 @@ async function pagePrediction() {
     sel.addEventListener("change", () => { Units.choose(dim, sel.value); refresh(); });
   }
   $("#pin").addEventListener("click", () => { Pins.pin(lastState); refresh(); });
+  let resized = null;  // a legend's rows follow the plot's width: drawn again once the window is resized
+  window.addEventListener("resize", () => { clearTimeout(resized); resized = setTimeout(refresh, 250); });
   both.addEventListener("change", () => {
     const model = $('#case-form [name="theory.model"]');
     if (!model) return;
@@ -789,9 +935,8 @@ function drawSurface(an) {
     const C = q.map(v => fit.C0 * (v <= fit.q_rolloff ? 1 : Math.pow(v / fit.q_rolloff, -2 * (1 + fit.hurst))));
     traces.push(line(q, C, `self-affine fit, H = ${fmt(fit.hurst, 3)}`, { line: { dash: "dot" } }));
   }
-  const el = document.getElementById("plot-psd");
-  Plotly.react(el, traces, { ...LAYOUT, title: { text: "C(q) (shaded: the reliable range of each file)", font: { size: 14 } },
-    xaxis: axis("wavevector q (1/m)", true), yaxis: axis("C(q) (m⁴)", true), shapes }, CONFIG);
+  plot("plot-psd", traces, "C(q) (shaded: the reliable range of each file)", axis("wavevector q (1/m)", true),
+    axis("C(q) (m⁴)", true), { shapes }, 290);
 }
 
 // ---------------------------------------------------------------- Simulation page

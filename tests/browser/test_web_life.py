@@ -1,0 +1,99 @@
+"""The prediction page of the seal over its life: Q against the time since assembly and against the temperature drawn
+from the rows of the JSON, with the specification line; legends under their axis titles."""
+
+from __future__ import annotations
+
+import pytest
+
+from sealeak.cases import example_text
+
+from .test_web_pages import goto, load_example
+
+#: A time axis' unit in s (the x of the time plot is the time in the unit its title names).
+SECONDS = {"s": 1.0, "min": 60.0, "h": 3600.0, "d": 86400.0, "a": 365.25 * 86400.0}
+
+PLOTS = "['plot-life-time', 'plot-life-temperature'].map(id => document.getElementById(id))"
+
+
+def _data(page, plot_id: str) -> dict:
+    return page.evaluate(f"""(() => {{ const el = document.getElementById('{plot_id}');
+        return {{ hidden: el.hidden, layout: el.layout || null,
+                  data: (el.data || []).map(t => ({{ name: t.name, x: t.x, y: t.y, yaxis: t.yaxis || 'y' }})) }}; }})()""")
+
+
+def _approx(shown: list, expected: list[float | None]) -> None:
+    """Shown values against the rows' (None: no leak, drawn as a gap)."""
+    assert len(shown) == len(expected)
+    for s, e in zip(shown, expected):
+        assert (s is None) == (e is None)
+        if e is not None:
+            assert s == pytest.approx(e, rel=1e-9)
+
+
+def _boxes_apart(page, plot_id: str) -> None:
+    """The legend lies wholly below the x-axis title (their boxes on the screen do not overlap)."""
+    legend, title = (page.locator(f"#{plot_id} {sel}").first.bounding_box() for sel in (".legend", ".xtitle"))
+    assert legend is not None and title is not None
+    assert legend["y"] >= title["y"] + title["height"], (plot_id, legend, title)
+
+
+def test_life_plots_draw_the_rows_against_time_and_temperature(page, artifacts):
+    goto(page, "/case")  # the bundled life example with a specification, typed into the TOML editor
+    text = example_text("nbr-o-ring-life").replace('downstream_pressure = "1 bar"',
+                                                   'downstream_pressure = "1 bar"\nmax_leak_rate = "1e-6 mbar*l/s"')
+    page.fill("#toml-editor", text)
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    rows = page.evaluate("fetch('/download/results.json').then(r => r.json())")["results"]
+    cases: dict[tuple[float, float], list[dict]] = {}  # each (time, temperature): its rows, one per load, in order
+    for r in rows:
+        cases.setdefault((r["time"], r["temperature"]), []).append(r)
+    times = sorted({t for t, _ in cases})
+    temps = sorted({T for _, T in cases})
+    loads = min(len(c) for c in cases.values())
+    assert (len(times), len(temps), loads) == (4, 5, 2)
+
+    def q(t: float, T: float, n: int, key: str = "leak_rate_mbar_l_s") -> float | None:
+        v = cases[(t, T)][n][key]
+        return v if isinstance(v, float) and v > 0 else None
+
+    by_time = _data(page, "plot-life-time")
+    assert not by_time["hidden"] and by_time["layout"]["xaxis"]["type"] == "log"
+    unit = by_time["layout"]["xaxis"]["title"]["text"].rsplit("(", 1)[1].rstrip(")")
+    assert "mbar·l/s" in by_time["layout"]["yaxis"]["title"]["text"]
+    for n, yaxis in enumerate(["y", "y2"]):  # a panel per load
+        curves = {c["name"]: c for c in by_time["data"] if c["yaxis"] == yaxis}
+        for T in temps:
+            c = curves[f"T = {T - 273.15:.4g} °C"]
+            assert [x * SECONDS[unit] for x in c["x"]] == pytest.approx(times, rel=1e-9)
+            _approx(c["y"], [q(t, T, n) for t in times])
+        limit = curves["max_leak_rate = 1e-6 mbar*l/s"]
+        assert limit["y"] == pytest.approx([1e-6, 1e-6], rel=1e-9)
+
+    by_temp = _data(page, "plot-life-temperature")
+    assert not by_temp["hidden"] and by_temp["layout"]["xaxis"]["title"]["text"] == "temperature T (°C)"
+    for n, yaxis in enumerate(["y", "y2"]):
+        curves = [c for c in by_temp["data"] if c["yaxis"] == yaxis and c["name"].startswith("t = ")]
+        assert len(curves) == len(times)
+        for t, c in zip(times, curves):  # a curve per time, in order
+            assert c["x"] == pytest.approx([T - 273.15 for T in temps], rel=1e-9)
+            _approx(c["y"], [q(t, T, n) for T in temps])
+
+    page.select_option("#unit-throughput", "Pa·m³/s")  # the unit chosen: the curves follow it
+    page.wait_for_function("document.getElementById('plot-life-time').layout.yaxis.title.text.includes('Pa·m³/s')")
+    first = _data(page, "plot-life-time")["data"][0]
+    _approx(first["y"], [q(t, temps[0], 0, "leak_rate_pv") for t in times])
+
+    for plot_id in ("plot-life-time", "plot-life-temperature", "plot-leak", "plot-psd", "plot-gaps"):
+        _boxes_apart(page, plot_id)  # plot-leak: 22 entries, one per row
+    page.screenshot(path=str(artifacts / "prediction-life.png"), full_page=True)
+    page.locator("#plot-life-time").screenshot(path=str(artifacts / "prediction-life-time.png"))
+
+
+def test_no_life_plots_without_time(page):
+    load_example(page)
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    assert page.evaluate(f"{PLOTS}.map(el => [el.hidden, (el.data || []).length])") == [[True, 0], [True, 0]]
+    assert page.evaluate("document.getElementById('plot-leak').data.length") >= 1
