@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize
 
+import sealeak.physics.coupling as coupling
 from sealeak.physics.coupling import coupled_band_flow
 from sealeak.physics.profile import PressureProfile
 
@@ -46,3 +47,24 @@ def test_shooting_matches_an_independent_solution(fraction):
     assert got.converged and not got.lifted
     # the band's own spline of ln σ is exact for this σ up to ~1e-9; the rest is the two solvers' tolerances
     assert got.flow == pytest.approx(reference_flow(dp), rel=1e-6)
+
+
+@pytest.mark.parametrize("fraction", [0.3, 0.9])
+def test_no_flow_is_shot_twice(fraction, monkeypatch):
+    """Brent's method starts from the ends of the bracket the doubling has shot already: those shots are reused, so
+    every ODE solve is for a new trial flow and ``shots`` counts them."""
+    tried = []
+    makers = coupling._liquid_slopes
+
+    def recording(profile, table):
+        def record(make):
+            def made(q):
+                tried.append(q)
+                return make(q)
+            return made
+        return [record(make) for make in makers(profile, table)]
+
+    monkeypatch.setattr(coupling, "_liquid_slopes", recording)
+    got = coupled_band_flow(PressureProfile.semi_elliptic(W, P_MAX), sigma, fraction * P_MAX)
+    assert got.converged and got.shots >= 3
+    assert len(tried) == got.shots == len(set(tried))

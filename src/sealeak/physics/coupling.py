@@ -260,16 +260,20 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
            rtol: float, fortran: bool) -> CoupledBand:
     """q (m²/s) with p_f(w) = 0 (Pa): a lower bound ΔP/R, an upper one by doubling, then Brent's method; every shot
-    integrates across the band's pieces (``slopes``, :func:`_liquid_slopes`) by :func:`_across`."""
+    integrates across the band's pieces (``slopes``, :func:`_liquid_slopes`) by :func:`_across`. A flow shot once is
+    not shot again (Brent's method starts from the two ends of the bracket, both shot already)."""
     shots = 0
+    known: dict[float, float] = {}
 
     def outlet(q: float) -> float:
         nonlocal shots
-        shots += 1
-        y = dp
-        for slope in slopes:
-            y = _across(slope(q), y, dp, fortran)
-        return y / dp
+        if q not in known:
+            shots += 1
+            y = dp
+            for slope in slopes:
+                y = _across(slope(q), y, dp, fortran)
+            known[q] = y / dp
+        return known[q]
 
     q_lo = dp / r0
     if outlet(q_lo) <= 0:
