@@ -10,6 +10,7 @@ from scipy import integrate, optimize
 
 import sealeak.physics.coupling as coupling
 from sealeak.physics.coupling import coupled_band_flow
+from sealeak.physics.gaps import clear_caches
 from sealeak.physics.profile import PressureProfile
 
 W, P_MAX = 1e-3, 2e6
@@ -68,3 +69,23 @@ def test_no_flow_is_shot_twice(fraction, monkeypatch):
     got = coupled_band_flow(PressureProfile.semi_elliptic(W, P_MAX), sigma, fraction * P_MAX)
     assert got.converged and got.shots >= 3
     assert len(tried) == got.shots == len(set(tried))
+
+
+@pytest.mark.parametrize("factor", [1.5, 30.0])
+def test_flow_is_inversely_proportional_to_viscosity(factor):
+    """q ∝ σ at fixed ΔP (p_f(x) does not change when σ is multiplied by a constant): a band solved for σ/k, here
+    afresh, has the flow q/k of the band solved for σ, to the shooting's relative tolerance (1e-9)."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    q = coupled_band_flow(profile, sigma, 0.4 * P_MAX).flow
+    thicker = coupled_band_flow(profile, lambda s: sigma(s) / factor, 0.4 * P_MAX)
+    assert thicker.shots > 0  # solved, not taken from the first
+    assert thicker.flow == pytest.approx(q / factor, rel=1e-8)
+
+
+def test_a_band_solved_once_is_not_solved_again(monkeypatch):
+    """The solution depends on the profile, ΔP and σ alone: the same band again is answered without a shot, the same."""
+    clear_caches()
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    first = coupled_band_flow(profile, sigma, 0.5 * P_MAX)
+    monkeypatch.setattr(coupling, "_solve_band", lambda *a: pytest.fail("solved again"))
+    assert coupled_band_flow(profile, sigma, 0.5 * P_MAX) == first
