@@ -13,6 +13,7 @@ from scipy.interpolate import BarycentricInterpolator
 
 from sealeak.cases import example_path, load_cases, run_case
 from sealeak.cases.band import chebyshev_lobatto_interpolate
+from sealeak.physics import coupling
 from sealeak.physics._kernels import weighted_sum
 from sealeak.physics.gaps import clear_caches
 
@@ -51,3 +52,25 @@ def test_a_band_prediction_is_the_same_bits_every_time():
         clear_caches()  # P(u) computed again, not taken from where the first run kept it
         assert json.dumps(run_case(case).records()) == first
     assert json.dumps(run_case(case).records()) == first  # and taken from there
+
+
+def test_a_second_viscosity_reuses_the_coupled_bands_and_gives_the_same_bits(monkeypatch):
+    """The coupled bands are solved at η = 1 Pa·s and divided by η (docs/theory.md §13.3): the second fluid of the
+    bundled O-ring example solves no band, and its result is bit for bit that of the second fluid run alone."""
+    water, oil = load_cases(example_path("o-ring"))
+    assert oil.fluid.viscosity != water.fluid.viscosity
+    clear_caches()
+    alone = run_case(oil).band
+    clear_caches()
+    run_case(water)
+    solve = coupling._solve_band
+    solved = []
+    monkeypatch.setattr(coupling, "_solve_band", lambda *a: solved.append(1) or solve(*a))
+    after = run_case(oil).band
+    assert not solved
+    for theory in ("critical_junction", "effective_medium"):
+        assert np.array_equal(getattr(after, theory).leak_rate, getattr(alone, theory).leak_rate, equal_nan=True)
+        ratio = getattr(after, theory).leak_rate / getattr(run_case(water).band, theory).leak_rate
+        finite = np.isfinite(ratio)
+        assert finite.any()
+        np.testing.assert_allclose(ratio[finite], water.fluid.viscosity / oil.fluid.viscosity, rtol=1e-12)

@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize
 
+import sealeak.physics.coupling as coupling
 from sealeak.physics.coupling import coupled_band_flow
+from sealeak.physics.gaps import clear_caches
 from sealeak.physics.profile import PressureProfile
 
 W, P_MAX = 1e-3, 2e6
@@ -46,3 +48,44 @@ def test_shooting_matches_an_independent_solution(fraction):
     assert got.converged and not got.lifted
     # the band's own spline of ln σ is exact for this σ up to ~1e-9; the rest is the two solvers' tolerances
     assert got.flow == pytest.approx(reference_flow(dp), rel=1e-6)
+
+
+@pytest.mark.parametrize("fraction", [0.3, 0.9])
+def test_no_flow_is_shot_twice(fraction, monkeypatch):
+    """Brent's method starts from the ends of the bracket the doubling has shot already: those shots are reused, so
+    every ODE solve is for a new trial flow and ``shots`` counts them."""
+    tried = []
+    makers = coupling._liquid_slopes
+
+    def recording(profile, table):
+        def record(make):
+            def made(q):
+                tried.append(q)
+                return make(q)
+            return made
+        return [record(make) for make in makers(profile, table)]
+
+    monkeypatch.setattr(coupling, "_liquid_slopes", recording)
+    got = coupled_band_flow(PressureProfile.semi_elliptic(W, P_MAX), sigma, fraction * P_MAX)
+    assert got.converged and got.shots >= 3
+    assert len(tried) == got.shots == len(set(tried))
+
+
+@pytest.mark.parametrize("factor", [1.5, 30.0])
+def test_flow_is_inversely_proportional_to_viscosity(factor):
+    """q ∝ σ at fixed ΔP (p_f(x) does not change when σ is multiplied by a constant): a band solved for σ/k, here
+    afresh, has the flow q/k of the band solved for σ, to the shooting's relative tolerance (1e-9)."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    q = coupled_band_flow(profile, sigma, 0.4 * P_MAX).flow
+    thicker = coupled_band_flow(profile, lambda s: sigma(s) / factor, 0.4 * P_MAX)
+    assert thicker.shots > 0  # solved, not taken from the first
+    assert thicker.flow == pytest.approx(q / factor, rel=1e-8)
+
+
+def test_a_band_solved_once_is_not_solved_again(monkeypatch):
+    """The solution depends on the profile, ΔP and σ alone: the same band again is answered without a shot, the same."""
+    clear_caches()
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    first = coupled_band_flow(profile, sigma, 0.5 * P_MAX)
+    monkeypatch.setattr(coupling, "_solve_band", lambda *a: pytest.fail("solved again"))
+    assert coupled_band_flow(profile, sigma, 0.5 * P_MAX) == first

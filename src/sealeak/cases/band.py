@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -484,6 +484,18 @@ def _mean_sigma(case: Case, sigma: Callable[[FloatArray], FloatArray], mean: flo
     return float(effective_pressure_integral(sigma, mean, case.pressure_difference).value[0])
 
 
+def _scaled(sigma: Callable[[FloatArray], FloatArray], factor: float) -> Callable[[FloatArray], FloatArray]:
+    """σ(p) × ``factor``: σ at another viscosity (σ ∝ 1/η)."""
+    def scaled(p: FloatArray) -> FloatArray:
+        return sigma(p) * factor
+    return scaled
+
+
+def _per_viscosity(band: CoupledBand, viscosity: float) -> CoupledBand:
+    """The coupled flow of a band solved at η = 1 Pa·s, for the viscosity η (Pa·s): q/η (docs/theory.md §13.3)."""
+    return replace(band, flow=band.flow / viscosity)
+
+
 def load_value(load_name: str, value: float) -> str | float:
     """A band seal's load as an error message shows it: a compression (a fraction) in %, a profile scale as it is."""
     return f"{100 * value:.6g} %" if load_name == "compression" else float(value)
@@ -530,6 +542,10 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     cj_flow: list[CoupledBand] = []
     em_flow: list[CoupledBand] = []
     dp = case.pressure_difference
+    # the coupled flows are solved with σ at η = 1 Pa·s and divided by η (q ∝ 1/η, docs/theory.md §13.3): a band solved
+    # once (coupling.py keeps it) serves every viscosity, e.g. the fluids of a study or a web update of η
+    eta = case.fluid.viscosity
+    unit = replace(case, fluid=replace(case.fluid, viscosity=1.0))
     with case_keys():
         surface = _surface(case, band) if want_em else None
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
@@ -543,7 +559,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 cj_ok.append(g.converged)
                 cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
                 if case.coupled:
-                    cj_flow.append(coupled_band_flow(profile, sigma, dp))
+                    cj_flow.append(_per_viscosity(coupled_band_flow(profile, _cj_sigma(unit, contact), dp), eta))
                 top = critical_junction(contact, squeeze_pressure=[profile.max_pressure], pressure_difference=1.0,
                                         viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
                                         percolation_threshold=case.percolation_threshold)
@@ -556,10 +572,11 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                     em_ok.append(ok)
                     if case.coupled:  # a band sealed at its peak stays sealed: σ is tabulated up to the mean only
                         p_top = profile.mean_pressure if ge.sealed else profile.max_pressure
-                        em_sigma = _em_sigma_table(case, contact, p_top, LIFT_OFF_FLOOR, em_exact)
+                        em_unit = _em_sigma_table(unit, contact, p_top, LIFT_OFF_FLOOR,
+                                                  None if surface is None else _scaled(em_exact, eta))
                         em_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if ge.sealed
-                                       else coupled_band_flow(profile, em_sigma, dp))
-                        em_mean.append(_mean_sigma(case, em_sigma, profile.mean_pressure))
+                                       else _per_viscosity(coupled_band_flow(profile, em_unit, dp), eta))
+                        em_mean.append(_mean_sigma(case, _scaled(em_unit, 1.0 / eta), profile.mean_pressure))
                     else:
                         em_mean.append(float(em_exact(np.array([profile.mean_pressure]))[0]))
             except InputError as exc:  # the physics names the pressure; the case file gave the load

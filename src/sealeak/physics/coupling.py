@@ -28,6 +28,7 @@ vanishing pressure.
 from __future__ import annotations
 
 import bisect
+import hashlib
 import math
 import warnings
 from collections.abc import Callable, Sequence
@@ -40,6 +41,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
 from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate_at
+from .gaps import ArrayCache
 from .gas import Gas, bk_pressure_integrand, check_rarefaction_model
 from .profile import PressureProfile, series_resistance
 
@@ -54,6 +56,12 @@ LIFT_OFF_FLOOR = 1e-6
 ORDERS = (16, 32, 64, 128)
 #: Points of the σ(s) table a band solve interpolates (a cubic spline of ln σ in ln s over [floor, p_max]).
 TABLE_POINTS = 241
+#: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
+KEPT_BANDS_BYTES = 4 * 2**20
+
+#: Solved bands by a digest of everything the solution depends on (:func:`coupled_band_flow`); cleared with the P(u)
+#: rows by :func:`sealeak.physics.gaps.clear_caches`.
+_BANDS = ArrayCache(lambda: KEPT_BANDS_BYTES)
 
 
 @dataclass(frozen=True)
@@ -233,6 +241,11 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     σ(s) is tabulated (a cubic spline of ln σ in ln s through :data:`TABLE_POINTS` values over
     [:data:`LIFT_OFF_FLOOR` p_max, p_max]); effective pressures outside are clipped to it. ΔP ≥ p_max lifts
     the seal: q is then that of ΔP = p_max. A band whose σ(p_max) = 0 is sealed (q = 0).
+
+    The solution is a function of the profile, ΔP, ``rtol`` and the σ table alone: a band solved once in this process is
+    not solved again (kept up to :data:`KEPT_BANDS_BYTES`). Since q ∝ σ at fixed ΔP (p_f(x) does not change when σ is
+    multiplied by a constant, docs/theory.md §13.3), a caller that passes σ at a viscosity of 1 Pa·s and divides q by η
+    reuses one solution for every viscosity of a liquid.
     """
     p_max = profile.max_pressure
     floor = LIFT_OFF_FLOOR * p_max
@@ -242,11 +255,29 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     sigma_grid = np.asarray(sheet_conductance(s_grid), dtype=float)
     if not np.all(sigma_grid > 0):
         return CoupledBand(0.0, lifted, True, 0)
+    if dp <= 0:
+        return CoupledBand(0.0, lifted, True, 0)
+    digest = hashlib.blake2b(digest_size=16)
+    for part in (np.array([profile.width, p_max, profile.peak, dp, float(lifted), rtol]), profile.x, profile.pressure,
+                 sigma_grid):
+        digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
+    digest.update(profile.shape.encode())
+    key = digest.digest()
+    kept = _BANDS.get(key)
+    if kept is None:
+        band = _solve_band(profile, s_grid, sigma_grid, dp, lifted, rtol)
+        kept = _BANDS.put(key, (np.array([band.flow, band.converged, band.shots], dtype=float),))
+    flow, converged, shots = kept[0].tolist()
+    return CoupledBand(flow, lifted, bool(converged), int(shots))
+
+
+def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatArray, dp: float, lifted: bool,
+                rtol: float) -> CoupledBand:
+    """:func:`coupled_band_flow` of a band with σ ``sigma_grid`` (m³/(Pa·s), all > 0) at ``s_grid`` (Pa) and
+    0 < ΔP = ``dp`` <= p_max (Pa), solved."""
     table = _Splines(np.log(s_grid), (np.log(sigma_grid),))
     spline = table.splines[0]
     lo, hi = table.lo, table.hi
-    if dp <= 0:
-        return CoupledBand(0.0, lifted, True, 0)
     r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
     slopes = _liquid_slopes(profile, table)
     if not lifted:
@@ -260,16 +291,20 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
            rtol: float, fortran: bool) -> CoupledBand:
     """q (m²/s) with p_f(w) = 0 (Pa): a lower bound ΔP/R, an upper one by doubling, then Brent's method; every shot
-    integrates across the band's pieces (``slopes``, :func:`_liquid_slopes`) by :func:`_across`."""
+    integrates across the band's pieces (``slopes``, :func:`_liquid_slopes`) by :func:`_across`. A flow shot once is
+    not shot again (Brent's method starts from the two ends of the bracket, both shot already)."""
     shots = 0
+    known: dict[float, float] = {}
 
     def outlet(q: float) -> float:
         nonlocal shots
-        shots += 1
-        y = dp
-        for slope in slopes:
-            y = _across(slope(q), y, dp, fortran)
-        return y / dp
+        if q not in known:
+            shots += 1
+            y = dp
+            for slope in slopes:
+                y = _across(slope(q), y, dp, fortran)
+            known[q] = y / dp
+        return known[q]
 
     q_lo = dp / r0
     if outlet(q_lo) <= 0:
