@@ -89,3 +89,23 @@ def test_a_band_solved_once_is_not_solved_again(monkeypatch):
     first = coupled_band_flow(profile, sigma, 0.5 * P_MAX)
     monkeypatch.setattr(coupling, "_solve_band", lambda *a: pytest.fail("solved again"))
     assert coupled_band_flow(profile, sigma, 0.5 * P_MAX) == first
+
+
+
+@pytest.mark.parametrize("k", [10, 30, 60, 120])
+def test_a_near_sealed_band_is_solved_or_said_unsolved_never_wrong(k):
+    """A flat band (p = p0 across it) separates eq. 13.3: q w = ∫ σ(s) ds over s from p0 − ΔP to p0. With σ falling by
+    e^(0.9 k) over that range the shooting cannot follow the band beyond k ≈ 20 (its pressure drops over the last
+    1e-8 of the width): the answer must then say it did not converge (it once said it had, 1e10 too large)."""
+    p0, s0, dp = P_MAX, P_MAX / k, 0.9 * P_MAX
+
+    def steep(s):
+        return SIGMA0 * np.exp(-np.asarray(s, dtype=float) / s0)
+
+    clear_caches()
+    got = coupled_band_flow(PressureProfile.table([0.0, W], [p0, p0]), steep, dp)
+    exact = SIGMA0 * s0 * (np.exp(-(p0 - dp) / s0) - np.exp(-p0 / s0)) / W
+    if k == 10:
+        assert got.converged
+    if got.converged:
+        assert got.flow == pytest.approx(exact, rel=1e-4)  # the band's spline of ln σ in ln s: ~1e-5 here

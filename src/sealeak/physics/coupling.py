@@ -280,12 +280,21 @@ def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatA
     lo, hi = table.lo, table.hi
     r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
     slopes = _liquid_slopes(profile, table)
+    band = None
     if not lifted:
         try:
-            return _shoot(slopes, dp, r0, lifted, rtol, fortran=True)
+            band = _shoot(slopes, dp, r0, lifted, rtol, fortran=True)
         except _GaveUp:
             pass
-    return _shoot(slopes, dp, r0, lifted, rtol, fortran=False)
+    if band is None:
+        band = _shoot(slopes, dp, r0, lifted, rtol, fortran=False)
+    # 0 <= p_f <= ΔP bounds the effective pressure between p − ΔP and p, so (σ falling with s) q between ΔP/R(p) and
+    # ΔP/R(p − ΔP): a shot outside failed to follow the band (σ falling by ten decades or more across it) and is no answer
+    r_open = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(np.maximum(p - dp, 0.0) + 1e-300), lo,
+                                                                        hi)))).resistance
+    if band.converged and not (1.0 - 1e-6) * dp / r0 <= band.flow <= (1.0 + 1e-6) * dp / r_open:
+        return replace(band, converged=False)
+    return band
 
 
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
