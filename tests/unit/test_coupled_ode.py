@@ -92,11 +92,13 @@ def test_a_band_solved_once_is_not_solved_again(monkeypatch):
 
 
 
+
 @pytest.mark.parametrize("k", [10, 30, 60, 120])
-def test_a_near_sealed_band_is_solved_or_said_unsolved_never_wrong(k):
+def test_a_near_sealed_band_matches_the_closed_form_of_a_flat_band(k):
     """A flat band (p = p0 across it) separates eq. 13.3: q w = ∫ σ(s) ds over s from p0 − ΔP to p0. With σ falling by
-    e^(0.9 k) over that range the shooting cannot follow the band beyond k ≈ 20 (its pressure drops over the last
-    1e-8 of the width): the answer must then say it did not converge (it once said it had, 1e10 too large)."""
+    e^(0.9 k) over that range the shooting in x cannot follow the band beyond k ≈ 20 (its pressure drops over the last
+    1e-8 of the width; it once said it had converged, 1e10 too large): the band is then solved the other way round,
+    x(p_f), within the bounds ΔP/R(p) ... ΔP/R(p − ΔP)."""
     p0, s0, dp = P_MAX, P_MAX / k, 0.9 * P_MAX
 
     def steep(s):
@@ -105,7 +107,18 @@ def test_a_near_sealed_band_is_solved_or_said_unsolved_never_wrong(k):
     clear_caches()
     got = coupled_band_flow(PressureProfile.table([0.0, W], [p0, p0]), steep, dp)
     exact = SIGMA0 * s0 * (np.exp(-(p0 - dp) / s0) - np.exp(-p0 / s0)) / W
-    if k == 10:
-        assert got.converged
-    if got.converged:
-        assert got.flow == pytest.approx(exact, rel=1e-4)  # the band's spline of ln σ in ln s: ~1e-5 here
+    assert got.converged
+    assert got.flow == pytest.approx(exact, rel=1e-4)  # the band's spline of ln σ in ln s: ~1e-5 here
+
+
+@pytest.mark.parametrize("fraction", [0.3, 0.9])
+def test_the_two_directions_of_the_band_agree_where_both_follow_it(fraction):
+    """The inverse integration (x of p_f) against the shooting in x on the Hertz band of the other tests."""
+    dp = fraction * P_MAX
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    clear_caches()
+    forward = coupled_band_flow(profile, sigma, dp)
+    inverse = coupling._solve_inverse(profile, lambda s: float(sigma(max(s, 1e-6 * P_MAX))), dp,
+                                      (0.5 * forward.flow, 2.0 * forward.flow), 1e-10)
+    assert forward.converged and inverse.converged
+    assert inverse.flow == pytest.approx(forward.flow, rel=1e-6)

@@ -237,7 +237,10 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
 
     dp_f/dx = −q / σ(p(x) − p_f(x)) from p_f(0) = ΔP is integrated across the band (DOP853 in θ on
     each piece, relative tolerance 1e-10), and q is found by Brent's method such that p_f(w) = 0; q lies
-    between ΔP/R (the band without fluid pressure, R = ∫dx/σ(p)) and a bound found by doubling.
+    between ΔP/R (the band without fluid pressure, R = ∫dx/σ(p)) and a bound found by doubling. A band this shooting
+    cannot follow (no convergence, or a flow outside ΔP/R[p] ... ΔP/R[p − ΔP], the bounds 0 <= p_f <= ΔP give: σ
+    falling by tens of decades, p_f dropping over a sliver of the width) is solved the other way round, x(p_f)
+    (:func:`_solve_inverse`, docs/theory.md §13.3); ``converged`` is False only where that fails too.
     σ(s) is tabulated (a cubic spline of ln σ in ln s through :data:`TABLE_POINTS` values over
     [:data:`LIFT_OFF_FLOOR` p_max, p_max]); effective pressures outside are clipped to it. ΔP ≥ p_max lifts
     the seal: q is then that of ΔP = p_max. A band whose σ(p_max) = 0 is sealed (q = 0).
@@ -292,9 +295,48 @@ def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatA
     # ΔP/R(p − ΔP): a shot outside failed to follow the band (σ falling by ten decades or more across it) and is no answer
     r_open = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(np.maximum(p - dp, 0.0) + 1e-300), lo,
                                                                         hi)))).resistance
-    if band.converged and not (1.0 - 1e-6) * dp / r0 <= band.flow <= (1.0 + 1e-6) * dp / r_open:
-        return replace(band, converged=False)
-    return band
+    bounds = ((1.0 - 1e-6) * dp / r0, (1.0 + 1e-6) * dp / r_open)
+    if band.converged and bounds[0] <= band.flow <= bounds[1]:
+        return band
+    inverse = _solve_inverse(profile, lambda p: math.exp(float(spline(min(max(math.log(p) if p > 0 else lo, lo), hi)))),
+                             dp, bounds, rtol)
+    if inverse.converged and bounds[0] <= inverse.flow <= bounds[1]:
+        return replace(inverse, lifted=lifted, shots=band.shots + inverse.shots)
+    return replace(band, converged=False)
+
+
+def _solve_inverse(profile: PressureProfile, sigma: Callable[[float], float], dp: float, bounds: tuple[float, float],
+                   rtol: float) -> CoupledBand:
+    """Eq. 13.3 the other way round, for a band the shooting in x cannot follow (σ falling by tens of decades: p_f
+    drops over a sliver of the width): x(τ), τ = ΔP − p_f from 0 to ΔP, from dx/dτ = σ(p(x) − ΔP + τ)/q (smooth where
+    σ is tiny), and q within ``bounds`` (m²/s) such that x(ΔP) = w, by Brent's method in ln q. The mismatch is
+    (x(ΔP) − w)/w where the flow crosses the band, and the share of ΔP left, p_f/ΔP, where x reaches w first."""
+    w = float(profile.width)
+    shots = 0
+
+    def mismatch(ln_q: float) -> float:
+        nonlocal shots
+        shots += 1
+        q = math.exp(ln_q)
+
+        def rhs(tau: float, x: FloatArray) -> list[float]:
+            return [sigma(float(profile.at(min(float(x[0]), w))) - dp + tau) / q]
+
+        def across(tau: float, x: FloatArray) -> float:
+            return float(x[0]) - w
+        across.terminal, across.direction = True, 1.0  # type: ignore[attr-defined]
+        sol = solve_ivp(rhs, (0.0, dp), [0.0], method="DOP853", rtol=1e-10, atol=1e-14 * w, events=across)
+        if sol.status == 1:  # reached the outlet with fluid pressure left: q is too small
+            return float(dp - sol.t_events[0][0]) / dp
+        return float(sol.y[0, -1] - w) / w
+
+    lo, hi = math.log(bounds[0]), math.log(bounds[1])
+    if mismatch(lo) <= 0:
+        return CoupledBand(bounds[0], False, True, shots)
+    if mismatch(hi) >= 0:
+        return CoupledBand(bounds[1], False, True, shots)
+    ln_q, info = brentq(mismatch, lo, hi, xtol=rtol, full_output=True)
+    return CoupledBand(math.exp(ln_q), False, bool(info.converged), shots)
 
 
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
