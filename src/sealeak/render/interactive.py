@@ -16,7 +16,7 @@ import numpy as np
 
 from ..cases import CaseResult, prediction_curves
 from ..cases.uncertainty import UncertaintyResult
-from .life import volume_limit
+from .life import as_assembled, volume_limit
 from .records import json_value
 
 __all__ = ["prediction_plot_data"]
@@ -50,9 +50,12 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
     over the samples in the same unit (else null); ``limit``: ``conditions.max_leak_rate`` where it is compared with Q
     (m³/s) or a gas's Q_pV (Pa·m³/s), ``value`` in SI and ``text`` as written (else null: none given, or a helium
     equivalent); ``spectra``: per case q (1/m), C (m⁴); ``sets``: per representative pressure ζ,
-    A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set.
+    A(ζ)/A0, ζ of ū, ū(ζ) (m); ``gaps``: u (m) and u·P(u) of each set. Of a file of the seal over its life with several
+    cases, ``spectra``, ``sets`` and ``gaps`` are those of the case as assembled (:func:`~sealeak.render.life.as_assembled`),
+    as in its figures.
     """
-    curves = prediction_curves(list(results))
+    shown = as_assembled(results)  # the seal over its life: its case as assembled here, every case in the life plots
+    curves = prediction_curves(list(shown))
     leak = []
     for r, band in zip(results, _bands(results, uncertainty)):
         recs = r.records()
@@ -67,7 +70,7 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
                      "leak_rate_effective_medium": (_list([rec.get(f"{key}_effective_medium", np.nan) for rec in recs])
                                                     if any(f"{key}_effective_medium" in rec for rec in recs) else None),
                      "band": band})
-    label = len(results) > 1
+    label = len(shown) > 1
     sets = [{"label": (f"{cs.case.label}: " if label and cs.case.label else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",
              "squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),
              "zeta_gap": _list(cs.zeta[:-1]), "mean_gap": _list(cs.mean_gap), "zeta_c": json_value(cs.zeta_c)}
@@ -76,7 +79,7 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
         "leak": leak,
         "limit": {"value": limit[0], "text": limit[1]} if (limit := volume_limit(uncertainty)) else None,
         "spectra": [{"label": r.case.label or r.case.spectrum.label or r.case.title, "q": _list(q), "C": _list(C)}
-                    for r, (q, C) in zip(results, curves.spectra)],
+                    for r, (q, C) in zip(shown, curves.spectra)],
         "sets": sets,
         "gaps": {"u": _list(curves.gap), "density": [_list(d) for d in curves.gap_density],
                  "labels": [s["label"] for s in sets]},
