@@ -85,10 +85,10 @@ def uncertainty_legend(unc: UncertaintyResult) -> str:
 
 
 def passing_lines(unc: UncertaintyResult) -> list[str]:
-    """One line per case: the load at which it passes ``max_leak_rate`` with 95 % probability, or why there is none;
-    for the seal over its life then one line per load: when it first exceeds it at each temperature and between which
-    temperatures it holds at the latest time (:func:`~sealeak.cases.life_answers.life_answers`)."""
-    return [_passing_line(unc, p) for p in unc.passing_loads()] + [_life_line(unc, a) for a in life_answers(unc)]
+    """For the seal over its life first one line per load: when it first exceeds ``max_leak_rate`` at each temperature
+    and between which temperatures it holds at the latest time (:func:`~sealeak.cases.life_answers.life_answers`);
+    then one line per case: the load at which it passes with 95 % probability, or why there is none."""
+    return [_life_line(unc, a) for a in life_answers(unc)] + [_passing_line(unc, p) for p in unc.passing_loads()]
 
 
 def _life_line(unc: UncertaintyResult, a: LifeAnswer) -> str:
