@@ -10,9 +10,8 @@ from sealeak.render import prediction_figures
 from sealeak.render.figures import prediction_figure_names
 from sealeak.render.life import life_figures
 from tests.integration.test_figures_render import _assert_reads_right, _build, _data_lines
-from tests.unit.test_life_cases import ORING, PRONY, RING, SURFACE
+from tests.unit.test_life_cases import GAS_RING, ORING, RING, WLF
 
-WLF = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
 TIMES = 'time = ["0 s", "100 s", "1 h", "1 d"]'
 
 
@@ -112,23 +111,7 @@ def test_each_load_gets_a_panel_of_its_own_and_many_loads_four_spread_ones():
 
 def test_a_gas_is_drawn_as_its_pv_throughput_with_its_specification():
     """A gas's leak rate is Q_pV in mbar·l/s (the gas figures' unit), not the incompressible K ΔP of its Q column."""
-    text = SURFACE + f"""
-[rubber]
-{WLF}
-[seal]
-shape = "ring"
-inner_diameter = "3 cm"
-outer_diameter = "4 cm"
-[fluid]
-name = "nitrogen"
-[conditions]
-squeeze_pressure = "100 kPa"
-upstream_pressure = "2 bar"
-downstream_pressure = "1 bar"
-time = ["100 s", "1 d"]
-[theory]
-fluid_pressure = "ignored"
-"""
+    text = GAS_RING.replace('["100 kPa", "300 kPa"]', '"100 kPa"').replace("{cell}", 'time = ["100 s", "1 d"]')
     results = [run_case(c) for c in parse_case_file(text).cases]
     figures = _build(lambda: life_figures(results, limit=(1e-7, "1e-6 mbar*l/s")))  # 1e-7 Pa·m³/s = 1e-6 mbar·l/s
     (ax,) = [ax for ax in figures["leak_rate_vs_time.png"].axes if _data_lines(ax)]

@@ -18,7 +18,7 @@ from sealeak.cases.run import run_case
 from sealeak.cases.uncertainty import parse_uncertain_case, propagate
 from sealeak.render.life import volume_limit
 from sealeak.render.uncertainty import _holding_text, passing_lines, uncertainty_summary
-from tests.unit.test_life_cases import PRONY, RING, SURFACE
+from tests.unit.test_life_cases import GAS_RING, PRONY, RING, WLF
 
 
 def test_the_first_time_a_power_law_exceeds_the_limit_is_interpolated_in_log_t():
@@ -105,9 +105,6 @@ def test_the_holding_range_is_said_from_both_ends(cold, warm, exceeded, text):
     assert _holding_text(answer, "1 a").startswith(text)
 
 
-WLF_RUBBER = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
-
-
 def _cell(text, time, temperature):
     """The nominal result of ``text`` run alone at one (time, temperature): a deterministic run of its own."""
     (case,) = parse_case_file(text.replace("{cell}", f'time = "{time}"\ntemperature = "{temperature}"')).cases
@@ -133,7 +130,7 @@ def _check(answer, times, temperatures, q, limit):
 def test_the_effective_medium_answers_compare_its_own_leak_rate():
     """With [theory] model = "effective-medium" the tables show its Q: the answers compare that one, not the
     critical junction's (which exceeds 1.8 ml/min at 50 kPa, -10 °C and 10 s where the effective medium holds)."""
-    text = RING.format(rubber=WLF_RUBBER, seal="", conditions="{cell}") + '\n[theory]\nmodel = "effective-medium"\n'
+    text = RING.format(rubber=WLF, seal="", conditions="{cell}") + '\n[theory]\nmodel = "effective-medium"\n'
     times, temperatures = (10.0, 3600.0, 86400.0), (263.15, 333.15)
     cells = [[_cell(text, f"{t} s", f"{T} K") for t in times] for T in temperatures]
     limit = 1.8e-6 / 60  # m³/s
@@ -149,23 +146,6 @@ def test_the_effective_medium_answers_compare_its_own_leak_rate():
     assert answers[0].exceeded_from[0] is None  # the effective medium holds to 1 d at -10 °C
 
 
-GAS_RING = SURFACE + f"""
-[rubber]
-{WLF_RUBBER}
-[seal]
-shape = "ring"
-inner_diameter = "3 cm"
-outer_diameter = "4 cm"
-[fluid]
-name = "nitrogen"
-[conditions]
-squeeze_pressure = ["100 kPa", "300 kPa"]
-upstream_pressure = "2 bar"
-downstream_pressure = "1 bar"
-{{cell}}
-[theory]
-fluid_pressure = "ignored"
-"""
 
 
 def test_a_standard_flow_limit_is_the_gas_s_throughput_at_each_temperature():
@@ -194,7 +174,7 @@ STUDY = '\n[study]\nvary = "surface.h_rms"\nvalues = ["3 um", "5 um"]\n'
 def test_each_study_variant_gets_answers_of_its_own():
     """A [study] with life keys: each variant's (T, t) cases are answered apart, named by the variant, from separate
     runs of its own cells (the rougher surface exceeds 0.5 ml/min at 50 kPa where the smoother one holds)."""
-    text = RING.format(rubber=WLF_RUBBER, seal="", conditions="{cell}")
+    text = RING.format(rubber=WLF, seal="", conditions="{cell}")
     times, temperatures = (10.0, 3600.0, 86400.0), (263.15, 333.15)
     limit = [[0.5e-6 / 60] * len(times)] * len(temperatures)  # m³/s
     life = text.replace("{cell}", 'time = ["10 s", "1 h", "1 d"]\ntemperature = ["-10 degC", "60 degC"]\n'

@@ -61,6 +61,26 @@ pressure_difference = "10 kPa"
 """
 E_INF, E_1, TAU = 2e6, 3e6, 100.0  # Pa, Pa, s: one Prony term
 PRONY = 'relaxation = { equilibrium_modulus = "2 MPa", moduli = ["3 MPa"], times = ["100 s"] }'
+#: The Prony series at 20 °C with a WLF shift (C1 = 1, C2 = 50 K) and a glass transition of -60 °C.
+WLF = PRONY + '\nreference_temperature = "20 degC"\nwlf_c1 = 1\nwlf_c2 = 50\nglass_transition = "-60 degC"'
+#: A ring holding nitrogen at 2 bar against 1 bar on that rubber; ``{cell}`` takes the time and temperature keys.
+GAS_RING = SURFACE + f"""
+[rubber]
+{WLF}
+[seal]
+shape = "ring"
+inner_diameter = "3 cm"
+outer_diameter = "4 cm"
+[fluid]
+name = "nitrogen"
+[conditions]
+squeeze_pressure = ["100 kPa", "300 kPa"]
+upstream_pressure = "2 bar"
+downstream_pressure = "1 bar"
+{{cell}}
+[theory]
+fluid_pressure = "ignored"
+"""
 
 
 def cases(template: str, rubber: str = 'youngs_modulus = "5 MPa"', conditions: str = "", seal: str = ""):

@@ -31,6 +31,7 @@ from matplotlib.ticker import FuncFormatter
 from ..cases.sobol import SobolIndices, chosen_rows, sensitivity_summary
 from ..cases.uncertainty import SAMPLER_NAMES, UncertaintyResult
 from ..cases.uncertainty import record_values as record_leak_rates
+from .life import volume_limit
 from .notes import load_axis_label, load_text
 from .plotstyle import (
     GAS_LEAK_LABEL,
@@ -273,10 +274,10 @@ def _leak_key(unc: UncertaintyResult) -> tuple[str, str, float | None]:
     gas = "leak_rate_mbar_l_s" in unc.values
     key, unit, compared, factor = (("leak_rate_mbar_l_s", "mbar·l/s", "leak_rate_pv", 1.0 / PA_M3_PER_MBAR_L) if gas
                                    else ("leak_rate", "m³/s", "leak_rate", 1.0))
-    if (unc.limits is None or not unc.limit_keys or any(k != compared for k in unc.limit_keys)
-            or np.ptp(unc.limits) > 1e-12 * np.max(unc.limits)):  # one line only where every row has the same limit
+    limit = volume_limit(unc)  # one line only where every row compares the same quantity with the same limit
+    if limit is None or not unc.limit_keys or unc.limit_keys[0] != compared:
         return key, unit, None
-    return key, unit, float(unc.limits[0]) * factor
+    return key, unit, limit[0] * factor
 
 
 def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
