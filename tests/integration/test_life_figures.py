@@ -135,8 +135,8 @@ def _axis_scale(ax):
 @pytest.mark.parametrize("model, key", [("critical-junction", "leak_rate"),
                                         ("effective-medium", "leak_rate_effective_medium")])
 def test_the_figures_draw_the_leak_rate_of_the_theory_the_tables_show(model, key):
-    """Each line's y-data are Q of the shown theory at its (time, temperature), read from the record of a separate
-    run of that one case (not the other theory's Q: they differ by some 20 % here)."""
+    """Each line's y-data are Q of the shown theory at its (time, temperature), read from that case's own record under
+    the shown theory's key (not the other theory's Q: they differ by some 20 % here) and scaled by the axis' unit."""
     text = RING.format(rubber=WLF, seal="", conditions='time = ["100 s", "1 d"]\ntemperature = ["-10 degC", "60 degC"]')
     results = [run_case(c) for c in parse_case_file(text + f'\n[theory]\nmodel = "{model}"\n').cases]
     figures = _build(lambda: life_figures(results))
