@@ -52,23 +52,39 @@ def test_shooting_matches_an_independent_solution(fraction):
 
 @pytest.mark.parametrize("fraction", [0.3, 0.9])
 def test_no_flow_is_shot_twice(fraction, monkeypatch):
-    """Brent's method starts from the ends of the bracket the doubling has shot already: those shots are reused, so
-    every ODE solve is for a new trial flow and ``shots`` counts them."""
+    """Every ODE solve is for a new trial flow and ``shots`` counts them (Newton's method; where it fails, Brent's
+    method starts from the ends of the bracket the doubling has shot already, and those shots are reused)."""
     tried = []
     makers = coupling._liquid_slopes
 
-    def recording(profile, table):
+    def recording(profile, table, **kw):
         def record(make):
             def made(q):
                 tried.append(q)
                 return make(q)
             return made
-        return [record(make) for make in makers(profile, table)]
+        return [record(make) for make in makers(profile, table, **kw)]
 
     monkeypatch.setattr(coupling, "_liquid_slopes", recording)
     got = coupled_band_flow(PressureProfile.semi_elliptic(W, P_MAX), sigma, fraction * P_MAX)
-    assert got.converged and got.shots >= 3
+    assert got.converged and got.shots >= 2
     assert len(tried) == got.shots == len(set(tried))
+
+
+@pytest.mark.parametrize("fraction", [0.05, 0.5, 0.95])
+def test_newtons_method_agrees_with_bracketing(fraction, monkeypatch):
+    """Newton's method on the outlet pressure with its derivative from the variational equation (∂p_f/∂ln q carried
+    across the band) lands on the root that bracketing and Brent's method find, to the shooting's tolerance, in fewer
+    shots; with a wrong derivative it would not converge within the bounds in so few shots."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    clear_caches()
+    newton = coupled_band_flow(profile, sigma, fraction * P_MAX)
+    clear_caches()
+    monkeypatch.setattr(coupling, "_newton_shoot", lambda *a: None)
+    bracketed = coupled_band_flow(profile, sigma, fraction * P_MAX)
+    assert newton.converged and bracketed.converged
+    assert newton.flow == pytest.approx(bracketed.flow, rel=5e-9)
+    assert newton.shots <= 6 < bracketed.shots
 
 
 @pytest.mark.parametrize("factor", [1.5, 30.0])

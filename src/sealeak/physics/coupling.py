@@ -33,6 +33,7 @@ import math
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -56,6 +57,8 @@ LIFT_OFF_FLOOR = 1e-6
 ORDERS = (16, 32, 64, 128)
 #: Points of the σ(s) table a band solve interpolates (a cubic spline of ln σ in ln s over [floor, p_max]).
 TABLE_POINTS = 241
+#: Nodes and weights on [−1, 1] of the Gauss–Legendre sum of the Kirchhoff transform in Newton's shooting (:func:`_newton_shoot`).
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
 KEPT_BANDS_BYTES = 4 * 2**20
 
@@ -164,13 +167,18 @@ def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callab
     return out
 
 
-def _liquid_slopes(profile: PressureProfile, table: _Splines) -> list[Callable[[float], Callable[[float, FloatArray], float]]]:
+def _liquid_slopes(profile: PressureProfile, table: _Splines, *, sensitivity: bool = False,
+                   ) -> list[Callable[[float], Callable[[float, FloatArray], Any]]]:
     """For each piece of the band (as :func:`_pieces`) a maker of dp_f/dθ = −q (dx/dθ) / σ(p(θ) − p_f) for a trial q:
     σ the exp of ``table``'s first spline of ln σ in ln s (clipped to its knots; s <= 0 takes the lowest knot).
 
     The same arithmetic as ``-q * dxdt(t) / sigma(p(t) - u)`` with :func:`_pieces` and the spline of :class:`_Splines`,
     written out in one function of (θ, [p_f]) that the Fortran DOP853 calls directly: the ODE calls it ~10⁵ times, and
     the nested calls cost half of it.
+
+    With ``sensitivity`` the state is [p_f, G], G = ∂p_f/∂ln q (Pa, of the order of p_f), and the slope gains the
+    variational equation dG/dθ = f + f (d ln σ/ds) G (f the slope of p_f, ∝ q; ∂f/∂p_f = f σ'(s)/σ(s), s = p − p_f;
+    d ln σ/ds = 0 where σ is clipped to the table), for Newton's method in ln q (:func:`_newton_shoot`).
     """
     knots, last = table.knots, len(table.pieces) - 1
     coef = [piece[0] for piece in table.pieces]
@@ -184,8 +192,27 @@ def _liquid_slopes(profile: PressureProfile, table: _Splines) -> list[Callable[[
         a, b, c, d = coef[i]
         return ((a * h + b) * h + c) * h + d
 
+    def ln_sigma_slope(s: float) -> tuple[float, float]:
+        """(ln σ(s), d ln σ/ds) of the clipped spline."""
+        x = log(s) if s > 0 else lo
+        if lo < x < hi:
+            i = min(right(knots, x) - 1, last)
+            h = x - knots[i]
+            a, b, c, d = coef[i]
+            return ((a * h + b) * h + c) * h + d, ((3.0 * a * h + 2.0 * b) * h + c) / s
+        return ln_sigma(s), 0.0
+
     if profile.shape == "semi-elliptic":
         w, peak = float(profile.width), float(profile.peak)
+        if sensitivity:
+            def hertz_pair(q: float) -> Callable[[float, FloatArray], list[float]]:
+                def slope(t: float, u: FloatArray) -> list[float]:
+                    st = sin(t)
+                    ln_s, d_ln_s = ln_sigma_slope(peak * st - u[0])
+                    f = -q * (w * st / 2.0) / exp(ln_s)
+                    return [f, f + f * d_ln_s * u[1]]
+                return slope
+            return [hertz_pair]
 
         def hertz(q: float) -> Callable[[float, FloatArray], float]:
             def slope(t: float, u: FloatArray) -> float:
@@ -193,10 +220,21 @@ def _liquid_slopes(profile: PressureProfile, table: _Splines) -> list[Callable[[
                 return -q * (w * st / 2.0) / exp(ln_sigma(peak * st - u[0]))
             return slope
         return [hertz]
-    out: list[Callable[[float], Callable[[float, FloatArray], float]]] = []
+    out: list[Callable[[float], Callable[[float, FloatArray], Any]]] = []
     for a, b, pa, pb in zip(profile.x[:-1].tolist(), profile.x[1:].tolist(), profile.pressure[:-1].tolist(),
                             profile.pressure[1:].tolist(), strict=True):
         if b > a:
+            if sensitivity:
+                def linear_pair(q: float, width: float = b - a, pa: float = pa, rise: float = pb - pa,
+                                ) -> Callable[[float, FloatArray], list[float]]:
+                    def slope(t: float, u: FloatArray) -> list[float]:
+                        ln_s, d_ln_s = ln_sigma_slope(pa + rise * (1.0 - cos(t)) / 2.0 - u[0])
+                        f = -q * (width * sin(t) / 2.0) / exp(ln_s)
+                        return [f, f + f * d_ln_s * u[1]]
+                    return slope
+                out.append(linear_pair)
+                continue
+
             def linear(q: float, width: float = b - a, pa: float = pa, rise: float = pb - pa) -> Callable[[float, FloatArray], float]:
                 def slope(t: float, u: FloatArray) -> float:
                     return -q * (width * sin(t) / 2.0) / exp(ln_sigma(pa + rise * (1.0 - cos(t)) / 2.0 - u[0]))
@@ -282,27 +320,32 @@ def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatA
     spline = table.splines[0]
     lo, hi = table.lo, table.hi
     r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
-    slopes = _liquid_slopes(profile, table)
-    band = None
-    if not lifted:
-        try:
-            band = _shoot(slopes, dp, r0, lifted, rtol, fortran=True)
-        except _GaveUp:
-            pass
-    if band is None:
-        band = _shoot(slopes, dp, r0, lifted, rtol, fortran=False)
     # 0 <= p_f <= ΔP bounds the effective pressure between p − ΔP and p, so (σ falling with s) q between ΔP/R(p) and
     # ΔP/R(p − ΔP): a shot outside failed to follow the band (σ falling by ten decades or more across it) and is no answer
     r_open = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(np.maximum(p - dp, 0.0) + 1e-300), lo,
                                                                         hi)))).resistance
     bounds = ((1.0 - 1e-6) * dp / r0, (1.0 + 1e-6) * dp / r_open)
+    band = None
+    if not lifted:
+        try:
+            band = _newton_shoot(_liquid_slopes(profile, table, sensitivity=True),
+                                 lambda p: np.exp(spline(np.clip(np.log(p), lo, hi))), float(s_grid[-1]), dp, dp / r0,
+                                 bounds, rtol)
+        except _GaveUp:
+            try:
+                band = _shoot(_liquid_slopes(profile, table), dp, r0, lifted, rtol, fortran=True)
+            except _GaveUp:
+                pass
+    if band is None:
+        band = _shoot(_liquid_slopes(profile, table), dp, r0, lifted, rtol, fortran=False)
     if band.converged and bounds[0] <= band.flow <= bounds[1]:
         return band
     inverse = _solve_inverse(profile, lambda p: math.exp(float(spline(min(max(math.log(p) if p > 0 else lo, lo), hi)))),
                              dp, bounds, rtol)
+    shots = band.shots + inverse.shots
     if inverse.converged and bounds[0] <= inverse.flow <= bounds[1]:
-        return replace(inverse, lifted=lifted, shots=band.shots + inverse.shots)
-    return replace(band, converged=False)
+        return replace(inverse, lifted=lifted, shots=shots)
+    return replace(band, converged=False, shots=shots)
 
 
 def _solve_inverse(profile: PressureProfile, sigma: Callable[[float], float], dp: float, bounds: tuple[float, float],
@@ -331,12 +374,66 @@ def _solve_inverse(profile: PressureProfile, sigma: Callable[[float], float], dp
         return float(sol.y[0, -1] - w) / w
 
     lo, hi = math.log(bounds[0]), math.log(bounds[1])
-    if mismatch(lo) <= 0:
-        return CoupledBand(bounds[0], False, True, shots)
+    if mismatch(lo) <= 0:  # no root between the bounds: not followed either (σ falling by hundreds of decades)
+        return CoupledBand(bounds[0], False, False, shots)
     if mismatch(hi) >= 0:
-        return CoupledBand(bounds[1], False, True, shots)
+        return CoupledBand(bounds[1], False, False, shots)
     ln_q, info = brentq(mismatch, lo, hi, xtol=rtol, full_output=True)
     return CoupledBand(math.exp(ln_q), False, bool(info.converged), shots)
+
+
+def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], Any]]], sigma: Callable[[FloatArray], FloatArray],
+                  p_max: float, dp: float, q0: float, bounds: tuple[float, float], rtol: float) -> CoupledBand:
+    """q (m²/s) with p_f(w) = 0 by Newton's method on the Kirchhoff transform of the outlet pressure,
+    ψ(p_f(w)) = ∫ σ(s) ds over [p_max − p_f(w), p_max] (docs/theory.md §13.3: exactly linear in q where σ is
+    exponential in s, so nearly linear for both theories; zero where p_f(w) is), each shot carrying G = ∂p_f/∂ln q across
+    the band (``pairs``, :func:`_liquid_slopes` with ``sensitivity``; DOP853 in Fortran at the tolerances of
+    :func:`_across`), dψ/dq = σ(p_max − p_f(w)) G/q. ``sigma`` is the band's σ(s) (its clipped spline; above p_max
+    σ(p_max), so ψ = σ(p_max) p_f(w) where p_f(w) < 0); ψ is a 32-point Gauss–Legendre sum (its accuracy sets the
+    speed of convergence, not the root). From q0 = ΔP/R, kept inside ``bounds`` (ΔP/R(p) ... ΔP/R(p − ΔP)): a step
+    that leaves the bracket of the shots so far bisects it in ln q. Converged when a Newton step is below 10 ``rtol``
+    relative: the error after it is of the order of its square, and the ODE's own error on p_f(w) (~1e-8 ΔP) holds q to
+    about 1e-9 whatever the root-finder (Brent's method on the same shots wanders by as much). 2–4 shots where
+    bracketing and Brent's method take 8–15. None where the Fortran code gives up or 30 shots do not converge (the caller then brackets)."""
+    lo, hi = math.log(bounds[0]), math.log(bounds[1])
+    x = min(max(math.log(q0), lo), hi)
+    top = float(sigma(np.array([p_max]))[0])
+    failed = 0
+    for shots in range(1, 41):
+        q = math.exp(x)
+        y = [dp, 0.0]
+        for pair in pairs:
+            solver = ode(pair(q)).set_integrator("dop853", rtol=1e-10, atol=1e-12 * dp, nsteps=10**6)
+            with warnings.catch_warnings():  # (its failure is handled below)
+                warnings.filterwarnings("ignore", message="dop853: ", category=UserWarning)
+                y = solver.set_initial_value(y, 0.0).integrate(math.pi).tolist()
+            if not solver.successful():
+                break
+        if not solver.successful():  # (as where p_f falls by hundreds of decades: taken as a flow too large)
+            failed += 1
+            if failed > 3:
+                raise _GaveUp
+            hi, x = x, 0.5 * (lo + x)
+            continue
+        outlet, g = y  # p_f(w) (Pa) and ∂p_f(w)/∂ln q (Pa)
+        if outlet == 0.0:
+            return CoupledBand(q, False, True, shots)
+        if outlet > 0:
+            lo = x
+            s = p_max - 0.5 * outlet * (1.0 + _GAUSS_NODES)
+            psi = 0.5 * outlet * float(_GAUSS_WEIGHTS @ sigma(s)) / top
+            d_psi = float(sigma(np.array([p_max - outlet]))[0]) / top
+        else:
+            hi = x
+            psi, d_psi = outlet, 1.0
+        ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
+        step = math.log(ratio) if ratio > 0 else math.inf
+        if abs(step) <= 10.0 * rtol:
+            return CoupledBand(math.exp(min(max(x + step, lo), hi)), False, True, shots)
+        x = x + step if lo < x + step < hi else 0.5 * (lo + hi)
+        if hi - lo <= rtol:
+            return CoupledBand(math.exp(x), False, True, shots)
+    return CoupledBand(math.exp(x), False, False, shots)
 
 
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
