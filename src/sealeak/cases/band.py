@@ -20,6 +20,7 @@ width below 1e-12 for a Hertz profile).
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -34,6 +35,7 @@ from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, CoupledBand, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
+from ..physics.gaps import ArrayCache, contact_key
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
 from .model import BandSeal, Case
 from .notes import Note, NoteLike
@@ -49,6 +51,8 @@ FloatArray = NDArray[np.float64]
 TABLE_FLOOR = 1e-3
 TABLE_POINTS = (9, 33)
 TABLE_RTOL = 1e-5
+#: Bytes of effective-medium σ_eff values kept by :func:`_em_exact` (by contact, viscosity and list of pressures).
+KEPT_SIGMA_BYTES = 16 * 2**20
 
 #: The σ_eff surface the loads of a sweep share (:class:`_SweepSurface`): used from this many loads on; its relative
 #: error against the exact σ_eff, checked off its points as it is built; its Chebyshev points in ln p (first, most) and
@@ -58,6 +62,9 @@ SURFACE_RTOL = 1e-6
 SURFACE_P_POINTS = (33, 257)
 SURFACE_Q0_POINTS = (5, 9)
 SURFACE_TOP = 0.8
+
+_EM_SIGMA = ArrayCache(lambda: KEPT_SIGMA_BYTES)
+
 
 @dataclass(frozen=True, kw_only=True)
 class BandColumns:
@@ -214,10 +221,20 @@ def _cj_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], Flo
 
 
 def _em_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+    """σ_eff(p) (m³/(Pa·s)) of the effective medium, 0 where it does not percolate; kept by contact, viscosity and the
+    list of pressures (:data:`KEPT_SIGMA_BYTES`): the effective medium discretises P(u) over the pressures asked for
+    together, so a list is answered as it was computed, bit for bit (an update of ΔP or α evaluates the same tables)."""
+    key = contact_key(contact, case.fluid.viscosity)
+
     def sigma(p: FloatArray) -> FloatArray:
-        res = effective_medium(contact, squeeze_pressure=p, pressure_difference=1.0, viscosity=case.fluid.viscosity,
-                               aspect_ratio=1.0)
-        return np.where(res.percolates, res.leak_rate, 0.0)
+        p = np.ascontiguousarray(p, dtype=float)
+        digest = (key, p.shape, hashlib.blake2b(p.tobytes(), digest_size=16).digest())
+        kept = _EM_SIGMA.get(digest)
+        if kept is None:
+            res = effective_medium(contact, squeeze_pressure=p, pressure_difference=1.0,
+                                   viscosity=case.fluid.viscosity, aspect_ratio=1.0)
+            kept = _EM_SIGMA.put(digest, (np.where(res.percolates, res.leak_rate, 0.0),))
+        return kept[0].copy()
     return sigma
 
 

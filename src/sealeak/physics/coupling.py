@@ -59,6 +59,8 @@ ORDERS = (16, 32, 64, 128)
 TABLE_POINTS = 241
 #: Nodes and weights on [−1, 1] of the Gauss–Legendre sum of the Kirchhoff transform in Newton's shooting (:func:`_newton_shoot`).
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
+#: Steps of the Fortran DOP853 within which a shot of Newton's method must cross the band (a shot takes ~10²).
+NEWTON_STEPS = 5_000
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
 KEPT_BANDS_BYTES = 4 * 2**20
 
@@ -403,7 +405,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
         q = math.exp(x)
         y = [dp, 0.0]
         for pair in pairs:
-            solver = ode(pair(q)).set_integrator("dop853", rtol=1e-10, atol=1e-12 * dp, nsteps=10**6)
+            solver = ode(pair(q)).set_integrator("dop853", rtol=1e-10, atol=1e-12 * dp, nsteps=NEWTON_STEPS)
             with warnings.catch_warnings():  # (its failure is handled below)
                 warnings.filterwarnings("ignore", message="dop853: ", category=UserWarning)
                 y = solver.set_initial_value(y, 0.0).integrate(math.pi).tolist()
@@ -411,7 +413,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
                 break
         if not solver.successful():  # (as where p_f falls by hundreds of decades: taken as a flow too large)
             failed += 1
-            if failed > 3:
+            if failed > 3 or lo == math.log(bounds[0]):  # (no shot below it has crossed the band yet)
                 raise _GaveUp
             hi, x = x, 0.5 * (lo + x)
             continue

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError
 from ..io.quantities import quantity
 from .contact import PerssonContact
+from .gaps import ArrayCache, contact_key
 from .validity import no_channel_note, pressures_text
 
 __all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
@@ -132,6 +133,58 @@ def _positive_array(name: str, value: ArrayLike, allow_zero: bool = False) -> Fl
     return arr
 
 
+#: Bytes of critical junctions (ζc, whether it percolates, A(ζ1)/A0, u_c) kept per contact, threshold and squeeze
+#: pressure (~230 bytes each): a web update of η, ΔP or α, the second fluid of a study and a band's tables evaluated
+#: again at the same pressures compute no u1 again.
+KEPT_JUNCTIONS_BYTES = 16 * 2**20
+
+_JUNCTIONS = ArrayCache(lambda: KEPT_JUNCTIONS_BYTES)
+
+
+def _junctions(contact: PerssonContact, threshold: float, p0: FloatArray,
+               ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray, FloatArray]:
+    """(ζc (NaN where it does not percolate), percolates, A(ζ1)/A0, u_c (m)) at each squeeze pressure ``p0`` (Pa).
+
+    Each row is a function of its own pressure alone (the vectorised quadrature adds every row's terms in a fixed
+    order, whatever the other rows), so rows are kept by a digest of the contact, the threshold and P0, and only the
+    new pressures are computed."""
+    key = contact_key(contact, threshold)
+    values = p0.tolist()
+    kept = [_JUNCTIONS.get((key, p)) for p in values]
+    new = [i for i, row in enumerate(kept) if row is None]
+    if new:
+        fresh = _new_junctions(contact, threshold, p0[new])
+        for j, i in enumerate(new):
+            kept[i] = _JUNCTIONS.put((key, values[i]), (np.array([column[j] for column in fresh], dtype=float),))
+    rows = np.array([row[0] for row in kept]).reshape(p0.size, 4)  # type: ignore[index]
+    return rows[:, 0], rows[:, 1] > 0, rows[:, 2], rows[:, 3]
+
+
+def _new_junctions(contact: PerssonContact, threshold: float, p0: FloatArray,
+                   ) -> tuple[FloatArray, NDArray[np.bool_], FloatArray, FloatArray]:
+    """:func:`_junctions` computed (docs/theory.md §3.3–§3.4)."""
+    zeta_c, percolates = contact.zeta_at_area(1.0 - threshold, p0)
+    area_cut = contact.area(contact.zeta_max, p0)
+    u_c = np.full_like(p0, np.nan)
+    if percolates.any():
+        u_c[percolates] = contact.u1(zeta_c[percolates], p0[percolates])
+    bad = percolates & ~(np.isfinite(u_c) & (u_c > 0))
+    # ζc at the end of the resolved band: u1(ζ1) = 0 exactly (the last roughness closes the junction);
+    # u_c = 0 and Q = 0 is the theory's limit there, and the validity verdict flags it (docs/theory.md §9.11)
+    at_end = bad & (zeta_c > np.sqrt(contact.zeta_max))
+    u_c[at_end] = 0.0
+    bad &= ~at_end
+    if bad.any():  # ζc so close to 1 that A'(ζc) underflows: u1 = ū + ū' A/A' is not computable
+        i = int(np.argmax(bad))
+        why = (f"P0/E* = {p0[i] / contact.e_star:.3g}: the surfaces barely touch, so the critical magnification "
+               f"ζc - 1 = {zeta_c[i] - 1:.3g} is lost in round-off and u_c = u1(ζc) cannot be computed")
+        if contact.e_star > STIFFEST_MODULUS:
+            raise InputError("e_star", contact.e_star, f"E* is stiffer than any solid (diamond: E ≈ 1.1e12 Pa); {why}; "
+                                                       "check the Young's modulus and its unit")
+        raise InputError("squeeze_pressure", float(p0[i]), f"{why}; give a larger squeeze pressure (Pa)")
+    return np.where(percolates, zeta_c, np.nan), percolates, np.asarray(area_cut, dtype=float), u_c
+
+
 def critical_junction(
     contact: PerssonContact,
     *,
@@ -175,26 +228,7 @@ def critical_junction(
     if not (0.0 < percolation_threshold < 1.0):
         raise InputError("percolation_threshold", percolation_threshold, "must lie in (0, 1)")
 
-    zeta_c, percolates = contact.zeta_at_area(1.0 - percolation_threshold, p0)
-    area_cut = contact.area(contact.zeta_max, p0)
-    u_c = np.full_like(p0, np.nan)
-    if percolates.any():
-        u_c[percolates] = contact.u1(zeta_c[percolates], p0[percolates])
-    bad = percolates & ~(np.isfinite(u_c) & (u_c > 0))
-    # ζc at the end of the resolved band: u1(ζ1) = 0 exactly (the last roughness closes the junction);
-    # u_c = 0 and Q = 0 is the theory's limit there, and the validity verdict flags it (docs/theory.md §9.11)
-    at_end = bad & (zeta_c > np.sqrt(contact.zeta_max))
-    u_c[at_end] = 0.0
-    bad &= ~at_end
-    if bad.any():  # ζc so close to 1 that A'(ζc) underflows: u1 = ū + ū' A/A' is not computable
-        i = int(np.argmax(bad))
-        why = (f"P0/E* = {p0[i] / contact.e_star:.3g}: the surfaces barely touch, so the critical magnification "
-               f"ζc - 1 = {zeta_c[i] - 1:.3g} is lost in round-off and u_c = u1(ζc) cannot be computed")
-        if contact.e_star > STIFFEST_MODULUS:
-            raise InputError("e_star", contact.e_star, f"E* is stiffer than any solid (diamond: E ≈ 1.1e12 Pa); {why}; "
-                                                       "check the Young's modulus and its unit")
-        raise InputError("squeeze_pressure", float(p0[i]), f"{why}; give a larger squeeze pressure (Pa)")
-    zeta_c = np.where(percolates, zeta_c, np.nan)
+    zeta_c, percolates, area_cut, u_c = _junctions(contact, percolation_threshold, p0)
     lam_c = 2.0 * np.pi / (zeta_c * contact.q0)
     q = np.where(percolates, poiseuille_leak_rate(u_c, dp, viscosity, aspect_ratio, alpha), np.nan)
 
