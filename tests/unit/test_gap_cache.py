@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sealeak import PowerSpectrum
+from sealeak.cases import example_path, load_cases
 from sealeak.physics import gaps
 from sealeak.physics.contact import PerssonContact, contact_modulus
 from sealeak.physics.effective_medium import effective_medium
@@ -87,3 +88,56 @@ def test_a_second_fluid_computes_no_gap_distribution_and_gets_the_same_bits(monk
     # σ_eff ∝ 1/η (docs/theory.md §5.3): the two fluids' σ differ by the ratio of the viscosities alone
     assert np.allclose(oil.effective_conductivity * 0.03, water.effective_conductivity * 1e-3, rtol=1e-13, atol=0)
     assert (water.effective_conductivity > 0).all()
+
+
+def test_critical_junctions_from_the_cache_are_those_computed_alone(monkeypatch):
+    """A critical junction is a function of the contact, the threshold and its own pressure alone: a list, its
+    pressures one at a time and the list again (all kept) give the same bits; a second viscosity, α or ΔP computes no
+    junction again, and another threshold does not take the kept rows."""
+    cj_module = importlib.import_module("sealeak.physics.critical_junction")
+    contact = make_contact()
+    p = np.geomspace(2e4, 3e5, 7)
+
+    def run(pressures, eta=1e-3, alpha=1.0, threshold=0.6):
+        return cj_module.critical_junction(contact, squeeze_pressure=pressures, pressure_difference=1e5, viscosity=eta,
+                                           aspect_ratio=1.0, alpha=alpha, percolation_threshold=threshold)
+
+    together = run(p)
+    for i, x in enumerate(p):
+        gaps.clear_caches()
+        alone = run([x])
+        for name in ("critical_gap", "critical_magnification", "contact_area_at_cutoff", "leak_rate"):
+            assert np.array_equal(getattr(alone, name)[0], getattr(together, name)[i], equal_nan=True), name
+    gaps.clear_caches()
+    run(p)
+    computed = []
+    new = cj_module._new_junctions
+    monkeypatch.setattr(cj_module, "_new_junctions", lambda c, t, x: computed.append(x.size) or new(c, t, x))
+    again = run(p[::-1], eta=0.03, alpha=0.4)
+    assert computed == []
+    assert np.array_equal(again.critical_gap[::-1], together.critical_gap)
+    assert np.allclose(again.leak_rate[::-1], together.leak_rate * 0.4 / 30, rtol=1e-14)
+    other = run(p, threshold=0.5)
+    assert computed == [p.size] and not np.allclose(other.critical_gap, together.critical_gap)
+
+
+def test_the_band_keeps_sigma_eff_by_its_list_of_pressures(monkeypatch):
+    """σ_eff is kept by contact, viscosity and the exact list of pressures (P(u) is discretised over the list): the
+    same list again is answered without the effective medium, with the bits of a fresh computation; another viscosity
+    or another list is computed."""
+    band = importlib.import_module("sealeak.cases.band")
+    case = load_cases(example_path("o-ring"))[0]
+    contact = band._contact(case, float(case.band.q0[4]))
+    p = np.geomspace(1e4, 1e6, 5)
+    first = band._em_exact(case, contact)(p)
+    gaps.clear_caches()
+    fresh_values = band._em_exact(case, contact)(p)
+    assert np.array_equal(first, fresh_values)
+    calls = []
+    em = band.effective_medium
+    monkeypatch.setattr(band, "effective_medium", lambda *a, **k: calls.append(1) or em(*a, **k))
+    assert np.array_equal(band._em_exact(case, contact)(p.copy()), first) and calls == []
+    band._em_exact(case, contact)(p[:3])
+    thicker = band._em_exact(band.replace(case, fluid=band.replace(case.fluid, viscosity=0.03)), contact)(p)
+    assert len(calls) == 2
+    assert np.allclose(thicker, first * case.fluid.viscosity / 0.03, rtol=1e-12)

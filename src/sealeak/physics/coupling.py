@@ -59,6 +59,9 @@ ORDERS = (16, 32, 64, 128)
 TABLE_POINTS = 241
 #: Nodes and weights on [−1, 1] of the Gauss–Legendre sum of the Kirchhoff transform in Newton's shooting (:func:`_newton_shoot`).
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
+#: Ratio of the bounds ΔP/R(p − ΔP) and ΔP/R(p) on a band's flow above which σ falls by ten decades or more between
+#: p − ΔP and p: where Newton's shooting gives up on such a band, no bracketing is tried (docs/theory.md §13.3).
+NEAR_SEALED = 1e10
 #: Steps of the Fortran DOP853 within which a shot of Newton's method must cross the band (a shot takes ~10²).
 NEWTON_STEPS = 5_000
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
@@ -276,11 +279,13 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     """The flow per unit length q (m²/s) of a band with the fluid pressure p_f(x) acting on it (docs/theory.md eq. 13.3).
 
     dp_f/dx = −q / σ(p(x) − p_f(x)) from p_f(0) = ΔP is integrated across the band (DOP853 in θ on
-    each piece, relative tolerance 1e-10), and q is found by Brent's method such that p_f(w) = 0; q lies
-    between ΔP/R (the band without fluid pressure, R = ∫dx/σ(p)) and a bound found by doubling. A band this shooting
-    cannot follow (no convergence, or a flow outside ΔP/R[p] ... ΔP/R[p − ΔP], the bounds 0 <= p_f <= ΔP give: σ
+    each piece, relative tolerance 1e-10), and q such that p_f(w) = 0 is found by Newton's method on the Kirchhoff
+    transform of p_f(w) (:func:`_newton_shoot`), within the bounds ΔP/R[p] ... ΔP/R[p − ΔP] that 0 <= p_f <= ΔP give
+    (R = ∫dx/σ). Where the Fortran integrator gives up (as near lift-off) q is bracketed (from ΔP/R[p], doubling) and
+    found by Brent's method. A band this shooting cannot follow (no convergence, or a flow outside the bounds: σ
     falling by tens of decades, p_f dropping over a sliver of the width) is solved the other way round, x(p_f)
-    (:func:`_solve_inverse`, docs/theory.md §13.3); ``converged`` is False only where that fails too.
+    (:func:`_solve_inverse`, docs/theory.md §13.3). Where that fails too, ``converged`` is False and q is the upper
+    bound ΔP/R[p − ΔP] (the full ΔP acting against the contact everywhere: the flow cannot be larger).
     σ(s) is tabulated (a cubic spline of ln σ in ln s through :data:`TABLE_POINTS` values over
     [:data:`LIFT_OFF_FLOOR` p_max, p_max]); effective pressures outside are clipped to it. ΔP ≥ p_max lifts
     the seal: q is then that of ΔP = p_max. A band whose σ(p_max) = 0 is sealed (q = 0).
@@ -334,10 +339,13 @@ def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatA
                                  lambda p: np.exp(spline(np.clip(np.log(p), lo, hi))), float(s_grid[-1]), dp, dp / r0,
                                  bounds, rtol)
         except _GaveUp:
-            try:
-                band = _shoot(_liquid_slopes(profile, table), dp, r0, lifted, rtol, fortran=True)
-            except _GaveUp:
-                pass
+            if bounds[1] > NEAR_SEALED * bounds[0]:  # (p_f drops over less of the band than θ resolves)
+                band = CoupledBand(bounds[1], lifted, False, 0)
+            else:  # (as near lift-off)
+                try:
+                    band = _shoot(_liquid_slopes(profile, table), dp, r0, lifted, rtol, fortran=True)
+                except _GaveUp:
+                    pass
     if band is None:
         band = _shoot(_liquid_slopes(profile, table), dp, r0, lifted, rtol, fortran=False)
     if band.converged and bounds[0] <= band.flow <= bounds[1]:
@@ -347,7 +355,7 @@ def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatA
     shots = band.shots + inverse.shots
     if inverse.converged and bounds[0] <= inverse.flow <= bounds[1]:
         return replace(inverse, lifted=lifted, shots=shots)
-    return replace(band, converged=False, shots=shots)
+    return CoupledBand(bounds[1], lifted, False, shots)
 
 
 def _solve_inverse(profile: PressureProfile, sigma: Callable[[float], float], dp: float, bounds: tuple[float, float],

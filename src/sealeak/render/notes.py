@@ -111,7 +111,8 @@ def _band_sealed(v: Mapping[str, Any]) -> str:
 
 def _band_coupled_not_converged(v: Mapping[str, Any]) -> str:
     return (f"{v['theory']}: the coupled flow (the fluid pressure in the band) did not converge at "
-            f"{loads_text(v['load_name'], v['loads'])}; the leak rate is less certain")
+            f"{loads_text(v['load_name'], v['loads'])}; the leak rate shown is its upper bound, with the full pressure "
+            "difference acting against the contact pressure across the whole band")
 
 
 def _band_not_converged(v: Mapping[str, Any]) -> str:
