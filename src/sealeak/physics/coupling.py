@@ -395,19 +395,32 @@ def _solve_inverse(profile: PressureProfile, sigma: Callable[[float], float], dp
 def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], Any]]], sigma: Callable[[FloatArray], FloatArray],
                   p_max: float, dp: float, q0: float, bounds: tuple[float, float], rtol: float) -> CoupledBand:
     """q (m²/s) with p_f(w) = 0 by Newton's method on the Kirchhoff transform of the outlet pressure,
-    ψ(p_f(w)) = ∫ σ(s) ds over [p_max − p_f(w), p_max] (docs/theory.md §13.3: exactly linear in q where σ is
+    ψ(p_f(w)) = ∫ σ(s) ds over [p_max − p_f(w), p_max] (docs/theory.md eq. 13.8: exactly linear in q where σ is
     exponential in s, so nearly linear for both theories; zero where p_f(w) is), each shot carrying G = ∂p_f/∂ln q across
-    the band (``pairs``, :func:`_liquid_slopes` with ``sensitivity``; DOP853 in Fortran at the tolerances of
+    the band (eq. 13.9; ``pairs``, :func:`_liquid_slopes` with ``sensitivity``; DOP853 in Fortran at the tolerances of
     :func:`_across`), dψ/dq = σ(p_max − p_f(w)) G/q. ``sigma`` is the band's σ(s) (its clipped spline; above p_max
     σ(p_max), so ψ = σ(p_max) p_f(w) where p_f(w) < 0); ψ is a 32-point Gauss–Legendre sum (its accuracy sets the
-    speed of convergence, not the root). From q0 = ΔP/R, kept inside ``bounds`` (ΔP/R(p) ... ΔP/R(p − ΔP)): a step
-    that leaves the bracket of the shots so far bisects it in ln q. Converged when a Newton step is below 10 ``rtol``
-    relative: the error after it is of the order of its square, and the ODE's own error on p_f(w) (~1e-8 ΔP) holds q to
-    about 1e-9 whatever the root-finder (Brent's method on the same shots wanders by as much). 2–4 shots where
-    bracketing and Brent's method take 8–15. None where the Fortran code gives up or 30 shots do not converge (the caller then brackets)."""
+    speed of convergence, not the root).
+
+    The first shot is the root of (13.8) for an exponential σ, q = ψ(ΔP)/(σ(p_max) R) with R = ΔP/``q0`` the band's
+    resistance without fluid pressure (exact for an exponential σ), kept inside ``bounds`` (ΔP/R(p) ... ΔP/R(p − ΔP));
+    a step that leaves the bracket of the shots so far bisects it in ln q. Converged when a Newton step is below
+    10 ``rtol`` relative: the error after it is of the order of its square, and the ODE's own error on p_f(w)
+    (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders by as much).
+    2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
+    too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
+    smaller flow has crossed it; it is a bound, not an answer, so an answer is still a shot with a Newton step below
+    the tolerance. Raises :class:`_GaveUp` at the fourth such shot, or at one before any has crossed (the caller then
+    brackets, with solve_ivp where the Fortran code gives up again, as near lift-off); not ``converged`` after 40
+    shots."""
     lo, hi = math.log(bounds[0]), math.log(bounds[1])
-    x = min(max(math.log(q0), lo), hi)
     top = float(sigma(np.array([p_max]))[0])
+
+    def kirchhoff(pf: float) -> float:
+        """ψ(p_f)/σ(p_max) (Pa) for p_f > 0."""
+        return 0.5 * pf * float(_GAUSS_WEIGHTS @ sigma(p_max - 0.5 * pf * (1.0 + _GAUSS_NODES))) / top
+
+    x = min(max(math.log(q0 * kirchhoff(dp) / dp), lo), hi)
     failed = 0
     for shots in range(1, 41):
         q = math.exp(x)
@@ -430,8 +443,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             return CoupledBand(q, False, True, shots)
         if outlet > 0:
             lo = x
-            s = p_max - 0.5 * outlet * (1.0 + _GAUSS_NODES)
-            psi = 0.5 * outlet * float(_GAUSS_WEIGHTS @ sigma(s)) / top
+            psi = kirchhoff(outlet)
             d_psi = float(sigma(np.array([p_max - outlet]))[0]) / top
         else:
             hi = x
