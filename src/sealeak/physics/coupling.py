@@ -63,7 +63,7 @@ _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
 #: p − ΔP and p: where Newton's shooting gives up on such a band, no bracketing is tried (docs/theory.md §13.3).
 NEAR_SEALED = 1e10
 #: Steps of the Fortran DOP853 within which a shot of Newton's method must cross the band (a shot takes ~10²).
-NEWTON_STEPS = 5_000
+NEWTON_STEPS = 2_000
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
 KEPT_BANDS_BYTES = 4 * 2**20
 
@@ -409,10 +409,10 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders by as much).
     2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
     too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
-    smaller flow has crossed it; it is a bound, not an answer, so an answer is still a shot with a Newton step below
-    the tolerance. Raises :class:`_GaveUp` at the fourth such shot, or at one before any has crossed (the caller then
-    brackets, with solve_ivp where the Fortran code gives up again, as near lift-off); not ``converged`` after 40
-    shots."""
+    smaller flow has crossed it (before, the next shot is ΔP/R); it is a bound, not an answer, so an answer is still a
+    shot with a Newton step below the tolerance. Raises :class:`_GaveUp` at the fourth such shot, or where the shot at
+    ΔP/R fails (the caller then brackets, with solve_ivp where the Fortran code gives up again, as near lift-off); not
+    ``converged`` after 40 shots."""
     lo, hi = math.log(bounds[0]), math.log(bounds[1])
     top = float(sigma(np.array([p_max]))[0])
 
@@ -421,7 +421,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
         return 0.5 * pf * float(_GAUSS_WEIGHTS @ sigma(p_max - 0.5 * pf * (1.0 + _GAUSS_NODES))) / top
 
     x = min(max(math.log(q0 * kirchhoff(dp) / dp), lo), hi)
-    failed = 0
+    failed, crossed = 0, False
     for shots in range(1, 41):
         q = math.exp(x)
         y = [dp, 0.0]
@@ -434,10 +434,13 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
                 break
         if not solver.successful():  # (as where p_f falls by hundreds of decades: taken as a flow too large)
             failed += 1
-            if failed > 3 or lo == math.log(bounds[0]):  # (no shot below it has crossed the band yet)
+            start = min(max(math.log(q0), lo), hi)
+            if failed > 3 or x <= start:
                 raise _GaveUp
-            hi, x = x, 0.5 * (lo + x)
+            hi = x
+            x = 0.5 * (lo + x) if crossed else start  # (the bisection needs a shot that has crossed the band)
             continue
+        crossed = True
         outlet, g = y  # p_f(w) (Pa) and ∂p_f(w)/∂ln q (Pa)
         if outlet == 0.0:
             return CoupledBand(q, False, True, shots)
