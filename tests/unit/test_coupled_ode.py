@@ -146,3 +146,33 @@ def test_the_two_directions_of_the_band_agree_where_both_follow_it(fraction, mon
                                       (0.5 * forward.flow, 2.0 * forward.flow), 1e-10)
     assert forward.converged and inverse.converged
     assert inverse.flow == pytest.approx(forward.flow, rel=1e-6)
+
+
+@pytest.mark.parametrize("k", [30, 60, 120])
+def test_a_steep_hertz_band_against_the_closed_form_of_the_kirchhoff_transform(k):
+    """For σ = σ0 exp(−s/s0) the Kirchhoff transform ψ(p_f) = ∫σ ds over [p_max − p_f, p_max] falls along the band as
+    dψ/dx = −q exp((p(x) − p_max)/s0), whatever p_f (docs/theory.md eq. 13.8), so q = ψ(ΔP) / ∫exp((p − p_max)/s0) dx,
+    a closed form independent of the shooting (the floor at 1e-6 p_max only touches strips where σ is e^k times its
+    peak value and carries no pressure drop). With σ falling by e^15 and e^30 over ΔP the shooting meets it (the
+    bracketing and Brent's method once answered the upper bound ΔP/R[p − ΔP] here, 30 times too large); at e^60 the
+    pressure drops over less of the width than θ resolves, and the band is flagged, with the upper bound as its flow."""
+    s0, dp = P_MAX / k, 0.5 * P_MAX
+
+    def steep(s):
+        return SIGMA0 * np.exp(-np.asarray(s, dtype=float) / s0)
+
+    psi = SIGMA0 * s0 * (np.exp(-(P_MAX - dp) / s0) - np.exp(-P_MAX / s0))
+    weight = integrate.quad(lambda x: np.exp(P_MAX * (np.sqrt(max(0.0, 1.0 - (2.0 * x / W - 1.0) ** 2)) - 1.0) / s0),
+                            0.0, W, points=[W / 2], epsabs=0.0, epsrel=1e-13, limit=500)[0]
+    clear_caches()
+    got = coupled_band_flow(PressureProfile.semi_elliptic(W, P_MAX), steep, dp)
+    if k < 100:
+        assert got.converged
+        assert got.flow == pytest.approx(psi / weight, rel=1e-6)
+    else:
+        open_resistance = integrate.quad(
+            lambda x: 1.0 / float(steep(max(P_MAX * np.sqrt(max(0.0, 1.0 - (2.0 * x / W - 1.0) ** 2)) - dp,
+                                            1e-6 * P_MAX))), 0.0, W, points=[W / 2], epsabs=0.0, epsrel=1e-10,
+            limit=500)[0]
+        assert not got.converged
+        assert got.flow == pytest.approx(dp / open_resistance, rel=1e-3) and got.flow > psi / weight
