@@ -187,6 +187,7 @@ def test_alpha_and_viscosity_samples_share_the_contact(text, monkeypatch):
     shared = leak_rates(study, points)
     monkeypatch.setattr(unc, "_shares_contact", lambda study: False)
     monkeypatch.setattr(unc, "_scales", lambda study: False)
+    monkeypatch.setattr(unc, "_scales_band", lambda study: False)
     full = leak_rates(study, points)
     assert np.allclose(shared, full, rtol=1e-9, atol=0)
     assert np.ptp(shared[:, 0]) > 0

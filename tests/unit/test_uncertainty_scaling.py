@@ -146,3 +146,39 @@ def test_substrate_takes_the_full_prediction():
     assert not unc._scales(study)
     points = unit_points(1, 4, seed=0)
     assert np.all(np.isfinite(leak_rates(study, points)))
+
+
+#: An O-ring on the critical junction with the scaling inputs uncertain (its profile scales with E, Lindley's force).
+ORING_BAND = (ORING.replace('h_rms = "1.5 um"', 'h_rms = "1.5 um ± 10 %"')
+              .replace('youngs_modulus = "5.5 MPa"', 'youngs_modulus = "5.5 MPa ± 10 %"')
+              .replace('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s ± 10 %"')
+              + '[theory]\nmodel = "critical-junction"\nalpha = "1.0 ± 0.2"\n')
+
+
+def test_band_samples_by_the_nominal_contact_match_full_predictions(monkeypatch):
+    """A band seal's samples take σ from the nominal contact's tables at the scaled pressures (docs/theory.md §14.5):
+    every sample's coupled leak rate is the full prediction's within the tables' error (1e-7, then the shooting's
+    ~1e-8), the sealed ones the same."""
+    study = parse_uncertain_case(ORING_BAND)
+    assert unc._scales_band(study) and not unc._scales(study)
+    used = []
+    tables = unc.band_junction_tables
+    monkeypatch.setattr(unc, "band_junction_tables", lambda *a: used.append(len(tables(*a))) or tables(*a))
+    fast = propagate(study, 8, seed=2)
+    assert used and used[0] == 3  # one table per load
+    monkeypatch.setattr(unc, "_scales_band", lambda study: False)
+    full = propagate(study, 8, seed=2)
+    a, b = fast.values["leak_rate"], full.values["leak_rate"]
+    assert np.array_equal(a > 0, b > 0) and (b > 0).any()
+    np.testing.assert_allclose(a, b, rtol=1e-6, atol=0)
+    assert np.ptp(a[:, 0]) > 0
+
+
+def test_band_nominal_samples_are_the_deterministic_rows_bit_for_bit():
+    """A spread of zero on a band seal: the samples are the full prediction's rows, not the tables'."""
+    text = ORING_BAND.replace("± 10 %", "± 0 %").replace('"1.0 ± 0.2"', "1.0")
+    study = parse_uncertain_case(text)
+    assert unc._scales_band(study)
+    result = propagate(study, 4, seed=0)
+    q = np.nan_to_num(result.nominal[0].band.critical_junction.leak_rate)
+    assert all(np.array_equal(row, q) for row in result.values["leak_rate"])

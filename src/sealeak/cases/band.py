@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -41,7 +43,7 @@ from .model import BandSeal, Case
 from .notes import Note, NoteLike
 from .schema import case_keys
 
-__all__ = ["BandResult", "BandTheory", "run_band", "band_conductance", "BandColumns",
+__all__ = ["ScaledJunctions", "scaled_junctions", "BandResult", "BandTheory", "run_band", "band_conductance", "BandColumns",
            "BandEffectiveMediumColumns", "load_value"]
 
 FloatArray = NDArray[np.float64]
@@ -211,12 +213,53 @@ def _contact(case: Case, q0: float) -> PerssonContact:
     return PerssonContact(case.spectrum, case.e_star, q0, case.gamma)
 
 
+@dataclass(frozen=True)
+class ScaledJunctions:
+    """The critical junction of a case whose contact is a nominal one scaled (docs/theory.md eq. 14.6): h_rms × s
+    (``length``) and E* × k (``modulus``) give u_c(p) = s u_c,nom(p/(k s)), so σ(p) = (α/η) s³ σ̃_nom(p/(k s)) with
+    σ̃_nom the nominal σ at α = 1 and η = 1 Pa·s. ``tables`` holds σ̃_nom by the load's q0 (1/m): a function of
+    scaled pressures (Pa) that is NaN where it does not reach (the exact σ is taken there). Set for a block of code by
+    :func:`scaled_junctions`; the uncertainty band's samples of a band seal use it (cases/uncertainty.py)."""
+
+    tables: Mapping[float, Callable[[FloatArray], FloatArray]]
+    length: float
+    modulus: float
+
+
+_SCALED_JUNCTIONS: ContextVar[ScaledJunctions | None] = ContextVar("scaled_junctions", default=None)
+
+
+@contextmanager
+def scaled_junctions(scaled: ScaledJunctions) -> Iterator[None]:
+    """Within the block, a band's critical-junction σ at a load whose q0 ``scaled`` tabulates comes from the table."""
+    token = _SCALED_JUNCTIONS.set(scaled)
+    try:
+        yield
+    finally:
+        _SCALED_JUNCTIONS.reset(token)
+
+
 def _cj_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
-    """σ(p) = α u_c³/(12η) (m³/(Pa·s)), 0 where the non-contact area does not percolate."""
-    def sigma(p: FloatArray) -> FloatArray:
+    """σ(p) = α u_c³/(12η) (m³/(Pa·s)), 0 where the non-contact area does not percolate; from the nominal contact's
+    table where :func:`scaled_junctions` gives one for this contact's q0 (exact where the table does not reach)."""
+    def exact(p: FloatArray) -> FloatArray:
         res = critical_junction(contact, squeeze_pressure=p, pressure_difference=1.0, viscosity=case.fluid.viscosity,
                                 aspect_ratio=1.0, alpha=case.alpha, percolation_threshold=case.percolation_threshold)
         return np.where(res.percolates, res.leak_rate, 0.0)
+    scaled = _SCALED_JUNCTIONS.get()
+    table = scaled.tables.get(contact.q0) if scaled is not None else None
+    if scaled is None or table is None:
+        return exact
+    factor = case.alpha / case.fluid.viscosity * scaled.length**3
+    stretch = scaled.modulus * scaled.length
+
+    def sigma(p: FloatArray) -> FloatArray:
+        p = np.asarray(p, dtype=float)
+        out = factor * table(p / stretch)
+        missing = np.isnan(out)
+        if missing.any():
+            out[missing] = exact(p[missing])
+        return out
     return sigma
 
 

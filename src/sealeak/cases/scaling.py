@@ -17,6 +17,7 @@ contact serves every sample:
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,7 +30,7 @@ from ..physics.critical_junction import CriticalJunctionResult, critical_junctio
 from .band import _cj_sigma
 from .model import Case
 
-__all__ = ["scaled_leak_rate", "sigma_table", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
+__all__ = ["scaled_leak_rate", "sigma_table", "band_junction_tables", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
 
 FloatArray = NDArray[np.float64]
 
@@ -42,17 +43,22 @@ SCALING_TABLE_POINTS = (65, 8193)
 #: The table covers scaled pressures up to this fraction of the percolation limit; above it σ_nom falls by tens of
 #: decades within a few per cent (ζ_c runs to the end of the resolved band) and is evaluated exactly.
 SCALING_TABLE_TOP = 0.9
+#: A band's tables (:func:`band_junction_tables`) stop at this fraction of the percolation limit: they span 8 decades
+#: of pressure, and nearer the limit a spline within :data:`SCALING_RTOL` needs more than the largest table.
+BAND_TABLE_TOP = 0.7
+#: ... and a second table from there to this fraction of the limit (exact above).
+BAND_TABLE_UPPER = 0.97
 #: Rows (samples × squeeze pressures) computed at once: bounds the memory of the quadrature (up to 128 nodes a row)
 #: and of the exact σ.
 SCALING_BLOCK = 4096
 
 
 def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArray], low: float, high: float,
-                percolation_threshold: float) -> Callable[[FloatArray], FloatArray]:
+                percolation_threshold: float, top: float = SCALING_TABLE_TOP) -> Callable[[FloatArray], FloatArray]:
     """σ_nom(τ) (m³/(Pa·s)) for scaled pressures τ in [``low``, ``high``] (Pa): a cubic spline of ln σ against ln τ
-    through exact values at equally spaced ln τ up to :data:`SCALING_TABLE_TOP` of the percolation limit, ``exact``
-    above it (and everywhere when the spline does not meet :data:`SCALING_RTOL`)."""
-    top = min(high, SCALING_TABLE_TOP * _percolation_limit(contact, percolation_threshold, high))
+    through exact values at equally spaced ln τ up to ``top`` (:data:`SCALING_TABLE_TOP`) of the percolation limit,
+    ``exact`` above it (and everywhere when the spline does not meet :data:`SCALING_RTOL`)."""
+    top = min(high, top * _percolation_limit(contact, percolation_threshold, high))
     if not top > low:
         return exact
     n = SCALING_TABLE_POINTS[0]
@@ -72,6 +78,58 @@ def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArra
         values = np.insert(values, np.arange(1, n), at_mid)
         n = x.size
     return exact
+
+
+def band_junction_tables(case: Case, length_low: float, length_high: float,
+                         ) -> dict[float, Callable[[FloatArray], FloatArray]]:
+    """For each load of a band case, by its q0 (1/m): σ̃_nom(τ) (m³/(Pa·s)) of the nominal contact at α = 1 and
+    η = 1 Pa·s (:func:`sigma_table`: a spline within :data:`SCALING_RTOL`, exact near the percolation limit) over the
+    scaled pressures τ = p/(k s) that samples with h_rms × s, s in [``length_low``, ``length_high``], reach: a sample's
+    profile is the nominal one × k (Lindley's force ∝ E), so τ runs up to p_max/s, and down to 1e-7 of the mean
+    pressure over s (below the coupled band's floor, 1e-6 of its pressures); NaN outside that range (the caller
+    takes the exact σ there). Used through :class:`sealeak.cases.band.ScaledJunctions` (docs/theory.md §14.5)."""
+    assert case.band is not None
+    unit = replace(case, alpha=1.0, fluid=replace(case.fluid, viscosity=1.0))
+    out: dict[float, Callable[[FloatArray], FloatArray]] = {}
+    for profile, q0 in zip(case.band.profiles, case.band.q0.tolist(), strict=True):
+        contact = PerssonContact(case.spectrum, case.e_star, q0, case.gamma)
+        exact = _cj_sigma(unit, contact)
+        low, high = 1e-7 * profile.mean_pressure / length_high, profile.max_pressure / length_low
+        table = sigma_table(contact, exact, low, high, case.percolation_threshold, BAND_TABLE_TOP)
+        if table is exact:
+            continue
+        split = BAND_TABLE_TOP * _percolation_limit(contact, case.percolation_threshold, high)
+        if split < high:  # the last stretch below the limit, where σ falls fastest: a table of its own
+            upper = sigma_table(contact, exact, split, high, case.percolation_threshold, BAND_TABLE_UPPER)
+            table = _joined(table, upper, split)
+        out[q0] = _within(table, low, high)
+    return out
+
+
+def _joined(lower: Callable[[FloatArray], FloatArray], upper: Callable[[FloatArray], FloatArray],
+            split: float) -> Callable[[FloatArray], FloatArray]:
+    """``lower`` up to ``split`` (Pa), ``upper`` above."""
+    def sigma(tau: FloatArray) -> FloatArray:
+        out = np.empty(tau.shape)
+        below = tau <= split
+        if below.any():
+            out[below] = lower(tau[below])
+        if not below.all():
+            out[~below] = upper(tau[~below])
+        return out
+    return sigma
+
+
+def _within(sigma: Callable[[FloatArray], FloatArray], low: float, high: float) -> Callable[[FloatArray], FloatArray]:
+    """``sigma`` on [``low``, ``high``] (Pa), NaN outside."""
+    def inside(tau: FloatArray) -> FloatArray:
+        tau = np.asarray(tau, dtype=float)
+        out = np.full(tau.shape, np.nan)
+        ok = (tau >= low) & (tau <= high)
+        if ok.any():
+            out[ok] = sigma(tau[ok])
+        return out
+    return inside
 
 
 def _spliced(spline: CubicSpline, top: float, exact: Callable[[FloatArray], FloatArray]) -> Callable[[FloatArray], FloatArray]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -30,12 +31,13 @@ from ..errors import InputError, show_value
 from ..io.leak_units import LEAK_RATE_KINDS, leak_rate_unit, pv_throughput
 from ..io.quantities import quantity, record_fields, units_of
 from ..io.units import quantity_parts
+from .band import ScaledJunctions, scaled_junctions
 from .gas import HELIUM_TEST, helium_test_gas
 from .limits import whole_number
 from .loader import CaseFile, build_cases, parse_case_file, read_case_file
 from .model import Case
 from .run import CaseResult, run_case
-from .scaling import scaled_leak_rate
+from .scaling import band_junction_tables, scaled_leak_rate
 from .spreads import UncertainInput
 
 __all__ = ["record_values", "UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
@@ -174,6 +176,8 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
         fast = _by_scaling(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
         if fast is not None:
             return fast
+    tables = _band_tables(study, points) if _scales_band(study) else None
+    factors = _factors(study, points) if tables is not None else None
     written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
     done: dict[str, dict[str, NDArray[np.float64]]] = {}
     out: dict[str, list[NDArray[np.float64]]] = {}
@@ -181,7 +185,16 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
         values = [w[i] for w in written]
         tag = repr(values)
         if tag not in done:
-            done[tag] = record_values([run_case(c) for c in _sample_cases(study, values)])
+            cases = _sample_cases(study, values)
+            if tables is None or factors is None or factors["nominal"][i]:
+                done[tag] = record_values([run_case(c) for c in cases])
+            else:  # the nominal contact's σ at the scaled pressures (docs/theory.md §14.5)
+                results = []
+                for case, table in zip(cases, tables, strict=True):
+                    with scaled_junctions(ScaledJunctions(table, float(factors["length"][i]),
+                                                          float(factors["modulus"][i]))):
+                        results.append(run_case(case))
+                done[tag] = record_values(results)
         for key, v in done[tag].items():
             out.setdefault(key, []).append(v)
     return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}
@@ -294,6 +307,51 @@ def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
         return None
     out[factors["nominal"]] = base
     return {"leak_rate": out}
+
+
+def _scales_band(study: UncertainStudy) -> bool:
+    """Whether every uncertain input is one :data:`_SCALED` names (no choice) and every case a band liquid seal on the
+    critical junction alone, without gas rows or capillarity, its rubber on a rigid counterface."""
+    keys = {i.key for i in study.inputs}
+    return bool(keys) and keys <= set(_SCALED) and all(i.distribution != "choice" for i in study.inputs) and all(
+        c.band is not None and c.gas is None and not c.helium_equivalent and c.capillarity is None
+        and c.model == "critical-junction" for c in study.cases) and (
+        "substrate" not in (study.case_file.document or {}) or not keys & {"rubber.youngs_modulus", "rubber.poisson_ratio"})
+
+
+def _band_tables(study: UncertainStudy, points: NDArray[np.float64],
+                 ) -> list[dict[float, Callable[[NDArray[np.float64]], NDArray[np.float64]]]] | None:
+    """Per case, the nominal σ̃(τ) tables of its loads by q0 (:func:`sealeak.cases.scaling.band_junction_tables`) over
+    the scaled pressures the samples reach, or None where the samples' band cases are not the nominal ones scaled:
+    the cases built at the lowest and the highest sampled values keep the loads, each load's q0 and profile widths,
+    and have the nominal profile pressures × k, the spectrum × s², E* × k (:func:`_factors`)."""
+    factors = _factors(study, points)
+    s = factors["length"]
+    for pick in (np.argmin, np.argmax):
+        rows = [int(pick(inp.values(points[:, j]))) for j, inp in enumerate(study.inputs)]
+        point = np.array([[points[i, j] for j, i in enumerate(rows)]])
+        values = [inp.written(point[:, j])[0] for j, inp in enumerate(study.inputs)]
+        f = _factors(study, point)
+        si, ki = float(f["length"][0]), float(f["modulus"][0])
+        try:
+            built = _sample_cases(study, values)
+        except InputError:
+            return None
+        for b, c in zip(built, study.cases, strict=True):
+            if b.band is None or c.band is None or not (
+                    b.model == c.model and b.coupled == c.coupled and b.gamma == c.gamma
+                    and b.percolation_threshold == c.percolation_threshold
+                    and np.array_equal(b.band.loads, c.band.loads) and np.array_equal(b.band.q0, c.band.q0)
+                    and np.array_equal(b.spectrum.q, c.spectrum.q)
+                    and np.allclose(b.spectrum.C, si * si * c.spectrum.C, rtol=1e-12, atol=0.0)
+                    and math.isclose(b.e_star, ki * c.e_star, rel_tol=1e-12)
+                    and all(np.array_equal(pb.x, pc.x) and pb.shape == pc.shape
+                            and np.allclose(pb.pressure, ki * pc.pressure, rtol=1e-12, atol=0.0)
+                            and math.isclose(pb.width, pc.width, rel_tol=1e-12)
+                            and math.isclose(pb.peak, ki * pc.peak, rel_tol=1e-12)
+                            for pb, pc in zip(b.band.profiles, c.band.profiles, strict=True))):
+                return None
+    return [band_junction_tables(c, float(s.min()), float(s.max())) for c in study.cases]
 
 
 def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
