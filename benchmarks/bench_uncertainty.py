@@ -6,8 +6,8 @@ Cases (the issue's goals in brackets):
   [0.5, 1.5], 512 Sobol' samples [≤ 2 s]: the samples take the nominal contact at scaled pressures
   (docs/theory.md §14.5, eqs. 14.6–14.7);
 * the same seal with α and the viscosity uncertain only: the samples share the nominal contact (Q ∝ α/η);
-* the O-ring of the ``o-ring`` example (water, critical junction), h_rms ± 10 %, 256 samples [≤ 30 s]: one full
-  prediction per sample (a band seal does not take the scaled contact);
+* the O-ring of the ``o-ring`` example (water, critical junction), h_rms ± 10 %, 256 samples [≤ 30 s]: one band
+  prediction per sample, its σ from the nominal contact's tables at the scaled pressures (docs/theory.md eq. 14.8);
 * the same O-ring with α ± 20 % only (shared contact).
 
 Run: .venv/bin/python benchmarks/bench_uncertainty.py [--quick]   (single-threaded NumPy)
