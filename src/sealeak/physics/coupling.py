@@ -440,7 +440,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             start = min(max(math.log(q0), lo), hi)
             if failed > 3 or x <= start:
                 raise _GaveUp
-            hi = x
+            hi, psi_hi = x, None
             x = 0.5 * (lo + x) if crossed else start  # (the bisection needs a shot that has crossed the band)
             continue
         crossed = True
