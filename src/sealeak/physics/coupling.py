@@ -396,7 +396,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
                   p_max: float, dp: float, q0: float, bounds: tuple[float, float], rtol: float) -> CoupledBand:
     """q (m²/s) with p_f(w) = 0 by Newton's method on the Kirchhoff transform of the outlet pressure,
     ψ(p_f(w)) = ∫ σ(s) ds over [p_max − p_f(w), p_max] (docs/theory.md eq. 13.8: exactly linear in q where σ is
-    exponential in s, so nearly linear for both theories; zero where p_f(w) is), each shot carrying G = ∂p_f/∂ln q across
+    exponential in s, close to linear where ln σ is smooth; zero where p_f(w) is), each shot carrying G = ∂p_f/∂ln q across
     the band (eq. 13.9; ``pairs``, :func:`_liquid_slopes` with ``sensitivity``; DOP853 in Fortran at the tolerances of
     :func:`_across`), dψ/dq = σ(p_max − p_f(w)) G/q. ``sigma`` is the band's σ(s) (its clipped spline; above p_max
     σ(p_max), so ψ = σ(p_max) p_f(w) where p_f(w) < 0); ψ is a 32-point Gauss–Legendre sum (its accuracy sets the
