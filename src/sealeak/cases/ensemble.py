@@ -366,21 +366,16 @@ def _client(workers: int, scheduler: str | None, memory_limit: int | None = None
     try:
         with dask.config.set(_WORKER_CONFIG):
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                                   silence_logs=logging.ERROR, env=dict(THREAD_ENV),
+                                   silence_logs=logging.CRITICAL, env=dict(THREAD_ENV),
                                    memory_limit=memory_limit if memory_limit is not None else "auto")
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
-    levels: dict[str, int] = {}
-    try:
-        with cluster, Client(cluster) as client, _quiet_when_interrupted(levels):
-            visible = os.environ.get("CUDA_VISIBLE_DEVICES")
-            for i, address in enumerate(sorted(client.scheduler_info()["workers"]) if gpus else ()):
-                client.run(_pin_gpu, gpu_of_worker(i, gpus, visible), workers=[address])
-            yield client
-    finally:  # the loggers as they were, once the cluster is down
-        for name, level in levels.items():
-            logging.getLogger(name).setLevel(level)
+    with cluster, Client(cluster) as client, _quiet_when_interrupted():
+        visible = os.environ.get("CUDA_VISIBLE_DEVICES")
+        for i, address in enumerate(sorted(client.scheduler_info()["workers"]) if gpus else ()):
+            client.run(_pin_gpu, gpu_of_worker(i, gpus, visible), workers=[address])
+        yield client
 
 
 #: The loggers that report, with tracebacks, the callbacks and connections a cluster drops when it is stopped by Ctrl-C.
@@ -388,14 +383,15 @@ _SHUTDOWN_LOGGERS = ("distributed", "tornado", "tornado.application", "asyncio")
 
 
 @contextmanager
-def _quiet_when_interrupted(levels: dict[str, int]) -> Iterator[None]:
-    """On Ctrl-C, silence the shutdown of the cluster (it exits after this; the levels before go into ``levels``): the
-    interruption is said in one line by the command line, not by the event loop's tracebacks of the work it drops."""
+def _quiet_when_interrupted() -> Iterator[None]:
+    """On Ctrl-C, silence the shutdown of the cluster: the interruption is said in one line by the command line, not by
+    the event loop's tracebacks of the work it drops. The loggers stay silent for the rest of the process: the loop
+    runs in a thread of its own and may still report a dropped callback after the cluster is down (restoring them
+    then let such a traceback through, now and then, before the command line's one line)."""
     try:
         yield
     except KeyboardInterrupt:
         for name in _SHUTDOWN_LOGGERS:
-            levels[name] = logging.getLogger(name).level
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
         raise
 
