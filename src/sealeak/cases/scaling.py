@@ -54,11 +54,15 @@ SCALING_BLOCK = 4096
 
 
 def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArray], low: float, high: float,
-                percolation_threshold: float, top: float = SCALING_TABLE_TOP) -> Callable[[FloatArray], FloatArray]:
+                percolation_threshold: float, top: float = SCALING_TABLE_TOP, limit: float | None = None,
+                ) -> Callable[[FloatArray], FloatArray]:
     """σ_nom(τ) (m³/(Pa·s)) for scaled pressures τ in [``low``, ``high``] (Pa): a cubic spline of ln σ against ln τ
     through exact values at equally spaced ln τ up to ``top`` (:data:`SCALING_TABLE_TOP`) of the percolation limit,
-    ``exact`` above it (and everywhere when the spline does not meet :data:`SCALING_RTOL`)."""
-    top = min(high, top * _percolation_limit(contact, percolation_threshold, high))
+    ``exact`` above it (and everywhere when the spline does not meet :data:`SCALING_RTOL`). ``limit``: that limit (Pa)
+    when the caller has it."""
+    if limit is None:
+        limit = _percolation_limit(contact, percolation_threshold, high)
+    top = min(high, top * limit)
     if not top > low:
         return exact
     n = SCALING_TABLE_POINTS[0]
@@ -95,12 +99,13 @@ def band_junction_tables(case: Case, length_low: float, length_high: float,
         contact = PerssonContact(case.spectrum, case.e_star, q0, case.gamma)
         exact = _cj_sigma(unit, contact)
         low, high = 1e-7 * profile.mean_pressure / length_high, profile.max_pressure / length_low
-        table = sigma_table(contact, exact, low, high, case.percolation_threshold, BAND_TABLE_TOP)
+        limit = _percolation_limit(contact, case.percolation_threshold, high)
+        table = sigma_table(contact, exact, low, high, case.percolation_threshold, BAND_TABLE_TOP, limit)
         if table is exact:
             continue
-        split = BAND_TABLE_TOP * _percolation_limit(contact, case.percolation_threshold, high)
+        split = BAND_TABLE_TOP * limit
         if split < high:  # the last stretch below the limit, where σ falls fastest: a table of its own
-            upper = sigma_table(contact, exact, split, high, case.percolation_threshold, BAND_TABLE_UPPER)
+            upper = sigma_table(contact, exact, split, high, case.percolation_threshold, BAND_TABLE_UPPER, limit)
             table = _joined(table, upper, split)
         out[q0] = _within(table, low, high)
     return out

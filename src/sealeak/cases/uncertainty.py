@@ -176,8 +176,8 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
         fast = _by_scaling(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
         if fast is not None:
             return fast
-    tables = _band_tables(study, points) if _scales_band(study) else None
-    factors = _factors(study, points) if tables is not None else None
+    factors = _factors(study, points) if _scales_band(study) else None
+    tables = _band_tables(study, points, factors["length"]) if factors is not None else None
     written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
     done: dict[str, dict[str, NDArray[np.float64]]] = {}
     out: dict[str, list[NDArray[np.float64]]] = {}
@@ -257,19 +257,30 @@ def _factors(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, ND
             "pressure_difference": ratio["conditions.pressure_difference"], "nominal": same}
 
 
-def _scaling_holds(study: UncertainStudy, points: NDArray[np.float64]) -> bool:
-    """Whether the cases built at the lowest and the highest sampled values (every input at once) are the nominal
-    cases scaled by their :func:`_factors` (the spectrum's shape, q0, γ, p_c, the pressures and the seal unchanged); False also
-    where such a case is refused (the full path then names the sample)."""
+def _extreme_samples(study: UncertainStudy, points: NDArray[np.float64],
+                     ) -> list[tuple[list[Case], dict[str, NDArray[np.float64]]]] | None:
+    """The cases built at the lowest and at the highest sampled values (every input at once), each with its
+    :func:`_factors`; None where a builder refuses one (the full path then names the sample)."""
+    out = []
     for pick in (np.argmin, np.argmax):
         rows = [int(pick(inp.values(points[:, j]))) for j, inp in enumerate(study.inputs)]
         point = np.array([[points[i, j] for j, i in enumerate(rows)]])
         values = [inp.written(point[:, j])[0] for j, inp in enumerate(study.inputs)]
-        f = _factors(study, point)
         try:
-            built = _sample_cases(study, values)
+            out.append((_sample_cases(study, values), _factors(study, point)))
         except InputError:
-            return False
+            return None
+    return out
+
+
+def _scaling_holds(study: UncertainStudy, points: NDArray[np.float64]) -> bool:
+    """Whether the cases built at the lowest and the highest sampled values (every input at once) are the nominal
+    cases scaled by their :func:`_factors` (the spectrum's shape, q0, γ, p_c, the pressures and the seal unchanged); False also
+    where such a case is refused (the full path then names the sample)."""
+    extremes = _extreme_samples(study, points)
+    if extremes is None:
+        return False
+    for built, f in extremes:
         s, k, flow, d = (float(f[key][0]) for key in ("length", "modulus", "flow", "pressure_difference"))
         for b, c in zip(built, study.cases, strict=True):
             if not (b.band is None and b.gas is None and b.capillarity is None and b.coupled == c.coupled
@@ -319,24 +330,17 @@ def _scales_band(study: UncertainStudy) -> bool:
         "substrate" not in (study.case_file.document or {}) or not keys & {"rubber.youngs_modulus", "rubber.poisson_ratio"})
 
 
-def _band_tables(study: UncertainStudy, points: NDArray[np.float64],
+def _band_tables(study: UncertainStudy, points: NDArray[np.float64], length: NDArray[np.float64],
                  ) -> list[dict[float, Callable[[NDArray[np.float64]], NDArray[np.float64]]]] | None:
     """Per case, the nominal σ̃(τ) tables of its loads by q0 (:func:`sealeak.cases.scaling.band_junction_tables`) over
-    the scaled pressures the samples reach, or None where the samples' band cases are not the nominal ones scaled:
+    the scaled pressures the samples (their h_rms ratios ``length``) reach, or None where the samples' band cases are not the nominal ones scaled:
     the cases built at the lowest and the highest sampled values keep the loads, each load's q0 and profile widths,
     and have the nominal profile pressures × k, the spectrum × s², E* × k (:func:`_factors`)."""
-    factors = _factors(study, points)
-    s = factors["length"]
-    for pick in (np.argmin, np.argmax):
-        rows = [int(pick(inp.values(points[:, j]))) for j, inp in enumerate(study.inputs)]
-        point = np.array([[points[i, j] for j, i in enumerate(rows)]])
-        values = [inp.written(point[:, j])[0] for j, inp in enumerate(study.inputs)]
-        f = _factors(study, point)
+    extremes = _extreme_samples(study, points)
+    if extremes is None:
+        return None
+    for built, f in extremes:
         si, ki = float(f["length"][0]), float(f["modulus"][0])
-        try:
-            built = _sample_cases(study, values)
-        except InputError:
-            return None
         for b, c in zip(built, study.cases, strict=True):
             if b.band is None or c.band is None or not (
                     b.model == c.model and b.coupled == c.coupled and b.gamma == c.gamma
@@ -351,7 +355,7 @@ def _band_tables(study: UncertainStudy, points: NDArray[np.float64],
                             and math.isclose(pb.peak, ki * pc.peak, rel_tol=1e-12)
                             for pb, pc in zip(b.band.profiles, c.band.profiles, strict=True))):
                 return None
-    return [band_junction_tables(c, float(s.min()), float(s.max())) for c in study.cases]
+    return [band_junction_tables(c, float(length.min()), float(length.max())) for c in study.cases]
 
 
 def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:

@@ -326,18 +326,20 @@ def _solve_band(profile: PressureProfile, s_grid: FloatArray, sigma_grid: FloatA
     table = _Splines(np.log(s_grid), (np.log(sigma_grid),))
     spline = table.splines[0]
     lo, hi = table.lo, table.hi
-    r0 = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(p), lo, hi)))).resistance
+    def sigma(p: FloatArray) -> FloatArray:
+        """σ(p) of the table (Pa → m³/(Pa·s)), clipped to its knots (p <= 0 takes the lowest)."""
+        return np.exp(spline(np.clip(np.log(np.maximum(p, 0.0) + 1e-300), lo, hi)))
+
+    r0 = series_resistance(profile, sigma).resistance
     # 0 <= p_f <= ΔP bounds the effective pressure between p − ΔP and p, so (σ falling with s) q between ΔP/R(p) and
     # ΔP/R(p − ΔP): a shot outside failed to follow the band (σ falling by ten decades or more across it) and is no answer
-    r_open = series_resistance(profile, lambda p: np.exp(spline(np.clip(np.log(np.maximum(p - dp, 0.0) + 1e-300), lo,
-                                                                        hi)))).resistance
+    r_open = series_resistance(profile, lambda p: sigma(p - dp)).resistance
     bounds = ((1.0 - 1e-6) * dp / r0, (1.0 + 1e-6) * dp / r_open)
     band = None
     if not lifted:
         try:
-            band = _newton_shoot(_liquid_slopes(profile, table, sensitivity=True),
-                                 lambda p: np.exp(spline(np.clip(np.log(p), lo, hi))), float(s_grid[-1]), dp, dp / r0,
-                                 bounds, rtol)
+            band = _newton_shoot(_liquid_slopes(profile, table, sensitivity=True), sigma, float(s_grid[-1]), dp,
+                                 dp / r0, bounds, rtol)
         except _GaveUp:
             if bounds[1] > NEAR_SEALED * bounds[0]:  # (p_f drops over less of the band than θ resolves)
                 band = CoupledBand(bounds[1], lifted, False, 0)
