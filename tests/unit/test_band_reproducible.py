@@ -34,6 +34,23 @@ def test_interpolant_reproduces_a_polynomial_of_degree_n_minus_1_and_agrees_with
     assert np.array_equal(chebyshev_lobatto_interpolate(s, g, s), g)  # exact at the nodes
 
 
+def test_interpolant_is_the_sum_term_by_term_whatever_else_is_asked():
+    """Each point's value is Σ_k added from k = 0 up, in that order (written out here), the same bits alone, among
+    other points, or in a later block of points (more than the block of 512)."""
+    s = _lobatto(65)
+    g = np.exp(-s) * np.sin(3 * s)
+    x = np.random.default_rng(3).uniform(-2.0, 3.0, 1300)
+    w = (-1.0) ** np.arange(s.size)
+    w[[0, -1]] *= 0.5
+    num = den = np.zeros(x.size)
+    for k in range(s.size):
+        c = w[k] / (x - s[k])
+        num, den = num + c * g[k], den + c
+    got = chebyshev_lobatto_interpolate(s, g, x)
+    assert np.array_equal(got, num / den)
+    assert all(np.array_equal(chebyshev_lobatto_interpolate(s, g, x[i:i + 1]), got[i:i + 1]) for i in (0, 700, 1299))
+
+
 def test_weighted_sum_is_the_sum_in_fixed_order():
     v = np.random.default_rng(5).normal(size=(7, 40))
     w = np.random.default_rng(6).normal(size=7)

@@ -87,3 +87,37 @@ def test_no_surface_where_it_cannot_reach_its_tolerance(monkeypatch):
     assert case.band is not None
     monkeypatch.setattr(band_module, "SURFACE_MIN_LOADS", 2)
     assert _surface(case, case.band) is None
+
+
+def test_a_table_is_checked_at_a_quarter_of_the_points_the_next_adds():
+    """:meth:`_Table.checked` evaluates σ at a quarter of the points the next table adds (every fourth and the last):
+    a table it accepts agrees with σ at all of them within the tolerance; one it rejects becomes that next table,
+    bit for bit the refined one, with no point evaluated twice."""
+    calls: list[int] = []
+
+    def sigma(p):
+        calls.append(p.size)
+        return p**-1.5 * np.exp(-p / 3e5) / (1.0 + (p / 2e3) ** 2)
+
+    table = band_module._Table(sigma, 1e6, 9, 1e-6)
+    sizes = []
+    while True:
+        calls.clear()
+        nxt, good = table.checked(sigma, 1e-6)
+        added = np.exp(band_module._lobatto(table.lo, table.hi, 2 * table.s.size - 1)[1::2])
+        if good:
+            n = added.size
+            assert nxt is table and sum(calls) == len(set(range(0, n, min(4, max(1, n // 8)))) | {n - 1})
+            np.testing.assert_allclose(table(added), sigma(added), rtol=1e-6, atol=0)
+            break
+        assert sum(calls) == added.size  # the points checked are reused
+        refined = table.refine(sigma)
+        np.testing.assert_array_equal(nxt.values, refined.values)
+        assert np.max(np.abs(table(added) / sigma(added) - 1.0)) > 1e-6  # rejected for a reason
+        sizes.append(table.s.size)
+        table = nxt
+    assert sizes and table.s.size >= 33  # it took a few doublings
+    calls.clear()
+    small = band_module._Table(sigma, 1e6, 9, 1e-6)
+    calls.clear()
+    assert small.checked(sigma, 1e-6, grow=False) == (small, False) and sum(calls) == 8  # nothing beyond the check

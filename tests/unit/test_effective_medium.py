@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
-from scipy import integrate
+from scipy import integrate, special
 
 from sealeak import PowerSpectrum
 from sealeak.cases import example_names, example_path, load_cases
 from sealeak.physics.contact import PerssonContact, contact_modulus
 from sealeak.physics.effective_medium import bruggeman_conductivity, bruggeman_residual, discretise, effective_medium
-from sealeak.physics.gaps import gap_distribution
+from sealeak.physics.gaps import CONDUCTIVITY_QUADRATURE, gap_distribution
 
 E_STAR = contact_modulus(2.3e6, 0.5)
 Q0 = 2 * np.pi / 5e-3
@@ -180,3 +180,52 @@ def test_no_number_beyond_bruggeman_threshold(contact):
     assert r.percolates.tolist() == [True, False]
     assert np.isnan(r.leak_rate[1]) and r.effective_conductivity[1] == 0
     assert any("0.5" in m and "no flow" in m for m in r.messages)
+
+
+def _oring_contact():
+    case = load_cases(example_path("o-ring"))[0]
+    assert case.band is not None
+    return PerssonContact(case.spectrum, case.e_star, float(case.band.q0[0]), case.gamma)
+
+
+def _threshold(contact):
+    """The squeeze pressure at which A(ζ1)/A0 = 1/2 (Bruggeman's threshold, closed form)."""
+    return 2.0 * special.erfinv(0.5) * np.sqrt(float(contact.G(contact.zeta_max)))
+
+
+def _sigma(dist, panel_width):
+    g, w = discretise(dist, panel_width=panel_width)
+    return bruggeman_conductivity(g, w, dist.contact_fraction, 1.0)[0]
+
+
+def test_a_low_pressure_alone_is_resolved():
+    """Each squeeze pressure gets its own panels no wider than 0.25 in ln u: at a few Pa, where P(u) has features
+    narrower than a panel of 0.5 (which left σ_eff up to 3e-4 off for a pressure alone), σ_eff of a pressure alone
+    agrees with panels 8× narrower within 1e-7, and with the same pressure among others within 1e-12."""
+    contact = _oring_contact()
+    p = np.array([0.5, 0.63, 1.0, 2.2, 10.0])
+    together = effective_medium(contact, squeeze_pressure=np.append(p, 1e6), pressure_difference=1.0, viscosity=1.0,
+                                aspect_ratio=1.0).effective_conductivity
+    for i, x in enumerate(p):
+        dist = gap_distribution(contact, [x])
+        alone = _sigma(dist, 0.25)[0]
+        assert alone == pytest.approx(_sigma(dist, 0.25 / 8)[0], rel=1e-7)
+        assert alone == pytest.approx(together[i], rel=1e-12)
+    coarse = [abs(_sigma(gap_distribution(contact, [x]), 0.5)[0] / _sigma(gap_distribution(contact, [x]), 0.03)[0] - 1)
+              for x in p[:2]]
+    assert max(coarse) > 1e-5  # (the check has teeth: panels of 0.5 miss these by more than 1e-5)
+
+
+@pytest.mark.parametrize("where", ["o-ring", "reference-experiment"])
+def test_conductivity_quadrature_against_a_finer_rule(where):
+    """The lighter ζ-rule for σ tables (gaps.CONDUCTIVITY_QUADRATURE): σ_eff within 1e-6 of a rule with 4× the
+    panels of 8 points, from 1e-7 to 0.99 of the Bruggeman threshold (the default rule itself errs by up to 1.5e-6
+    at the lowest pressures)."""
+    contact = _oring_contact() if where == "o-ring" else load_cases(example_path(where))[0].contact()
+    p = _threshold(contact) * np.geomspace(1e-7, 0.99, 17)
+    fine = gap_distribution(contact, p, uniform_panels=96, log_panels=128, graded_panels=24, order=8)
+    light = gap_distribution(contact, p, **CONDUCTIVITY_QUADRATURE)
+    want, got = _sigma(fine, 0.25), _sigma(light, 0.25)
+    assert np.all(want > 0)
+    assert np.allclose(got, want, rtol=1e-6, atol=0)
+    assert light.weights.shape[1] < 0.5 * gap_distribution(contact, p[:1]).weights.shape[1]  # half the nodes

@@ -37,7 +37,7 @@ from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, CoupledBand, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
-from ..physics.gaps import ArrayCache, contact_key
+from ..physics.gaps import CONDUCTIVITY_QUADRATURE, ArrayCache, contact_key
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
 from .model import BandSeal, Case
 from .notes import Note, NoteLike
@@ -59,13 +59,14 @@ KEPT_SIGMA_BYTES = 16 * 2**20
 #: The σ_eff surface the loads of a sweep share (:class:`_SweepSurface`): used from this many loads on; its relative
 #: error against the exact σ_eff, checked off its points as it is built; its Chebyshev points in ln p (first, most) and
 #: in ln q0 (first, most); its top as a fraction of the lowest Bruggeman threshold pressure of the loads.
-SURFACE_MIN_LOADS = 20
+SURFACE_MIN_LOADS = 5
 SURFACE_RTOL = 1e-6
-SURFACE_P_POINTS = (33, 257)
+SURFACE_P_POINTS = (33, 129)
 SURFACE_Q0_POINTS = (5, 9)
 SURFACE_TOP = 0.8
 
 _EM_SIGMA = ArrayCache(lambda: KEPT_SIGMA_BYTES)
+_INTERPOLATE_ROWS = 512  # points per block of chebyshev_lobatto_interpolate: 512 × 129 terms, ~0.5 MB an array
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -275,7 +276,8 @@ def _em_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], Flo
         kept = _EM_SIGMA.get(digest)
         if kept is None:
             res = effective_medium(contact, squeeze_pressure=p, pressure_difference=1.0,
-                                   viscosity=case.fluid.viscosity, aspect_ratio=1.0)
+                                   viscosity=case.fluid.viscosity, aspect_ratio=1.0,
+                                   gap_quadrature=CONDUCTIVITY_QUADRATURE)
             kept = _EM_SIGMA.put(digest, (np.where(res.percolates, res.leak_rate, 0.0),))
         return kept[0].copy()
     return sigma
@@ -286,26 +288,24 @@ def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: Floa
 
     The barycentric formula of the second kind with the weights of these nodes, w_k = (−1)^k, halved
     at both ends (Berrut & Trefethen, SIAM Review 46 (2004) 501, eq. 5.4): p(x) = Σ w_k f_k/(x − s_k) /
-    Σ w_k/(x − s_k), exact at a node. The sums are added term by term in a fixed order (not by a
-    BLAS product, whose rounding may depend on the arrays' alignment), so equal inputs give equal bits.
+    Σ w_k/(x − s_k), exact at a node. The sums are running sums over k (``np.cumsum``, an accumulation from the
+    left by definition, not a pairwise or BLAS sum whose grouping may depend on the length or alignment), so
+    equal inputs give equal bits; the terms are formed for up to :data:`_INTERPOLATE_ROWS` points at a time.
     """
     x = np.asarray(x, dtype=float)
     weights = (-1.0) ** np.arange(nodes.size)
     weights[[0, -1]] *= 0.5
-    num = np.zeros(x.shape)
-    den = np.zeros(x.shape)
-    hit = np.full(x.shape, -1)
-    for k in range(nodes.size):
-        d = x - nodes[k]
+    flat = x.ravel()
+    out = np.empty(flat.size)
+    for lo in range(0, flat.size, _INTERPOLATE_ROWS):
+        d = flat[lo:lo + _INTERPOLATE_ROWS, None] - nodes[None, :]
         at = d == 0
-        hit[at] = k
-        c = weights[k] / np.where(at, 1.0, d)
-        num += c * values[k]
-        den += c
-    out = num / den
-    exact = hit >= 0
-    out[exact] = values[hit[exact]]
-    return out
+        c = weights / np.where(at, 1.0, d)
+        part = np.cumsum(c * values, axis=1)[:, -1] / np.cumsum(c, axis=1)[:, -1]
+        hit = at.any(axis=1)
+        part[hit] = values[np.argmax(at[hit], axis=1)]
+        out[lo:lo + _INTERPOLATE_ROWS] = part
+    return out.reshape(x.shape)
 
 
 class _Table:
@@ -321,14 +321,37 @@ class _Table:
 
     def refine(self, exact: Callable[[FloatArray], FloatArray]) -> _Table:
         """The table on twice the intervals (the old points are reused)."""
+        return self._finer(exact(np.exp(self._nodes(2 * (self.s.size - 1) + 1)[1::2])))
+
+    def checked(self, exact: Callable[[FloatArray], FloatArray], rtol: float, grow: bool = True) -> tuple[_Table, bool]:
+        """(this table, True) where it agrees with ``exact`` within ``rtol`` (relative, in σ) at a quarter of the points
+        the table on twice the intervals adds (every fourth, and the last; all of them for a table of up to 17): the
+        middles of its intervals, where the interpolation errs most and the error varies smoothly along the table.
+        Otherwise (that finer table, False), the points checked being reused, or with ``grow`` False (this table, False)."""
+        n = 2 * (self.s.size - 1) + 1
+        added = self._nodes(n)[1::2]
+        pick = np.zeros(added.size, dtype=bool)
+        pick[::min(4, max(1, added.size // 8))] = True
+        pick[-1] = True
+        values = np.empty(added.size)
+        values[pick] = exact(np.exp(added[pick]))
+        if np.all(values[pick] > 0) and np.all(np.abs(self(np.exp(added[pick])) / values[pick] - 1.0) < rtol):
+            return self, True
+        if not grow:
+            return self, False
+        if not pick.all():
+            values[~pick] = exact(np.exp(added[~pick]))
+        return self._finer(values), False
+
+    def _finer(self, added: FloatArray) -> _Table:
+        """The table on twice the intervals, from its ``added`` values (the old ones are reused)."""
         n = 2 * (self.s.size - 1) + 1
         new = _Table.__new__(_Table)
         new.lo, new.hi = self.lo, self.hi
-        s = new._nodes(n)
         values = np.empty(n)
         values[::2] = self.values
-        values[1::2] = exact(np.exp(s[1::2]))
-        new.s, new.values = s, values
+        values[1::2] = added
+        new.s, new.values = new._nodes(n), values
         new.ok = bool(np.all(values > 0))
         new.log_values = np.log(np.where(values > 0, values, 1.0))
         return new
@@ -349,30 +372,30 @@ class _Table:
 def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
                     exact: Callable[[FloatArray], FloatArray] | None = None) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
-    between them, refined until σ changes by < :data:`TABLE_RTOL` at the new points, at most to
+    between them, refined until it agrees with σ within :data:`TABLE_RTOL` at the points checked
+    (:meth:`_Table.checked`), at most to
     2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range). ``exact``: σ_eff of
     this contact (default the effective medium itself; a sweep passes its :class:`_SweepSurface`)."""
     exact = _em_exact(case, contact) if exact is None else exact
     table = _Table(exact, p_max, TABLE_POINTS[0], floor)
     while table.ok and table.s.size < 2 * TABLE_POINTS[1] - 1:
-        finer = table.refine(exact)
-        new = finer.values[1::2]
-        if np.all(np.abs(table(np.exp(finer.s[1::2])) / new - 1.0) < TABLE_RTOL):
-            return finer
-        table = finer
+        table, good = table.checked(exact, TABLE_RTOL)
+        if good:
+            return table
     return table if table.ok else exact
 
 
 class _SweepSurface:
-    """σ_eff(p; q0) (m³/(Pa·s)) shared by the loads of a sweep: the effective medium's P(u) costs ~10 ms per pressure,
+    """σ_eff(p; q0) (m³/(Pa·s)) shared by the loads of a sweep: the effective medium's P(u) costs ~5 ms per pressure,
     and every load has its own q0 = 2π/w, so without it no exact value serves two loads.
 
     q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
     function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
     (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p (at each of those q0 a :class:`_Table` of
-    ln σ against ln p over [``low``, ``high``] Pa, doubled until its values at the new points agree with the exact
-    ones to :data:`SURFACE_RTOL`). The q0 points are doubled until the surface agrees with exact values of the load
-    farthest from them, at pressures off the table's points, to :data:`SURFACE_RTOL`. ``high`` stays a factor
+    ln σ against ln p over [``low``, ``high``] Pa, doubled until it agrees with the exact σ_eff to :data:`SURFACE_RTOL`
+    at a quarter of the points the next doubling would add, :meth:`_Table.checked`). The q0 points are doubled until
+    the surface agrees with exact values of the load farthest from them, at pressures off the table's points, to
+    :data:`SURFACE_RTOL`. ``high`` stays a factor
     :data:`SURFACE_TOP` below every load's Bruggeman threshold (A(ζ1)/A0 = 1/2, closed form), where ln σ is smooth;
     pressures outside [``low``, ``high``] take the exact σ_eff. :meth:`build` returns None where the surface does not
     reach its tolerance within :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
@@ -422,31 +445,48 @@ class _SweepSurface:
     def _table(case: Case, q0: float, low: float, high: float) -> _Table | None:
         exact = _em_exact(case, _contact(case, q0))
         table = _Table(exact, high, SURFACE_P_POINTS[0], low / high)
-        while table.ok and table.s.size < SURFACE_P_POINTS[1]:
-            finer = table.refine(exact)
-            if finer.ok and np.all(np.abs(table(np.exp(finer.s[1::2])) / finer.values[1::2] - 1.0) < SURFACE_RTOL):
-                return finer
-            table = finer
+        while table.ok:
+            table, good = table.checked(exact, SURFACE_RTOL, grow=table.s.size < SURFACE_P_POINTS[1])
+            if good:
+                return table
+            if table.s.size >= SURFACE_P_POINTS[1]:
+                return None
         return None
 
     def sigma(self, q0: float, p: FloatArray) -> FloatArray:
         """σ_eff (m³/(Pa·s)) of the load with ``q0`` (1/m) at pressures ``p`` inside [low, high] (Pa)."""
+        return self._at(q0)(p)
+
+    def _at(self, q0: float) -> Callable[[FloatArray], FloatArray]:
+        """σ_eff(p) of the load with ``q0`` inside [low, high]: the interpolation in ln q0 is linear in the tables'
+        values, so the tables on the same points combine into one (Σ_j w_j ln σ_j at each point) before ln p is
+        interpolated, once per size of table."""
         if len(self.tables) == 1:
-            return self.tables[0](p)
+            return self.tables[0]
         m = np.full(1, math.log(q0))
         weights = [float(chebyshev_lobatto_interpolate(self.nodes, e, m)[0]) for e in np.eye(self.nodes.size)]
-        return np.exp(np.sum([w * t.log_at(p) for w, t in zip(weights, self.tables, strict=True)], axis=0))
+        combined: dict[int, tuple[FloatArray, FloatArray]] = {}
+        for w, t in zip(weights, self.tables, strict=True):
+            s, values = combined.get(t.s.size, (t.s, np.zeros(t.s.size)))
+            combined[t.s.size] = (s, values + w * t.log_values)
+        lo, hi = self.tables[0].lo, self.tables[0].hi
+
+        def sigma(p: FloatArray) -> FloatArray:
+            x = np.clip(np.log(p), lo, hi)
+            return np.exp(np.sum([chebyshev_lobatto_interpolate(s, v, x) for s, v in combined.values()], axis=0))
+        return sigma
 
     def for_load(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
         """σ_eff(p) of one load's contact: the surface inside [low, high], the exact effective medium outside."""
         exact = _em_exact(self.case, contact)
+        surface = self._at(contact.q0)
 
         def sigma(p: FloatArray) -> FloatArray:
             p = np.asarray(p, dtype=float)
             inside = (p >= self.low) & (p <= self.high)
             out = np.empty(p.shape)
             if inside.any():
-                out[inside] = self.sigma(contact.q0, p[inside])
+                out[inside] = surface(p[inside])
             if not inside.all():
                 out[~inside] = exact(p[~inside])
             return out
@@ -607,11 +647,12 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     eta = case.fluid.viscosity
     unit = replace(case, fluid=replace(case.fluid, viscosity=1.0))
     with case_keys():
-        surface = _surface(case, band) if want_em else None
+        surface = _surface(unit, band) if want_em else None  # at η = 1 Pa·s too: the same bits for every fluid
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
             try:
                 contact = _contact(case, float(q0))
-                em_exact = surface.for_load(contact) if surface is not None else _em_exact(case, contact)
+                em_unit_exact = surface.for_load(contact) if surface is not None else None
+                em_exact = _em_exact(case, contact) if em_unit_exact is None else _scaled(em_unit_exact, 1.0 / eta)
                 sigma = _cj_sigma(case, contact)
                 g = series_resistance(profile, sigma)
                 cj_int.append(g)
@@ -632,8 +673,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                     em_ok.append(ok)
                     if case.coupled:  # a band sealed at its peak stays sealed: σ is tabulated up to the mean only
                         p_top = profile.mean_pressure if ge.sealed else profile.max_pressure
-                        em_unit = _em_sigma_table(unit, contact, p_top, LIFT_OFF_FLOOR,
-                                                  None if surface is None else _scaled(em_exact, eta))
+                        em_unit = _em_sigma_table(unit, contact, p_top, LIFT_OFF_FLOOR, em_unit_exact)
                         em_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if ge.sealed
                                        else _per_viscosity(coupled_band_flow(profile, em_unit, dp), eta))
                         em_mean.append(_mean_sigma(case, _scaled(em_unit, 1.0 / eta), profile.mean_pressure))
