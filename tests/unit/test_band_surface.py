@@ -121,3 +121,16 @@ def test_a_table_is_checked_at_a_quarter_of_the_points_the_next_adds():
     small = band_module._Table(sigma, 1e6, 9, 1e-6)
     calls.clear()
     assert small.checked(sigma, 1e-6, grow=False) == (small, False) and sum(calls) == 8  # nothing beyond the check
+
+
+@pytest.mark.parametrize(("k", "points"), [(2.0, 33), (4.0, 65), (8.0, 129), (40.0, None)])
+def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch, k, points):
+    """A table of the surface is accepted at the first of 33, 65 and 129 points that meets :data:`SURFACE_RTOL` (ln σ
+    = sin(k ln p) over 1 Pa .. 1 MPa needs more points the larger k), and there is none where 129 do not."""
+    monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(np.sin(k * np.log(p))))
+    case = load_cases(example_path("o-ring"))[0]
+    table = _SweepSurface._table(case, 3000.0, 1.0, 1e6)
+    assert (table is None) if points is None else (table is not None and table.s.size == points)
+    if table is not None:
+        p = np.geomspace(1.0, 1e6, 1001)
+        np.testing.assert_allclose(table(p), np.exp(np.sin(k * np.log(p))), rtol=SURFACE_RTOL, atol=0)

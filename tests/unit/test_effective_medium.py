@@ -218,7 +218,7 @@ def test_a_low_pressure_alone_is_resolved():
 
 @pytest.mark.parametrize("where", ["o-ring", "reference-experiment"])
 def test_conductivity_quadrature_against_a_finer_rule(where):
-    """The lighter ζ-rule for σ tables (gaps.CONDUCTIVITY_QUADRATURE): σ_eff within 1e-6 of a rule with 4× the
+    """The lighter ζ-rule for σ tables (gaps.CONDUCTIVITY_QUADRATURE): σ_eff within 3e-7 of a rule with 4× the
     panels of 8 points, from 1e-7 to 0.99 of the Bruggeman threshold (the default rule itself errs by up to 1.5e-6
     at the lowest pressures)."""
     contact = _oring_contact() if where == "o-ring" else load_cases(example_path(where))[0].contact()
@@ -227,5 +227,5 @@ def test_conductivity_quadrature_against_a_finer_rule(where):
     light = gap_distribution(contact, p, **CONDUCTIVITY_QUADRATURE)
     want, got = _sigma(fine, 0.25), _sigma(light, 0.25)
     assert np.all(want > 0)
-    assert np.allclose(got, want, rtol=1e-6, atol=0)
+    assert np.allclose(got, want, rtol=3e-7, atol=0)
     assert light.weights.shape[1] < 0.5 * gap_distribution(contact, p[:1]).weights.shape[1]  # half the nodes

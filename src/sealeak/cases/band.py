@@ -266,8 +266,9 @@ def _cj_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], Flo
 
 def _em_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) of the effective medium, 0 where it does not percolate; kept by contact, viscosity and the
-    list of pressures (:data:`KEPT_SIGMA_BYTES`): the effective medium discretises P(u) over the pressures asked for
-    together, so a list is answered as it was computed, bit for bit (an update of ΔP or α evaluates the same tables)."""
+    list of pressures (:data:`KEPT_SIGMA_BYTES`): a pressure's σ_eff depends on the others asked with it only in the last
+    bit (the order of the Bruggeman sums), so a list is answered as it was computed, bit for bit (an update of ΔP or α
+    evaluates the same tables)."""
     key = contact_key(contact, case.fluid.viscosity)
 
     def sigma(p: FloatArray) -> FloatArray:
@@ -325,9 +326,11 @@ class _Table:
 
     def checked(self, exact: Callable[[FloatArray], FloatArray], rtol: float, grow: bool = True) -> tuple[_Table, bool]:
         """(this table, True) where it agrees with ``exact`` within ``rtol`` (relative, in σ) at a quarter of the points
-        the table on twice the intervals adds (every fourth, and the last; all of them for a table of up to 17): the
-        middles of its intervals, where the interpolation errs most and the error varies smoothly along the table.
-        Otherwise (that finer table, False), the points checked being reused, or with ``grow`` False (this table, False)."""
+        the table on twice the intervals adds (all 8 for a table of 9 points, every other one for 17, every fourth and
+        the last from 33 on): the middles of its intervals, where the interpolation errs most and the error varies
+        smoothly along the table. Otherwise (that finer table, False), the points checked being reused, or with
+        ``grow`` False (this table, False). Where σ vanishes at a point checked, the finer table is not ``ok`` (σ is
+        not tabulated in ln σ) and its other points are not evaluated."""
         n = 2 * (self.s.size - 1) + 1
         added = self._nodes(n)[1::2]
         pick = np.zeros(added.size, dtype=bool)
@@ -335,11 +338,14 @@ class _Table:
         pick[-1] = True
         values = np.empty(added.size)
         values[pick] = exact(np.exp(added[pick]))
-        if np.all(values[pick] > 0) and np.all(np.abs(self(np.exp(added[pick])) / values[pick] - 1.0) < rtol):
+        positive = bool(np.all(values[pick] > 0))
+        if positive and np.all(np.abs(self(np.exp(added[pick])) / values[pick] - 1.0) < rtol):
             return self, True
         if not grow:
             return self, False
-        if not pick.all():
+        if not positive:
+            values[~pick] = np.nan  # (a table that is not ok: its callers take σ itself)
+        elif not pick.all():
             values[~pick] = exact(np.exp(added[~pick]))
         return self._finer(values), False
 
@@ -446,10 +452,11 @@ class _SweepSurface:
         exact = _em_exact(case, _contact(case, q0))
         table = _Table(exact, high, SURFACE_P_POINTS[0], low / high)
         while table.ok:
-            table, good = table.checked(exact, SURFACE_RTOL, grow=table.s.size < SURFACE_P_POINTS[1])
+            grow = table.s.size < SURFACE_P_POINTS[1]
+            table, good = table.checked(exact, SURFACE_RTOL, grow=grow)
             if good:
                 return table
-            if table.s.size >= SURFACE_P_POINTS[1]:
+            if not grow:
                 return None
         return None
 

@@ -577,8 +577,9 @@ def effective_medium(
     uniq, inverse = np.unique(p0, return_inverse=True)
     if distribution is None or distribution.squeeze_pressure.shape != uniq.shape or \
             not np.array_equal(distribution.squeeze_pressure, uniq):
-        # the discretisation of a list of pressures (its panels span them all) depends on the contact and the list
-        # alone, not on η: a second fluid, or the same σ table again, takes it from the cache
+        # the discretisation of a list of pressures (each row on its own panels, padded to the longest) depends on the
+        # contact, the ζ-rule and the list alone, not on η: a second fluid, or the same σ table again, takes it from
+        # the cache
         key = (contact_key(contact, *quadrature.values()), tuple(quadrature), uniq.tobytes())
         kept = _DISCRETE.get(key)
         distribution = gap_distribution(contact, uniq, **quadrature)

@@ -77,7 +77,7 @@ _SQRT2PI = np.sqrt(2.0 * np.pi)
 #: 6 points instead of 32 and 64 of 8, half the cost per pressure. σ_eff, an integral over P(u) (the panels of
 #: :func:`~sealeak.physics.effective_medium.discretise` are rescaled to the exact CDF), stays within 3e-7 of a 4× finer
 #: rule up to 0.99 of the percolation threshold, as the default does within 1.5e-6 (both err most at 1e-7 of the
-#: threshold, tests/unit/test_gap_cache.py); P(u) itself, a sum of Gaussians at the nodes, is 1e-3 bumpier pointwise,
+#: threshold, tests/unit/test_effective_medium.py); P(u) itself, a sum of Gaussians at the nodes, is 1e-3 bumpier pointwise,
 #: so the figures and the uniform seal keep the default.
 CONDUCTIVITY_QUADRATURE: Mapping[str, int] = MappingProxyType(
     {"uniform_panels": 24, "log_panels": 32, "graded_panels": 20, "order": 6})
