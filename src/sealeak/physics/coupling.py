@@ -212,10 +212,11 @@ def _liquid_slopes(profile: PressureProfile, table: _Splines, *, sensitivity: bo
         if sensitivity:
             def hertz_pair(q: float) -> Callable[[float, FloatArray], list[float]]:
                 def slope(t: float, u: FloatArray) -> list[float]:
+                    pf, g = u.tolist()  # (Python floats: the same arithmetic, faster than NumPy scalars)
                     st = sin(t)
-                    ln_s, d_ln_s = ln_sigma_slope(peak * st - u[0])
+                    ln_s, d_ln_s = ln_sigma_slope(peak * st - pf)
                     f = -q * (w * st / 2.0) / exp(ln_s)
-                    return [f, f + f * d_ln_s * u[1]]
+                    return [f, f + f * d_ln_s * g]
                 return slope
             return [hertz_pair]
 
@@ -233,9 +234,10 @@ def _liquid_slopes(profile: PressureProfile, table: _Splines, *, sensitivity: bo
                 def linear_pair(q: float, width: float = b - a, pa: float = pa, rise: float = pb - pa,
                                 ) -> Callable[[float, FloatArray], list[float]]:
                     def slope(t: float, u: FloatArray) -> list[float]:
-                        ln_s, d_ln_s = ln_sigma_slope(pa + rise * (1.0 - cos(t)) / 2.0 - u[0])
+                        pf, g = u.tolist()
+                        ln_s, d_ln_s = ln_sigma_slope(pa + rise * (1.0 - cos(t)) / 2.0 - pf)
                         f = -q * (width * sin(t) / 2.0) / exp(ln_s)
-                        return [f, f + f * d_ln_s * u[1]]
+                        return [f, f + f * d_ln_s * g]
                     return slope
                 out.append(linear_pair)
                 continue
