@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -42,7 +43,9 @@ def test_surface_matches_the_exact_effective_medium_between_its_points(sweep):
     assert nodes.size >= 2  # the loads' q0 differ: the surface interpolates in q0
     between = 0.5 * (nodes[:-1] + nodes[1:])
     q0 = np.exp(between[[0, -1]])  # the surface's q0 points lie in ln q0
-    s = surface.tables[0].s
+    assert surface.base is not None  # the middle q0's table, the others as differences from it, on fewer points
+    assert all(part is None or part[0].size < surface.base.s.size for part in surface.parts)
+    s = surface.base.s
     p = np.exp(0.5 * (s[:-1] + s[1:]))[::6]
     p = p[(p >= surface.low) & (p <= surface.high)]
     assert p.size > 10
@@ -134,3 +137,29 @@ def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch
     if table is not None:
         p = np.geomspace(1.0, 1e6, 1001)
         np.testing.assert_allclose(table(p), np.exp(np.sin(k * np.log(p))), rtol=SURFACE_RTOL, atol=0)
+
+
+@pytest.mark.parametrize(("roughness", "mode"), [(0.0, "differences"), (1.0, "full tables")])
+def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monkeypatch, roughness, mode):
+    """ln σ(p; q0) = sin(2 ln p) + c(q0)(ln p + roughness · sin(7 ln p)) with c = 0.01 (ln q0 − 8): a smooth
+    difference from the middle q0 is tabulated on a fraction of the middle table's points; a rough one (sin(7 ln p)
+    needs more points than the middle table's 33) takes full tables at every q0 point. Either way the surface agrees
+    with σ between its q0 points to :data:`SURFACE_RTOL`."""
+    def log_sigma(p, q0):
+        s = np.log(p)
+        return np.sin(2.0 * s) + 0.01 * (math.log(q0) - 8.0) * (s + roughness * np.sin(7.0 * s))
+
+    monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(log_sigma(p, contact.q0)))
+    case = load_cases(example_path("o-ring"))[0]
+    q0 = np.geomspace(3000.0, 5500.0, 7)
+    surface = _SweepSurface.build(case, q0, 1.0, 1e6)
+    assert surface is not None
+    if mode == "differences":
+        assert surface.base is not None
+        sizes = [part[0].size for part in surface.parts if part is not None]
+        assert sizes and max(sizes) <= (surface.base.s.size + 1) // 2
+    else:
+        assert surface.base is None
+    p = np.geomspace(1.0, 1e6, 301)
+    for q in np.sqrt(q0[:-1] * q0[1:]).tolist():
+        np.testing.assert_allclose(surface.sigma(q, p), np.exp(log_sigma(p, q)), rtol=SURFACE_RTOL, atol=0)

@@ -397,18 +397,27 @@ class _SweepSurface:
 
     q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
     function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
-    (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p (at each of those q0 a :class:`_Table` of
-    ln σ against ln p over [``low``, ``high``] Pa, doubled until it agrees with the exact σ_eff to :data:`SURFACE_RTOL`
-    at a quarter of the points the next doubling would add, :meth:`_Table.checked`). The q0 points are doubled until
-    the surface agrees with exact values of the load farthest from them, at pressures off the table's points, to
-    :data:`SURFACE_RTOL`. ``high`` stays a factor
-    :data:`SURFACE_TOP` below every load's Bruggeman threshold (A(ζ1)/A0 = 1/2, closed form), where ln σ is smooth;
-    pressures outside [``low``, ``high``] take the exact σ_eff. :meth:`build` returns None where the surface does not
-    reach its tolerance within :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
+    (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. At the middle q0 point a :class:`_Table`
+    of ln σ against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact σ_eff to
+    :data:`SURFACE_RTOL` at a quarter of the points the next doubling would add (:meth:`_Table.checked`); at the other
+    q0 points only the difference ln σ − ln σ_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
+    table, doubled until it agrees with exact values at the middles of its intervals to :data:`SURFACE_RTOL`/2: it is
+    small (a few per cent at most) and smooth, so it needs a fraction of the points. Where a difference does not get
+    there before it would need the middle table's own points, every q0 point takes a full table (as the middle one).
+    The q0 points are doubled until the surface agrees with exact values of the load farthest from them, at pressures
+    off the tables' points, to :data:`SURFACE_RTOL`. ``high`` stays a factor :data:`SURFACE_TOP` below every load's
+    Bruggeman threshold (A(ζ1)/A0 = 1/2, closed form), where ln σ is smooth; pressures outside [``low``, ``high``] take
+    the exact σ_eff. :meth:`build` returns None where the surface does not reach its tolerance within
+    :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
     """
 
-    def __init__(self, case: Case, nodes: FloatArray, tables: list[_Table], low: float, high: float) -> None:
-        self.case, self.nodes, self.tables, self.low, self.high = case, nodes, tables, low, high
+    def __init__(self, case: Case, nodes: FloatArray, base: _Table | None,
+                 parts: list[tuple[FloatArray, FloatArray] | None], low: float, high: float, span: tuple[float, float]) -> None:
+        """``parts``: per q0 point (``nodes``, ln q0) its values on Chebyshev–Lobatto points in ln p — ln σ itself where
+        ``base`` is None, else the difference from ``base`` (None for the point of ``base``); ``span``: the table's
+        ends in ln p."""
+        self.case, self.nodes, self.base, self.parts, self.low, self.high = case, nodes, base, parts, low, high
+        self.span = span
 
     @classmethod
     def build(cls, case: Case, q0: FloatArray, low: float, high: float) -> _SweepSurface | None:
@@ -422,14 +431,31 @@ class _SweepSurface:
         m = np.log(q0)
         n = 1 if q0.size == 1 else SURFACE_Q0_POINTS[0]
         tables: dict[float, _Table | None] = {}
+        differences: dict[float, tuple[FloatArray, FloatArray] | None] = {}
         while True:
             nodes = np.array([float(m[0])]) if n == 1 else _lobatto(float(m[0]), float(m[-1]), n)
-            for node in nodes.tolist():
-                if node not in tables:
-                    tables[node] = cls._table(case, cls._q0_at(node, q0, m), low, high)
-            if any(tables[node] is None for node in nodes.tolist()):
+            middle = float(nodes[nodes.size // 2])  # (the middle of 5 points is the middle of 9)
+            if middle not in tables:
+                tables[middle] = cls._table(case, cls._q0_at(middle, q0, m), low, high)
+            base = tables[middle]
+            if base is None:
                 return None
-            surface = cls(case, nodes, [t for node in nodes.tolist() if (t := tables[node]) is not None], low, high)
+            for node in nodes.tolist():
+                if node != middle and node not in differences:
+                    differences[node] = cls._difference(case, cls._q0_at(node, q0, m), base)
+            span = (float(base.lo), float(base.hi))
+            parts: list[tuple[FloatArray, FloatArray] | None]
+            if all(differences[node] is not None for node in nodes.tolist() if node != middle):
+                parts = [None if node == middle else differences[node] for node in nodes.tolist()]
+                surface = cls(case, nodes, base, parts, low, high, span)
+            else:  # a difference too rough for a coarser table: a full table at every q0 point
+                for node in nodes.tolist():
+                    if node not in tables:
+                        tables[node] = cls._table(case, cls._q0_at(node, q0, m), low, high)
+                full = [tables[node] for node in nodes.tolist()]
+                if any(t is None for t in full):
+                    return None
+                surface = cls(case, nodes, None, [(t.s, t.log_values) for t in full if t is not None], low, high, span)
             far = int(np.argmax(np.min(np.abs(m[:, None] - nodes[None, :]), axis=1)))
             if n == 1 or np.min(np.abs(m[far] - nodes)) == 0:
                 return surface
@@ -460,23 +486,61 @@ class _SweepSurface:
                 return None
         return None
 
+    @staticmethod
+    def _difference(case: Case, q0: float, base: _Table) -> tuple[FloatArray, FloatArray] | None:
+        """(points, values): ln σ_eff of the contact at ``q0`` less ``base``'s exact ln σ, at every 2^k-th point of
+        ``base`` (from 9 points on), doubled until the interpolated difference agrees with exact values at the middles
+        of its intervals (points of ``base`` too: every fourth and the last from 16 middles on, all before) within
+        :data:`SURFACE_RTOL`/2 in ln σ; None where that needs the points of ``base`` itself, or σ_eff vanishes."""
+        exact = _em_exact(case, _contact(case, q0))
+        size = base.s.size
+        step = (size - 1) // 8
+        known: dict[int, float] = {}  # ln σ_eff at base's point i
+
+        def log_sigma(index: NDArray[np.intp]) -> FloatArray | None:
+            new = [i for i in index.tolist() if i not in known]
+            if new:
+                values = exact(np.exp(base.s[new]))
+                if not np.all(values > 0):
+                    return None
+                known.update(zip(new, np.log(values).tolist()))
+            return np.array([known[i] for i in index.tolist()])
+
+        while step >= 2:
+            points = np.arange(0, size, step)
+            middles = np.arange(step // 2, size, step)
+            pick = np.zeros(middles.size, dtype=bool)
+            pick[::min(4, max(1, middles.size // 8))] = True
+            pick[-1] = True
+            both = log_sigma(np.concatenate([points, middles[pick]]))  # (one call: P(u) is vectorised over pressures)
+            if both is None:
+                return None
+            at_points, at_middles = both[:points.size], both[points.size:]
+            difference = at_points - base.log_values[points]
+            interpolated = chebyshev_lobatto_interpolate(base.s[points], difference, base.s[middles[pick]])
+            if np.all(np.abs(interpolated - (at_middles - base.log_values[middles[pick]])) < 0.5 * SURFACE_RTOL):
+                return base.s[points], difference
+            step //= 2
+        return None
+
     def sigma(self, q0: float, p: FloatArray) -> FloatArray:
         """σ_eff (m³/(Pa·s)) of the load with ``q0`` (1/m) at pressures ``p`` inside [low, high] (Pa)."""
         return self._at(q0)(p)
 
     def _at(self, q0: float) -> Callable[[FloatArray], FloatArray]:
-        """σ_eff(p) of the load with ``q0`` inside [low, high]: the interpolation in ln q0 is linear in the tables'
-        values, so the tables on the same points combine into one (Σ_j w_j ln σ_j at each point) before ln p is
-        interpolated, once per size of table."""
-        if len(self.tables) == 1:
-            return self.tables[0]
-        m = np.full(1, math.log(q0))
-        weights = [float(chebyshev_lobatto_interpolate(self.nodes, e, m)[0]) for e in np.eye(self.nodes.size)]
+        """σ_eff(p) of the load with ``q0`` inside [low, high]: the interpolation in ln q0 is linear in the values,
+        so ln σ = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
+        into one before ln p is interpolated, once per size of table."""
+        weights = [1.0] if self.nodes.size == 1 else [
+            float(chebyshev_lobatto_interpolate(self.nodes, e, np.full(1, math.log(q0)))[0]) for e in np.eye(self.nodes.size)]
         combined: dict[int, tuple[FloatArray, FloatArray]] = {}
-        for w, t in zip(weights, self.tables, strict=True):
-            s, values = combined.get(t.s.size, (t.s, np.zeros(t.s.size)))
-            combined[t.s.size] = (s, values + w * t.log_values)
-        lo, hi = self.tables[0].lo, self.tables[0].hi
+        if self.base is not None:
+            combined[self.base.s.size] = (self.base.s, self.base.log_values)
+        for w, part in zip(weights, self.parts, strict=True):
+            if part is not None:
+                s, values = combined.get(part[0].size, (part[0], np.zeros(part[0].size)))
+                combined[part[0].size] = (s, values + w * part[1])
+        lo, hi = self.span
 
         def sigma(p: FloatArray) -> FloatArray:
             x = np.clip(np.log(p), lo, hi)
