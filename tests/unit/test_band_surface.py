@@ -43,8 +43,7 @@ def test_surface_matches_the_exact_effective_medium_between_its_points(sweep):
     assert nodes.size >= 2  # the loads' q0 differ: the surface interpolates in q0
     between = 0.5 * (nodes[:-1] + nodes[1:])
     q0 = np.exp(between[[0, -1]])  # the surface's q0 points lie in ln q0
-    assert surface.base is not None  # the middle q0's table, the others as differences from it, on fewer points
-    assert all(part is None or part[0].size < surface.base.s.size for part in surface.parts)
+    assert surface.base is not None  # the middle q0's table, the others as differences from it
     s = surface.base.s
     p = np.exp(0.5 * (s[:-1] + s[1:]))[::6]
     p = p[(p >= surface.low) & (p <= surface.high)]
@@ -132,34 +131,31 @@ def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch
     = sin(k ln p) over 1 Pa .. 1 MPa needs more points the larger k), and there is none where 129 do not."""
     monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(np.sin(k * np.log(p))))
     case = load_cases(example_path("o-ring"))[0]
-    table = _SweepSurface._table(case, 3000.0, 1.0, 1e6)
+    table = _SweepSurface._table(case, 3000.0, 1.0, 1e6, SURFACE_RTOL)
     assert (table is None) if points is None else (table is not None and table.s.size == points)
     if table is not None:
         p = np.geomspace(1.0, 1e6, 1001)
         np.testing.assert_allclose(table(p), np.exp(np.sin(k * np.log(p))), rtol=SURFACE_RTOL, atol=0)
 
 
-@pytest.mark.parametrize(("roughness", "mode"), [(0.0, "differences"), (1.0, "full tables")])
-def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monkeypatch, roughness, mode):
-    """ln σ(p; q0) = sin(2 ln p) + c(q0)(ln p + roughness · sin(7 ln p)) with c = 0.01 (ln q0 − 8): a smooth
-    difference from the middle q0 is tabulated on a fraction of the middle table's points; a rough one (sin(7 ln p)
-    needs more points than the middle table's 33) takes full tables at every q0 point. Either way the surface agrees
-    with σ between its q0 points to :data:`SURFACE_RTOL`."""
+@pytest.mark.parametrize(("k", "m", "base", "parts"), [(2.0, 0.0, 33, 9), (4.0, 1.5, 65, 33), (2.0, 7.0, None, 65)])
+def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monkeypatch, k, m, base, parts):
+    """ln σ(p; q0) = sin(k ln p) + c(q0)(ln p + sin(m ln p)), c = 0.01 (ln q0 − 8): the difference from the middle q0
+    is tabulated on a fraction of the middle table's points, as many as it needs (9 where it is linear in ln p, 33 for
+    sin(1.5 ln p)); a difference that needs as many as the middle table (sin(7 ln p) against a 33-point middle table)
+    takes full tables at every q0 point. Either way the surface agrees with σ between its q0 points to
+    :data:`SURFACE_RTOL`."""
     def log_sigma(p, q0):
         s = np.log(p)
-        return np.sin(2.0 * s) + 0.01 * (math.log(q0) - 8.0) * (s + roughness * np.sin(7.0 * s))
+        return np.sin(k * s) + 0.01 * (math.log(q0) - 8.0) * (s + np.sin(m * s))
 
     monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(log_sigma(p, contact.q0)))
     case = load_cases(example_path("o-ring"))[0]
     q0 = np.geomspace(3000.0, 5500.0, 7)
     surface = _SweepSurface.build(case, q0, 1.0, 1e6)
     assert surface is not None
-    if mode == "differences":
-        assert surface.base is not None
-        sizes = [part[0].size for part in surface.parts if part is not None]
-        assert sizes and max(sizes) <= (surface.base.s.size + 1) // 2
-    else:
-        assert surface.base is None
+    assert (None if surface.base is None else surface.base.s.size) == base
+    assert {part[0].size for part in surface.parts if part is not None} == {parts}
     p = np.geomspace(1.0, 1e6, 301)
     for q in np.sqrt(q0[:-1] * q0[1:]).tolist():
         np.testing.assert_allclose(surface.sigma(q, p), np.exp(log_sigma(p, q)), rtol=SURFACE_RTOL, atol=0)

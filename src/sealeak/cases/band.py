@@ -399,9 +399,9 @@ class _SweepSurface:
     function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
     (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. At the middle q0 point a :class:`_Table`
     of ln σ against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact σ_eff to
-    :data:`SURFACE_RTOL` at a quarter of the points the next doubling would add (:meth:`_Table.checked`); at the other
+    :data:`SURFACE_RTOL`/2 at a quarter of the points the next doubling would add (:meth:`_Table.checked`); at the other
     q0 points only the difference ln σ − ln σ_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
-    table, doubled until it agrees with exact values at the middles of its intervals to :data:`SURFACE_RTOL`/2: it is
+    table, doubled until it agrees with exact values at middles of its intervals to :data:`SURFACE_RTOL`/2: it is
     small (a few per cent at most) and smooth, so it needs a fraction of the points. Where a difference does not get
     there before it would need the middle table's own points, every q0 point takes a full table (as the middle one).
     The q0 points are doubled until the surface agrees with exact values of the load farthest from them, at pressures
@@ -430,28 +430,37 @@ class _SweepSurface:
             return None
         m = np.log(q0)
         n = 1 if q0.size == 1 else SURFACE_Q0_POINTS[0]
-        tables: dict[float, _Table | None] = {}
-        differences: dict[float, tuple[FloatArray, FloatArray] | None] = {}
+        middles: dict[float, _Table | None] = {}  # the middle table, checked to SURFACE_RTOL/2
+        tables: dict[float, _Table | None] = {}  # full tables, where a difference does not do
+        differences: dict[tuple[float, float], tuple[FloatArray, FloatArray]] = {}  # by (middle, point)
+        full_tables = False
         while True:
             nodes = np.array([float(m[0])]) if n == 1 else _lobatto(float(m[0]), float(m[-1]), n)
-            middle = float(nodes[nodes.size // 2])  # (the middle of 5 points is the middle of 9)
-            if middle not in tables:
-                tables[middle] = cls._table(case, cls._q0_at(middle, q0, m), low, high)
-            base = tables[middle]
+            middle = float(nodes[nodes.size // 2])  # (the middle of 5 points is the middle of 9, bit for bit)
+            if middle not in middles:
+                middles[middle] = cls._table(case, cls._q0_at(middle, q0, m), low, high, 0.5 * SURFACE_RTOL)
+            base = middles[middle]
             if base is None:
                 return None
             for node in nodes.tolist():
-                if node != middle and node not in differences:
-                    differences[node] = cls._difference(case, cls._q0_at(node, q0, m), base)
+                if full_tables:
+                    break
+                if node != middle and (middle, node) not in differences:
+                    difference = cls._difference(case, cls._q0_at(node, q0, m), base)
+                    if difference is None:  # a difference too rough for a coarser table: full tables from now on
+                        full_tables = True
+                    else:
+                        differences[middle, node] = difference
             span = (float(base.lo), float(base.hi))
-            parts: list[tuple[FloatArray, FloatArray] | None]
-            if all(differences[node] is not None for node in nodes.tolist() if node != middle):
-                parts = [None if node == middle else differences[node] for node in nodes.tolist()]
+            if not full_tables:
+                parts: list[tuple[FloatArray, FloatArray] | None] = [
+                    None if node == middle else differences[middle, node] for node in nodes.tolist()]
                 surface = cls(case, nodes, base, parts, low, high, span)
-            else:  # a difference too rough for a coarser table: a full table at every q0 point
+            else:
                 for node in nodes.tolist():
                     if node not in tables:
-                        tables[node] = cls._table(case, cls._q0_at(node, q0, m), low, high)
+                        tables[node] = base if node == middle else cls._table(case, cls._q0_at(node, q0, m), low, high,
+                                                                              SURFACE_RTOL)
                 full = [tables[node] for node in nodes.tolist()]
                 if any(t is None for t in full):
                     return None
@@ -474,12 +483,13 @@ class _SweepSurface:
         return float(q0[at[0]]) if at.size else math.exp(node)
 
     @staticmethod
-    def _table(case: Case, q0: float, low: float, high: float) -> _Table | None:
+    def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> _Table | None:
+        """The table of ln σ_eff at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol`` (:meth:`_Table.checked`)."""
         exact = _em_exact(case, _contact(case, q0))
         table = _Table(exact, high, SURFACE_P_POINTS[0], low / high)
         while table.ok:
             grow = table.s.size < SURFACE_P_POINTS[1]
-            table, good = table.checked(exact, SURFACE_RTOL, grow=grow)
+            table, good = table.checked(exact, rtol, grow=grow)
             if good:
                 return table
             if not grow:
@@ -490,8 +500,10 @@ class _SweepSurface:
     def _difference(case: Case, q0: float, base: _Table) -> tuple[FloatArray, FloatArray] | None:
         """(points, values): ln σ_eff of the contact at ``q0`` less ``base``'s exact ln σ, at every 2^k-th point of
         ``base`` (from 9 points on), doubled until the interpolated difference agrees with exact values at the middles
-        of its intervals (points of ``base`` too: every fourth and the last from 16 middles on, all before) within
-        :data:`SURFACE_RTOL`/2 in ln σ; None where that needs the points of ``base`` itself, or σ_eff vanishes."""
+        of its intervals (points of ``base`` too: all 8 of 9 points, every other one of 17, every fourth and the last
+        from 33 points on) within :data:`SURFACE_RTOL`/2 in ln σ; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
+        well, the surface is within :data:`SURFACE_RTOL` at its q0 points (and checked between them by :meth:`build`).
+        None where the difference needs the points of ``base`` itself, or σ_eff vanishes."""
         exact = _em_exact(case, _contact(case, q0))
         size = base.s.size
         step = (size - 1) // 8
