@@ -66,6 +66,11 @@ _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
 NEAR_SEALED = 1e10
 #: Steps of the Fortran DOP853 within which a shot of Newton's method must cross the band (a shot takes ~10²).
 NEWTON_STEPS = 2_000
+#: Newton's shots far from the root — the first, and those after a step in ln q above LOOSE_STEP — integrate at this
+#: relative tolerance (absolute LOOSE_RTOL·10⁻² ΔP) instead of 10⁻¹⁰: their error only moves the next trial flow, by far
+#: less than the step; the root is taken from shots at 10⁻¹⁰ alone.
+LOOSE_RTOL = 1e-6
+LOOSE_STEP = 1e-2
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
 KEPT_BANDS_BYTES = 4 * 2**20
 
@@ -409,9 +414,12 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     The first shot is the root of (13.8) for an exponential σ, q = ψ(ΔP)/(σ(p_max) R) with R = ΔP/``q0`` the band's
     resistance without fluid pressure (exact for an exponential σ), kept inside ``bounds`` (ΔP/R(p) ... ΔP/R(p − ΔP));
     a step that leaves the bracket of the shots so far takes its false position in q on ψ instead (kept 5 % of the
-    bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step is below
-    10 ``rtol`` relative: the error after it is of the order of its square, and the ODE's own error on p_f(w)
-    (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders by as much).
+    bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step from a
+    shot at 1e-10 is below 10 ``rtol`` relative: the error after it is of the order of its square, and the ODE's own
+    error on p_f(w) (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders
+    by as much). Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
+    :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
+    just above the root): their error moves the next trial flow by far less than the step.
     2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
     too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
     smaller flow has crossed it (before, the next shot is ΔP/R); it is a bound, not an answer, so an answer is still a
@@ -429,11 +437,16 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     failed, crossed = 0, False
     psi_lo: float | None = None  # ψ at the ends of the bracket, once shot
     psi_hi: float | None = None
+    # far from the root (the first shot, or after a Newton step above LOOSE_STEP) a coarser integration; not on a
+    # near-sealed band, whose shots the integrator gives up on just above the root
+    steep = hi - lo > math.log(NEAR_SEALED)
+    loose = not steep
     for shots in range(1, 41):
         q = math.exp(x)
         y = [dp, 0.0]
+        rtol_ode, atol_ode = (LOOSE_RTOL, LOOSE_RTOL * 1e-2 * dp) if loose else (1e-10, 1e-12 * dp)
         for pair in pairs:
-            solver = ode(pair(q)).set_integrator("dop853", rtol=1e-10, atol=1e-12 * dp, nsteps=NEWTON_STEPS)
+            solver = ode(pair(q)).set_integrator("dop853", rtol=rtol_ode, atol=atol_ode, nsteps=NEWTON_STEPS)
             with warnings.catch_warnings():  # (its failure is handled below)
                 warnings.filterwarnings("ignore", message="dop853: ", category=UserWarning)
                 y = solver.set_initial_value(y, 0.0).integrate(math.pi).tolist()
@@ -462,8 +475,9 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             psi_hi = psi
         ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
         step = math.log(ratio) if ratio > 0 else math.inf
-        if abs(step) <= 10.0 * rtol:
+        if abs(step) <= 10.0 * rtol and not loose:
             return CoupledBand(math.exp(min(max(x + step, lo), hi)), False, True, shots)
+        loose = abs(step) > LOOSE_STEP and not steep
         if lo < x + step < hi:
             x += step
         elif psi_lo is not None and psi_hi is not None:  # false position in q on ψ (nearly linear), off the ends
