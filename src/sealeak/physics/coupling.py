@@ -150,7 +150,8 @@ class _Splines:
         self.splines = [CubicSpline(t, v) for v in values]
         self.knots = t.tolist()
         self.lo, self.hi = float(self.knots[0]), float(self.knots[-1])
-        self.pieces = [tuple(tuple(sp.c[:, i].tolist()) for sp in self.splines) for i in range(len(self.knots) - 1)]
+        # per piece, per spline, its four coefficients (highest power first) as plain floats, in one conversion
+        self.pieces: list[list[list[float]]] = np.stack([sp.c for sp in self.splines]).transpose(2, 0, 1).tolist()
 
     def __call__(self, t: float) -> list[float]:
         t = min(max(t, self.lo), self.hi)
