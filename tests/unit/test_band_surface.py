@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from scipy.interpolate import BarycentricInterpolator
 
 import sealeak.cases.band as band_module
 from sealeak.cases import example_path, load_cases
@@ -125,26 +126,39 @@ def test_a_table_is_checked_at_a_quarter_of_the_points_the_next_adds():
     assert small.checked(sigma, 1e-6, grow=False) == (small, False) and sum(calls) == 8  # nothing beyond the check
 
 
-@pytest.mark.parametrize(("k", "points"), [(2.0, 33), (4.0, 65), (8.0, 129), (40.0, None)])
-def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch, k, points):
+def _points_needed(f, lo, hi, sizes, rtol):
+    """The first of ``sizes`` whose Chebyshev–Lobatto interpolant of ``f`` on [lo, hi] (scipy's barycentric
+    interpolation, independent of the code's) is within ``rtol`` of ``f`` at every middle of its intervals; None if none."""
+    for n in sizes:
+        s = (lo + hi) / 2 - (hi - lo) / 2 * np.cos(np.pi * np.arange(2 * n - 1) / (2 * n - 2))
+        nodes, middles = s[::2], s[1::2]
+        if np.max(np.abs(BarycentricInterpolator(nodes, f(nodes))(middles) - f(middles))) < rtol:
+            return n
+    return None
+
+
+@pytest.mark.parametrize("k", [2.0, 4.0, 8.0, 40.0])
+def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch, k):
     """A table of the surface is accepted at the first of 33, 65 and 129 points that meets :data:`SURFACE_RTOL` (ln σ
-    = sin(k ln p) over 1 Pa .. 1 MPa needs more points the larger k), and there is none where 129 do not."""
+    = sin(k ln p) over 1 Pa .. 1 MPa needs more points the larger k: as many as an interpolant checked at all its
+    middles needs), and there is none where 129 do not."""
     monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(np.sin(k * np.log(p))))
     case = load_cases(example_path("o-ring"))[0]
     table = _SweepSurface._table(case, 3000.0, 1.0, 1e6, SURFACE_RTOL)
+    points = _points_needed(lambda s: np.sin(k * s), 0.0, math.log(1e6), (33, 65, 129), SURFACE_RTOL)
     assert (table is None) if points is None else (table is not None and table.s.size == points)
     if table is not None:
         p = np.geomspace(1.0, 1e6, 1001)
         np.testing.assert_allclose(table(p), np.exp(np.sin(k * np.log(p))), rtol=SURFACE_RTOL, atol=0)
 
 
-@pytest.mark.parametrize(("k", "m", "base", "parts"), [(2.0, 0.0, 33, 9), (4.0, 1.5, 65, 33), (2.0, 7.0, None, 65)])
-def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monkeypatch, k, m, base, parts):
-    """ln σ(p; q0) = sin(k ln p) + c(q0)(ln p + sin(m ln p)), c = 0.01 (ln q0 − 8): the difference from the middle q0
-    is tabulated on a fraction of the middle table's points, as many as it needs (9 where it is linear in ln p, 33 for
-    sin(1.5 ln p)); a difference that needs as many as the middle table (sin(7 ln p) against a 33-point middle table)
-    takes full tables at every q0 point. Either way the surface agrees with σ between its q0 points to
-    :data:`SURFACE_RTOL`."""
+@pytest.mark.parametrize(("k", "m"), [(2.0, 0.0), (4.0, 1.5), (2.0, 7.0)])
+def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monkeypatch, k, m):
+    """ln σ(p; q0) = sin(k ln p) + c(q0)(ln p + sin(m ln p)), c = 0.01 (ln q0 − 8): the middle q0's table takes the
+    points it needs at SURFACE_RTOL/2, and each other q0 point tabulates its difference from it on as many of those
+    points as the difference needs at SURFACE_RTOL/2 (9 where it is linear in ln p); a difference that would need the
+    middle table's own points (sin(7 ln p) against a 33-point middle table) makes every q0 point take a full table of
+    its own at SURFACE_RTOL. Either way the surface agrees with σ between its q0 points to :data:`SURFACE_RTOL`."""
     def log_sigma(p, q0):
         s = np.log(p)
         return np.sin(k * s) + 0.01 * (math.log(q0) - 8.0) * (s + np.sin(m * s))
@@ -154,8 +168,22 @@ def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monke
     q0 = np.geomspace(3000.0, 5500.0, 7)
     surface = _SweepSurface.build(case, q0, 1.0, 1e6)
     assert surface is not None
-    assert (None if surface.base is None else surface.base.s.size) == base
-    assert {part[0].size for part in surface.parts if part is not None} == {parts}
+    # the q0 points: Chebyshev–Lobatto in ln q0, ends at the loads' own q0 (σ is linear in ln q0: five are exact)
+    lo, hi, ends = 0.0, math.log(1e6), np.log(q0[[0, -1]])
+    nodes = np.exp((ends[0] + ends[1]) / 2 - (ends[1] - ends[0]) / 2 * np.cos(np.pi * np.arange(5) / 4))
+    nodes[[0, -1]] = q0[[0, -1]]
+    middle = _points_needed(lambda s: log_sigma(np.exp(s), nodes[2]), lo, hi, (33, 65, 129), SURFACE_RTOL / 2)
+    differences = [_points_needed(lambda s, q=q: log_sigma(np.exp(s), q) - log_sigma(np.exp(s), nodes[2]), lo, hi,
+                                  (9, 17, 33, 65)[:{33: 2, 65: 3, 129: 4}[middle]], SURFACE_RTOL / 2)
+                   for q in nodes[[0, 1, 3, 4]]]
+    sizes = {part[0].size for part in surface.parts if part is not None}
+    if None not in differences:
+        assert surface.base is not None and surface.base.s.size == middle and sizes == set(differences)
+    else:
+        full = {_points_needed(lambda s, q=q: log_sigma(np.exp(s), q), lo, hi, (33, 65, 129), SURFACE_RTOL)
+                for q in nodes}
+        assert surface.base is None and sizes == full
+    assert (surface.base is None) == (m == 7.0)  # (the fallback is exercised, and only where the reasoning says)
     p = np.geomspace(1.0, 1e6, 301)
     for q in np.sqrt(q0[:-1] * q0[1:]).tolist():
         np.testing.assert_allclose(surface.sigma(q, p), np.exp(log_sigma(p, q)), rtol=SURFACE_RTOL, atol=0)

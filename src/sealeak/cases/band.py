@@ -333,9 +333,7 @@ class _Table:
         not tabulated in ln σ) and its other points are not evaluated."""
         n = 2 * (self.s.size - 1) + 1
         added = self._nodes(n)[1::2]
-        pick = np.zeros(added.size, dtype=bool)
-        pick[::min(4, max(1, added.size // 8))] = True
-        pick[-1] = True
+        pick = _checked_points(added.size)
         values = np.empty(added.size)
         values[pick] = exact(np.exp(added[pick]))
         positive = bool(np.all(values[pick] > 0))
@@ -521,9 +519,7 @@ class _SweepSurface:
         while step >= 2:
             points = np.arange(0, size, step)
             middles = np.arange(step // 2, size, step)
-            pick = np.zeros(middles.size, dtype=bool)
-            pick[::min(4, max(1, middles.size // 8))] = True
-            pick[-1] = True
+            pick = _checked_points(middles.size)
             both = log_sigma(np.concatenate([points, middles[pick]]))  # (one call: P(u) is vectorised over pressures)
             if both is None:
                 return None
@@ -566,14 +562,29 @@ class _SweepSurface:
 
         def sigma(p: FloatArray) -> FloatArray:
             p = np.asarray(p, dtype=float)
-            inside = (p >= self.low) & (p <= self.high)
-            out = np.empty(p.shape)
-            if inside.any():
-                out[inside] = surface(p[inside])
-            if not inside.all():
-                out[~inside] = exact(p[~inside])
-            return out
+            return piecewise(p, (p >= self.low) & (p <= self.high), surface, exact)
         return sigma
+
+
+def _checked_points(n: int) -> NDArray[np.bool_]:
+    """Which of ``n`` middles of a table's intervals a check evaluates: all of up to 15, every other one of 16 to 31,
+    every fourth from 32 on, and always the last (:meth:`_Table.checked`, :meth:`_SweepSurface._difference`)."""
+    pick = np.zeros(n, dtype=bool)
+    pick[::min(4, max(1, n // 8))] = True
+    pick[-1] = True
+    return pick
+
+
+def piecewise(p: FloatArray, first: NDArray[np.bool_], f: Callable[[FloatArray], FloatArray],
+              g: Callable[[FloatArray], FloatArray]) -> FloatArray:
+    """``f`` at the pressures ``p`` where ``first``, ``g`` at the others, each called on its own share only (and not
+    at all where that is empty)."""
+    out = np.empty(p.shape)
+    if first.any():
+        out[first] = f(p[first])
+    if not first.all():
+        out[~first] = g(p[~first])
+    return out
 
 
 def _lobatto(lo: float, hi: float, n: int) -> FloatArray:

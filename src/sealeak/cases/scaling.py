@@ -27,7 +27,7 @@ from scipy.optimize import brentq
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
-from .band import _cj_sigma
+from .band import _cj_sigma, _contact, piecewise
 from .model import Case
 
 __all__ = ["scaled_leak_rate", "sigma_table", "band_junction_tables", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
@@ -96,7 +96,7 @@ def band_junction_tables(case: Case, length_low: float, length_high: float,
     unit = replace(case, alpha=1.0, fluid=replace(case.fluid, viscosity=1.0))
     out: dict[float, Callable[[FloatArray], FloatArray]] = {}
     for profile, q0 in zip(case.band.profiles, case.band.q0.tolist(), strict=True):
-        contact = PerssonContact(case.spectrum, case.e_star, q0, case.gamma)
+        contact = _contact(case, q0)
         exact = _cj_sigma(unit, contact)
         low, high = 1e-7 * profile.mean_pressure / length_high, profile.max_pressure / length_low
         limit = _percolation_limit(contact, case.percolation_threshold, high)
@@ -115,13 +115,7 @@ def _joined(lower: Callable[[FloatArray], FloatArray], upper: Callable[[FloatArr
             split: float) -> Callable[[FloatArray], FloatArray]:
     """``lower`` up to ``split`` (Pa), ``upper`` above."""
     def sigma(tau: FloatArray) -> FloatArray:
-        out = np.empty(tau.shape)
-        below = tau <= split
-        if below.any():
-            out[below] = lower(tau[below])
-        if not below.all():
-            out[~below] = upper(tau[~below])
-        return out
+        return piecewise(tau, tau <= split, lower, upper)
     return sigma
 
 
@@ -129,23 +123,14 @@ def _within(sigma: Callable[[FloatArray], FloatArray], low: float, high: float) 
     """``sigma`` on [``low``, ``high``] (Pa), NaN outside."""
     def inside(tau: FloatArray) -> FloatArray:
         tau = np.asarray(tau, dtype=float)
-        out = np.full(tau.shape, np.nan)
-        ok = (tau >= low) & (tau <= high)
-        if ok.any():
-            out[ok] = sigma(tau[ok])
-        return out
+        return piecewise(tau, (tau >= low) & (tau <= high), sigma, lambda t: np.full(t.shape, np.nan))
     return inside
 
 
 def _spliced(spline: CubicSpline, top: float, exact: Callable[[FloatArray], FloatArray]) -> Callable[[FloatArray], FloatArray]:
     """σ from ``spline`` (ln σ against ln τ) up to ``top`` (Pa), ``exact`` above."""
     def sigma(p: FloatArray) -> FloatArray:
-        out = np.empty(p.shape)
-        inside = p <= top
-        out[inside] = np.exp(spline(np.log(p[inside])))
-        if not inside.all():
-            out[~inside] = exact(p[~inside])
-        return out
+        return piecewise(p, p <= top, lambda q: np.exp(spline(np.log(q))), exact)
     return sigma
 
 
