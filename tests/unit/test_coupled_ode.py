@@ -204,3 +204,19 @@ def test_loose_shots_far_from_the_root_leave_the_root_alone(fraction, monkeypatc
     tight = coupled_band_flow(profile, sigma, fraction * P_MAX)
     assert mixed.converged and tight.converged
     assert mixed.flow == pytest.approx(tight.flow, rel=5e-9)
+
+
+@pytest.mark.parametrize("fraction", [0.05, 0.5, 0.95])
+def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(fraction, monkeypatch):
+    """Newton's last step from a shot at 1e-10 is taken without a shot to confirm it where C δ² (C from the last two
+    steps, at least coupling.NEWTON_CURVATURE) is below rtol/10: the flow is that of solving on until a step falls
+    below 10 rtol (the criterion alone, NEWTON_CURVATURE infinite), within the ODE's own error, with a shot fewer."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    clear_caches()
+    early = coupled_band_flow(profile, sigma, fraction * P_MAX)
+    monkeypatch.setattr(coupling, "NEWTON_CURVATURE", float("inf"))
+    clear_caches()
+    confirmed = coupled_band_flow(profile, sigma, fraction * P_MAX)
+    assert early.converged and confirmed.converged
+    assert early.flow == pytest.approx(confirmed.flow, rel=1e-9)
+    assert early.shots == confirmed.shots - 1

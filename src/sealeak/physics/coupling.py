@@ -71,6 +71,11 @@ NEWTON_STEPS = 2_000
 #: less than the step; the root is taken from shots at 10⁻¹⁰ alone.
 LOOSE_RTOL = 1e-6
 LOOSE_STEP = 1e-2
+#: The least curvature C taken for Newton's error after a step δ in ln q, C δ² (docs/theory.md §13.3): a step from a
+#: shot at 10⁻¹⁰ is the answer, without a shot to confirm it, where max(NEWTON_CURVATURE, |δ|/δ_prev²) δ² is below
+#: rtol/10 (δ_prev the Newton step before it; measured on the bundled O-rings, |δ|/δ_prev² <= ~20 where Newton
+#: converges quadratically).
+NEWTON_CURVATURE = 10.0
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
 KEPT_BANDS_BYTES = 4 * 2**20
 
@@ -418,7 +423,10 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step from a
     shot at 1e-10 is below 10 ``rtol`` relative: the error after it is of the order of its square, and the ODE's own
     error on p_f(w) (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders
-    by as much). Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
+    by as much); or when that square, C δ² with C estimated from the last two Newton steps (at least
+    :data:`NEWTON_CURVATURE`), is below rtol/10 and the step shrank: the step is then taken without a shot to confirm
+    it (where convergence is only linear, as near sealing, the estimate of C grows as 1/δ_prev and this never holds
+    before the first criterion does). Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
     :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
     just above the root): their error moves the next trial flow by far less than the step.
     2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
@@ -442,6 +450,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     # near-sealed band, whose shots the integrator gives up on just above the root
     steep = hi - lo > math.log(NEAR_SEALED)
     loose = not steep
+    previous: float | None = None  # |δ| of the Newton step that gave this trial flow
     for shots in range(1, 41):
         q = math.exp(x)
         y = [dp, 0.0]
@@ -476,11 +485,15 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             psi_hi = psi
         ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
         step = math.log(ratio) if ratio > 0 else math.inf
-        if abs(step) <= 10.0 * rtol and not loose:
+        if not loose and (abs(step) <= 10.0 * rtol or (
+                previous is not None and abs(step) < previous
+                and max(NEWTON_CURVATURE, abs(step) / previous**2) * step**2 <= 0.1 * rtol)):
             return CoupledBand(math.exp(min(max(x + step, lo), hi)), False, True, shots)
         loose = abs(step) > LOOSE_STEP and not steep
+        previous = None
         if lo < x + step < hi:
             x += step
+            previous = abs(step)
         elif psi_lo is not None and psi_hi is not None:  # false position in q on ψ (nearly linear), off the ends
             q_lo, q_hi = math.exp(lo), math.exp(hi)
             guess = math.log(q_lo + psi_lo * (q_hi - q_lo) / (psi_lo - psi_hi))
