@@ -9,7 +9,7 @@ import pytest
 
 import sealeak.cases.uncertainty as unc
 from sealeak.cases import example_text
-from sealeak.cases.band import _cj_sigma
+from sealeak.cases.band import ScaledJunctions, _cj_sigma, run_band, scaled_junctions
 from sealeak.cases.loader import parse_case_file
 from sealeak.cases.scaling import SCALING_TABLE_TOP, _percolation_limit, sigma_table
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
@@ -182,3 +182,27 @@ def test_band_nominal_samples_are_the_deterministic_rows_bit_for_bit():
     result = propagate(study, 4, seed=0)
     q = np.nan_to_num(result.nominal[0].band.critical_junction.leak_rate)
     assert all(np.array_equal(row, q) for row in result.values["leak_rate"])
+
+
+def test_band_samples_take_the_peak_junction_from_their_own_sigma():
+    """A band sample's u_c and λc at the peak pressure (the validity verdict's, the capillary and kinetic gap's) come
+    from the band's σ (u_c = (12 η σ/α)^(1/3), ζc in closed form) instead of a new junction: the exact junction's within
+    the tables' error (1e-7 in σ, a third of it in u_c), NaN where it does not percolate."""
+    study = parse_uncertain_case(ORING_BAND)
+    points = unit_points(len(study.inputs), 8, seed=5)
+    factors = unc._factors(study, points)
+    tables = unc._band_tables(study, points, factors["length"])
+    assert tables is not None
+    for i in range(1, 4):
+        values = [inp.written(points[:, j])[i] for j, inp in enumerate(study.inputs)]
+        case = unc._sample_cases(study, values)[0]
+        with scaled_junctions(ScaledJunctions(tables[0], float(factors["length"][i]), float(factors["modulus"][i]))):
+            fast = run_band(case)
+        exact = run_band(case)
+        assert np.array_equal(np.isnan(fast.critical_gap_at_max_pressure), np.isnan(exact.critical_gap_at_max_pressure))
+        np.testing.assert_allclose(fast.critical_gap_at_max_pressure, exact.critical_gap_at_max_pressure, rtol=1e-7)
+        np.testing.assert_allclose(fast.critical_wavelength_at_max_pressure, exact.critical_wavelength_at_max_pressure,
+                                   rtol=1e-12)
+        live = np.isfinite(exact.critical_gap_at_max_pressure)
+        assert live.any()  # (and the numbers are the table's, not the exact junction's bits)
+        assert not np.array_equal(fast.critical_gap_at_max_pressure[live], exact.critical_gap_at_max_pressure[live])

@@ -264,6 +264,29 @@ def _cj_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], Flo
     return sigma
 
 
+def _junction_at_peak(case: Case, contact: PerssonContact, p_max: float,
+                      sigma: Callable[[FloatArray], FloatArray]) -> tuple[float, float]:
+    """(u_c, λc) (m, m) of the critical junction at a band's peak pressure ``p_max`` (Pa), NaN where it does not
+    percolate. Where :func:`scaled_junctions` tabulates this contact's σ (an uncertainty sample: a new contact, whose
+    exact junction at one pressure costs ~1 ms), from the band's own ``sigma`` (:func:`_cj_sigma`): u_c =
+    (12 η σ(p_max)/α)^(1/3) (docs/theory.md eq. 3.5, within the table's tolerance) and λc = 2π/(ζc q0), ζc in closed form
+    (eq. 3.3); otherwise the critical junction itself."""
+    scaled = _SCALED_JUNCTIONS.get()
+    if scaled is not None and contact.q0 in scaled.tables:
+        value = float(sigma(np.array([p_max]))[0])
+        zeta_c, percolates = contact.zeta_at_area(1.0 - case.percolation_threshold, np.array([p_max]))
+        if not (value > 0 and percolates[0]):
+            return np.nan, np.nan
+        return (float(np.cbrt(12.0 * case.fluid.viscosity * value / case.alpha)),
+                float(2.0 * np.pi / (zeta_c[0] * contact.q0)))
+    top = critical_junction(contact, squeeze_pressure=[p_max], pressure_difference=1.0,
+                            viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
+                            percolation_threshold=case.percolation_threshold)
+    if not top.percolates[0]:
+        return np.nan, np.nan
+    return float(top.critical_gap[0]), float(top.critical_wavelength[0])
+
+
 def _em_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) of the effective medium, 0 where it does not percolate; kept by contact, viscosity and the
     list of pressures (:data:`KEPT_SIGMA_BYTES`): a pressure's σ_eff depends on the others asked with it only in the last
@@ -755,11 +778,9 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
                 if case.coupled:
                     cj_flow.append(_per_viscosity(coupled_band_flow(profile, _cj_sigma(unit, contact), dp), eta))
-                top = critical_junction(contact, squeeze_pressure=[profile.max_pressure], pressure_difference=1.0,
-                                        viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
-                                        percolation_threshold=case.percolation_threshold)
-                uc_max.append(float(top.critical_gap[0]) if top.percolates[0] else np.nan)
-                lc_max.append(float(top.critical_wavelength[0]) if top.percolates[0] else np.nan)
+                uc, lc = _junction_at_peak(case, contact, profile.max_pressure, sigma)
+                uc_max.append(uc)
+                lc_max.append(lc)
                 if want_em:
                     ge, change, ok = _em_integral(case, contact, profile, em_exact)
                     em_int.append(ge)
