@@ -8,10 +8,12 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from sealeak.cases import example_path, load_case, parse_cases, predict, predict_effective_medium, run_case
+import sealeak.cases.band as band_module
+from sealeak.cases import example_path, load_case, load_cases, parse_cases, predict, predict_effective_medium, run_case
 from sealeak.cases.band import run_band
 from sealeak.cases.model import BandSeal
 from sealeak.cases.rig import rig_prediction
+from sealeak.cases.seals import with_loads
 from sealeak.errors import InputError
 from sealeak.physics.coupling import coupled_band_flow, effective_pressure_integral
 from sealeak.physics.critical_junction import critical_junction
@@ -152,3 +154,27 @@ def test_rig_uses_the_coupled_leak_along_the_fall(ignored, coupled):
     assert cou.conductance[name] == pytest.approx(q0 / dp0, rel=1e-12)
     assert cou.conductance[name] > lin.conductance[name]
     assert cou.drain_time[name] < lin.drain_time[name]
+
+
+def test_a_band_sealed_at_its_peak_solves_no_coupled_flow(monkeypatch):
+    """A load whose critical junction does not percolate at the peak pressure is sealed with or without the fluid
+    pressure (σ falls with p, and p − p_f <= p): run_band solves no coupled band for it (the answer coupled_band_flow
+    gives, flow 0, without its 241-point σ table) and the open loads' flows are those of coupled_band_flow itself."""
+    case = load_cases(example_path("o-ring"))[0]
+    assert case.band is not None and case.coupled
+    loads = np.array([0.10, 0.20, 0.35, 0.40])
+    case = replace(case, model="critical-junction",
+                   band=with_loads(case.band, loads, case.youngs_modulus, case.poisson_ratio))
+    solved = []
+    real = band_module.coupled_band_flow
+
+    def recording(profile, sigma, dp, **kw):
+        solved.append(profile.max_pressure)
+        return real(profile, sigma, dp, **kw)
+
+    monkeypatch.setattr(band_module, "coupled_band_flow", recording)
+    res = run_band(case)
+    sealed = ~res.critical_junction.percolates
+    assert sealed.any() and (~sealed).any()
+    assert sorted(solved) == sorted(res.max_contact_pressure[~sealed].tolist())
+    assert np.all(np.isnan(res.critical_junction.leak_rate[sealed]))

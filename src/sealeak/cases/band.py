@@ -776,8 +776,9 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 cj_change.append(g.change)
                 cj_ok.append(g.converged)
                 cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
-                if case.coupled:
-                    cj_flow.append(_per_viscosity(coupled_band_flow(profile, _cj_sigma(unit, contact), dp), eta))
+                if case.coupled:  # a band sealed at its peak stays sealed (coupled_band_flow's answer, without its table)
+                    cj_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if g.sealed
+                                   else _per_viscosity(coupled_band_flow(profile, _cj_sigma(unit, contact), dp), eta))
                 uc, lc = _junction_at_peak(case, contact, profile.max_pressure, sigma)
                 uc_max.append(uc)
                 lc_max.append(lc)
