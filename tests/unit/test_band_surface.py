@@ -187,3 +187,21 @@ def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monke
     p = np.geomspace(1.0, 1e6, 301)
     for q in np.sqrt(q0[:-1] * q0[1:]).tolist():
         np.testing.assert_allclose(surface.sigma(q, p), np.exp(log_sigma(p, q)), rtol=SURFACE_RTOL, atol=0)
+
+
+def test_a_tables_top_point_is_its_top_pressure_itself():
+    """A σ table over [floor·p_max, p_max] asks for σ at p_max itself, not at exp(ln p_max) (an ulp off for some
+    pressures), so the effective medium's σ(p_max), asked first by the band integral, is read from what is kept instead
+    of computed again."""
+    asked = []
+
+    def sigma(p):
+        asked.append(np.array(p, copy=True))
+        return 1e-12 * np.exp(-np.asarray(p) / 1e6)
+
+    tops = [p for p in np.geomspace(1.0, 1e7, 400) if math.exp(math.log(p)) != p]
+    assert tops  # (pressures whose logarithm does not come back to them exist)
+    for p_max in tops[:5]:
+        asked.clear()
+        band_module._Table(sigma, p_max, 9)
+        assert asked[0][-1] == p_max and asked[0][0] == pytest.approx(1e-3 * p_max, rel=1e-12)

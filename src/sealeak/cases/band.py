@@ -339,7 +339,9 @@ class _Table:
         self.lo, self.hi = np.log(p_max * floor), np.log(p_max)
         s = self._nodes(n)
         self.s = s
-        self.values = exact(np.exp(s))
+        p = np.exp(s)
+        p[-1] = p_max  # (exp(ln p_max) may be an ulp off: the top is p_max itself, whose σ a caller may have asked for)
+        self.values = exact(p)
         self.ok = bool(np.all(self.values > 0))
         self.log_values = np.log(np.where(self.values > 0, self.values, 1.0))
 
