@@ -220,3 +220,43 @@ def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(fra
     assert early.converged and confirmed.converged
     assert early.flow == pytest.approx(confirmed.flow, rel=1e-9)
     assert early.shots == confirmed.shots - 1
+
+
+def _early(steps, rtol=1e-9):
+    """Walk a sequence of Newton steps |δ_k| (in ln q): at every k where coupling._settled takes the step as the answer
+    although it is above 10 rtol (a shot early), the steps left after it (the error of that answer) sum to at most
+    rtol. Returns those k."""
+    early = [k for k in range(1, steps.size - 1)
+             if steps[k] > 10 * rtol and coupling._settled(float(steps[k]), float(steps[k - 1]), rtol)]
+    for k in early:
+        assert steps[k + 1:].sum() <= rtol
+    return early
+
+
+@pytest.mark.parametrize("rate", [0.01, 0.05, 0.3, 0.6])
+def test_an_unconfirmed_step_is_within_rtol_where_newton_converges_linearly(rate):
+    """Near sealing Newton converges only linearly (δ_k = δ_0 ρ^k, rates 0.4–0.6 on the sweep): a step taken without a
+    confirming shot is within rtol there too (C δ² alone would take one up to 1e-10/ρ off: at ρ = 0.01, 1e-8)."""
+    _early(1e-1 * rate ** np.arange(400.0))
+
+
+@pytest.mark.parametrize("curvature", [0.5, 10.0, 1e3])
+@pytest.mark.parametrize("first", [1e-1, 3e-3, 1e-4])
+def test_an_unconfirmed_step_is_within_rtol_where_newton_converges_quadratically(curvature, first):
+    """δ_{k+1} = C δ_k²: wherever a step is taken a shot early, the answer is within rtol."""
+    steps = [first / curvature]
+    while steps[-1] > 1e-30:
+        steps.append(curvature * steps[-1] ** 2)
+    _early(np.array(steps))
+
+
+def test_a_small_enough_newton_step_is_taken_a_shot_early():
+    """C = 1 from δ = 5e-4: the next step, 2.5e-7 (25× above 10 rtol), is the answer (its error 6e-14)."""
+    assert _early(np.array([5e-4, 2.5e-7, 6.25e-14, 3.9e-27])) == [1]
+
+
+def test_a_trial_flow_not_from_a_newton_step_is_not_settled_early():
+    """Without the step before (bisection, false position, a failed shot), only a step below 10 rtol ends the solve."""
+    assert not coupling._settled(1e-7, None, 1e-9)
+    assert coupling._settled(1e-8, None, 1e-9)
+    assert not coupling._settled(1e-7, 1e-7, 1e-9)  # (a step that did not shrink)

@@ -178,3 +178,10 @@ def test_a_band_sealed_at_its_peak_solves_no_coupled_flow(monkeypatch):
     assert sealed.any() and (~sealed).any()
     assert sorted(solved) == sorted(res.max_contact_pressure[~sealed].tolist())
     assert np.all(np.isnan(res.critical_junction.leak_rate[sealed]))
+    # what coupled_band_flow itself answers for those loads: no flow, converged, solved by no shot
+    unit = replace(case, fluid=replace(case.fluid, viscosity=1.0))
+    for i in np.flatnonzero(sealed):
+        profile = case.band.profiles[i]
+        got = real(profile, band_module._cj_sigma(unit, band_module._contact(case, float(case.band.q0[i]))),
+                   case.pressure_difference)
+        assert got == band_module.CoupledBand(0.0, case.pressure_difference >= profile.max_pressure, True, 0)

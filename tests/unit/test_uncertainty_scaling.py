@@ -9,7 +9,7 @@ import pytest
 
 import sealeak.cases.uncertainty as unc
 from sealeak.cases import example_text
-from sealeak.cases.band import ScaledJunctions, _cj_sigma, run_band, scaled_junctions
+from sealeak.cases.band import ScaledJunctions, _cj_sigma, _junction_at_peak, run_band, scaled_junctions
 from sealeak.cases.loader import parse_case_file
 from sealeak.cases.scaling import SCALING_TABLE_TOP, _percolation_limit, sigma_table
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
@@ -206,3 +206,20 @@ def test_band_samples_take_the_peak_junction_from_their_own_sigma():
         live = np.isfinite(exact.critical_gap_at_max_pressure)
         assert live.any()  # (and the numbers are the table's, not the exact junction's bits)
         assert not np.array_equal(fast.critical_gap_at_max_pressure[live], exact.critical_gap_at_max_pressure[live])
+
+
+def test_a_band_samples_peak_junction_closed_at_the_end_of_the_roughness_is_zero_not_missing():
+    """Where ζc reaches the end of the resolved roughness the junction percolates with u_c = 0 (σ = 0, docs/theory.md
+    §9.11): the sample's peak gap is 0 with its λc, as the exact junction gives, and NaN only where it does not
+    percolate."""
+    case = parse_case_file(ORING).cases[0]
+    contact = PerssonContact(case.spectrum, case.e_star, 3000.0, case.gamma)
+    limit = _percolation_limit(contact, case.percolation_threshold, 1e9)
+    closed = lambda p: np.zeros_like(p)  # noqa: E731
+    with scaled_junctions(ScaledJunctions({contact.q0: closed}, 1.0, 1.0)):
+        uc, lc = _junction_at_peak(case, contact, 0.5 * limit, closed)
+        assert uc == 0.0
+        exact = critical_junction(contact, squeeze_pressure=[0.5 * limit], percolation_threshold=case.percolation_threshold,
+                                  **FLOW)
+        assert lc == pytest.approx(float(exact.critical_wavelength[0]), rel=1e-12)
+        assert np.isnan(_junction_at_peak(case, contact, 2.0 * limit, closed)).all()

@@ -273,11 +273,11 @@ def _junction_at_peak(case: Case, contact: PerssonContact, p_max: float,
     (eq. 3.3); otherwise the critical junction itself."""
     scaled = _SCALED_JUNCTIONS.get()
     if scaled is not None and contact.q0 in scaled.tables:
-        value = float(sigma(np.array([p_max]))[0])
         zeta_c, percolates = contact.zeta_at_area(1.0 - case.percolation_threshold, np.array([p_max]))
-        if not (value > 0 and percolates[0]):
+        if not percolates[0]:
             return np.nan, np.nan
-        return (float(np.cbrt(12.0 * case.fluid.viscosity * value / case.alpha)),
+        value = float(sigma(np.array([p_max]))[0])  # (0 where ζc reaches the end of the roughness: u_c = 0)
+        return (float(np.cbrt(12.0 * case.fluid.viscosity * max(value, 0.0) / case.alpha)),
                 float(2.0 * np.pi / (zeta_c[0] * contact.q0)))
     top = critical_junction(contact, squeeze_pressure=[p_max], pressure_difference=1.0,
                             viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,

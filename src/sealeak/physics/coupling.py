@@ -71,10 +71,9 @@ NEWTON_STEPS = 2_000
 #: less than the step; the root is taken from shots at 10⁻¹⁰ alone.
 LOOSE_RTOL = 1e-6
 LOOSE_STEP = 1e-2
-#: The least curvature C taken for Newton's error after a step δ in ln q, C δ² (docs/theory.md §13.3): a step from a
-#: shot at 10⁻¹⁰ is the answer, without a shot to confirm it, where max(NEWTON_CURVATURE, |δ|/δ_prev²) δ² is below
-#: rtol/10 (δ_prev the Newton step before it; measured on the bundled O-rings, |δ|/δ_prev² <= ~20 where Newton
-#: converges quadratically).
+#: The least curvature C taken for Newton's error C δ² after a step δ in ln q (:func:`_settled`): where the estimate
+#: |δ|/δ_prev² of the last two steps is smaller (it ranges from ~1 to ~10³ on the bundled O-rings, inflated where the
+#: step before was a loose shot's), this floor keeps the error estimate from trusting a lucky small step.
 NEWTON_CURVATURE = 10.0
 #: Bytes of solved bands :func:`coupled_band_flow` keeps (by profile, ΔP, tolerance and σ table; ~250 bytes each).
 KEPT_BANDS_BYTES = 4 * 2**20
@@ -423,11 +422,10 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step from a
     shot at 1e-10 is below 10 ``rtol`` relative: the error after it is of the order of its square, and the ODE's own
     error on p_f(w) (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders
-    by as much); or when that square, C δ² with C estimated from the last two Newton steps (at least
-    :data:`NEWTON_CURVATURE`), is below rtol/10 and the step shrank: the step is then taken without a shot to confirm
-    it (where convergence is only linear, as near sealing, the estimate of C grows as 1/δ_prev and this never holds
-    before the first criterion does). Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
-    :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
+    by as much); or, without a shot to confirm it, when the error after the step is below rtol whether Newton
+    converges quadratically or only linearly (:func:`_settled`). Shots far from the root — the first, and those after
+    a step above :data:`LOOSE_STEP` — integrate at :data:`LOOSE_RTOL` (about half the slope evaluations; not on a
+    near-sealed band, where the integrator gives up
     just above the root): their error moves the next trial flow by far less than the step.
     2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
     too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
@@ -469,6 +467,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
                 raise _GaveUp
             hi, psi_hi = x, None
             x = 0.5 * (lo + x) if crossed else start  # (the bisection needs a shot that has crossed the band)
+            previous = None
             continue
         crossed = True
         outlet, g = y  # p_f(w) (Pa) and ∂p_f(w)/∂ln q (Pa)
@@ -485,9 +484,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             psi_hi = psi
         ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
         step = math.log(ratio) if ratio > 0 else math.inf
-        if not loose and (abs(step) <= 10.0 * rtol or (
-                previous is not None and abs(step) < previous
-                and max(NEWTON_CURVATURE, abs(step) / previous**2) * step**2 <= 0.1 * rtol)):
+        if not loose and _settled(step, previous, rtol):
             return CoupledBand(math.exp(min(max(x + step, lo), hi)), False, True, shots)
         loose = abs(step) > LOOSE_STEP and not steep
         previous = None
@@ -503,6 +500,21 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
         if hi - lo <= rtol:
             return CoupledBand(math.exp(x), False, True, shots)
     return CoupledBand(math.exp(x), False, False, shots)
+
+
+def _settled(step: float, previous: float | None, rtol: float) -> bool:
+    """Whether Newton's step δ = ``step`` (in ln q) from a shot at 1e-10 is the answer: |δ| <= 10 ``rtol``; or, without
+    a shot to confirm it, where the error after it is below ``rtol`` both if Newton converges quadratically (C δ², C
+    the larger of :data:`NEWTON_CURVATURE` and |δ|/δ_prev², below rtol/10) and if it converges only linearly at the
+    rate ρ = |δ|/δ_prev < 1 (the steps left sum to |δ| ρ/(1 − ρ)), δ_prev = ``previous`` the Newton step that gave this
+    trial flow (None: the trial flow came from elsewhere)."""
+    d = abs(step)
+    if d <= 10.0 * rtol:
+        return True
+    if previous is None or not d < previous:
+        return False
+    rho = d / previous
+    return max(NEWTON_CURVATURE, d / previous**2) * d * d <= 0.1 * rtol and d * rho / (1.0 - rho) <= rtol
 
 
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
