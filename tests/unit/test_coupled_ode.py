@@ -218,7 +218,8 @@ def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(fra
     clear_caches()
     confirmed = coupled_band_flow(profile, sigma, fraction * P_MAX)
     assert early.converged and confirmed.converged
-    assert early.flow == pytest.approx(confirmed.flow, rel=1e-9)
+    # (shots at 1e-10 hold q to ~1e-9: the confirming shot's own step is 8e-10 at 0.5 and 0.95 p_max)
+    assert early.flow == pytest.approx(confirmed.flow, rel=2e-9)
     assert early.shots == confirmed.shots - 1
 
 
