@@ -420,12 +420,12 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     resistance without fluid pressure (exact for an exponential σ), kept inside ``bounds`` (ΔP/R(p) ... ΔP/R(p − ΔP));
     a step that leaves the bracket of the shots so far takes its false position in q on ψ instead (kept 5 % of the
     bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step from a
-    shot at 1e-10 is below 10 ``rtol`` relative: the error after it is of the order of its square, and the ODE's own
-    error on p_f(w) (~1e-8 ΔP) holds q to about 1e-9 whatever the root-finder (Brent's method on the same shots wanders
-    by as much); or, without a shot to confirm it, when the error after the step is below rtol whether Newton
-    converges quadratically or only linearly (:func:`_settled`). Shots far from the root — the first, and those after
-    a step above :data:`LOOSE_STEP` — integrate at :data:`LOOSE_RTOL` (about half the slope evaluations; not on a
-    near-sealed band, where the integrator gives up
+    shot at 1e-10 is below 10 ``rtol`` relative (the error after it is of the order of its square, and the ODE's own
+    error on p_f(w), ~1e-8 ΔP, holds q to about 1e-9 whatever the root-finder: Brent's method on the same shots wanders
+    by as much), or, without a shot to confirm it, when its error C δ² is below rtol/10; either only where the steps
+    left, were Newton converging linearly at the rate of the last two, sum to less than rtol (:func:`_settled`).
+    Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
+    :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
     just above the root): their error moves the next trial flow by far less than the step.
     2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
     too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
@@ -503,18 +503,20 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
 
 
 def _settled(step: float, previous: float | None, rtol: float) -> bool:
-    """Whether Newton's step δ = ``step`` (in ln q) from a shot at 1e-10 is the answer: |δ| <= 10 ``rtol``; or, without
-    a shot to confirm it, where the error after it is below ``rtol`` both if Newton converges quadratically (C δ², C
-    the larger of :data:`NEWTON_CURVATURE` and |δ|/δ_prev², below rtol/10) and if it converges only linearly at the
-    rate ρ = |δ|/δ_prev < 1 (the steps left sum to |δ| ρ/(1 − ρ)), δ_prev = ``previous`` the Newton step that gave this
-    trial flow (None: the trial flow came from elsewhere)."""
+    """Whether Newton's step δ = ``step`` (in ln q) from a shot at 1e-10 is the answer, with δ_prev = ``previous`` the
+    Newton step that gave this trial flow (None: the trial flow came from elsewhere) and, where the steps shrink, the
+    rate ρ = |δ|/δ_prev < 1. Where Newton converges only linearly (as near sealing) the steps left sum to |δ| ρ/(1 − ρ),
+    which must be below ``rtol``; then the answer is |δ| <= 10 ``rtol`` (noise: the shots hold q to ~1e-9), or, without
+    a shot to confirm it, a step whose error if Newton converges quadratically, C δ² (C the larger of
+    :data:`NEWTON_CURVATURE` and |δ|/δ_prev²), is below rtol/10."""
     d = abs(step)
+    shrinking = previous is not None and d < previous
+    rho = d / previous if previous is not None and shrinking else 0.0
+    if shrinking and d * rho / (1.0 - rho) > rtol:
+        return False
     if d <= 10.0 * rtol:
         return True
-    if previous is None or not d < previous:
-        return False
-    rho = d / previous
-    return max(NEWTON_CURVATURE, d / previous**2) * d * d <= 0.1 * rtol and d * rho / (1.0 - rho) <= rtol
+    return shrinking and previous is not None and max(NEWTON_CURVATURE, d / previous**2) * d * d <= 0.1 * rtol
 
 
 def _shoot(slopes: list[Callable[[float], Callable[[float, FloatArray], float]]], dp: float, r0: float, lifted: bool,
