@@ -63,6 +63,22 @@ def test_fan_chart_puts_sealed_samples_in_a_strip_below_the_leak_rates():
     assert min(ticks) >= sealed_marks[0].get_ydata()[0]
 
 
+def test_fan_chart_keeps_every_band_inside_its_axes():
+    """A load where the median seals but the 75th percentile still leaks, less than any 5th, 50th or 95th percentile
+    drawn (as near an O-ring's sealing compression): the 25–75 % band stays above the axis' bottom, its zeros in the
+    sealed strip, instead of running out of the axes below the strip."""
+    band = _band(sealed_from=250.0)
+    p75 = band.p75.copy()
+    p75[-1] = 1e-3 * np.r_[band.p05, band.p50, band.p95][np.r_[band.p05, band.p50, band.p95] > 0].min()
+    band = LeakBand(X, band.p05, band.p50, band.p95, band.p25, p75, band.nominal)
+    fig = _build(lambda: figure_fan_chart([band], "compression ε = δ/d (%)"))
+    ax = fig.axes[0]
+    bottom, top = ax.get_ylim()
+    for collection in (c for c in ax.collections if isinstance(c, PolyCollection)):
+        y = collection.get_paths()[0].vertices[:, 1]
+        assert y.min() >= bottom and y.max() <= top
+
+
 def test_fan_chart_of_a_seal_that_never_leaks_says_so():
     zero = np.zeros_like(X)
     fig = _build(lambda: figure_fan_chart([LeakBand(X, zero, zero, zero)], "compression ε = δ/d (%)"))

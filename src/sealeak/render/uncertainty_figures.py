@@ -129,7 +129,7 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     fig, ax = new_figure("Leak rate with its uncertainty: median and 5–95 % band")
     ax.set_xlabel(x_label)
     ax.set_ylabel(_leak_label(unit))
-    values = _positive(*[a for b in bands for a in (b.p05, b.p50, b.p95, b.nominal)],
+    values = _positive(*[a for b in bands for a in (b.p05, b.p25, b.p50, b.p75, b.p95, b.nominal)],
                        np.array([max_leak_rate if max_leak_rate is not None else np.nan]))
     if not values.size:
         say_nothing(ax, "sealed in every sample at every load: no leak rate to draw")
