@@ -11,7 +11,7 @@ from scipy.interpolate import BarycentricInterpolator
 
 import sealeak.cases.band as band_module
 from sealeak.cases import example_path, load_cases
-from sealeak.cases.band import SURFACE_RTOL, TABLE_RTOL, _contact, _em_exact, _surface, _SweepSurface, run_band
+from sealeak.cases.band import SURFACE_RTOL, TABLE_RTOL, _em_exact, _surface, _SweepSurface, persson_contact, run_band
 from sealeak.cases.seals import with_loads
 
 
@@ -50,7 +50,7 @@ def test_surface_matches_the_exact_effective_medium_between_its_points(sweep):
     p = p[(p >= surface.low) & (p <= surface.high)]
     assert p.size > 10
     for q in q0.tolist():
-        exact = _em_exact(case, _contact(case, q))(p)
+        exact = _em_exact(case, persson_contact(case, q))(p)
         assert np.all(exact > 0)
         np.testing.assert_allclose(surface.sigma(q, p), exact, rtol=SURFACE_RTOL, atol=0)
 
@@ -59,7 +59,7 @@ def test_surface_stays_below_the_bruggeman_threshold_and_takes_exact_values_abov
     """Above its top (a factor below the pressure where A(ζ1)/A0 = 1/2) a load's σ is the exact one, bit for bit, and 0
     beyond the threshold."""
     case, surface = sweep
-    contact = _contact(case, float(case.band.q0[-1]))
+    contact = persson_contact(case, float(case.band.q0[-1]))
     threshold = 2.0 * 0.4769362762044699 * np.sqrt(contact.G(contact.zeta_max))  # erfinv(1/2) = 0.47693...
     assert surface.high < threshold
     p = np.array([surface.high * 1.01, 1.2 * threshold])

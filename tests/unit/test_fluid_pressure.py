@@ -182,6 +182,6 @@ def test_a_band_sealed_at_its_peak_solves_no_coupled_flow(monkeypatch):
     unit = replace(case, fluid=replace(case.fluid, viscosity=1.0))
     for i in np.flatnonzero(sealed):
         profile = case.band.profiles[i]
-        got = real(profile, band_module._cj_sigma(unit, band_module._contact(case, float(case.band.q0[i]))),
+        got = real(profile, band_module.junction_sigma(unit, band_module.persson_contact(case, float(case.band.q0[i]))),
                    case.pressure_difference)
         assert got == band_module.CoupledBand(0.0, case.pressure_difference >= profile.max_pressure, True, 0)

@@ -127,7 +127,7 @@ def test_the_band_keeps_sigma_eff_by_its_list_of_pressures(monkeypatch):
     or another list is computed."""
     band = importlib.import_module("sealeak.cases.band")
     case = load_cases(example_path("o-ring"))[0]
-    contact = band._contact(case, float(case.band.q0[4]))
+    contact = band.persson_contact(case, float(case.band.q0[4]))
     p = np.geomspace(1e4, 1e6, 5)
     first = band._em_exact(case, contact)(p)
     gaps.clear_caches()

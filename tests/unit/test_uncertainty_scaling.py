@@ -9,7 +9,7 @@ import pytest
 
 import sealeak.cases.uncertainty as unc
 from sealeak.cases import example_text
-from sealeak.cases.band import ScaledJunctions, _cj_sigma, _junction_at_peak, run_band, scaled_junctions
+from sealeak.cases.band import ScaledJunctions, _junction_at_peak, junction_sigma, run_band, scaled_junctions
 from sealeak.cases.loader import parse_case_file
 from sealeak.cases.scaling import SCALING_TABLE_TOP, _percolation_limit, sigma_table
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
@@ -70,8 +70,8 @@ def test_effective_medium_scales_to_its_solver_tolerance():
 def test_coupled_integral_scales():
     """∫σ_s ds over P0 − ΔP .. P0 is k s⁴ times the nominal integral over the scaled pressures (eq. 14.7)."""
     case = parse_case_file(example_text("hrms-study").split("[study]")[0]).cases[0]
-    sigma = _cj_sigma(case, NOMINAL)
-    sigma_s = _cj_sigma(case, SCALED)
+    sigma = junction_sigma(case, NOMINAL)
+    sigma_s = junction_sigma(case, SCALED)
     dp = np.full(P0.shape, 2e4)
     direct = effective_pressure_integral(sigma_s, P0, dp).value
     via = K * S**4 * effective_pressure_integral(sigma, P0 / (K * S), dp / (K * S)).value
@@ -84,7 +84,7 @@ def test_sigma_table_error_bound():
     evaluating the exact σ there (it is a table, not the exact function in disguise)."""
     case = parse_case_file(example_text("hrms-study").split("[study]")[0]).cases[0]
     contact = case.contact()
-    exact = _cj_sigma(case, contact)
+    exact = junction_sigma(case, contact)
     calls: list[int] = []
 
     def counted(p):

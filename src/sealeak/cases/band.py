@@ -210,7 +210,8 @@ class BandResult:
         return np.cbrt(12.0 * viscosity * sigma / alpha)
 
 
-def _contact(case: Case, q0: float) -> PerssonContact:
+def persson_contact(case: Case, q0: float) -> PerssonContact:
+    """Persson's contact of the case's surface and rubber at q0 (1/m): one load of a band, a sample's table."""
     return PerssonContact(case.spectrum, case.e_star, q0, case.gamma)
 
 
@@ -240,7 +241,7 @@ def scaled_junctions(scaled: ScaledJunctions) -> Iterator[None]:
         _SCALED_JUNCTIONS.reset(token)
 
 
-def _cj_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+def junction_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
     """σ(p) = α u_c³/(12η) (m³/(Pa·s)), 0 where the non-contact area does not percolate; from the nominal contact's
     table where :func:`scaled_junctions` gives one for this contact's q0 (exact where the table does not reach)."""
     def exact(p: FloatArray) -> FloatArray:
@@ -268,7 +269,7 @@ def _junction_at_peak(case: Case, contact: PerssonContact, p_max: float,
                       sigma: Callable[[FloatArray], FloatArray]) -> tuple[float, float]:
     """(u_c, λc) (m, m) of the critical junction at a band's peak pressure ``p_max`` (Pa), NaN where it does not
     percolate. Where :func:`scaled_junctions` tabulates this contact's σ (an uncertainty sample: a new contact, whose
-    exact junction at one pressure costs ~1 ms), from the band's own ``sigma`` (:func:`_cj_sigma`): u_c =
+    exact junction at one pressure costs ~1 ms), from the band's own ``sigma`` (:func:`junction_sigma`): u_c =
     (12 η σ(p_max)/α)^(1/3) (docs/theory.md eq. 3.5, within the table's tolerance) and λc = 2π/(ζc q0), ζc in closed form
     (eq. 3.3); otherwise the critical junction itself."""
     scaled = _SCALED_JUNCTIONS.get()
@@ -398,8 +399,9 @@ class _Table:
         return chebyshev_lobatto_interpolate(self.s, self.log_values, s)
 
 
-def _em_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
-                    exact: Callable[[FloatArray], FloatArray] | None = None) -> Callable[[FloatArray], FloatArray]:
+def effective_medium_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
+                                 exact: Callable[[FloatArray], FloatArray] | None = None,
+                                 ) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
     between them, refined until it agrees with σ within :data:`TABLE_RTOL` at the points checked
     (:meth:`_Table.checked`), at most to
@@ -447,7 +449,7 @@ class _SweepSurface:
         """The surface over the loads' ``q0`` (1/m) and pressures [``low``, ``high``] (Pa), or None."""
         q0 = np.unique(np.asarray(q0, dtype=float))
         threshold = 2.0 * special.erfinv(0.5) * min(
-            math.sqrt(float(c.G(c.zeta_max))) for c in (_contact(case, float(q)) for q in q0))
+            math.sqrt(float(c.G(c.zeta_max))) for c in (persson_contact(case, float(q)) for q in q0))
         high = min(high, SURFACE_TOP * threshold)
         if not high > low:
             return None
@@ -492,7 +494,7 @@ class _SweepSurface:
             if n == 1 or np.min(np.abs(m[far] - nodes)) == 0:
                 return surface
             check = np.exp(np.linspace(math.log(low), math.log(high), 10)[:-1] + 0.5 * math.log(high / low) / 9)
-            exact = _em_exact(case, _contact(case, float(q0[far])))(check)
+            exact = _em_exact(case, persson_contact(case, float(q0[far])))(check)
             if np.all(exact > 0) and np.all(np.abs(surface.sigma(float(q0[far]), check) / exact - 1.0) < SURFACE_RTOL):
                 return surface
             if 2 * n - 1 > SURFACE_Q0_POINTS[1]:
@@ -508,7 +510,7 @@ class _SweepSurface:
     @staticmethod
     def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> _Table | None:
         """The table of ln σ_eff at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol`` (:meth:`_Table.checked`)."""
-        exact = _em_exact(case, _contact(case, q0))
+        exact = _em_exact(case, persson_contact(case, q0))
         table = _Table(exact, high, SURFACE_P_POINTS[0], low / high)
         while table.ok:
             grow = table.s.size < SURFACE_P_POINTS[1]
@@ -527,7 +529,7 @@ class _SweepSurface:
         from 33 points on) within :data:`SURFACE_RTOL`/2 in ln σ; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
         well, the surface is within :data:`SURFACE_RTOL` at its q0 points (and checked between them by :meth:`build`).
         None where the difference needs the points of ``base`` itself, or σ_eff vanishes."""
-        exact = _em_exact(case, _contact(case, q0))
+        exact = _em_exact(case, persson_contact(case, q0))
         size = base.s.size
         step = (size - 1) // 8
         known: dict[int, float] = {}  # ln σ_eff at base's point i
@@ -622,7 +624,7 @@ def _lobatto(lo: float, hi: float, n: int) -> FloatArray:
 def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile,
                  exact: Callable[[FloatArray], FloatArray] | None = None) -> tuple[BandIntegral, float, bool]:
     """R of the effective medium through the σ(p) table, refined until R changes by < RTOL; (integral, change, converged).
-    ``exact`` as for :func:`_em_sigma_table`."""
+    ``exact`` as for :func:`effective_medium_sigma_table`."""
     exact = _em_exact(case, contact) if exact is None else exact
     p_max = profile.max_pressure
     if float(exact(np.array([p_max]))[0]) <= 0:
@@ -769,10 +771,10 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
         surface = _surface(unit, band) if want_em else None  # at η = 1 Pa·s too: the same bits for every fluid
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
             try:
-                contact = _contact(case, float(q0))
+                contact = persson_contact(case, float(q0))
                 em_unit_exact = surface.for_load(contact) if surface is not None else None
                 em_exact = _em_exact(case, contact) if em_unit_exact is None else _scaled(em_unit_exact, 1.0 / eta)
-                sigma = _cj_sigma(case, contact)
+                sigma = junction_sigma(case, contact)
                 g = series_resistance(profile, sigma)
                 cj_int.append(g)
                 cj_change.append(g.change)
@@ -780,7 +782,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
                 if case.coupled:  # a band sealed at its peak stays sealed (coupled_band_flow's answer, without its table)
                     cj_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if g.sealed
-                                   else _per_viscosity(coupled_band_flow(profile, _cj_sigma(unit, contact), dp), eta))
+                                   else _per_viscosity(coupled_band_flow(profile, junction_sigma(unit, contact), dp), eta))
                 uc, lc = _junction_at_peak(case, contact, profile.max_pressure, sigma)
                 uc_max.append(uc)
                 lc_max.append(lc)
@@ -791,7 +793,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                     em_ok.append(ok)
                     if case.coupled:  # a band sealed at its peak stays sealed: σ is tabulated up to the mean only
                         p_top = profile.mean_pressure if ge.sealed else profile.max_pressure
-                        em_unit = _em_sigma_table(unit, contact, p_top, LIFT_OFF_FLOOR, em_unit_exact)
+                        em_unit = effective_medium_sigma_table(unit, contact, p_top, LIFT_OFF_FLOOR, em_unit_exact)
                         em_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if ge.sealed
                                        else _per_viscosity(coupled_band_flow(profile, em_unit, dp), eta))
                         em_mean.append(_mean_sigma(case, _scaled(em_unit, 1.0 / eta), profile.mean_pressure))

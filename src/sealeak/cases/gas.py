@@ -27,7 +27,7 @@ from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral, with_throug
 from ..physics.permeation import OringPermeation, oring_permeation, slab_permeation
 from ..physics.profile import PressureProfile
 from ..physics.properties import fluid_state
-from .band import BandResult, _contact, _em_sigma_table
+from .band import BandResult, effective_medium_sigma_table, persson_contact
 from .model import Case
 from .prediction import FloatArray, Model, _band_effective_gap
 from .schema import case_keys
@@ -294,7 +294,7 @@ def _theory_sheet(case: Case, contact: PerssonContact, model: Model, low: float,
     cj = _cj_sheet(case, contact)
     if model == "critical-junction":
         return gas_sheet(cj, low, high)
-    sigma_em = _em_sigma_table(case, contact, high, low / high)
+    sigma_em = effective_medium_sigma_table(case, contact, high, low / high)
 
     def sheet(s: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         sigma = sigma_em(s)
@@ -351,6 +351,6 @@ def band_gas_seal(case: Case, model: Model, index: int, percolates: bool) -> Cou
     assert band is not None
     profile = band.profiles[index]
     top = profile.max_pressure
-    sheet = (_theory_sheet(case, _contact(case, float(band.q0[index])), model, LIFT_OFF_FLOOR * top, top)
+    sheet = (_theory_sheet(case, persson_contact(case, float(band.q0[index])), model, LIFT_OFF_FLOOR * top, top)
              if percolates else None)
     return CoupledGasSeal(sheet, band.faces * band.length, case.fluid.viscosity, profile=profile)

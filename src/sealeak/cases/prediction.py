@@ -22,7 +22,7 @@ from ..physics.coupling import LIFT_OFF_FLOOR, coupled_band_flow, effective_pres
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.seal import Seal
-from .band import BandResult, BandTheory, _cj_sigma, _contact, _em_sigma_table, run_band
+from .band import BandResult, BandTheory, effective_medium_sigma_table, junction_sigma, persson_contact, run_band
 from .model import Case
 from .notes import NoteLike
 from .schema import case_keys
@@ -60,7 +60,7 @@ def predict(case: Case, squeeze_pressure: ArrayLike | None = None,
             percolation_threshold=case.percolation_threshold,
             fluid_pressure_neglected=not case.coupled,
         )
-        return _coupled(case, res, _cj_sigma(case, contact)) if case.coupled else res
+        return _coupled(case, res, junction_sigma(case, contact)) if case.coupled else res
 
 
 def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = None,
@@ -68,7 +68,7 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
     """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3).
 
     With ``theory.fluid_pressure = "coupled"``, (Ly/Lx) ∫σ_eff(s) ds over P0 − ΔP .. P0 (docs/theory.md eq. 13.2),
-    σ_eff interpolated between exact values (:func:`~sealeak.cases.band._em_sigma_table`).
+    σ_eff interpolated between exact values (:func:`~sealeak.cases.band.effective_medium_sigma_table`).
     """
     with case_keys():
         contact = case.contact()
@@ -83,7 +83,7 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
             return res
         p0 = res.squeeze_pressure
         low = float(np.min(np.maximum(p0 - res.pressure_difference, LIFT_OFF_FLOOR * p0)))
-        return _coupled(case, res, _em_sigma_table(case, contact, float(p0.max()), low / float(p0.max())))
+        return _coupled(case, res, effective_medium_sigma_table(case, contact, float(p0.max()), low / float(p0.max())))
 
 
 def _coupled(case: Case, res: ResultT, sigma: Callable[[FloatArray], FloatArray]) -> ResultT:
@@ -145,9 +145,9 @@ def leak_curve(case: Case, model: Model, load: float, pressure_difference: Array
         return _band_conductance(at, None, (model,))[0][model][0][0] * dp
     profile = band.profiles[0]
     with case_keys():
-        contact = _contact(at, float(band.q0[0]))
-        sigma = (_cj_sigma(at, contact) if model == "critical-junction"
-                 else _em_sigma_table(at, contact, profile.max_pressure, LIFT_OFF_FLOOR))
+        contact = persson_contact(at, float(band.q0[0]))
+        sigma = (junction_sigma(at, contact) if model == "critical-junction"
+                 else effective_medium_sigma_table(at, contact, profile.max_pressure, LIFT_OFF_FLOOR))
         flows = [coupled_band_flow(profile, sigma, float(x)).flow for x in dp]
     return band.faces * band.length * np.array(flows)
 

@@ -27,7 +27,7 @@ from scipy.optimize import brentq
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
-from .band import _cj_sigma, _contact, piecewise
+from .band import junction_sigma, persson_contact, piecewise
 from .model import Case
 
 __all__ = ["scaled_leak_rate", "sigma_table", "band_junction_tables", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
@@ -96,8 +96,8 @@ def band_junction_tables(case: Case, length_low: float, length_high: float,
     unit = replace(case, alpha=1.0, fluid=replace(case.fluid, viscosity=1.0))
     out: dict[float, Callable[[FloatArray], FloatArray]] = {}
     for profile, q0 in zip(case.band.profiles, case.band.q0.tolist(), strict=True):
-        contact = _contact(case, q0)
-        exact = _cj_sigma(unit, contact)
+        contact = persson_contact(case, q0)
+        exact = junction_sigma(unit, contact)
         low, high = 1e-7 * profile.mean_pressure / length_high, profile.max_pressure / length_low
         limit = _percolation_limit(contact, case.percolation_threshold, high)
         table = sigma_table(contact, exact, low, high, case.percolation_threshold, BAND_TABLE_TOP, limit)
@@ -165,7 +165,7 @@ def scaled_leak_rate(case: Case, result: CriticalJunctionResult, length: FloatAr
     tau = p0[None, :] / ks[:, None]  # the scaled squeeze pressures P0/(k s) (Pa)
     dtau = dp[None, :] * pressure_difference[:, None] / ks[:, None]  # the scaled ΔP
     contact = case.contact()
-    sigma = _cj_sigma(case, contact)
+    sigma = junction_sigma(case, contact)
     if case.coupled:
         low = np.maximum(tau - dtau, LIFT_OFF_FLOOR * tau)
         sigma = sigma_table(contact, sigma, float(low.min()), float(tau.max()), case.percolation_threshold)
