@@ -50,7 +50,7 @@ from ..physics.viscoelastic import (
 from .limits import MAX_STUDY_VALUES, at_most
 from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
-from .seals import _two_columns, _values
+from .seals import condition_values, two_column_table
 
 __all__ = ["LIFE_KEYS", "life_cases", "life_label", "life_variant", "time_text", "time_unit", "read_master_curve"]
 
@@ -155,7 +155,7 @@ def _times(cond: Section) -> list[float]:
     """``conditions.time`` in s (>= 0): one value, a list or a range; default 0 s (just after assembly)."""
     if not cond.has("time"):
         return [0.0]
-    values, raw = _values(cond, "time", "time")
+    values, raw = condition_values(cond, "time", "time")
     for i, t in enumerate(values):
         if not (math.isfinite(t) and t >= 0):
             raise InputError(f"conditions.time[{i}]" if len(values) > 1 else "conditions.time", raw[i],
@@ -170,7 +170,7 @@ def read_master_curve(path: Path, field: str) -> MasterCurve:
     > 0 increasing, moduli > 0 not increasing. Raises :class:`FileFormatError` naming the file, the line and the value.
     ``field`` names the curve in the errors of :class:`MasterCurve` (``rubber.relaxation.master_curve``).
     """
-    table, columns, (t, e) = _two_columns(path, ((_TIME_NAMES, "time", "s"), (_MODULUS_NAMES, "pressure", "MPa")),
+    table, columns, (t, e) = two_column_table(path, ((_TIME_NAMES, "time", "s"), (_MODULUS_NAMES, "pressure", "MPa")),
                                           "time (s), modulus (MPa)")
     if t.size > MAX_POINTS:
         raise FileFormatError(path, f"{t.size} rows: at most {MAX_POINTS}")
@@ -373,13 +373,13 @@ def _variant(base: dict[str, Any], life: _Life, time: float, temperature: float,
         kept = 1.0 - (0.0 if life.compression_set is None else float(life.compression_set(time, temperature)))
         with case_keys(_THERMAL_KEYS):
             if cond.has("compression"):  # eq. 16.9: 1 − h(T)/d(T); eq. 16.12: less the set, ε (1 − c)
-                eps, _ = _values(cond, "compression", "dimensionless")
+                eps, _ = condition_values(cond, "compression", "dimensionless")
                 if life.expansion is not None:
                     eps, assembled = thermal_compression(eps, *thermal), eps
                     _filling(eps, assembled, temperature)
                 variant["conditions"]["compression"] = [float(e) for e in remaining_compression(eps, 1.0 - kept)]
             if cond.has("groove_depth"):  # h(T)/d(T) = h0 (1 + α_g ΔT)/(1 + α_r ΔT) over d0; the set: d − (d − h)(1 − c)
-                depth, _ = _values(cond, "groove_depth", "length")
+                depth, _ = condition_values(cond, "groove_depth", "length")
                 ratio = 1.0 - float(thermal_compression(0.0, *thermal)) if life.expansion is not None else 1.0
                 d = Section("seal", variant["seal"]).quantity("cross_section_diameter", "length") \
                     if kept != 1.0 or ratio != 1.0 else 0.0

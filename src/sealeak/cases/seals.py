@@ -59,7 +59,7 @@ def is_band_seal(seal: Section) -> str | None:
     return "o-ring" if seal.raw("shape") == "o-ring" else None
 
 
-def _values(cond: Section, key: str, dimension: str) -> tuple[NDArray[np.float64], list[object]]:
+def condition_values(cond: Section, key: str, dimension: str) -> tuple[NDArray[np.float64], list[object]]:
     """A list (or one value, or a {start, stop, num} range) of ``key`` in SI."""
     value = cond.raw(key)
     field = cond.field(key)
@@ -146,14 +146,14 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
                              "give either compression (e.g. [\"15 %\", \"25 %\"]) or groove_depth for an O-ring"
                              if not has_c else "give either compression or groove_depth, not both")
         if has_c:
-            eps, raw = _values(cond, "compression", "dimensionless")
+            eps, raw = condition_values(cond, "compression", "dimensionless")
             for i, e in enumerate(eps):
                 if not MIN_COMPRESSION <= e < 1:
                     raise InputError(f"conditions.compression[{i}]" if len(eps) > 1 else "conditions.compression", raw[i],
                                      f"must lie between {100 * MIN_COMPRESSION:g} % (a smaller squeeze is below any roughness) "
                                      "and 100 % (ε = squeeze / cross-section diameter)")
         else:
-            depth, raw = _values(cond, "groove_depth", "length")
+            depth, raw = condition_values(cond, "groove_depth", "length")
             with case_keys({"groove_depth": "conditions.groove_depth"}):
                 eps = compression_from_groove_depth(d, depth)
         factor, table = _force_relation(seal, case_dir)
@@ -173,7 +173,7 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
         base = read_pressure_profile(path)
         length = seal.quantity("length", "length")
         if cond.has("profile_scale"):
-            loads, raw = _values(cond, "profile_scale", "dimensionless")
+            loads, raw = condition_values(cond, "profile_scale", "dimensionless")
             for i, f in enumerate(loads):
                 if not (np.isfinite(f) and f > 0):
                     raise InputError(f"conditions.profile_scale[{i}]" if len(loads) > 1 else "conditions.profile_scale",
@@ -231,7 +231,7 @@ def _profile_warnings(seal: Section, path: Path, base: PressureProfile, length: 
 _Column = tuple[tuple[str, ...], str, str]
 
 
-def _two_columns(path: Path, columns: tuple[_Column, _Column],
+def two_column_table(path: Path, columns: tuple[_Column, _Column],
                  example: str) -> tuple[UnitTable, list[int], list[NDArray[np.float64]]]:
     """The two-column table at ``path``, the index of each wanted column and its values in SI.
 
@@ -265,7 +265,7 @@ def read_pressure_profile(path: Path) -> PressureProfile:
     Example header: ``x (mm), pressure (MPa)``. x must not decrease (two equal x make a step);
     pressures must be >= 0. Raises :class:`FileFormatError` naming the file and the line.
     """
-    table, (ix, ip), (x, p) = _two_columns(path, ((_X_NAMES, "length", "mm"), (_P_NAMES, "pressure", "MPa")),
+    table, (ix, ip), (x, p) = two_column_table(path, ((_X_NAMES, "length", "mm"), (_P_NAMES, "pressure", "MPa")),
                                            "x (mm), pressure (MPa)")
     bad = ~(np.isfinite(x) & np.isfinite(p))
     if bad.any():
@@ -302,7 +302,7 @@ def read_force_table(path: Path) -> ForceTable:
     ``compression``). At least two rows; compression >= 0 and line load >= 0, both increasing row
     by row. Raises :class:`FileFormatError` naming the file (and the line).
     """
-    table, _, (eps, f) = _two_columns(path, ((_EPS_NAMES, "dimensionless", "%"), (_F_NAMES, "force_per_length", "N/mm")),
+    table, _, (eps, f) = two_column_table(path, ((_EPS_NAMES, "dimensionless", "%"), (_F_NAMES, "force_per_length", "N/mm")),
                                       "compression (%), line_load (N/mm)")
     bad = ~(np.isfinite(eps) & np.isfinite(f))
     if bad.any():
