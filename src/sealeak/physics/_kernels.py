@@ -26,9 +26,20 @@ scipy.special.exp1.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy import special
+
+
+@lru_cache(maxsize=8)
+def gauss_legendre(order: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Gauss–Legendre abscissae and weights of ``order`` points on [-1, 1] (read-only; computed once per order)."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    x.setflags(write=False)
+    w.setflags(write=False)
+    return x, w
 
 _Y_MAX = 6.5
 _N = 2600

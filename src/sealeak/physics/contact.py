@@ -42,7 +42,6 @@ How the ζ-integrals are computed (docs/theory.md §2.9; exact to ~1e-9 relative
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import cast
 
 import numpy as np
@@ -60,15 +59,6 @@ FloatArray = NDArray[np.float64]
 _TAIL = 40.0  # the s-range starts where y² = y_T² + _TAIL
 _Y_EDGES = np.array([5.0, 4.0, 3.2, 2.6, 2.1, 1.7, 1.35, 1.05, 0.75])  # panel edges at these y
 _BLOCK = 2048  # panels evaluated together: order × _BLOCK points per array, below 128 kB (cache, and no fresh pages per array)
-
-
-@lru_cache(maxsize=8)
-def _gauss(order: int) -> tuple[FloatArray, FloatArray]:
-    """Gauss–Legendre abscissae and weights on [-1, 1] (read-only)."""
-    x, w = np.polynomial.legendre.leggauss(order)
-    x.setflags(write=False)
-    w.setflags(write=False)
-    return x, w
 
 
 def _row_sums(values: FloatArray, count: NDArray[np.intp]) -> FloatArray:
@@ -288,7 +278,7 @@ class PerssonContact:
 
         half = 0.5 * width[live]
         mid = a[live] + half
-        xg, wg = _gauss(self.order)
+        xg, wg = _kernels.gauss_legendre(self.order)
         m_lo_p = per_panel(m_lo)
         seg = segment[live]
         cum_k, scale_k, e_k = spec._segment_constants(3, np.arange(spec.q.size - 1))  # per segment, then per panel

@@ -55,6 +55,7 @@ from scipy import special
 
 from ..errors import ConvergenceError, InputError
 from ..io.quantities import quantity
+from ._kernels import gauss_legendre
 from .contact import PerssonContact
 from .critical_junction import _pressures
 from .gaps import ArrayCache, GapDistribution, contact_key, folded_normal_cdf, gap_distribution
@@ -447,7 +448,7 @@ def discretise(dist: GapDistribution, *, panel_width: float = 0.25, order: int =
     n_pan = int(per_row.max())
     k = np.minimum(np.arange(n_pan + 1)[None, :], per_row[:, None]) / per_row[:, None]
     edges = np.log(u_lo)[:, None] + span[:, None] * k
-    xg, wg = np.polynomial.legendre.leggauss(order)
+    xg, wg = gauss_legendre(order)
     left, right = edges[:, :-1], edges[:, 1:]
     half = 0.5 * (right - left)
     x = (0.5 * (left + right))[:, :, None] + half[:, :, None] * xg

@@ -63,6 +63,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
 from ..errors import InputError, SolutionCheckError
+from ._kernels import gauss_legendre
 from .contact import PerssonContact
 
 __all__ = ["GapDistribution", "gap_distribution", "folded_normal_mean", "GAP_CACHE_BYTES", "CONDUCTIVITY_QUADRATURE",
@@ -256,7 +257,7 @@ def _compute(contact: PerssonContact, p0: FloatArray, uniform_panels: int, log_p
     logs = np.exp(np.log(safe_lo)[:, None] + (np.log(safe_b1) - np.log(safe_lo))[:, None] * logk[None, :])
     graded = b1[:, None] * (1.0 - 4.0 ** -np.arange(1, graded_panels + 1, dtype=float))[None, :]
     edges = np.sort(np.clip(np.concatenate([uniform, logs, graded], axis=1), lo[:, None], b1[:, None]), axis=1)
-    x, w = np.polynomial.legendre.leggauss(order)
+    x, w = gauss_legendre(order)
     left, right = edges[:, :-1], edges[:, 1:]
     half = 0.5 * (right - left)
     b = ((left + right) * 0.5)[:, :, None] + half[:, :, None] * x[None, None, :]
