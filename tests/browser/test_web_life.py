@@ -99,3 +99,41 @@ def test_no_life_plots_without_time(page):
     page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
     assert page.evaluate(f"{PLOTS}.map(el => [el.hidden, (el.data || []).length])") == [[True, 0], [True, 0]]
     assert page.evaluate("document.getElementById('plot-leak').data.length") >= 1
+
+
+def test_life_plots_of_a_study_draw_each_variant_on_its_own_curves(page, artifacts):
+    """A [study] × life file (h_rms 1.5 and 3 µm, 2 times × 2 temperatures, 2 compressions): each panel has a curve
+    per variant and temperature, named after the variant, drawing that variant's rows (not the rows of all variants
+    taken as more loads)."""
+    goto(page, "/case")
+    text = (example_text("nbr-o-ring-life")
+            .replace('time = ["1 h", "30 d", "1 a", "10 a"]', 'time = ["1 h", "1 a"]')
+            .replace('temperature = ["-40 degC", "-10 degC", "20 degC", "60 degC", "100 degC"]',
+                     'temperature = ["-10 degC", "60 degC"]')
+            + '\n[study]\nvary = "surface.h_rms"\nvalues = ["1.5 um", "3 um"]\n'
+              'labels = ["h_rms = 1.5 µm", "h_rms = 3 µm"]\n')
+    page.fill("#toml-editor", text)
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    rows = page.evaluate("fetch('/download/results.json').then(r => r.json())")["results"]
+    cases: dict[tuple[str, float, float], list[dict]] = {}  # each (variant, time, temperature): its rows, by load
+    for r in rows:
+        cases.setdefault((r["variant"].split("; ")[0], r["time"], r["temperature"]), []).append(r)
+    variants = ["h_rms = 1.5 µm", "h_rms = 3 µm"]
+    times = sorted({t for _, t, _ in cases})
+    temps = sorted({T for _, _, T in cases})
+    assert {v for v, _, _ in cases} == set(variants) and {len(c) for c in cases.values()} == {2}
+
+    by_time = _data(page, "plot-life-time")
+    assert not by_time["hidden"]
+    for n, yaxis in enumerate(["y", "y2"]):  # a panel per load: 2, not 4
+        curves = {c["name"]: c for c in by_time["data"] if c["yaxis"] == yaxis}
+        for v in variants:
+            for T in temps:
+                c = curves[f"{v}, T = {T - 273.15:.4g} °C"]
+                v_rows = [cases[(v, t, T)][n]["leak_rate_mbar_l_s"] for t in times]
+                _approx(c["y"], [q if isinstance(q, float) and q > 0 else None for q in v_rows])
+    assert not [c for c in by_time["data"] if c["yaxis"] == "y3"]
+    _boxes_apart(page, "plot-life-time")
+    page.locator("#plot-life-time").screenshot(path=str(artifacts / "prediction-life-study.png"))

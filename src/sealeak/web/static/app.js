@@ -644,13 +644,15 @@ function timeText(t) {
   return `${fmt(t / f)} ${u}`;
 }
 
-// the cases of a life file as a grid: its times (s) and temperatures (K), sorted, its loads (the n-th row of each case:
-// a pressure, a compression) and ``at(n, t, T)`` the row; null where the rows have no time
+// the cases of a life file as a grid: its times (s) and temperatures (K), sorted, the variants of a [study] (in the
+// order of the rows; [""] without one), its loads (the n-th row of each case: a pressure, a compression) and
+// ``at(n, t, T, v)`` the row of variant v; null where the rows have no time
 function lifeGrid(rows) {
   if (!rows.some(r => typeof r.time === "number")) return null;
   const cases = new Map();
+  const keyOf = (v, t, T) => JSON.stringify([v, t, T]);
   for (const r of rows) {
-    const key = `${r.time} ${r.temperature}`;
+    const key = keyOf(studyVariant(r), r.time, r.temperature);
     if (!cases.has(key)) cases.set(key, []);
     cases.get(key).push(r);
   }
@@ -658,8 +660,26 @@ function lifeGrid(rows) {
   const loads = Math.min(...[...cases.values()].map(c => c.length));
   const shown = Math.min(loads, LIFE.panels);  // the loads drawn: evenly spread, the first and the last
   const panels = [...new Set(Array.from({ length: shown }, (_, k) => (shown > 1 ? Math.round(k * (loads - 1) / (shown - 1)) : 0)))];
-  return { times: sorted(rows.map(r => r.time)), temps: sorted(rows.map(r => r.temperature)), loads, panels,
-    cases: [...cases.values()], at: (n, t, T) => (cases.get(`${t} ${T}`) || [])[n] };
+  const variants = [...new Set(rows.map(studyVariant))];
+  return { times: sorted(rows.map(r => r.time)), temps: sorted(rows.map(r => r.temperature)), variants, loads, panels,
+    cases: [...cases.values()], at: (n, t, T, v = variants[0]) => (cases.get(keyOf(v, t, T)) || [])[n] };
+}
+
+// the [study] variant of a life file's row: its variant's label without its life part ("h_rms = 2 µm" of
+// "h_rms = 2 µm; t = 1 h, T = -20 °C"; "" without a study), as sealeak.cases.life.life_variant
+function studyVariant(r) {
+  const parts = String(r.variant ?? "").split("; ");
+  if (/^t = .*, T = .* °C$/.test(parts[parts.length - 1])) parts.pop();
+  return parts.join("; ");
+}
+
+// the curves of a life plot: one per ``names`` entry (a temperature or a time; its colour) and variant of a study
+// (its dash; its label before the entry's name)
+function lifeCurves(grid, names, points) {
+  const dashes = ["solid", "dash", "dot", "dashdot", "longdash"];
+  return grid.variants.flatMap((v, j) => names.map((name, i) => ({
+    name: (grid.variants.length > 1 ? `${v}, ` : "") + name, colour: COLORS[i % COLORS.length], dash: dashes[j % dashes.length],
+    points: n => points(n, i, v) })));
 }
 
 // a panel's heading: its load as shown (an O-ring's compression changes with the temperature and the compression set)
@@ -688,7 +708,7 @@ function lifePlot(id, title, x, curves, grid, key, limit, rows) {
       const pts = c.points(load), y = pts.map(p => q(p[1]));
       pts.forEach(([xv, r], j) => { if (y[j] !== null && r.valid === false) out.push([xv, y[j]]); });
       return line(pts.map(p => p[0]), y, c.name, { mode: "lines+markers", marker: { size: 5 },
-        line: { color: COLORS[i % COLORS.length] }, yaxis, legendgroup: c.name, showlegend: first });
+        line: { color: c.colour || COLORS[i % COLORS.length], dash: c.dash || "solid" }, yaxis, legendgroup: c.name, showlegend: first });
     });
     const xs = panel.flatMap(t => t.x), ys = panel.flatMap(t => t.y);
     traces.push(...panel);
@@ -718,13 +738,15 @@ function drawLife(pred) {
   const times = grid.times.filter(t => t > 0);  // t = 0 (just after assembly) has no place on a log axis
   if (times.length > 1) {
     const [unit, f] = TIME_UNITS.find(([, g]) => times[0] >= g) || ["s", 1];
-    const curves = grid.temps.map(T => ({ name: `T = ${fmt(T - KELVIN)} °C`, points: n => times.map(t => [t / f, grid.at(n, t, T)]) }));
+    const curves = lifeCurves(grid, grid.temps.map(T => `T = ${fmt(T - KELVIN)} °C`),
+      (n, i, v) => times.map(t => [t / f, grid.at(n, t, grid.temps[i], v)]));
     lifePlot("plot-life-time", `Leak rate over the life of the seal${times.length < grid.times.length ? " (t = 0 not on the log axis)" : ""}`,
       { ...axis(`time since assembly t (${unit})`, true), range: fitRange(times.map(t => t / f), true, 20) }, curves, grid, key, limit, rows);
   }
   if (grid.temps.length > 1) {
     const x = grid.temps.map(T => T - KELVIN);
-    const curves = grid.times.map(t => ({ name: `t = ${timeText(t)}`, points: n => grid.temps.map((T, i) => [x[i], grid.at(n, t, T)]) }));
+    const curves = lifeCurves(grid, grid.times.map(t => `t = ${timeText(t)}`),
+      (n, i, v) => grid.temps.map((T, k) => [x[k], grid.at(n, grid.times[i], T, v)]));
     lifePlot("plot-life-temperature", "Leak rate against temperature over the life of the seal",
       { ...axis("temperature T (°C)", false), range: fitRange(x, false) }, curves, grid, key, limit, rows);
   }
