@@ -40,7 +40,7 @@ def test_fan_chart_draws_band_median_nominal_and_specification():
     assert "median" in labels and "deterministic (nominal inputs)" in labels
     spec = [line for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")]
     assert len(spec) == 1 and spec[0].get_ydata()[0] == 1e-11
-    assert not [t for t in ax.texts if "sealed" in t.get_text()]  # nothing sealed: no strip
+    assert "sealed" not in [t.get_text() for t in ax.yaxis.get_ticklabels()]  # nothing sealed: no strip
     assert figure_png(fig).startswith(b"\x89PNG")
 
 
@@ -49,8 +49,10 @@ def test_fan_chart_puts_sealed_samples_in_a_strip_below_the_leak_rates():
     fig = _build(lambda: figure_fan_chart([band], "squeeze pressure P0 (kPa)"))
     assert not figure_problems(fig)
     ax = fig.axes[0]
-    strip = [t for t in ax.texts if "sealed (Q = 0)" in t.get_text()]
-    assert len(strip) == 1
+    # the strip is named by a tick of its own, "sealed", at the height of the sealed medians (not by a text inside
+    # the strip, which would lie under their markers)
+    strip = [v for v, text in zip(ax.get_yticks(), ax.yaxis.get_ticklabels()) if text.get_text() == "sealed"]
+    assert len(strip) == 1 and not ax.texts
     drawn = np.r_[band.p05, band.p25, band.p50, band.p75, band.p95, band.nominal]
     lowest_leak = drawn[drawn > 0].min()
     sealed_marks = [line for line in ax.get_lines() if line.get_label().startswith("median sealed")]
@@ -58,9 +60,10 @@ def test_fan_chart_puts_sealed_samples_in_a_strip_below_the_leak_rates():
     # the medians of the rows at or beyond 350 kPa are sealed, drawn below every leak rate
     assert len(sealed_marks[0].get_xdata()) == int((X >= 350).sum())
     assert (np.asarray(sealed_marks[0].get_ydata()) < lowest_leak).all()
-    # no leak-rate tick label in the strip: every labelled tick is a leak rate at or above the strip's top
-    ticks = [v for v, text in zip(ax.get_yticks(), ax.yaxis.get_ticklabels()) if text.get_text()]
-    assert min(ticks) >= sealed_marks[0].get_ydata()[0]
+    assert strip[0] == pytest.approx(sealed_marks[0].get_ydata()[0], rel=1e-12)
+    # no leak-rate tick label in the strip: every other labelled tick is a leak rate above the sealed ones
+    ticks = [v for v, text in zip(ax.get_yticks(), ax.yaxis.get_ticklabels()) if text.get_text() not in ("", "sealed")]
+    assert min(ticks) > sealed_marks[0].get_ydata()[0]
 
 
 def test_fan_chart_keeps_every_band_inside_its_axes():

@@ -4,7 +4,7 @@
   case its median over the samples (solid), the 5–95 % band (light) and optionally the 25–75 % band (darker),
   the deterministic prediction of the nominal inputs (dashed) and the specification ``max_leak_rate``
   (red, dash-dotted); sealed samples (Q = 0) have no place on a log axis, so a grey strip below the
-  leak rates stands for "sealed": a band that reaches into it seals in at least 5 % of the samples, a
+  leak rates, its tick named "sealed", stands for them: a band that reaches into it seals in at least 5 % of the samples, a
   median drawn in it (▽) in at least half;
 * :func:`figure_tornado`: Sobol' total (ST) and first-order (S1) indices of log10 Q per uncertain input,
   sorted, largest on top, with their bootstrap intervals (:mod:`sealeak.cases.sensitivity`);
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from matplotlib.axis import Axis
 from matplotlib.figure import Figure
-from matplotlib.ticker import FuncFormatter
+from matplotlib.ticker import FixedLocator, FuncFormatter
 
 from ..cases.sobol import SobolIndices, chosen_rows, sensitivity_summary
 from ..cases.uncertainty import SAMPLER_NAMES, UncertaintyResult
@@ -100,10 +100,18 @@ def _leak_limits(values: np.ndarray, sealed: bool) -> tuple[float, float, float]
 
 
 def _sealed_strip(ax, top: float, bottom: float) -> None:
-    """Shade the strip of sealed samples (below ``top``) and name it."""
+    """Shade the strip of sealed samples (below ``top``); :func:`_sealed_tick` names it."""
     ax.axhspan(bottom, top, color="0.88", zorder=0, lw=0)
-    ax.text(0.005, np.sqrt(top * bottom), " sealed (Q = 0)", transform=ax.get_yaxis_transform(), fontsize=7, color="0.3",
-            va="center", ha="left")
+
+
+def _sealed_tick(axis: Axis, at: float, limit: float) -> None:
+    """Name the strip of sealed samples (Q = 0) by a tick "sealed" at ``at`` among the leak-rate ticks, which stay
+    above ``limit`` (a name inside the strip would lie under the markers of the sealed loads)."""
+    lo, hi = sorted(axis.get_view_interval())
+    ticks = [float(v) for v in axis.get_major_locator().tick_values(lo, hi) if limit * (1 - 1e-9) <= v <= hi * (1 + 1e-9)]
+    label = axis.get_major_formatter()
+    axis.set_major_locator(FixedLocator([at, *ticks]))
+    axis.set_major_formatter(FuncFormatter(lambda v, pos: "sealed" if v == at else label(v, pos)))
 
 
 def _leak_label(unit: str) -> str:
@@ -168,8 +176,8 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     second, factor = {"m³/s": (ml_per_min_axis, ML_PER_MIN_PER_M3_PER_S), "mbar·l/s": (pa_m3_axis, PA_M3_PER_MBAR_L)}.get(
         unit, (None, 1.0))
     axis2 = second(ax) if second is not None else None
-    if sealed_any:  # no leak-rate tick in the strip of the sealed samples
-        _blank_below(ax.yaxis, strip_top)
+    if sealed_any:  # no leak-rate tick in the strip of the sealed samples: a tick that names it
+        _sealed_tick(ax.yaxis, at_sealed, strip_top)
         if axis2 is not None:
             _blank_below(axis2.yaxis, strip_top * factor)
     place_legend(ax)
