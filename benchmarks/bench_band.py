@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import sealeak.cases.band as band_module
+import sealeak.cases.band_tables as tables_module
 from sealeak.cases import example_path, example_text, load_cases, run_case
 from sealeak.cases.seals import with_loads
 from sealeak.physics.gaps import clear_caches
@@ -77,7 +78,7 @@ def main() -> None:
         example_and_web_update()
         return
     counts = {"cj": 0, "em": 0}
-    cj, em = band_module.critical_junction, band_module.effective_medium
+    cj, em = band_module.critical_junction, tables_module.effective_medium
 
     def count_cj(*a, **k):
         counts["cj"] += np.size(k["squeeze_pressure"])
@@ -87,7 +88,7 @@ def main() -> None:
         counts["em"] += np.size(k["squeeze_pressure"])
         return em(*a, **k)
 
-    band_module.critical_junction, band_module.effective_medium = count_cj, count_em
+    band_module.critical_junction, tables_module.effective_medium = count_cj, count_em
     runs = (("critical-junction", "ignored"), ("both", "ignored"), ("critical-junction", "coupled"), ("both", "coupled"))
     for model, fluid_pressure in runs:
         case = sweep_case(model, fluid_pressure)
@@ -102,7 +103,7 @@ def main() -> None:
         print(f"{model:18s} fluid pressure {fluid_pressure:8s} 50 loads: {best:.2f} s (CPU {cpu:.2f} s)  "
               f"(critical-junction pressures {counts['cj']}, effective-medium pressures {counts['em']}; σ evaluations per load {nodes.min()}-{nodes.max()}; "
               f"largest estimated relative error {np.nanmax(res.critical_junction.change):.1e})")
-    band_module.critical_junction, band_module.effective_medium = cj, em
+    band_module.critical_junction, tables_module.effective_medium = cj, em
     if not args.skip_example:
         example_and_web_update()
 

@@ -12,7 +12,7 @@ import numpy as np
 from scipy.interpolate import BarycentricInterpolator
 
 from sealeak.cases import example_path, load_cases, run_case
-from sealeak.cases.band import chebyshev_lobatto_interpolate
+from sealeak.cases.band_tables import chebyshev_lobatto_interpolate
 from sealeak.physics import coupling
 from sealeak.physics._kernels import weighted_sum
 from sealeak.physics.gaps import clear_caches

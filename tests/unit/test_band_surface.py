@@ -10,8 +10,10 @@ import pytest
 from scipy.interpolate import BarycentricInterpolator
 
 import sealeak.cases.band as band_module
+import sealeak.cases.band_tables as tables_module
 from sealeak.cases import example_path, load_cases
-from sealeak.cases.band import SURFACE_RTOL, TABLE_RTOL, _em_exact, _surface, _SweepSurface, persson_contact, run_band
+from sealeak.cases.band import _surface, run_band
+from sealeak.cases.band_tables import SURFACE_RTOL, TABLE_RTOL, SweepSurface, effective_medium_exact, persson_contact
 from sealeak.cases.seals import with_loads
 
 
@@ -30,8 +32,8 @@ def sweep():
     case = _sweep(4)
     assert case.band is not None
     profiles = case.band.profiles
-    low = band_module.TABLE_FLOOR * min(p.max_pressure for p in profiles)
-    surface = _SweepSurface.build(case, np.asarray(case.band.q0), low, max(p.max_pressure for p in profiles))
+    low = tables_module.TABLE_FLOOR * min(p.max_pressure for p in profiles)
+    surface = SweepSurface.build(case, np.asarray(case.band.q0), low, max(p.max_pressure for p in profiles))
     assert surface is not None
     return case, surface
 
@@ -50,7 +52,7 @@ def test_surface_matches_the_exact_effective_medium_between_its_points(sweep):
     p = p[(p >= surface.low) & (p <= surface.high)]
     assert p.size > 10
     for q in q0.tolist():
-        exact = _em_exact(case, persson_contact(case, q))(p)
+        exact = effective_medium_exact(case, persson_contact(case, q))(p)
         assert np.all(exact > 0)
         np.testing.assert_allclose(surface.sigma(q, p), exact, rtol=SURFACE_RTOL, atol=0)
 
@@ -63,7 +65,7 @@ def test_surface_stays_below_the_bruggeman_threshold_and_takes_exact_values_abov
     threshold = 2.0 * 0.4769362762044699 * np.sqrt(contact.G(contact.zeta_max))  # erfinv(1/2) = 0.47693...
     assert surface.high < threshold
     p = np.array([surface.high * 1.01, 1.2 * threshold])
-    exact = _em_exact(case, contact)(p)
+    exact = effective_medium_exact(case, contact)(p)
     np.testing.assert_array_equal(surface.for_load(contact)(p), exact)
     assert exact[0] > 0 and exact[1] == 0
 
@@ -86,7 +88,7 @@ def test_a_sweep_with_the_surface_gives_the_exact_leak_rates(monkeypatch):
 def test_no_surface_where_it_cannot_reach_its_tolerance(monkeypatch):
     """Too few points allowed: no surface (the loads take the exact σ_eff)."""
     case = _sweep(4)
-    monkeypatch.setattr(band_module, "SURFACE_P_POINTS", (5, 9))
+    monkeypatch.setattr(tables_module, "SURFACE_P_POINTS", (5, 9))
     assert case.band is not None
     monkeypatch.setattr(band_module, "SURFACE_MIN_LOADS", 2)
     assert _surface(case, case.band) is None
@@ -102,12 +104,12 @@ def test_a_table_is_checked_at_a_quarter_of_the_points_the_next_adds():
         calls.append(p.size)
         return p**-1.5 * np.exp(-p / 3e5) / (1.0 + (p / 2e3) ** 2)
 
-    table = band_module._Table(sigma, 1e6, 9, 1e-6)
+    table = tables_module.SigmaTable(sigma, 1e6, 9, 1e-6)
     sizes = []
     while True:
         calls.clear()
         nxt, good = table.checked(sigma, 1e-6)
-        added = np.exp(band_module._lobatto(table.lo, table.hi, 2 * table.s.size - 1)[1::2])
+        added = np.exp(tables_module.lobatto_points(table.lo, table.hi, 2 * table.s.size - 1)[1::2])
         if good:
             n = added.size
             assert nxt is table and sum(calls) == len(set(range(0, n, min(4, max(1, n // 8)))) | {n - 1})
@@ -121,7 +123,7 @@ def test_a_table_is_checked_at_a_quarter_of_the_points_the_next_adds():
         table = nxt
     assert sizes and table.s.size >= 33  # it took a few doublings
     calls.clear()
-    small = band_module._Table(sigma, 1e6, 9, 1e-6)
+    small = tables_module.SigmaTable(sigma, 1e6, 9, 1e-6)
     calls.clear()
     assert small.checked(sigma, 1e-6, grow=False) == (small, False) and sum(calls) == 8  # nothing beyond the check
 
@@ -142,9 +144,9 @@ def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch
     """A table of the surface is accepted at the first of 33, 65 and 129 points that meets :data:`SURFACE_RTOL` (ln σ
     = sin(k ln p) over 1 Pa .. 1 MPa needs more points the larger k: as many as an interpolant checked at all its
     middles needs), and there is none where 129 do not."""
-    monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(np.sin(k * np.log(p))))
+    monkeypatch.setattr(tables_module, "effective_medium_exact", lambda case, contact: lambda p: np.exp(np.sin(k * np.log(p))))
     case = load_cases(example_path("o-ring"))[0]
-    table = _SweepSurface._table(case, 3000.0, 1.0, 1e6, SURFACE_RTOL)
+    table = SweepSurface._table(case, 3000.0, 1.0, 1e6, SURFACE_RTOL)
     points = _points_needed(lambda s: np.sin(k * s), 0.0, math.log(1e6), (33, 65, 129), SURFACE_RTOL)
     assert (table is None) if points is None else (table is not None and table.s.size == points)
     if table is not None:
@@ -163,10 +165,10 @@ def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monke
         s = np.log(p)
         return np.sin(k * s) + 0.01 * (math.log(q0) - 8.0) * (s + np.sin(m * s))
 
-    monkeypatch.setattr(band_module, "_em_exact", lambda case, contact: lambda p: np.exp(log_sigma(p, contact.q0)))
+    monkeypatch.setattr(tables_module, "effective_medium_exact", lambda case, contact: lambda p: np.exp(log_sigma(p, contact.q0)))
     case = load_cases(example_path("o-ring"))[0]
     q0 = np.geomspace(3000.0, 5500.0, 7)
-    surface = _SweepSurface.build(case, q0, 1.0, 1e6)
+    surface = SweepSurface.build(case, q0, 1.0, 1e6)
     assert surface is not None
     # the q0 points: Chebyshev–Lobatto in ln q0, ends at the loads' own q0 (σ is linear in ln q0: five are exact)
     lo, hi, ends = 0.0, math.log(1e6), np.log(q0[[0, -1]])
@@ -203,5 +205,5 @@ def test_a_tables_top_point_is_its_top_pressure_itself():
     assert tops  # (pressures whose logarithm does not come back to them exist)
     for p_max in tops[:5]:
         asked.clear()
-        band_module._Table(sigma, p_max, 9)
+        tables_module.SigmaTable(sigma, p_max, 9)
         assert asked[0][-1] == p_max and asked[0][0] == pytest.approx(1e-3 * p_max, rel=1e-12)

@@ -11,6 +11,7 @@ from scipy import integrate
 import sealeak.cases.band as band_module
 from sealeak.cases import example_path, load_case, load_cases, parse_cases, predict, predict_effective_medium, run_case
 from sealeak.cases.band import run_band
+from sealeak.cases.band_tables import persson_contact
 from sealeak.cases.model import BandSeal
 from sealeak.cases.rig import rig_prediction
 from sealeak.cases.seals import with_loads
@@ -182,6 +183,6 @@ def test_a_band_sealed_at_its_peak_solves_no_coupled_flow(monkeypatch):
     unit = replace(case, fluid=replace(case.fluid, viscosity=1.0))
     for i in np.flatnonzero(sealed):
         profile = case.band.profiles[i]
-        got = real(profile, band_module.junction_sigma(unit, band_module.persson_contact(case, float(case.band.q0[i]))),
+        got = real(profile, band_module.junction_sigma(unit, persson_contact(case, float(case.band.q0[i]))),
                    case.pressure_difference)
         assert got == band_module.CoupledBand(0.0, case.pressure_difference >= profile.max_pressure, True, 0)

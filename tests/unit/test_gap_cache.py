@@ -3,6 +3,7 @@ cache is what a fresh computation gives, a different contact never takes another
 within its bytes."""
 
 import importlib
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -125,19 +126,19 @@ def test_the_band_keeps_sigma_eff_by_its_list_of_pressures(monkeypatch):
     """σ_eff is kept by contact, viscosity and the exact list of pressures (P(u) is discretised over the list): the
     same list again is answered without the effective medium, with the bits of a fresh computation; another viscosity
     or another list is computed."""
-    band = importlib.import_module("sealeak.cases.band")
+    band = importlib.import_module("sealeak.cases.band_tables")
     case = load_cases(example_path("o-ring"))[0]
     contact = band.persson_contact(case, float(case.band.q0[4]))
     p = np.geomspace(1e4, 1e6, 5)
-    first = band._em_exact(case, contact)(p)
+    first = band.effective_medium_exact(case, contact)(p)
     gaps.clear_caches()
-    fresh_values = band._em_exact(case, contact)(p)
+    fresh_values = band.effective_medium_exact(case, contact)(p)
     assert np.array_equal(first, fresh_values)
     calls = []
     em = band.effective_medium
     monkeypatch.setattr(band, "effective_medium", lambda *a, **k: calls.append(1) or em(*a, **k))
-    assert np.array_equal(band._em_exact(case, contact)(p.copy()), first) and calls == []
-    band._em_exact(case, contact)(p[:3])
-    thicker = band._em_exact(band.replace(case, fluid=band.replace(case.fluid, viscosity=0.03)), contact)(p)
+    assert np.array_equal(band.effective_medium_exact(case, contact)(p.copy()), first) and calls == []
+    band.effective_medium_exact(case, contact)(p[:3])
+    thicker = band.effective_medium_exact(replace(case, fluid=replace(case.fluid, viscosity=0.03)), contact)(p)
     assert len(calls) == 2
     assert np.allclose(thicker, first * case.fluid.viscosity / 0.03, rtol=1e-12)

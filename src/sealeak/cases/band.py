@@ -20,8 +20,6 @@ width below 1e-12 for a Hertz profile).
 
 from __future__ import annotations
 
-import hashlib
-import math
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -29,16 +27,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import special
 
 from ..errors import InputError
 from ..io.quantities import quantity
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, CoupledBand, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import critical_junction
-from ..physics.effective_medium import effective_medium
-from ..physics.gaps import CONDUCTIVITY_QUADRATURE, ArrayCache, contact_key
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
+from .band_tables import TABLE_FLOOR, TABLE_POINTS, TABLE_RTOL, SigmaTable, SweepSurface, effective_medium_exact, effective_medium_sigma_table, persson_contact
 from .model import BandSeal, Case
 from .notes import Note, NoteLike
 from .schema import case_keys
@@ -48,25 +44,8 @@ __all__ = ["ScaledJunctions", "scaled_junctions", "BandResult", "BandTheory", "r
 
 FloatArray = NDArray[np.float64]
 
-#: The effective medium's σ(p) table: lowest pressure relative to p_max, Chebyshev points (first, most), and
-#: the relative change of R between two tables at which it stops (far below the ~10 % of the Bruggeman model itself).
-TABLE_FLOOR = 1e-3
-TABLE_POINTS = (9, 33)
-TABLE_RTOL = 1e-5
-#: Bytes of effective-medium σ_eff values kept by :func:`_em_exact` (by contact, viscosity and list of pressures).
-KEPT_SIGMA_BYTES = 16 * 2**20
-
-#: The σ_eff surface the loads of a sweep share (:class:`_SweepSurface`): used from this many loads on; its relative
-#: error against the exact σ_eff, checked off its points as it is built; its Chebyshev points in ln p (first, most) and
-#: in ln q0 (first, most); its top as a fraction of the lowest Bruggeman threshold pressure of the loads.
+#: A sweep of this many loads or more shares one σ_eff surface (:class:`~sealeak.cases.band_tables.SweepSurface`).
 SURFACE_MIN_LOADS = 5
-SURFACE_RTOL = 1e-6
-SURFACE_P_POINTS = (33, 129)
-SURFACE_Q0_POINTS = (5, 9)
-SURFACE_TOP = 0.8
-
-_EM_SIGMA = ArrayCache(lambda: KEPT_SIGMA_BYTES)
-_INTERPOLATE_ROWS = 512  # points per block of chebyshev_lobatto_interpolate: 512 × 129 terms, ~0.5 MB an array
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -210,11 +189,6 @@ class BandResult:
         return np.cbrt(12.0 * viscosity * sigma / alpha)
 
 
-def persson_contact(case: Case, q0: float) -> PerssonContact:
-    """Persson's contact of the case's surface and rubber at q0 (1/m): one load of a band, a sample's table."""
-    return PerssonContact(case.spectrum, case.e_star, q0, case.gamma)
-
-
 @dataclass(frozen=True)
 class ScaledJunctions:
     """The critical junction of a case whose contact is a nominal one scaled (docs/theory.md eq. 14.6): h_rms × s
@@ -288,349 +262,16 @@ def _junction_at_peak(case: Case, contact: PerssonContact, p_max: float,
     return float(top.critical_gap[0]), float(top.critical_wavelength[0])
 
 
-def _em_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
-    """σ_eff(p) (m³/(Pa·s)) of the effective medium, 0 where it does not percolate; kept by contact, viscosity and the
-    list of pressures (:data:`KEPT_SIGMA_BYTES`): a pressure's σ_eff depends on the others asked with it only in the last
-    bit (the order of the Bruggeman sums), so a list is answered as it was computed, bit for bit (an update of ΔP or α
-    evaluates the same tables)."""
-    key = contact_key(contact, case.fluid.viscosity)
-
-    def sigma(p: FloatArray) -> FloatArray:
-        p = np.ascontiguousarray(p, dtype=float)
-        digest = (key, p.shape, hashlib.blake2b(p.tobytes(), digest_size=16).digest())
-        kept = _EM_SIGMA.get(digest)
-        if kept is None:
-            res = effective_medium(contact, squeeze_pressure=p, pressure_difference=1.0,
-                                   viscosity=case.fluid.viscosity, aspect_ratio=1.0,
-                                   gap_quadrature=CONDUCTIVITY_QUADRATURE)
-            kept = _EM_SIGMA.put(digest, (np.where(res.percolates, res.leak_rate, 0.0),))
-        return kept[0].copy()
-    return sigma
-
-
-def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: FloatArray) -> FloatArray:
-    """The polynomial through ``values`` at the Chebyshev–Lobatto ``nodes`` (s_k = m − h cos(πk/(n−1))), at ``x``.
-
-    The barycentric formula of the second kind with the weights of these nodes, w_k = (−1)^k, halved
-    at both ends (Berrut & Trefethen, SIAM Review 46 (2004) 501, eq. 5.4): p(x) = Σ w_k f_k/(x − s_k) /
-    Σ w_k/(x − s_k), exact at a node. The sums are running sums over k (``np.cumsum``, an accumulation from the
-    left by definition, not a pairwise or BLAS sum whose grouping may depend on the length or alignment), so
-    equal inputs give equal bits; the terms are formed for up to :data:`_INTERPOLATE_ROWS` points at a time.
-    """
-    x = np.asarray(x, dtype=float)
-    weights = (-1.0) ** np.arange(nodes.size)
-    weights[[0, -1]] *= 0.5
-    flat = x.ravel()
-    out = np.empty(flat.size)
-    for lo in range(0, flat.size, _INTERPOLATE_ROWS):
-        d = flat[lo:lo + _INTERPOLATE_ROWS, None] - nodes[None, :]
-        at = d == 0
-        c = weights / np.where(at, 1.0, d)
-        part = np.cumsum(c * values, axis=1)[:, -1] / np.cumsum(c, axis=1)[:, -1]
-        hit = at.any(axis=1)
-        part[hit] = values[np.argmax(at[hit], axis=1)]
-        out[lo:lo + _INTERPOLATE_ROWS] = part
-    return out.reshape(x.shape)
-
-
-class _Table:
-    """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind)."""
-
-    def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int, floor: float = TABLE_FLOOR) -> None:
-        self.lo, self.hi = np.log(p_max * floor), np.log(p_max)
-        s = self._nodes(n)
-        self.s = s
-        p = np.exp(s)
-        p[-1] = p_max  # (exp(ln p_max) may be an ulp off: the top is p_max itself, whose σ a caller may have asked for)
-        self.values = exact(p)
-        self.ok = bool(np.all(self.values > 0))
-        self.log_values = np.log(np.where(self.values > 0, self.values, 1.0))
-
-    def refine(self, exact: Callable[[FloatArray], FloatArray]) -> _Table:
-        """The table on twice the intervals (the old points are reused)."""
-        return self._finer(exact(np.exp(self._nodes(2 * (self.s.size - 1) + 1)[1::2])))
-
-    def checked(self, exact: Callable[[FloatArray], FloatArray], rtol: float, grow: bool = True) -> tuple[_Table, bool]:
-        """(this table, True) where it agrees with ``exact`` within ``rtol`` (relative, in σ) at a quarter of the points
-        the table on twice the intervals adds (all 8 for a table of 9 points, every other one for 17, every fourth and
-        the last from 33 on): the middles of its intervals, where the interpolation errs most and the error varies
-        smoothly along the table. Otherwise (that finer table, False), the points checked being reused, or with
-        ``grow`` False (this table, False). Where σ vanishes at a point checked, the finer table is not ``ok`` (σ is
-        not tabulated in ln σ) and its other points are not evaluated."""
-        n = 2 * (self.s.size - 1) + 1
-        added = self._nodes(n)[1::2]
-        pick = _checked_points(added.size)
-        values = np.empty(added.size)
-        values[pick] = exact(np.exp(added[pick]))
-        positive = bool(np.all(values[pick] > 0))
-        if positive and np.all(np.abs(self(np.exp(added[pick])) / values[pick] - 1.0) < rtol):
-            return self, True
-        if not grow:
-            return self, False
-        if not positive:
-            values[~pick] = np.nan  # (a table that is not ok: its callers take σ itself)
-        elif not pick.all():
-            values[~pick] = exact(np.exp(added[~pick]))
-        return self._finer(values), False
-
-    def _finer(self, added: FloatArray) -> _Table:
-        """The table on twice the intervals, from its ``added`` values (the old ones are reused)."""
-        n = 2 * (self.s.size - 1) + 1
-        new = _Table.__new__(_Table)
-        new.lo, new.hi = self.lo, self.hi
-        values = np.empty(n)
-        values[::2] = self.values
-        values[1::2] = added
-        new.s, new.values = new._nodes(n), values
-        new.ok = bool(np.all(values > 0))
-        new.log_values = np.log(np.where(values > 0, values, 1.0))
-        return new
-
-    def _nodes(self, n: int) -> FloatArray:
-        """The ``n`` Chebyshev–Lobatto points of [lo, hi] (ln p), the ends exact."""
-        return _lobatto(self.lo, self.hi, n)
-
-    def __call__(self, p: FloatArray) -> FloatArray:
-        return np.exp(self.log_at(p))
-
-    def log_at(self, p: FloatArray) -> FloatArray:
-        """ln σ interpolated at the pressures ``p`` (Pa; clipped to the table's range)."""
-        s = np.clip(np.log(p), self.lo, self.hi)
-        return chebyshev_lobatto_interpolate(self.s, self.log_values, s)
-
-
-def effective_medium_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
-                                 exact: Callable[[FloatArray], FloatArray] | None = None,
-                                 ) -> Callable[[FloatArray], FloatArray]:
-    """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
-    between them, refined until it agrees with σ within :data:`TABLE_RTOL` at the points checked
-    (:meth:`_Table.checked`), at most to
-    2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range). ``exact``: σ_eff of
-    this contact (default the effective medium itself; a sweep passes its :class:`_SweepSurface`)."""
-    exact = _em_exact(case, contact) if exact is None else exact
-    table = _Table(exact, p_max, TABLE_POINTS[0], floor)
-    while table.ok and table.s.size < 2 * TABLE_POINTS[1] - 1:
-        table, good = table.checked(exact, TABLE_RTOL)
-        if good:
-            return table
-    return table if table.ok else exact
-
-
-class _SweepSurface:
-    """σ_eff(p; q0) (m³/(Pa·s)) shared by the loads of a sweep: the effective medium's P(u) costs ~5 ms per pressure,
-    and every load has its own q0 = 2π/w, so without it no exact value serves two loads.
-
-    q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
-    function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
-    (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. At the middle q0 point a :class:`_Table`
-    of ln σ against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact σ_eff to
-    :data:`SURFACE_RTOL`/2 at a quarter of the points the next doubling would add (:meth:`_Table.checked`); at the other
-    q0 points only the difference ln σ − ln σ_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
-    table, doubled until it agrees with exact values at middles of its intervals to :data:`SURFACE_RTOL`/2: it is
-    small (a few per cent at most) and smooth, so it needs a fraction of the points. Where a difference does not get
-    there before it would need the middle table's own points, every q0 point takes a full table (as the middle one).
-    The q0 points are doubled until the surface agrees with exact values of the load farthest from them, at pressures
-    off the tables' points, to :data:`SURFACE_RTOL`. ``high`` stays a factor :data:`SURFACE_TOP` below every load's
-    Bruggeman threshold (A(ζ1)/A0 = 1/2, closed form), where ln σ is smooth; pressures outside [``low``, ``high``] take
-    the exact σ_eff. :meth:`build` returns None where the surface does not reach its tolerance within
-    :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
-    """
-
-    def __init__(self, case: Case, nodes: FloatArray, base: _Table | None,
-                 parts: list[tuple[FloatArray, FloatArray] | None], low: float, high: float, span: tuple[float, float]) -> None:
-        """``parts``: per q0 point (``nodes``, ln q0) its values on Chebyshev–Lobatto points in ln p — ln σ itself where
-        ``base`` is None, else the difference from ``base`` (None for the point of ``base``); ``span``: the table's
-        ends in ln p."""
-        self.case, self.nodes, self.base, self.parts, self.low, self.high = case, nodes, base, parts, low, high
-        self.span = span
-
-    @classmethod
-    def build(cls, case: Case, q0: FloatArray, low: float, high: float) -> _SweepSurface | None:
-        """The surface over the loads' ``q0`` (1/m) and pressures [``low``, ``high``] (Pa), or None."""
-        q0 = np.unique(np.asarray(q0, dtype=float))
-        threshold = 2.0 * special.erfinv(0.5) * min(
-            math.sqrt(float(c.G(c.zeta_max))) for c in (persson_contact(case, float(q)) for q in q0))
-        high = min(high, SURFACE_TOP * threshold)
-        if not high > low:
-            return None
-        m = np.log(q0)
-        n = 1 if q0.size == 1 else SURFACE_Q0_POINTS[0]
-        middles: dict[float, _Table | None] = {}  # the middle table, checked to SURFACE_RTOL/2
-        tables: dict[float, _Table | None] = {}  # full tables, where a difference does not do
-        differences: dict[tuple[float, float], tuple[FloatArray, FloatArray]] = {}  # by (middle, point)
-        full_tables = False
-        while True:
-            nodes = np.array([float(m[0])]) if n == 1 else _lobatto(float(m[0]), float(m[-1]), n)
-            middle = float(nodes[nodes.size // 2])  # (the middle of 5 points is the middle of 9, bit for bit)
-            if middle not in middles:
-                middles[middle] = cls._table(case, cls._q0_at(middle, q0, m), low, high, 0.5 * SURFACE_RTOL)
-            base = middles[middle]
-            if base is None:
-                return None
-            for node in nodes.tolist():
-                if full_tables:
-                    break
-                if node != middle and (middle, node) not in differences:
-                    difference = cls._difference(case, cls._q0_at(node, q0, m), base)
-                    if difference is None:  # a difference too rough for a coarser table: full tables from now on
-                        full_tables = True
-                    else:
-                        differences[middle, node] = difference
-            span = (float(base.lo), float(base.hi))
-            if not full_tables:
-                parts: list[tuple[FloatArray, FloatArray] | None] = [
-                    None if node == middle else differences[middle, node] for node in nodes.tolist()]
-                surface = cls(case, nodes, base, parts, low, high, span)
-            else:
-                for node in nodes.tolist():
-                    if node not in tables:
-                        tables[node] = base if node == middle else cls._table(case, cls._q0_at(node, q0, m), low, high,
-                                                                              SURFACE_RTOL)
-                full = [tables[node] for node in nodes.tolist()]
-                if any(t is None for t in full):
-                    return None
-                surface = cls(case, nodes, None, [(t.s, t.log_values) for t in full if t is not None], low, high, span)
-            far = int(np.argmax(np.min(np.abs(m[:, None] - nodes[None, :]), axis=1)))
-            if n == 1 or np.min(np.abs(m[far] - nodes)) == 0:
-                return surface
-            check = np.exp(np.linspace(math.log(low), math.log(high), 10)[:-1] + 0.5 * math.log(high / low) / 9)
-            exact = _em_exact(case, persson_contact(case, float(q0[far])))(check)
-            if np.all(exact > 0) and np.all(np.abs(surface.sigma(float(q0[far]), check) / exact - 1.0) < SURFACE_RTOL):
-                return surface
-            if 2 * n - 1 > SURFACE_Q0_POINTS[1]:
-                return None
-            n = 2 * n - 1
-
-    @staticmethod
-    def _q0_at(node: float, q0: FloatArray, m: FloatArray) -> float:
-        """The q0 (1/m) with ln q0 = ``node``: a load's own q0 at the ends of the range."""
-        at = np.flatnonzero(m == node)
-        return float(q0[at[0]]) if at.size else math.exp(node)
-
-    @staticmethod
-    def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> _Table | None:
-        """The table of ln σ_eff at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol`` (:meth:`_Table.checked`)."""
-        exact = _em_exact(case, persson_contact(case, q0))
-        table = _Table(exact, high, SURFACE_P_POINTS[0], low / high)
-        while table.ok:
-            grow = table.s.size < SURFACE_P_POINTS[1]
-            table, good = table.checked(exact, rtol, grow=grow)
-            if good:
-                return table
-            if not grow:
-                return None
-        return None
-
-    @staticmethod
-    def _difference(case: Case, q0: float, base: _Table) -> tuple[FloatArray, FloatArray] | None:
-        """(points, values): ln σ_eff of the contact at ``q0`` less ``base``'s exact ln σ, at every 2^k-th point of
-        ``base`` (from 9 points on), doubled until the interpolated difference agrees with exact values at the middles
-        of its intervals (points of ``base`` too: all 8 of 9 points, every other one of 17, every fourth and the last
-        from 33 points on) within :data:`SURFACE_RTOL`/2 in ln σ; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
-        well, the surface is within :data:`SURFACE_RTOL` at its q0 points (and checked between them by :meth:`build`).
-        None where the difference needs the points of ``base`` itself, or σ_eff vanishes."""
-        exact = _em_exact(case, persson_contact(case, q0))
-        size = base.s.size
-        step = (size - 1) // 8
-        known: dict[int, float] = {}  # ln σ_eff at base's point i
-
-        def log_sigma(index: NDArray[np.intp]) -> FloatArray | None:
-            new = [i for i in index.tolist() if i not in known]
-            if new:
-                values = exact(np.exp(base.s[new]))
-                if not np.all(values > 0):
-                    return None
-                known.update(zip(new, np.log(values).tolist()))
-            return np.array([known[i] for i in index.tolist()])
-
-        while step >= 2:
-            points = np.arange(0, size, step)
-            middles = np.arange(step // 2, size, step)
-            pick = _checked_points(middles.size)
-            both = log_sigma(np.concatenate([points, middles[pick]]))  # (one call: P(u) is vectorised over pressures)
-            if both is None:
-                return None
-            at_points, at_middles = both[:points.size], both[points.size:]
-            difference = at_points - base.log_values[points]
-            interpolated = chebyshev_lobatto_interpolate(base.s[points], difference, base.s[middles[pick]])
-            if np.all(np.abs(interpolated - (at_middles - base.log_values[middles[pick]])) < 0.5 * SURFACE_RTOL):
-                return base.s[points], difference
-            step //= 2
-        return None
-
-    def sigma(self, q0: float, p: FloatArray) -> FloatArray:
-        """σ_eff (m³/(Pa·s)) of the load with ``q0`` (1/m) at pressures ``p`` inside [low, high] (Pa)."""
-        return self._at(q0)(p)
-
-    def _at(self, q0: float) -> Callable[[FloatArray], FloatArray]:
-        """σ_eff(p) of the load with ``q0`` inside [low, high]: the interpolation in ln q0 is linear in the values,
-        so ln σ = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
-        into one before ln p is interpolated, once per size of table."""
-        weights = [1.0] if self.nodes.size == 1 else [
-            float(chebyshev_lobatto_interpolate(self.nodes, e, np.full(1, math.log(q0)))[0]) for e in np.eye(self.nodes.size)]
-        combined: dict[int, tuple[FloatArray, FloatArray]] = {}
-        if self.base is not None:
-            combined[self.base.s.size] = (self.base.s, self.base.log_values)
-        for w, part in zip(weights, self.parts, strict=True):
-            if part is not None:
-                s, values = combined.get(part[0].size, (part[0], np.zeros(part[0].size)))
-                combined[part[0].size] = (s, values + w * part[1])
-        lo, hi = self.span
-
-        def sigma(p: FloatArray) -> FloatArray:
-            x = np.clip(np.log(p), lo, hi)
-            return np.exp(np.sum([chebyshev_lobatto_interpolate(s, v, x) for s, v in combined.values()], axis=0))
-        return sigma
-
-    def for_load(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
-        """σ_eff(p) of one load's contact: the surface inside [low, high], the exact effective medium outside."""
-        exact = _em_exact(self.case, contact)
-        surface = self._at(contact.q0)
-
-        def sigma(p: FloatArray) -> FloatArray:
-            p = np.asarray(p, dtype=float)
-            return piecewise(p, (p >= self.low) & (p <= self.high), surface, exact)
-        return sigma
-
-
-def _checked_points(n: int) -> NDArray[np.bool_]:
-    """Which of ``n`` middles of a table's intervals a check evaluates: all of up to 15, every other one of 16 to 31,
-    every fourth from 32 on, and always the last (:meth:`_Table.checked`, :meth:`_SweepSurface._difference`)."""
-    pick = np.zeros(n, dtype=bool)
-    pick[::min(4, max(1, n // 8))] = True
-    pick[-1] = True
-    return pick
-
-
-def piecewise(p: FloatArray, first: NDArray[np.bool_], f: Callable[[FloatArray], FloatArray],
-              g: Callable[[FloatArray], FloatArray]) -> FloatArray:
-    """``f`` at the pressures ``p`` where ``first``, ``g`` at the others, each called on its own share only (and not
-    at all where that is empty)."""
-    out = np.empty(p.shape)
-    if first.any():
-        out[first] = f(p[first])
-    if not first.all():
-        out[~first] = g(p[~first])
-    return out
-
-
-def _lobatto(lo: float, hi: float, n: int) -> FloatArray:
-    """The ``n`` Chebyshev–Lobatto points of [lo, hi], ascending, the ends exact."""
-    s = (lo + hi) / 2.0 - (hi - lo) / 2.0 * np.cos(np.pi * np.arange(n) / (n - 1))
-    s[0], s[-1] = lo, hi
-    return np.asarray(s, dtype=float)
-
-
 def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile,
                  exact: Callable[[FloatArray], FloatArray] | None = None) -> tuple[BandIntegral, float, bool]:
     """R of the effective medium through the σ(p) table, refined until R changes by < RTOL; (integral, change, converged).
     ``exact`` as for :func:`effective_medium_sigma_table`."""
-    exact = _em_exact(case, contact) if exact is None else exact
+    exact = effective_medium_exact(case, contact) if exact is None else exact
     p_max = profile.max_pressure
     if float(exact(np.array([p_max]))[0]) <= 0:
         return series_resistance(profile, lambda p: np.zeros_like(p)), 0.0, True
     # plateaus (constant pieces) and p_max are evaluated exactly; the table serves the rest
-    table = _Table(exact, p_max, TABLE_POINTS[0])
+    table = SigmaTable(exact, p_max, TABLE_POINTS[0])
     plateaus: dict[float, float] = {}
     if profile.shape == "table":
         flat = (np.diff(profile.pressure) == 0) & (np.diff(profile.x) > 0) & (profile.pressure[:-1] > 0)
@@ -638,7 +279,7 @@ def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile,
         if levels.size:
             plateaus = dict(zip(levels.tolist(), exact(levels).tolist()))
 
-    def sigma_of(tab: _Table) -> Callable[[FloatArray], FloatArray]:
+    def sigma_of(tab: SigmaTable) -> Callable[[FloatArray], FloatArray]:
         def sigma(p: FloatArray) -> FloatArray:
             out = tab(p)
             for level, value in plateaus.items():
@@ -730,7 +371,7 @@ def _load_error(band: BandSeal, i: int, profile: PressureProfile, exc: InputErro
                                     + exc.allowed.replace("a larger squeeze pressure (Pa)", f"a larger {band.load_name}"))
 
 
-def _surface(case: Case, band: BandSeal) -> _SweepSurface | None:
+def _surface(case: Case, band: BandSeal) -> SweepSurface | None:
     """The σ_eff surface of a sweep of at least :data:`SURFACE_MIN_LOADS` loads over every pressure its tables ask for
     (down to :data:`LIFT_OFF_FLOOR` × the lowest mean pressure with the fluid pressure coupled, else
     :data:`TABLE_FLOOR` × the lowest peak), or None."""
@@ -742,7 +383,7 @@ def _surface(case: Case, band: BandSeal) -> _SweepSurface | None:
     if not (np.isfinite(low) and low > 0):
         return None
     try:
-        return _SweepSurface.build(case, np.asarray(band.q0, dtype=float), low, max(p.max_pressure for p in profiles))
+        return SweepSurface.build(case, np.asarray(band.q0, dtype=float), low, max(p.max_pressure for p in profiles))
     except InputError:  # a pressure the theory cannot use: the load that gives it says so below, exactly
         return None
 
@@ -773,7 +414,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
             try:
                 contact = persson_contact(case, float(q0))
                 em_unit_exact = surface.for_load(contact) if surface is not None else None
-                em_exact = _em_exact(case, contact) if em_unit_exact is None else _scaled(em_unit_exact, 1.0 / eta)
+                em_exact = effective_medium_exact(case, contact) if em_unit_exact is None else _scaled(em_unit_exact, 1.0 / eta)
                 sigma = junction_sigma(case, contact)
                 g = series_resistance(profile, sigma)
                 cj_int.append(g)

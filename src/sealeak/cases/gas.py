@@ -27,7 +27,8 @@ from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral, with_throug
 from ..physics.permeation import OringPermeation, oring_permeation, slab_permeation
 from ..physics.profile import PressureProfile
 from ..physics.properties import fluid_state
-from .band import BandResult, effective_medium_sigma_table, persson_contact
+from .band import BandResult
+from .band_tables import effective_medium_sigma_table, persson_contact
 from .model import Case
 from .prediction import FloatArray, Model, _band_effective_gap
 from .schema import case_keys

@@ -36,7 +36,8 @@ from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import effective_medium
 from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral, with_throughput
 from ..physics.validity import strain_warning
-from .band import BandResult, chebyshev_lobatto_interpolate, run_band
+from .band import BandResult, run_band
+from .band_tables import chebyshev_lobatto_interpolate
 from .gas import CoupledGasSeal, band_gas_seal, uniform_gas_seals
 from .model import Case
 from .notes import Note, NoteLike

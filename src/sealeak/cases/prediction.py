@@ -22,7 +22,8 @@ from ..physics.coupling import LIFT_OFF_FLOOR, coupled_band_flow, effective_pres
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
 from ..physics.effective_medium import EffectiveMediumResult, effective_medium
 from ..physics.seal import Seal
-from .band import BandResult, BandTheory, effective_medium_sigma_table, junction_sigma, persson_contact, run_band
+from .band import BandResult, BandTheory, junction_sigma, run_band
+from .band_tables import effective_medium_sigma_table, persson_contact
 from .model import Case
 from .notes import NoteLike
 from .schema import case_keys
@@ -68,7 +69,7 @@ def predict_effective_medium(case: Case, squeeze_pressure: ArrayLike | None = No
     """Bruggeman effective-medium leak rate Q = (Ly/Lx) σ_eff ΔP of ``case`` in m³/s (Bruggeman (1935); docs/theory.md §5.3).
 
     With ``theory.fluid_pressure = "coupled"``, (Ly/Lx) ∫σ_eff(s) ds over P0 − ΔP .. P0 (docs/theory.md eq. 13.2),
-    σ_eff interpolated between exact values (:func:`~sealeak.cases.band.effective_medium_sigma_table`).
+    σ_eff interpolated between exact values (:func:`~sealeak.cases.band_tables.effective_medium_sigma_table`).
     """
     with case_keys():
         contact = case.contact()

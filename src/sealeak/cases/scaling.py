@@ -27,7 +27,8 @@ from scipy.optimize import brentq
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
 from ..physics.critical_junction import CriticalJunctionResult, critical_junction
-from .band import junction_sigma, persson_contact, piecewise
+from .band import junction_sigma
+from .band_tables import persson_contact, piecewise
 from .model import Case
 
 __all__ = ["scaled_leak_rate", "sigma_table", "band_junction_tables", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
