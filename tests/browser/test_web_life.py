@@ -37,15 +37,21 @@ def _boxes_apart(page, plot_id: str) -> None:
     assert legend["y"] >= title["y"] + title["height"], (plot_id, legend, title)
 
 
-def test_life_plots_draw_the_rows_against_time_and_temperature(page, artifacts):
-    goto(page, "/case")  # the bundled life example with a specification, typed into the TOML editor
-    text = example_text("nbr-o-ring-life").replace('downstream_pressure = "1 bar"',
-                                                   'downstream_pressure = "1 bar"\nmax_leak_rate = "1e-6 mbar*l/s"')
+def _predicted(page, text: str) -> list[dict]:
+    """Type ``text`` into the case page's TOML editor, open the prediction page once it has run, and return the rows
+    of its JSON."""
+    goto(page, "/case")
     page.fill("#toml-editor", text)
     page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
     goto(page, "/prediction")
     page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
-    rows = page.evaluate("fetch('/download/results.json').then(r => r.json())")["results"]
+    return page.evaluate("fetch('/download/results.json').then(r => r.json())")["results"]
+
+
+def test_life_plots_draw_the_rows_against_time_and_temperature(page, artifacts):
+    # the bundled life example with a specification
+    rows = _predicted(page, example_text("nbr-o-ring-life").replace(
+        'downstream_pressure = "1 bar"', 'downstream_pressure = "1 bar"\nmax_leak_rate = "1e-6 mbar*l/s"'))
     cases: dict[tuple[float, float], list[dict]] = {}  # each (time, temperature): its rows, one per load, in order
     for r in rows:
         cases.setdefault((r["time"], r["temperature"]), []).append(r)
@@ -105,18 +111,13 @@ def test_life_plots_of_a_study_draw_each_variant_on_its_own_curves(page, artifac
     """A [study] × life file (h_rms 1.5 and 3 µm, 2 times × 2 temperatures, 2 compressions): each panel has a curve
     per variant and temperature, named after the variant, drawing that variant's rows (not the rows of all variants
     taken as more loads)."""
-    goto(page, "/case")
     text = (example_text("nbr-o-ring-life")
             .replace('time = ["1 h", "30 d", "1 a", "10 a"]', 'time = ["1 h", "1 a"]')
             .replace('temperature = ["-40 degC", "-10 degC", "20 degC", "60 degC", "100 degC"]',
                      'temperature = ["-10 degC", "60 degC"]')
             + '\n[study]\nvary = "surface.h_rms"\nvalues = ["1.5 um", "3 um"]\n'
               'labels = ["h_rms = 1.5 µm", "h_rms = 3 µm"]\n')
-    page.fill("#toml-editor", text)
-    page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
-    goto(page, "/prediction")
-    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
-    rows = page.evaluate("fetch('/download/results.json').then(r => r.json())")["results"]
+    rows = _predicted(page, text)
     cases: dict[tuple[str, float, float], list[dict]] = {}  # each (variant, time, temperature): its rows, by load
     for r in rows:
         cases.setdefault((r["variant"].split("; ")[0], r["time"], r["temperature"]), []).append(r)
