@@ -206,21 +206,28 @@ def test_loose_shots_far_from_the_root_leave_the_root_alone(fraction, monkeypatc
     assert mixed.flow == pytest.approx(tight.flow, rel=5e-9)
 
 
-@pytest.mark.parametrize("fraction", [0.05, 0.5, 0.95])
-def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(fraction, monkeypatch):
+def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(monkeypatch):
     """Newton's last step from a shot at 1e-10 is taken without a shot to confirm it where C δ² (C from the last two
     steps, at least coupling.NEWTON_CURVATURE) is below rtol/10: the flow is that of solving on until a step falls
-    below 10 rtol (the criterion alone, NEWTON_CURVATURE infinite), within the ODE's own error, with a shot fewer."""
+    below 10 rtol (the criterion alone, NEWTON_CURVATURE infinite), within the ODE's own error, with a shot fewer where
+    the criterion holds. Whether it holds for one band may turn on the last bits of its steps, which differ between CPUs
+    (a band at 0.95 p_max sits at the border on some), so a shot fewer is asked of the three bands together."""
     profile = PressureProfile.semi_elliptic(W, P_MAX)
-    clear_caches()
-    early = coupled_band_flow(profile, sigma, fraction * P_MAX)
-    monkeypatch.setattr(coupling, "NEWTON_CURVATURE", float("inf"))
-    clear_caches()
-    confirmed = coupled_band_flow(profile, sigma, fraction * P_MAX)
-    assert early.converged and confirmed.converged
-    # (shots at 1e-10 hold q to ~1e-9: the confirming shot's own step is 8e-10 at 0.5 and 0.95 p_max)
-    assert early.flow == pytest.approx(confirmed.flow, rel=2e-9)
-    assert early.shots == confirmed.shots - 1
+    early, confirmed = [], []
+    curvature = coupling.NEWTON_CURVATURE
+    for fraction in (0.05, 0.5, 0.95):
+        monkeypatch.setattr(coupling, "NEWTON_CURVATURE", curvature)
+        clear_caches()
+        early.append(coupled_band_flow(profile, sigma, fraction * P_MAX))
+        monkeypatch.setattr(coupling, "NEWTON_CURVATURE", float("inf"))
+        clear_caches()
+        confirmed.append(coupled_band_flow(profile, sigma, fraction * P_MAX))
+    for a, b in zip(early, confirmed, strict=True):
+        assert a.converged and b.converged
+        # (shots at 1e-10 hold q to ~1e-9: the confirming shot's own step is 8e-10 at 0.5 and 0.95 p_max)
+        assert a.flow == pytest.approx(b.flow, rel=2e-9)
+        assert a.shots <= b.shots
+    assert sum(a.shots for a in early) < sum(b.shots for b in confirmed)
 
 
 def _early(steps, rtol=1e-9):

@@ -12,10 +12,12 @@ Every strip uses the contact mechanics of the band, with q0 = 2π/w (w the load'
 unless the case file sets q0. Beside it the leak rate that a uniform pressure equal to the mean
 would give, Q_u = faces · (Ly/w) σ(p_mean) ΔP, shows what averaging the pressure would do.
 
-The effective medium costs ~10 ms per pressure, so its σ(p) is interpolated between exact values at
-Chebyshev points in ln p (barycentric, in ln σ) over [p_max·1e-6, p_max], the points doubled until R
-changes by less than 1e-8; pressures below the table's end take σ(p_max·1e-6) (a strip of relative
-width below 1e-12 for a Hertz profile).
+The effective medium costs a few ms per pressure, so its σ(p) is interpolated between exact values at
+Chebyshev points in ln p (barycentric, in ln σ) over [p_max·TABLE_FLOOR, p_max] (TABLE_FLOOR = 1e-3), the points
+doubled until R changes by less than TABLE_RTOL (1e-5); pressures below the table's end take σ there (a strip of
+relative width ~5e-7 for a Hertz profile, where σ is largest). With the fluid pressure coupled the tables reach
+down to LIFT_OFF_FLOOR × the pressure (docs/theory.md §13.3); a sweep's loads share one σ_eff surface
+(:class:`~sealeak.cases.band_tables.SweepSurface`).
 """
 
 from __future__ import annotations
