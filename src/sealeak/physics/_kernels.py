@@ -60,7 +60,9 @@ def weighted_sum(values: NDArray[np.float64], weights: NDArray[np.float64], axis
     element-wise product added element-wise, j = 0, 1, ...: the same bits every time.
     """
     w = np.asarray(weights, dtype=float)
-    v = np.moveaxis(np.asarray(values, dtype=float), axis, 0)
+    v = np.asarray(values, dtype=float)
+    if axis != 0:
+        v = np.moveaxis(v, axis, 0)
     out = v[0] * w[0]
     for j in range(1, w.size):
         out += v[j] * w[j]

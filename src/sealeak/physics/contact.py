@@ -42,6 +42,7 @@ How the ζ-integrals are computed (docs/theory.md §2.9; exact to ~1e-9 relative
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import cast
 
 import numpy as np
@@ -68,6 +69,21 @@ def _row_sums(values: FloatArray, count: NDArray[np.intp]) -> FloatArray:
     if filled.any():
         out[filled] = np.add.reduceat(values, (np.cumsum(count) - count)[filled])
     return out
+
+
+def _area(g: FloatArray, p0: FloatArray) -> FloatArray:
+    """A(ζ)/A0 = erf(P0/(2√G)) from G(ζ) (Pa²) and P0 (Pa) (docs/theory.md eq. 2.4)."""
+    with np.errstate(divide="ignore"):
+        x = p0 / (2.0 * np.sqrt(g))
+    return cast(FloatArray, special.erf(x))  # G = 0 (ζ = 1): x = inf, A/A0 = 1
+
+
+def _area_derivative(g: FloatArray, gp: FloatArray, p0: FloatArray) -> FloatArray:
+    """d(A/A0)/dζ from G (Pa²), dG/dζ (Pa²) and P0 (Pa) (docs/theory.md eq. 2.5)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = p0 / (2.0 * np.sqrt(g))
+        out = (2.0 / np.sqrt(np.pi)) * np.exp(-x * x) * (-x * gp / (2.0 * g))
+    return np.where(g > 0, out, 0.0)  # at ζ = 1 every derivative of erf(∞) vanishes
 
 
 def contact_modulus(youngs_modulus: float, poisson_ratio: float,
@@ -148,10 +164,15 @@ class PerssonContact:
     def _m3(self, q: ArrayLike) -> FloatArray:
         return self.spectrum.cumulative_moment(3, q)
 
+    @cached_property
+    def _m3_fixed(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """M3 at q0, at q1 and at every node of the spectrum (the same numbers on every call, computed once)."""
+        return self._m3(self.q0), self._m3(self.spectrum.q_max), self._m3(self.spectrum.q[None, :])
+
     def G(self, zeta: ArrayLike) -> FloatArray:
         """G(ζ) = (π/4) E*² ∫_{q0}^{ζq0} q³C dq in Pa² (Persson (2001); docs/theory.md §2.3, eq. 2.3)."""
         z = np.asarray(zeta, dtype=float)
-        return 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - self._m3(self.q0))
+        return 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - self._m3_fixed[0])
 
     def dG_dzeta(self, zeta: ArrayLike) -> FloatArray:
         """dG/dζ = (π/4) E*² q0 (ζq0)³ C(ζq0) in Pa² (docs/theory.md §2.3, eq. 2.3)."""
@@ -163,21 +184,11 @@ class PerssonContact:
 
         Persson, J. Chem. Phys. 115 (2001) 3840; Lorenz & Persson (2009), unnumbered; docs/theory.md §2.4 (eq. 2.4).
         """
-        g = self.G(zeta)
-        p0 = np.asarray(squeeze_pressure, dtype=float)
-        with np.errstate(divide="ignore"):
-            x = p0 / (2.0 * np.sqrt(g))
-        return special.erf(x)  # G = 0 (ζ = 1): x = inf, A/A0 = 1
+        return _area(self.G(zeta), np.asarray(squeeze_pressure, dtype=float))
 
     def area_derivative(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """d(A/A0)/dζ = (2/√π) e^(-x²) dx/dζ with x = P0/(2√G), dx/dζ = -x G'/(2G); <= 0 (docs/theory.md §2.4, eq. 2.5)."""
-        g = self.G(zeta)
-        gp = self.dG_dzeta(zeta)
-        p0 = np.asarray(squeeze_pressure, dtype=float)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = p0 / (2.0 * np.sqrt(g))
-            out = (2.0 / np.sqrt(np.pi)) * np.exp(-x * x) * (-x * gp / (2.0 * g))
-        return np.where(g > 0, out, 0.0)  # at ζ = 1 every derivative of erf(∞) vanishes
+        return _area_derivative(self.G(zeta), self.dG_dzeta(zeta), np.asarray(squeeze_pressure, dtype=float))
 
     def mean_pressure(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
         """p(ζ) = P0 A0/A(ζ) in Pa, the mean pressure in the apparent contact (Lorenz & Persson (2009), unnumbered; docs/theory.md §2.5, eq. 2.6)."""
@@ -201,16 +212,20 @@ class PerssonContact:
         return np.where(exists, zeta, self.zeta_max), exists
 
     # ------------------------------------------------------------------ separation integrals
-    def _integrals(self, zeta: ArrayLike, p0: ArrayLike, derivative: bool) -> tuple[FloatArray, FloatArray | None]:
+    def _integrals(self, zeta: ArrayLike, p0: ArrayLike, derivative: bool,
+                   ) -> tuple[FloatArray, FloatArray | None, FloatArray, FloatArray | None]:
+        """(ū, ū' or None, A/A0, d(A/A0)/dζ or None), each of the shape of ζ and P0 broadcast."""
         spec = self.spectrum
+        m3_q0, m3_top, m3_nodes = self._m3_fixed
         z, p0 = np.broadcast_arrays(np.asarray(zeta, dtype=float), np.asarray(p0, dtype=float))
         shape = z.shape
         z = z.ravel()
         p0 = p0.ravel()
         qz = np.maximum(z * self.q0, spec.q_min)
         m_lo = self._m3(qz)
-        big_t = self._m3(spec.q_max) - m_lo  # t at q1
-        area = self.area(z, p0)
+        big_t = m3_top - m_lo  # t at q1
+        g = 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - m3_q0)  # G(ζ)
+        area = _area(g, p0)
         p = p0 / area
         kappa = p / (self.e_star * np.sqrt(np.pi))  # y = kappa / sqrt(t)
         active = (big_t > 0) & (z * self.q0 < spec.q_max)
@@ -224,7 +239,7 @@ class PerssonContact:
         step = width / per_row
         k = np.arange(int(np.max(per_row[active], initial=1.0)) + 1)
         uniform = np.minimum(s_lo[:, None] + step[:, None] * k[None, :], s_hi[:, None])
-        node_t = self._m3(spec.q[None, :]) - m_lo[:, None]
+        node_t = m3_nodes - m_lo[:, None]
         with np.errstate(divide="ignore"):
             node_s = np.log(np.where(node_t > 0, node_t, 0.0))
         node_s = np.clip(node_s, s_lo[:, None], s_hi[:, None])
@@ -243,15 +258,16 @@ class PerssonContact:
         tags = np.take_along_axis(tags, order, axis=1)
         segment = np.clip(np.cumsum(tags == -2, axis=1)[:, :-1] - 1, 0, spec.q.size - 2)
         y_panel = np.where((tags[:, :-1] >= 0) & (tags[:, 1:] == tags[:, :-1] + 1), tags[:, :-1], -1)
-        d = pz = None
+        d = pz = da = None
         if derivative:
             d = self.q0 * qz**3 * spec(qz)
-            pz = -p0 * self.area_derivative(z, p0) / area**2 / (np.sqrt(np.pi) * self.e_star)
+            da = _area_derivative(g, self.dG_dzeta(z), p0)
+            pz = -p0 * da / area**2 / (np.sqrt(np.pi) * self.e_star)
         ubar_flat, dubar_flat = self._panel_sums(edges, active, m_lo, kappa, d, pz, segment, y_panel)
         ubar = cast(FloatArray, np.where(active, ubar_flat, 0.0).reshape(shape))
-        if dubar_flat is None:
-            return ubar, None
-        return ubar, cast(FloatArray, np.where(active, dubar_flat, 0.0).reshape(shape))
+        if dubar_flat is None or da is None:
+            return ubar, None, area.reshape(shape), None
+        return ubar, cast(FloatArray, np.where(active, dubar_flat, 0.0).reshape(shape)), area.reshape(shape), da.reshape(shape)
 
     def _panel_sums(self, edges: FloatArray, active: NDArray[np.bool_], m_lo: FloatArray, kappa: FloatArray,
                     d: FloatArray | None, pz: FloatArray | None, segment: NDArray[np.intp],
@@ -316,44 +332,44 @@ class PerssonContact:
                 # arrays (order, panels): the per-panel constants broadcast along the long last axis; few temporaries
                 blk = panels[lo:lo + _BLOCK]
                 if same_y:
-                    j = np.take(y_panel, blk)
-                    t = np.take(kappa2, blk) * inv_y2_tab[:, j]
+                    j = y_panel[blk]
+                    t = kappa2[blk] * inv_y2_tab[:, j]
                 else:
-                    s = np.take(half, blk) * xg
-                    s += np.take(mid, blk)
+                    s = half[blk] * xg
+                    s += mid[blk]
                     t = np.exp(s)
-                ratio = t + np.take(offset, blk)  # z = e r, then q_k/q = (1 + z)^(-1/e)
-                ratio *= np.take(slope, blk)
+                ratio = t + offset[blk]  # z = e r, then q_k/q = (1 + z)^(-1/e)
+                ratio *= slope[blk]
                 if plateau:
                     ratio += 1.0
                     np.sqrt(ratio, out=ratio)
                     np.sqrt(ratio, out=ratio)
                     np.reciprocal(ratio, out=ratio)
                 else:
-                    lin = np.take(linear, blk)
+                    lin = linear[blk]
                     z_lin = ratio[:, lin] if lin.any() else None
                     np.log1p(ratio, out=ratio)
-                    ratio *= np.take(neg_inv_e, blk)
+                    ratio *= neg_inv_e[blk]
                     if z_lin is not None:
                         ratio[:, lin] = -z_lin
                     np.exp(ratio, out=ratio)
-                np.maximum(ratio, np.take(floor, blk), out=ratio)
+                np.maximum(ratio, floor[blk], out=ratio)
                 if same_y:
                     f, p = f_tab[:, j], p_tab[:, j]
-                    ratio *= np.take(kappa_p, blk) * inv_y_tab[:, j]  # √t q_k/q
+                    ratio *= kappa_p[blk] * inv_y_tab[:, j]  # √t q_k/q
                 else:
-                    y2 = np.take(kappa2, blk) / t
-                    np.subtract(np.take(log_kappa2, blk), s, out=s)  # ln y²
+                    y2 = kappa2[blk] / t
+                    np.subtract(log_kappa2[blk], s, out=s)  # ln y²
                     f, p = _kernels.f_and_slope(y2, s, self.gamma)
                     ratio *= np.sqrt(t, out=y2)  # √t q_k/q
-                factor_b = np.take(factor, blk)
+                factor_b = factor[blk]
                 ubar[blk] = _kernels.weighted_sum(f * ratio, wg, axis=0) * factor_b
                 if dubar is not None:
                     two = _kernels.weighted_sum(p * ratio, wg, axis=0)
                     f = f - p
                     ratio /= t  # q_k/(q √t)
                     f *= ratio
-                    dubar[blk] = (np.take(d_half, blk) * _kernels.weighted_sum(f, wg, axis=0) - np.take(pz_kappa, blk) * two) * factor_b  # type: ignore[arg-type, operator]
+                    dubar[blk] = (d_half[blk] * _kernels.weighted_sum(f, wg, axis=0) - pz_kappa[blk] * two) * factor_b  # type: ignore[arg-type, operator, index]
         return _row_sums(ubar, count), None if dubar is None else _row_sums(dubar, count)
 
     def mean_gap(self, zeta: ArrayLike, squeeze_pressure: ArrayLike) -> FloatArray:
@@ -375,9 +391,7 @@ class PerssonContact:
         Yang & Persson, J. Phys.: Condens. Matter 20 (2008) 215214; Lorenz & Persson (2009), unnumbered;
         docs/theory.md §2.10 (eq. 2.12).
         """
-        ubar, dubar = self._integrals(zeta, squeeze_pressure, derivative=True)
-        a = self.area(zeta, squeeze_pressure)
-        da = self.area_derivative(zeta, squeeze_pressure)
+        ubar, dubar, a, da = self._integrals(zeta, squeeze_pressure, derivative=True)
         # where A'(ζ) is tiny (ζ -> 1, or a steep spectrum) u1 -> +inf: the quotient overflows to inf, as it should
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             return ubar + dubar * a / da  # type: ignore[operator]
