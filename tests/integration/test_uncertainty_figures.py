@@ -103,6 +103,19 @@ def test_tornado_sorts_inputs_by_total_index_largest_on_top():
     assert "at P0 = 200 kPa" in ax.get_title()
 
 
+def test_tornado_puts_an_inputs_spread_under_its_name_so_the_bars_keep_the_width():
+    """Labels as the case file's inputs give them ("key: spread") take two lines, the name above its spread: long
+    spreads (a uniform distribution's bounds) leave the bars more than half the figure's width."""
+    labels = ["surface.h_rms: 1 um ± 15 %", "theory.alpha: 1.0 (uniform, low = 0.5, high = 1.5)",
+              "theory.percolation_threshold: 0.6 (normal, sd = 0.02)"]
+    first, total = np.array([0.5, 0.1, 0.2]), np.array([0.6, 0.15, 0.3])
+    fig = _build(lambda: figure_tornado(labels, first, total, first / 10, total / 10))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    assert "theory.alpha\n1.0 (uniform, low = 0.5, high = 1.5)" in [t.get_text() for t in ax.get_yticklabels()]
+    assert ax.get_position().width > 0.5
+
+
 def test_distribution_counts_the_probability_of_passing_with_sealed_samples_passing():
     rng = np.random.default_rng(1)
     q = 10.0 ** rng.normal(-11.0, 0.5, 400)

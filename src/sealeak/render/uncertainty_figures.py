@@ -195,7 +195,7 @@ def figure_tornado(labels: Sequence[str], first: np.ndarray, total: np.ndarray, 
     """
     first, total = np.asarray(first, dtype=float), np.asarray(total, dtype=float)
     fig, ax = new_figure("Which input matters: Sobol' indices of log10 Q",
-                         figsize=(6.4, max(2.6, 1.7 + 0.42 * len(labels))))
+                         figsize=(6.4, max(2.6, 1.7 + 0.5 * len(labels))))
     ax.set_xlabel("share of the variance of log10 Q (1)")
     if not np.isfinite(total).any():
         say_nothing(ax, "no variance of log10 Q: the leak rate is the same in every sample")
@@ -209,7 +209,8 @@ def figure_tornado(labels: Sequence[str], first: np.ndarray, total: np.ndarray, 
             error_kw={"elinewidth": 0.8, "capsize": 2, "ecolor": "0.25"}, label="total index ST (alone and with interactions)")
     ax.barh(y - h / 2, np.clip(first[order], 0, None), h, xerr=err(first_conf), color="tab:cyan",
             error_kw={"elinewidth": 0.8, "capsize": 2, "ecolor": "0.25"}, label="first-order index S1 (alone)")
-    ax.set_yticks(y, [labels[i] for i in order])
+    # the input's name above its spread ("surface.h_rms" / "1 um ± 10 %"): the bars keep the figure's width
+    ax.set_yticks(y, [labels[i].replace(": ", "\n", 1) for i in order], fontsize=8.5)
     ax.grid(False, axis="y")
     ax.set_xlim(0, 1.05)
     ax.set_ylim(-0.7, len(order) - 0.3)
