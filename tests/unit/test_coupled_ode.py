@@ -4,6 +4,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy import integrate, optimize
@@ -146,6 +148,23 @@ def test_the_two_directions_of_the_band_agree_where_both_follow_it(fraction, mon
                                       (0.5 * forward.flow, 2.0 * forward.flow), 1e-10)
     assert forward.converged and inverse.converged
     assert inverse.flow == pytest.approx(forward.flow, rel=1e-6)
+
+
+def test_a_trial_flow_far_off_warns_nothing():
+    """The inverse integration with a bracket reaching 10^200 times below the flow: at its lower end dx/dτ overflows
+    and the integrator's step-size control with it, and nothing of that reaches the user as a NumPy warning (seen on
+    the CLI's stderr during an O-ring's uncertainty band); from a bracket of 10^100 the flow is found."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    clear_caches()
+    forward = coupled_band_flow(profile, sigma, 0.5 * P_MAX)
+    for below in (1e-100, 1e-200):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            got = coupling._solve_inverse(profile, lambda s: float(sigma(max(s, 1e-6 * P_MAX))), 0.5 * P_MAX,
+                                          (below * forward.flow, 2.0 * forward.flow), 1e-10)
+        assert got.converged == (below == 1e-100)
+        if got.converged:
+            assert got.flow == pytest.approx(forward.flow, rel=1e-6)
 
 
 @pytest.mark.parametrize("k", [30, 60, 120])

@@ -280,8 +280,9 @@ def _across(slope: Callable[[float, FloatArray], float], y: float, dp: float, fo
         if not solver.successful():
             raise _GaveUp
         return end
-    # the step-size control divides 0 by 0 where a step's error vanishes (a flat stretch): not an error
-    with np.errstate(invalid="ignore", divide="ignore"):
+    # the step-size control divides 0 by 0 where a step's error vanishes (a flat stretch), and overflows where a trial
+    # flow is far off: not an error
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         sol = solve_ivp(lambda t, u: [slope(t, u)], (0.0, np.pi), [y], method="DOP853", rtol=1e-10, atol=1e-12 * dp)
     return float(sol.y[0, -1])
 
@@ -392,7 +393,10 @@ def _solve_inverse(profile: PressureProfile, sigma: Callable[[float], float], dp
         def across(tau: float, x: FloatArray) -> float:
             return float(x[0]) - w
         across.terminal, across.direction = True, 1.0  # type: ignore[attr-defined]
-        sol = solve_ivp(rhs, (0.0, dp), [0.0], method="DOP853", rtol=1e-10, atol=1e-14 * w, events=across)
+        # a trial flow far too small makes dx/dτ overflow: the step-size control then overflows, divides 0 by 0 and
+        # rejects the step, which is its answer, not an error
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            sol = solve_ivp(rhs, (0.0, dp), [0.0], method="DOP853", rtol=1e-10, atol=1e-14 * w, events=across)
         if sol.status == 1:  # reached the outlet with fluid pressure left: q is too small
             return float(dp - sol.t_events[0][0]) / dp
         return float(sol.y[0, -1] - w) / w
