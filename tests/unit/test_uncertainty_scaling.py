@@ -184,6 +184,27 @@ def test_band_nominal_samples_are_the_deterministic_rows_bit_for_bit():
     assert all(np.array_equal(row, q) for row in result.values["leak_rate"])
 
 
+def test_samples_of_both_theories_compute_the_critical_junction_they_show(monkeypatch):
+    """With theory.model = "both" the rows show the critical junction, so a sample computes it alone
+    (uncertainty._shown_theory): after the nominal run of both theories every prediction is on the critical junction,
+    the samples' leak rates are those of the same case on the critical junction bit for bit, and a spread of zero
+    gives the deterministic rows of the case with both theories bit for bit."""
+    both = ORING_BAND.replace('model = "critical-junction"', 'model = "both"')
+    study = parse_uncertain_case(both)
+    assert study.cases[0].model == "both" and unc._scales_band(study)
+    models = []
+    real = unc.run_case
+    monkeypatch.setattr(unc, "run_case", lambda case: models.append(case.model) or real(case))
+    got = propagate(study, 8, seed=2)
+    assert models[0] == "both" and len(models) > 1 and set(models[1:]) == {"critical-junction"}
+    assert got.nominal[0].band.effective_medium is not None
+    alone = propagate(parse_uncertain_case(ORING_BAND), 8, seed=2)
+    assert np.array_equal(got.values["leak_rate"], alone.values["leak_rate"]) and np.ptp(got.values["leak_rate"][:, 0]) > 0
+    zero = propagate(parse_uncertain_case(both.replace("± 10 %", "± 0 %").replace('"1.0 ± 0.2"', "1.0")), 4, seed=0)
+    q = np.nan_to_num(zero.nominal[0].band.critical_junction.leak_rate)
+    assert all(np.array_equal(row, q) for row in zero.values["leak_rate"])
+
+
 def test_band_samples_take_the_peak_junction_from_their_own_sigma():
     """A band sample's u_c and λc at the peak pressure (the validity verdict's, the capillary and kinetic gap's) come
     from the band's σ (u_c = (12 η σ/α)^(1/3), ζc in closed form) instead of a new junction: the exact junction's within

@@ -185,7 +185,7 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
         values = [w[i] for w in written]
         tag = repr(values)
         if tag not in done:
-            cases = _sample_cases(study, values)
+            cases = [_shown_theory(c) for c in _sample_cases(study, values)]
             if tables is None or factors is None or factors["nominal"][i]:
                 done[tag] = record_values([run_case(c) for c in cases])
             else:  # the nominal contact's σ at the scaled pressures (docs/theory.md §14.5)
@@ -321,12 +321,13 @@ def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
 
 
 def _scales_band(study: UncertainStudy) -> bool:
-    """Whether every uncertain input is one :data:`_SCALED` names (no choice) and every case a band liquid seal on the
-    critical junction alone, without gas rows or capillarity, its rubber on a rigid counterface."""
+    """Whether every uncertain input is one :data:`_SCALED` names (no choice) and every case a band liquid seal whose
+    rows show the critical junction (its samples compute it alone, :func:`_shown_theory`), without gas rows or
+    capillarity, its rubber on a rigid counterface."""
     keys = {i.key for i in study.inputs}
     return bool(keys) and keys <= set(_SCALED) and all(i.distribution != "choice" for i in study.inputs) and all(
         c.band is not None and c.gas is None and not c.helium_equivalent and c.capillarity is None
-        and c.model == "critical-junction" for c in study.cases) and (
+        and c.model != "effective-medium" for c in study.cases) and (
         "substrate" not in (study.case_file.document or {}) or not keys & {"rubber.youngs_modulus", "rubber.poisson_ratio"})
 
 
@@ -356,6 +357,13 @@ def _band_tables(study: UncertainStudy, points: NDArray[np.float64], length: NDA
                             for pb, pc in zip(b.band.profiles, c.band.profiles, strict=True))):
                 return None
     return [band_junction_tables(c, float(length.min()), float(length.max())) for c in study.cases]
+
+
+def _shown_theory(case: Case) -> Case:
+    """A sample's case computing the theory its rows show alone: with ``theory.model = "both"`` the critical junction
+    (the samples' leak rates are that theory's, docs/cli.md), whose numbers do not depend on the effective medium
+    computed beside it: the same bits at a fraction of the cost (a band's effective medium needs σ tables per sample)."""
+    return replace(case, model="critical-junction") if case.model == "both" else case
 
 
 def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
