@@ -42,7 +42,8 @@ def test_contact_on_the_gpu_is_the_cpu_solution(fraction):
     p0 = fraction * 1e7 * MODEL.slope_rms / 2.0
     ref = solve_contact(h, L, 1e7, p0)
     res = solve_contact(xp.asarray(h), L, 1e7, p0)
-    assert res.contact_area == ref.contact_area and res.iterations == ref.iterations
+    # cuFFT and pocketfft differ in the last bits: the same contact set and iterations within a cell and an iteration
+    assert abs(res.contact_area - ref.contact_area) * 256**2 <= 2 and abs(res.iterations - ref.iterations) <= 1
     assert _close(res.pressure, ref.pressure) and _close(res.gap, ref.gap)
     assert res.on_host().pressure.__class__ is np.ndarray
 
@@ -52,7 +53,7 @@ def test_band_contact_on_the_gpu_is_the_cpu_solution():
     args = (L, L, 3e6, 1.31e-3, 50.0)
     ref = solve_band_contact(h, *args)
     res = solve_band_contact(xp.asarray(h), *args)
-    assert res.contact_area == ref.contact_area and _close(res.pressure, ref.pressure)
+    assert abs(res.contact_area - ref.contact_area) * 128**2 <= 2 and _close(res.pressure, ref.pressure)
 
 
 def test_simulate_on_the_gpu_gives_the_cpu_numbers():
@@ -60,9 +61,10 @@ def test_simulate_on_the_gpu_gives_the_cpu_numbers():
     case = replace(case, squeeze_pressure=np.array([3e4, 1e5]))
     cpu = simulate(case, grid=128, realizations=2, seed=1, device="cpu")
     gpu = simulate(case, grid=128, realizations=2, seed=1, device="cuda")
-    assert np.array_equal(gpu.relative_contact_area, cpu.relative_contact_area)
+    # the same contact within two cells of 128² (cuFFT and pocketfft differ in the last bits), the same percolation
+    assert np.abs(gpu.relative_contact_area - cpu.relative_contact_area).max() <= 2 / 128**2
     assert np.array_equal(gpu.per_realization["percolates"], cpu.per_realization["percolates"])
     # the gaps differ by FFT round-off (~1e-15 relative); the flow solve's own tolerance bounds what that becomes
     assert np.allclose(gpu.leak_rate, cpu.leak_rate, rtol=1e-6, atol=0)
     assert np.allclose(gpu.mean_gap, cpu.mean_gap, rtol=1e-12, atol=0)
-    assert gpu.percolation_threshold == pytest.approx(cpu.percolation_threshold, rel=1e-12)
+    assert gpu.percolation_threshold == pytest.approx(cpu.percolation_threshold, abs=2 / 128**2)
