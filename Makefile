@@ -21,9 +21,10 @@ demo: $(STAMP)
 		--table out/table.txt --json out/results.json --csv out/results.csv --plots out --force
 
 # everything CI checks: lint, the layer contracts, types, the documentation site, the test suite
-# (the web app's browser tests included: they fail, not skip, when Chromium is missing)
+# (the web app's browser tests included: they fail, not skip, when Chromium is missing); pytest runs one worker
+# per core (pytest-xdist, at most 4), each test file on one worker (its module fixtures computed once)
 test: lint docs-check browser
-	SEALEAK_REQUIRE_BROWSER=1 $(PY) -m pytest -q
+	SEALEAK_REQUIRE_BROWSER=1 $(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile
 
 # headless Chromium for the browser tests: Debian's package (Playwright drives it; it downloads no browser)
 browser:
