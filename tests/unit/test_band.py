@@ -72,19 +72,21 @@ def test_table_profile_refuses_nonsense(x, p, field):
 
 # ---------------------------------------------------------------------- limits of the series integral
 def test_constant_profile_reproduces_the_uniform_seal(base):
-    """A constant profile over the seal's width is today's uniform seal, both theories, to 1e-10."""
+    """A constant profile over the seal's width is today's uniform seal, both theories: the critical junction to 1e-10,
+    the effective medium to 1e-6 (a band's σ_eff takes the lighter ζ-rule of σ tables, within 6e-7 of the default)."""
     case = replace(base, model="both")
     for p0 in (2e4, 1e5, 4e5):
         r = run_band(_band(case, [PressureProfile.table([0, case.seal.width], [p0, p0])]))
         cj = predict(case, squeeze_pressure=[p0]).leak_rate[0]
         em = predict_effective_medium(case, squeeze_pressure=[p0]).leak_rate[0]
-        assert r.critical_junction.leak_rate[0] == pytest.approx(cj, rel=1e-10)
-        assert r.effective_medium.leak_rate[0] == pytest.approx(em, rel=1e-10)
+        assert r.critical_junction.leak_rate[0] == pytest.approx(cj, rel=1e-10, abs=0)
+        assert r.effective_medium.leak_rate[0] == pytest.approx(em, rel=1e-6, abs=0)  # (1.3e-7 here)
         assert r.critical_junction.uniform_mean_pressure[0] == pytest.approx(cj, rel=1e-10)
 
 
 def test_step_profile_is_the_series_sum(base):
-    """Two pressures side by side: 1/K = (w1/σ1 + w2/σ2)/Ly, for both theories, to 1e-8."""
+    """Two pressures side by side: 1/K = (w1/σ1 + w2/σ2)/Ly: the critical junction to 1e-8, the effective medium to
+    1e-6 (its band σ_eff takes the lighter ζ-rule of σ tables)."""
     case = replace(base, model="both")
     w, ly, dp = case.seal.width, case.seal.length, case.pressure_difference
     w1 = 0.3 * w
@@ -94,7 +96,8 @@ def test_step_profile_is_the_series_sum(base):
         s1 = fn(case, squeeze_pressure=[p1], pressure_difference=1.0).leak_rate[0] * w / ly  # σ = K Lx/Ly
         s2 = fn(case, squeeze_pressure=[p2], pressure_difference=1.0).leak_rate[0] * w / ly
         expect = ly * dp / (w1 / s1 + (w - w1) / s2)
-        assert getattr(r, theory).leak_rate[0] == pytest.approx(expect, rel=1e-8)
+        assert getattr(r, theory).leak_rate[0] == pytest.approx(expect, rel=1e-8 if theory == "critical_junction" else 1e-6,
+                                                                abs=0)
 
 
 def test_a_sealed_strip_seals_the_band(base):

@@ -108,7 +108,7 @@ def test_band_leak_curve_grows_faster_than_linear(tmp_path):
     assert np.all(np.diff(k) > 0)
     k_ignored = leak_curve(replace(case, fluid_pressure="ignored"), "critical-junction", 1.0, dp) / dp
     np.testing.assert_allclose(k_ignored, k_ignored[0], rtol=1e-12)
-    assert k[0] == pytest.approx(k_ignored[0], rel=1e-2)
+    assert k[0] == pytest.approx(k_ignored[0], rel=5e-2, abs=0)  # (ΔP = 1 kPa already opens the band by 2.4 %)
 
 
 #: A liquid just short of wetting: cos θ_r + cos θ_s = 2 cos 90.3° < 0, so the meniscus opposes entry (p_e ≈ 50 kPa here).
