@@ -43,7 +43,7 @@ def test_contact_on_the_gpu_is_the_cpu_solution(fraction):
     ref = solve_contact(h, L, 1e7, p0)
     res = solve_contact(xp.asarray(h), L, 1e7, p0)
     # cuFFT and pocketfft differ in the last bits: the same contact set and iterations within a cell and an iteration
-    assert abs(res.contact_area - ref.contact_area) * 256**2 <= 2 and abs(res.iterations - ref.iterations) <= 1
+    assert abs(res.contact_area - ref.contact_area) * h.size <= 2 and abs(res.iterations - ref.iterations) <= 1
     assert _close(res.pressure, ref.pressure) and _close(res.gap, ref.gap)
     assert res.on_host().pressure.__class__ is np.ndarray
 
@@ -53,7 +53,7 @@ def test_band_contact_on_the_gpu_is_the_cpu_solution():
     args = (L, L, 3e6, 1.31e-3, 50.0)
     ref = solve_band_contact(h, *args)
     res = solve_band_contact(xp.asarray(h), *args)
-    assert abs(res.contact_area - ref.contact_area) * 128**2 <= 2 and _close(res.pressure, ref.pressure)
+    assert abs(res.contact_area - ref.contact_area) * h.size <= 2 and _close(res.pressure, ref.pressure)
 
 
 def test_simulate_on_the_gpu_gives_the_cpu_numbers():

@@ -425,8 +425,8 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     a step that leaves the bracket of the shots so far takes its false position in q on ψ instead (kept 5 % of the
     bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step from a
     shot at 1e-10 is below 10 ``rtol`` relative (the error after it is of the order of its square, and the ODE's own
-    error on p_f(w), ~1e-8 ΔP, holds q to about 1e-9 whatever the root-finder: Brent's method on the same shots wanders
-    by as much), or, without a shot to confirm it, when its error C δ² is below rtol/10; either only where the steps
+    error on p_f(w), ~1e-8 ΔP, holds q to a few 1e-8 whatever the root-finder: Newton's and Brent's method on the same
+    band differ by up to 2.5e-8), or, without a shot to confirm it, when its error C δ² is below rtol/10; either only where the steps
     left, were Newton converging linearly at the rate of the last two, sum to less than rtol (:func:`_settled`).
     Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
     :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
