@@ -5,6 +5,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+try:  # (pytest's own module; where a release moves it, the guard below is off and the tests run as before)
+    from _pytest.approx import ApproxScalar
+except ImportError:  # pragma: no cover
+    try:
+        from _pytest.python_api import ApproxScalar
+    except ImportError:
+        ApproxScalar = None
+
 from sealeak.cases import example_path, load_cases, predict, predict_effective_medium
 
 
@@ -20,3 +28,22 @@ def sweep(case):
     cj = predict(replace(case, alpha=1.0), squeeze_pressure=p0).leak_rate
     em = predict_effective_medium(case, squeeze_pressure=p0).leak_rate
     return p0, cj, em
+
+
+def _no_silent_absolute_tolerance(compare):
+    """pytest.approx also allows an absolute error of 1e-12 unless ``abs`` is given: more than most SI values here
+    (a leak rate of 1e-11 m³/s, C(q) of 1e-30 m⁴), so such a check would pass whatever the relative error. A comparison
+    whose default absolute tolerance exceeds its relative one fails instead, asking for ``abs`` (docs/development.md,
+    "Tolerances")."""
+    def eq(self, actual):
+        expected = self.expected
+        if (self.abs is None and isinstance(expected, (int, float)) and not isinstance(expected, bool)
+                and expected != 0 and 1e-12 > (1e-6 if self.rel is None else self.rel) * abs(expected)):
+            raise AssertionError(f"pytest.approx({expected!r}, rel={self.rel}) would pass any value within 1e-12: "
+                                 "give abs (abs=0, or the scale below which a difference does not matter)")
+        return compare(self, actual)
+    return eq
+
+
+if ApproxScalar is not None:
+    ApproxScalar.__eq__ = _no_silent_absolute_tolerance(ApproxScalar.__eq__)

@@ -29,10 +29,10 @@ def test_prediction_plot_draws_the_band_of_the_cli(page, artifacts, tmp_path, mo
     assert cli(tmp_path, monkeypatch, capsys, "predict", "band.toml", "--json", "out.json", "-q")[0] == 0
     rows = json.loads((tmp_path / "out.json").read_text())["results"]
     # the page shows m³/s by default
-    assert band["5th percentile of the samples"] == pytest.approx([r["leak_rate_p05"] for r in rows], rel=1e-9)
-    assert band["5–95 % of 256 samples"] == pytest.approx([r["leak_rate_p95"] for r in rows], rel=1e-9)
-    assert band["median of the samples"] == pytest.approx([r["leak_rate_p50"] for r in rows], rel=1e-9)
-    assert band["critical junction (nominal inputs)"] == pytest.approx([r["leak_rate"] for r in rows], rel=1e-9)
+    assert band["5th percentile of the samples"] == pytest.approx([r["leak_rate_p05"] for r in rows], rel=1e-9, abs=0)
+    assert band["5–95 % of 256 samples"] == pytest.approx([r["leak_rate_p95"] for r in rows], rel=1e-9, abs=0)
+    assert band["median of the samples"] == pytest.approx([r["leak_rate_p50"] for r in rows], rel=1e-9, abs=0)
+    assert band["critical junction (nominal inputs)"] == pytest.approx([r["leak_rate"] for r in rows], rel=1e-9, abs=0)
     assert all(lo < q < hi for lo, q, hi in zip(band["5th percentile of the samples"], band["critical junction (nominal inputs)"],
                                                   band["5–95 % of 256 samples"]))
     page.locator("#plot-leak").scroll_into_view_if_needed()

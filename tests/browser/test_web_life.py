@@ -27,7 +27,7 @@ def _approx(shown: list, expected: list[float | None]) -> None:
     for s, e in zip(shown, expected):
         assert (s is None) == (e is None)
         if e is not None:
-            assert s == pytest.approx(e, rel=1e-9)
+            assert s == pytest.approx(e, rel=1e-9, abs=0)
 
 
 def _boxes_apart(page, plot_id: str) -> None:
@@ -75,7 +75,7 @@ def test_life_plots_draw_the_rows_against_time_and_temperature(page, artifacts):
             assert [x * SECONDS[unit] for x in c["x"]] == pytest.approx(times, rel=1e-9)
             _approx(c["y"], [q(t, T, n) for t in times])
         limit = curves["max_leak_rate = 1e-6 mbar*l/s"]
-        assert limit["y"] == pytest.approx([1e-6, 1e-6], rel=1e-9)
+        assert limit["y"] == pytest.approx([1e-6, 1e-6], rel=1e-9, abs=0)
 
     by_temp = _data(page, "plot-life-temperature")
     assert not by_temp["hidden"] and by_temp["layout"]["xaxis"]["title"]["text"] == "temperature T (°C)"

@@ -49,8 +49,8 @@ def test_prediction_page_shows_the_cli_leak_rate(page, artifacts, tmp_path, monk
     (tmp_path / "case.toml").write_text(case, encoding="utf-8")
     assert cli(tmp_path, monkeypatch, capsys, "predict", "case.toml", "--json", "out.json", "-q")[0] == 0
     (row,) = json.loads((tmp_path / "out.json").read_text())["results"]
-    assert shown == pytest.approx(row["leak_rate"], rel=1e-12)
-    assert float(text) == pytest.approx(row["leak_rate"], rel=1e-4)  # 5 significant digits on the page
+    assert shown == pytest.approx(row["leak_rate"], rel=1e-12, abs=0)
+    assert float(text) == pytest.approx(row["leak_rate"], rel=1e-4, abs=0)  # 5 significant digits on the page
     assert page.locator("#results-table tbody tr").count() == 1
 
     # a sweep: the table has a row per pressure, the plots are interactive, on log axes
@@ -85,9 +85,9 @@ def test_a_gas_case_shows_its_leak_rate_in_mbar_l_s(page, artifacts, tmp_path, m
     (tmp_path / "he.toml").write_text(example_text("helium-test"), encoding="utf-8")
     assert cli(tmp_path, monkeypatch, capsys, "predict", "he.toml", "--json", "out.json", "-q")[0] == 0
     row = json.loads((tmp_path / "out.json").read_text())["results"][0]
-    assert shown == pytest.approx(row["leak_rate_pv"], rel=1e-12)  # data-si: Pa·m³/s
-    assert float(text) == pytest.approx(row["leak_rate_mbar_l_s"], rel=1e-4)  # 1 mbar·l/s = 0.1 Pa·m³/s
-    assert float(text) == pytest.approx(shown / 0.1, rel=1e-4)
+    assert shown == pytest.approx(row["leak_rate_pv"], rel=1e-12, abs=0)  # data-si: Pa·m³/s
+    assert float(text) == pytest.approx(row["leak_rate_mbar_l_s"], rel=1e-4, abs=0)  # 1 mbar·l/s = 0.1 Pa·m³/s
+    assert float(text) == pytest.approx(shown / 0.1, rel=1e-4, abs=0)
     assert "mbar·l/s" in page.evaluate("document.getElementById('plot-leak').layout.yaxis.title.text")
     page.screenshot(path=str(artifacts / "prediction-gas.png"), full_page=False)
 

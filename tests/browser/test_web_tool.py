@@ -108,7 +108,7 @@ def test_results_in_the_units_the_user_chooses(page, artifacts, tmp_path, monkey
     row = cli_json(tmp_path, monkeypatch, capsys, "reference-experiment")["results"]
     assert page.inner_text("#leak-rate-unit") == "ml/min"
     ml_min = unit_factor("u", "ml/min", "volume_flow")
-    assert float(page.inner_text("#leak-rate")) == pytest.approx(row[0]["leak_rate"] / ml_min, rel=1e-4)
+    assert float(page.inner_text("#leak-rate")) == pytest.approx(row[0]["leak_rate"] / ml_min, rel=1e-4, abs=0)
     assert page.inner_text("#first-pressure") == f"P0 = {row[0]['squeeze_pressure'] / 1e5:.4g} bar"
     heads = page.locator("#results-table th").all_inner_texts()
     assert "squeeze_pressure (bar)" in heads and "critical_gap (mm)" in heads and "leak_rate (ml/min)" in heads
@@ -132,7 +132,7 @@ def test_a_gas_in_sccm_a_compression_in_percent_and_its_sealed_point_marked(page
     page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
     page.select_option("#unit-throughput", "sccm")
     rows = cli_json(tmp_path, monkeypatch, capsys, "helium-test")["results"]
-    assert float(page.inner_text("#leak-rate")) == pytest.approx(rows[0]["leak_rate_sccm"], rel=1e-4)
+    assert float(page.inner_text("#leak-rate")) == pytest.approx(rows[0]["leak_rate_sccm"], rel=1e-4, abs=0)
     layout = page.evaluate("document.getElementById('plot-leak').layout")
     assert layout["xaxis"]["title"]["text"] == "compression ε (%)" and layout["xaxis"]["type"] == "linear"
     traces = page.evaluate("document.getElementById('plot-leak').data.map(t => ({name: t.name, x: t.x, y: t.y}))")

@@ -147,7 +147,7 @@ def test_rig_of_a_profile_seal_against_the_closed_form_drain(tmp_path, capsys):
     assert "pressure profile at profile scale 1.2: contact width 0.5 mm" in text and "kPa on the" not in text
     doc = json.loads(out.read_text())
     model = doc["models"]["critical junction (α = 0.5)"]
-    assert model["conductance"] == pytest.approx(k, rel=1e-9)
+    assert model["conductance"] == pytest.approx(k, rel=1e-9, abs=0)
     area, rho_g = np.pi * 0.5e-3**2 / 4, 1000.0 * 9.80665
     tau = area / (k * rho_g)  # H = H0 exp(-t/τ): from 1 m to 0.25 m in τ ln 4
     assert model["time_constant"] == pytest.approx(tau, rel=1e-9)
@@ -155,7 +155,7 @@ def test_rig_of_a_profile_seal_against_the_closed_form_drain(tmp_path, capsys):
     assert model["time_to_final_height_ode"] == pytest.approx(tau * np.log(4.0), rel=1e-6)
     t, h = np.array(model["time"]), np.array(model["height"])
     assert np.allclose(h, np.exp(-t / tau), rtol=1e-6, atol=1e-9)
-    assert doc["profile_scale"] == 1.2 and doc["band"]["contact_width"] == pytest.approx(0.5e-3, rel=1e-12)
+    assert doc["profile_scale"] == 1.2 and doc["band"]["contact_width"] == pytest.approx(0.5e-3, rel=1e-12, abs=0)
     assert doc["band"]["max_contact_pressure"] == pytest.approx(1.2 * 0.2e6, rel=1e-12)
     assert (tmp_path / "f" / "rig.png").exists()
 
@@ -197,7 +197,7 @@ def test_linearity_of_a_profile_seal(tmp_path, capsys):
     assert main(["fit", str(case_file), "--data", str(data), "--linearity", "--json", str(out)]) == 0
     assert "load       profile scale 1.5 (from the data file)" in capsys.readouterr().out
     doc = json.loads(out.read_text())["linearity"]
-    assert doc["model_slopes"]["critical junction (α = 0.5)"] == pytest.approx(k, rel=1e-9)
+    assert doc["model_slopes"]["critical junction (α = 0.5)"] == pytest.approx(k, rel=1e-9, abs=0)
     assert doc["alpha_from_slope"] == pytest.approx(2 * 0.5, rel=1e-9) and doc["profile_scale"] == 1.5
     out.unlink()
     _refused(capsys, ["fit", str(case_file), "--data", str(data), "--linearity", "--squeeze-pressure", "1 MPa",

@@ -83,8 +83,8 @@ def test_viscous_decay_matches_closed_form(tmp_path, p1, p2):
     assert model["time_to_pressure_loss"] == pytest.approx(t_loss, rel=1e-8)
     assert model["time_to_pressure_loss_no_slip"] == pytest.approx(t_loss, rel=1e-12)
     q_std = v * 0.3 * (p1 - p2) / t_loss
-    assert model["standard_leak_rate_pv"] == pytest.approx(q_std, rel=1e-8)
-    assert model["standard_leak_rate_mbar_l_s"] == pytest.approx(10 * q_std, rel=1e-12)  # 1 Pa·m³/s = 10 mbar·l/s
+    assert model["standard_leak_rate_pv"] == pytest.approx(q_std, rel=1e-8, abs=0)
+    assert model["standard_leak_rate_mbar_l_s"] == pytest.approx(10 * q_std, rel=1e-12, abs=0)  # 1 Pa·m³/s = 10 mbar·l/s
 
 
 def test_small_pressure_difference_is_exponential(tmp_path):
@@ -105,7 +105,7 @@ def test_rarefaction_speeds_the_decay(tmp_path):
     (model,) = slip["models"].values()
     assert model["knudsen_number"] > 0.01 and model["flow_regime"] in ("slip", "transition")
     assert model["time_to_pressure_loss"] < model["time_to_pressure_loss_no_slip"]
-    assert model["initial_leak_rate_mbar_l_s"] == pytest.approx(10 * model["initial_leak_rate_pv"], rel=1e-12)
+    assert model["initial_leak_rate_mbar_l_s"] == pytest.approx(10 * model["initial_leak_rate_pv"], rel=1e-12, abs=0)
 
 
 @pytest.mark.parametrize("alpha_true, noise", [(0.37, 0.0), (1.3, 0.0), (0.6, 2e-3)])
@@ -139,7 +139,7 @@ def test_alpha_from_synthetic_readings(tmp_path, capsys, alpha_true, noise):
     else:
         assert abs(scale["alpha"] - alpha_true) < 4 * scale["alpha_std"]
     # the leak rate over the readings is V (P_first − P_last)/(t_last − t_first)
-    assert doc["readings"]["leak_rate_pv"] == pytest.approx(v * (p[0] - p[-1]) / t_end, rel=1e-9)
+    assert doc["readings"]["leak_rate_pv"] == pytest.approx(v * (p[0] - p[-1]) / t_end, rel=1e-9, abs=0)
     main(["rig", str(path), "--readings", str(data)])
     text = capsys.readouterr().out
     assert "α implied by the readings" in text and "mbar·l/s" in text
@@ -200,8 +200,8 @@ def test_initial_leak_is_predicts_gas_leak(tmp_path, fluid_pressure, rarefaction
     for name, model in rig.models.items():
         rows = gas["critical_junction" if name.startswith("critical") else "effective_medium"]
         assert model.initial_leak is not None and rows.leaks is not None and rows.leaks[0] is not None
-        assert model.initial_leak.throughput == pytest.approx(rows.leaks[0].throughput, rel=1e-6)
-        assert model.decay.throughput[0] == pytest.approx(rows.leaks[0].throughput, rel=1e-6)
+        assert model.initial_leak.throughput == pytest.approx(rows.leaks[0].throughput, rel=1e-6, abs=0)
+        assert model.decay.throughput[0] == pytest.approx(rows.leaks[0].throughput, rel=1e-6, abs=0)
 
 
 def test_band_rig_initial_leak_is_predicts_gas_leak():
@@ -214,7 +214,7 @@ def test_band_rig_initial_leak_is_predicts_gas_leak():
     case = parse_cases(text)[0]
     rows = run_case(case).gas["critical_junction"]
     (model,) = decay_prediction(case).models.values()
-    assert model.initial_leak.throughput == pytest.approx(rows.leaks[0].throughput, rel=1e-6)
+    assert model.initial_leak.throughput == pytest.approx(rows.leaks[0].throughput, rel=1e-6, abs=0)
     # the interpolated Q(P) below P1 lies between 0 and Q(P1) and falls with P
     q = model.decay.throughput
     assert np.all(np.diff(q) < 0) and q[-1] > 0

@@ -61,7 +61,7 @@ def test_no_slip_throughput_is_k_times_half_the_difference_of_squares(tmp_path, 
     for rec in leaking(doc):
         k = rec["leak_rate"] / rec["pressure_difference"]  # the liquid law's K = Q/ΔP, with the gas's viscosity
         assert rec["pressure_difference"] == pytest.approx(pa - pb, rel=1e-12)
-        assert rec["leak_rate_pv"] == pytest.approx(k * (pa**2 - pb**2) / 2, rel=1e-10)
+        assert rec["leak_rate_pv"] == pytest.approx(k * (pa**2 - pb**2) / 2, rel=1e-10, abs=0)
         assert rec["flow_regime"] in ("continuum", "slip", "transition", "free molecular")
 
 
@@ -82,7 +82,7 @@ def test_small_pressure_drop_tends_to_the_liquid_formula_with_the_gas_viscosity(
         if not q["percolates"]:
             continue
         f = float(slip_factor(g["knudsen_number"]))
-        assert g["leak_rate_pv"] / pm == pytest.approx(q["leak_rate"] * f, rel=10 * ratio**2)
+        assert g["leak_rate_pv"] / pm == pytest.approx(q["leak_rate"] * f, rel=10 * ratio**2, abs=0)
         assert 1.0 < f < 1.2  # slip, not continuum: the comparison is not trivial
 
 
@@ -91,9 +91,9 @@ def test_unit_columns_agree_with_each_other(tmp_path, capsys):
     molar_mass = fluid_state("argon", 293.15, 3e5).molar_mass
     for rec in leaking(doc):
         pv = rec["leak_rate_pv"]
-        assert rec["leak_rate_mbar_l_s"] == pytest.approx(pv * 10, rel=1e-12)  # 1 mbar·l/s = 0.1 Pa·m³/s
-        assert rec["leak_rate_molar"] == pytest.approx(pv / (R * 293.15), rel=1e-12)
-        assert rec["leak_rate_mass"] == pytest.approx(rec["leak_rate_molar"] * molar_mass, rel=1e-12)
+        assert rec["leak_rate_mbar_l_s"] == pytest.approx(pv * 10, rel=1e-12, abs=0)  # 1 mbar·l/s = 0.1 Pa·m³/s
+        assert rec["leak_rate_molar"] == pytest.approx(pv / (R * 293.15), rel=1e-12, abs=0)
+        assert rec["leak_rate_mass"] == pytest.approx(rec["leak_rate_molar"] * molar_mass, rel=1e-12, abs=0)
         # sccm: cm³/min of the gas at 0 °C and 101325 Pa
         assert rec["leak_rate_sccm"] == pytest.approx(rec["leak_rate_molar"] * R * 273.15 / 101325 * 1e6 * 60, rel=1e-12)
     assert doc["units"]["leak_rate_pv"] == "Pa*m^3/s" and doc["units"]["leak_rate_mass"] == "kg/s"
@@ -113,8 +113,8 @@ def test_helium_equivalent_of_a_gas_case_is_gas_leak_of_helium(tmp_path, capsys)
     for rec in leaking(doc):
         expected = _helium_by_hand(rec["leak_rate"] / rec["pressure_difference"], mu, rec["critical_gap"],
                                    rec["critical_wavelength"])
-        assert rec["leak_rate_helium_pv"] == pytest.approx(expected, rel=1e-12)
-        assert rec["leak_rate_helium_mbar_l_s"] == pytest.approx(10 * expected, rel=1e-12)
+        assert rec["leak_rate_helium_pv"] == pytest.approx(expected, rel=1e-12, abs=0)
+        assert rec["leak_rate_helium_mbar_l_s"] == pytest.approx(10 * expected, rel=1e-12, abs=0)
         k_em = rec["leak_rate_effective_medium"] / rec["pressure_difference"]  # K = Q/ΔP (fluid pressure coupled)
         expected_em = _helium_by_hand(k_em, mu, rec["effective_gap"], rec["critical_wavelength"])
         assert rec["leak_rate_helium_pv_effective_medium"] == pytest.approx(expected_em, rel=1e-9)
@@ -132,7 +132,7 @@ def test_helium_equivalent_of_a_liquid_when_asked(tmp_path, capsys):
     for rec in leaking(doc):
         expected = _helium_by_hand(rec["leak_rate"] / rec["pressure_difference"], 1e-3, rec["critical_gap"],
                                    rec["critical_wavelength"])
-        assert rec["leak_rate_helium_mbar_l_s"] == pytest.approx(10 * expected, rel=1e-12)
+        assert rec["leak_rate_helium_mbar_l_s"] == pytest.approx(10 * expected, rel=1e-12, abs=0)
         assert "leak_rate_pv" not in rec  # a liquid has no gas throughput of its own
     plain = predict_json(tmp_path, capsys, BASE)
     assert not any(k.startswith("leak_rate_helium") for k in plain["units"])
@@ -176,7 +176,7 @@ def test_oring_with_a_gas_uses_the_band_conductance(tmp_path, capsys):
                                                           'rarefaction = "no-slip"\nfluid_pressure = "ignored"'))
     for rec in leaking(ignored):
         k = rec["leak_rate"] / rec["pressure_difference"]
-        assert rec["leak_rate_pv"] == pytest.approx(k * (4e10 - 1e10) / 2, rel=1e-10)
+        assert rec["leak_rate_pv"] == pytest.approx(k * (4e10 - 1e10) / 2, rel=1e-10, abs=0)
         assert rec["knudsen_number"] > 0
     # coupled (the default): the gas pressure, largest where σ is (upstream), weights the band's conductance, so
     # the no-slip leak exceeds the coupled liquid K times (P_a² − P_b²)/2 (docs/theory.md §13.5)

@@ -61,7 +61,7 @@ def test_linearity_cli(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "slope" in text and "intercept" in text and "[rig] load" in text
     doc = json.loads(out.read_text())["linearity"]
-    assert doc["slope"] == pytest.approx(7.2e-6 / 60 / 1e3, rel=1e-3)
+    assert doc["slope"] == pytest.approx(7.2e-6 / 60 / 1e3, rel=1e-3, abs=0)
     assert abs(doc["intercept"]) < 3 * doc["intercept_std"]
     assert doc["alpha_from_slope"] > 0 and (tmp_path / "linearity.png").exists()
     # in the linearity test ΔP is the abscissa: an empty cell is an error, not "the case's ΔP"
@@ -76,7 +76,7 @@ def test_at_pressure_option(tmp_path, case):
     data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s)\n30, 0.5\n60, 0.1\n")
     a = read_leak_data(data)
     b = read_leak_data(data, reference_pressure=2 * 101325)
-    assert a.leak_rate[0] == pytest.approx(0.5 * 0.1 / 101325, rel=1e-14)
+    assert a.leak_rate[0] == pytest.approx(0.5 * 0.1 / 101325, rel=1e-14, abs=0)
     assert np.allclose(b.leak_rate, a.leak_rate / 2, rtol=1e-14)
     out1, out2 = tmp_path / "a.json", tmp_path / "b.json"
     assert main(["fit", str(example_path("reference-experiment")), "--data", str(data), "--json", str(out1), "-q"]) == 0
@@ -84,7 +84,7 @@ def test_at_pressure_option(tmp_path, case):
                  "--at-pressure", "2 atm"]) == 0
     a1 = json.loads(out1.read_text())["critical_junction"]["alpha"]
     a2 = json.loads(out2.read_text())["critical_junction"]["alpha"]
-    assert a2 == pytest.approx(a1 / 2, rel=1e-12)
+    assert a2 == pytest.approx(a1 / 2, rel=1e-12, abs=0)
     assert a.throughput and not read_leak_data_volume(tmp_path).throughput
 
 
@@ -118,7 +118,7 @@ def test_rig_cli(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "P0 = 60.65 kPa" in text and "α implied by the readings: 0.26" in text
     doc = json.loads(out.read_text())
-    assert doc["readings"]["conductance"] == pytest.approx(1.3 * k, rel=1e-6)
+    assert doc["readings"]["conductance"] == pytest.approx(1.3 * k, rel=1e-6, abs=0)
     assert (tmp_path / "f" / "rig.png").exists() and (tmp_path / "f" / "readings.png").exists()
 
 
@@ -229,7 +229,7 @@ def test_rows_with_an_empty_pressure_difference_use_the_case_value_through_the_c
                for p, dp in ((3e4, 2e4), (6e4, case.pressure_difference))]
     q_meas = np.array([100, 30]) * 1e-6 / 60
     expected = float(np.exp(np.mean(np.log(q_meas / np.array(q_model)))))
-    assert json.loads(out.read_text())["critical_junction"]["alpha"] == pytest.approx(expected, rel=1e-12)
+    assert json.loads(out.read_text())["critical_junction"]["alpha"] == pytest.approx(expected, rel=1e-12, abs=0)
 
 
 def test_readings_of_a_rising_level_are_refused(case, tmp_path, capsys):

@@ -35,13 +35,13 @@ def test_permeation_columns_and_total(tmp_path, capsys):
     seen_sealed = False
     for r in doc["results"]:
         eps = r["compression"]
-        assert r["leak_rate_permeation_pv"] == pytest.approx(2e-12 * dp * ly * 4 / math.pi * (1 - eps) ** 2, rel=1e-10)
+        assert r["leak_rate_permeation_pv"] == pytest.approx(2e-12 * dp * ly * 4 / math.pi * (1 - eps) ** 2, rel=1e-10, abs=0)
         path = math.pi * d / (4 * (1 - eps))
         assert r["permeation_breakthrough_time"] == pytest.approx(path**2 / (6 * 1e-10), rel=1e-10)
         interface = r["leak_rate_pv"] or 0.0
         seen_sealed |= r["leak_rate_pv"] is None
-        assert r["leak_rate_total_pv"] == pytest.approx(interface + r["leak_rate_permeation_pv"], rel=1e-12)
-        assert r["leak_rate_total_mbar_l_s"] == pytest.approx(10 * r["leak_rate_total_pv"], rel=1e-12)
+        assert r["leak_rate_total_pv"] == pytest.approx(interface + r["leak_rate_permeation_pv"], rel=1e-12, abs=0)
+        assert r["leak_rate_total_mbar_l_s"] == pytest.approx(10 * r["leak_rate_total_pv"], rel=1e-12, abs=0)
     assert seen_sealed  # a sealed interface still leaks by permeation: the floor of the test
 
 
@@ -59,7 +59,7 @@ def test_units_of_the_permeability_are_converted(tmp_path, capsys):
     _, other, _ = _run(tmp_path, capsys, HELIUM.replace(RUBBER, RUBBER + 'permeability = "2e-8 cm^2/s"\n'))
     b = json.loads(other.read_text())["results"]
     for x, y in zip(a, b, strict=True):
-        assert x["leak_rate_permeation_pv"] == pytest.approx(y["leak_rate_permeation_pv"], rel=1e-12)
+        assert x["leak_rate_permeation_pv"] == pytest.approx(y["leak_rate_permeation_pv"], rel=1e-12, abs=0)
         assert x["permeation_breakthrough_time"] is None  # no diffusivity, no breakthrough time
 
 
@@ -75,11 +75,11 @@ def test_a_published_permeability_is_counted_at_the_gas_temperature(tmp_path, ca
             assert rc == 0
             perm[name, form.split()[1]] = [r["leak_rate_permeation_pv"] for r in json.loads(out.read_text())["results"]]
     for a, b in zip(perm["cold", "barrer"], perm["cold", "m^2/s"], strict=True):
-        assert a == pytest.approx(b, rel=1e-6)  # at 20 °C the two are the same permeability
+        assert a == pytest.approx(b, rel=1e-6, abs=0)  # at 20 °C the two are the same permeability
     for cold, warm_, fixed_cold, fixed_warm in zip(perm["cold", "barrer"], perm["warm", "barrer"], perm["cold", "m^2/s"],
                                                    perm["warm", "m^2/s"], strict=True):
         assert warm_ / cold == pytest.approx(333.15 / 293.15, rel=1e-9)
-        assert fixed_warm == pytest.approx(fixed_cold, rel=1e-12)
+        assert fixed_warm == pytest.approx(fixed_cold, rel=1e-12, abs=0)
 
 
 def test_no_permeability_no_columns(tmp_path, capsys):
@@ -141,9 +141,9 @@ def test_a_ring_with_its_height_permeates_through_the_slab(tmp_path, capsys):
         rows[height] = json.loads(out.read_text(encoding="utf-8"))["results"]
     w, ly = 5e-3, math.pi * 35e-3  # the ring 30/40 mm: width (Do − Di)/2, seal line π (Do + Di)/2
     for row in rows["2 mm"]:
-        assert row["leak_rate_permeation_pv"] == pytest.approx(2e-12 * 1e5 * ly * 2e-3 / w, rel=1e-12)
+        assert row["leak_rate_permeation_pv"] == pytest.approx(2e-12 * 1e5 * ly * 2e-3 / w, rel=1e-12, abs=0)
         assert row["permeation_breakthrough_time"] == pytest.approx(w**2 / (6 * 1e-10), rel=1e-12)
         total = row["leak_rate_pv"] + row["leak_rate_permeation_pv"] if row["leak_rate_pv"] else row["leak_rate_permeation_pv"]
         assert row["leak_rate_total_pv"] == pytest.approx(total, rel=1e-12)
     for thin, thick in zip(rows["2 mm"], rows["4 mm"], strict=True):
-        assert thick["leak_rate_permeation_pv"] == pytest.approx(2 * thin["leak_rate_permeation_pv"], rel=1e-12)
+        assert thick["leak_rate_permeation_pv"] == pytest.approx(2 * thin["leak_rate_permeation_pv"], rel=1e-12, abs=0)

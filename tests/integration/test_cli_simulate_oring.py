@@ -77,7 +77,7 @@ def test_hertz_numbers_follow_the_force(base):
     for row in base["results"]:
         f = row["force_per_length"]
         b = math.sqrt(4 * f * R / (math.pi * e_star))
-        assert row["hertz_contact_width"] == pytest.approx(2 * b, rel=1e-12)
+        assert row["hertz_contact_width"] == pytest.approx(2 * b, rel=1e-12, abs=0)
         assert row["hertz_max_pressure"] == pytest.approx(2 * f / (math.pi * b), rel=1e-12)
         # the case's own O-ring relation carries the same force over its width (∫p dx = f, semi-ellipse)
         assert math.pi * row["model_contact_width"] * row["model_max_pressure"] / 4 == pytest.approx(f, rel=1e-12)
@@ -107,7 +107,7 @@ def test_leak_rate_scales_with_the_seal_line_the_faces_and_the_pressure_differen
     q, q_sr, alpha = _rows(base, "leak_rate"), _rows(base, "leak_rate_series_resistance"), _rows(base, "alpha")
     assert (q > 0).all() and q[0] > q[1]  # more squeeze, less leak
     ly = base["settings"]["seal_length"]
-    assert ly == pytest.approx(math.pi * 22.62e-3, rel=1e-12)  # π × (inner diameter + d)
+    assert ly == pytest.approx(math.pi * 22.62e-3, rel=1e-12, abs=0)  # π × (inner diameter + d)
     variants = {
         "seal line x2": (ORING.replace('inner_diameter = "20 mm"', 'mean_diameter = "45.24 mm"'), 2.0),
         "two faces": (ORING.replace('inner_diameter = "20 mm"', 'inner_diameter = "20 mm"\nfaces = 2'), 2.0),

@@ -27,7 +27,7 @@ def test_synthesize_then_analyze_recovers_h_rms(tmp_path, capsys):
                  "--json", str(js)]) == 0
     doc = json.loads(js.read_text())
     assert doc["units"]["h_rms"] == "m" and doc["units"]["C"] == "m^4"
-    assert doc["statistics"]["h_rms"] == pytest.approx(h.std(), rel=1e-9)
+    assert doc["statistics"]["h_rms"] == pytest.approx(h.std(), rel=1e-9, abs=0)
     assert len(doc["psd"]["q"]) == len(doc["psd"]["C"]) > 5
     # the same seed gives the same surface
     out2 = tmp_path / "s2.npy"
@@ -140,7 +140,7 @@ def test_synthesize_formats_round_trip_with_their_size(tmp_path, capsys):
         out = tmp_path / f"s{suffix}"
         assert main([*base, "-o", str(out)]) == 0
         t = read_topography(out)  # no unit options: the files state size, unit and periodicity
-        assert t.size == pytest.approx((3e-4, 3e-4), rel=1e-15) and t.periodic
+        assert t.size == pytest.approx((3e-4, 3e-4), rel=1e-15, abs=0) and t.periodic
         maps[suffix] = t.heights
     assert (tmp_path / "s.npy.json").is_file()
     # the same seed gives the same map in every format, in the same orientation (text: one row per y)
@@ -153,7 +153,7 @@ def test_synthesize_formats_round_trip_with_their_size(tmp_path, capsys):
     assert main(["surface", "analyze", str(tmp_path / "s.txt"), "--json", str(js)]) == 0
     doc = json.loads(js.read_text())
     assert doc["sources"][0]["size"] == pytest.approx([3e-4, 3e-4]) and doc["sources"][0]["periodic"]
-    assert doc["statistics"]["h_rms"] == pytest.approx(np.std(raw), rel=1e-12)
+    assert doc["statistics"]["h_rms"] == pytest.approx(np.std(raw), rel=1e-12, abs=0)
     # overwriting needs --force, for the sidecar too
     assert main([*base, "-o", str(tmp_path / "s.npy")]) == 2
     assert "--force" in capsys.readouterr().err

@@ -43,7 +43,7 @@ def test_fluid_name_and_molecular_size_set_the_limit(tmp_path, capsys):
     js = tmp_path / "w.json"
     assert main(["predict", str(water), "-q", "--json", str(js)]) == 0
     fluid = json.loads(js.read_text())["cases"][0]["fluid"]
-    assert fluid["molecular_size"] == pytest.approx(0.265e-9) and fluid["molecular_size_note"] == "water"
+    assert fluid["molecular_size"] == pytest.approx(0.265e-9, rel=1e-6, abs=0) and fluid["molecular_size_note"] == "water"
     # near the percolation threshold u_c falls below any molecule: a larger molecule flags more rows
     sweep = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]',
                  'squeeze_pressure = { start = "0.1 MPa", stop = "0.9 MPa", num = 40, spacing = "log" }')

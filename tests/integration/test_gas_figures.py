@@ -248,9 +248,9 @@ def test_fit_of_a_gas_case_names_pa_m3_s_in_text_json_and_figure(tmp_path, capsy
     assert doc["leak_rate_unit"] == "Pa*m^3/s"
     assert doc["critical_junction"]["alpha"] == pytest.approx(0.1, rel=1e-9)
     for rec, row in zip(rows, doc["rows"]):
-        assert row["measured_mbar_l_s"] == pytest.approx(rec["leak_rate_mbar_l_s"] * 0.5, rel=1e-12)
-        assert row["measured"] == pytest.approx(row["measured_mbar_l_s"] * PA_M3_PER_MBAR_L, rel=1e-12)
-        assert row["fitted_critical_junction"] == pytest.approx(row["measured"], rel=1e-9)
+        assert row["measured_mbar_l_s"] == pytest.approx(rec["leak_rate_mbar_l_s"] * 0.5, rel=1e-12, abs=0)
+        assert row["measured"] == pytest.approx(row["measured_mbar_l_s"] * PA_M3_PER_MBAR_L, rel=1e-12, abs=0)
+        assert row["fitted_critical_junction"] == pytest.approx(row["measured"], rel=1e-9, abs=0)
     assert all(doc["units"][k] for k in doc["rows"][0] if k != "squeeze_pressure")
     assert (plots / "fit.png").read_bytes().startswith(b"\x89PNG")
 

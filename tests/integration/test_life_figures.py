@@ -121,7 +121,7 @@ def test_a_gas_is_drawn_as_its_pv_throughput_with_its_specification():
     assert np.allclose(line.get_ydata(), expected, rtol=1e-12, atol=0.0)
     assert expected != [r.records()[0]["leak_rate"] for r in results]  # not the incompressible column
     (spec,) = [ln for ln in ax.get_lines() if ln.get_label() == "max_leak_rate = 1e-6 mbar*l/s"]
-    assert spec.get_ydata()[0] == pytest.approx(1e-6, rel=1e-12)
+    assert spec.get_ydata()[0] == pytest.approx(1e-6, rel=1e-12, abs=0)
 
 
 def _axis_scale(ax):

@@ -82,8 +82,8 @@ def test_gas_report_tables_show_the_leak_rates_of_predict_json(gas_runs, name, t
                     assert value is None and shown == "—"
                     continue
                 # the cell carries the record's number in full, and shows it rounded
-                assert value == pytest.approx(expected, rel=RTOL)
-                assert float(shown) == pytest.approx(expected, rel=5e-3)
+                assert value == pytest.approx(expected, rel=RTOL, abs=0)
+                assert float(shown) == pytest.approx(expected, rel=5e-3, abs=0)
             assert cells[header.index("regime")][0] == (record["flow_regime" + suffix] or "—")
         # 1 mbar·l/s = 0.1 Pa·m³/s: the two columns are one throughput
         pv = [c[header.index("Q_pV (Pa·m³/s)")][1] for c in rows]
@@ -91,7 +91,7 @@ def test_gas_report_tables_show_the_leak_rates_of_predict_json(gas_runs, name, t
         for a, b in zip(pv, mbar):
             assert (a is None) == (b is None)
             if a is not None:
-                assert b == pytest.approx(10 * a, rel=RTOL)
+                assert b == pytest.approx(10 * a, rel=RTOL, abs=0)
     # the helium test at 10 % compression leaks: the table holds a real Q_pV
     if name == "helium-test":
         assert any(c[tables[0][0].index("Q_pV (Pa·m³/s)")][1] for c in tables[0][1])
@@ -169,7 +169,7 @@ def test_both_model_band_table_has_a_labelled_verdict_per_theory(oring_both):
             assert cells[header.index(head)] == ("—" if not r[channel] else "yes" if r[key] else "NO")
         q_u = r["leak_rate_uniform_mean_pressure"]
         shown = cells[header.index("Q_u,CJ(p_mean) (m³/s)")]
-        assert (shown == "—") if q_u is None else float(shown) == pytest.approx(q_u, rel=5e-3)
+        assert (shown == "—") if q_u is None else float(shown) == pytest.approx(q_u, rel=5e-3, abs=0)
     assert "Q_u,CJ(p_mean): the leak rate of a uniform seal of the same width and length at the mean contact pressure" \
         in oring_both["txt"]
     # the CSV header names the second verdict and the JSON declares its unit

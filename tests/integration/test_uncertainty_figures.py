@@ -34,8 +34,8 @@ def test_fan_chart_draws_band_median_nominal_and_specification():
     bands = [c for c in ax.collections if isinstance(c, PolyCollection)]
     assert len(bands) == 2  # 5–95 % and 25–75 %
     outer = bands[0].get_paths()[0].vertices
-    assert outer[:, 1].min() == pytest.approx((MEDIAN / 5).min(), rel=1e-9)
-    assert outer[:, 1].max() == pytest.approx((MEDIAN * 5).max(), rel=1e-9)
+    assert outer[:, 1].min() == pytest.approx((MEDIAN / 5).min(), rel=1e-9, abs=0)
+    assert outer[:, 1].max() == pytest.approx((MEDIAN * 5).max(), rel=1e-9, abs=0)
     labels = [line.get_label() for line in ax.get_lines()]
     assert "median" in labels and "deterministic (nominal inputs)" in labels
     spec = [line for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")]
@@ -60,7 +60,7 @@ def test_fan_chart_puts_sealed_samples_in_a_strip_below_the_leak_rates():
     # the medians of the rows at or beyond 350 kPa are sealed, drawn below every leak rate
     assert len(sealed_marks[0].get_xdata()) == int((X >= 350).sum())
     assert (np.asarray(sealed_marks[0].get_ydata()) < lowest_leak).all()
-    assert strip[0] == pytest.approx(sealed_marks[0].get_ydata()[0], rel=1e-12)
+    assert strip[0] == pytest.approx(sealed_marks[0].get_ydata()[0], rel=1e-12, abs=0)
     # no leak-rate tick label in the strip: every other labelled tick is a leak rate above the sealed ones
     ticks = [v for v, text in zip(ax.get_yticks(), ax.yaxis.get_ticklabels()) if text.get_text() not in ("", "sealed")]
     assert min(ticks) > sealed_marks[0].get_ydata()[0]

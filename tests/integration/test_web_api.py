@@ -299,7 +299,7 @@ def test_the_plots_carry_the_specification_in_si(client):
     spec = REF.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "0.5 ml/min"')
     plots = client.put("/api/case/toml", json={"toml": spec, "predict": True}).json()["prediction"]["plots"]
     assert plots["limit"]["text"] == "0.5 ml/min"
-    assert plots["limit"]["value"] == pytest.approx(0.5e-6 / 60, rel=1e-12)  # 1 ml = 1e-6 m³
+    assert plots["limit"]["value"] == pytest.approx(0.5e-6 / 60, rel=1e-12, abs=0)  # 1 ml = 1e-6 m³
 
 
 @pytest.mark.slow  # every prediction figure drawn twice (~18 s)

@@ -81,7 +81,7 @@ def test_constant_profile_reproduces_the_uniform_seal(base):
         em = predict_effective_medium(case, squeeze_pressure=[p0]).leak_rate[0]
         assert r.critical_junction.leak_rate[0] == pytest.approx(cj, rel=1e-10, abs=0)
         assert r.effective_medium.leak_rate[0] == pytest.approx(em, rel=1e-6, abs=0)  # (1.3e-7 here)
-        assert r.critical_junction.uniform_mean_pressure[0] == pytest.approx(cj, rel=1e-10)
+        assert r.critical_junction.uniform_mean_pressure[0] == pytest.approx(cj, rel=1e-10, abs=0)
 
 
 def test_step_profile_is_the_series_sum(base):
@@ -117,9 +117,9 @@ def test_unpressed_strip_adds_no_resistance(base):
     w, p0 = base.seal.width, 1e5
     alone = run_band(_band(base, [PressureProfile.table([0, w], [p0, p0])]))
     widened = run_band(_band(base, [PressureProfile.table([0, w, w, 3 * w], [p0, p0, 0.0, 0.0])]))
-    assert widened.critical_junction.leak_rate[0] == pytest.approx(alone.critical_junction.leak_rate[0], rel=1e-12)
+    assert widened.critical_junction.leak_rate[0] == pytest.approx(alone.critical_junction.leak_rate[0], rel=1e-12, abs=0)
     two = run_band(_band(base, [PressureProfile.table([0, w], [p0, p0])], faces=2))
-    assert two.critical_junction.leak_rate[0] == pytest.approx(2 * alone.critical_junction.leak_rate[0], rel=1e-12)
+    assert two.critical_junction.leak_rate[0] == pytest.approx(2 * alone.critical_junction.leak_rate[0], rel=1e-12, abs=0)
 
 
 def test_hertz_integral_converges_to_an_independent_quadrature(base):
@@ -159,7 +159,7 @@ def test_q0_is_per_load_by_default_and_changes_the_result(base):
     prof = [PressureProfile.table([0, 2 * w], [1e5, 1e5])]
     own = run_band(_band(base, prof, q0=2 * np.pi / (2 * w)))
     wide = replace(base, seal=replace(base.seal, width=2 * w), q0=2 * np.pi / (2 * w))
-    assert own.critical_junction.leak_rate[0] == pytest.approx(predict(wide, squeeze_pressure=[1e5]).leak_rate[0], rel=1e-10)
+    assert own.critical_junction.leak_rate[0] == pytest.approx(predict(wide, squeeze_pressure=[1e5]).leak_rate[0], rel=1e-10, abs=0)
 
 
 def test_kronrod_rule_is_exact_for_polynomials():
@@ -189,7 +189,7 @@ def test_gas_through_a_band_uses_each_theorys_narrowest_constriction():
     band = replace(case.band, loads=case.band.loads[:1], profiles=case.band.profiles[:1], q0=case.band.q0[:1])
     res = run_case(replace(case, band=band, model="both"))
     assert res.gas is not None and res.band is not None
-    assert res.gas["critical_junction"].gap[0] == pytest.approx(res.band.critical_gap_at_max_pressure[0], rel=1e-12)
+    assert res.gas["critical_junction"].gap[0] == pytest.approx(res.band.critical_gap_at_max_pressure[0], rel=1e-12, abs=0)
     sigma = res.band.effective_medium.integrals[0].conductance
     u_e = np.cbrt(12 * case.fluid.viscosity * sigma[sigma > 0].min())
-    assert res.gas["effective_medium"].gap[0] == pytest.approx(u_e, rel=1e-12)
+    assert res.gas["effective_medium"].gap[0] == pytest.approx(u_e, rel=1e-12, abs=0)

@@ -98,10 +98,10 @@ def test_step_profile_conductance_is_the_series_sum_of_uniform_strips(tmp_path):
     case = profile_case(tmp_path, scale="0.8")
     for scale in (0.8, 1.3):
         k = conductance(case, [scale], "critical-junction")[0]
-        assert k == pytest.approx(series_conductance(tmp_path, scale), rel=1e-9)
+        assert k == pytest.approx(series_conductance(tmp_path, scale), rel=1e-9, abs=0)
     # α enters linearly; K is Q/ΔP of the band
     k2 = conductance(replace(case, alpha=1.0), [0.8], "critical-junction")[0]
-    assert k2 == pytest.approx(2 * series_conductance(tmp_path, 0.8), rel=1e-9)
+    assert k2 == pytest.approx(2 * series_conductance(tmp_path, 0.8), rel=1e-9, abs=0)
 
 
 def test_conductance_at_other_loads_equals_a_case_written_at_them():
@@ -144,7 +144,7 @@ def test_fit_recovers_a_known_alpha_from_synthetic_oring_data():
     case = oring_case('"20 %"', alpha=0.7)  # the case's own α and compression do not enter the fit
     fits = fit_models(case, np.repeat(eps, 2), np.full(q.size, np.nan), q)
     cj = fits["critical_junction"]
-    assert cj.prediction == pytest.approx(q_model, rel=1e-12)
+    assert cj.prediction == pytest.approx(q_model, rel=1e-12, abs=0)
     # the closed form of least squares in ln Q (docs/theory.md §8.1), and the truth within 3 standard errors
     r = np.log(q / q_model)
     assert cj.alpha == pytest.approx(np.exp(r.mean()), rel=1e-12)
@@ -153,7 +153,7 @@ def test_fit_recovers_a_known_alpha_from_synthetic_oring_data():
     # the effective medium: a factor on its own band prediction, which leaks more than the junction at low squeeze
     em = fits["effective_medium"]
     assert em.fitted and em.n_used == q.size
-    assert em.alpha == pytest.approx(np.exp(np.mean(np.log(q / em.prediction))), rel=1e-12)
+    assert em.alpha == pytest.approx(np.exp(np.mean(np.log(q / em.prediction))), rel=1e-12, abs=0)
     assert em.prediction[0] == em.prediction[1] and em.prediction[0] > em.prediction[-1] > 0
 
 
@@ -182,7 +182,7 @@ def test_fit_of_a_data_file_by_profile_scale(tmp_path):
     assert result.grid.min() == pytest.approx(0.7) and result.grid.max() == pytest.approx(1.4)
     assert np.array_equal(result.curve_grids["effective_medium"], scales)
     curve_at_1 = np.interp(1.0, result.grid, np.log(result.curves["critical_junction"]))
-    assert np.exp(curve_at_1) == pytest.approx(q[1] / 3.0, rel=0.05)
+    assert np.exp(curve_at_1) == pytest.approx(q[1] / 3.0, rel=0.05, abs=0)
 
 
 # ---------------------------------------------------------------------- data files
@@ -232,7 +232,7 @@ def test_linearity_slope_of_a_profile_seal_at_its_load(tmp_path):
     dp = np.array([2e3, 4e3, 6e3, 8e3])
     check = linearity(case, dp, 0.5 * k * dp)
     assert check.load == 1.2 and check.load_name == "profile_scale"
-    assert check.model_slopes["critical junction (α = 0.5)"] == pytest.approx(k, rel=1e-9)
+    assert check.model_slopes["critical junction (α = 0.5)"] == pytest.approx(k, rel=1e-9, abs=0)
     assert check.alpha_from_slope == pytest.approx(0.5 * 0.5, rel=1e-9)  # half the case's slope: half its α
     # mean contact pressure of the scaled step: (0.2 × 0.1 + 0.3 × 0.2)/0.5 MPa × 1.2
     assert check.squeeze_pressure == pytest.approx(1.2 * (W1 * P1 + W2 * P2) / (W1 + W2), rel=1e-12)
@@ -253,7 +253,7 @@ def test_rig_of_a_profile_seal_drains_with_the_series_conductance(tmp_path):
     k = series_conductance(tmp_path, 1.5, alpha=2.0)
     pred = rig_prediction(case)
     name = "critical junction (α = 2)"
-    assert pred.conductance[name] == pytest.approx(k, rel=1e-9)
+    assert pred.conductance[name] == pytest.approx(k, rel=1e-9, abs=0)
     rig = case.rig
     tau = rig.cylinder_area / (k * 1000.0 * 9.80665)  # closed form: H = H0 exp(-t/τ)
     assert pred.time_constant[name] == pytest.approx(tau, rel=1e-9)

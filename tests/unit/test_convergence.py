@@ -29,8 +29,8 @@ def test_standard_error_is_sd_over_root_n_of_the_finite_values():
     rng = np.random.default_rng(1)
     x = rng.normal(0.4, 0.03, 7)
     mean, se, n = standard_error(np.concatenate([x, [np.nan, np.inf]]))
-    assert n == 7 and mean == pytest.approx(np.mean(x), rel=1e-14)
-    assert se == pytest.approx(np.std(x, ddof=1) / np.sqrt(7), rel=1e-14)
+    assert n == 7 and mean == pytest.approx(np.mean(x), rel=1e-14, abs=0)
+    assert se == pytest.approx(np.std(x, ddof=1) / np.sqrt(7), rel=1e-14, abs=0)
     assert np.isnan(standard_error([0.3])[1]) and standard_error([])[2] == 0
 
 
@@ -47,7 +47,7 @@ def test_exact_line_in_a_is_recovered(points):
     # two points: X∞ = (a2 x1 − a1 x2)/(a2 − a1), and its standard error by propagating s1 = s2 = s
     if points == 2:
         a1, a2 = A[:2]
-        assert fit.stderr == pytest.approx(0.01 * np.hypot(a2, a1) / abs(a2 - a1), rel=1e-12)
+        assert fit.stderr == pytest.approx(0.01 * np.hypot(a2, a1) / abs(a2 - a1), rel=1e-12, abs=0)
 
 
 def test_exponent_is_fitted_from_four_grids():
@@ -87,7 +87,7 @@ def test_unweighted_fit_without_standard_errors_uses_the_scatter():
     design = np.column_stack([np.ones(3), A[:3]])
     beta, res, *_ = np.linalg.lstsq(design, x, rcond=None)
     cov = np.linalg.inv(design.T @ design) * res[0] / 1
-    assert fit.value == pytest.approx(beta[0], rel=1e-12)
+    assert fit.value == pytest.approx(beta[0], rel=1e-12, abs=0)
     assert fit.stderr == pytest.approx(np.sqrt(cov[0, 0]), rel=1e-10)
     assert not fit.monotonic
 
@@ -128,19 +128,19 @@ def test_study_reproduces_single_grid_runs(case, study):
 
 def test_study_statistics_are_means_and_standard_errors(study):
     for g, res in zip(study.statistics, study.results, strict=True):
-        assert g.spacing == pytest.approx(res.size / res.grid, rel=1e-15)
+        assert g.spacing == pytest.approx(res.size / res.grid, rel=1e-15, abs=0)
         th = res.per_realization["percolation_threshold"]
-        assert g.threshold == pytest.approx(np.mean(th), rel=1e-14)
-        assert g.threshold_stderr == pytest.approx(np.std(th, ddof=1) / np.sqrt(th.size), rel=1e-12)
+        assert g.threshold == pytest.approx(np.mean(th), rel=1e-14, abs=0)
+        assert g.threshold_stderr == pytest.approx(np.std(th, ddof=1) / np.sqrt(th.size), rel=1e-12, abs=0)
         alpha = res.per_realization["alpha"]
         for i in range(alpha.shape[1]):
             ok = np.isfinite(alpha[:, i])
             if ok.sum() >= 2:
-                assert g.alpha_stderr[i] == pytest.approx(np.std(alpha[ok, i], ddof=1) / np.sqrt(ok.sum()), rel=1e-12)
+                assert g.alpha_stderr[i] == pytest.approx(np.std(alpha[ok, i], ddof=1) / np.sqrt(ok.sum()), rel=1e-12, abs=0)
     fit = study.threshold_extrapolation
     a = [g.spacing for g in study.statistics]
     x = [g.threshold for g in study.statistics]
-    assert fit.value == pytest.approx(x[0] - (x[1] - x[0]) / (a[1] - a[0]) * a[0], rel=1e-12)  # line through two points
+    assert fit.value == pytest.approx(x[0] - (x[1] - x[0]) / (a[1] - a[0]) * a[0], rel=1e-12, abs=0)  # line through two points
 
 
 def test_threshold_is_compared_with_the_published_values(study):

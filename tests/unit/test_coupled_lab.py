@@ -33,7 +33,7 @@ def test_linearity_of_the_printed_theory_is_a_line_through_the_origin(coupled):
     dp = np.array([2e4, 4e4, 6e4, 8e4])
     k = predict(ignored, squeeze_pressure=[P], pressure_difference=1.0).leak_rate[0]
     check = linearity(ignored, dp, 0.5 * k * dp, squeeze_pressure=P)
-    assert check.model_slopes[CJ] == pytest.approx(k, rel=1e-9)
+    assert check.model_slopes[CJ] == pytest.approx(k, rel=1e-9, abs=0)
     assert abs(check.model_intercepts[CJ]) < 1e-9 * k * dp.max()
     assert check.model_nonlinearity[CJ] == pytest.approx(0.0, abs=1e-9)
     assert check.alpha_from_slope == pytest.approx(0.5, rel=1e-9)
@@ -45,8 +45,8 @@ def test_linearity_compares_the_data_with_the_coupled_curve(coupled):
     q = predict(coupled, squeeze_pressure=np.full(dp.size, P), pressure_difference=dp).leak_rate
     check = linearity(coupled, dp, 2.0 * q, squeeze_pressure=P)
     slope, intercept = np.polyfit(dp, q, 1)
-    assert check.model_slopes[CJ] == pytest.approx(slope, rel=1e-6)
-    assert check.model_intercepts[CJ] == pytest.approx(intercept, rel=1e-6)
+    assert check.model_slopes[CJ] == pytest.approx(slope, rel=1e-6, abs=0)
+    assert check.model_intercepts[CJ] == pytest.approx(intercept, rel=1e-6, abs=0)
     assert intercept < 0  # Q grows faster than linearly: the line through it cuts the ΔP axis above 0
     assert check.model_nonlinearity[CJ] == pytest.approx((q[-1] / dp[-1]) / (q[0] / dp[0]) - 1.0, rel=1e-9)
     assert check.model_nonlinearity[CJ] > 0.1
@@ -79,8 +79,8 @@ def test_linearity_with_capillarity_is_zero_below_the_entry_pressure():
     np.testing.assert_allclose(curve[x >= at], k.leak_rate[0] * x[x >= at], rtol=1e-12)
     assert at in x and np.nextafter(at, 0.0) in x  # the step drawn upright
     slope, intercept = np.polyfit(dp, np.where(dp < p_e, 0.0, k.leak_rate[0] * dp), 1)
-    assert check.model_slopes[CJ] == pytest.approx(slope, rel=1e-9)
-    assert check.model_intercepts[CJ] == pytest.approx(intercept, rel=1e-9) and intercept < 0  # the offset
+    assert check.model_slopes[CJ] == pytest.approx(slope, rel=1e-9, abs=0)
+    assert check.model_intercepts[CJ] == pytest.approx(intercept, rel=1e-9, abs=0) and intercept < 0  # the offset
     (note,) = [word(m) for m in check.messages if word(m).startswith(CJ + ": ")]
     assert "2 measured point(s) lie below" in note and "1 of them leaked" in note
 
@@ -129,7 +129,7 @@ def test_linearity_outputs_carry_the_models_lines(tmp_path):
     data = read_leak_data(path, required=("pressure_difference", "leak_rate"))
     check = linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure=P)
     doc = json.loads(linearity_json(case, data, check))["linearity"]
-    assert doc["model_intercepts"][CJ] == pytest.approx(check.model_intercepts[CJ], rel=1e-12)
+    assert doc["model_intercepts"][CJ] == pytest.approx(check.model_intercepts[CJ], rel=1e-12, abs=0)
     assert doc["model_nonlinearity"][CJ] > 0  # coupled: Q/ΔP rises over the data
     assert doc["capillary_entry_pressure"][CJ] == pytest.approx(check.capillary_entry_pressure[CJ], rel=1e-12)
     text = linearity_text(case, data, check)

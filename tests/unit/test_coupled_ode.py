@@ -119,7 +119,7 @@ def test_flow_is_inversely_proportional_to_viscosity(factor, monkeypatch):
     q = coupled_band_flow(profile, sigma, 0.4 * P_MAX).flow
     thicker = coupled_band_flow(profile, lambda s: sigma(s) / factor, 0.4 * P_MAX)
     assert len(solved) == 2  # the second solved, not taken from the first
-    assert thicker.flow == pytest.approx(q / factor, rel=1e-8)
+    assert thicker.flow == pytest.approx(q / factor, rel=1e-8, abs=0)
 
 
 def test_a_band_solved_once_is_not_solved_again(monkeypatch):
@@ -148,7 +148,7 @@ def test_a_near_sealed_band_matches_the_closed_form_of_a_flat_band(k):
     got = coupled_band_flow(PressureProfile.table([0.0, W], [p0, p0]), steep, dp)
     exact = SIGMA0 * s0 * (np.exp(-(p0 - dp) / s0) - np.exp(-p0 / s0)) / W
     assert got.converged
-    assert got.flow == pytest.approx(exact, rel=1e-4)  # the band's spline of ln σ in ln s: ~1e-5 here
+    assert got.flow == pytest.approx(exact, rel=1e-4, abs=0)  # the band's spline of ln σ in ln s: ~1e-5 here
 
 
 @pytest.mark.parametrize("fraction", [0.3, 0.9])
@@ -165,7 +165,7 @@ def test_the_two_directions_of_the_band_agree_where_both_follow_it(fraction, mon
     inverse = solve_inverse(profile, lambda s: float(sigma(max(s, 1e-6 * P_MAX))), dp,
                                       (0.5 * forward.flow, 2.0 * forward.flow), 1e-10)
     assert forward.converged and inverse.converged
-    assert inverse.flow == pytest.approx(forward.flow, rel=1e-6)
+    assert inverse.flow == pytest.approx(forward.flow, rel=1e-6, abs=0)
 
 
 def test_a_trial_flow_far_off_warns_nothing():
@@ -182,7 +182,7 @@ def test_a_trial_flow_far_off_warns_nothing():
                                           (below * forward.flow, 2.0 * forward.flow), 1e-10)
         assert got.converged == (below == 1e-100)
         if got.converged:
-            assert got.flow == pytest.approx(forward.flow, rel=1e-6)
+            assert got.flow == pytest.approx(forward.flow, rel=1e-6, abs=0)
 
 
 @pytest.mark.parametrize("k", [30, 60, 120])
@@ -205,14 +205,14 @@ def test_a_steep_hertz_band_against_the_closed_form_of_the_kirchhoff_transform(k
     got = coupled_band_flow(PressureProfile.semi_elliptic(W, P_MAX), steep, dp)
     if k < 100:
         assert got.converged
-        assert got.flow == pytest.approx(psi / weight, rel=1e-6)
+        assert got.flow == pytest.approx(psi / weight, rel=1e-6, abs=0)
     else:
         open_resistance = integrate.quad(
             lambda x: 1.0 / float(steep(max(P_MAX * np.sqrt(max(0.0, 1.0 - (2.0 * x / W - 1.0) ** 2)) - dp,
                                             1e-6 * P_MAX))), 0.0, W, points=[W / 2], epsabs=0.0, epsrel=1e-10,
             limit=500)[0]
         assert not got.converged
-        assert got.flow == pytest.approx(dp / open_resistance, rel=1e-3) and got.flow > psi / weight
+        assert got.flow == pytest.approx(dp / open_resistance, rel=1e-3, abs=0) and got.flow > psi / weight
 
 
 @pytest.mark.parametrize("fraction", [0.05, 0.5, 0.95])
@@ -240,7 +240,7 @@ def test_loose_shots_far_from_the_root_leave_the_root_alone(fraction, monkeypatc
     clear_caches()
     tight = coupled_band_flow(profile, sigma, fraction * P_MAX)
     assert mixed.converged and tight.converged
-    assert mixed.flow == pytest.approx(tight.flow, rel=5e-9)
+    assert mixed.flow == pytest.approx(tight.flow, rel=5e-9, abs=0)
 
 
 def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(monkeypatch):
@@ -262,7 +262,7 @@ def test_a_newton_step_taken_unconfirmed_lands_where_a_confirming_shot_would(mon
     for a, b in zip(early, confirmed, strict=True):
         assert a.converged and b.converged
         # (shots at 1e-10 hold q to ~1e-9: the confirming shot's own step is 8e-10 at 0.5 and 0.95 p_max)
-        assert a.flow == pytest.approx(b.flow, rel=2e-9)
+        assert a.flow == pytest.approx(b.flow, rel=2e-9, abs=0)
         assert a.shots <= b.shots
     assert sum(a.shots for a in early) < sum(b.shots for b in confirmed)
 

@@ -153,7 +153,7 @@ def test_conductivity_falls_with_squeeze_pressure(contact):
 def test_single_gap_value(a):
     u = 3e-6
     sigma, res = bruggeman_conductivity([[u]], [[1 - a]], [a], ETA)
-    assert sigma[0] == pytest.approx(u**3 / (12 * ETA) * (1 - 2 * a), rel=1e-11)
+    assert sigma[0] == pytest.approx(u**3 / (12 * ETA) * (1 - 2 * a), rel=1e-11, abs=0)
     assert abs(res[0]) < 1e-12
 
 
@@ -172,7 +172,7 @@ def test_two_phase_closed_form():
         b = (2 * p - 1) * (s1 - s2)
         want = 0.5 * (b + np.sqrt(b * b + 4 * s1 * s2))
         got, _ = bruggeman_conductivity([[u1, u2]], [[p, 1 - p]], [0.0], ETA)
-        assert got[0] == pytest.approx(want, rel=1e-11)
+        assert got[0] == pytest.approx(want, rel=1e-11, abs=0)
 
 
 def test_no_number_beyond_bruggeman_threshold(contact):
@@ -209,8 +209,8 @@ def test_a_low_pressure_alone_is_resolved():
     for i, x in enumerate(p):
         dist = gap_distribution(contact, [x])
         alone = _sigma(dist, 0.25)[0]
-        assert alone == pytest.approx(_sigma(dist, 0.25 / 8)[0], rel=1e-7)
-        assert alone == pytest.approx(together[i], rel=1e-12)
+        assert alone == pytest.approx(_sigma(dist, 0.25 / 8)[0], rel=1e-7, abs=0)
+        assert alone == pytest.approx(together[i], rel=1e-12, abs=0)
     coarse = [abs(_sigma(gap_distribution(contact, [x]), 0.5)[0] / _sigma(gap_distribution(contact, [x]), 0.03)[0] - 1)
               for x in p[:2]]
     assert max(coarse) > 1e-5  # (the check has teeth: panels of 0.5 miss these by more than 1e-5)

@@ -112,7 +112,7 @@ def test_lift_off_is_p0_and_opens_the_seal(coupled):
     assert result.units["lift_off_pressure_difference"] == "Pa"
     # beyond lift-off the leak rate is the limit ΔP → P0
     at = predict(case, squeeze_pressure=[5e4], pressure_difference=5e4).leak_rate[0]
-    assert result.critical_junction.leak_rate[0] == pytest.approx(at, rel=1e-9)
+    assert result.critical_junction.leak_rate[0] == pytest.approx(at, rel=1e-9, abs=0)
 
 
 def test_flat_band_equals_the_uniform_closed_form(coupled):
@@ -134,7 +134,7 @@ def test_band_lift_off_is_the_peak(coupled):
     small = replace(coupled, band=band, pressure_difference=10.0)
     r_c = run_band(small)
     r_i = run_band(replace(small, fluid_pressure="ignored"))
-    assert r_c.critical_junction.leak_rate[0] == pytest.approx(r_i.critical_junction.leak_rate[0], rel=1e-3)
+    assert r_c.critical_junction.leak_rate[0] == pytest.approx(r_i.critical_junction.leak_rate[0], rel=1e-3, abs=0)
     big = replace(small, pressure_difference=4e5)
     result = run_case(big)
     assert result.lift_off_pressure_difference[0] == pytest.approx(3e5)
@@ -151,8 +151,8 @@ def test_rig_uses_the_coupled_leak_along_the_fall(ignored, coupled):
     (name,) = cou.conductance
     dp0 = coupled.rig.pressure_difference(coupled.rig.initial_height)
     q0 = predict(coupled, squeeze_pressure=[cou.squeeze_pressure], pressure_difference=dp0).leak_rate[0]
-    assert cou.columns[name].leak_rate[0] == pytest.approx(q0, rel=1e-9)
-    assert cou.conductance[name] == pytest.approx(q0 / dp0, rel=1e-12)
+    assert cou.columns[name].leak_rate[0] == pytest.approx(q0, rel=1e-9, abs=0)
+    assert cou.conductance[name] == pytest.approx(q0 / dp0, rel=1e-12, abs=0)
     assert cou.conductance[name] > lin.conductance[name]
     assert cou.drain_time[name] < lin.drain_time[name]
 

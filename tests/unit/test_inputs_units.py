@@ -58,7 +58,7 @@ FIELD = "rubber.youngs_modulus"
     ("50 %", "dimensionless", 0.5),
 ])
 def test_quantities_people_write_are_read_in_si(text, dimension, si):
-    assert parse_quantity(FIELD, text, dimension) == pytest.approx(si, rel=1e-12)
+    assert parse_quantity(FIELD, text, dimension) == pytest.approx(si, rel=1e-12, abs=0)
 
 
 @pytest.mark.parametrize("unit, dimension, si", [
@@ -66,14 +66,14 @@ def test_quantities_people_write_are_read_in_si(text, dimension, si):
     ("0.5 um", "length", 0.5e-6), ("ml/min", "volume_flow", 1e-6 / 60), ("", "dimensionless", 1.0),
 ])
 def test_units_of_table_columns(unit, dimension, si):
-    assert unit_factor("column 'x' unit", unit, dimension) == pytest.approx(si, rel=1e-12)
+    assert unit_factor("column 'x' unit", unit, dimension) == pytest.approx(si, rel=1e-12, abs=0)
 
 
 def test_leak_test_throughputs_become_volume_flows_at_the_reference_pressure():
     # 1 mbar·l/s = 100 Pa × 1e-3 m³ / s = 0.1 Pa·m³/s; at 1 atm that is 0.1/101325 m³/s
-    assert leak_rate_factor("mbar*l/s") == pytest.approx(0.1 / ATMOSPHERE, rel=1e-12)
-    assert leak_rate_factor("Pa*m^3/s", reference_pressure=2e5) == pytest.approx(1 / 2e5, rel=1e-12)
-    assert leak_rate_factor("ml/min") == pytest.approx(1e-6 / 60, rel=1e-12)
+    assert leak_rate_factor("mbar*l/s") == pytest.approx(0.1 / ATMOSPHERE, rel=1e-12, abs=0)
+    assert leak_rate_factor("Pa*m^3/s", reference_pressure=2e5) == pytest.approx(1 / 2e5, rel=1e-12, abs=0)
+    assert leak_rate_factor("ml/min") == pytest.approx(1e-6 / 60, rel=1e-12, abs=0)
     assert unit_dimension("q", "mbar*l/s", ("volume_flow", "throughput"))[0] == "throughput"
 
 
@@ -147,7 +147,7 @@ def test_a_comma_in_a_number_is_refused_with_how_to_write_it(text, dimension, ad
     message = str(err.value)
     assert "',' is not allowed in numbers" in message and advice in message
     written = advice.removeprefix("write ")  # the advice, followed, gives the number the user meant
-    assert parse_quantity(FIELD, written, dimension) == pytest.approx(meant, rel=1e-12)
+    assert parse_quantity(FIELD, written, dimension) == pytest.approx(meant, rel=1e-12, abs=0)
 
 
 def test_an_ambiguous_comma_names_both_readings():

@@ -57,7 +57,7 @@ def test_rows_without_pressure_difference_use_the_case_value(case):
     b = predict(replace(case, alpha=1.0), squeeze_pressure=p0, pressure_difference=case.pressure_difference).leak_rate
     assert np.allclose(a, b, rtol=1e-14)
     c = fit_models(case, p0, [2e4, np.nan], [1e-6, 1e-7])["critical_junction"].prediction
-    assert c[0] == pytest.approx(2 * b[0], rel=1e-12) and c[1] == pytest.approx(b[1], rel=1e-14)
+    assert c[0] == pytest.approx(2 * b[0], rel=1e-12, abs=0) and c[1] == pytest.approx(b[1], rel=1e-14, abs=0)
 
 
 def test_linear_fit_closed_form():
@@ -68,22 +68,22 @@ def test_linear_fit_closed_form():
     A = np.vstack([x, np.ones_like(x)]).T
     coef, res, *_ = np.linalg.lstsq(A, y, rcond=None)
     cov = res[0] / (x.size - 2) * np.linalg.inv(A.T @ A)
-    assert f.slope == pytest.approx(coef[0], rel=1e-10) and f.intercept == pytest.approx(coef[1], rel=1e-8)
-    assert f.slope_std == pytest.approx(np.sqrt(cov[0, 0]), rel=1e-8)
-    assert f.intercept_std == pytest.approx(np.sqrt(cov[1, 1]), rel=1e-8)
+    assert f.slope == pytest.approx(coef[0], rel=1e-10, abs=0) and f.intercept == pytest.approx(coef[1], rel=1e-8, abs=0)
+    assert f.slope_std == pytest.approx(np.sqrt(cov[0, 0]), rel=1e-8, abs=0)
+    assert f.intercept_std == pytest.approx(np.sqrt(cov[1, 1]), rel=1e-8, abs=0)
 
 
 # ---------------------------------------------------------------------- units
 def test_leak_test_units_against_hand_computed_values():
-    assert leak_rate_factor("ml/min") == pytest.approx(1e-6 / 60, rel=1e-14)
-    assert leak_rate_factor("l/h") == pytest.approx(1e-3 / 3600, rel=1e-14)
+    assert leak_rate_factor("ml/min") == pytest.approx(1e-6 / 60, rel=1e-14, abs=0)
+    assert leak_rate_factor("l/h") == pytest.approx(1e-3 / 3600, rel=1e-14, abs=0)
     # 1 mbar·l/s = 100 Pa × 1e-3 m³/s = 0.1 Pa·m³/s; at 1 atm: 0.1/101325 m³/s
-    assert leak_rate_factor("mbar*l/s") == pytest.approx(0.1 / 101325, rel=1e-14)
+    assert leak_rate_factor("mbar*l/s") == pytest.approx(0.1 / 101325, rel=1e-14, abs=0)
     assert leak_rate_factor("mbar·l/s") == pytest.approx(9.8692e-7, rel=1e-4)
-    assert leak_rate_factor("Pa*m^3/s") == pytest.approx(1 / 101325, rel=1e-14)
+    assert leak_rate_factor("Pa*m^3/s") == pytest.approx(1 / 101325, rel=1e-14, abs=0)
     # at another stated pressure: volume flow = throughput / pressure
-    assert leak_rate_factor("mbar*l/s", reference_pressure=2e5) == pytest.approx(0.1 / 2e5, rel=1e-14)
-    assert leak_rate_factor("Pa*m^3/s", reference_pressure=1e3) == pytest.approx(1e-3, rel=1e-14)
+    assert leak_rate_factor("mbar*l/s", reference_pressure=2e5) == pytest.approx(0.1 / 2e5, rel=1e-14, abs=0)
+    assert leak_rate_factor("Pa*m^3/s", reference_pressure=1e3) == pytest.approx(1e-3, rel=1e-14, abs=0)
     for bad in ("kPa", "m/s", "furlongs", ""):
         with pytest.raises(UnitError):
             leak_rate_factor(bad)
@@ -127,7 +127,7 @@ def test_readings_inverse(case):
     t = np.linspace(0, 900, 10)
     h = exponential_height(rig, k, t)
     a = leak_rate_from_readings(rig, t, h)
-    assert a.conductance == pytest.approx(k, rel=1e-10)
+    assert a.conductance == pytest.approx(k, rel=1e-10, abs=0)
     # Q between readings = -A ΔH/Δt, and it is close to K ρ g H at the mid-height
     assert np.allclose(a.interval_leak_rate, k * a.interval_pressure_difference, rtol=5e-3)
 

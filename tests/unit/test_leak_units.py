@@ -59,12 +59,12 @@ T20 = 293.15
 ])
 def test_leak_rate_unit_kind_and_factor(unit, kind, factor):
     k, f = leak_rate_unit("leak_rate", unit)
-    assert k == kind and f == pytest.approx(factor, rel=1e-12)
+    assert k == kind and f == pytest.approx(factor, rel=1e-12, abs=0)
 
 
 def test_parse_quantity_reads_leak_test_throughputs():
     for text in ("1e-6 mbar*l/s", "1e-6 mbar l/s", "1e-6 mbar·l/s"):
-        assert parse_quantity("leak_rate", text, "throughput") == pytest.approx(1e-7, rel=1e-12)
+        assert parse_quantity("leak_rate", text, "throughput") == pytest.approx(1e-7, rel=1e-12, abs=0)
 
 
 def test_helium_leak_of_one_mbar_litre_per_second_by_hand():
@@ -82,7 +82,7 @@ def test_sccm_by_hand():
     at 20 °C the same molecules are 0.0168875·293.15/273.15 = 0.0181240 mbar·l/s."""
     assert STANDARD_TEMPERATURE == 273.15 and STANDARD_PRESSURE == 101325.0
     assert molar_flow_factor("q", "sccm", temperature=T20, molar_mass=M_HE) == pytest.approx(7.43583e-7, rel=1e-5)
-    assert convert_leak_rate(1.0, "sccm", "mbar*l/s", temperature=273.15, molar_mass=M_HE) == pytest.approx(0.0168875, rel=1e-12)
+    assert convert_leak_rate(1.0, "sccm", "mbar*l/s", temperature=273.15, molar_mass=M_HE) == pytest.approx(0.0168875, rel=1e-12, abs=0)
     assert convert_leak_rate(1.0, "sccm", "mbar*l/s", temperature=T20, molar_mass=M_HE) == pytest.approx(0.0181240, rel=1e-5)
 
 
@@ -109,12 +109,12 @@ def test_conversions_round_trip_to_1e_12(a, b):
     kw = {"temperature": 310.0, "molar_mass": 28.0134e-3, "pressure": 1.5e5}
     for value in (1e-9, 3.7e-3, 42.0):
         there = convert_leak_rate(value, a, b, **kw)
-        assert convert_leak_rate(there, b, a, **kw) == pytest.approx(value, rel=1e-12)
+        assert convert_leak_rate(there, b, a, **kw) == pytest.approx(value, rel=1e-12, abs=0)
 
 
 def test_parse_leak_rate_gives_a_molar_flow():
     n = parse_leak_rate("rig.leak_rate", "1e-6 mbar.l/s", temperature=T20, molar_mass=M_HE)
-    assert n == pytest.approx(1e-7 / (R * T20), rel=1e-12)
+    assert n == pytest.approx(1e-7 / (R * T20), rel=1e-12, abs=0)
     assert parse_leak_rate("q", "2 sccm", temperature=T20, molar_mass=M_HE) == pytest.approx(2 * 7.43583e-7, rel=1e-5)
 
 
@@ -162,25 +162,25 @@ def test_temperature_in_the_wrong_unit_is_refused_naming_the_field(text, why):
 def test_named_factors_agree_with_pint():
     """The factors front ends print with, against pint's own conversion (an independent path)."""
     q = registry().Quantity
-    assert M3_PER_S_PER_ML_PER_MIN == pytest.approx(q(1.0, "ml/min").to("m**3/s").magnitude, rel=1e-14)
+    assert M3_PER_S_PER_ML_PER_MIN == pytest.approx(q(1.0, "ml/min").to("m**3/s").magnitude, rel=1e-14, abs=0)
     assert ML_PER_MIN_PER_M3_PER_S == pytest.approx(q(1.0, "m**3/s").to("ml/min").magnitude, rel=1e-14)
-    assert PA_M3_PER_MBAR_L == pytest.approx(q(1.0, "mbar*l/s").to("Pa*m**3/s").magnitude, rel=1e-14)
-    assert MBAR_L_PER_PA_M3 == pytest.approx(q(1.0, "Pa*m**3/s").to("mbar*l/s").magnitude, rel=1e-14)
+    assert PA_M3_PER_MBAR_L == pytest.approx(q(1.0, "mbar*l/s").to("Pa*m**3/s").magnitude, rel=1e-14, abs=0)
+    assert MBAR_L_PER_PA_M3 == pytest.approx(q(1.0, "Pa*m**3/s").to("mbar*l/s").magnitude, rel=1e-14, abs=0)
     assert ATMOSPHERE == pytest.approx(q(1.0, "atm").to("Pa").magnitude, rel=1e-14)
     assert ZERO_CELSIUS == pytest.approx(q(0.0, "degC").to("K").magnitude, rel=1e-14)
 
 
 def test_constants_are_the_si_definitions():
     """R = N_A k_B exactly (2019 SI), 0 °C = 273.15 K, 1 atm = 101325 Pa: the standard conditions of sccm."""
-    assert MOLAR_GAS_CONSTANT == pytest.approx(6.02214076e23 * 1.380649e-23, rel=1e-15)
+    assert MOLAR_GAS_CONSTANT == pytest.approx(6.02214076e23 * 1.380649e-23, rel=1e-15, abs=0)
     assert (STANDARD_TEMPERATURE, STANDARD_PRESSURE) == (ZERO_CELSIUS, ATMOSPHERE)
-    assert MOL_PER_STANDARD_M3 == pytest.approx(101325.0 / (8.31446261815324 * 273.15), rel=1e-14)  # 44.6150 mol/m³
+    assert MOL_PER_STANDARD_M3 == pytest.approx(101325.0 / (8.31446261815324 * 273.15), rel=1e-14, abs=0)  # 44.6150 mol/m³
     assert MOL_PER_STANDARD_M3 == pytest.approx(44.6150, rel=1e-5)
 
 
 def test_display_conversions_by_hand():
-    assert to_ml_per_min(1e-6 / 60) == pytest.approx(1.0, rel=1e-14)
-    assert to_mbar_l_per_s(0.1) == pytest.approx(1.0, rel=1e-14)
+    assert to_ml_per_min(1e-6 / 60) == pytest.approx(1.0, rel=1e-14, abs=0)
+    assert to_mbar_l_per_s(0.1) == pytest.approx(1.0, rel=1e-14, abs=0)
     assert to_sccm(7.43583e-7) == pytest.approx(1.0, rel=1e-5)       # test_sccm_by_hand
     assert celsius(293.15) == pytest.approx(20.0, rel=1e-12)
     assert np.allclose(to_mbar_l_per_s(np.array([0.1, 1.0])), [1.0, 10.0], rtol=1e-14)

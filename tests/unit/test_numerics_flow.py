@@ -91,7 +91,7 @@ def test_direct_and_amg_agree_near_threshold(hard_field) -> None:
         assert r.residual <= 1e-6
     # each residual is a rigorous bound on its relative flux error
     assert abs(a.flux - d.flux) <= (a.residual + d.residual) * d.flux
-    assert a.flux == pytest.approx(d.flux, rel=1e-6)
+    assert a.flux == pytest.approx(d.flux, rel=1e-6, abs=0)
     # the flux is far below the parallel-plate value of the mean gap: a constricted, hard case
     assert d.flux < 0.1 * res.mean_gap**3 * DP / (12 * ETA)
 
@@ -112,7 +112,7 @@ def test_contact_tolerance_barely_changes_the_leak_rate(hard_field) -> None:
     q1 = solve_flow(res.gap, L, ETA, DP, contact=res.contact).flux
     q2 = solve_flow(tight.gap, L, ETA, DP, contact=tight.contact).flux
     assert tight.residual <= 1e-9 < res.residual or tight.iterations > res.iterations
-    assert q2 == pytest.approx(q1, rel=1e-5)  # measured: 1.1e-8
+    assert q2 == pytest.approx(q1, rel=1e-5, abs=0)  # measured: 1.1e-8
 
 
 def test_contact_mask_not_gap_zero() -> None:
@@ -129,7 +129,7 @@ def test_contact_mask_not_gap_zero() -> None:
     g0 = g.copy()
     g0[mask] = 0.0
     by_gap = solve_flow(g0, L, ETA, DP, method="direct")
-    assert with_mask.flux == pytest.approx(by_gap.flux, rel=1e-12)
+    assert with_mask.flux == pytest.approx(by_gap.flux, rel=1e-12, abs=0)
     assert np.isnan(with_mask.pressure[mask]).all()
     ignoring_mask = solve_flow(g, L, ETA, DP, method="direct")  # 1e-12 gaps would leak a little
     assert ignoring_mask.flux > with_mask.flux
@@ -183,7 +183,7 @@ def test_grid_refinement_of_the_leak_rate() -> None:
         out.append((c.contact_area, solve_flow(c.gap, L, ETA, DP, contact=c.contact).flux))
     # measured: contact area 0.188 -> 0.182, leak rate +2.0 %
     assert out[1][0] == pytest.approx(out[0][0], rel=0.05)
-    assert out[1][1] == pytest.approx(out[0][1], rel=0.05)
+    assert out[1][1] == pytest.approx(out[0][1], rel=0.05, abs=0)
 
 
 @pytest.mark.parametrize("shape", [(5, 1), (5, 2), (4, 3), (6, 7)])
@@ -250,7 +250,7 @@ def test_blockwise_residual_equals_the_whole_grid_formula(shape, monkeypatch) ->
         r, q_in, q_out, l1, phir, net = _flow._Grid(cx, cy, sf, fluid).residual(phi)
         assert np.array_equal(r, ref.astype(np.float64))
         assert q_in == float(qin.sum()) and q_out == float(qout.sum())
-        assert l1 == pytest.approx(float(np.abs(ref).sum()), rel=1e-15)
+        assert l1 == pytest.approx(float(np.abs(ref).sum()), rel=1e-15, abs=0)
         assert phir == pytest.approx(abs(float((phi * ref).sum())), rel=1e-12, abs=1e-300)
         assert net == pytest.approx(float(ref.sum()), rel=1e-12, abs=1e-15)
         sparse_r = b_in - A @ phi[fluid].astype(np.float64)

@@ -84,7 +84,7 @@ def test_standard_leak_rate_is_the_throughput_for_a_small_loss():
         s = setup(3e5, 1e5, loss=loss)
         decay = pressure_decay(s, viscous_throughput_function(k))
         assert decay.standard_leak_rate == pytest.approx(0.5 * k * (9e10 - 1e10), rel=tol)
-        assert decay.standard_leak_rate == pytest.approx(standard_leak_rate(V, loss, decay.time_to_loss), rel=1e-14)
+        assert decay.standard_leak_rate == pytest.approx(standard_leak_rate(V, loss, decay.time_to_loss), rel=1e-14, abs=0)
 
 
 def test_rarefied_decay_leaks_more_than_the_viscous_one():
@@ -109,10 +109,10 @@ def test_conductance_from_exact_readings(p1, p2):
     s = setup(p1, p2)
     t = np.linspace(0.0, 3e5, 12)
     readings = leak_rate_from_decay(s, t, viscous_decay(s, k, t))
-    assert readings.conductance == pytest.approx(k, rel=1e-9)
+    assert readings.conductance == pytest.approx(k, rel=1e-9, abs=0)
     assert readings.rms_relative_residual < 1e-10
     p = viscous_decay(s, k, t)
-    assert readings.leak_rate == pytest.approx(V * (p[0] - p[-1]) / (t[-1] - t[0]), rel=1e-12)
+    assert readings.leak_rate == pytest.approx(V * (p[0] - p[-1]) / (t[-1] - t[0]), rel=1e-12, abs=0)
     assert np.all(readings.interval_leak_rate > 0) and np.all(np.diff(readings.interval_leak_rate) < 0)
 
 

@@ -24,23 +24,23 @@ def spec():
 
 @pytest.mark.parametrize("n", [0, 1, 2, 3, 5])
 def test_moments_match_closed_form(spec, n):
-    assert spec.moment(n) == pytest.approx(closed_form_moment(n, 1e-20), rel=1e-12)
+    assert spec.moment(n) == pytest.approx(closed_form_moment(n, 1e-20), rel=1e-12, abs=0)
 
 
 def test_rms_quantities_from_moments(spec):
-    assert spec.h_rms == pytest.approx(np.sqrt(2 * np.pi * closed_form_moment(1, 1e-20)), rel=1e-12)
-    assert spec.slope_rms == pytest.approx(np.sqrt(2 * np.pi * closed_form_moment(3, 1e-20)), rel=1e-12)
+    assert spec.h_rms == pytest.approx(np.sqrt(2 * np.pi * closed_form_moment(1, 1e-20)), rel=1e-12, abs=0)
+    assert spec.slope_rms == pytest.approx(np.sqrt(2 * np.pi * closed_form_moment(3, 1e-20)), rel=1e-12, abs=0)
     assert spec.curvature_rms == pytest.approx(np.sqrt(2 * np.pi * closed_form_moment(5, 1e-20)), rel=1e-12)
 
 
 @pytest.mark.parametrize("h_rms", [1e-7, 1e-6, 44e-6])
 def test_h_rms_equals_request(h_rms):
     s = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=9.1e3, q_cutoff=3.14e5, q_lowest=1.2566e3, h_rms=h_rms)
-    assert s.h_rms == pytest.approx(h_rms, rel=1e-13)
+    assert s.h_rms == pytest.approx(h_rms, rel=1e-13, abs=0)
     # independently: quad over the model written out by hand
     C0 = s.C[0]
     m1 = band_integral(lambda q: q * self_affine(q, C0, 1.2566e3, 9.1e3, 3.14e5, 0.8), 1.2566e3, 3.14e5, [9.1e3])
-    assert np.sqrt(2 * np.pi * m1) == pytest.approx(h_rms, rel=1e-10)
+    assert np.sqrt(2 * np.pi * m1) == pytest.approx(h_rms, rel=1e-10, abs=0)
 
 
 def test_evaluation_matches_model(spec):
@@ -51,7 +51,7 @@ def test_evaluation_matches_model(spec):
 def test_band_starting_on_the_power_law():
     s = PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e3, q_cutoff=1e6, q_lowest=1e4, C0=1.0)
     assert s.q_min == 1e4
-    assert s(2e4) == pytest.approx((2e4 / 1e3) ** -3.6, rel=1e-12)
+    assert s(2e4) == pytest.approx((2e4 / 1e3) ** -3.6, rel=1e-12, abs=0)
 
 
 def test_cumulative_moment_and_inverse(spec):
@@ -64,7 +64,7 @@ def test_cumulative_moment_and_inverse(spec):
 
 def test_log_log_interpolation_between_table_points():
     s = PowerSpectrum.from_arrays([1e3, 1e5], [1e-16, 1e-22])
-    assert s(1e4) == pytest.approx(1e-19, rel=1e-12)  # geometric midpoint -> geometric mean
+    assert s(1e4) == pytest.approx(1e-19, rel=1e-12, abs=0)  # geometric midpoint -> geometric mean
     assert s(5e2) == 0.0 and s(2e5) == 0.0
 
 
@@ -72,9 +72,9 @@ def test_refined_and_truncated_keep_the_function(spec):
     fine = spec.refined(7)
     q = np.geomspace(QL, Q1, 101)
     assert np.allclose(fine(q), spec(q), rtol=1e-12)
-    assert fine.moment(3) == pytest.approx(spec.moment(3), rel=1e-12)
+    assert fine.moment(3) == pytest.approx(spec.moment(3), rel=1e-12, abs=0)
     cut = spec.truncated(5e3, 1e5)
-    assert cut.moment(1) == pytest.approx(spec.moment(1, 5e3, 1e5), rel=1e-12)
+    assert cut.moment(1) == pytest.approx(spec.moment(1, 5e3, 1e5), rel=1e-12, abs=0)
 
 
 def test_area_ratio_closed_form_against_quadrature():
@@ -138,7 +138,7 @@ def test_spectrum_from_table_file(tmp_path):
     sp = PowerSpectrum.from_table(path)
     assert np.allclose(sp.q, [1e3, 1e4, 1e5], rtol=1e-12)
     assert np.allclose(sp.C, [1e-18, 1e-21, 1e-24], rtol=1e-12)
-    assert sp(np.sqrt(1e3 * 1e4)) == pytest.approx(np.sqrt(1e-18 * 1e-21), rel=1e-12)  # log-log interpolation
+    assert sp(np.sqrt(1e3 * 1e4)) == pytest.approx(np.sqrt(1e-18 * 1e-21), rel=1e-12, abs=0)  # log-log interpolation
     assert "psd.txt" in sp.label
     bad = tmp_path / "bad.txt"
     bad.write_text("q (1/m), C (m^4)\n1e3, 1e-18\n1e3, 1e-20\n")

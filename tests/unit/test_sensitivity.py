@@ -98,7 +98,7 @@ def test_each_row_is_analysed_on_its_own():
 
 def test_sealed_samples_count_one_decade_below_the_smallest_leak():
     y, floor, sealed = log_leak_rate(np.array([0.0, 1e-12, np.nan, 1e-10]))
-    assert floor == pytest.approx(1e-13, rel=1e-12) and sealed == 0.5
+    assert floor == pytest.approx(1e-13, rel=1e-12, abs=0) and sealed == 0.5
     assert y == pytest.approx([-13, -12, -13, -10], abs=1e-12)
     y, floor, sealed = log_leak_rate(np.zeros(4))
     assert np.isnan(floor) and sealed == 1.0 and np.isnan(y).all()

@@ -103,8 +103,8 @@ def test_xyz_columns():
     t = read_topography(SAMPLES / "xyz-1.txt", height_unit="nm", lateral_unit="um")
     assert t.nb_grid_pts == (4, 4)
     assert t.size == pytest.approx((4 * UM, 4 * UM))
-    assert _rms(t.heights) == pytest.approx(0.3307 * NM, rel=1e-3)
-    assert t.heights[1, 1] == pytest.approx(2 * NM) and t.heights[1, 3] == pytest.approx(1 * NM)
+    assert _rms(t.heights) == pytest.approx(0.3307 * NM, rel=1e-3, abs=0)
+    assert t.heights[1, 1] == pytest.approx(2 * NM, rel=1e-6, abs=0) and t.heights[1, 3] == pytest.approx(1 * NM, rel=1e-6, abs=0)
 
 
 @needs_samples
@@ -267,7 +267,7 @@ def test_dektak_tip_radius_sets_the_end_of_the_reliable_range():
     s = read_topography(SAMPLES / "dektak-1.csv")
     # independent: SurfaceTopography's own cutoff (file unit µm) from the tip radius in the file
     cutoff = ST.open_topography(str(SAMPLES / "dektak-1.csv")).topography().short_reliability_cutoff() * UM
-    assert s.resolution == pytest.approx(cutoff, rel=1e-12)
+    assert s.resolution == pytest.approx(cutoff, rel=1e-12, abs=0)
     assert 4 * s.pixel_size < cutoff  # the tip, not the pixels, limits this scan
     b = spectrum_1d(s)
     assert b.q_reliable == pytest.approx((3 * 2 * np.pi / s.length, 2 * np.pi / cutoff))
@@ -299,7 +299,7 @@ def test_text_header_states_size_and_units(tmp_path):
     t = read_topography(p)
     assert t.size == pytest.approx((1e-3, 0.5e-3))
     assert t.nb_grid_pts == (4, 3)  # rows are y
-    assert t.heights[2, 1] == pytest.approx(7 * NM)
+    assert t.heights[2, 1] == pytest.approx(7 * NM, rel=1e-6, abs=0)
     # what the file states wins over the options, and the notes say so
     t2 = read_topography(p, size="3 mm", height_unit="um")
     assert t2.size == t.size and any("ignored" in n for n in t2.notes)
