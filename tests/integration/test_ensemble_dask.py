@@ -3,11 +3,14 @@
 Tiny grids: these tests check bookkeeping and determinism, not physics (test_simulation does that).
 """
 
+import gc
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
+import threading
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -309,3 +312,30 @@ def test_a_single_task_runs_in_this_process_with_the_serial_numbers(tmp_path, mo
         np.testing.assert_array_equal(serial.per_realization[key], one.per_realization[key], err_msg=key)
     simulate(case, grid=32, realizations=2, seed=4, threshold=False, runner=make_runner(workers=2))
     assert len(started) == 1
+
+
+@pytest.mark.parametrize("address, says", [("not an address", "is not a scheduler address"),
+                                           ("foo://127.0.0.1:8786", "is not a scheduler address"),
+                                           ("CLOSED", "no Dask scheduler answers there (waited 1 s)")])
+def test_a_refused_scheduler_leaves_no_thread_behind(tmp_path, capsys, monkeypatch, address, says):
+    """A ``Client`` that fails to connect leaves its event-loop thread running, and its finaliser, run whenever the
+    garbage collector next runs, takes the lock a new cluster holds while it starts (a LocalCluster started later in
+    the process then failed after 10 s). The address is checked and the scheduler probed before any Client exists:
+    the refusal is one line, no Client is made, and no thread is left."""
+    import sealeak.cases.ensemble as ensemble
+
+    if address == "CLOSED":
+        with socket.socket() as s:  # a port nothing listens on: connections are refused until the timeout
+            s.bind(("127.0.0.1", 0))
+            address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+    monkeypatch.setattr(ensemble, "SCHEDULER_TIMEOUT", 1.0)
+    made = []
+    monkeypatch.setattr(ensemble, "Client", lambda *a, **k: made.append(a))
+    before = set(threading.enumerate())
+    assert main(["simulate", str(case_file(tmp_path)), "--grid", "32", "--realizations", "2", "-q",
+                 "--scheduler", address]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--scheduler" in err and says in err, err
+    assert made == []
+    gc.collect()
+    assert set(threading.enumerate()) - before == set()

@@ -35,6 +35,7 @@ the workers' memory counts (``simulate`` leaves its own up-front check to the ru
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 import json
 import logging
@@ -52,7 +53,9 @@ from pathlib import Path
 from typing import Any
 
 import dask
-from distributed import Client, LocalCluster, as_completed, system
+from distributed import Client, LocalCluster, Security, as_completed, system
+from distributed.comm import connect
+from distributed.comm.addressing import parse_address, parse_host_port
 
 from .. import numerics
 from ..errors import InputError, SealeakError
@@ -344,17 +347,59 @@ def _placement(client: Any, tasks: list[Any], todo: list[int], need: dict[int, i
     return where
 
 
+#: Seconds to wait for a Dask scheduler to answer (``--scheduler``).
+SCHEDULER_TIMEOUT = 20.0
+
+
+def _check_scheduler(address: str) -> None:
+    """Refuse ``address`` unless it is HOST:PORT (with an optional scheme) and a Dask scheduler answers there within
+    :data:`SCHEDULER_TIMEOUT`, before any ``Client`` is made.
+
+    A ``Client`` that fails to connect leaves its event-loop thread running, and its finaliser, run later by the
+    garbage collector in whichever thread allocates at that moment, takes the lock that every new cluster holds
+    while its own event loop starts: a ``LocalCluster`` started afterwards in the same process could wait on itself
+    and fail after 10 s. So the address is parsed by distributed's own parser, and the scheduler is probed with one
+    connection on an event loop of its own, in a thread of its own (this thread may be running a loop already, as
+    in a notebook), closed when the probe ends.
+    """
+    try:
+        parse_host_port(parse_address(address)[1])
+    except ValueError:
+        raise InputError("--scheduler", address, "is not a scheduler address (tcp://HOST:PORT)") from None
+    failure: list[BaseException] = []
+
+    async def probe() -> None:
+        comm = await connect(address, timeout=SCHEDULER_TIMEOUT, **Security().get_connection_args("client"))
+        await comm.close()
+
+    def run_probe() -> None:
+        try:
+            asyncio.run(probe())
+        except BaseException as err:  # handed to the calling thread
+            failure.append(err)
+
+    thread = threading.Thread(target=run_probe, name="sealeak scheduler probe", daemon=True)
+    thread.start()
+    thread.join()
+    if failure and isinstance(failure[0], ValueError):
+        raise InputError("--scheduler", address, f"is not a scheduler address ({failure[0]})") from None
+    if failure and isinstance(failure[0], (OSError, TimeoutError)):
+        raise InputError("--scheduler", address,
+                         f"no Dask scheduler answers there (waited {SCHEDULER_TIMEOUT:g} s)") from None
+    if failure:
+        raise failure[0]
+
+
 @contextmanager
 def _client(workers: int, scheduler: str | None, memory_limit: int | None = None, gpus: int = 0) -> Iterator[Any]:
     """A ``distributed.Client`` of the running cluster at ``scheduler``, or of a new local cluster (with ``gpus``,
     worker i sees only GPU i: :func:`gpu_of_worker`)."""
     if scheduler is not None:
+        _check_scheduler(scheduler)
         try:
-            client = Client(scheduler, timeout="20s")
-        except ValueError:
-            raise InputError("--scheduler", scheduler, "is not a scheduler address (tcp://HOST:PORT)") from None
-        except (OSError, TimeoutError):
-            raise InputError("--scheduler", scheduler, "no Dask scheduler answers there (waited 20 s)") from None
+            client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError):  # it answered the probe a moment ago
+            raise InputError("--scheduler", scheduler, "the Dask scheduler there stopped answering") from None
         with client:
             yield client
         return
