@@ -1,5 +1,7 @@
 """Shared fixtures: the reference case and a sweep of both models (the laboratory tests use them)."""
 
+import threading
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -47,3 +49,25 @@ def _no_silent_absolute_tolerance(compare):
 
 if ApproxScalar is not None:
     ApproxScalar.__eq__ = _no_silent_absolute_tolerance(ApproxScalar.__eq__)
+
+
+#: Threads a Dask client or cluster runs its event loop in (distributed's LoopRunner names them so).
+_LOOP_THREAD = "IO loop"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _no_event_loop_left_behind():
+    """Every Dask client and cluster a test module starts is closed by its end: no event-loop thread of distributed is
+    left running (up to 10 s allowed for a closing loop to end; no garbage collection first, which would close a
+    forgotten client here and hide it). A leaked loop broke a later
+    LocalCluster in the same process once (a refused --scheduler's half-made Client, docs/architecture.md), and which
+    test files share a pytest-xdist worker changes from run to run."""
+    before = {t for t in threading.enumerate() if t.name == _LOOP_THREAD}
+    yield
+    deadline = time.monotonic() + 10.0
+    left = [t for t in threading.enumerate() if t.name == _LOOP_THREAD and t not in before]
+    while left and time.monotonic() < deadline:
+        left[0].join(timeout=0.1)
+        left = [t for t in left if t.is_alive()]
+    assert not left, f"{len(left)} distributed event-loop thread(s) still running after this module: a Client or " \
+                     "cluster was not closed"
