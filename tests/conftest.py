@@ -1,5 +1,7 @@
 """Shared fixtures: the reference case and a sweep of both models (the laboratory tests use them)."""
 
+import os
+import random
 import threading
 import time
 from dataclasses import replace
@@ -71,3 +73,23 @@ def _no_event_loop_left_behind():
         left = [t for t in left if t.is_alive()]
     assert not left, f"{len(left)} distributed event-loop thread(s) still running after this module: a Client or " \
                      "cluster was not closed"
+
+
+def pytest_collection_modifyitems(config, items):
+    """``SEALEAK_TEST_FILE_ORDER=reverse`` or ``=SEED`` (an integer) runs the test files in reverse or in a shuffled
+    order (the tests of a file in their own order), to find a file that leaves state another one depends on
+    (docs/development.md, "State left behind"); unset, pytest's order."""
+    order = os.environ.get("SEALEAK_TEST_FILE_ORDER", "")
+    if not order:
+        return
+    files: dict[str, list[pytest.Item]] = {}
+    for item in items:
+        files.setdefault(item.nodeid.split("::")[0], []).append(item)
+    names = list(files)
+    if order == "reverse":
+        names.reverse()
+    elif order.isdigit():
+        random.Random(int(order)).shuffle(names)
+    else:
+        raise pytest.UsageError(f"SEALEAK_TEST_FILE_ORDER = {order!r}: must be 'reverse' or a whole number (a seed)")
+    items[:] = [item for name in names for item in files[name]]
