@@ -115,10 +115,19 @@ def positive_values(*checks: tuple[str, Any, str]) -> None:
             raise InputError(field, value, f"must be finite, {what}")
 
 
+#: The longest value a message shows whole; a longer one keeps its start and its end (:func:`show_value`).
+SHOWN_VALUE = 80
+
+
 def show_value(value: Any) -> str:
-    """A value in a message as the user wrote it, in TOML syntax (never a Python repr), cut at 80 characters."""
+    """A value in a message as the user wrote it, in TOML syntax (never a Python repr), at most :data:`SHOWN_VALUE`
+    characters: a longer one is cut in the middle, so that a long path still shows its folder's start and its file's
+    name (``'/home/ana/projects/seals/2026/lab-cam...ring-nbr70/simulations/grid-2048/store'``)."""
     text = _toml(value, 0)
-    return text if len(text) <= 80 else text[:77] + "..."
+    if len(text) <= SHOWN_VALUE:
+        return text
+    head = (SHOWN_VALUE - 3) // 2
+    return text[:head] + "..." + text[len(text) - (SHOWN_VALUE - 3 - head):]
 
 
 def _spelling(text: str) -> str:

@@ -94,9 +94,10 @@ def test_analyze_plot_format_follows_the_file_name(tmp_path, name, magic):
     assert out.read_bytes()[:len(magic)] == magic
 
 
-def test_analyze_plot_of_another_format_is_refused_before_anything_is_written(tmp_path, capsys):
+def test_analyze_plot_of_another_format_is_refused_before_anything_is_written(tmp_path, capsys, monkeypatch):
     np.save(tmp_path / "map.npy", np.random.default_rng(3).normal(size=(64, 64)))
-    out, js = tmp_path / "c.jpg", tmp_path / "c.json"
+    monkeypatch.chdir(tmp_path)  # the output named as given, short (a long path is shown cut in the middle)
+    out, js = Path("c.jpg"), Path("c.json")
     assert main(["surface", "analyze", str(tmp_path / "map.npy"), "--size", "1 mm", "--height-unit", "um", "--plot", str(out),
                  "--json", str(js)]) == 2
     err = capsys.readouterr().err.strip().splitlines()

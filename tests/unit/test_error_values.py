@@ -7,7 +7,7 @@ import tomllib
 
 import pytest
 
-from sealeak.errors import InputError, show_value
+from sealeak.errors import SHOWN_VALUE, InputError, show_value
 
 
 @pytest.mark.parametrize("toml", ["'abc'", '"it\'s"', "64.0", "64", "0.1", "1e-300", "true", "false", "1979-05-27",
@@ -33,3 +33,13 @@ def test_long_and_deep_values_are_cut_to_one_line():
         deep = [deep]
     assert len(show_value(deep)) <= 80 and len(show_value(list(range(10**5)))) <= 80
     assert "\n" not in show_value("a\nb")
+
+
+def test_a_long_value_keeps_its_start_and_its_end():
+    """A path longer than a message shows whole (a deep temporary or project folder) keeps the folder's start and the
+    file's name, the parts a user recognises; at most SHOWN_VALUE characters."""
+    path = "/home/ana/projects/seals/2026/lab-campaign/" + "x" * 200 + "/runs/grid-2048/plot.jpg"
+    shown = str(InputError("--plot", path, "must end in .png, .pdf or .svg"))
+    value = shown.split(" = ", 1)[1].split(": must", 1)[0]
+    assert len(value) == SHOWN_VALUE and value.startswith("'/home/ana/projects/") and value.endswith("/plot.jpg'")
+    assert "..." in value
