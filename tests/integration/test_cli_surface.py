@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import sealeak.numerics._memory as memory_module
 from sealeak.cases import example_path, load_cases
 from sealeak.cli import main
 
@@ -116,7 +117,8 @@ def _no_traceback(err: str) -> None:
     (["--grid", "-8"], "--grid"),
     (["--seed", "-1"], "--seed"),
 ])
-def test_synthesize_user_mistakes_are_clean_errors(tmp_path, capsys, args, flag):
+def test_synthesize_user_mistakes_are_clean_errors(tmp_path, capsys, monkeypatch, args, flag):
+    monkeypatch.setattr(memory_module, "available_memory_bytes", lambda: 16 * 2**30)  # whatever this machine has
     out = tmp_path / "s.npy"
     assert main(["surface", "synthesize", "--example", "hrms-study", *args, "-o", str(out)]) == 2
     err = capsys.readouterr().err
@@ -125,7 +127,8 @@ def test_synthesize_user_mistakes_are_clean_errors(tmp_path, capsys, args, flag)
     assert not out.exists() and not (tmp_path / "s.npy.json").exists()
 
 
-def test_synthesize_memory_message_names_the_grid(tmp_path, capsys):
+def test_synthesize_memory_message_names_the_grid(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(memory_module, "available_memory_bytes", lambda: 16 * 2**30)  # whatever this machine has
     assert main(["surface", "synthesize", "--example", "hrms-study", "--grid", "200000",
                  "-o", str(tmp_path / "s.npz")]) == 2
     err = capsys.readouterr().err

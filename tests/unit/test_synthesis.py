@@ -48,7 +48,7 @@ def test_default_limit_is_the_available_memory(monkeypatch):
     # a grid far beyond any machine is refused without touching memory
     monkeypatch.undo()
     with pytest.raises(ResourceError):
-        synthesize(MODEL, 200_000, L, seed=0)
+        synthesize(MODEL, 2_000_000, L, seed=0)  # ~48 TiB
 
 
 @pytest.mark.parametrize("seed", [-1, True])
