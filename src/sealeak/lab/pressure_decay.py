@@ -206,7 +206,7 @@ def pressure_decay(setup: PressureDecaySetup, throughput: Throughput, *, t_end: 
     dp = setup.loss
     q0 = _q(throughput, p1, p2, "throughput at the initial pressure")
     if t_end is None and t_eval is not None:
-        t_end = float(np.max(t_eval))
+        t_end = float(np.max(np.asarray(t_eval, dtype=float)))
     if t_end is None:
         t_end = setup.duration
     if t_end is None:

@@ -186,7 +186,7 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
     if not np.isfinite(q0) or q0 < 0:
         raise InputError("leak rate at the initial height", q0, "must be finite and >= 0 (m^3/s)")
     if t_end is None and t_eval is not None:
-        t_end = float(np.max(t_eval))
+        t_end = float(np.max(np.asarray(t_eval, dtype=float)))
     if t_end is None:
         t_end = rig.duration
     if t_end is None:
