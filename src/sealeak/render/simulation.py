@@ -537,7 +537,7 @@ def _numerical_points(ax: Axes, x: NDArray[np.float64], q: NDArray[np.float64], 
     ok = q > 0
     std = np.nan_to_num(q_std[ok])
     if ok.any():
-        ax.errorbar(x[ok], q[ok], yerr=[np.minimum(std, 0.9 * q[ok]), std], fmt="o", ms=4, capsize=3, color=color(0),
+        ax.errorbar(x[ok], q[ok], yerr=np.vstack([np.minimum(std, 0.9 * q[ok]), std]), fmt="o", ms=4, capsize=3, color=color(0),
                     label=label)
     sealed = q == 0
     if sealed.any():  # y in axes units: on the bottom edge whatever the leak-rate range
