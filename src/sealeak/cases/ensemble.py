@@ -46,6 +46,7 @@ import tempfile
 import threading
 import time
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from importlib.util import find_spec
@@ -55,7 +56,6 @@ from typing import Any
 import dask
 from distributed import Client, LocalCluster, Security, as_completed, system
 from distributed.comm import connect
-from distributed.comm.addressing import parse_address, parse_host_port
 
 from .. import numerics
 from ..errors import InputError, SealeakError
@@ -352,42 +352,28 @@ SCHEDULER_TIMEOUT = 20.0
 
 
 def _check_scheduler(address: str) -> None:
-    """Refuse ``address`` unless it is HOST:PORT (with an optional scheme) and a Dask scheduler answers there within
-    :data:`SCHEDULER_TIMEOUT`, before any ``Client`` is made.
+    """Refuse ``address`` unless a Dask scheduler answers there within :data:`SCHEDULER_TIMEOUT`, before any ``Client``
+    is made.
 
     A ``Client`` that fails to connect leaves its event-loop thread running, and its finaliser, run later by the
     garbage collector in whichever thread allocates at that moment, takes the lock that every new cluster holds
     while its own event loop starts: a ``LocalCluster`` started afterwards in the same process could wait on itself
-    and fail after 10 s. So the address is parsed by distributed's own parser, and the scheduler is probed with one
-    connection on an event loop of its own, in a thread of its own (this thread may be running a loop already, as
-    in a notebook), closed when the probe ends.
+    and fail after 10 s. So the scheduler is probed with one ``distributed.comm.connect`` (which refuses a malformed
+    address or scheme at once with ValueError) on an event loop of its own, in a thread of its own (this thread may be
+    running a loop already, as in a notebook), both ended when the probe ends.
     """
-    try:
-        parse_host_port(parse_address(address)[1])
-    except ValueError:
-        raise InputError("--scheduler", address, "is not a scheduler address (tcp://HOST:PORT)") from None
-    failure: list[BaseException] = []
-
     async def probe() -> None:
         comm = await connect(address, timeout=SCHEDULER_TIMEOUT, **Security().get_connection_args("client"))
         await comm.close()
 
-    def run_probe() -> None:
-        try:
-            asyncio.run(probe())
-        except BaseException as err:  # handed to the calling thread
-            failure.append(err)
-
-    thread = threading.Thread(target=run_probe, name="sealeak scheduler probe", daemon=True)
-    thread.start()
-    thread.join()
-    if failure and isinstance(failure[0], ValueError):
-        raise InputError("--scheduler", address, f"is not a scheduler address ({failure[0]})") from None
-    if failure and isinstance(failure[0], (OSError, TimeoutError)):
+    try:
+        with ThreadPoolExecutor(max_workers=1, thread_name_prefix="sealeak-scheduler-probe") as pool:
+            pool.submit(asyncio.run, probe()).result()
+    except ValueError as err:
+        raise InputError("--scheduler", address, f"is not a scheduler address (tcp://HOST:PORT): {err}") from None
+    except (OSError, TimeoutError):
         raise InputError("--scheduler", address,
                          f"no Dask scheduler answers there (waited {SCHEDULER_TIMEOUT:g} s)") from None
-    if failure:
-        raise failure[0]
 
 
 @contextmanager
