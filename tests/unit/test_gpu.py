@@ -10,7 +10,7 @@ import pytest
 
 from sealeak.cases import example_path, load_cases, simulate
 from sealeak.errors import InputError
-from sealeak.numerics import array_namespace_for, solve_band_contact, solve_contact, synthesize, to_numpy
+from sealeak.numerics import array_namespace_for, solve_band_contact, solve_contact, solve_flow, synthesize, to_numpy
 from sealeak.physics.spectrum import PowerSpectrum
 
 pytest.importorskip("cupy")
@@ -68,3 +68,18 @@ def test_simulate_on_the_gpu_gives_the_cpu_numbers():
     assert np.allclose(gpu.leak_rate, cpu.leak_rate, rtol=1e-6, atol=0)
     assert np.allclose(gpu.mean_gap, cpu.mean_gap, rtol=1e-12, atol=0)
     assert gpu.percolation_threshold == pytest.approx(cpu.percolation_threshold, abs=2 / 128**2)
+
+
+def test_flow_on_the_gpu_gives_the_cpu_flux_within_the_bounds_and_the_same_bits_twice():
+    h = synthesize(MODEL, 512, L, seed=2)
+    res = solve_contact(xp.asarray(h), L, 1e7, 0.1 * 1e7 * MODEL.slope_rms / 2.0).on_host()
+    args = (res.gap, L, 1e-3, 1e5)
+    cpu = solve_flow(*args, contact=res.contact, method="amg")
+    gpu = solve_flow(*args, contact=res.contact, method="amg", device="cuda")
+    again = solve_flow(*args, contact=res.contact, method="amg", device="cuda")
+    assert gpu.device == "cuda" and cpu.device == "cpu" and gpu.residual <= 1e-6 and gpu.conservation_error <= 1e-8
+    # each residual bounds its relative flux error (the check on the host, unchanged)
+    assert abs(gpu.flux - cpu.flux) <= (gpu.residual + cpu.residual) * cpu.flux
+    assert 5 <= gpu.iterations <= 40
+    # on one machine a GPU run repeats itself bit for bit (cuSPARSE products and CuPy's reductions)
+    assert again.flux == gpu.flux and again.iterations == gpu.iterations

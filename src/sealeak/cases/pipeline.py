@@ -114,7 +114,8 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     one after the other in this process); the records are aggregated in realisation order, so the numbers
     do not depend on the runner. ``device``: where the tasks synthesize their surfaces and solve the contact,
     ``"cpu"`` (NumPy) or ``"cuda"`` (CuPy on a GPU, :mod:`sealeak.numerics._device`; its free memory is checked
-    here, before any work); the flow runs on the host either way.
+    here, before any work), and where the liquid flow's AMG iterations run (:func:`sealeak.numerics.solve_flow`,
+    ``device``); the rest of the flow runs on the host.
     """
     grid = grid_number(grid_field, grid)
     realizations = whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
@@ -229,8 +230,9 @@ class TaskSpec(RunSettings):
     their field files into (None: none), ``fields_store`` the task store folder whose ``fields.zarr`` they
     write their fields into (:mod:`sealeak.io.fieldstore`; None: none), ``fft_workers`` the FFT threads of
     each task (-1: all cores; 1 on a cluster, whose worker processes share the cores). None of these
-    changes a number; nor does ``device`` (``"cpu"`` or ``"cuda"``: where the surfaces are synthesized and the
-    contact solved, :meth:`on_device`) beyond FFT round-off. ``capillary``: each sweep also finds its gap fields' critical constrictions (a liquid with a
+    changes a number; nor does ``device`` (``"cpu"`` or ``"cuda"``: where the surfaces are synthesized, the
+    contact solved, :meth:`on_device`, and the liquid flow's CG iterations run) beyond FFT round-off and the flow's
+    tolerance. ``capillary``: each sweep also finds its gap fields' critical constrictions (a liquid with a
     contact angle, docs/theory.md §12.4). A geometry's spec adds its own fields and :meth:`geometry_identity`.
     """
 
@@ -397,7 +399,7 @@ class FlowLog:
         """
         self.area.append(float(area))
         flow = numerics.solve_flow(res.gap, spec.size, spec.viscosity, spec.pressure_difference, contact=res.contact,
-                                   method=spec.flow_method)
+                                   method=spec.flow_method, device=spec.device)
         self.percolates.append(bool(flow.percolates))
         self.leak_rate.append(float(scale * flow.flux))
         gas = spec.gas

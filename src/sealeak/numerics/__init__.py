@@ -21,7 +21,8 @@ Small public API over private modules:
 * devices:      :func:`array_namespace_for` (``"cpu"``: NumPy, ``"cuda"``: CuPy, imported only then),
                 :func:`device_count`, :func:`device_name`, :func:`device_memory_bytes`,
                 :func:`require_device_memory`, :func:`to_numpy`: synthesis and contact run in the namespace of
-                their arrays (one code path, array-api-compat), the flow on the host.
+                their arrays (one code path, array-api-compat); :func:`solve_flow` (``device=``) runs
+                its AMG iterations there too, its set-up and checks on the host.
 
 Arrays are indexed [x, y] with flow along x (axis 0) and periodicity along y (axis 1); all
 quantities are SI (m, Pa, Pa·s, m³/s).

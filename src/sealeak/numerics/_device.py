@@ -20,7 +20,7 @@ from ._contact import contact_memory_bytes
 from ._xp import namespace
 from .synthesis import synthesis_memory_bytes
 
-__all__ = ["DEVICES", "array_namespace_for", "device_count", "device_name", "device_memory_bytes",
+__all__ = ["DEVICES", "array_namespace_for", "check_device", "device_count", "device_name", "device_memory_bytes",
            "require_device_memory"]
 
 #: The devices a simulation may run on.
@@ -33,6 +33,11 @@ def _check(device: Any, field: str) -> str:
     if not isinstance(device, str) or device not in DEVICES:
         raise InputError(field, device, "allowed: 'cpu', 'cuda'")
     return device
+
+
+def check_device(device: Any, field: str = "device") -> str:
+    """``device`` itself when it is one of :data:`DEVICES`, else an InputError naming ``field`` (nothing is imported)."""
+    return _check(device, field)
 
 
 def _cupy(field: str) -> Any:
@@ -87,7 +92,7 @@ def device_memory_bytes(n: int) -> int:
     (periodic or band, :func:`~sealeak.numerics.contact_memory_bytes`,
     :func:`~sealeak.numerics.band_contact_memory_bytes`) with the heights and three more gap-and-pressure
     pairs (16 n² bytes each: a warm start and the bracket of a threshold search), plus 10 % for CuPy's
-    FFT plans and its memory pool's rounding. The flow runs on the host.
+    FFT plans and its memory pool's rounding. The flow checks its own need (:func:`~sealeak.numerics.solve_flow`).
     """
     n = int(n)
     solve = max(contact_memory_bytes(n), band_contact_memory_bytes(n, n)) + 8 * n * n + 3 * 16 * n * n

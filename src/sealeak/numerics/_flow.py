@@ -42,7 +42,9 @@ strongest face, so aggregates do not straddle constrictions: on a 512² field at
 :class:`_AmgSolver`; deterministic: the same gap field gives the same digits every run), stopped
 on the flux-error bound above (not on pyamg's ||r||_2/||b||, which near the percolation threshold accepts
 4 %-wrong fluxes because ||b|| is dominated by large inlet conductances). ``"auto"`` picks
-``"direct"`` up to 250 000 unknowns, else ``"amg"``, and records the choice.
+``"direct"`` up to 250 000 unknowns, else ``"amg"``, and records the choice. With
+``device="cuda"`` the AMG back-end's CG iterations run on a GPU (:class:`_CycleSolver`: the same
+hierarchy, cycled with l1-Jacobi smoothing); everything else, the check included, stays on the host.
 """
 
 from __future__ import annotations
@@ -50,7 +52,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,14 +63,18 @@ from scipy.linalg import pinvh
 from scipy.sparse import linalg as spla
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError, positive_values
+from ._device import array_namespace_for, check_device, require_device_memory
 from ._linalg import dot
 from ._memory import require_memory
 from ._percolation import spanning_mask
+from ._xp import to_numpy
 
 FloatArray = NDArray[np.float64]
 Method = Literal["auto", "direct", "amg"]
 
 AUTO_DIRECT_MAX_UNKNOWNS = 250_000
+#: The preconditioner of the AMG back-end's CG on a device (:class:`_CycleSolver`); "jacobi" is there to be measured.
+DEVICE_PRECONDITIONER: Literal["amg", "jacobi"] = "amg"
 CONSERVATION_TOL = 1e-8
 DEFAULT_RTOL = 1e-6
 
@@ -106,6 +112,8 @@ class FlowResult:
         Wall time of each step (s): "clusters" (validation, conductances, the spanning cluster),
         "assembly" (faces, matrix), "setup" (LU factorisation or AMG hierarchy), "iterations"
         (back-end solves), "check" (extended-precision residuals); empty when nothing was solved.
+    device:
+        Where the CG iterations ran: "cpu", or "cuda" (the AMG back-end on a GPU, ``solve_flow(device=...)``).
     """
 
     flux: float
@@ -121,6 +129,7 @@ class FlowResult:
     seconds: float
     conductance: float
     phase_seconds: dict[str, float] = field(default_factory=dict)
+    device: str = "cpu"
 
 
 def flow_memory_bytes(n: int, method: Method = "auto") -> int:
@@ -335,6 +344,56 @@ def _smooth_prolongator(T: sparse.csr_matrix, AT: sparse.csr_matrix, weight: Flo
     return (T + AT).tocsr()
 
 
+def _hierarchy(A: sparse.csr_matrix) -> tuple[FloatArray, list[tuple[sparse.csr_matrix, ...]], sparse.csr_matrix]:
+    """The smoothed-aggregation hierarchy of :class:`_AmgSolver` (its docstring), for any back-end that cycles on it.
+
+    ``A`` (CSR, float64) is scaled in place to D^-1/2 A D^-1/2 and becomes the finest level's matrix.
+    Returns √diag(A), the levels (A_l, P_l, R_l) from the finest down, and the coarsest matrix (<=
+    ``_AmgSolver.MAX_COARSE`` unknowns; ``A`` itself when it is that small already). A coarsening that stalls
+    is a :class:`ConvergenceError`.
+    """
+    rows = _row_of_entries(A)
+    sq = _scaled(A, rows)
+    levels: list[tuple[sparse.csr_matrix, ...]] = []
+    level_a, cand, row_of = A, sq.copy(), rows
+    while level_a.shape[0] > _AmgSolver.MAX_COARSE and len(levels) < _AmgSolver.MAX_LEVELS - 1:
+        agg = standard_aggregation(_strong_pattern(level_a, row_of, _AmgSolver.THETA))[0].tocsr()
+        n, nc = agg.shape
+        if nc == 0 or nc >= n:  # nothing left to coarsen
+            break
+        cols = agg.indices
+        c_agg = cand[_row_of_entries(agg)]
+        norm = np.sqrt(np.bincount(cols, weights=c_agg**2, minlength=nc))
+        T = sparse.csr_matrix((c_agg / norm[cols], cols, agg.indptr), shape=(n, nc))
+        del c_agg
+        weight = _AmgSolver.OMEGA / np.bincount(row_of, weights=np.abs(level_a.data), minlength=n)
+        P = _smooth_prolongator(T, level_a @ T, weight)
+        del T, agg
+        R = P.T.tocsr()
+        AP = level_a @ P
+        coarse = (R @ AP).tocsr()
+        del AP
+        coarse.sum_duplicates()
+        levels.append((level_a, P, R))
+        level_a, cand = coarse, norm
+        row_of = _row_of_entries(level_a)
+    if level_a.shape[0] > 20 * _AmgSolver.MAX_COARSE:  # a dense coarse solve would not fit: say so
+        raise ConvergenceError(f"flow solver (amg): coarsening stalled at {level_a.shape[0]} unknowns "
+                               f"after {len(levels)} levels; use method='direct'")
+    return sq, levels, level_a
+
+
+def _stop(l1: float, net: float, q: float, it: int, l1_tol: float, sum_tol: float, max_iter: int, who: str) -> bool:
+    """Whether CG's iterate meets the flux-error test (||r||_1 <= l1_tol·Q and |Σ r| <= sum_tol·Q); a
+    :class:`ConvergenceError` naming the back-end ``who`` once ``max_iter`` iterations have not."""
+    if q > 0 and l1 <= l1_tol * q and net <= sum_tol * q:
+        return True
+    if it >= max_iter:
+        raise ConvergenceError(f"flow solver ({who}): residual bound ||r||_1/Q = {l1 / q if q > 0 else math.inf:.3g} "
+                               f"after {it} CG iterations, needed {l1_tol:.1e}")
+    return False
+
+
 class _AmgSolver:
     """CG on D^-1/2 A D^-1/2 preconditioned by a smoothed-aggregation V-cycle (module docstring).
 
@@ -369,41 +428,11 @@ class _AmgSolver:
     def __init__(self, A: sparse.csr_matrix, max_iter: int) -> None:
         """Build the hierarchy of ``A`` (CSR, float64), which is scaled in place to D^-1/2 A D^-1/2:
         the caller must not use ``A`` afterwards (it is the fine-level matrix, no copy is kept)."""
-        self.sq = np.sqrt(A.diagonal())
-        inv = 1.0 / self.sq
-        rows = _row_of_entries(A)
-        A.data *= inv[rows]  # (a_ij / √d_i) / √d_j: the digits of Dm @ A @ Dm; unit diagonal
-        A.data *= inv[A.indices]
-        del inv
-        As = A
-        self.As = As
+        self.sq, levels, level_a = _hierarchy(A)
+        self.As = A
         # per level: A, its strictly upper triangle U (for the residual after a forward sweep), P, R
-        self.levels: list[tuple[sparse.csr_matrix, ...]] = []
-        level_a, cand, row_of = As, self.sq.copy(), rows
-        while level_a.shape[0] > self.MAX_COARSE and len(self.levels) < self.MAX_LEVELS - 1:
-            agg = standard_aggregation(_strong_pattern(level_a, row_of, self.THETA))[0].tocsr()
-            n, nc = agg.shape
-            if nc == 0 or nc >= n:  # nothing left to coarsen
-                break
-            cols = agg.indices
-            c_agg = cand[_row_of_entries(agg)]
-            norm = np.sqrt(np.bincount(cols, weights=c_agg**2, minlength=nc))
-            T = sparse.csr_matrix((c_agg / norm[cols], cols, agg.indptr), shape=(n, nc))
-            del c_agg
-            weight = self.OMEGA / np.bincount(row_of, weights=np.abs(level_a.data), minlength=n)
-            P = _smooth_prolongator(T, level_a @ T, weight)
-            del T, agg
-            R = P.T.tocsr()
-            AP = level_a @ P
-            coarse = (R @ AP).tocsr()
-            del AP
-            coarse.sum_duplicates()
-            self.levels.append((level_a, _upper(level_a, row_of), P, R))
-            level_a, cand = coarse, norm
-            row_of = _row_of_entries(level_a)
-        if level_a.shape[0] > 20 * self.MAX_COARSE:  # a dense coarse solve would not fit: say so
-            raise ConvergenceError(f"flow solver (amg): coarsening stalled at {level_a.shape[0]} unknowns "
-                                   f"after {len(self.levels)} levels; use method='direct'")
+        self.levels: list[tuple[sparse.csr_matrix, ...]] = [
+            (a, _upper(a, _row_of_entries(a)), p, r) for a, p, r in levels]
         # the coarsest level by a sparse LU: SuperLU's digits do not depend on the number of BLAS threads
         # (LAPACK's eigh behind a pseudo-inverse, and a threaded dgemv, do), so a task gives the same
         # numbers in a one-thread Dask worker as in the plain loop (docs/theory.md §6.7); the
@@ -462,12 +491,8 @@ class _AmgSolver:
             net = abs(float(work.sum()))
             l1 = float(np.abs(work, out=work).sum())
             q = flux(x[flux.cells] / sq_in)
-            if q > 0 and l1 <= l1_tol * q and net <= sum_tol * q:
+            if _stop(l1, net, q, it, l1_tol, sum_tol, self.max_iter, "amg"):
                 return x / sq, it
-            if it >= self.max_iter:
-                raise ConvergenceError(
-                    f"flow solver (amg): residual bound ||r||_1/Q = {l1 / q if q > 0 else math.inf:.3g} "
-                    f"after {it} CG iterations, needed {l1_tol:.1e}")
             it += 1
             Ap = self.As @ pdir
             alpha = rz / dot(pdir, Ap)
@@ -483,6 +508,138 @@ class _AmgSolver:
             rz = rz_new
 
 
+class _Rows:
+    """A sparse matrix as padded rows (ELLPACK) in an array namespace: ``vals`` and ``cols`` (m × w), the
+    entries of each row in CSR order, then zeros. ``self @ x`` is y_i = Σ_k vals[i,k] x[cols[i,k]]: one gather
+    and one sum along the rows, with no atomic additions, so it gives the same bits at every call (cuSPARSE's
+    default CSR product on a GPU does not: two runs of the same flow differed at 1e-14).
+    """
+
+    def __init__(self, M: sparse.csr_matrix, xp: Any) -> None:
+        m = M.shape[0]
+        counts = np.diff(M.indptr)
+        width = max(int(counts.max()) if m else 1, 1)
+        rows = _row_of_entries(M)
+        pos = np.arange(M.nnz) - M.indptr[rows]
+        vals = np.zeros((m, width))
+        cols = np.zeros((m, width), dtype=np.int32 if M.shape[1] < 2**31 else np.int64)  # padding: column 0, value 0
+        vals[rows, pos] = M.data
+        cols[rows, pos] = M.indices
+        self.xp, self.shape, self.width = xp, (m, width), width
+        self.vals, self.cols = xp.asarray(vals), xp.asarray(cols.reshape(-1))
+
+    def __matmul__(self, x: Any) -> Any:
+        xp = self.xp
+        return xp.sum(self.vals * xp.reshape(xp.take(x, self.cols), self.shape), axis=1)
+
+
+class _CycleSolver:
+    """CG on D^-1/2 A D^-1/2 preconditioned by the hierarchy of :func:`_hierarchy` with l1-Jacobi smoothing, in
+    the array namespace of a device: CuPy on a GPU; NumPy and array_api_strict in the tests.
+
+    The hierarchy is built on the host, as for :class:`_AmgSolver`, and moved to the device as padded rows
+    (:class:`_Rows`, array-API operations only); what runs there are the CG iterations, each a V(k,k) cycle of
+    matrix-vector products and elementwise updates: Gauss–Seidel, the host's smoother, is sequential and has
+    no fast GPU form. The smoother is the l1-Jacobi sweep x ← x + (b - A x)/Σ_j|a_ij| (Baker, Falgout, Kolev &
+    Yang, SIAM J. Sci. Comput. 33 (2011) 2864, which shows it convergent for any symmetric positive definite A
+    without a damping factor or a spectral estimate; symmetric, so the cycle
+    with ``SWEEPS`` sweeps before and after the coarse correction is a symmetric preconditioner, as CG
+    needs). The coarsest level (<= 500 unknowns) is solved with its inverse (the pseudo-inverse if it is
+    singular), computed on the host and applied as a dense product. ``preconditioner="jacobi"`` drops the
+    hierarchy: CG on the diagonally scaled matrix (no set-up, thousands of iterations; kept for the
+    measurement that chose the hierarchy, docs/performance.md#gpu).
+
+    The stopping test is the host's (:meth:`_AmgSolver.__call__`): the l1 norm and the sum of the
+    unscaled residual against the inflow of the total solution; the caller checks the result in
+    extended precision on the host, as for every back-end. Every operation is elementwise, a gather or a
+    reduction, so a run repeats its bits on one machine.
+    """
+
+    SWEEPS = 1
+
+    def __init__(self, A: sparse.csr_matrix, max_iter: int, xp: Any,
+                 preconditioner: Literal["amg", "jacobi"] = "amg") -> None:
+        """``A`` is scaled in place (as for :class:`_AmgSolver`); ``xp`` is the device's array namespace."""
+        self.xp = xp
+        if preconditioner == "amg":
+            sq, levels, coarse = _hierarchy(A)
+        else:
+            sq, levels, coarse = _scaled(A, _row_of_entries(A)), [], None
+        self.sq = xp.asarray(sq)
+        self.As = _Rows(A, xp)
+        self.levels = [(self.As if k == 0 else _Rows(a, xp), _Rows(p, xp), _Rows(r, xp), xp.asarray(_l1_weight(a)))
+                       for k, (a, p, r) in enumerate(levels)]
+        self.coarse = None if coarse is None else xp.asarray(_coarse_inverse(coarse))
+        self.max_iter = max_iter
+
+    def _cycle(self, b: Any, lvl: int = 0) -> Any:
+        """One V(k,k) cycle for A_lvl x = b from x = 0 (the preconditioner M⁻¹ b); b itself without a hierarchy."""
+        if self.coarse is None:
+            return b
+        if lvl == len(self.levels):
+            return self.coarse @ b
+        A, P, R, w = self.levels[lvl]
+        x = w * b
+        for _ in range(self.SWEEPS - 1):
+            x = x + w * (b - A @ x)
+        x = x + P @ self._cycle(R @ (b - A @ x), lvl + 1)
+        for _ in range(self.SWEEPS):
+            x = x + w * (b - A @ x)
+        return x
+
+    def __call__(self, rhs: FloatArray, l1_tol: float, sum_tol: float, flux: _Flux) -> tuple[FloatArray, int]:
+        """Solve A x = rhs until ||rhs - A x||_1 <= l1_tol·Q and |Σ(rhs - A x)| <= sum_tol·Q (as
+        :meth:`_AmgSolver.__call__`); ``rhs`` and the returned correction are host arrays."""
+        xp, sq = self.xp, self.sq
+        cells = xp.asarray(flux.cells)
+        inflow_w, base, sq_in = xp.asarray(flux.weights), xp.asarray(flux.base), xp.take(sq, cells)
+        r = xp.asarray(rhs) / sq
+        x = xp.zeros_like(r)
+        z = self._cycle(r)
+        pdir = z
+        rz = float(xp.sum(r * z))
+        it = 0
+        while True:
+            unscaled = r * sq  # net flux out of each cell
+            net = abs(float(xp.sum(unscaled)))
+            l1 = float(xp.sum(xp.abs(unscaled)))
+            q = float(xp.sum(inflow_w * (1.0 - base - xp.take(x, cells) / sq_in)))
+            if _stop(l1, net, q, it, l1_tol, sum_tol, self.max_iter, "amg, on the device"):
+                return to_numpy(x / sq), it
+            it += 1
+            Ap = self.As @ pdir
+            alpha = rz / float(xp.sum(pdir * Ap))
+            x = x + alpha * pdir
+            r = r - alpha * Ap
+            z = self._cycle(r)
+            rz_new = float(xp.sum(r * z))
+            pdir = z + (rz_new / rz) * pdir
+            rz = rz_new
+
+
+def _scaled(A: sparse.csr_matrix, rows: NDArray[np.intp]) -> FloatArray:
+    """Scale ``A`` in place to D^-1/2 A D^-1/2 and return √diag(A) (``rows``: :func:`_row_of_entries`)."""
+    sq = np.sqrt(A.diagonal())
+    inv = 1.0 / sq
+    A.data *= inv[rows]  # (a_ij / √d_i) / √d_j: the digits of Dm @ A @ Dm; unit diagonal
+    A.data *= inv[A.indices]
+    return sq
+
+
+def _l1_weight(A: sparse.csr_matrix) -> FloatArray:
+    """1 / Σ_j |a_ij| of each row: the l1-Jacobi smoother's weights."""
+    return 1.0 / np.bincount(_row_of_entries(A), weights=np.abs(A.data), minlength=A.shape[0])
+
+
+def _coarse_inverse(A: sparse.csr_matrix) -> FloatArray:
+    """The inverse of the (small) coarsest matrix, or its pseudo-inverse if it is singular."""
+    dense = A.toarray()
+    try:
+        return np.asarray(np.linalg.inv(dense))
+    except np.linalg.LinAlgError:
+        return np.asarray(pinvh(dense))
+
+
 def solve_flow(
     gap: ArrayLike,
     size: float,
@@ -495,6 +652,7 @@ def solve_flow(
     outlet_pressure: float = 0.0,
     max_iter: int = 2000,
     memory_limit: float | None = None,
+    device: str = "cpu",
 ) -> FlowResult:
     """Leak flow through an N×N gap field from the inlet edge x = 0 to the outlet edge x = L.
 
@@ -525,6 +683,12 @@ def solve_flow(
         CG iteration limit of the AMG back-end (ConvergenceError beyond).
     memory_limit:
         Bytes allowed (default: what the OS reports available); ResourceError up front.
+    device:
+        Where the AMG back-end's CG iterations run: ``"cpu"`` (default), or ``"cuda"``, an NVIDIA GPU
+        through CuPy (:class:`_CycleSolver`: the same hierarchy, built on the host, cycled on the GPU with
+        l1-Jacobi instead of Gauss–Seidel smoothing; within ``rtol`` of the CPU's flux, as every result).
+        The direct back-end, the clusters, the assembly and the extended-precision check run on the host
+        either way. Without CuPy or a GPU, an InputError; too little free GPU memory, a ResourceError.
 
     Returns
     -------
@@ -534,6 +698,7 @@ def solve_flow(
     t0 = time.perf_counter()
     clock: dict[str, float] = {}
     g = _validate(gap, size, viscosity, pressure_difference)
+    check_device(device)
     if method not in ("auto", "direct", "amg"):
         raise InputError("method", method, "allowed: 'auto', 'direct', 'amg'")
     if not (math.isfinite(rtol) and 0 < rtol < 1e-2):
@@ -561,6 +726,9 @@ def solve_flow(
         return _result(0.0, 0.0, 0.0, pressure, False, "none", 0.0, 0.0, 0, 0, t0, 0.0, {})
     chosen = method if method != "auto" else ("direct" if m <= AUTO_DIRECT_MAX_UNKNOWNS else "amg")
     require_memory(flow_memory_bytes(n, chosen), f"the {n}x{n} flow problem ({chosen})", memory_limit)
+    on_device = chosen == "amg" and device != "cpu"
+    if on_device:
+        require_device_memory(flow_memory_bytes(n, "amg"), f"the {n}x{n} flow problem (amg)", device)
     clock["clusters"] = time.perf_counter() - t0
     t = time.perf_counter()
     cx, cy, sf = _faces(s, fluid)
@@ -570,7 +738,13 @@ def solve_flow(
     del cx, cy, sf, _b_out
     clock["assembly"] = time.perf_counter() - t
     t = time.perf_counter()
-    solver = _DirectSolver(A) if chosen == "direct" else _AmgSolver(A, max_iter)
+    solver: _DirectSolver | _AmgSolver | _CycleSolver
+    if chosen == "direct":
+        solver = _DirectSolver(A)
+    elif on_device:
+        solver = _CycleSolver(A, max_iter, _device_arrays(device), preconditioner=DEVICE_PRECONDITIONER)
+    else:
+        solver = _AmgSolver(A, max_iter)
     del A
     clock["setup"] = time.perf_counter() - t
     phi = np.zeros(g.shape, dtype=np.longdouble)
@@ -585,10 +759,15 @@ def solve_flow(
     pressure[fluid] = outlet_pressure + pressure_difference * phi[fluid].astype(np.float64)
     cond = inflow * gmax**3 / (12.0 * viscosity)
     return _result(inflow * unit, inflow * unit, outflow * unit, pressure, True, chosen, bound, cons, its, m, t0, cond,
-                   clock)
+                   clock, device if on_device else "cpu")
 
 
-def _refine(solver: _DirectSolver | _AmgSolver, grid: _Grid, phi: NDArray[np.longdouble], b_in: FloatArray,
+def _device_arrays(device: str) -> Any:
+    """The array namespace of ``device`` (array-api-compat's CuPy for ``"cuda"``)."""
+    return array_namespace_for(device)
+
+
+def _refine(solver: _DirectSolver | _AmgSolver | _CycleSolver, grid: _Grid, phi: NDArray[np.longdouble], b_in: FloatArray,
             rtol: float, clock: dict[str, float], rhs: FloatArray | None = None
             ) -> tuple[int, tuple[FloatArray, float, float, float, float, float]]:
     """Mixed-precision iterative refinement (docs/theory.md §6.3), shared by the liquid and the gas solver.
@@ -635,8 +814,9 @@ def _refine(solver: _DirectSolver | _AmgSolver, grid: _Grid, phi: NDArray[np.lon
 
 
 def _result(q: float, qin: float, qout: float, pressure: FloatArray, perc: bool, method: str, res: float,
-            cons: float, its: int, m: int, t0: float, cond: float, clock: dict[str, float]) -> FlowResult:
+            cons: float, its: int, m: int, t0: float, cond: float, clock: dict[str, float],
+            device: str = "cpu") -> FlowResult:
     return FlowResult(flux=q, inflow=qin, outflow=qout, pressure=pressure, percolates=perc, method=method,
                       residual=res, conservation_error=cons, iterations=its, unknowns=m,
                       seconds=time.perf_counter() - t0, conductance=cond,
-                      phase_seconds=dict(clock))
+                      phase_seconds=dict(clock), device=device)
