@@ -23,7 +23,9 @@ from sealeak.numerics import (
     contact_memory_bytes,
     device_count,
     device_memory_bytes,
+    flow_memory_bytes,
     require_device_memory,
+    solve_flow,
     synthesis_memory_bytes,
 )
 from tests.cli_errors import one_line_error
@@ -91,6 +93,17 @@ def test_gpu_memory_is_checked_against_the_free_memory_before_any_work(case, mon
     assert not (tmp_path / "f").exists()
     monkeypatch.setitem(sys.modules, "cupy", _fake_cupy(1, free=need))
     require_device_memory(need, "the 64x64 synthesis and contact", "cuda")
+
+
+def test_a_flow_on_the_gpu_checks_its_memory_before_any_work(monkeypatch):
+    gap = np.full((64, 64), 1e-6)
+    monkeypatch.setitem(sys.modules, "cupy", _fake_cupy(1, free=flow_memory_bytes(64, "amg") - 1))
+    with pytest.raises(ResourceError, match=r"64x64 flow problem \(amg\) needs about .* GiB of GPU memory"):
+        solve_flow(gap, 1e-3, 1e-3, 1e5, method="amg", device="cuda")
+    monkeypatch.setitem(sys.modules, "cupy", None)
+    with pytest.raises(InputError, match="CuPy") as err:
+        solve_flow(gap, 1e-3, 1e-3, 1e5, method="amg", device="cuda")
+    assert err.value.field == "device"
 
 
 def test_the_gpu_estimate_holds_a_contact_solve_and_grows_as_the_cells():
