@@ -31,9 +31,13 @@ from sealeak.numerics import (
 from tests.cli_errors import one_line_error
 
 
-def _fake_cupy(gpus: int, free: float = 80e9) -> SimpleNamespace:
+def _fake_cupy(gpus: int, free: float = 80e9, pooled: int | None = None) -> SimpleNamespace:
+    """A stand-in for CuPy: ``gpus`` GPUs, ``free`` bytes free by the driver, ``pooled`` unused in its pool (None: no pool)."""
     runtime = SimpleNamespace(getDeviceCount=lambda: gpus, memGetInfo=lambda: (int(free), int(2 * free)))
-    return SimpleNamespace(cuda=SimpleNamespace(runtime=runtime))
+    fake = SimpleNamespace(cuda=SimpleNamespace(runtime=runtime))
+    if pooled is not None:
+        fake.get_default_memory_pool = lambda: SimpleNamespace(free_bytes=lambda: pooled)
+    return fake
 
 
 @pytest.fixture
@@ -104,6 +108,13 @@ def test_a_flow_on_the_gpu_checks_its_memory_before_any_work(monkeypatch):
     with pytest.raises(InputError, match="CuPy") as err:
         solve_flow(gap, 1e-3, 1e-3, 1e5, method="amg", device="cuda")
     assert err.value.field == "device"
+
+
+def test_the_pools_unused_blocks_count_as_free(monkeypatch):
+    monkeypatch.setitem(sys.modules, "cupy", _fake_cupy(1, free=1000, pooled=500))
+    require_device_memory(1500, "the test", "cuda")
+    with pytest.raises(ResourceError, match="GPU memory"):
+        require_device_memory(1501, "the test", "cuda")
 
 
 def test_the_gpu_estimate_holds_a_contact_solve_and_grows_as_the_cells():

@@ -100,10 +100,18 @@ def device_memory_bytes(n: int) -> int:
 
 
 def require_device_memory(need: int, what: str, device: str, field: str = "device") -> None:
-    """Raise :class:`ResourceError` when ``need`` bytes exceed the GPU's free memory (``"cuda"``; nothing for ``"cpu"``)."""
+    """Raise :class:`ResourceError` when ``need`` bytes exceed the GPU's free memory (``"cuda"``; nothing for ``"cpu"``).
+
+    Free is what the driver reports plus the blocks CuPy's memory pool holds unused (a finished contact solve's
+    arrays stay in the pool for reuse, and the flow after it reuses them).
+    """
     if _check(device, field) == "cpu":
         return
-    free, total = (int(v) for v in _cupy(field).cuda.runtime.memGetInfo())
+    cupy = _cupy(field)
+    free, total = (int(v) for v in cupy.cuda.runtime.memGetInfo())
+    pool = getattr(cupy, "get_default_memory_pool", None)
+    if pool is not None:
+        free += int(pool().free_bytes())
     if need > free:
         raise ResourceError(f"{what} needs about {need / 2**30:.2f} GiB of GPU memory (estimate), more than the "
                             f"{free / 2**30:.2f} GiB free of {total / 2**30:.2f} GiB; use a smaller grid or {field} cpu")
