@@ -15,9 +15,10 @@ from scipy import sparse
 from scipy.special import erfinv
 
 from sealeak.errors import ConvergenceError, InputError
-from sealeak.numerics import _flow, solve_contact, solve_flow
+from sealeak.numerics import _flow, solve_contact, solve_flow, solve_gas_flow
 from sealeak.numerics._xp import namespace
 from sealeak.numerics.synthesis import synthesize
+from sealeak.physics.gas import Gas
 from sealeak.physics.spectrum import PowerSpectrum
 
 ETA, DP, L = 1e-3, 1e5, 1e-3
@@ -54,6 +55,18 @@ def test_device_back_end_gives_the_direct_flux_within_the_bounds(fields, fractio
     assert abs(c.flux - d.flux) <= (c.residual + d.residual) * d.flux
     # the hierarchy does the work: CG on the scaled matrix alone needs thousands of iterations here
     assert 5 <= c.iterations <= 40
+
+
+def test_a_gas_flow_runs_its_linear_solves_on_the_device_and_agrees(fields, host_device):
+    res = fields[0.1]
+    helium = Gas("helium", 293.15, 19.6e-6, 4.0026e-3)
+    args = (res.gap, L, helium, 2e5, 1e5)
+    cpu = solve_gas_flow(*args, contact=res.contact, method="amg")
+    dev = solve_gas_flow(*args, contact=res.contact, method="amg", device="cuda")
+    assert cpu.device == "cpu" and dev.device == "cuda" and dev.iterations > 1  # the slip fixed point ran there
+    # each is within the fixed point's tolerance (1e-6) of the exact slip flow of this field
+    assert dev.mass_flow == pytest.approx(cpu.mass_flow, rel=2e-6, abs=0)
+    assert dev.throughput_no_slip == pytest.approx(cpu.throughput_no_slip, rel=2e-7, abs=0)
 
 
 def test_jacobi_alone_converges_but_needs_far_more_iterations(fields, host_device, monkeypatch):

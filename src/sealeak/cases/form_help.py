@@ -218,8 +218,8 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "random seed (realisation r uses numpy.random.default_rng([seed, r]))"),
     "simulation.device": FieldHelp("Device", "simulation-defaults-of-sealeak-simulate-optional",
                      "where the surfaces are synthesized and the contact solved: cpu (NumPy) or cuda (an NVIDIA GPU "
-                     "with CuPy, the gpu extra), where the liquid flow's AMG iterations run too (their set-up, "
-                     "small fields' direct solves and gas flows stay on the CPU)"),
+                     "with CuPy, the gpu extra), where the flows' AMG iterations run too (their set-up and "
+                     "small fields' direct solves stay on the CPU)"),
 }
 
 # capillarity of a liquid ([fluid], docs/case-files.md)

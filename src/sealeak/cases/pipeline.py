@@ -114,7 +114,7 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     one after the other in this process); the records are aggregated in realisation order, so the numbers
     do not depend on the runner. ``device``: where the tasks synthesize their surfaces and solve the contact,
     ``"cpu"`` (NumPy) or ``"cuda"`` (CuPy on a GPU, :mod:`sealeak.numerics._device`; its free memory is checked
-    here, before any work), and where the liquid flow's AMG iterations run (:func:`sealeak.numerics.solve_flow`,
+    here, before any work), and where the flows' AMG iterations run (:func:`sealeak.numerics.solve_flow`,
     ``device``); the rest of the flow runs on the host.
     """
     grid = grid_number(grid_field, grid)
@@ -231,7 +231,7 @@ class TaskSpec(RunSettings):
     write their fields into (:mod:`sealeak.io.fieldstore`; None: none), ``fft_workers`` the FFT threads of
     each task (-1: all cores; 1 on a cluster, whose worker processes share the cores). None of these
     changes a number; nor does ``device`` (``"cpu"`` or ``"cuda"``: where the surfaces are synthesized, the
-    contact solved, :meth:`on_device`, and the liquid flow's CG iterations run) beyond FFT round-off and the flow's
+    contact solved, :meth:`on_device`, and the flows' CG iterations run) beyond FFT round-off and the flow's
     tolerance. ``capillary``: each sweep also finds its gap fields' critical constrictions (a liquid with a
     contact angle, docs/theory.md §12.4). A geometry's spec adds its own fields and :meth:`geometry_identity`.
     """
@@ -406,7 +406,7 @@ class FlowLog:
         if gas is not None:
             gflow = numerics.solve_gas_flow(res.gap, spec.size, gas.gas, gas.upstream_pressure, gas.downstream_pressure,
                                             contact=res.contact, model=gas.rarefaction, method=spec.flow_method,
-                                            memory_limit=spec.memory_limit)
+                                            memory_limit=spec.memory_limit, device=spec.device)
             self.pv.append(float(scale * gflow.throughput))
             self.pv_no_slip.append(float(scale * gflow.throughput_no_slip))
             self.iterations.append(int(gflow.iterations))

@@ -176,8 +176,8 @@ def simulate(
         they do not depend on the runner.
     device:
         ``"cpu"`` (NumPy, the default) or ``"cuda"``: surface synthesis and contact on an NVIDIA GPU with CuPy
-        (the ``gpu`` extra), and the liquid flow's AMG iterations there too (their set-up, small fields' direct
-        solves and a gas's flow stay on the CPU). The same surfaces; the numbers agree with the CPU's to FFT
+        (the ``gpu`` extra), and the flows' AMG iterations there too (their set-up and small fields' direct
+        solves stay on the CPU). The same surfaces; the numbers agree with the CPU's to FFT
         round-off, the leak rates within the flow solver's tolerance (docs/performance.md).
     """
     return run_ensemble(PeriodicSquare(threshold), case, grid=grid, realizations=realizations, seed=seed,
@@ -368,7 +368,7 @@ def run_task(task: EnsembleTask, progress: Callable[[int], None] | None = None) 
     at every squeeze pressure (warm-started upwards) and the flow through each gap field (§6.2–6.3); it
     returns per pressure the relative contact area, mean gap (m), whether the fluid percolates and the
     seal's leak rate (Ly/Lx)·Q_sq (m³/s), for a gas also the pV throughputs (Pa·m³/s, §11.10), and for
-    realisation 0 the contact maps (packed). Synthesis, contact and the liquid flow's AMG iterations run on ``spec.device``, the rest of the flow on the host.
+    realisation 0 the contact maps (packed). Synthesis, contact and the flows' AMG iterations run on ``spec.device``, the rest of the flow on the host.
     Field files, if asked, are written by the task itself: npz files
     into ``spec.fields_stage``, or, with ``spec.fields_store``, the Zarr group ``r<r>`` of the store
     (:class:`sealeak.io.fieldstore.TaskFields`, renamed in when complete; its name and the SHA-256 of each

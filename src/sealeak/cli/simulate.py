@@ -261,8 +261,8 @@ def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.
     p.add_argument("--device", metavar="cpu|cuda",
                    help="where the surfaces are synthesized and the contact solved (default: [simulation] device, else "
                         "cpu): cpu, or cuda for an NVIDIA GPU with CuPy (pip install 'sealeak[gpu]'), one Dask worker "
-                        "per GPU, where the liquid flow's AMG iterations run too (their set-up, small fields' direct "
-                        "solves and gas flows stay on the CPU)")
+                        "per GPU, where the flows' AMG iterations run too (their set-up and small fields' direct "
+                        "solves stay on the CPU)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on the Dask cluster whose scheduler is at ADDRESS (e.g. tcp://10.0.0.5:8786) "
                         "instead of a local one")

@@ -738,13 +738,7 @@ def solve_flow(
     del cx, cy, sf, _b_out
     clock["assembly"] = time.perf_counter() - t
     t = time.perf_counter()
-    solver: _DirectSolver | _AmgSolver | _CycleSolver
-    if chosen == "direct":
-        solver = _DirectSolver(A)
-    elif on_device:
-        solver = _CycleSolver(A, max_iter, _device_arrays(device), preconditioner=DEVICE_PRECONDITIONER)
-    else:
-        solver = _AmgSolver(A, max_iter)
+    solver = _back_end(A, chosen, max_iter, device)
     del A
     clock["setup"] = time.perf_counter() - t
     phi = np.zeros(g.shape, dtype=np.longdouble)
@@ -760,6 +754,16 @@ def solve_flow(
     cond = inflow * gmax**3 / (12.0 * viscosity)
     return _result(inflow * unit, inflow * unit, outflow * unit, pressure, True, chosen, bound, cons, its, m, t0, cond,
                    clock, device if on_device else "cpu")
+
+
+def _back_end(A: sparse.csr_matrix, chosen: str, max_iter: int, device: str) -> _DirectSolver | _AmgSolver | _CycleSolver:
+    """The solver of ``chosen`` ("direct" or "amg") for ``A`` (consumed); the AMG one on ``device`` (:class:`_CycleSolver`
+    unless it is "cpu")."""
+    if chosen == "direct":
+        return _DirectSolver(A)
+    if device != "cpu":
+        return _CycleSolver(A, max_iter, _device_arrays(device), preconditioner=DEVICE_PRECONDITIONER)
+    return _AmgSolver(A, max_iter)
 
 
 def _device_arrays(device: str) -> Any:

@@ -62,9 +62,8 @@ from ._checks import square_grid
 from ._flow import (
     CONSERVATION_TOL,
     Method,
-    _AmgSolver,
     _assemble,
-    _DirectSolver,
+    _back_end,
     _Grid,
     _refine,
     flow_memory_bytes,
@@ -130,6 +129,8 @@ class GasFlowResult:
         Cells solved for.
     seconds:
         Wall time (s).
+    device:
+        Where the linear solves' CG iterations ran: "cpu", or "cuda" (:func:`solve_flow`).
     """
 
     mass_flow: float
@@ -153,6 +154,7 @@ class GasFlowResult:
     conservation_error: float
     unknowns: int
     seconds: float
+    device: str = "cpu"
 
 
 def gas_flow_memory_bytes(n: int, method: Method = "auto") -> int:
@@ -234,6 +236,7 @@ def solve_gas_flow(
     max_iter: int = 100,
     cg_max_iter: int = 2000,
     memory_limit: float | None = None,
+    device: str = "cpu",
 ) -> GasFlowResult:
     """Gas leak through an N×N gap field from the inlet edge x = 0 (P_a) to the outlet edge x = L (P_b).
 
@@ -267,6 +270,8 @@ def solve_gas_flow(
         CG iteration limit of the AMG back-end.
     memory_limit:
         Bytes allowed (default: what the OS reports available); ResourceError up front.
+    device:
+        Where the AMG back-end's CG iterations run, "cpu" or "cuda" (:func:`solve_flow`); every check on the host.
 
     Returns
     -------
@@ -292,7 +297,7 @@ def solve_gas_flow(
     d_phi = (pa - pb) * (pa + pb)
     # the no-slip problem in φ = p²: the liquid solve at unit drop (φ̂ = (φ − P_b²)/(P_a² − P_b²) in [0, 1])
     base = solve_flow(g, size, gas.viscosity, 1.0, contact=contact, method=method, rtol=rtol,
-                      max_iter=cg_max_iter, memory_limit=memory_limit)
+                      max_iter=cg_max_iter, memory_limit=memory_limit, device=device)
     k0 = base.conductance
     nan = np.full(g.shape, np.nan)
     if not base.percolates:
@@ -316,14 +321,14 @@ def solve_gas_flow(
                              upstream_pressure=pa, downstream_pressure=pb, iterations=0, mass_flow_change=0.0,
                              pressure_change=0.0, error_estimate=0.0, method=base.method, residual=base.residual,
                              conservation_error=base.conservation_error, unknowns=base.unknowns,
-                             seconds=time.perf_counter() - t0)
+                             seconds=time.perf_counter() - t0, device=base.device)
     return _fixed_point(g, fluid, phi_hat, gas, pa, pb, model, base.method, tol, rtol, max_iter, cg_max_iter,
-                        k0, t0)
+                        k0, t0, base.device)
 
 
 def _fixed_point(g: FloatArray, fluid: NDArray[np.bool_], phi_hat: FloatArray, gas: Gas, pa: float, pb: float,
                  model: str, chosen: str, tol: float, rtol: float, max_iter: int, cg_max_iter: int, k0: float,
-                 t0: float) -> GasFlowResult:
+                 t0: float, device: str = "cpu") -> GasFlowResult:
     """The slip fixed point (module docstring), started from the no-slip solution φ̂.
 
     The map G takes the pressures x = p/P_a of the fluid cells to the pressures of the linear solve
@@ -350,7 +355,7 @@ def _fixed_point(g: FloatArray, fluid: NDArray[np.bool_], phi_hat: FloatArray, g
     for it in range(1, max_iter + 1):
         p_field[fluid] = pa * x
         cx, cy, sb = _faces(sigma0, c, p_field, fluid, pa, pb, model)
-        phi, inflow, outflow, bound, cons = _solve_linear(cx, cy, sb, fluid, phi, chosen, rtol, cg_max_iter)
+        phi, inflow, outflow, bound, cons = _solve_linear(cx, cy, sb, fluid, phi, chosen, rtol, cg_max_iter, device)
         m = inflow * unit
         gx = np.sqrt(pb * pb + d_phi * np.maximum(phi[fluid].astype(np.float64), 0.0)) / pa
         f = gx - x
@@ -376,7 +381,7 @@ def _fixed_point(g: FloatArray, fluid: NDArray[np.bool_], phi_hat: FloatArray, g
                                  iterations=it, mass_flow_change=dm, pressure_change=dp, error_estimate=estimate,
                                  method=chosen, residual=bound, conservation_error=cons,
                                  unknowns=int(np.count_nonzero(fluid)),
-                                 seconds=time.perf_counter() - t0)
+                                 seconds=time.perf_counter() - t0, device=device)
         x_prev = x
         g_hist.append(gx)
         f_hist.append(f)
@@ -444,7 +449,7 @@ def _faces(sigma0: FloatArray, c: FloatArray, p: FloatArray, fluid: NDArray[np.b
 
 
 def _solve_linear(cx: FloatArray, cy: FloatArray, sb: FloatArray, fluid: NDArray[np.bool_],
-                  phi: NDArray[np.longdouble], chosen: str, rtol: float, cg_max_iter: int
+                  phi: NDArray[np.longdouble], chosen: str, rtol: float, cg_max_iter: int, device: str = "cpu"
                   ) -> tuple[NDArray[np.longdouble], float, float, float, float]:
     """φ̂ of the linear problem with the given faces (φ̂ = 1 at the inlet, 0 at the outlet), warm-started
     from ``phi``, by the back-end of :func:`solve_flow` with its refinement loop and checks (§6.3).
@@ -453,7 +458,7 @@ def _solve_linear(cx: FloatArray, cy: FloatArray, sb: FloatArray, fluid: NDArray
     conservation error; raises :class:`SolutionCheckError` when the checks fail."""
     A, b_in, _b_out = _assemble(cx, cy, sb, fluid)
     grid = _Grid(cx, cy, sb, fluid)
-    solver = _DirectSolver(A) if chosen == "direct" else _AmgSolver(A, cg_max_iter)
+    solver = _back_end(A, chosen, cg_max_iter, device)
     del A
     phi = phi.copy()
     _its, (_r, inflow, outflow, res, bound, cons) = _refine(solver, grid, phi, b_in, rtol, {})
