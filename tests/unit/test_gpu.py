@@ -1,4 +1,4 @@
-"""On a GPU: synthesis and the contact solvers on CuPy arrays give the NumPy results, and ``simulate --device cuda``
+"""On a GPU: synthesis, the contact solvers and the flows on CuPy arrays give the NumPy results, and ``simulate --device cuda``
 gives the CPU's numbers. Skipped unless CuPy imports and sees a GPU (CI has none; docs/performance.md#gpu)."""
 
 from __future__ import annotations
@@ -10,7 +10,8 @@ import pytest
 
 from sealeak.cases import example_path, load_cases, simulate
 from sealeak.errors import InputError
-from sealeak.numerics import array_namespace_for, solve_band_contact, solve_contact, solve_flow, synthesize, to_numpy
+from sealeak.numerics import array_namespace_for, solve_band_contact, solve_contact, solve_flow, solve_gas_flow, synthesize, to_numpy
+from sealeak.physics.gas import Gas
 from sealeak.physics.spectrum import PowerSpectrum
 
 pytest.importorskip("cupy")
@@ -83,3 +84,13 @@ def test_flow_on_the_gpu_gives_the_cpu_flux_within_the_bounds_and_the_same_bits_
     assert 5 <= gpu.iterations <= 40
     # on one machine a GPU run repeats itself bit for bit (cuSPARSE products and CuPy's reductions)
     assert again.flux == gpu.flux and again.iterations == gpu.iterations
+
+
+def test_a_gas_flow_on_the_gpu_gives_the_cpu_mass_flow():
+    h = synthesize(MODEL, 512, L, seed=2)
+    res = solve_contact(xp.asarray(h), L, 1e7, 0.1 * 1e7 * MODEL.slope_rms / 2.0).on_host()
+    helium = Gas("helium", 293.15, 19.6e-6, 4.0026e-3)
+    cpu = solve_gas_flow(res.gap, L, helium, 2e5, 1e5, contact=res.contact, method="amg")
+    gpu = solve_gas_flow(res.gap, L, helium, 2e5, 1e5, contact=res.contact, method="amg", device="cuda")
+    assert gpu.device == "cuda" and gpu.iterations > 1
+    assert gpu.mass_flow == pytest.approx(cpu.mass_flow, rel=2e-6, abs=0)  # each within 1e-6 of the exact one
