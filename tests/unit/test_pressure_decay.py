@@ -23,7 +23,7 @@ V = 1e-4  # 100 cm³
 AIR = Gas("air", 293.15, 18.2e-6, 0.0289647)
 
 
-def setup(p1=3e5, p2=1e5, loss=None):
+def decay_setup(p1=3e5, p2=1e5, loss=None):
     return PressureDecaySetup(volume=V, initial_pressure=p1, outside_pressure=p2, temperature=293.15, pressure_loss=loss)
 
 
@@ -35,7 +35,7 @@ def linear_throughput(k, mean_pressure):
 @pytest.mark.parametrize("p1, p2", [(3e5, 1e5), (2e5, 1e5), (1e5, 0.0), (10e5, 1e5), (1.01e5, 1e5)])
 @pytest.mark.parametrize("k", [1e-15])
 def test_viscous_decay_ode_matches_its_closed_form_to_1e_8(p1, p2, k):
-    s = setup(p1, p2)
+    s = decay_setup(p1, p2)
     t_half = 2 * V / (k * p1)  # for vacuum outside, P1/2 is reached at t = 2V/(K P1)
     t = np.linspace(0.0, 5 * t_half, 60)
     ode = pressure_decay(s, viscous_throughput_function(k), t_eval=t)
@@ -47,14 +47,14 @@ def test_viscous_decay_ode_matches_its_closed_form_to_1e_8(p1, p2, k):
 
 def test_vacuum_decay_by_hand():
     """P2 = 0: P = P1/(1 + K P1 t/(2V)): half the pressure at t = 2V/(K P1) = 2e-4/(1e-15·1e5) = 2e6 s."""
-    s = setup(1e5, 0.0, loss=0.5e5)
+    s = decay_setup(1e5, 0.0, loss=0.5e5)
     assert viscous_decay_time(s, 1e-15) == pytest.approx(2e6, rel=1e-12)
     assert float(viscous_decay(s, 1e-15, 2e6)) == pytest.approx(0.5e5, rel=1e-12)
 
 
 @pytest.mark.parametrize("p1, p2", [(3e5, 1e5), (1.001e5, 1e5), (1e5, 0.0)])
 def test_linear_leak_ode_matches_the_exponential_to_1e_8(p1, p2):
-    s = setup(p1, p2)
+    s = decay_setup(p1, p2)
     k = 1e-14
     pm = 0.5 * (p1 + p2)
     tau = V / (k * pm)
@@ -69,7 +69,7 @@ def test_viscous_decay_tends_to_the_exponential_for_small_pressure_difference():
     k, p2 = 1e-14, 1e5
     errors = []
     for dp in (1e5, 1e4, 1e3, 1e2):
-        s = setup(p2 + dp, p2)
+        s = decay_setup(p2 + dp, p2)
         tau = V / (k * (p2 + dp / 2))
         t = np.linspace(0.0, 3 * tau, 40)
         errors.append(np.max(np.abs(viscous_decay(s, k, t) - exponential_decay(s, k, t))) / dp)
@@ -81,7 +81,7 @@ def test_standard_leak_rate_is_the_throughput_for_a_small_loss():
     """V ΔP/Δt with ΔP ≪ P1 − P2 tends to Q_pV(P1, P2) = (K/2)(P1² − P2²)."""
     k = 1e-15
     for loss, tol in ((1e3, 1e-2), (1e1, 1e-4)):
-        s = setup(3e5, 1e5, loss=loss)
+        s = decay_setup(3e5, 1e5, loss=loss)
         decay = pressure_decay(s, viscous_throughput_function(k))
         assert decay.standard_leak_rate == pytest.approx(0.5 * k * (9e10 - 1e10), rel=tol)
         assert decay.standard_leak_rate == pytest.approx(standard_leak_rate(V, loss, decay.time_to_loss), rel=1e-14, abs=0)
@@ -90,23 +90,23 @@ def test_standard_leak_rate_is_the_throughput_for_a_small_loss():
 def test_rarefied_decay_leaks_more_than_the_viscous_one():
     gap = 100e-9
     k = 10 * gap**3 / (12 * AIR.viscosity)
-    s = setup(2e5, 1e5, loss=1e4)
+    s = decay_setup(2e5, 1e5, loss=1e4)
     rarefied = pressure_decay(s, lambda pi, po: gas_leak(k, gap, AIR, pi, po).throughput)
     assert rarefied.time_to_loss < viscous_decay_time(s, k)
     assert np.all(rarefied.pressure[1:] < viscous_decay(s, k, rarefied.time[1:]))
 
 
 def test_no_leak_no_decay():
-    decay = pressure_decay(setup(), viscous_throughput_function(0.0))
+    decay = pressure_decay(decay_setup(), viscous_throughput_function(0.0))
     assert np.all(decay.pressure == 3e5) and math.isnan(decay.time_to_loss)
-    assert math.isinf(viscous_decay_time(setup(), 0.0))
+    assert math.isinf(viscous_decay_time(decay_setup(), 0.0))
 
 
 # ---------------------------------------------------------------------- readings: leak rate, conductance, α
 @pytest.mark.parametrize("p1, p2", [(3e5, 1e5), (1e5, 0.0)])
 def test_conductance_from_exact_readings(p1, p2):
     k = 2e-15
-    s = setup(p1, p2)
+    s = decay_setup(p1, p2)
     t = np.linspace(0.0, 3e5, 12)
     readings = leak_rate_from_decay(s, t, viscous_decay(s, k, t))
     assert readings.conductance == pytest.approx(k, rel=1e-9, abs=0)
@@ -124,7 +124,7 @@ def test_alpha_from_readings_of_a_rarefied_leak():
     def model(p_in, p_out):
         return gas_leak(k1, gap, AIR, p_in, p_out).throughput
 
-    s = setup(2e5, 1e5)
+    s = decay_setup(2e5, 1e5)
     t = np.linspace(0.0, 4e4, 15)
     simulated = pressure_decay(s, lambda pi, po: 0.37 * model(pi, po), t_eval=t)
     fit = scale_factor_from_decay(s, simulated.time, simulated.pressure, model)
@@ -137,7 +137,7 @@ def test_alpha_from_readings_of_a_rarefied_leak():
 def test_alpha_from_noisy_readings_within_its_error():
     rng = np.random.default_rng(13)
     k1 = 1e-15
-    s = setup(3e5, 1e5)
+    s = decay_setup(3e5, 1e5)
     t = np.linspace(0.0, 2e5, 25)
     hits = 0
     for _ in range(40):
@@ -172,8 +172,8 @@ def test_bad_setup_names_the_field(field, kwargs):
     ([0, 10, np.nan], [2e5, 1.9e5, 1.8e5], "finite"),
 ])
 def test_unusable_readings_name_the_file(t, p, why):
-    for call in (lambda: leak_rate_from_decay(setup(), t, p, source="decay.csv"),
-                 lambda: scale_factor_from_decay(setup(), t, p, viscous_throughput_function(1e-15), source="decay.csv")):
+    for call in (lambda: leak_rate_from_decay(decay_setup(), t, p, source="decay.csv"),
+                 lambda: scale_factor_from_decay(decay_setup(), t, p, viscous_throughput_function(1e-15), source="decay.csv")):
         with pytest.raises(FileFormatError, match=why) as exc:
             call()
         assert exc.value.path == "decay.csv"
@@ -181,4 +181,4 @@ def test_unusable_readings_name_the_file(t, p, why):
 
 def test_a_throughput_function_returning_nonsense_is_refused():
     with pytest.raises(InputError):
-        pressure_decay(setup(), lambda pi, po: -1.0)
+        pressure_decay(decay_setup(), lambda pi, po: -1.0)

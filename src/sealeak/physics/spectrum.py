@@ -177,7 +177,7 @@ class PowerSpectrum:
                                                  "numbers; check the value and its unit")
             unit = cls(nodes, shape)
             with np.errstate(over="ignore", under="ignore"):
-                C0 = np.float64(h_rms) ** 2 / unit.h_rms**2
+                C0 = float(np.float64(h_rms) ** 2 / unit.h_rms**2)
         else:
             _check_positive("C0", C0)
         with np.errstate(over="ignore", under="ignore"):

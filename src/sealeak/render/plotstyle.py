@@ -445,7 +445,6 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
             return leg
         leg.remove()
     kwargs.pop("ncol", None)
-    leg = None
     for ncol in (3, 2, 1):
         leg = fig.legend(handles, labels, loc="outside lower center", ncol=min(ncol, len(handles)), **kwargs)
         if ncol == 1 or leg.get_window_extent().width <= 0.98 * fig.bbox.width:
