@@ -28,8 +28,11 @@ from __future__ import annotations
 import base64
 import os
 import shutil
+import signal
 import tempfile
-from collections.abc import Callable, Iterable
+import threading
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any, ClassVar, Literal, Protocol, TypeVar
@@ -460,13 +463,37 @@ def with_fields(spec: TaskSpec, r: int, h: FloatArray, sweep: Callable[[TaskFiel
 
 
 def _write_fields(spec: TaskSpec, name: str, **arrays: Any) -> None:
-    """One field file into the run's staging folder (moved into the target when the run has finished)."""
+    """One field file into the run's staging folder (moved into the target when the run has finished).
+
+    A Ctrl-C during the write is held back until the file is complete (:func:`_interrupt_after`): an interrupted
+    ``savez`` leaves NumPy's zip writer holding the closed file, and its clean-up later printed "Exception ignored
+    ... seek of closed file" after the run's own message.
+    """
     assert spec.fields_stage is not None
     try:
-        with open(Path(spec.fields_stage) / name, "wb") as fh:
+        with _interrupt_after(), open(Path(spec.fields_stage) / name, "wb") as fh:
             np.savez_compressed(fh, **arrays)
     except OSError as exc:
         raise OutputWriteError(Path(spec.fields_target or spec.fields_stage) / name, exc) from None
+
+
+@contextmanager
+def _interrupt_after() -> Iterator[None]:
+    """Hold a SIGINT (Ctrl-C) back while the block runs and raise it as KeyboardInterrupt when the block has
+    finished. Only in the main thread with Python's own SIGINT handler in place (elsewhere no KeyboardInterrupt
+    can arrive, or someone else handles it): there nothing changes."""
+    if threading.current_thread() is not threading.main_thread() or \
+            signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        yield
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, _frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        raise KeyboardInterrupt
 
 
 # ---------------------------------------------------------------- aggregation
