@@ -41,7 +41,7 @@ from _common import E_STAR, SIZE, pressure_for, surface, take_option  # noqa: E4
 from sealeak import __version__, numerics  # noqa: E402
 from sealeak.cases import example_path, load_cases, simulate  # noqa: E402
 from sealeak.errors import InputError  # noqa: E402
-from sealeak.numerics import _flow  # noqa: E402
+from sealeak.numerics import _amg  # noqa: E402
 
 FRACTIONS = (0.1, 0.4)
 ETA, DP = 1e-3, 1e5
@@ -78,13 +78,13 @@ def gap_field(n: int, fraction: float) -> tuple[np.ndarray, np.ndarray, float]:
 def flow(gap: np.ndarray, contact: np.ndarray, device: str, preconditioner: str = "amg", sweeps: int = 1,
          max_iter: int = 2000) -> numerics.FlowResult | str:
     """One flow solve (its result), or why it failed (a line)."""
-    _flow.DEVICE_PRECONDITIONER, _flow._CycleSolver.SWEEPS = preconditioner, sweeps
+    _amg.DEVICE_PRECONDITIONER, _amg._CycleSolver.SWEEPS = preconditioner, sweeps
     try:
         return numerics.solve_flow(gap, SIZE, ETA, DP, contact=contact, method="amg", device=device, max_iter=max_iter)
     except Exception as err:  # a benchmark reports a failed solve and goes on
         return f"{type(err).__name__}: {err}"
     finally:
-        _flow.DEVICE_PRECONDITIONER, _flow._CycleSolver.SWEEPS = "amg", 1
+        _amg.DEVICE_PRECONDITIONER, _amg._CycleSolver.SWEEPS = "amg", 1
         free_gpu()
 
 

@@ -15,7 +15,7 @@ from scipy import sparse
 from scipy.special import erfinv
 
 from sealeak.errors import ConvergenceError, InputError
-from sealeak.numerics import _flow, solve_contact, solve_flow, solve_gas_flow
+from sealeak.numerics import _amg, _flow, solve_contact, solve_flow, solve_gas_flow
 from sealeak.numerics._xp import namespace
 from sealeak.numerics.synthesis import synthesize
 from sealeak.physics.gas import Gas
@@ -28,7 +28,7 @@ ETA, DP, L = 1e-3, 1e5, 1e-3
 def host_device(request, monkeypatch):
     """``device="cuda"`` runs the device back-end on NumPy or array_api_strict (no GPU, no memory check)."""
     xp = namespace(np.empty(0)) if request.param == "numpy" else pytest.importorskip("array_api_strict")
-    monkeypatch.setattr(_flow, "_device_arrays", lambda device: xp)
+    monkeypatch.setattr(_amg, "_device_arrays", lambda device: xp)
     monkeypatch.setattr(_flow, "require_device_memory", lambda *a, **k: None)
 
 
@@ -72,7 +72,7 @@ def test_a_gas_flow_runs_its_linear_solves_on_the_device_and_agrees(fields, host
 def test_jacobi_alone_converges_but_needs_far_more_iterations(fields, host_device, monkeypatch):
     res = fields[0.1]
     amg = solve_flow(res.gap, L, ETA, DP, contact=res.contact, method="amg", device="cuda")
-    monkeypatch.setattr(_flow, "DEVICE_PRECONDITIONER", "jacobi")
+    monkeypatch.setattr(_amg, "DEVICE_PRECONDITIONER", "jacobi")
     jac = solve_flow(res.gap, L, ETA, DP, contact=res.contact, method="amg", device="cuda", max_iter=20000)
     assert jac.flux == pytest.approx(amg.flux, rel=2e-6, abs=0)
     assert jac.iterations > 20 * amg.iterations
@@ -86,7 +86,7 @@ def test_the_cycle_is_a_symmetric_positive_definite_preconditioner(fields):
     s = np.where(res.contact, 0.0, (res.gap / res.gap.max()) ** 3)
     fluid = _flow.spanning_mask(s > 0)
     A, _b, _ = _flow._assemble(*_flow._faces(s, fluid), fluid)
-    solver = _flow._CycleSolver(A, 100, namespace(np.empty(0)))
+    solver = _amg._CycleSolver(A, 100, namespace(np.empty(0)))
     assert len(solver.levels) >= 2
     rng = np.random.default_rng(0)
     for sweeps in (1, 2):
@@ -103,7 +103,7 @@ def test_padded_rows_multiply_as_the_csr_matrix():
     M[5, :] = 0.0  # an empty row
     M = M.tocsr()
     M.eliminate_zeros()
-    rows = _flow._Rows(M, namespace(np.empty(0)))
+    rows = _amg._Rows(M, namespace(np.empty(0)))
     x = rng.standard_normal(200)
     assert rows.width == np.diff(M.indptr).max()
     assert np.allclose(rows @ x, M @ x, rtol=1e-14, atol=1e-14) and (rows @ x)[5] == 0.0
@@ -111,7 +111,7 @@ def test_padded_rows_multiply_as_the_csr_matrix():
 
 def test_direct_stays_on_the_host_and_a_small_field_needs_no_gpu(fields, monkeypatch):
     res = fields[0.1]
-    monkeypatch.setattr(_flow, "_device_arrays", lambda device: pytest.fail("the direct back-end touched the device"))
+    monkeypatch.setattr(_amg, "_device_arrays", lambda device: pytest.fail("the direct back-end touched the device"))
     monkeypatch.setattr(_flow, "require_device_memory", lambda *a, **k: pytest.fail("a device memory check"))
     d = solve_flow(res.gap, L, ETA, DP, contact=res.contact, method="direct", device="cuda")
     assert d.device == "cpu" and d.method == "direct"

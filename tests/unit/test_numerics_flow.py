@@ -263,18 +263,18 @@ def test_strength_pattern_equals_pyamg_classical_strength(hard_field) -> None:
     strength of connection (θ = 0.7), so the aggregates are the same."""
     from pyamg.strength import classical_strength_of_connection
 
-    from sealeak.numerics import _flow
+    from sealeak.numerics import _amg, _flow
     from sealeak.numerics._percolation import spanning_mask
 
     c, _L = hard_field
     g = np.where(c.contact, 0.0, c.gap) / c.gap.max()
     fluid = spanning_mask(g > 0)
     A, _, _ = _flow._assemble(*_flow._faces(g**3, fluid), fluid)
-    solver = _flow._AmgSolver(A, 10)
+    solver = _amg._AmgSolver(A, 10)
     assert len(solver.levels) >= 3
     for level in (solver.levels[0][0], solver.levels[2][0]):
-        ours = _flow._strong_pattern(level, _flow._row_of_entries(level), _flow._AmgSolver.THETA)
-        theirs = classical_strength_of_connection(level, theta=_flow._AmgSolver.THETA)
+        ours = _amg._strong_pattern(level, _amg._row_of_entries(level), _amg._AmgSolver.THETA)
+        theirs = classical_strength_of_connection(level, theta=_amg._AmgSolver.THETA)
         assert np.array_equal(ours.indptr, theirs.indptr) and np.array_equal(ours.indices, theirs.indices)
 
 

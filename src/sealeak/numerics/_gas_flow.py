@@ -58,12 +58,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..errors import ConvergenceError, InputError, SolutionCheckError, positive_values
 from ..physics.gas import DEFAULT_RAREFACTION, Gas, check_pressures, check_rarefaction_model, kinetic_pressure_integral, slip_factor
+from ._amg import _back_end
 from ._checks import square_grid
 from ._flow import (
     CONSERVATION_TOL,
     Method,
     _assemble,
-    _back_end,
     _Grid,
     _refine,
     flow_memory_bytes,
