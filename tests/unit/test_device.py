@@ -99,6 +99,15 @@ def test_gpu_memory_is_checked_against_the_free_memory_before_any_work(case, mon
     require_device_memory(need, "the 64x64 synthesis and contact", "cuda")
 
 
+def test_a_run_whose_flow_would_not_fit_is_refused_before_its_first_contact(case, monkeypatch, tmp_path):
+    contact, flow = device_memory_bytes(64), flow_memory_bytes(64, "amg")
+    assert flow > contact  # at this grid the flow needs more than the synthesis and contact
+    monkeypatch.setitem(sys.modules, "cupy", _fake_cupy(1, free=(contact + flow) // 2))
+    with pytest.raises(ResourceError, match="synthesis, contact and flow"):
+        simulate(case, grid=64, realizations=1, seed=0, threshold=False, device="cuda", fields_dir=tmp_path / "f")
+    assert not (tmp_path / "f").exists()
+
+
 def test_a_flow_on_the_gpu_checks_its_memory_before_any_work(monkeypatch):
     gap = np.full((64, 64), 1e-6)
     monkeypatch.setitem(sys.modules, "cupy", _fake_cupy(1, free=flow_memory_bytes(64, "amg") - 1))

@@ -51,3 +51,15 @@ def test_without_a_ctrl_c_nothing_is_raised_and_off_the_main_thread_nothing_chan
     t.start()
     t.join()
     assert seen == [signal.default_int_handler] and (tmp_path / "a.npz").exists()
+
+
+def test_a_ctrl_c_held_back_is_not_lost_when_the_write_then_fails(tmp_path, monkeypatch, python_sigint):
+    spec = SimpleNamespace(fields_stage=str(tmp_path), fields_target=None)
+
+    def failing(fh, **arrays):
+        os.kill(os.getpid(), signal.SIGINT)
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(pipeline.np, "savez_compressed", failing)
+    with pytest.raises(KeyboardInterrupt):
+        pipeline._write_fields(spec, "r0-p0.npz", gap=np.ones(3))

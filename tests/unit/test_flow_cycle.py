@@ -8,6 +8,9 @@ On a GPU the same code runs on CuPy (tests/unit/test_gpu.py, skipped without one
 from __future__ import annotations
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -120,3 +123,21 @@ def test_direct_stays_on_the_host_and_a_small_field_needs_no_gpu(fields, monkeyp
 def test_an_unknown_device_is_refused_before_any_work():
     with pytest.raises(InputError, match="device"):
         solve_flow(np.ones((4, 4)), L, ETA, DP, device="tpu")
+
+
+def test_the_device_path_gives_the_same_digits_with_one_and_two_blas_threads(tmp_path):
+    """As the CPU path (test_numerics_flow.py): a one-thread Dask worker and the plain loop give the same bits."""
+    code = (
+        "import numpy as np; from sealeak.numerics import _amg, solve_flow; from sealeak.numerics import _flow; "
+        "from sealeak.numerics._xp import namespace; "
+        "_amg._device_arrays = lambda d: namespace(np.empty(0)); _flow.require_device_memory = lambda *a, **k: None; "
+        f"z = np.load({str(tmp_path / 'f.npz')!r}); "
+        "r = solve_flow(z['gap'], 1e-3, 1e-3, 1e5, contact=z['contact'], method='amg', device='cuda'); "
+        "print(r.flux.hex(), r.iterations)")
+    res = _contact(256, 0.3)
+    np.savez(tmp_path / "f.npz", gap=res.gap, contact=res.contact)
+    outs = []
+    for threads in ("1", "2"):
+        env = dict(os.environ, OPENBLAS_NUM_THREADS=threads, OMP_NUM_THREADS=threads, MKL_NUM_THREADS=threads)
+        outs.append(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env).stdout)
+    assert outs[0] == outs[1] and outs[0].strip()

@@ -82,7 +82,7 @@ def test_flow_on_the_gpu_gives_the_cpu_flux_within_the_bounds_and_the_same_bits_
     # each residual bounds its relative flux error (the check on the host, unchanged)
     assert abs(gpu.flux - cpu.flux) <= (gpu.residual + cpu.residual) * cpu.flux
     assert 5 <= gpu.iterations <= 40
-    # on one machine a GPU run repeats itself bit for bit (cuSPARSE products and CuPy's reductions)
+    # on one machine a GPU run repeats itself bit for bit (padded-row products and CuPy's reductions, no atomics)
     assert again.flux == gpu.flux and again.iterations == gpu.iterations
 
 

@@ -117,14 +117,15 @@ def run_ensemble(geometry: Geometry[PlanT, ResultT], case: Case, *, grid: int, r
     one after the other in this process); the records are aggregated in realisation order, so the numbers
     do not depend on the runner. ``device``: where the tasks synthesize their surfaces and solve the contact,
     ``"cpu"`` (NumPy) or ``"cuda"`` (CuPy on a GPU, :mod:`sealeak.numerics._device`; its free memory is checked
-    here, before any work), and where the flows' AMG iterations run (:func:`sealeak.numerics.solve_flow`,
-    ``device``); the rest of the flow runs on the host.
+    here, before any work, against the larger of the contact's and the flow's needs), and where the flows' AMG
+    iterations run (:func:`sealeak.numerics.solve_flow`, ``device``); the rest of the flow runs on the host.
     """
     grid = grid_number(grid_field, grid)
     realizations = whole_number("realizations", realizations, 1, MAX_REALIZATIONS)
     seed = seed_number("seed", seed)
-    numerics.require_device_memory(numerics.device_memory_bytes(grid), f"the {grid}x{grid} synthesis and contact",
-                                   device)
+    # the flow's CG runs on the device too, after the contact: the larger of the two needs, before any work
+    numerics.require_device_memory(max(numerics.device_memory_bytes(grid), numerics.flow_memory_bytes(grid, "amg")),
+                                   f"the {grid}x{grid} synthesis, contact and flow", device)
     if not getattr(runner, "checks_memory", False):  # a runner of make_runner checks each task where it runs
         geometry.check_memory(grid, memory_limit)
         numerics.check_memory(grid, "flow", available=memory_limit)
@@ -492,8 +493,8 @@ def _interrupt_after() -> Iterator[None]:
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
-    if caught:
-        raise KeyboardInterrupt
+        if caught:  # also when the block failed: the user's Ctrl-C comes first
+            raise KeyboardInterrupt
 
 
 # ---------------------------------------------------------------- aggregation

@@ -185,10 +185,10 @@ class _AmgSolver:
         # (LAPACK's eigh behind a pseudo-inverse, and a threaded dgemv, do), so a task gives the same
         # numbers in a one-thread Dask worker as in the plain loop (docs/theory.md §6.7); the
         # pseudo-inverse only if the coarse matrix is singular
-        try:
-            lu = spla.splu(level_a.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+        lu = _coarse_lu(level_a)
+        if lu is not None:
             self._coarse_solve = lu.solve
-        except RuntimeError:  # exactly singular
+        else:  # exactly singular
             inverse = pinvh(level_a.toarray())
             self._coarse_solve = lambda b: np.einsum("ij,j->i", inverse, b)
         self.max_iter = max_iter
@@ -293,7 +293,8 @@ class _CycleSolver:
     without a damping factor or a spectral estimate; symmetric, so the cycle
     with ``SWEEPS`` sweeps before and after the coarse correction is a symmetric preconditioner, as CG
     needs). The coarsest level (<= 500 unknowns) is solved with its inverse (the pseudo-inverse if it is
-    singular), computed on the host and applied as a dense product. ``preconditioner="jacobi"`` drops the
+    singular), computed on the host by SuperLU one column at a time and applied as products and row sums (no
+    BLAS call, whose digits would follow its number of threads). ``preconditioner="jacobi"`` drops the
     hierarchy: CG on the diagonally scaled matrix (no set-up, thousands of iterations; kept for the
     measurement that chose the hierarchy, docs/performance.md#gpu).
 
@@ -325,7 +326,7 @@ class _CycleSolver:
         if self.coarse is None:
             return b
         if lvl == len(self.levels):
-            return self.coarse @ b
+            return self.xp.sum(self.coarse * b, axis=1)  # not a BLAS product, whose digits follow its threads
         A, P, R, w = self.levels[lvl]
         x = w * b
         for _ in range(self.SWEEPS - 1):
@@ -379,13 +380,25 @@ def _l1_weight(A: sparse.csr_matrix) -> FloatArray:
     return 1.0 / np.bincount(_row_of_entries(A), weights=np.abs(A.data), minlength=A.shape[0])
 
 
-def _coarse_inverse(A: sparse.csr_matrix) -> FloatArray:
-    """The inverse of the (small) coarsest matrix, or its pseudo-inverse if it is singular."""
-    dense = A.toarray()
+def _coarse_lu(A: sparse.csr_matrix) -> Any:
+    """SuperLU of the (small) coarsest matrix, whose digits do not depend on the number of BLAS threads; None if it is
+    exactly singular."""
     try:
-        return np.asarray(np.linalg.inv(dense))
-    except np.linalg.LinAlgError:
-        return np.asarray(pinvh(dense))
+        return spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+    except RuntimeError:
+        return None
+
+
+def _coarse_inverse(A: sparse.csr_matrix) -> FloatArray:
+    """The inverse of the (small) coarsest matrix, by its SuperLU (as the CPU's cycles solve it, so a device run's
+    digits do not depend on the BLAS threads either) and symmetrised; its pseudo-inverse if it is singular."""
+    lu = _coarse_lu(A)
+    if lu is None:
+        return np.asarray(pinvh(A.toarray()))
+    unit = np.eye(A.shape[0])
+    # one column at a time: a solve of the whole identity calls a matrix product whose digits follow the BLAS threads
+    inverse = np.stack([lu.solve(unit[k]) for k in range(A.shape[0])], axis=1)
+    return np.asarray(0.5 * (inverse + inverse.T))
 
 
 def _back_end(A: sparse.csr_matrix, chosen: str, max_iter: int, device: str) -> _DirectSolver | _AmgSolver | _CycleSolver:

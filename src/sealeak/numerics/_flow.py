@@ -323,7 +323,8 @@ def solve_flow(
         through CuPy (:class:`_CycleSolver`: the same hierarchy, built on the host, cycled on the GPU with
         l1-Jacobi instead of Gauss–Seidel smoothing; within ``rtol`` of the CPU's flux, as every result).
         The direct back-end, the clusters, the assembly and the extended-precision check run on the host
-        either way. Without CuPy or a GPU, an InputError; too little free GPU memory, a ResourceError.
+        either way. When the AMG back-end is chosen: without CuPy or a GPU, an InputError; too little free GPU
+        memory, a ResourceError (a direct solve needs neither).
 
     Returns
     -------
