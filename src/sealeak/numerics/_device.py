@@ -29,15 +29,11 @@ DEVICES = ("cpu", "cuda")
 _GPU_HELP = "install the gpu extra (pip install 'sealeak[gpu]') on a machine with an NVIDIA GPU, or use cpu"
 
 
-def _check(device: Any, field: str) -> str:
+def check_device(device: Any, field: str = "device") -> str:
+    """``device`` itself when it is one of :data:`DEVICES`, else an InputError naming ``field`` (nothing is imported)."""
     if not isinstance(device, str) or device not in DEVICES:
         raise InputError(field, device, "allowed: 'cpu', 'cuda'")
     return device
-
-
-def check_device(device: Any, field: str = "device") -> str:
-    """``device`` itself when it is one of :data:`DEVICES`, else an InputError naming ``field`` (nothing is imported)."""
-    return _check(device, field)
 
 
 def _cupy(field: str) -> Any:
@@ -63,7 +59,7 @@ def array_namespace_for(device: str, field: str = "device") -> Any:
 
     ``field`` names the option in errors (``--device``, ``simulation.device``).
     """
-    if _check(device, field) == "cpu":
+    if check_device(device, field) == "cpu":
         return namespace(np.empty(0))
     _cupy(field)
     return importlib.import_module("array_api_compat.cupy")
@@ -71,14 +67,14 @@ def array_namespace_for(device: str, field: str = "device") -> Any:
 
 def device_count(device: str, field: str = "device") -> int:
     """GPUs CuPy sees for ``"cuda"`` (>= 1, else an InputError); 0 for ``"cpu"``."""
-    if _check(device, field) == "cpu":
+    if check_device(device, field) == "cpu":
         return 0
     return _count(_cupy(field))
 
 
 def device_name(device: str, field: str = "device") -> str:
     """The name of the card (``"cuda"``: CuPy's current device), or ``"cpu"``."""
-    if _check(device, field) == "cpu":
+    if check_device(device, field) == "cpu":
         return "cpu"
     cupy = _cupy(field)
     name = cupy.cuda.runtime.getDeviceProperties(cupy.cuda.Device().id)["name"]
@@ -92,7 +88,8 @@ def device_memory_bytes(n: int) -> int:
     (periodic or band, :func:`~sealeak.numerics.contact_memory_bytes`,
     :func:`~sealeak.numerics.band_contact_memory_bytes`) with the heights and three more gap-and-pressure
     pairs (16 n² bytes each: a warm start and the bracket of a threshold search), plus 10 % for CuPy's
-    FFT plans and its memory pool's rounding. The flow checks its own need (:func:`~sealeak.numerics.solve_flow`).
+    FFT plans and its memory pool's rounding. The flow's own need is :func:`~sealeak.numerics.flow_memory_bytes`
+    (``run_ensemble`` checks the larger of the two, :func:`~sealeak.numerics.solve_flow` its own).
     """
     n = int(n)
     solve = max(contact_memory_bytes(n), band_contact_memory_bytes(n, n)) + 8 * n * n + 3 * 16 * n * n
@@ -105,7 +102,7 @@ def require_device_memory(need: int, what: str, device: str, field: str = "devic
     Free is what the driver reports plus the blocks CuPy's memory pool holds unused (a finished contact solve's
     arrays stay in the pool for reuse, and the flow after it reuses them).
     """
-    if _check(device, field) == "cpu":
+    if check_device(device, field) == "cpu":
         return
     cupy = _cupy(field)
     free, total = (int(v) for v in cupy.cuda.runtime.memGetInfo())
