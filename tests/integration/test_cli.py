@@ -96,6 +96,23 @@ def test_interrupted_write_leaves_no_file(case_file, tmp_path, monkeypatch):
     assert list(tmp_path.glob("r.csv*")) == [] and list(tmp_path.glob(".r.csv*")) == []
 
 
+@pytest.mark.parametrize("message", ["Unable to allocate 8.00 GiB for an array with shape (32768, 32768) and data type "
+                                     "float64", "Out of memory allocating 1,073,741,824 bytes (allocated so far: 0 bytes).", ""])
+def test_out_of_memory_is_one_line_and_leaves_no_file(case_file, tmp_path, monkeypatch, capsys, message):
+    import sealeak.render as render
+
+    def boom(*a, **k):
+        raise MemoryError(message)
+
+    monkeypatch.setattr(render, "prediction_csv", boom)
+    out = tmp_path / "r.csv"
+    assert main(["predict", str(case_file), "--csv", str(out), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error: out of memory (") and len(err.strip().splitlines()) == 1
+    assert "Traceback" not in err and (message.split(" for ")[0] if message else "an allocation failed") in err
+    assert list(tmp_path.glob("r.csv*")) == [] and list(tmp_path.glob(".r.csv*")) == []
+
+
 def test_examples_command(capsys):
     assert main(["examples"]) == 0
     out = capsys.readouterr().out

@@ -119,7 +119,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0, 2 for a user error, 130 when interrupted)."""
+    """Run the command line; returns the exit status (0, 2 for a user error or a case too large for the memory, 130 when
+    interrupted)."""
     parser = build_parser()
     args, extra = parser.parse_known_args(argv)
     if extra:  # named with the command whose options they are not
@@ -142,6 +143,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:  # the file system refused (permissions, a folder in the way, disk full)
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"sealeak: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
+    except MemoryError as exc:  # NumPy's "Unable to allocate …", or CuPy's out-of-memory error on a GPU
+        what = str(exc).strip().splitlines()[0] if str(exc).strip() else "an allocation failed"
+        print(f"sealeak: error: out of memory ({what}); no output was left half-written. Ask for less at once: a "
+              "smaller grid (simulation.grid), fewer samples, fewer workers, or --device cpu", file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("sealeak: interrupted; no output was left half-written (outputs completed before the interruption remain)", file=sys.stderr)
