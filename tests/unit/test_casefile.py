@@ -145,3 +145,11 @@ def test_seal_errors_name_the_case_file_key(tmp_path):
     with pytest.raises(InputError) as err:
         parse_cases(text, tmp_path)
     assert err.value.field == "seal.outer_diameter"
+
+
+def test_a_rubber_without_a_modulus_is_told_of_both_ways_to_give_it():
+    with pytest.raises(InputError) as exc:
+        parse_cases(edit('youngs_modulus = "2.3 MPa"\n', "", BASE))
+    assert exc.value.field == "rubber.youngs_modulus" and "rubber.shore_a" in str(exc.value)
+    (case,) = parse_cases(edit('youngs_modulus = "2.3 MPa"', "shore_a = 70", BASE))
+    assert 3e6 < case.e_star * 0.75 < 1e7  # Gent's relation at 70 Shore A: E of about 5.5 MPa

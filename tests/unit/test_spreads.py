@@ -58,3 +58,11 @@ def test_a_permeability_in_barrer_takes_a_spread(written):
     nominal = parse_permeability("p", "3 barrer", temperature=293.15)
     assert median == pytest.approx(nominal, rel=1e-12, abs=0)
     assert upper == pytest.approx(1.1 * nominal, rel=1e-3, abs=0)  # one standard deviation (10 %) above
+
+
+@pytest.mark.parametrize("written", ["44 um ± 10", "44 um ± 3 s", "44 um +/- 10 kelvin"])
+def test_a_spread_in_the_wrong_unit_is_refused_quoting_what_was_written(written):
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(BASE.replace('h_rms = "44 um"', f'h_rms = "{written}"'))
+    assert exc.value.field == "surface.h_rms" and exc.value.value == written.replace("+/-", "±") and "\n" not in str(exc.value)
+    assert "does not convert to the value's unit 'um'" in str(exc.value)

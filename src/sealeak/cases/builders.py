@@ -235,6 +235,9 @@ def _elastic(rubber: Section, sub: Any) -> tuple[float, float, float, tuple[str,
         with case_keys({"shore_a": rubber.field("shore_a")}):
             youngs = youngs_modulus_from_shore_a(shore)
             input_warnings += shore_a_warnings(shore)
+    elif not rubber.has("youngs_modulus"):
+        raise InputError(rubber.field("youngs_modulus"), None, 'is required, or rubber.shore_a instead: give a pressure with '
+                                                               'its unit (e.g. "7 MPa") or a Shore A hardness (e.g. 70)')
     else:
         youngs = rubber.quantity("youngs_modulus", "pressure")
     nu = rubber.number("poisson_ratio", 0.5, low=-1.0, high=0.5, high_open=False)

@@ -219,7 +219,10 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
     x, unit = quantity_parts(key, nominal)
     p: dict[str, float] = {}
     if distribution in ("normal", "lognormal"):
-        sd = _number(where, params["sd"], unit, relative_to=x)
+        try:
+            sd = _number(where, params["sd"], unit, relative_to=x)
+        except InputError as exc:  # named as written: "1.5 um ± 10", not its spread "10" alone
+            raise InputError(where, shown, exc.allowed) from None
         if not (math.isfinite(sd) and sd >= 0):
             raise InputError(where, shown, "the spread must be a standard deviation >= 0")
         if distribution == "normal":

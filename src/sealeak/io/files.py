@@ -133,10 +133,19 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
     given = [o for o in given if str(o.path) != STDOUT]
     _check_collisions(given)
     _check_inputs(given, [Path(p) for p in inputs if p])
-    targets = [Path(o.path) for o in given if not o.folder]
-    for p in targets:
-        _check_folder(p)
-    existing = [str(p) for p in targets if check_replaceable(p)]
+    existing: list[str] = []
+    for o in given:
+        try:  # (a message names the option as well as the path)
+            if o.folder:
+                _check_output_folder(Path(o.path))
+                continue
+            _check_folder(Path(o.path))
+            if check_replaceable(o.path):
+                existing.append(str(o.path))
+        except OutputExistsError as exc:
+            if not o.option:
+                raise
+            raise OutputExistsError(f"{o.option}: {exc}") from None
     if existing and not force:
         shown = ", ".join(existing[:5]) + (f" and {len(existing) - 5} more" if len(existing) > 5 else "")
         raise OutputExistsError(f"{shown} already exist{'s' if len(existing) == 1 else ''}; "
@@ -176,6 +185,30 @@ def _check_inputs(outputs: list[Output], inputs: list[Path]) -> None:
             if same:
                 raise OutputExistsError(f"{o.name()} is the input {inp}: a run may not write over what it reads, even "
                                         "with --force; give the output another name")
+
+
+def _check_output_folder(folder: Path) -> None:
+    """An output folder is a folder, or can be made where the user may write."""
+    try:
+        is_dir = folder.is_dir()
+        exists = is_dir or folder.exists() or folder.is_symlink()
+    except OSError as exc:
+        raise OutputWriteError(folder, exc) from None
+    if exists and not is_dir:
+        raise OutputExistsError(f"{folder} exists and is not a folder: give a folder name (it is made if missing)")
+    if is_dir:
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise OutputExistsError(f"cannot write into {folder}: no permission to write into that folder")
+        return
+    try:
+        existing = next((d for d in folder.parents if d.exists()), Path("."))
+        parent_is_dir = existing.is_dir()
+    except OSError as exc:
+        raise OutputWriteError(folder, exc) from None
+    if not parent_is_dir:
+        raise OutputExistsError(f"cannot make the folder {folder}: {existing} is not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise OutputExistsError(f"cannot make the folder {folder}: no permission to write into the folder {existing}")
 
 
 def _check_folder(path: Path) -> None:
