@@ -372,3 +372,22 @@ def test_an_invalid_zero_on_a_log_axis_is_a_triangle_below_it():
     (below,) = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
     assert list(below.get_xdata()) == [5.0] and lo < below.get_ydata()[0] < 1e-9
     assert not figure_problems(fig)
+
+
+@pytest.mark.parametrize("fluid_pressure", ["coupled", "ignored"])
+def test_the_pressure_difference_figure_says_whether_q_is_linear_in_it(tmp_path, fluid_pressure):
+    """The title's claim matches the curve drawn: Q/ΔP constant with the fluid pressure ignored, rising with it
+    coupled (the fluid pressure opens the contact, docs/theory.md §13.2)."""
+    text = edit("alpha = 0.2", f'alpha = 0.2\nfluid_pressure = "{fluid_pressure}"')
+    results = _results(text, tmp_path)
+    fig = _build(lambda: figure_pressure_difference(prediction_curves(results)))
+    title = fig.axes[0].get_title()
+    (line, *_) = _data_lines(fig.axes[0])
+    dp, q = (np.asarray(v, dtype=float) for v in line.get_data())
+    ratio = q[dp > 0] / dp[dp > 0]
+    if fluid_pressure == "ignored":
+        assert "linear in ΔP at fixed P0" in title and "faster" not in title
+        assert np.ptp(ratio) < 1e-9 * ratio.max()
+    else:
+        assert "grows faster than ΔP" in title and "linear in ΔP at fixed" not in title
+        assert ratio[-1] > 1.01 * ratio[0]

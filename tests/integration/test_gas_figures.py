@@ -210,6 +210,10 @@ def test_band_gas_figure_draws_the_records_mbar_l_s_and_the_helium_equivalent(ba
     _same_where_drawn(_curve(ax, color(0), "--"), _records(r, "leak_rate_helium_mbar_l_s"), valid)
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert not any("uniform seal" in t for t in labels)  # the liquid figure's K ΔP twins are not drawn for a gas
+    # the Knudsen numbers and their regime on one line, not "..., mean pressure: 46 to 2.1e+03" read as a pressure
+    (kn,) = [line for line in ax.get_title().splitlines() if "Kn" in line]
+    assert re.match(r"Kn = λ/h = [0-9.e+-]+( to [0-9.e+-]+)? \(", kn), kn
+    assert "h = u_c at the peak contact pressure" in ax.get_title().replace("\n", " ")
 
 
 # ------------------------------------------------------------------------------------ liquids unchanged

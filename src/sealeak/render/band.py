@@ -524,7 +524,7 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
                                         if any(s.style == "--" for s in series) else "")]
         regime = plotstyle.gas_regime_text([g for r in results for g in (r.gas or {}).values()])
         if regime:
-            notes.append(regime.replace("narrowest gap", "gap u_c at the peak contact pressure"))
+            notes.append(regime.replace("h the narrowest gap", "h = u_c at the peak contact pressure"))
         ax.set_ylabel(f"{plotstyle.GAS_LEAK_LABEL} (mbar·l/s)")
     if not any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series):
         plotstyle.say_nothing(ax, f"no leak channel at any {word}:\nthe non-contact area does not percolate")

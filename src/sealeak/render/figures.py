@@ -557,7 +557,16 @@ def figure_pressure_difference(curves: PredictionCurves) -> Figure:
             formulas.append("Q = α (Ly/Lx) u_c³ ΔP/(12η)")
         if any(sw.effective_medium is not None for sw in sweeps):
             formulas.append("Q = (Ly/Lx) σ_eff ΔP (effective medium)")
-        notes = [", ".join(formulas) + ": linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
+        coupled = {sw.case.coupled for sw in sweeps}
+        if coupled == {False}:
+            notes = [", ".join(formulas) + ": linear in ΔP at fixed P0 (P0 >> ΔP assumed)"]
+        else:  # docs/theory.md §13.2: Q = (Ly/Lx) ∫σ(s) ds over P0 − ΔP … P0
+            integrals = {"Q = α (Ly/Lx) u_c³ ΔP/(12η)": "Q = (Ly/Lx) ∫ α u_c(s)³/(12η) ds",
+                         "Q = (Ly/Lx) σ_eff ΔP (effective medium)": "Q = (Ly/Lx) ∫ σ_eff(s) ds (effective medium)"}
+            notes = [", ".join(integrals[f] for f in formulas) + ", s from P0 − ΔP to P0",
+                     "the fluid pressure opens the contact (theory §13): Q grows faster than ΔP at fixed P0"
+                     if coupled == {True} else "linear in ΔP where the fluid pressure is ignored, faster where it is coupled "
+                                               "(theory §13)"]
         if any(sw.case.capillarity is not None for sw in sweeps):  # docs/theory.md §12
             notes.append("0 below the capillary entry pressure p_e of the narrowest gap (held by capillarity)")
         if log:

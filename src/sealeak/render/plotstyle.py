@@ -247,7 +247,7 @@ def gas_regime_text(rows: Sequence[Any]) -> str:
         return ""
     lo, hi = min(kn), max(kn)
     span = f"{lo:.2g}" if hi <= lo * 1.005 else f"{lo:.2g} to {hi:.2g}"
-    return f"Kn at the narrowest gap, mean pressure: {span} ({', '.join(regimes)})"
+    return f"Kn = λ/h = {span} ({', '.join(regimes)}), λ at the mean pressure, h the narrowest gap"
 
 
 def gas_series(x: np.ndarray, rows: Any, valid: np.ndarray, why: tuple[str, ...], colour: str, label: str,
