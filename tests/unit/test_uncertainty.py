@@ -79,6 +79,11 @@ def test_passing_load_lies_between_the_rows_it_separates():
     assert list(result.exceed_probability) == [1.0, 0.0]
     (passing,) = result.passing_loads()
     assert 20e3 < passing.passing_load < 60e3
+    # the two rows it lies between, their probabilities of passing, and a warning that rows 3x apart place it roughly
+    assert passing.between == (20e3, 60e3) and passing.between_passing_probability == (0.0, 1.0)
+    (line,) = [a for a in json.loads(prediction_json(result.nominal, result))["uncertainty"]["answers"] if "passes" in a]
+    assert "between the rows at P0 = 20 kPa (passes in 0.0 % of the samples) and P0 = 60 kPa (100.0 %)" in line
+    assert "place it roughly" in line
 
 
 def test_model_choice_samples_each_theory():

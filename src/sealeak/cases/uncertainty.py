@@ -483,6 +483,11 @@ class PassingLoad:
     load_name: str
     passing_load: float = quantity("<load>", "the squeeze pressure (Pa) or compression (1) at which the probability of "
                                              "passing first reaches 95 %, interpolated between rows (null: see the note)")
+    between: tuple[float, float] = quantity("<load>", "the loads of the two rows passing_load lies between: it is placed no "
+                                                      "better than they are close (null with passing_load)",
+                                            default=(math.nan, math.nan))
+    between_passing_probability: tuple[float, float] = quantity("1", "the probability of passing at those two rows (null "
+                                                                     "with passing_load)", default=(math.nan, math.nan))
     note: str = ""
 
 
@@ -586,7 +591,9 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
                            note=f"passes with at least {100 * PASS_PROBABILITY:.0f} % already at the lowest "
                                 f"{load_name.replace('_', ' ')} computed: compute lower loads to place it")
     t = (PASS_PROBABILITY - p_pass[i - 1]) / (p_pass[i] - p_pass[i - 1])
-    return PassingLoad(variant=variant, load_name=load_name, passing_load=float(loads[i - 1] + t * (loads[i] - loads[i - 1])))
+    return PassingLoad(variant=variant, load_name=load_name, passing_load=float(loads[i - 1] + t * (loads[i] - loads[i - 1])),
+                       between=(float(loads[i - 1]), float(loads[i])),
+                       between_passing_probability=(float(p_pass[i - 1]), float(p_pass[i])))
 
 
 def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int = 0, sampler: str = "sobol") -> UncertaintyResult:

@@ -121,9 +121,22 @@ def _holding_text(a: LifeAnswer, latest: str) -> str:
 def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
     prefix = f"{p.variant}: " if p.variant else ""
     if np.isfinite(p.passing_load):
-        return (f"{prefix}passes {unc.study.max_leak_rate} with {100 * PASS_PROBABILITY:.0f} % probability from "
-                f"{load_text(p.load_name, p.passing_load)} on (interpolated between rows)")
+        (lo, hi), (p_lo, p_hi) = p.between, p.between_passing_probability
+        line = (f"{prefix}passes {unc.study.max_leak_rate} with {100 * PASS_PROBABILITY:.0f} % probability from about "
+                f"{load_text(p.load_name, float(f'{p.passing_load:.3g}'))} on, interpolated between the rows at "
+                f"{load_text(p.load_name, lo)} (passes in {100 * p_lo:.1f} % of the samples) and "
+                f"{load_text(p.load_name, hi)} ({100 * p_hi:.1f} %)")
+        if _far_apart(p.load_name, lo, hi):
+            line += ": rows that far apart place it roughly; compute loads between them to place it better"
+        return line
     return f"{prefix}{p.note}"
+
+
+def _far_apart(load_name: str, lo: float, hi: float) -> bool:
+    """Whether two neighbouring rows are too far apart for a load interpolated between them to be more than rough:
+    squeeze pressures or profile scales more than 10 % apart, compressions more than one point (the leak rate changes by
+    a factor of several over such steps)."""
+    return hi - lo > 0.01 if load_name == "compression" else hi > 1.1 * lo
 
 
 def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
@@ -140,6 +153,8 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
         "passing_probability": PASS_PROBABILITY,
         "passing_loads": [{"variant": p.variant or None, "load": p.load_name,
                            "passing_load": None if not np.isfinite(p.passing_load) else p.passing_load,
+                           "between": None if not np.isfinite(p.passing_load) else list(p.between),
+                           "between_passing_probability": None if not np.isfinite(p.passing_load) else list(p.between_passing_probability),
                            "unit": "Pa" if p.load_name == "squeeze_pressure" else "1", "note": p.note or None}
                           for p in unc.passing_loads()],
         "answers": passing_lines(unc),
