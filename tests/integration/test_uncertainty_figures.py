@@ -139,3 +139,25 @@ def test_distribution_of_a_sealed_load_says_so():
     assert "100.0 %" in fig.axes[0].get_title()
     assert "sealed in every sample" in fig.axes[0].texts[0].get_text()
 
+
+
+def test_fan_chart_cuts_its_axis_eight_decades_below_the_top_and_keeps_the_legend_off_the_band():
+    """A row where nearly every sample seals can have a 95th percentile of 1e-38 m³/s: the axis stops 8 decades below
+    the largest leak rate (the bands run along its floor, a median below it is a ▽ there), and the legend covers
+    no part of the bands."""
+    x = np.array([20.0, 60.0, 100.0, 1000.0])
+    p50 = np.array([9e-6, 1.4e-6, 4.6e-7, 1e-36])
+    band = LeakBand(x, np.r_[p50[:3] / 3, 0.0], p50, np.r_[p50[:3] * 2, 1.5e-30], p50 / 2, p50 * 1.5, p50)
+    fig = _build(lambda: figure_fan_chart([band], "squeeze pressure P0 (kPa)", max_leak_rate=5e-7))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    lo, hi = ax.get_ylim()
+    assert 7.5 < np.log10(hi) - np.log10(lo) < 9.5  # 8 decades and the sealed strip, not 25
+    assert "axis cut 8 decades below the largest leak rate" in ax.get_title()
+    (below,) = [line for line in ax.get_lines() if line.get_label() == "median below the axis"]
+    assert below.get_xdata()[0] == 1000.0 and lo < below.get_ydata()[0] < 1e-12
+    legend = fig.legends[0] if fig.legends else ax.get_legend()
+    box = legend.get_window_extent()
+    for coll in (c for c in ax.collections if isinstance(c, PolyCollection)):
+        for path in coll.get_paths():
+            assert not path.transformed(coll.get_transform()).intersects_bbox(box, filled=True)

@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.axis import Axis
+from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.layout_engine import PlaceHolderLayoutEngine
 from matplotlib.legend import Legend
@@ -406,20 +407,28 @@ def _drawn_points(ax: Axes) -> np.ndarray:
     return pts[keep]
 
 
-def _covers(leg: Legend, points: np.ndarray, texts: Sequence[Any], pad: float = 4.0) -> bool:
-    """Whether a legend inside the axes covers a data point or a text, or is wider or taller than the axes (then it
-    would cover the tick labels beside them)."""
+def _drawn_areas(ax: Axes) -> list[Any]:
+    """The outlines, in display coordinates, of the filled areas the axes draw (bands: ``fill_between``)."""
+    return [path.transformed(coll.get_transform()) for coll in ax.collections
+            if isinstance(coll, PolyCollection) and coll.get_visible() for path in coll.get_paths()]
+
+
+def _covers(leg: Legend, points: np.ndarray, texts: Sequence[Any], pad: float = 4.0, areas: Sequence[Any] = ()) -> bool:
+    """Whether a legend inside the axes covers a data point, a filled area or a text, or is wider or taller than the
+    axes (then it would cover the tick labels beside them)."""
     box = leg.get_window_extent().padded(pad)
     outer = leg.axes.bbox
     if box.width > outer.width + 2 * pad or box.height > outer.height + 2 * pad:
         return True
     inside = ((points[:, 0] >= box.x0) & (points[:, 0] <= box.x1) & (points[:, 1] >= box.y0) & (points[:, 1] <= box.y1))
-    return bool(inside.any()) or any(box.overlaps(t) for t in texts)
+    return (bool(inside.any()) or any(box.overlaps(t) for t in texts)
+            or any(area.intersects_bbox(box, filled=True) for area in areas))
 
 
 def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequence[str] | None = None,
                  **kwargs: Any) -> Legend | None:
-    """A legend inside the axes where it covers no data, else below the axes (as wide as the figure allows).
+    """A legend inside the axes where it covers no data (points, lines, filled bands), else below the axes (as wide as
+    the figure allows).
 
     Call it last, once everything is drawn and the limits are final: it lays the figure out to see
     where the data are (and, with the legend inside, keeps that layout; see :func:`laid_out`).
@@ -437,9 +446,10 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
         engine.execute(fig)  # lay out (not a full draw): the data's display positions are final from here
     points = _drawn_points(ax)
     texts = [t.get_window_extent() for t in ax.texts if t.get_visible() and t.get_text()]
+    areas = _drawn_areas(ax)
     for loc in _INSIDE:
         leg = ax.legend(handles, labels, loc=loc, **kwargs)  # type: ignore[call-overload]  # the stubs reject **kwargs here
-        if not _covers(leg, points, texts):
+        if not _covers(leg, points, texts, areas=areas):
             if engine is not None:
                 fig.set_layout_engine("none")  # a legend inside the axes leaves the layout as it is: keep it
             return leg

@@ -59,6 +59,9 @@ UNCERTAINTY_FIGURE_NAMES = ("leak_rate_band.png", "sensitivity.png", "leak_rate_
 
 #: Height of the "sealed" strip below the leak rates, as a share of the decades the axis shows.
 _SEALED_STRIP = 0.09
+#: Decades a leak-rate axis spans at most below its largest value: a percentile of a load where nearly every sample
+#: seals may be 1e-38 m³/s, which would squeeze what matters into the top of the figure.
+_MAX_DECADES = 8.0
 _SPEC_COLOUR = "tab:red"
 
 
@@ -88,10 +91,12 @@ def _positive(*arrays: np.ndarray | None) -> np.ndarray:
 
 
 def _leak_limits(values: np.ndarray, sealed: bool) -> tuple[float, float, float]:
-    """(bottom, top of the sealed strip, top) of a log leak-rate axis showing ``values``, a decade at least; with
-    ``sealed`` a strip below the leak rates stands for the sealed samples (else its top is ``bottom``)."""
+    """(bottom, top of the sealed strip, top) of a log leak-rate axis showing ``values``, a decade at least and
+    :data:`_MAX_DECADES` at most; with ``sealed`` a strip below the leak rates stands for the sealed samples (else its top
+    is ``bottom``)."""
     lo, hi = float(values.min()), float(values.max())
     lo_d, hi_d = np.log10(lo) - 0.15, np.log10(hi) + 0.15
+    lo_d = max(lo_d, hi_d - _MAX_DECADES)
     if hi_d - lo_d < 1.0:
         mid = (hi_d + lo_d) / 2
         lo_d, hi_d = mid - 0.5, mid + 0.5
@@ -149,27 +154,37 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     ax.set_yscale("log")
     if log_x:
         ax.set_xscale("log")
-    shown = lambda v: np.where(np.asarray(v, dtype=float) > 0, v, at_sealed)  # noqa: E731
+    # a leak below the axis runs along its floor (above the strip of the sealed samples, which is not a leak rate)
+    shown = lambda v: np.where(np.asarray(v, dtype=float) > 0, np.maximum(v, strip_top), at_sealed)  # noqa: E731
+    below_any = False
     for i, b in enumerate(bands):
         c, name = color(i), (f"{b.label}: " if b.label and len(bands) > 1 else "")
         ax.fill_between(b.x, shown(b.p05), shown(b.p95), color=c, alpha=0.18, lw=0, label=f"{name}5–95 % of the samples")
         if b.p25 is not None and b.p75 is not None:
             ax.fill_between(b.x, shown(b.p25), shown(b.p75), color=c, alpha=0.35, lw=0, label=f"{name}25–75 %")
         leaks = np.asarray(b.p50) > 0
-        ax.plot(b.x, np.where(leaks, b.p50, np.nan), "-", marker="o" if len(b.x) <= 12 else "", ms=3, color=c,
+        below = leaks & (np.asarray(b.p50, dtype=float) < strip_top)
+        ax.plot(b.x, np.where(leaks & ~below, b.p50, np.nan), "-", marker="o" if len(b.x) <= 12 else "", ms=3, color=c,
                 label=f"{name}median")
+        if below.any():
+            below_any = True
+            ax.plot(np.asarray(b.x)[below], np.full(int(below.sum()), strip_top), "v", mfc="none", mec=c, ms=5,
+                    clip_on=False, label=f"{name}median below the axis")
         if (~leaks).any():
             ax.plot(np.asarray(b.x)[~leaks], np.full(int((~leaks).sum()), at_sealed), "v", mfc="none", mec=c, ms=5,
                     label=f"{name}median sealed (half the samples or more)")
         if b.nominal is not None:
             nominal = np.asarray(b.nominal, dtype=float)
-            ax.plot(b.x, np.where(nominal > 0, nominal, np.nan), "--", color=c, lw=1.0,
+            ax.plot(b.x, np.where(nominal >= strip_top, nominal, np.nan), "--", color=c, lw=1.0,
                     label=f"{name}deterministic (nominal inputs)")
     if max_leak_rate is not None:
         ax.axhline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
     ax.set_ylim(bottom, top)
     if sealed_any:
         _sealed_strip(ax, strip_top, bottom)
+    if values.min() < strip_top:  # the axis was cut
+        notes += ("\n" if notes else "") + (f"axis cut {_MAX_DECADES:g} decades below the largest leak rate: bands "
+                                             "below it run along its floor" + (", ▽ marks a median there" if below_any else ""))
     subtitle(ax, notes)
     finish_axes(ax)
     log_axis(ax.yaxis, bottom, top)
