@@ -37,3 +37,26 @@ def test_prediction_plot_draws_the_band_of_the_cli(page, artifacts, tmp_path, mo
                                                   band["5–95 % of 256 samples"]))
     page.locator("#plot-leak").scroll_into_view_if_needed()
     page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-band.png"))
+
+
+def test_a_band_over_a_load_where_most_samples_seal_keeps_its_median_inside_it(page, artifacts, tmp_path):
+    """At 1 MPa nearly every sample seals (p05 = p50 = 0) and the 95th percentile is ~1e-40 m³/s, far below the
+    axis: every percentile drawn there sits at the axis' foot, so the median never leaves the band between rows."""
+    text = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa", "1 MPa"]',
+                edit('h_rms = "44 um"', 'h_rms = "44 um ± 10 %"'))
+    (tmp_path / "sealing.toml").write_text(text, encoding="utf-8")
+    goto(page, "/case")
+    page.set_input_files("#case-file", str(tmp_path / "sealing.toml"))
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=120_000)
+    goto(page, "/prediction")
+    page.wait_for_function("(document.getElementById('plot-leak').data || []).some(t => t.fill === 'tonexty')", timeout=120_000)
+    traces = {t["name"]: t for t in page.evaluate(
+        "document.getElementById('plot-leak').data.map(t => ({name: t.name, x: t.x, y: t.y, colour: (t.marker || {}).color}))")}
+    lo, med, hi = (traces[n]["y"] for n in ("5th percentile of the samples", "median of the samples", "5–95 % of 256 samples"))
+    low_end = 10 ** page.evaluate("document.getElementById('plot-leak').layout.yaxis.range[0]")
+    assert all(low_end < a <= b <= c for a, b, c in zip(lo, med, hi)), (lo, med, hi)
+    assert lo[-1] == med[-1] == hi[-1]  # all at the foot at 1 MPa
+    sealed = traces["critical junction (nominal inputs): sealed"]  # the nominal curve has no channel at 1 MPa
+    assert sealed["x"] == [traces["median of the samples"]["x"][-1]] and sealed["colour"] == "rgb(31,119,180)"
+    page.locator("#plot-leak").scroll_into_view_if_needed()
+    page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-band-sealing.png"))

@@ -139,7 +139,7 @@ def test_a_gas_in_sccm_a_compression_in_percent_and_its_sealed_point_marked(page
     assert traces[0]["x"] == pytest.approx([100 * r["compression"] for r in rows], rel=1e-9)
     sealed = [100 * r["compression"] for r in rows if r["leak_rate_pv"] is None]
     assert sealed, "the example has a sealed compression"
-    marker = next(t for t in traces if t["name"].startswith("sealed"))
+    marker = next(t for t in traces if t["name"].endswith(": sealed"))  # the curve's own markers, in its colour
     assert marker["x"] == pytest.approx(sealed)
     lo, hi = layout["yaxis"]["range"]  # fitted: the curve fills the axis, the sealed marker sits at its foot
     finite = [y for y in traces[0]["y"] if y is not None]
@@ -252,3 +252,31 @@ def test_an_instrument_file_name_is_accepted_and_shown_with_its_stored_name(page
     page.wait_for_selector("#status:has-text('the case is valid')", timeout=60_000)
     assert page.inner_text("#uploads") == f"Lippe O5 um _3_Prufung.csv (uploaded as {name})"
     assert page.input_value('[name="seal.pressure_profile"]') == name
+
+
+def test_each_curve_marks_its_own_sealed_and_invalid_points_in_its_colour(page, artifacts, tmp_path, monkeypatch, capsys):
+    """The o-ring example: two fluids, both theories. A sealed load is marked in the colour of the curve that seals
+    there (not one colour for all), and the effective medium's points outside the theory are crossed as the critical
+    junction's are."""
+    load_example(page, "o-ring")
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''", timeout=120_000)
+    traces = page.evaluate("document.getElementById('plot-leak').data.map(t => ({name: t.name, x: t.x, y: t.y, "
+                           "colour: (t.marker || {}).color, line: (t.line || {}).color}))")
+    rows = cli_json(tmp_path, monkeypatch, capsys, "o-ring")["results"]
+    by_name = {t["name"]: t for t in traces}
+    for study in ("water", "oil"):
+        for theory, key in (("critical junction", "leak_rate"), ("effective medium", "leak_rate_effective_medium")):
+            curve = next(t for t in traces if t["name"].startswith(study) and t["name"].endswith(theory))
+            mine = [r for r in rows if str(r.get("variant", "")).startswith(study)]
+            sealed = [100 * r["compression"] for r in mine if r[key] is None]
+            marks = by_name.get(f"{curve['name']}: sealed")
+            assert (marks["x"] if marks else []) == pytest.approx(sealed)
+            if marks:
+                assert marks["colour"] == curve["line"]
+    invalid_em = sorted(100 * r["compression"] for r in rows
+                        if r.get("valid_effective_medium") is False and r["leak_rate_effective_medium"] is not None)
+    crossed = sorted(next(t for t in traces if t["name"].startswith("outside"))["x"])
+    assert invalid_em and all(any(abs(x - c) < 1e-9 for c in crossed) for x in invalid_em)
+    page.locator("#plot-leak").scroll_into_view_if_needed()
+    page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-o-ring-marks.png"))

@@ -69,6 +69,7 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
                      "leak_rate": _list([rec.get(key, np.nan) for rec in recs]),
                      "leak_rate_effective_medium": (_list([rec.get(f"{key}_effective_medium", np.nan) for rec in recs])
                                                     if any(f"{key}_effective_medium" in rec for rec in recs) else None),
+                     "valid_effective_medium": [bool(rec.get("valid_effective_medium", True)) for rec in recs],
                      "band": band})
     label = len(shown) > 1
     sets = [{"label": (f"{cs.case.label}: " if label and cs.case.label else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",

@@ -579,12 +579,17 @@ function drawPrediction(pred) {
 
 // the colours of the cases whose uncertain inputs draw a band (the band filled, the curves in the same colour)
 const BAND_RGB = ["31,119,180", "255,127,14", "44,160,44", "214,39,40", "148,103,189"];
+// the colours of the other leak curves, one per curve in turn (given, not left to Plotly, so that the markers of a
+// curve's sealed points and points below the axis take its colour)
+const CURVE_COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
 
 // the leak-rate curves of a prediction (and the pinned ones, dotted): sealed points at the axis' foot, invalid ones crossed;
 // with uncertain inputs the 5–95 % band of the samples and their median (bands: the traces whose sealed values, 0, go to the foot)
 function leakCurves(p, rows, tagAll, style = {}) {
   const traces = [], marks = [], bands = [];
   const kinds = new Set(p.leak.map(c => c.gas));
+  let next = 0;
+  const colour = () => CURVE_COLOURS[next++ % CURVE_COLOURS.length];
   p.leak.forEach((c, k) => {
     const tag = (tagAll || p.leak.length > 1 ? `${c.label}: ` : "") + (kinds.size > 1 ? `(${Units.name(c.gas ? "throughput" : "volume_flow")}) ` : "");
     const dim = c.gas ? "throughput" : "volume_flow";
@@ -600,11 +605,17 @@ function leakCurves(p, rows, tagAll, style = {}) {
       traces.push(...bands.slice(-3));
     }
     const cj = leakSI(c, c.leak_rate).map(show);
-    traces.push(line(x, cj, `${tag}critical junction${c.band ? " (nominal inputs)" : ""}`,
-      { mode: "lines+markers", marker: { size: 5 }, ...(rgb ? { line: { color: `rgb(${rgb})` } } : {}), ...style }));
+    const cjName = `${tag}critical junction${c.band ? " (nominal inputs)" : ""}`, cjColour = rgb ? `rgb(${rgb})` : colour();
+    traces.push(line(x, cj, cjName, { mode: "lines+markers", marker: { size: 5, color: cjColour },
+      ...style, line: { color: cjColour, ...(style.line || {}) } }));
+    marks.push({ x, y: cj, valid: c.valid || [], colour: cjColour, name: cjName });
     const em = leakSI(c, c.leak_rate_effective_medium);
-    if (em) traces.push(line(x, em.map(show), `${tag}effective medium`, { mode: "lines+markers", marker: { size: 5 }, line: { dash: "dash" }, ...style }));
-    marks.push({ x, y: cj, valid: c.valid || [] });
+    if (em) {
+      const emName = `${tag}effective medium`, emColour = colour(), y = em.map(show);
+      traces.push(line(x, y, emName, { mode: "lines+markers", marker: { size: 5, color: emColour },
+        ...style, line: { dash: "dash", color: emColour, ...(style.line || {}) } }));
+      marks.push({ x, y, valid: c.valid_effective_medium || [], colour: emColour, name: emName });
+    }
   });
   return { traces, marks, bands };
 }
@@ -762,18 +773,39 @@ function drawPlots(pred) {
   const pinned = Pins.curves();
   const all = [...leak, ...pinned];
   const yr = fitRange(all.flatMap(t => t.y), true);
-  // sealed points (no leak path: Q = 0) sit at the foot of the axis; points outside the theory (valid = NO) are crossed
+  // sealed points (no leak path: Q = 0) sit at the foot of the axis, in their curve's colour (nested: the later curves'
+  // markers smaller, so that curves sealed at the same load all show); points below the axis (the axis spans 8 decades)
+  // are open triangles there; points outside the theory (valid = NO) are crossed
   const foot = yr ? Math.pow(10, yr[0] + 0.1) : 1e-30;
-  for (const t of bands) t.y = t.y.map(v => v === null ? null : v > 0 ? v : foot);  // sealed in that share of the samples
-  const sx = [], ix = [], iy = [];
-  const sealedX = [];
-  for (const m of marks) m.x.forEach((x, i) => {
-    if (m.y[i] === null || !(m.y[i] > 0)) sealedX.push(x);
-    else if (m.valid[i] === false) { ix.push(x); iy.push(m.y[i]); }
+  // a band's percentile sealed, or below the axis, runs along the foot: the median stays between its percentiles
+  for (const t of bands) t.y = t.y.map(v => v === null ? null : v > foot ? v : foot);
+  const ix = [], iy = [], legend = new Set();
+  const key = (name, symbol) => {  // one legend entry per kind of marker, in grey
+    if (legend.has(name)) return;
+    legend.add(name);
+    all.push({ x: [null], y: [null], name, type: "scatter", mode: "markers", marker: { symbol, size: 10, color: "#555" } });
+  };
+  marks.forEach((m, j) => {
+    const sealed = [], below = [];
+    m.x.forEach((x, i) => {
+      const y = m.y[i];
+      if (y === null || !(y > 0)) sealed.push(x);
+      else if (y < foot) below.push(x);
+      if (y > 0 && m.valid[i] === false) { ix.push(x); iy.push(Math.max(y, foot)); }
+    });
+    const size = Math.max(12 - 2 * j, 5);
+    if (sealed.length) {
+      key("sealed (no leak path), in the colour of its curve", "triangle-down");
+      all.push({ x: sealed, y: sealed.map(() => foot), name: `${m.name}: sealed`, type: "scatter", mode: "markers", showlegend: false,
+        marker: { symbol: "triangle-down", size, color: m.colour }, hovertemplate: "%{x:.4~g}: %{fullData.name}<extra></extra>" });
+    }
+    if (below.length) {
+      key("below the axis (more than 8 decades under the top)", "triangle-down-open");
+      all.push({ x: below, y: below.map(() => foot), name: `${m.name}: below the axis`, type: "scatter", mode: "markers", showlegend: false,
+        marker: { symbol: "triangle-down-open", size, color: m.colour, line: { width: 2 } },
+        hovertemplate: "%{x:.4~g}: %{fullData.name}<extra></extra>" });
+    }
   });
-  sx.push(...sealedX);
-  if (sx.length) all.push({ x: sx, y: sx.map(() => foot), name: "sealed (no leak path)", type: "scatter", mode: "markers",
-    marker: { symbol: "triangle-down", size: 10, color: "#1e7d3a" }, hovertemplate: "%{x:.4~g}: sealed<extra></extra>" });
   if (ix.length) all.push(outsideTheory(ix, iy));
   const c0 = p.leak[0] || { x: "squeeze_pressure" };
   const xa = X_AXES[c0.x] || X_AXES.profile_scale;
