@@ -22,6 +22,9 @@ def test_prediction_plot_draws_the_band_of_the_cli(page, artifacts, tmp_path, mo
     goto(page, "/case")
     page.set_input_files("#case-file", str(tmp_path / "band.toml"))
     page.wait_for_selector("#status:has-text('the case is valid')", timeout=120_000)
+    # the list of examples names the uploaded file, not the example last loaded
+    assert page.input_value("#example") == ""
+    assert page.evaluate("document.querySelector('#example').selectedOptions[0].textContent").startswith("band.toml (uploaded")
     goto(page, "/prediction")
     page.wait_for_function("(document.getElementById('plot-leak').data || []).some(t => t.fill === 'tonexty')", timeout=120_000)
     traces = page.evaluate("document.getElementById('plot-leak').data.map(t => ({name: t.name, y: t.y, fill: t.fill || ''}))")

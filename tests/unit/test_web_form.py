@@ -158,6 +158,9 @@ def test_every_key_has_a_label_and_the_help_of_the_reference():
         assert h.label and h.label[0].isupper() or h.label.startswith("rms"), name
         assert (h.help, h.anchor) == rows[name], f"{name}: its help differs from docs/case-files.md"
     assert len({h.label for n, h in FIELD_HELP.items() if n.startswith("surface.")}) == len(FORM_SECTIONS["surface"])
+    # one section's fields beside another's (a rubber's and its substrate's modulus) may share a label; two temperatures
+    # of different meaning may not
+    assert FIELD_HELP["fluid.temperature"].label != FIELD_HELP["conditions.temperature"].label
 
 
 @pytest.mark.parametrize("depth", [MAX_DEPTH + 1, 300, 5000])

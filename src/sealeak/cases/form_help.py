@@ -137,7 +137,7 @@ FIELD_HELP: dict[str, FieldHelp] = {
                      "density ρ; used by the rig only (ΔP = ρ g H)"),
     "fluid.molecular_size": FieldHelp("Molecular size d", "fluid-the-fluid",
                      "molecular size d of the fluid: a result whose critical gap u_c is narrower is flagged outside the theory (valid = NO; validity)"),
-    "fluid.temperature": FieldHelp("Temperature T", "fluid-the-fluid",
+    "fluid.temperature": FieldHelp("Fluid temperature T", "fluid-the-fluid",
                      "the fluid's temperature T: the library's properties and the gas law are taken there"),
     "conditions.squeeze_pressure": FieldHelp("Squeeze pressure P0", "conditions-the-pressures",
                      "nominal squeeze pressure P0: one value, a list, or a range (below)"),
@@ -267,7 +267,7 @@ FIELD_HELP |= {
     "conditions.time": FieldHelp("Time since assembly t", "the-seal-over-its-life-time-and-temperature",
                      'time since assembly: one case per time (one value, a list or a range {start, stop, num, spacing}), in s, min, '
                      'h, d or a (years)'),
-    "conditions.temperature": FieldHelp("Temperature T", "the-seal-over-its-life-time-and-temperature",
+    "conditions.temperature": FieldHelp("Service temperatures T (over the life)", "the-seal-over-its-life-time-and-temperature",
                      'temperature of the rubber and the fluid: one case per temperature (one value, a list or a linear range {start,'
                      ' stop, num})'),
     "conditions.assembly_temperature": FieldHelp("Assembly temperature Ta", "the-seal-over-its-life-time-and-temperature",

@@ -363,6 +363,7 @@ async function pageCase() {
   const sel = $("#example");
   Editor.init();
   $("#load-example").addEventListener("click", async () => {
+    if (!sel.value) { showMessage("Choose an example to load."); return; }
     try {
       const state = await api("POST", "/api/case/example", { name: sel.value });
       Editor.held = null;
@@ -394,6 +395,11 @@ async function pageCase() {
       }
       Editor.held = null;
       Form.render(state); Form.apply(state);
+      // the list of examples no longer names the case in the form: it names the file
+      let uploaded = sel.querySelector('option[value=""]');
+      if (!uploaded) { uploaded = document.createElement("option"); uploaded.value = ""; sel.prepend(uploaded); }
+      uploaded.textContent = `${file.name} (uploaded: the case in the form)`;
+      sel.value = "";
     } catch (e) { showMessage(e.message); }
   });
   Form.ready = Form.init(false, null);
