@@ -391,3 +391,23 @@ def test_the_pressure_difference_figure_says_whether_q_is_linear_in_it(tmp_path,
     else:
         assert "grows faster than ΔP" in title and "linear in ΔP at fixed" not in title
         assert ratio[-1] > 1.01 * ratio[0]
+
+
+@pytest.mark.parametrize("factor, drawn", [(0.3, (True, True)), (30.0, (False, True)), (1e6, (False, False))])
+def test_the_leak_rate_figures_draw_the_specification(tmp_path, factor, drawn):
+    """conditions.max_leak_rate as a dash-dotted line at its value (m³/s), on the linear and the log figure; a limit
+    above every leak rate widens a log axis (up to LIMIT_DECADES), not a linear one (the curves would lie flat); where
+    it is not drawn the subtitle says where it lies."""
+    results = _results(BASE, tmp_path)
+    q = results[0].critical_junction.leak_rate
+    limit = (factor * float(np.nanmax(q)), "the specification")
+    for log, shown in zip((False, True), drawn, strict=True):
+        ax = _build(lambda log=log: figure_leak_rate(results, log=log, limit=limit)).axes[0]
+        lines = [line for line in ax.get_lines() if line.get_label() == "max_leak_rate = the specification"]
+        scale = _power(ax.get_ylabel())
+        if shown:
+            assert len(lines) == 1 and lines[0].get_ydata()[0] * scale == pytest.approx(limit[0], rel=1e-12, abs=0)
+            lo, hi = ax.get_ylim()
+            assert lo * scale <= limit[0] <= hi * scale
+        else:
+            assert not lines and "max_leak_rate = the specification lies above every leak rate drawn" in ax.get_title()

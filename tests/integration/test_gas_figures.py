@@ -276,3 +276,14 @@ def test_fit_figure_of_a_gas_case_reads_pa_m3_s_and_mbar_l_s(tmp_path):
     measured = [ln for ln in ax.get_lines() if ln.get_marker() == "s"][0]
     np.testing.assert_allclose(measured.get_ydata(), [rec["leak_rate_pv"] for rec in rows], rtol=1e-12)
     assert "nitrogen" in ax.get_title()
+
+
+def test_band_gas_figure_draws_the_specification_in_mbar_l_s(band):
+    """volume_limit gives a gas's limit as a pV throughput in Pa·m³/s; the figure's axis is mbar·l/s (1 mbar·l/s =
+    0.1 Pa·m³/s), so 1e-7 Pa·m³/s is drawn at 1e-6."""
+    (r,) = band
+    q = _records(r, "leak_rate_mbar_l_s")
+    at = float(np.nanmedian(q[np.isfinite(q) & (q > 0)]))  # within the axis
+    ax = figure_band_leak_rate(band, limit=(at * PA_M3_PER_MBAR_L, f"{at:g} mbar*l/s")).axes[0]
+    (line,) = [ln for ln in ax.get_lines() if ln.get_label().startswith("max_leak_rate = ")]
+    assert line.get_ydata()[0] == pytest.approx(at, rel=1e-12, abs=0)

@@ -485,8 +485,10 @@ def _bottom_band(ax: Axes) -> float:
 
 
 @plotstyle.laid_out
-def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
-    """Q through the band against the load (log axis), both theories, with Q of a uniform seal at p_mean dashed."""
+def figure_band_leak_rate(results: Sequence[CaseResult], limit: tuple[float, str] | None = None) -> Figure:
+    """Q through the band against the load (log axis), both theories, with Q of a uniform seal at p_mean dashed;
+    ``limit``: ``conditions.max_leak_rate`` as :func:`~sealeak.render.life.volume_limit` gives it (m³/s, a gas's
+    Pa·m³/s), drawn as a line."""
     first = _band(results[0]).band
     word = "compression" if first.load_name == "compression" else "profile scale"
     gas = _is_gas(results)
@@ -532,6 +534,8 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
         plotstyle.finish_axes(ax)
         return fig
     plotstyle.draw_series(ax, series, logy=True)
+    if where := plotstyle.draw_limit(ax, limit, plotstyle.PA_M3_PER_MBAR_L if gas else 1.0):
+        notes.append(where)
     handles, labels = ax.get_legend_handles_labels()
     for s, _ in solid:  # a theory without a drawn point still names its colour (its × and dashed curve)
         if s.label and s.label not in labels:
@@ -567,11 +571,12 @@ def figure_band_leak_rate(results: Sequence[CaseResult]) -> Figure:
     return fig
 
 
-def band_figures(results: Sequence[CaseResult]) -> dict[str, Figure]:
-    """The band figures of a run of O-ring or pressure-profile seals, keyed by PNG file name (:data:`BAND_FIGURE_NAMES`)."""
+def band_figures(results: Sequence[CaseResult], limit: tuple[float, str] | None = None) -> dict[str, Figure]:
+    """The band figures of a run of O-ring or pressure-profile seals, keyed by PNG file name (:data:`BAND_FIGURE_NAMES`);
+    ``limit``: ``conditions.max_leak_rate`` for the leak-rate figure (:func:`figure_band_leak_rate`)."""
     return {
         "pressure_profile.png": figure_pressure_profile(results),
         "local_critical_gap.png": figure_local_critical_gap(results),
-        "leak_rate.png": figure_band_leak_rate(results),
+        "leak_rate.png": figure_band_leak_rate(results, limit),
     }
 

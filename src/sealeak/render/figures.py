@@ -49,6 +49,7 @@ from .plotstyle import (
     PA_M3_PER_MBAR_L,
     Series,
     color,
+    draw_limit,
     draw_series,
     finish_axes,
     gas_conditions_text,
@@ -296,16 +297,18 @@ def _leak_series(results: Sequence[CaseResult], x_scale: float) -> list[Series]:
 
 
 @laid_out
-def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
+def figure_leak_rate(results: Sequence[CaseResult], log: bool, limit: tuple[float, str] | None = None) -> Figure:
     """Q against P0, linear (paper Fig. 6) or log (paper Fig. 7), with a second axis in ml/min.
 
     Effective-medium curves (model "both") are drawn dashed next to the critical-junction ones, or
     alone (model "effective-medium"). The linear figure turns logarithmic when the curves' maxima
     differ by more than two decades (on a linear axis all but the largest would lie flat on zero).
-    For gas cases the figure draws the gas leak rate instead (:func:`figure_gas_leak_rate`).
+    For gas cases the figure draws the gas leak rate instead (:func:`figure_gas_leak_rate`). ``limit``:
+    ``conditions.max_leak_rate`` as :func:`~sealeak.render.life.volume_limit` gives it (m³/s, a gas's Pa·m³/s), drawn
+    as a line.
     """
     if is_gas_run(results):
-        return figure_gas_leak_rate(results, log)
+        return figure_gas_leak_rate(results, log, limit)
     cases = [r.case for r in results]
     fig, ax = new_figure("Leak rate against squeeze pressure" + (" (log scale)" if log else ""))
     scale = _sweep_x(ax, results)
@@ -327,18 +330,22 @@ def figure_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
         finish_axes(ax)
         return fig
     qscale, qunit = (1.0, "m³/s") if logy else power_unit(peaks, "m³/s")
-    _finish_leak_rate(ax, results, series, [settings], qscale, f"leak rate Q ({qunit})", log, logy, ml_per_min_axis)
+    _finish_leak_rate(ax, results, series, [settings], qscale, f"leak rate Q ({qunit})", log, logy, ml_per_min_axis, limit)
     return fig
 
 
 def _finish_leak_rate(ax: Any, results: Sequence[CaseResult], series: list[Series], notes: list[str], qscale: float,
-                      ylabel: str, log: bool, logy: bool, second_axis: Callable[[Any, float], Any]) -> None:
-    """Draw a leak-rate figure's series (scaled by 1/``qscale``), its notes (log scale, missing points, hollow
-    markers), the second unit axis and the legend: shared by the liquid and the gas figure."""
+                      ylabel: str, log: bool, logy: bool, second_axis: Callable[[Any, float], Any],
+                      limit: tuple[float, str] | None = None) -> None:
+    """Draw a leak-rate figure's series (scaled by 1/``qscale``), ``conditions.max_leak_rate`` (``limit``, in the series'
+    unit; :func:`~sealeak.render.plotstyle.draw_limit`), its notes (log scale, missing points, hollow markers), the
+    second unit axis and the legend: shared by the liquid and the gas figure."""
     scaled = [Series(s.x, s.y / qscale, s.valid, s.color, s.style, s.label, s.why) for s in series]
     draw_series(ax, scaled, logy=logy, bottom_zero=not logy)
     ax.set_ylabel(ylabel)
     notes = list(notes)
+    if where := draw_limit(ax, limit, qscale):
+        notes.append(where)
     if not log and logy:
         notes.append("log scale: the curves differ by decades")
     missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction)
@@ -380,7 +387,7 @@ def _gas_leak_series(results: Sequence[CaseResult], x_scale: float) -> tuple[lis
 
 
 @laid_out
-def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
+def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool, limit: tuple[float, str] | None = None) -> Figure:
     """The gas leak rate Q_pV (mbar·l/s, second axis Pa·m³/s) against P0 for gas cases (docs/theory.md §11.5, §11.9).
 
     Each theory in its own colour: the case's gas solid, its helium-equivalent leak rate (1 bar helium
@@ -415,7 +422,8 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool) -> Figure:
         finish_axes(ax)
         return fig
     qscale, qunit = (1.0, "mbar·l/s") if logy else power_unit(peaks, "mbar·l/s")
-    _finish_leak_rate(ax, results, series, notes, qscale, f"{GAS_LEAK_LABEL} ({qunit})", log, logy, pa_m3_axis)
+    in_mbar_l_s = None if limit is None else (limit[0] / PA_M3_PER_MBAR_L, limit[1])  # (a gas's limit is in Pa·m³/s)
+    _finish_leak_rate(ax, results, series, notes, qscale, f"{GAS_LEAK_LABEL} ({qunit})", log, logy, pa_m3_axis, in_mbar_l_s)
     return fig
 
 
@@ -599,7 +607,7 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
     if is_band_run(results):
         shown = as_assembled(results)  # a life file's band figures: the seal as assembled (the same surface in each)
         spectra = [r.case.spectrum.sample(400) for r in shown]
-        band = {"spectrum.png": figure_spectrum([r.case for r in shown], spectra, _band_q0(shown))} | band_figures(shown)
+        band = {"spectrum.png": figure_spectrum([r.case for r in shown], spectra, _band_q0(shown))} | band_figures(shown, limit)
         return band | life_figures(results, limit)
     if curves is None:
         curves = prediction_curves(list(results))
@@ -608,8 +616,8 @@ def prediction_figures(results: Sequence[CaseResult], curves: PredictionCurves |
         "contact_area.png": figure_contact_area(cases, curves),
         "separation.png": figure_separation(cases, curves),
         "gap_distribution.png": figure_gap_distribution(curves),
-        "leak_rate.png": figure_leak_rate(results, log=False),
-        "leak_rate_log.png": figure_leak_rate(results, log=True),
+        "leak_rate.png": figure_leak_rate(results, log=False, limit=limit),
+        "leak_rate_log.png": figure_leak_rate(results, log=True, limit=limit),
         "critical_junction.png": figure_critical_junction(results),
         "critical_magnification.png": figure_critical_magnification(results),
         "leak_rate_vs_pressure_difference.png": figure_pressure_difference(curves),

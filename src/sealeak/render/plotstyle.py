@@ -29,7 +29,7 @@ from ..io.leak_units import ML_PER_MIN_PER_M3_PER_S, PA_M3_PER_MBAR_L, celsius
 __all__ = ["pressure_axis", "sweep_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
            "literal_text", "LITERAL_TEXT", "wrap_phrases",
-           "invalid_note", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
+           "invalid_note", "draw_limit", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
            "gas_conditions_text", "gas_regime_text", "gas_series"]
 
 P = ParamSpec("P")
@@ -423,6 +423,29 @@ def _covers(leg: Legend, points: np.ndarray, texts: Sequence[Any], pad: float = 
     inside = ((points[:, 0] >= box.x0) & (points[:, 0] <= box.x1) & (points[:, 1] >= box.y0) & (points[:, 1] <= box.y1))
     return (bool(inside.any()) or any(box.overlaps(t) for t in texts)
             or any(area.intersects_bbox(box, filled=True) for area in areas))
+
+
+#: Decades a log leak-rate axis is widened upwards, at most, to show ``conditions.max_leak_rate`` (:func:`draw_limit`).
+LIMIT_DECADES = 3.0
+
+
+def draw_limit(ax: Axes, limit: tuple[float, str] | None, scale: float = 1.0) -> str:
+    """``conditions.max_leak_rate`` (``limit``: its value in the axis' unit times ``scale``, and as written) as a
+    dash-dotted line across a leak-rate figure, as the figures of the seal over its life draw it. A limit above the
+    axis widens a log axis by up to :data:`LIMIT_DECADES`; one farther above, or one below the axis (whose foot may
+    hold markers of points below it), is not drawn: the returned subtitle note says where it lies ("" otherwise)."""
+    if limit is None:
+        return ""
+    y = limit[0] / scale
+    lo, hi = ax.get_ylim()
+    if y > hi and ax.get_yscale() == "log" and np.log10(y / hi) <= LIMIT_DECADES:
+        hi = y * 10 ** 0.15
+        ax.set_ylim(lo, hi)
+    if not lo <= y <= hi:
+        return (f"max_leak_rate = {limit[1]} lies {'above every leak rate drawn' if y > hi else 'below the axis'}"
+                + ("" if y > hi else ": every leak rate drawn exceeds it"))
+    ax.axhline(y, color="0.2", linestyle="-.", linewidth=1.2, label=f"max_leak_rate = {limit[1]}")
+    return ""
 
 
 def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequence[str] | None = None,
