@@ -114,7 +114,7 @@ def continuum_verdict(gap: ArrayLike, molecular_size: float, name: str = "u_c", 
     thick = np.isfinite(g) & ~below & (g > w)
     reasons = tuple(
         f"{name} = {_gap_text(float(v))} is below the fluid's molecular size {_nm(molecular_size)}: "
-        "no continuum flow through such a gap" if b else
+        "the fluid cannot flow, as a continuum or as molecules, through a gap narrower than its molecules" if b else
         f"{name} = {format_quantity(float(v), 'length', 3)} is not small against the channel's width {width_name} = "
         f"{format_quantity(float(wi), 'length', 3)}: not a thin film" if t else ""
         for v, wi, b, t in zip(g, w, below, thick, strict=True)
