@@ -51,6 +51,7 @@ from sealeak.render.figures import (
     new_figure,
     prediction_figure_names,
 )
+from sealeak.render.interactive import prediction_plot_data
 from tests.casefiles import BASE, edit
 
 # The figures are checked at the dpi they are written with: text extents do not scale with the dpi
@@ -411,3 +412,19 @@ def test_the_leak_rate_figures_draw_the_specification(tmp_path, factor, drawn):
             assert lo * scale <= limit[0] <= hi * scale
         else:
             assert not lines and "max_leak_rate = the specification lies above every leak rate drawn" in ax.get_title()
+
+
+def test_variants_with_one_contact_draw_their_curves_once_named_after_all(example_figures):
+    """The o-ring example studies two fluids on one surface: its spectrum is drawn once, labelled with both (two lines
+    one over another would show only the last while the legend listed both colours); so are the web page's spectrum
+    and its curves at a pressure."""
+    results, figures = example_figures("o-ring")
+    a, b = (r.case.spectrum.sample(50) for r in results)
+    assert len(results) == 2 and all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))  # the premise
+    (line,) = _data_lines(figures["spectrum.png"].axes[0])
+    assert line.get_label() == ", ".join(r.case.label for r in results)
+    plots = prediction_plot_data(results)
+    assert [s["label"] for s in plots["spectra"]] == [", ".join(r.case.label for r in results)]
+    labels = [s["label"] for s in plots["sets"]]
+    assert len(labels) == len(set(labels)) and all(", ".join(r.case.label for r in results) in t for t in labels)
+    assert len(plots["gaps"]["density"]) == len(plots["sets"])

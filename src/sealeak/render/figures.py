@@ -126,9 +126,19 @@ def figure_spectrum(cases: Sequence[Case], spectra: Sequence[tuple[np.ndarray, n
     first case's q0 = 2π/L.
     """
     fig, ax = new_figure("Surface roughness power spectrum")
-    for i, (case, (q, c)) in enumerate(zip(cases, spectra)):
+    # variants with the same spectrum (a study of fluids or loads) draw it once, named after all of them: drawn one
+    # over another, only the last would show while the legend listed every colour
+    drawn: list[tuple[np.ndarray, np.ndarray, list[str]]] = []
+    for case, (q, c) in zip(cases, spectra, strict=True):
+        label = _label(case, case.spectrum.label or "C(q)")
+        same = next((d for d in drawn if np.array_equal(d[0], q) and np.array_equal(d[1], c)), None)
+        if same is None:
+            drawn.append((q, c, [label]))
+        elif label not in same[2]:
+            same[2].append(label)
+    for i, (q, c, labels) in enumerate(drawn):
         keep = np.isfinite(q) & np.isfinite(c) & (q > 0) & (c > 0)
-        ax.loglog(q[keep], c[keep], color=color(i), label=_label(case, case.spectrum.label or "C(q)"))
+        ax.loglog(q[keep], c[keep], color=color(i), label=", ".join(labels))
     case = cases[0]
     lo, hi, text = q0 if q0 is not None else (case.q0, case.q0, "q0 = 2π/L")
     if hi > lo * (1 + 1e-9):
@@ -139,10 +149,10 @@ def figure_spectrum(cases: Sequence[Case], spectra: Sequence[tuple[np.ndarray, n
     ax.set_xlabel("wavevector q (1/m)")
     ax.set_ylabel("power spectrum C(q) (m⁴)")
     stats = (f"h_rms = {case.spectrum.h_rms * 1e6:.3g} µm, slope_rms = {case.spectrum.slope_rms:.3g}, "
-             f"A_true/A0 = {case.spectrum.area_ratio:.3g}") if len(cases) == 1 else ""
-    subtitle(ax, (case.spectrum_note + ("\n" + stats if stats else "")) if len(cases) == 1 else "")
+             f"A_true/A0 = {case.spectrum.area_ratio:.3g}") if len(drawn) == 1 else ""
+    subtitle(ax, (case.spectrum_note + ("\n" + stats if stats else "")) if len(drawn) == 1 else "")
     finish_axes(ax)
-    if len(cases) > 1 or case.spectrum.label:
+    if len(drawn) > 1 or case.spectrum.label or any(len(d[2]) > 1 for d in drawn):
         place_legend(ax)
     return fig
 

@@ -72,16 +72,36 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
                      "valid_effective_medium": [bool(rec.get("valid_effective_medium", True)) for rec in recs],
                      "band": band})
     label = len(shown) > 1
-    sets = [{"label": (f"{cs.case.label}: " if label and cs.case.label else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",
-             "squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),
-             "zeta_gap": _list(cs.zeta[:-1]), "mean_gap": _list(cs.mean_gap), "zeta_c": json_value(cs.zeta_c)}
-            for cs in curves.sets]
+    # variants with the same contact (a study of fluids) have the same spectrum and the same curves at a pressure: each
+    # is sent once, named after all of them (drawn one over another, only the last would show)
+    sets: list[dict[str, Any]] = []
+    densities: list[list[float | None]] = []
+    for cs, density in zip(curves.sets, curves.gap_density, strict=True):
+        entry = {"squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),
+                 "zeta_gap": _list(cs.zeta[:-1]), "mean_gap": _list(cs.mean_gap), "zeta_c": json_value(cs.zeta_c)}
+        name = cs.case.label if label and cs.case.label else ""
+        same = next((i for i, e in enumerate(sets) if all(e[k] == v for k, v in entry.items())
+                     and densities[i] == _list(density)), None)
+        if same is None:
+            sets.append(entry | {"names": [name] if name else []})
+            densities.append(_list(density))
+        elif name and name not in sets[same]["names"]:
+            sets[same]["names"].append(name)
+    for e in sets:
+        names = e.pop("names")
+        e["label"] = (f"{', '.join(names)}: " if names else "") + f"P0 = {e['squeeze_pressure'] / 1e3:.4g} kPa"
+    spectra: list[dict[str, Any]] = []
+    for r, (q, C) in zip(shown, curves.spectra, strict=True):
+        name, q_list, c_list = r.case.label or r.case.spectrum.label or r.case.title, _list(q), _list(C)
+        twin = next((sp for sp in spectra if sp["q"] == q_list and sp["C"] == c_list), None)
+        if twin is None:
+            spectra.append({"label": name, "q": q_list, "C": c_list})
+        elif name not in twin["label"].split(", "):
+            twin["label"] += f", {name}"
     return {
         "leak": leak,
         "limit": {"value": limit[0], "text": limit[1]} if (limit := volume_limit(uncertainty)) else None,
-        "spectra": [{"label": r.case.label or r.case.spectrum.label or r.case.title, "q": _list(q), "C": _list(C)}
-                    for r, (q, C) in zip(shown, curves.spectra)],
+        "spectra": spectra,
         "sets": sets,
-        "gaps": {"u": _list(curves.gap), "density": [_list(d) for d in curves.gap_density],
-                 "labels": [s["label"] for s in sets]},
+        "gaps": {"u": _list(curves.gap), "density": densities, "labels": [s["label"] for s in sets]},
     }
