@@ -46,6 +46,8 @@ from sealeak.render.figures import (
     Series,
     color,
     draw_series,
+    figure_critical_junction,
+    figure_critical_magnification,
     figure_leak_rate,
     figure_pressure_difference,
     new_figure,
@@ -428,3 +430,16 @@ def test_variants_with_one_contact_draw_their_curves_once_named_after_all(exampl
     labels = [s["label"] for s in plots["sets"]]
     assert len(labels) == len(set(labels)) and all(", ".join(r.case.label for r in results) in t for t in labels)
     assert len(plots["gaps"]["density"]) == len(plots["sets"])
+
+
+def test_critical_junction_figures_say_why_a_pressure_has_no_point(tmp_path):
+    """The axis spans every squeeze pressure of the sweep; one without a leak channel has nothing to draw, and the
+    subtitle says so (as the leak-rate figures do)."""
+    results = _results(edit('["20 kPa", "60 kPa", "0.1 MPa"]', '["20 kPa", "60 kPa", "0.1 MPa", "1 MPa"]'), tmp_path)
+    assert not results[0].critical_junction.percolates[-1] and results[0].critical_junction.percolates[:-1].all()
+    for make in (figure_critical_junction, figure_critical_magnification):
+        ax = _build(lambda make=make: make(results)).axes[0]
+        assert "missing points: no leak channel" in ax.get_title()
+        assert ax.get_xlim()[1] >= 1000.0  # the axis still spans the sealed pressure (kPa)
+    ax = _build(lambda: figure_critical_junction(_results(BASE, tmp_path))).axes[0]
+    assert "missing points" not in ax.get_title()

@@ -437,6 +437,14 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool, limit: tuple[
     return fig
 
 
+def _missing_note(results: Sequence[CaseResult]) -> list[str]:
+    """The subtitle line of a critical-junction figure whose axis spans pressures without a leak channel (nothing drawn
+    there), or none."""
+    if any((~r.critical_junction.percolates).any() for r in results):
+        return ["missing points: no leak channel (the non-contact area does not percolate)"]
+    return []
+
+
 @laid_out
 def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
     """u_c (solid) and λc (dashed) against P0 (the critical pore size, paper Fig. 8)."""
@@ -471,6 +479,7 @@ def figure_critical_junction(results: Sequence[CaseResult]) -> Figure:
         if ok.any():
             ratio = np.median(res.critical_wavelength[ok] / res.critical_gap[ok])
             notes.append(f"median λc/u_c = {ratio:.3g}")
+    notes += _missing_note(results)
     _subtitle_with_hollow(ax, notes, series)
     finish_axes(ax)
     place_legend(ax)
@@ -491,7 +500,7 @@ def figure_critical_magnification(results: Sequence[CaseResult]) -> Figure:
         say_nothing(ax, _no_leak_text(results).replace("the leak rate is zero", "no critical magnification"))
         finish_axes(ax)
         return fig
-    notes = [f"A(ζc)/A0 = 1 - p_c = {1 - results[0].case.percolation_threshold:.2f}"]
+    notes = [f"A(ζc)/A0 = 1 - p_c = {1 - results[0].case.percolation_threshold:.2f}", *_missing_note(results)]
     _subtitle_with_hollow(ax, notes, series)
     finish_axes(ax)
     place_legend(ax)
