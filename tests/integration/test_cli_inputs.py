@@ -236,7 +236,7 @@ def test_an_output_of_the_wrong_kind_is_refused_naming_its_option(tmp_path, caps
     given = {"--plots": blocker, "--plots below a file": blocker / "figures"}.get(option, folder)
     assert main(["predict", REFERENCE, option.split()[0], str(given), "-q"]) == 2
     err = one_line_error(capsys, given, "not a folder" if option.startswith("--plots") else "is a folder")
-    assert err.startswith(f"sealeak: error: {option.split()[0]}: ")
+    assert err.startswith(f"sealeak: error: {option.split()[0]} = '{given}': ")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt", "results"] and not any(folder.iterdir())
 
 

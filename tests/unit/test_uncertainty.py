@@ -202,3 +202,25 @@ def test_every_value_of_a_choice_is_checked_before_any_sample_runs():
     text = BASE + '[uncertainty]\n"theory.alpha" = { distribution = "choice", values = [0.2, 0.3, 0.4, "zz"] }\n'
     with pytest.raises(InputError, match=r"theory\.alpha \(uncertainty sample theory\.alpha = .?zz"):
         parse_uncertain_case(text)
+
+
+def test_samples_outside_the_theory_are_counted_and_their_percentiles_marked(monkeypatch):
+    """At 1 MPa the ring nearly seals: most samples have no leak channel, and those that leak do so through critical
+    gaps narrower than a water molecule (valid = NO in their own prediction). The scaled contact's verdicts are the
+    full predictions' verdicts, sample by sample; the 95th percentile comes from such samples and is marked."""
+    text = spread(LEAKS.replace('["20 kPa", "60 kPa"]', '["20 kPa", "60 kPa", "1 MPa"]'), new='h_rms = "44 um ± 10 %"')
+    study = parse_uncertain_case(text)
+    fast = propagate(study, 64, seed=0)
+    monkeypatch.setattr(unc, "_scales", lambda study: False)  # every sample a full prediction
+    full = propagate(study, 64, seed=0)
+    assert fast.valid is not None and full.valid is not None
+    assert np.array_equal(fast.valid, full.valid)
+    np.testing.assert_allclose(fast.values["leak_rate"], full.values["leak_rate"], rtol=1e-6, atol=0)
+    outside = fast.outside_fraction
+    assert outside[0] == outside[1] == 0.0 and 0.0 < outside[2] <= 1.0 - fast.sealed[:, 2].mean()
+    monkeypatch.undo()
+    many = propagate(study, 256, seed=0)  # with 256 samples the 95th percentile at 1 MPa is a leaking sample's
+    marked = many.outside()
+    assert not marked[:, :2].any() and marked[2, 2] and not marked[:2, 2].any()  # (p05 and p50 are 0: sealed)
+    (row,) = [r for r in json.loads(prediction_json(many.nominal, many))["results"] if r["squeeze_pressure"] == 1e6]
+    assert row["outside_fraction"] == many.outside_fraction[2] > 0

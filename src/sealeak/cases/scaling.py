@@ -30,8 +30,10 @@ from ..physics.critical_junction import CriticalJunctionResult, critical_junctio
 from .band import junction_sigma
 from .band_tables import persson_contact, piecewise
 from .model import Case
+from .verdicts import _uniform_verdicts
 
-__all__ = ["scaled_leak_rate", "sigma_table", "band_junction_tables", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
+__all__ = ["scaled_leak_rate", "scaled_validity", "sigma_table",
+           "band_junction_tables", "SCALING_RTOL", "SCALING_TABLE_POINTS", "SCALING_TABLE_TOP", "SCALING_BLOCK"]
 
 FloatArray = NDArray[np.float64]
 
@@ -178,6 +180,22 @@ def scaled_leak_rate(case: Case, result: CriticalJunctionResult, length: FloatAr
     if case.coupled:
         return (factor * ks)[:, None] * value  # eq. 14.7
     return factor[:, None] * value * dp[None, :] * pressure_difference[:, None]  # eq. 14.6
+
+
+def scaled_validity(case: Case, result: CriticalJunctionResult, length: FloatArray, modulus: FloatArray,
+                    pressure_difference: FloatArray) -> NDArray[np.bool_]:
+    """Per sample and squeeze pressure, [samples, rows], the validity verdict (docs/theory.md §9.11) of the samples whose
+    leak rates :func:`scaled_leak_rate` gives: the nominal contact at τ = P0/(k s) with its gap u_c scaled by s (λc,
+    an in-plane length, is not), against the fluid's molecular size, λc, and ΔP = d ΔP_nom against P0 (eq. 14.6)."""
+    p0 = result.squeeze_pressure
+    tau = p0[None, :] / (modulus * length)[:, None]
+    res = critical_junction(case.contact(), squeeze_pressure=tau.ravel(), pressure_difference=1.0,
+                            viscosity=case.fluid.viscosity, aspect_ratio=1.0, alpha=case.alpha,
+                            percolation_threshold=case.percolation_threshold)
+    dp = np.broadcast_to(result.pressure_difference, p0.shape)[None, :] * pressure_difference[:, None]
+    sample = replace(res, squeeze_pressure=np.broadcast_to(p0, tau.shape).ravel(), pressure_difference=dp.ravel(),
+                     critical_gap=(res.critical_gap.reshape(tau.shape) * length[:, None]).ravel())
+    return _uniform_verdicts(case, sample, None)[0].reshape(tau.shape)
 
 
 def _block(case: Case, contact: PerssonContact, sigma: Callable[[FloatArray], FloatArray], tau: FloatArray,

@@ -37,7 +37,7 @@ from .limits import whole_number
 from .loader import CaseFile, build_cases, parse_case_file, read_case_file
 from .model import Case
 from .run import CaseResult, run_case
-from .scaling import band_junction_tables, scaled_leak_rate
+from .scaling import band_junction_tables, scaled_leak_rate, scaled_validity
 from .spreads import UncertainInput
 
 __all__ = ["record_values", "UncertainInput", "UncertainStudy", "ResultRow", "UncertaintyResult", "UncertaintyColumns", "PassingLoad",
@@ -157,6 +157,12 @@ def record_values(results: list[CaseResult]) -> dict[str, NDArray[np.float64]]:
     return out
 
 
+def record_validity(results: list[CaseResult]) -> NDArray[np.bool_]:
+    """Per row, whether the theory it shows is within its validity (docs/theory.md §9.11: ``valid``, or
+    ``valid_effective_medium``); a row without a leak channel counts as valid."""
+    return np.array([bool(rec.get(_shown(r, "valid"), True)) for r in results for rec in r.records()], dtype=bool)
+
+
 def sample_values(study: UncertainStudy, points: NDArray[np.float64],
                   nominal: list[CaseResult] | None = None) -> dict[str, NDArray[np.float64]]:
     """The leak rates of every :data:`SPREAD_KEYS` the records hold at each point of the unit hypercube
@@ -167,37 +173,49 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
     ``nominal`` the nominal cases' results (run here when not given); when h_rms, E, ν and ΔP vary too (a uniform
     liquid seal on the critical junction), the nominal contact at the scaled pressures P0/(k s) (:func:`_by_scaling`).
     """
+    return _sample(study, points, nominal)[0]
+
+
+def _sample(study: UncertainStudy, points: NDArray[np.float64], nominal: list[CaseResult] | None = None,
+            ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
+    """(:func:`sample_values`, and per sample and row whether the theory shown is within its validity: the verdict of
+    the sample's own prediction, or of the nominal contact scaled as its leak rate is)."""
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
         raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
-    if _shares_contact(study):
-        return _scaled(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
+    if _shares_contact(study):  # α and η change neither the gaps nor the pressures: the nominal verdicts
+        nominal = nominal if nominal is not None else [run_case(c) for c in study.cases]
+        return _scaled(study, points, nominal), np.tile(record_validity(nominal), (points.shape[0], 1))
     if _scales(study):
-        fast = _by_scaling(study, points, nominal if nominal is not None else [run_case(c) for c in study.cases])
+        nominal = nominal if nominal is not None else [run_case(c) for c in study.cases]
+        fast = _by_scaling(study, points, nominal)
         if fast is not None:
             return fast
     factors = _factors(study, points) if _scales_band(study) else None
     tables = _band_tables(study, points, factors["length"]) if factors is not None else None
     written = [inp.written(points[:, j]) for j, inp in enumerate(study.inputs)]
     done: dict[str, dict[str, NDArray[np.float64]]] = {}
+    done_valid: dict[str, NDArray[np.bool_]] = {}
     out: dict[str, list[NDArray[np.float64]]] = {}
+    valid: list[NDArray[np.bool_]] = []
     for i in range(points.shape[0]):
         values = [w[i] for w in written]
         tag = repr(values)
         if tag not in done:
             cases = [_shown_theory(c) for c in _sample_cases(study, values)]
             if tables is None or factors is None or factors["nominal"][i]:
-                done[tag] = record_values([run_case(c) for c in cases])
+                results = [run_case(c) for c in cases]
             else:  # the nominal contact's σ at the scaled pressures (docs/theory.md §14.5)
                 results = []
                 for case, table in zip(cases, tables, strict=True):
                     with scaled_junctions(ScaledJunctions(table, float(factors["length"][i]),
                                                           float(factors["modulus"][i]))):
                         results.append(run_case(case))
-                done[tag] = record_values(results)
+            done[tag], done_valid[tag] = record_values(results), record_validity(results)
         for key, v in done[tag].items():
             out.setdefault(key, []).append(v)
-    return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}
+        valid.append(done_valid[tag])
+    return {k: np.array(v) for k, v in out.items() if len(v) == points.shape[0]}, np.array(valid, dtype=bool)
 
 
 #: The inputs that scale a liquid's leak rate without changing the contact (docs/theory.md §14).
@@ -298,26 +316,31 @@ def _scaling_holds(study: UncertainStudy, points: NDArray[np.float64]) -> bool:
 
 
 def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
-                nominal: list[CaseResult]) -> dict[str, NDArray[np.float64]] | None:
+                nominal: list[CaseResult]) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]] | None:
     """:func:`sample_values` by the scaling of the nominal contact (:mod:`sealeak.cases.scaling`), None where the
     cases do not scale (then every sample is a full prediction); the nominal samples hold the nominal rows bit for bit."""
     if not _scaling_holds(study, points):
         return None
     factors = _factors(study, points)
     columns: list[NDArray[np.float64]] = []
+    verdicts: list[NDArray[np.bool_]] = []
     try:
         for case, result in zip(study.cases, nominal, strict=True):
             q = scaled_leak_rate(case, result.critical_junction, factors["length"], factors["modulus"], factors["flow"],
                                  factors["pressure_difference"])
             columns.append(np.where(np.isnan(q), 0.0, q))
+            verdicts.append(scaled_validity(case, result.critical_junction, factors["length"], factors["modulus"],
+                                            factors["pressure_difference"]))
     except InputError:
         return None
     out = np.concatenate(columns, axis=1)
+    valid = np.concatenate(verdicts, axis=1)
     base = record_values(nominal)["leak_rate"]
     if base.shape != out.shape[1:]:  # records that are not one per squeeze pressure: not what the scaling computes
         return None
     out[factors["nominal"]] = base
-    return {"leak_rate": out}
+    valid[factors["nominal"]] = record_validity(nominal)
+    return {"leak_rate": out}, valid
 
 
 def _scales_band(study: UncertainStudy) -> bool:
@@ -467,6 +490,9 @@ class UncertaintyColumns:
     leak_rate_helium_mbar_l_s_p95: NDArray[np.float64] | None = quantity(
         "mbar*l/s", "95th percentile of the helium leak in mbar·l/s", default=None)
     sealed_fraction: NDArray[np.float64] = quantity("1", "fraction of the samples without a leak channel (the seal seals)")
+    outside_fraction: NDArray[np.float64] | None = quantity(
+        "1", "fraction of the samples that leak outside the theory's validity (a gap narrower than the fluid's molecules, "
+             "a seal the fluid pressure opens, ...; docs/theory.md §9.11)", default=None)
     exceed_probability: NDArray[np.float64] | None = quantity(
         "1", "fraction of the samples whose leak rate exceeds conditions.max_leak_rate", default=None)
 
@@ -520,6 +546,8 @@ class UncertaintyResult:
     limit_keys: list[str] | None = None
     limits: NDArray[np.float64] | None = None
     notes: tuple[str, ...] = field(default=())
+    #: Per sample and row whether the theory shown is within its validity (a sealed sample is), or None (not known).
+    valid: NDArray[np.bool_] | None = None
 
     @property
     def samples(self) -> int:
@@ -543,6 +571,24 @@ class UncertaintyResult:
         """The 5th, 50th and 95th percentiles of ``key`` per row, [3, rows] (linear interpolation between samples)."""
         return np.percentile(self.values[key], [5.0, 50.0, 95.0], axis=0)
 
+    def outside(self, key: str = "leak_rate") -> NDArray[np.bool_]:
+        """Per percentile of :meth:`percentiles` and row, [3, rows], whether it is taken from a sample outside the
+        theory's validity (either of the two samples it interpolates between); all False where that is not known."""
+        v = self.values[key]
+        if self.valid is None:
+            return np.zeros((3, v.shape[1]), dtype=bool)
+        order = np.argsort(v, axis=0, kind="stable")
+        bad = ~np.take_along_axis(self.valid, order, axis=0)
+        at = (v.shape[0] - 1) * np.array([0.05, 0.50, 0.95])
+        return bad[np.floor(at).astype(int)] | bad[np.ceil(at).astype(int)]
+
+    @property
+    def outside_fraction(self) -> NDArray[np.float64] | None:
+        """Per row, the fraction of the samples that leak outside the theory's validity (None where not known)."""
+        if self.valid is None:
+            return None
+        return np.mean(~self.valid & (self.values["leak_rate"] > 0), axis=0)
+
     def columns(self) -> UncertaintyColumns:
         """The record fields of every row."""
         fields: dict[str, Any] = {}
@@ -550,7 +596,7 @@ class UncertaintyResult:
             p = self.percentiles(key)
             fields |= {f"{key}_p05": p[0], f"{key}_p50": p[1], f"{key}_p95": p[2]}
         return UncertaintyColumns(**fields, sealed_fraction=np.mean(self.sealed, axis=0),
-                                  exceed_probability=self.exceed_probability)
+                                  outside_fraction=self.outside_fraction, exceed_probability=self.exceed_probability)
 
     def row_fields(self) -> list[dict[str, Any]]:
         """One dict per row of the fields :meth:`columns` holds (None fields left out), plain floats."""
@@ -601,6 +647,6 @@ def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int =
     ``seed``): the same arguments give the same numbers bit for bit."""
     points = unit_points(len(study.inputs), samples, seed, sampler)
     nominal = [run_case(c) for c in study.cases]
-    values = sample_values(study, points, nominal)
+    values, valid = _sample(study, points, nominal)
     keys, limits = _limits(study, study.cases) if study.max_leak_rate is not None else (None, None)
-    return UncertaintyResult(study, points, values, nominal, sampler, seed, keys, limits)
+    return UncertaintyResult(study, points, values, nominal, sampler, seed, keys, limits, valid=valid)

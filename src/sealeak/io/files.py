@@ -24,7 +24,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import FileFormatError, InputError, SealeakError
+from ..errors import FileFormatError, InputError, SealeakError, show_value
 
 __all__ = ["Output", "OutputExistsError", "OutputWriteError", "check_outputs", "check_replaceable", "atomic_write", "write_text",
            "write_output", "STDOUT", "input_file"]
@@ -145,7 +145,11 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
         except OutputExistsError as exc:
             if not o.option:
                 raise
-            raise OutputExistsError(f"{o.option}: {exc}") from None
+            # named as an option's value is ("--json = 'adir': is a folder: ..."), the path said once
+            reason = str(exc)
+            for lead in (f"cannot write {o.path}: ", f"cannot make the folder {o.path}: ", f"{o.path} "):
+                reason = reason.removeprefix(lead)
+            raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {reason}") from None
     if existing and not force:
         shown = ", ".join(existing[:5]) + (f" and {len(existing) - 5} more" if len(existing) > 5 else "")
         raise OutputExistsError(f"{shown} already exist{'s' if len(existing) == 1 else ''}; "

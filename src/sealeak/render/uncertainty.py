@@ -52,12 +52,17 @@ def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[st
     95th percentiles of Q, the share of samples that seal, and the probability of exceeding ``max_leak_rate``."""
     headers, cols = row_columns(unc.study.rows)
     for key, name, convert in _shown(unc):
-        p = convert(unc.percentiles(key))
+        p, outside = convert(unc.percentiles(key)), unc.outside(key)
         for i, which in enumerate(("p05", "p50", "p95")):
             headers.append(name.format(which))
-            cols.append([f"{v:.3e}" if v else "0" for v in p[i]])  # as the leak rates above; a sealed percentile: 0
+            # as the leak rates above; a sealed percentile: 0; one taken from samples outside the theory: starred
+            cols.append([(f"{v:.3e}" if v else "0") + ("*" if out and v else "") for v, out in zip(p[i], outside[i], strict=True)])
     headers.append("sealed")
     cols.append([f"{100 * v:.0f} %" for v in np.mean(unc.sealed, axis=0)])
+    outside_fraction = unc.outside_fraction
+    if outside_fraction is not None and outside_fraction.any():
+        headers.append("outside")
+        cols.append([f"{100 * v:.0f} %" if v else "0" for v in outside_fraction])
     exceed = unc.exceed_probability
     if exceed is not None:
         headers.append("P(Q > max)")
@@ -77,6 +82,11 @@ def uncertainty_legend(unc: UncertaintyResult) -> str:
     """What the columns of the uncertainty table mean."""
     text = ("p05, p50, p95: the 5th, 50th and 95th percentiles of the leak rate over the samples (a sample without a "
             "leak channel counts as 0); sealed: the share of samples without a leak channel")
+    outside = unc.outside_fraction
+    if outside is not None and outside.any():
+        text += ("; outside: the share of samples that leak outside the theory's validity (a gap narrower than the "
+                 "fluid's molecules, a seal the fluid pressure opens; see the notes of the table above), and * a "
+                 "percentile taken from such samples: not a leak rate to rely on")
     if unc.limits is not None:
         text += f"; P(Q > max): the probability that the leak rate exceeds conditions.max_leak_rate = {unc.study.max_leak_rate}"
         if unc.limit_keys and unc.limit_keys[0] == "leak_rate_helium_pv":
@@ -128,6 +138,13 @@ def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
                 f"{load_text(p.load_name, hi)} ({100 * p_hi:.1f} %)")
         if _far_apart(p.load_name, lo, hi):
             line += ": rows that far apart place it roughly; compute loads between them to place it better"
+        outside, fraction = unc.outside_fraction, []
+        if outside is not None:
+            fraction = [float(outside[j]) for j, r in enumerate(unc.study.rows)
+                        if r.variant == p.variant and r.load in (lo, hi) and outside[j] > 0]
+        if fraction:
+            line += (f"; {' and '.join(f'{100 * f:.0f} %' for f in fraction)} of the samples there leak outside the "
+                     "theory's validity (the table's 'outside')")
         return line
     return f"{prefix}{p.note}"
 
