@@ -63,3 +63,23 @@ def test_a_band_over_a_load_where_most_samples_seal_keeps_its_median_inside_it(p
     assert sealed["x"] == [traces["median of the samples"]["x"][-1]] and sealed["colour"] == "rgb(31,119,180)"
     page.locator("#plot-leak").scroll_into_view_if_needed()
     page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-band-sealing.png"))
+
+
+def test_a_median_from_samples_outside_the_theory_is_drawn_hollow(page, artifacts, tmp_path):
+    """At 850 kPa the ring's critical gap is narrower than a water molecule (valid = NO), yet it percolates: the
+    median of the samples there is circled, not a point to rely on."""
+    text = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["300 kPa", "600 kPa", "850 kPa"]',
+                edit('h_rms = "44 um"', 'h_rms = "44 um ± 10 %"'))
+    (tmp_path / "narrow.toml").write_text(text, encoding="utf-8")
+    goto(page, "/case")
+    page.set_input_files("#case-file", str(tmp_path / "narrow.toml"))
+    page.wait_for_selector("#status:has-text('the case is valid')", timeout=120_000)
+    goto(page, "/prediction")
+    page.wait_for_function("(document.getElementById('plot-leak').data || []).some(t => t.fill === 'tonexty')", timeout=120_000)
+    traces = {t["name"]: t for t in page.evaluate(
+        "document.getElementById('plot-leak').data.map(t => ({name: t.name, x: t.x, y: t.y}))")}
+    hollow = traces["median from samples outside the theory"]
+    median = traces["median of the samples"]
+    assert hollow["x"] == [median["x"][-1]] and hollow["y"] == [median["y"][-1]]
+    page.locator("#plot-leak").scroll_into_view_if_needed()
+    page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-band-outside.png"))

@@ -161,3 +161,17 @@ def test_fan_chart_cuts_its_axis_eight_decades_below_the_top_and_keeps_the_legen
     for coll in (c for c in ax.collections if isinstance(c, PolyCollection)):
         for path in coll.get_paths():
             assert not path.transformed(coll.get_transform()).intersects_bbox(box, filled=True)
+
+
+def test_fan_chart_draws_a_median_from_samples_outside_the_theory_hollow():
+    band = _band()
+    outside = X >= 300.0
+    fig = _build(lambda: figure_fan_chart([LeakBand(X, band.p05, band.p50, band.p95, band.p25, band.p75, band.nominal,
+                                                    median_outside=outside)], "squeeze pressure P0 (kPa)"))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    (hollow,) = [line for line in ax.get_lines() if line.get_label() == "median from samples outside the theory"]
+    assert list(hollow.get_xdata()) == list(X[outside]) and hollow.get_markerfacecolor() in ("white", (1.0, 1.0, 1.0, 1.0))
+    assert "hollow: a median taken from samples that leak outside the theory's validity" in ax.get_title().replace("\n", " ")
+    plain = _build(lambda: figure_fan_chart([band], "squeeze pressure P0 (kPa)")).axes[0]
+    assert not [line for line in plain.get_lines() if "outside the theory" in line.get_label()]

@@ -10,6 +10,7 @@ from sealeak.cases import parse_case_file, run_case
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
 from sealeak.errors import InputError
 from sealeak.render import prediction_csv, prediction_json
+from sealeak.render.interactive import prediction_plot_data
 from tests.casefiles import BASE, ORING
 
 #: BASE at two pressures where the seal leaks, h_rms given a spread (the leak rate rises steeply with it).
@@ -224,3 +225,13 @@ def test_samples_outside_the_theory_are_counted_and_their_percentiles_marked(mon
     assert not marked[:, :2].any() and marked[2, 2] and not marked[:2, 2].any()  # (p05 and p50 are 0: sealed)
     (row,) = [r for r in json.loads(prediction_json(many.nominal, many))["results"] if r["squeeze_pressure"] == 1e6]
     assert row["outside_fraction"] == many.outside_fraction[2] > 0
+
+
+def test_a_median_from_samples_outside_the_theory_reaches_the_web_plot():
+    """At 850 kPa the ring's nominal critical gap is 1e-16 m (valid = NO) and still percolates: the median of the
+    samples is such a leak, flagged in the table's stars and in the web plot's data; at 300 kPa it is not."""
+    text = spread(BASE.replace('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["300 kPa", "850 kPa"]'))
+    result = propagate(parse_uncertain_case(text), 32, seed=0)
+    assert result.percentiles()[1, 1] > 0 and result.outside()[1].tolist() == [False, True]
+    (leak,) = prediction_plot_data(result.nominal, result)["leak"]
+    assert leak["band"]["p50_outside"] == [False, True]

@@ -36,7 +36,9 @@ def _bands(results: Sequence[CaseResult], unc: UncertaintyResult | None) -> list
         key = "leak_rate_mbar_l_s" if r.case.gas is not None and "leak_rate_mbar_l_s" in unc.values else "leak_rate"
         idx = [j for j, row in enumerate(unc.study.rows) if row.case == i]
         p = unc.percentiles(key)[:, idx]
-        out.append({"p05": _list(p[0]), "p50": _list(p[1]), "p95": _list(p[2]), "samples": unc.samples})
+        outside = unc.outside(key)[1, idx]  # a median taken from samples outside the theory's validity
+        out.append({"p05": _list(p[0]), "p50": _list(p[1]), "p95": _list(p[2]), "samples": unc.samples,
+                    "p50_outside": [bool(v) for v in outside]})
     return out
 
 

@@ -82,6 +82,8 @@ class LeakBand:
     p75: np.ndarray | None = None
     nominal: np.ndarray | None = None
     label: str = ""
+    #: Per load, whether the median is taken from samples outside the theory's validity (drawn hollow), or None.
+    median_outside: np.ndarray | None = None
 
 
 def _positive(*arrays: np.ndarray | None) -> np.ndarray:
@@ -156,7 +158,7 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
         ax.set_xscale("log")
     # a leak below the axis runs along its floor (above the strip of the sealed samples, which is not a leak rate)
     shown = lambda v: np.where(np.asarray(v, dtype=float) > 0, np.maximum(v, strip_top), at_sealed)  # noqa: E731
-    below_any = False
+    below_any = outside_any = False
     for i, b in enumerate(bands):
         c, name = color(i), (f"{b.label}: " if b.label and len(bands) > 1 else "")
         ax.fill_between(b.x, shown(b.p05), shown(b.p95), color=c, alpha=0.18, lw=0, label=f"{name}5–95 % of the samples")
@@ -166,6 +168,11 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
         below = leaks & (np.asarray(b.p50, dtype=float) < strip_top)
         ax.plot(b.x, np.where(leaks & ~below, b.p50, np.nan), "-", marker="o" if len(b.x) <= 12 else "", ms=3, color=c,
                 label=f"{name}median")
+        outside = leaks & ~below & (np.asarray(b.median_outside, dtype=bool) if b.median_outside is not None else False)
+        if np.any(outside):
+            outside_any = True
+            ax.plot(np.asarray(b.x)[outside], np.asarray(b.p50, dtype=float)[outside], "o", mfc="white", mec=c, ms=6,
+                    label=f"{name}median from samples outside the theory")
         if below.any():
             below_any = True
             ax.plot(np.asarray(b.x)[below], np.full(int(below.sum()), strip_top), "v", mfc="none", mec=c, ms=5,
@@ -182,6 +189,9 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     ax.set_ylim(bottom, top)
     if sealed_any:
         _sealed_strip(ax, strip_top, bottom)
+    if outside_any:
+        notes += ("\n" if notes else "") + ("hollow: a median taken from samples that leak outside the theory's validity "
+                                             "(the table's 'outside'): no leak rate to rely on")
     if values.min() < strip_top:  # the axis was cut
         notes += ("\n" if notes else "") + (f"axis cut {_MAX_DECADES:g} decades below the largest leak rate: bands "
                                              "below it run along its floor" + (", ▽ marks a median there" if below_any else ""))
@@ -322,11 +332,13 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
     scale, x_label = _load_x(rows[0].load_name, loads)
     p05, p25, p50, p75, p95 = np.percentile(q, [5.0, 25.0, 50.0, 75.0, 95.0], axis=0)
     nominal = record_leak_rates(unc.nominal)[key]
+    median_outside = unc.outside(key)[1]
     bands = []
     for i, case in enumerate(unc.study.cases):
         idx = np.array([j for j, r in enumerate(rows) if r.case == i])
         idx = idx[np.argsort(loads[idx], kind="stable")]
-        bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label))
+        bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label,
+                              median_outside[idx]))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
     written = str(unc.study.max_leak_rate) if limit is not None else ""

@@ -609,6 +609,13 @@ function leakCurves(p, rows, tagAll, style = {}) {
       bands.push(line(x, hi, `${tag}5–95 % of ${c.band.samples} samples`, { fill: "tonexty", fillcolor: `rgba(${rgb},0.18)`, ...edge }));
       bands.push(line(x, med, `${tag}median of the samples`, { line: { dash: "dot", width: 2, color: `rgb(${rgb})` } }));
       traces.push(...bands.slice(-3));
+      const out = (c.band.p50_outside || []).map((o, i) => o && med[i] > 0 ? i : -1).filter(i => i >= 0);
+      if (out.length) {  // (a band trace: at the axis' foot where the median is below it)
+        bands.push({ x: out.map(i => x[i]), y: out.map(i => med[i]), type: "scatter", mode: "markers",
+          name: `${tag}median from samples outside the theory`, hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>",
+          marker: { symbol: "circle-open", size: 10, color: `rgb(${rgb})`, line: { width: 2 } } });
+        traces.push(bands[bands.length - 1]);
+      }
     }
     const cj = leakSI(c, c.leak_rate).map(show);
     const cjName = `${tag}critical junction${c.band ? " (nominal inputs)" : ""}`, cjColour = rgb ? `rgb(${rgb})` : colour();
