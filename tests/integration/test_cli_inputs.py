@@ -229,14 +229,16 @@ def test_an_output_below_a_file_is_refused_naming_it(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("option", ["--json", "--csv", "--table", "--plots", "--plots below a file"])
-def test_an_output_of_the_wrong_kind_is_refused_naming_its_option(tmp_path, capsys, option):
-    folder, blocker = tmp_path / "results", tmp_path / "notes.txt"
+def test_an_output_of_the_wrong_kind_is_refused_naming_its_option(tmp_path, capsys, monkeypatch, option):
+    monkeypatch.chdir(tmp_path)  # relative paths: a message cuts an option's value at 80 characters, a long tmp_path too
+    folder, blocker = Path("results"), Path("notes.txt")
     folder.mkdir()
     blocker.write_text("x")
     given = {"--plots": blocker, "--plots below a file": blocker / "figures"}.get(option, folder)
     assert main(["predict", REFERENCE, option.split()[0], str(given), "-q"]) == 2
     err = one_line_error(capsys, given, "not a folder" if option.startswith("--plots") else "is a folder")
-    assert err.startswith(f"sealeak: error: {option.split()[0]} = '{given}': ")
+    named = f"{option.split()[0]} = '{given}': " if option.startswith("--plots") else f"{option} {given} is a folder"
+    assert err.startswith(f"sealeak: error: {named}")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt", "results"] and not any(folder.iterdir())
 
 

@@ -145,11 +145,13 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
         except OutputExistsError as exc:
             if not o.option:
                 raise
-            # named as an option's value is ("--json = 'adir': is a folder: ..."), the path said once
-            reason = str(exc)
-            for lead in (f"cannot write {o.path}: ", f"cannot make the folder {o.path}: ", f"{o.path} "):
-                reason = reason.removeprefix(lead)
-            raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {reason}") from None
+            text = str(exc)
+            if o.folder:  # as simulate names its folders: "--plots = 'afile': exists and is not a folder ..."
+                for lead in (f"cannot make the folder {o.path}: ", f"{o.path} "):
+                    text = text.removeprefix(lead)
+                raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {text}") from None
+            # as the other messages name a file output ("--json y.json"), the whole path
+            raise OutputExistsError(f"{o.option} {text}" if text.startswith(f"{o.path} ") else f"{o.option}: {text}") from None
     if existing and not force:
         shown = ", ".join(existing[:5]) + (f" and {len(existing) - 5} more" if len(existing) > 5 else "")
         raise OutputExistsError(f"{shown} already exist{'s' if len(existing) == 1 else ''}; "
