@@ -139,6 +139,8 @@ def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypat
     np.savetxt(f, 2.0 * h / h.std())  # µm
     load_example(page)
     goto(page, "/surface")
+    assert page.is_visible("#surface-waiting")  # the empty half of the page says what will appear there
+    page.screenshot(path=str(artifacts / "surface-empty.png"))
     page.set_input_files("#topo-files", str(f))
     page.fill("#opt-size", "0.5 mm")
     page.fill("#opt-height_unit", "um")
@@ -149,6 +151,7 @@ def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypat
                "--json", "an.json")[0] == 0
     assert shown == json.loads((tmp_path / "an.json").read_text())["statistics"]["h_rms"]
     assert 1.0 < float(page.inner_text("#h-rms")) < 3.0  # µm: the map was scaled to 2 µm rms before the tilt removal
+    assert not page.is_visible("#surface-waiting")
     page.click("#use-surface")
     page.wait_for_selector("#used:has-text('measured topography')")
     page.screenshot(path=str(artifacts / "surface.png"), full_page=True)

@@ -973,6 +973,7 @@ async function pageSurface() {
 
 function drawSurface(an) {
   $("#surface-results").hidden = false;
+  $("#surface-waiting").hidden = true;
   const st = an.statistics;
   const h = $("#h-rms");
   h.textContent = fmt(st.h_rms * 1e6, 4);
