@@ -232,6 +232,10 @@ def test_a_median_from_samples_outside_the_theory_reaches_the_web_plot():
     samples is such a leak, flagged in the table's stars and in the web plot's data; at 300 kPa it is not."""
     text = spread(BASE.replace('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["300 kPa", "850 kPa"]'))
     result = propagate(parse_uncertain_case(text), 32, seed=0)
+    # the premise, from the deterministic prediction: valid at 300 kPa; at 850 kPa a channel whose gap is below a molecule
+    (nominal,) = result.nominal
+    assert list(nominal.valid) == [True, False] and nominal.critical_junction.percolates.all()
+    assert nominal.critical_junction.critical_gap[1] < nominal.case.fluid.molecular_length
     assert result.percentiles()[1, 1] > 0 and result.outside()[1].tolist() == [False, True]
     (leak,) = prediction_plot_data(result.nominal, result)["leak"]
     assert leak["band"]["p50_outside"] == [False, True]

@@ -515,6 +515,8 @@ class PassingLoad:
     between_passing_probability: tuple[float, float] = quantity("1", "the probability of passing at those two rows (null "
                                                                      "with passing_load)", default=(math.nan, math.nan))
     note: str = ""
+    #: The fraction of the samples at those two rows that leak outside the theory's validity.
+    between_outside: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -616,16 +618,20 @@ class UncertaintyResult:
             return []
         out: list[PassingLoad] = []
         rows = self.study.rows
+        outside = self.outside_fraction
         for i, case in enumerate(self.study.cases):
-            idx = [j for j, r in enumerate(rows) if r.case == i]
+            idx = np.array([j for j, r in enumerate(rows) if r.case == i])
             loads = np.array([rows[j].load for j in idx])
             order = np.argsort(loads, kind="stable")
-            out.append(_passing(case.label, rows[idx[0]].load_name, loads[order], 1.0 - exceed[np.array(idx)][order]))
+            out.append(_passing(case.label, rows[idx[0]].load_name, loads[order], 1.0 - exceed[idx][order],
+                                None if outside is None else outside[idx][order]))
         return out
 
 
-def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: NDArray[np.float64]) -> PassingLoad:
-    """The load (ascending ``loads``) where ``p_pass`` first reaches :data:`PASS_PROBABILITY`, linear between rows."""
+def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: NDArray[np.float64],
+             outside: NDArray[np.float64] | None = None) -> PassingLoad:
+    """The load (ascending ``loads``) where ``p_pass`` first reaches :data:`PASS_PROBABILITY`, linear between rows;
+    ``outside``: per load the fraction of samples leaking outside the theory's validity, if known."""
     ok = np.flatnonzero(p_pass >= PASS_PROBABILITY)
     if ok.size == 0:
         return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
@@ -639,7 +645,8 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
     t = (PASS_PROBABILITY - p_pass[i - 1]) / (p_pass[i] - p_pass[i - 1])
     return PassingLoad(variant=variant, load_name=load_name, passing_load=float(loads[i - 1] + t * (loads[i] - loads[i - 1])),
                        between=(float(loads[i - 1]), float(loads[i])),
-                       between_passing_probability=(float(p_pass[i - 1]), float(p_pass[i])))
+                       between_passing_probability=(float(p_pass[i - 1]), float(p_pass[i])),
+                       between_outside=(0.0, 0.0) if outside is None else (float(outside[i - 1]), float(outside[i])))
 
 
 def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int = 0, sampler: str = "sobol") -> UncertaintyResult:

@@ -135,22 +135,20 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
     _check_inputs(given, [Path(p) for p in inputs if p])
     existing: list[str] = []
     for o in given:
-        try:  # (a message names the option as well as the path)
-            if o.folder:
-                _check_output_folder(Path(o.path))
-                continue
+        if o.folder:
+            problem = _output_folder_problem(Path(o.path))
+            if problem:  # named as simulate names its folders: "--plots = 'afile': exists and is not a folder ..."
+                raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {problem}" if o.option
+                                        else f"{o.path}: {problem}")
+            continue
+        try:
             _check_folder(Path(o.path))
             if check_replaceable(o.path):
                 existing.append(str(o.path))
-        except OutputExistsError as exc:
+        except OutputExistsError as exc:  # the option too, before the whole path ("--json y.json is a folder ...")
             if not o.option:
                 raise
             text = str(exc)
-            if o.folder:  # as simulate names its folders: "--plots = 'afile': exists and is not a folder ..."
-                for lead in (f"cannot make the folder {o.path}: ", f"{o.path} "):
-                    text = text.removeprefix(lead)
-                raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {text}") from None
-            # as the other messages name a file output ("--json y.json"), the whole path
             raise OutputExistsError(f"{o.option} {text}" if text.startswith(f"{o.path} ") else f"{o.option}: {text}") from None
     if existing and not force:
         shown = ", ".join(existing[:5]) + (f" and {len(existing) - 5} more" if len(existing) > 5 else "")
@@ -193,28 +191,19 @@ def _check_inputs(outputs: list[Output], inputs: list[Path]) -> None:
                                         "with --force; give the output another name")
 
 
-def _check_output_folder(folder: Path) -> None:
-    """An output folder is a folder, or can be made where the user may write."""
+def _output_folder_problem(folder: Path) -> str:
+    """Why ``folder`` cannot be an output folder (a folder, or one that can be made where the user may write), or ""."""
     try:
-        is_dir = folder.is_dir()
-        exists = is_dir or folder.exists() or folder.is_symlink()
-    except OSError as exc:
-        raise OutputWriteError(folder, exc) from None
-    if exists and not is_dir:
-        raise OutputExistsError(f"{folder} exists and is not a folder: give a folder name (it is made if missing)")
-    if is_dir:
-        if not os.access(folder, os.W_OK | os.X_OK):
-            raise OutputExistsError(f"cannot write into {folder}: no permission to write into that folder")
-        return
-    try:
+        if folder.is_dir():
+            return "" if os.access(folder, os.W_OK | os.X_OK) else "no permission to write into that folder"
+        if folder.exists() or folder.is_symlink():
+            return "exists and is not a folder: give a folder name (it is made if missing)"
         existing = next((d for d in folder.parents if d.exists()), Path("."))
-        parent_is_dir = existing.is_dir()
+        if not existing.is_dir():
+            return f"cannot be made: {existing} is not a folder"
     except OSError as exc:
         raise OutputWriteError(folder, exc) from None
-    if not parent_is_dir:
-        raise OutputExistsError(f"cannot make the folder {folder}: {existing} is not a folder")
-    if not os.access(existing, os.W_OK | os.X_OK):
-        raise OutputExistsError(f"cannot make the folder {folder}: no permission to write into the folder {existing}")
+    return "" if os.access(existing, os.W_OK | os.X_OK) else f"cannot be made: no permission to write into {existing}"
 
 
 def _check_folder(path: Path) -> None:

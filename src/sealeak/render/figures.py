@@ -58,6 +58,7 @@ from .plotstyle import (
     invalid_note,
     laid_out,
     log_axis,
+    merge_identical,
     ml_per_min_axis,
     new_figure,
     pa_m3_axis,
@@ -126,17 +127,10 @@ def figure_spectrum(cases: Sequence[Case], spectra: Sequence[tuple[np.ndarray, n
     first case's q0 = 2π/L.
     """
     fig, ax = new_figure("Surface roughness power spectrum")
-    # variants with the same spectrum (a study of fluids or loads) draw it once, named after all of them: drawn one
-    # over another, only the last would show while the legend listed every colour
-    drawn: list[tuple[np.ndarray, np.ndarray, list[str]]] = []
-    for case, (q, c) in zip(cases, spectra, strict=True):
-        label = _label(case, case.spectrum.label or "C(q)")
-        same = next((d for d in drawn if np.array_equal(d[0], q) and np.array_equal(d[1], c)), None)
-        if same is None:
-            drawn.append((q, c, [label]))
-        elif label not in same[2]:
-            same[2].append(label)
-    for i, (q, c, labels) in enumerate(drawn):
+    # variants with the same spectrum (a study of fluids or loads) draw it once, named after all of them
+    drawn = merge_identical(spectra, [_label(case, case.spectrum.label or "C(q)") for case in cases])
+    for i, (k, labels) in enumerate(drawn):
+        q, c = spectra[k]
         keep = np.isfinite(q) & np.isfinite(c) & (q > 0) & (c > 0)
         ax.loglog(q[keep], c[keep], color=color(i), label=", ".join(labels))
     case = cases[0]
@@ -152,7 +146,7 @@ def figure_spectrum(cases: Sequence[Case], spectra: Sequence[tuple[np.ndarray, n
              f"A_true/A0 = {case.spectrum.area_ratio:.3g}") if len(drawn) == 1 else ""
     subtitle(ax, (case.spectrum_note + ("\n" + stats if stats else "")) if len(drawn) == 1 else "")
     finish_axes(ax)
-    if len(drawn) > 1 or case.spectrum.label or any(len(d[2]) > 1 for d in drawn):
+    if len(drawn) > 1 or case.spectrum.label or any(len(labels) > 1 for _, labels in drawn):
         place_legend(ax)
     return fig
 
@@ -358,10 +352,7 @@ def _finish_leak_rate(ax: Any, results: Sequence[CaseResult], series: list[Serie
         notes.append(where)
     if not log and logy:
         notes.append("log scale: the curves differ by decades")
-    missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction)
-    missing = missing or any(r.effective_medium is not None and (~r.effective_medium.percolates).any() for r in results)
-    if missing:
-        notes.append("missing points: no leak channel (the non-contact area does not percolate)")
+    notes += _missing_note(results, leak_rates=True)
     _subtitle_with_hollow(ax, notes, series)
     finish_axes(ax)
     second_axis(ax, qscale)
@@ -437,12 +428,14 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool, limit: tuple[
     return fig
 
 
-def _missing_note(results: Sequence[CaseResult]) -> list[str]:
-    """The subtitle line of a critical-junction figure whose axis spans pressures without a leak channel (nothing drawn
-    there), or none."""
-    if any((~r.critical_junction.percolates).any() for r in results):
-        return ["missing points: no leak channel (the non-contact area does not percolate)"]
-    return []
+def _missing_note(results: Sequence[CaseResult], leak_rates: bool = False) -> list[str]:
+    """The subtitle line of a figure whose axis spans pressures without a leak channel (nothing drawn there), or none:
+    of the critical junction's figures, or with ``leak_rates`` of the leak-rate figures (the critical junction where
+    shown, the effective medium where computed)."""
+    missing = any((~r.critical_junction.percolates).any() for r in results if r.shows_critical_junction or not leak_rates)
+    missing = missing or (leak_rates and any(r.effective_medium is not None and (~r.effective_medium.percolates).any()
+                                             for r in results))
+    return ["missing points: no leak channel (the non-contact area does not percolate)"] if missing else []
 
 
 @laid_out

@@ -17,6 +17,7 @@ import numpy as np
 from ..cases import CaseResult, prediction_curves
 from ..cases.uncertainty import UncertaintyResult
 from .life import as_assembled, volume_limit
+from .plotstyle import merge_identical
 from .records import json_value
 
 __all__ = ["prediction_plot_data"]
@@ -32,13 +33,15 @@ def _bands(results: Sequence[CaseResult], unc: UncertaintyResult | None) -> list
     if unc is None:
         return [None] * len(results)
     out: list[dict[str, Any] | None] = []
+    per_key: dict[str, tuple[Any, Any]] = {}  # the percentiles of every row, and which are taken from samples outside
     for i, r in enumerate(results):
         key = "leak_rate_mbar_l_s" if r.case.gas is not None and "leak_rate_mbar_l_s" in unc.values else "leak_rate"
+        if key not in per_key:
+            per_key[key] = unc.percentiles(key), unc.outside(key)
         idx = [j for j, row in enumerate(unc.study.rows) if row.case == i]
-        p = unc.percentiles(key)[:, idx]
-        outside = unc.outside(key)[1, idx]  # a median taken from samples outside the theory's validity
+        p, outside = (a[:, idx] for a in per_key[key])
         out.append({"p05": _list(p[0]), "p50": _list(p[1]), "p95": _list(p[2]), "samples": unc.samples,
-                    "p50_outside": [bool(v) for v in outside]})
+                    "p50_outside": [bool(v) for v in outside[1]]})
     return out
 
 
@@ -75,31 +78,18 @@ def prediction_plot_data(results: Sequence[CaseResult], uncertainty: Uncertainty
                      "band": band})
     label = len(shown) > 1
     # variants with the same contact (a study of fluids) have the same spectrum and the same curves at a pressure: each
-    # is sent once, named after all of them (drawn one over another, only the last would show)
-    sets: list[dict[str, Any]] = []
-    densities: list[list[float | None]] = []
-    for cs, density in zip(curves.sets, curves.gap_density, strict=True):
-        entry = {"squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),
-                 "zeta_gap": _list(cs.zeta[:-1]), "mean_gap": _list(cs.mean_gap), "zeta_c": json_value(cs.zeta_c)}
-        name = cs.case.label if label and cs.case.label else ""
-        same = next((i for i, e in enumerate(sets) if all(e[k] == v for k, v in entry.items())
-                     and densities[i] == _list(density)), None)
-        if same is None:
-            sets.append(entry | {"names": [name] if name else []})
-            densities.append(_list(density))
-        elif name and name not in sets[same]["names"]:
-            sets[same]["names"].append(name)
-    for e in sets:
-        names = e.pop("names")
-        e["label"] = (f"{', '.join(names)}: " if names else "") + f"P0 = {e['squeeze_pressure'] / 1e3:.4g} kPa"
-    spectra: list[dict[str, Any]] = []
-    for r, (q, C) in zip(shown, curves.spectra, strict=True):
-        name, q_list, c_list = r.case.label or r.case.spectrum.label or r.case.title, _list(q), _list(C)
-        twin = next((sp for sp in spectra if sp["q"] == q_list and sp["C"] == c_list), None)
-        if twin is None:
-            spectra.append({"label": name, "q": q_list, "C": c_list})
-        elif name not in twin["label"].split(", "):
-            twin["label"] += f", {name}"
+    # is sent once, named after all of them
+    groups = merge_identical([(cs.squeeze_pressure, cs.zeta, cs.area, cs.mean_gap, cs.zeta_c, density)
+                              for cs, density in zip(curves.sets, curves.gap_density, strict=True)],
+                             [cs.case.label if label else "" for cs in curves.sets])
+    sets = [{"label": (f"{', '.join(names)}: " if names else "") + f"P0 = {cs.squeeze_pressure / 1e3:.4g} kPa",
+             "squeeze_pressure": cs.squeeze_pressure, "zeta": _list(cs.zeta), "area": _list(cs.area),
+             "zeta_gap": _list(cs.zeta[:-1]), "mean_gap": _list(cs.mean_gap), "zeta_c": json_value(cs.zeta_c)}
+            for cs, names in ((curves.sets[k], names) for k, names in groups)]
+    densities = [_list(curves.gap_density[k]) for k, _ in groups]
+    spectra = [{"label": ", ".join(names), "q": _list(curves.spectra[k][0]), "C": _list(curves.spectra[k][1])}
+               for k, names in merge_identical(curves.spectra, [r.case.label or r.case.spectrum.label or r.case.title
+                                                                for r in shown])]
     return {
         "leak": leak,
         "limit": {"value": limit[0], "text": limit[1]} if (limit := volume_limit(uncertainty)) else None,

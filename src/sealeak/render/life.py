@@ -32,6 +32,7 @@ from .plotstyle import (
     finish_axes,
     invalid_note,
     laid_out,
+    limit_line,
     ml_per_min_axis,
     pa_m3_axis,
     place_legend,
@@ -197,7 +198,7 @@ def _draw(ax: Axes, series: list[Series], notes: list[str], empty: str, limit: t
         ax.set_ylim(0.0, max(ax.get_ylim()[1], 1.1 * float(np.nanmax(q)) / scale))
     ax.set_ylabel(f"{quantity} ({unit})")
     if limit is not None:
-        ax.axhline(limit[0] / scale, color="0.2", linestyle="-.", linewidth=1.2, label=f"max_leak_rate = {limit[1]}")
+        limit_line(ax, limit[0] / scale, limit[1])
     notes = [*notes, invalid_note(series)] if invalid_note(series) else notes
     subtitle(ax, "\n".join(notes))
     finish_axes(ax)

@@ -29,7 +29,8 @@ from ..io.leak_units import ML_PER_MIN_PER_M3_PER_S, PA_M3_PER_MBAR_L, celsius
 __all__ = ["pressure_axis", "sweep_axis", "new_figure", "subtitle", "place_legend", "finish_axes", "log_axis", "power_unit", "spans_decades",
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
            "literal_text", "LITERAL_TEXT", "wrap_phrases",
-           "invalid_note", "draw_limit", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
+           "invalid_note", "draw_limit", "limit_line",
+           "merge_identical", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
            "gas_conditions_text", "gas_regime_text", "gas_series"]
 
 P = ParamSpec("P")
@@ -425,6 +426,22 @@ def _covers(leg: Legend, points: np.ndarray, texts: Sequence[Any], pad: float = 
             or any(area.intersects_bbox(box, filled=True) for area in areas))
 
 
+def merge_identical(curves: Sequence[Sequence[Any]], names: Sequence[str]) -> list[tuple[int, list[str]]]:
+    """Each distinct curve once: (index of its first occurrence, the names of all its occurrences, in order, empty ones
+    and repeats left out). ``curves``: per curve its arrays and numbers, compared element by element (NaN equal to
+    NaN). Variants with one contact (a study of fluids) have the same curves, and drawn one over another only the last
+    shows while the legend lists every colour."""
+    out: list[tuple[int, list[str]]] = []
+    for i, (curve, name) in enumerate(zip(curves, names, strict=True)):
+        same = next((g for g in out if all(np.array_equal(np.asarray(a, dtype=float), np.asarray(b, dtype=float), equal_nan=True)
+                                           for a, b in zip(curves[g[0]], curve, strict=True))), None)
+        if same is None:
+            out.append((i, [name] if name else []))
+        elif name and name not in same[1]:
+            same[1].append(name)
+    return out
+
+
 #: Decades a log leak-rate axis is widened upwards, at most, to show ``conditions.max_leak_rate`` (:func:`draw_limit`).
 LIMIT_DECADES = 3.0
 
@@ -444,8 +461,13 @@ def draw_limit(ax: Axes, limit: tuple[float, str] | None, scale: float = 1.0) ->
     if not lo <= y <= hi:
         return (f"max_leak_rate = {limit[1]} lies {'above every leak rate drawn' if y > hi else 'below the axis'}"
                 + ("" if y > hi else ": every leak rate drawn exceeds it"))
-    ax.axhline(y, color="0.2", linestyle="-.", linewidth=1.2, label=f"max_leak_rate = {limit[1]}")
+    limit_line(ax, y, limit[1])
     return ""
+
+
+def limit_line(ax: Axes, y: float, text: str, color: str = "0.2") -> None:
+    """``conditions.max_leak_rate`` at ``y`` (the axis' unit) as a dash-dotted line labelled with ``text`` (as written)."""
+    ax.axhline(y, color=color, linestyle="-.", linewidth=1.2, label=f"max_leak_rate = {text}")
 
 
 def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequence[str] | None = None,

@@ -138,10 +138,7 @@ def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
                 f"{load_text(p.load_name, hi)} ({100 * p_hi:.1f} %)")
         if _far_apart(p.load_name, lo, hi):
             line += ": rows that far apart place it roughly; compute loads between them to place it better"
-        outside, fraction = unc.outside_fraction, []
-        if outside is not None:
-            fraction = [float(outside[j]) for j, r in enumerate(unc.study.rows)
-                        if r.variant == p.variant and r.load in (lo, hi) and outside[j] > 0]
+        fraction = [f for f in p.between_outside if f > 0]
         if fraction:
             line += (f"; {' and '.join(f'{100 * f:.0f} %' for f in fraction)} of the samples there leak outside the "
                      "theory's validity (the table's 'outside')")

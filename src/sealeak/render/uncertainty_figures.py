@@ -40,6 +40,7 @@ from .plotstyle import (
     color,
     finish_axes,
     laid_out,
+    limit_line,
     log_axis,
     ml_per_min_axis,
     new_figure,
@@ -185,7 +186,7 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
             ax.plot(b.x, np.where(nominal >= strip_top, nominal, np.nan), "--", color=c, lw=1.0,
                     label=f"{name}deterministic (nominal inputs)")
     if max_leak_rate is not None:
-        ax.axhline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
+        limit_line(ax, max_leak_rate, limit_text or f"{max_leak_rate:.3g} {unit}", _SPEC_COLOUR)
     ax.set_ylim(bottom, top)
     if sealed_any:
         _sealed_strip(ax, strip_top, bottom)
