@@ -13,7 +13,7 @@ import sealeak.cases.band as band_module
 import sealeak.cases.band_tables as tables_module
 from sealeak.cases import example_path, load_cases
 from sealeak.cases.band import _surface, run_band
-from sealeak.cases.band_tables import SURFACE_RTOL, TABLE_RTOL, SweepSurface, effective_medium_exact, persson_contact
+from sealeak.cases.band_tables import SURFACE_RTOL, TABLE_RTOL, SweepSurface, bruggeman_threshold, effective_medium_exact, persson_contact
 from sealeak.cases.seals import with_loads
 
 
@@ -139,13 +139,22 @@ def _points_needed(f, lo, hi, sizes, rtol):
     return None
 
 
+def _vanishing_at_the_threshold(monkeypatch, case, log_regular):
+    """The effective medium's σ replaced by exp(``log_regular``(p, q0)) (1 − p/p_c)³, p_c the contact's Bruggeman
+    threshold: the surface tabulates exp(``log_regular``) (σ less the factor with which it vanishes at p_c)."""
+    def exact(case_, contact):
+        top = bruggeman_threshold(case, contact.q0)
+        return lambda p: np.exp(log_regular(p, contact.q0)) * (1.0 - p / top) ** 3
+    monkeypatch.setattr(tables_module, "effective_medium_exact", exact)
+
+
 @pytest.mark.parametrize("k", [2.0, 4.0, 8.0, 40.0])
 def test_a_surface_table_takes_as_many_points_as_its_tolerance_needs(monkeypatch, k):
     """A table of the surface is accepted at the first of 33, 65 and 129 points that meets :data:`SURFACE_RTOL` (ln σ
     = sin(k ln p) over 1 Pa .. 1 MPa needs more points the larger k: as many as an interpolant checked at all its
     middles needs), and there is none where 129 do not."""
-    monkeypatch.setattr(tables_module, "effective_medium_exact", lambda case, contact: lambda p: np.exp(np.sin(k * np.log(p))))
     case = load_cases(example_path("o-ring"))[0]
+    _vanishing_at_the_threshold(monkeypatch, case, lambda p, q0: np.sin(k * np.log(p)))
     table = SweepSurface._table(case, 3000.0, 1.0, 1e6, SURFACE_RTOL)
     points = _points_needed(lambda s: np.sin(k * s), 0.0, math.log(1e6), (33, 65, 129), SURFACE_RTOL)
     assert (table is None) if points is None else (table is not None and table.s.size == points)
@@ -165,8 +174,8 @@ def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monke
         s = np.log(p)
         return np.sin(k * s) + 0.01 * (math.log(q0) - 8.0) * (s + np.sin(m * s))
 
-    monkeypatch.setattr(tables_module, "effective_medium_exact", lambda case, contact: lambda p: np.exp(log_sigma(p, contact.q0)))
     case = load_cases(example_path("o-ring"))[0]
+    _vanishing_at_the_threshold(monkeypatch, case, log_sigma)
     q0 = np.geomspace(3000.0, 5500.0, 7)
     surface = SweepSurface.build(case, q0, 1.0, 1e6)
     assert surface is not None
@@ -188,7 +197,8 @@ def test_the_other_q0_points_tabulate_their_difference_from_the_middle_one(monke
     assert (surface.base is None) == (m == 7.0)  # (the fallback is exercised, and only where the reasoning says)
     p = np.geomspace(1.0, 1e6, 301)
     for q in np.sqrt(q0[:-1] * q0[1:]).tolist():
-        np.testing.assert_allclose(surface.sigma(q, p), np.exp(log_sigma(p, q)), rtol=SURFACE_RTOL, atol=0)
+        np.testing.assert_allclose(surface.sigma(q, p), np.exp(log_sigma(p, q)) * (1.0 - p / bruggeman_threshold(case, q)) ** 3,
+                                   rtol=SURFACE_RTOL, atol=0)
 
 
 def test_a_tables_top_point_is_its_top_pressure_itself():

@@ -22,7 +22,7 @@ from ..physics.effective_medium import effective_medium
 from ..physics.gaps import CONDUCTIVITY_QUADRATURE, ArrayCache, contact_key
 from .model import Case
 
-__all__ = ["SigmaTable", "SweepSurface", "chebyshev_lobatto_interpolate", "effective_medium_exact",
+__all__ = ["SigmaTable", "SweepSurface", "bruggeman_threshold", "chebyshev_lobatto_interpolate", "effective_medium_exact",
            "effective_medium_sigma_table", "lobatto_points", "persson_contact", "piecewise"]
 
 FloatArray = NDArray[np.float64]
@@ -37,12 +37,16 @@ KEPT_SIGMA_BYTES = 16 * 2**20
 
 #: The σ_eff surface the loads of a sweep share (:class:`SweepSurface`): its relative
 #: error against the exact σ_eff, checked off its points as it is built; its Chebyshev points in ln p (first, most) and
-#: in ln q0 (first, most); its top as a fraction of the lowest Bruggeman threshold pressure of the loads.
+#: in ln q0 (first, most); its top as a fraction of the lowest Bruggeman threshold pressure of the loads. It tabulates
+#: σ_eff/(1 − p/p_c)^:data:`THRESHOLD_EXPONENT` (docs/theory.md eq. 5.5): σ_eff vanishes as (p_c − p)³ at the threshold p_c,
+#: which in ln σ is a logarithmic singularity the Chebyshev points of ln σ alone resolve only up to ~0.8 p_c.
 SURFACE_RTOL = 1e-6
 SURFACE_P_POINTS = (33, 129)
 SURFACE_Q0_POINTS = (5, 9)
-SURFACE_TOP = 0.8
+SURFACE_TOP = 0.95
+THRESHOLD_EXPONENT = 3.0
 
+_TWO_ERFINV_HALF = 2.0 * float(special.erfinv(0.5))
 _EM_SIGMA = ArrayCache(lambda: KEPT_SIGMA_BYTES)
 _INTERPOLATE_ROWS = 512  # points per block of chebyshev_lobatto_interpolate: 512 × 129 terms, ~0.5 MB an array
 
@@ -196,7 +200,8 @@ class SweepSurface:
     there before it would need the middle table's own points, every q0 point takes a full table (as the middle one).
     The q0 points are doubled until the surface agrees with exact values of the load farthest from them, at pressures
     off the tables' points, to :data:`SURFACE_RTOL`. ``high`` stays a factor :data:`SURFACE_TOP` below every load's
-    Bruggeman threshold (A(ζ1)/A0 = 1/2, closed form), where ln σ is smooth; pressures outside [``low``, ``high``] take
+    Bruggeman threshold p_c (A(ζ1)/A0 = 1/2, closed form); what is tabulated in ln p is ln[σ/(1 − p/p_c)³], smooth up to
+    p_c where ln σ is not (σ vanishes as (1 − p/p_c)³, docs/theory.md eq. 5.5); pressures outside [``low``, ``high``] take
     the exact σ_eff. :meth:`build` returns None where the surface does not reach its tolerance within
     :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
     """
@@ -213,8 +218,7 @@ class SweepSurface:
     def build(cls, case: Case, q0: FloatArray, low: float, high: float) -> SweepSurface | None:
         """The surface over the loads' ``q0`` (1/m) and pressures [``low``, ``high``] (Pa), or None."""
         q0 = np.unique(np.asarray(q0, dtype=float))
-        threshold = 2.0 * special.erfinv(0.5) * min(
-            math.sqrt(float(c.G(c.zeta_max))) for c in (persson_contact(case, float(q)) for q in q0))
+        threshold = min(bruggeman_threshold(case, float(q)) for q in q0)
         high = min(high, SURFACE_TOP * threshold)
         if not high > low:
             return None
@@ -275,7 +279,7 @@ class SweepSurface:
     @staticmethod
     def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> SigmaTable | None:
         """The table of ln σ_eff at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol`` (:meth:`SigmaTable.checked`)."""
-        exact = effective_medium_exact(case, persson_contact(case, q0))
+        exact = _regular(case, q0)
         table = SigmaTable(exact, high, SURFACE_P_POINTS[0], low / high)
         while table.ok:
             grow = table.s.size < SURFACE_P_POINTS[1]
@@ -294,7 +298,7 @@ class SweepSurface:
         from 33 points on) within :data:`SURFACE_RTOL`/2 in ln σ; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
         well, the surface is within :data:`SURFACE_RTOL` at its q0 points (and checked between them by :meth:`build`).
         None where the difference needs the points of ``base`` itself, or σ_eff vanishes."""
-        exact = effective_medium_exact(case, persson_contact(case, q0))
+        exact = _regular(case, q0)
         size = base.s.size
         step = (size - 1) // 8
         known: dict[int, float] = {}  # ln σ_eff at base's point i
@@ -341,10 +345,12 @@ class SweepSurface:
                 s, values = combined.get(part[0].size, (part[0], np.zeros(part[0].size)))
                 combined[part[0].size] = (s, values + w * part[1])
         lo, hi = self.span
+        top = bruggeman_threshold(self.case, q0)
 
         def sigma(p: FloatArray) -> FloatArray:
             x = np.clip(np.log(p), lo, hi)
-            return np.exp(np.sum([chebyshev_lobatto_interpolate(s, v, x) for s, v in combined.values()], axis=0))
+            regular = np.sum([chebyshev_lobatto_interpolate(s, v, x) for s, v in combined.values()], axis=0)
+            return np.exp(regular + THRESHOLD_EXPONENT * np.log1p(-np.clip(p, self.low, self.high) / top))
         return sigma
 
     def for_load(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
@@ -356,6 +362,24 @@ class SweepSurface:
             p = np.asarray(p, dtype=float)
             return piecewise(p, (p >= self.low) & (p <= self.high), surface, exact)
         return sigma
+
+
+def bruggeman_threshold(case: Case, q0: float) -> float:
+    """p_c (Pa) of the case's contact at ``q0`` (1/m): the squeeze pressure at which A(ζ1)/A0 = erf(p/(2√G(ζ1))) reaches
+    1/2, Bruggeman's threshold (docs/theory.md §5.4), p_c = 2 erfinv(1/2) √G(ζ1), G(ζ1) = (π/4) E*² ∫_{q0}^{q1} q³C dq."""
+    m3 = case.spectrum.cumulative_moment(3, np.array([q0, case.spectrum.q_max]))
+    return _TWO_ERFINV_HALF * math.sqrt(0.25 * math.pi * case.e_star**2 * float(m3[1] - m3[0]))
+
+
+def _regular(case: Case, q0: float) -> Callable[[FloatArray], FloatArray]:
+    """σ_eff(p)/(1 − p/p_c)³ (m³/(Pa·s)) of the contact at ``q0`` (1/m), for pressures below its threshold p_c
+    (:func:`bruggeman_threshold`): σ_eff without the factor with which it vanishes at p_c (docs/theory.md eq. 5.6),
+    smooth in ln p up to p_c, what :class:`SweepSurface` tabulates."""
+    exact, top = effective_medium_exact(case, persson_contact(case, q0)), bruggeman_threshold(case, q0)
+
+    def regular(p: FloatArray) -> FloatArray:
+        return exact(p) * np.exp(-THRESHOLD_EXPONENT * np.log1p(-p / top))
+    return regular
 
 
 def _checked_points(n: int) -> NDArray[np.bool_]:
