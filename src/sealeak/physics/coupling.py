@@ -46,7 +46,7 @@ from .gaps import ArrayCache
 from .gas import Gas, bk_pressure_integrand, check_rarefaction_model
 from .profile import PressureProfile, series_resistance
 
-__all__ = ["LIFT_OFF_FLOOR", "CoupledIntegral", "CoupledBand", "effective_pressure_integral", "coupled_band_flow",
+__all__ = ["LIFT_OFF_FLOOR", "FLOW_RTOL", "SHOT_RTOL", "CoupledIntegral", "CoupledBand", "effective_pressure_integral", "coupled_band_flow",
            "GasSheet", "gas_sheet", "coupled_gas_integral", "coupled_gas_band_flow"]
 
 FloatArray = NDArray[np.float64]
@@ -66,9 +66,16 @@ _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
 NEAR_SEALED = 1e10
 #: Steps of the Fortran DOP853 within which a shot of Newton's method must cross the band (a shot takes ~10²).
 NEWTON_STEPS = 2_000
+#: The relative tolerance of a coupled band's flow q (:func:`coupled_band_flow`), and of the ODE in each shot
+#: (DOP853, absolute SHOT_RTOL·10⁻² ΔP), a tenth of it: the shots hold q to ~10⁻⁶ (on the 50-compression O-ring sweep
+#: within 6.6·10⁻⁷ of shots at 10⁻¹⁰). Both lie far below the error of the σ the band reads (its spline of ln σ, ~10⁻⁵;
+#: the effective medium's tables, 10⁻⁵ in R): until 2026-11-27 they were 10⁻⁹ and 10⁻¹⁰, which cost a quarter more
+#: slope evaluations for digits no input holds.
+FLOW_RTOL = 1e-7
+SHOT_RTOL = 1e-8
 #: Newton's shots far from the root — the first, and those after a step in ln q above LOOSE_STEP — integrate at this
-#: relative tolerance (absolute LOOSE_RTOL·10⁻² ΔP) instead of 10⁻¹⁰: their error only moves the next trial flow, by far
-#: less than the step; the root is taken from shots at 10⁻¹⁰ alone.
+#: relative tolerance (absolute LOOSE_RTOL·10⁻² ΔP) instead of SHOT_RTOL: their error only moves the next trial flow, by far
+#: less than the step; the root is taken from shots at SHOT_RTOL alone.
 LOOSE_RTOL = 1e-6
 LOOSE_STEP = 1e-2
 #: The least curvature C taken for Newton's error C δ² after a step δ in ln q (:func:`_settled`): where the estimate
@@ -265,7 +272,9 @@ class _GaveUp(Exception):
 
 
 def _across(slope: Callable[[float, FloatArray], float], y: float, dp: float, fortran: bool) -> float:
-    """p_f at θ = π of dp_f/dθ = ``slope``(θ, [p_f]) from p_f(0) = ``y`` (Pa), relative tolerance 1e-10, absolute 1e-12 ΔP.
+    """p_f at θ = π of dp_f/dθ = ``slope``(θ, [p_f]) from p_f(0) = ``y`` (Pa), relative tolerance 1e-10, absolute 1e-12 ΔP
+    (tighter than Newton's shots, :data:`SHOT_RTOL`: Brent's method on the outlet pressure turns its error into an error
+    of q some 10⁴ times larger on a band where p_f(w) varies slowly with q; 10⁻⁵ at SHOT_RTOL on a test band).
 
     Hairer's DOP853 itself (Fortran, through scipy.integrate.ode): the method of solve_ivp's DOP853 without its
     per-step array work (3× faster here). With ``fortran`` False (a lifted band, or a band where the Fortran code gave
@@ -288,11 +297,11 @@ def _across(slope: Callable[[float, FloatArray], float], y: float, dp: float, fo
 
 
 def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[FloatArray], FloatArray],
-                      pressure_difference: float, *, rtol: float = 1e-9) -> CoupledBand:
+                      pressure_difference: float, *, rtol: float = FLOW_RTOL) -> CoupledBand:
     """The flow per unit length q (m²/s) of a band with the fluid pressure p_f(x) acting on it (docs/theory.md eq. 13.3).
 
     dp_f/dx = −q / σ(p(x) − p_f(x)) from p_f(0) = ΔP is integrated across the band (DOP853 in θ on
-    each piece, relative tolerance 1e-10), and q such that p_f(w) = 0 is found by Newton's method on the Kirchhoff
+    each piece, relative tolerance :data:`SHOT_RTOL`), and q such that p_f(w) = 0 is found by Newton's method on the Kirchhoff
     transform of p_f(w) (:func:`_newton_shoot`), within the bounds ΔP/R[p] ... ΔP/R[p − ΔP] that 0 <= p_f <= ΔP give
     (R = ∫dx/σ). Where the Fortran integrator gives up (as near lift-off) q is bracketed (from ΔP/R[p], doubling) and
     found by Brent's method. A band this shooting cannot follow (no convergence, or a flow outside the bounds: σ
@@ -424,10 +433,10 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     resistance without fluid pressure (exact for an exponential σ), kept inside ``bounds`` (ΔP/R(p) ... ΔP/R(p − ΔP));
     a step that leaves the bracket of the shots so far takes its false position in q on ψ instead (kept 5 % of the
     bracket in ln q from its ends; bisection in ln q until both ends are shot). Converged when a Newton step from a
-    shot at 1e-10 is below 10 ``rtol`` relative (the error after it is of the order of its square, and the ODE's own
-    error on p_f(w), ~1e-8 ΔP, holds q to a few 1e-8 whatever the root-finder: Newton's and Brent's method on the same
-    band differ by up to 2.5e-8), or, without a shot to confirm it, when its error C δ² is below rtol/10; either only where the steps
-    left, were Newton converging linearly at the rate of the last two, sum to less than rtol (:func:`_settled`).
+    shot at :data:`SHOT_RTOL` is below 10 ``rtol`` relative (the error after it is of the order of its square, and the
+    ODE's own error on p_f(w), ~100 SHOT_RTOL ΔP, holds q to ~10⁻⁶ whatever the root-finder), or, without a shot to
+    confirm it, when its error C δ² is below rtol/10; either only where the steps left, were Newton converging linearly
+    at the rate of the last two, sum to less than rtol (:func:`_settled`).
     Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
     :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
     just above the root): their error moves the next trial flow by far less than the step.
@@ -456,7 +465,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     for shots in range(1, 41):
         q = math.exp(x)
         y = [dp, 0.0]
-        rtol_ode, atol_ode = (LOOSE_RTOL, LOOSE_RTOL * 1e-2 * dp) if loose else (1e-10, 1e-12 * dp)
+        rtol_ode, atol_ode = (LOOSE_RTOL, LOOSE_RTOL * 1e-2 * dp) if loose else (SHOT_RTOL, SHOT_RTOL * 1e-2 * dp)
         for pair in pairs:
             solver = ode(pair(q)).set_integrator("dop853", rtol=rtol_ode, atol=atol_ode, nsteps=NEWTON_STEPS)
             with warnings.catch_warnings():  # (its failure is handled below)
@@ -507,10 +516,10 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
 
 
 def _settled(step: float, previous: float | None, rtol: float) -> bool:
-    """Whether Newton's step δ = ``step`` (in ln q) from a shot at 1e-10 is the answer, with δ_prev = ``previous`` the
+    """Whether Newton's step δ = ``step`` (in ln q) from a shot at :data:`SHOT_RTOL` is the answer, with δ_prev = ``previous`` the
     Newton step that gave this trial flow (None: the trial flow came from elsewhere) and, where the steps shrink, the
     rate ρ = |δ|/δ_prev < 1. Where Newton converges only linearly (as near sealing) the steps left sum to |δ| ρ/(1 − ρ),
-    which must be below ``rtol``; then the answer is |δ| <= 10 ``rtol`` (noise: the shots hold q to ~1e-9), or, without
+    which must be below ``rtol``; then the answer is |δ| <= 10 ``rtol`` (noise: the shots hold q to ~10⁻⁶), or, without
     a shot to confirm it, a step whose error if Newton converges quadratically, C δ² (C the larger of
     :data:`NEWTON_CURVATURE` and |δ|/δ_prev²), is below rtol/10."""
     d = abs(step)
