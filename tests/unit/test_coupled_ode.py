@@ -107,6 +107,21 @@ def test_newtons_method_agrees_with_bracketing(fraction, monkeypatch):
     assert newton.shots < bracketed.shots and newton.shots <= 7  # (0.95 p_max: 3 loose shots, then 4 tight ones)
 
 
+def test_a_loose_shot_does_not_close_the_bracket_on_the_wrong_side(monkeypatch):
+    """At 0.75 p_max a loose shot near the root (coupling.LOOSE_RTOL) gives the outlet pressure the wrong sign (−0.025 ΔP
+    where a tight shot gives +0.004 ΔP). Were the bracket narrowed to it, Newton's steps would crawl towards that end for
+    40 shots without converging and the band be solved the other way round (65 shots in all); as it is, Newton's method
+    converges in a few shots, on the root that bracketing with shots at 1e-10 finds."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+    clear_caches()
+    newton = coupled_band_flow(profile, sigma, 0.75 * P_MAX)
+    assert newton.converged and newton.shots <= 8
+    clear_caches()
+    monkeypatch.setattr(coupling, "_newton_shoot", lambda *a: None)
+    bracketed = coupled_band_flow(profile, sigma, 0.75 * P_MAX)
+    assert newton.flow == pytest.approx(bracketed.flow, rel=coupling.FLOW_RTOL, abs=0)
+
+
 @pytest.mark.parametrize("factor", [1.5, 30.0])
 def test_flow_is_inversely_proportional_to_viscosity(factor, monkeypatch):
     """q ∝ σ at fixed ΔP (p_f(x) does not change when σ is multiplied by a constant): a band solved for σ/k, here

@@ -486,15 +486,18 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
         outlet, g = y  # p_f(w) (Pa) and ∂p_f(w)/∂ln q (Pa)
         if outlet == 0.0:
             return CoupledBand(q, False, True, shots)
+        # a loose shot's outlet pressure may have the wrong sign near the root (on a test band at 0.75 p_max one at 1e-6
+        # gave −0.025 ΔP where the tight one gives +0.004 ΔP): it moves the trial flow, but only tight shots narrow the
+        # bracket, which a wrong end would close on the wrong side of the root
         if outlet > 0:
-            lo = x
+            lo = x if not loose else lo
             psi = kirchhoff(outlet)
             d_psi = float(sigma(np.array([p_max - outlet]))[0]) / top
-            psi_lo = psi
+            psi_lo = psi if not loose else psi_lo
         else:
-            hi = x
+            hi = x if not loose else hi
             psi, d_psi = outlet, 1.0
-            psi_hi = psi
+            psi_hi = psi if not loose else psi_hi
         ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
         step = math.log(ratio) if ratio > 0 else math.inf
         if not loose and _settled(step, previous, rtol):
