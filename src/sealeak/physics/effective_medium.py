@@ -220,6 +220,7 @@ class _Mixture:
         self.series_top = np.where(ok, _SERIES * hs / (kappa + 3.0), 0.0)
         self.dens_coef = [np.where(ok, d, 0.0) for d in dens]
         self.cdf_coef = [d / (2 * k + 1) for k, d in enumerate(self.dens_coef)]
+        self.dens_stack, self.cdf_stack = np.stack(self.dens_coef), np.stack(self.cdf_coef)  # (term, row, component)
         self.window_lo = np.maximum(self.series_top, self.bottom)  # exact evaluation for window_lo < u < top
         self.tail_top = np.where(w > 0, np.where(h > 0, c + _R_TAIL * np.where(h > 0, h, 0.0), c), -np.inf)
 
@@ -349,7 +350,7 @@ class _Mixture:
     # ------------------------------------------------------------------ sorted grids (one row at a time)
     def density_on(self, i: int, u: FloatArray) -> FloatArray:
         """The density at the ascending separations ``u`` of row i (1/m)."""
-        out = _horner(_series_sums(u, self.series_top[i], self.dens_coef, i), u * u)
+        out = _horner(_series_sums(u, self.series_top[i], self.dens_stack[:, i]), u * u)
         for (node, c, h, amp), sign in zip(self._pairs(i, u), (-1.0, 1.0)):
             for lo in range(0, node.size, _CHUNK):
                 part = slice(lo, lo + _CHUNK)
@@ -366,7 +367,7 @@ class _Mixture:
         """The CDF of the continuous part at the ascending separations ``u`` of row i."""
         order = np.argsort(self.top[i], kind="stable")
         full = np.concatenate([[0.0], np.cumsum(self.w[i, order])])[np.searchsorted(self.top[i, order], u, side="right")]
-        out = full + _horner(_series_sums(u, self.series_top[i], self.cdf_coef, i), u * u) * u
+        out = full + _horner(_series_sums(u, self.series_top[i], self.cdf_stack[:, i]), u * u) * u
         # Φ((u - c)/h) - Φ((-u - c)/h): the second term only where (u + c)/h < √80 (elsewhere below 2e-19)
         for (node, c, h, amp), sign in zip(self._pairs(i, u), (-1.0, 1.0)):
             for lo in range(0, node.size, _CHUNK):
@@ -403,15 +404,16 @@ def _horner(coef: list[FloatArray], x: FloatArray) -> FloatArray:
     return out + coef[0]
 
 
-def _series_sums(u: FloatArray, series_top: FloatArray, coef: list[FloatArray], i: int) -> list[FloatArray]:
-    """Per node j, the sum of every series coefficient over the components whose series serves u_j (u_j <= series_top)."""
+def _series_sums(u: FloatArray, series_top: FloatArray, coef: FloatArray) -> list[FloatArray]:
+    """Per node j, the sum of every series coefficient (``coef``: term × component) over the components whose series
+    serves u_j (u_j <= series_top): all terms in one bincount and one running sum (each term's sums in the same order,
+    so the same bits, as one term at a time)."""
     n = u.size
     j = np.searchsorted(u, series_top, side="right")  # the series serves nodes 0 .. j-1
-    out = []
-    for c in coef:
-        acc = _sum_by(j, c[i], n + 1)
-        out.append(np.cumsum(acc[::-1])[::-1][1:])
-    return out
+    terms = coef.shape[0]
+    index = (np.arange(terms)[:, None] * (n + 1) + j[None, :]).ravel()
+    acc = _sum_by(index, coef.ravel(), terms * (n + 1)).reshape(terms, n + 1)
+    return list(np.cumsum(acc[:, ::-1], axis=1)[:, ::-1][:, 1:])
 
 
 def _sum_by(index: NDArray[np.intp], values: FloatArray, n: int) -> FloatArray:
