@@ -73,13 +73,18 @@ def test_a_band_over_a_load_where_most_samples_seal_keeps_its_median_inside_it(p
 
 def test_a_median_from_samples_outside_the_theory_is_drawn_hollow(page, artifacts, tmp_path):
     """At 850 kPa the ring's critical gap is narrower than a water molecule (valid = NO), yet it percolates: the
-    median of the samples there is circled, not a point to rely on."""
-    text = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["300 kPa", "600 kPa", "850 kPa"]',
+    median of the samples there is circled, not a point to rely on; so is the 5th percentile at 700 kPa, a sample
+    of the same kind (the command line's table stars both)."""
+    text = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["300 kPa", "700 kPa", "850 kPa"]',
                 edit('h_rms = "44 um"', 'h_rms = "44 um ± 10 %"'))
     _upload(page, tmp_path, "narrow.toml", text)
     traces = _leak_traces(page)
     hollow = traces["median from samples outside the theory"]
     median = traces["median of the samples"]
     assert hollow["x"] == [median["x"][-1]] and hollow["y"] == [median["y"][-1]]
+    edge = traces["5th percentile from samples outside the theory"]
+    low = traces["5th percentile of the samples"]
+    assert edge["x"] == [low["x"][1]] and edge["y"] == [low["y"][1]]
+    assert "95th percentile from samples outside the theory" not in traces
     page.locator("#plot-leak").scroll_into_view_if_needed()
     page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-band-outside.png"))

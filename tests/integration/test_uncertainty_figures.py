@@ -175,3 +175,20 @@ def test_fan_chart_draws_a_median_from_samples_outside_the_theory_hollow():
     assert "hollow: a median taken from samples that leak outside the theory's validity" in ax.get_title().replace("\n", " ")
     plain = _build(lambda: figure_fan_chart([band], "squeeze pressure P0 (kPa)")).axes[0]
     assert not [line for line in plain.get_lines() if "outside the theory" in line.get_label()]
+
+
+def test_fan_chart_marks_a_band_edge_from_samples_outside_the_theory():
+    """A 5th or 95th percentile taken from samples outside the theory gets a small hollow circle on its edge of the band,
+    at that load only, with the subtitle saying so; the median's marker is not drawn where only an edge is outside."""
+    band = _band()
+    edges = np.zeros((2, X.size), dtype=bool)
+    edges[1, -1] = True  # the 95th percentile at the highest load
+    edges[0, 0] = True  # the 5th at the lowest
+    fig = _build(lambda: figure_fan_chart([LeakBand(X, band.p05, band.p50, band.p95, band.p25, band.p75, band.nominal,
+                                                    edges_outside=edges)], "squeeze pressure P0 (kPa)"))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    (marks,) = [line for line in ax.get_lines() if line.get_label() == "5th or 95th percentile from samples outside the theory"]
+    assert sorted(zip(marks.get_xdata(), marks.get_ydata())) == [(X[0], band.p05[0]), (X[-1], band.p95[-1])]
+    assert not [line for line in ax.get_lines() if line.get_label() == "median from samples outside the theory"]
+    assert "a median or (small) a 5th or 95th percentile taken from samples" in ax.get_title().replace("\n", " ")

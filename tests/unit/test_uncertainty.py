@@ -239,3 +239,4 @@ def test_a_median_from_samples_outside_the_theory_reaches_the_web_plot():
     assert result.percentiles()[1, 1] > 0 and result.outside()[1].tolist() == [False, True]
     (leak,) = prediction_plot_data(result.nominal, result)["leak"]
     assert leak["band"]["p50_outside"] == [False, True]
+    assert [leak["band"][f"p{q}_outside"] for q in ("05", "95")] == [[bool(v) for v in result.outside()[i]] for i in (0, 2)]

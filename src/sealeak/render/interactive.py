@@ -41,7 +41,8 @@ def _bands(results: Sequence[CaseResult], unc: UncertaintyResult | None) -> list
         idx = [j for j, row in enumerate(unc.study.rows) if row.case == i]
         p, outside = (a[:, idx] for a in per_key[key])
         out.append({"p05": _list(p[0]), "p50": _list(p[1]), "p95": _list(p[2]), "samples": unc.samples,
-                    "p50_outside": [bool(v) for v in outside[1]]})
+                    "p05_outside": [bool(v) for v in outside[0]], "p50_outside": [bool(v) for v in outside[1]],
+                    "p95_outside": [bool(v) for v in outside[2]]})
     return out
 
 

@@ -85,6 +85,9 @@ class LeakBand:
     label: str = ""
     #: Per load, whether the median is taken from samples outside the theory's validity (drawn hollow), or None.
     median_outside: np.ndarray | None = None
+    #: Per load, whether the 5th and the 95th percentile are taken from such samples, [2, loads] (small hollow circles on
+    #: the band's edges), or None.
+    edges_outside: np.ndarray | None = None
 
 
 def _positive(*arrays: np.ndarray | None) -> np.ndarray:
@@ -159,7 +162,7 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
         ax.set_xscale("log")
     # a leak below the axis runs along its floor (above the strip of the sealed samples, which is not a leak rate)
     shown = lambda v: np.where(np.asarray(v, dtype=float) > 0, np.maximum(v, strip_top), at_sealed)  # noqa: E731
-    below_any = outside_any = False
+    below_any = outside_any = edges_any = False
     for i, b in enumerate(bands):
         c, name = color(i), (f"{b.label}: " if b.label and len(bands) > 1 else "")
         ax.fill_between(b.x, shown(b.p05), shown(b.p95), color=c, alpha=0.18, lw=0, label=f"{name}5–95 % of the samples")
@@ -174,6 +177,13 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
             outside_any = True
             ax.plot(np.asarray(b.x)[outside], np.asarray(b.p50, dtype=float)[outside], "o", mfc="white", mec=c, ms=6,
                     label=f"{name}median from samples outside the theory")
+        if b.edges_outside is not None:  # both edges in one line (one legend entry)
+            values = np.asarray([b.p05, b.p95], dtype=float)
+            marked = np.asarray(b.edges_outside, dtype=bool) & (values >= strip_top)
+            if marked.any():
+                edges_any = True
+                ax.plot(np.broadcast_to(np.asarray(b.x, dtype=float), values.shape)[marked], values[marked], "o",
+                        mfc="white", mec=c, ms=3.5, mew=0.8, label=f"{name}5th or 95th percentile from samples outside the theory")
         if below.any():
             below_any = True
             ax.plot(np.asarray(b.x)[below], np.full(int(below.sum()), strip_top), "v", mfc="none", mec=c, ms=5,
@@ -190,9 +200,10 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     ax.set_ylim(bottom, top)
     if sealed_any:
         _sealed_strip(ax, strip_top, bottom)
-    if outside_any:
-        notes += ("\n" if notes else "") + ("hollow: a median taken from samples that leak outside the theory's validity "
-                                             "(the table's 'outside'): no leak rate to rely on")
+    if outside_any or edges_any:
+        what = " or (small) a 5th or 95th percentile" if edges_any else ""
+        notes += ("\n" if notes else "") + (f"hollow: a median{what} taken from samples that leak outside the theory's "
+                                             "validity (the table's 'outside', *): no leak rate to rely on")
     if values.min() < strip_top:  # the axis was cut
         notes += ("\n" if notes else "") + (f"axis cut {_MAX_DECADES:g} decades below the largest leak rate: bands "
                                              "below it run along its floor" + (", ▽ marks a median there" if below_any else ""))
@@ -333,13 +344,13 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
     scale, x_label = _load_x(rows[0].load_name, loads)
     p05, p25, p50, p75, p95 = np.percentile(q, [5.0, 25.0, 50.0, 75.0, 95.0], axis=0)
     nominal = record_leak_rates(unc.nominal)[key]
-    median_outside = unc.outside(key)[1]
+    outside = unc.outside(key)
     bands = []
     for i, case in enumerate(unc.study.cases):
         idx = np.array([j for j, r in enumerate(rows) if r.case == i])
         idx = idx[np.argsort(loads[idx], kind="stable")]
         bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label,
-                              median_outside[idx]))
+                              outside[1][idx], outside[[0, 2]][:, idx]))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
     written = str(unc.study.max_leak_rate) if limit is not None else ""

@@ -616,6 +616,15 @@ function leakCurves(p, rows, tagAll, style = {}) {
           marker: { symbol: "circle-open", size: 10, color: `rgb(${rgb})`, line: { width: 2 } } });
         traces.push(bands[bands.length - 1]);
       }
+      [["p05_outside", lo, "5th"], ["p95_outside", hi, "95th"]].forEach(([flag, ys, what]) => {
+        const at = (c.band[flag] || []).map((o, i) => o && ys[i] > 0 ? i : -1).filter(i => i >= 0);
+        if (at.length) {  // (a band trace: at the axis' foot where the percentile is below it)
+          bands.push({ x: at.map(i => x[i]), y: at.map(i => ys[i]), type: "scatter", mode: "markers",
+            name: `${tag}${what} percentile from samples outside the theory`, hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>",
+            marker: { symbol: "circle-open", size: 6, color: `rgb(${rgb})`, line: { width: 1.5 } } });
+          traces.push(bands[bands.length - 1]);
+        }
+      });
     }
     const cj = leakSI(c, c.leak_rate).map(show);
     const cjName = `${tag}critical junction${c.band ? " (nominal inputs)" : ""}`, cjColour = rgb ? `rgb(${rgb})` : colour();
