@@ -57,6 +57,22 @@ def test_surface_matches_the_exact_effective_medium_between_its_points(sweep):
         np.testing.assert_allclose(surface.sigma(q, p), exact, rtol=SURFACE_RTOL, atol=0)
 
 
+def test_surface_reaches_close_to_the_threshold_on_few_points(sweep):
+    """The surface tabulates σ_eff/(1 − p/p_c)³ (docs/theory.md eq. 5.5), so it reaches SURFACE_TOP = 0.95 of the lowest
+    threshold of the loads (their peaks lie beyond it) on a 65-point middle table; ln σ_eff itself over the same range
+    needs 129 (its logarithmic singularity at p_c)."""
+    case, surface = sweep
+    assert tables_module.SURFACE_TOP == 0.95
+    top = min(bruggeman_threshold(case, float(q)) for q in case.band.q0)
+    assert max(p.max_pressure for p in case.band.profiles) > top
+    assert surface.high == pytest.approx(0.95 * top, rel=1e-12, abs=0)
+    assert surface.base is not None and surface.base.s.size <= 65
+    q_mid = math.exp(float(surface.nodes[surface.nodes.size // 2]))
+    exact = effective_medium_exact(case, persson_contact(case, q_mid))
+    plain = tables_module.SigmaTable(exact, surface.high, 65, surface.low / surface.high)
+    assert not plain.checked(exact, 0.5 * SURFACE_RTOL, grow=False)[1]  # ln σ itself: 65 points are not enough
+
+
 def test_surface_stays_below_the_bruggeman_threshold_and_takes_exact_values_above(sweep):
     """Above its top (a factor below the pressure where A(ζ1)/A0 = 1/2) a load's σ is the exact one, bit for bit, and 0
     beyond the threshold."""

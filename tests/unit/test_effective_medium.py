@@ -193,24 +193,24 @@ def _threshold(contact):
     return 2.0 * special.erfinv(0.5) * np.sqrt(float(contact.G(contact.zeta_max)))
 
 
-@pytest.mark.parametrize(("distance", "rtol"), [(1e-3, 4e-3), (1e-5, 4e-5)])
-def test_the_effective_gap_vanishes_at_the_threshold_as_its_closed_form(distance, rtol):
+@pytest.mark.parametrize("distance", [1e-2, 1e-3, 1e-4])
+def test_the_effective_gap_vanishes_at_the_threshold_as_its_closed_form(distance):
     """Near Bruggeman's threshold p_c only the gaps below u_e count, where P(u) has a finite density P(0+):
     u_e → 3√3 (1 − 2c)/(4π P(0+)) (docs/theory.md eq. 5.5), so σ_eff vanishes as (1 − P0/p_c)³. The exact root of the
-    Bruggeman equation approaches that limit: its relative distance falls ~linearly with 1 − P0/p_c (~2e-3 at distance 1e-3,
-    ~1.5e-6 at 1e-5 on this contact)."""
+    Bruggeman equation approaches that limit linearly in δ = 1 − P0/p_c (1.86 δ at δ = 1e-2 and 1e-3, 1.74 δ at 1e-4 on
+    this contact; closer, the root's own accuracy, ~5e-5, takes over), and the local exponent of σ_eff in δ tends to 3."""
     contact = _oring_contact()
     p = (1.0 - distance) * _threshold(contact)
     res = effective_medium(contact, squeeze_pressure=[p], pressure_difference=1.0, viscosity=1.0, aspect_ratio=1.0)
     u_e, c = float(res.effective_gap[0]), float(res.contact_area_at_cutoff[0])
     density_at_zero = float(gap_distribution(contact, [p]).density(np.array([1e-6 * u_e]))[0, 0])
     limit = 3.0 * np.sqrt(3.0) * (1.0 - 2.0 * c) / (4.0 * np.pi * density_at_zero)
-    assert abs(u_e / limit - 1.0) < rtol
-    # and the exponent: σ_eff ∝ u_e³ ∝ (1 − P0/p_c)³
+    assert 0.5 * distance < u_e / limit - 1.0 < 3.0 * distance
+    # and the exponent: σ_eff ∝ u_e³ ∝ δ³ (between δ and 2δ; the linear approach of u_e above adds ~10 δ to it)
     near = effective_medium(contact, squeeze_pressure=[(1.0 - 2 * distance) * _threshold(contact)], pressure_difference=1.0,
                             viscosity=1.0, aspect_ratio=1.0)
     exponent = np.log(near.effective_conductivity[0] / res.effective_conductivity[0]) / np.log(2.0)
-    assert abs(exponent - 3.0) < 10 * rtol
+    assert abs(exponent - 3.0) < 20 * distance
 
 
 def _sigma(dist, panel_width):

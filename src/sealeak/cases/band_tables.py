@@ -191,24 +191,26 @@ class SweepSurface:
 
     q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
     function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
-    (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. At the middle q0 point a :class:`SigmaTable`
-    of ln σ against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact σ_eff to
+    (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. What is interpolated is the regular part
+    ln r = ln[σ_eff/(1 − p/p_c(q0))³] (:func:`_regular`; below, "ln r"). At the middle q0 point a :class:`SigmaTable`
+    of ln r against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact values to
     :data:`SURFACE_RTOL`/2 at a quarter of the points the next doubling would add (:meth:`SigmaTable.checked`); at the other
-    q0 points only the difference ln σ − ln σ_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
+    q0 points only the difference ln r − ln r_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
     table, doubled until it agrees with exact values at middles of its intervals to :data:`SURFACE_RTOL`/2: it is
     small (a few per cent at most) and smooth, so it needs a fraction of the points. Where a difference does not get
     there before it would need the middle table's own points, every q0 point takes a full table (as the middle one).
     The q0 points are doubled until the surface agrees with exact values of the load farthest from them, at pressures
     off the tables' points, to :data:`SURFACE_RTOL`. ``high`` stays a factor :data:`SURFACE_TOP` below every load's
-    Bruggeman threshold p_c (A(ζ1)/A0 = 1/2, closed form); what is tabulated in ln p is ln[σ/(1 − p/p_c)³], smooth up to
-    p_c where ln σ is not (σ vanishes as (1 − p/p_c)³, docs/theory.md eq. 5.5); pressures outside [``low``, ``high``] take
+    Bruggeman threshold p_c (A(ζ1)/A0 = 1/2, closed form); ln r has no logarithmic singularity at p_c, which ln σ has
+    (σ vanishes as (1 − p/p_c)³ at leading order, docs/theory.md eq. 5.5), so 0.95 p_c costs no more points than 0.8 did
+    in ln σ; pressures outside [``low``, ``high``] take
     the exact σ_eff. :meth:`build` returns None where the surface does not reach its tolerance within
     :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
     """
 
     def __init__(self, case: Case, nodes: FloatArray, base: SigmaTable | None,
                  parts: list[tuple[FloatArray, FloatArray] | None], low: float, high: float, span: tuple[float, float]) -> None:
-        """``parts``: per q0 point (``nodes``, ln q0) its values on Chebyshev–Lobatto points in ln p — ln σ itself where
+        """``parts``: per q0 point (``nodes``, ln q0) its values on Chebyshev–Lobatto points in ln p — ln r itself where
         ``base`` is None, else the difference from ``base`` (None for the point of ``base``); ``span``: the table's
         ends in ln p."""
         self.case, self.nodes, self.base, self.parts, self.low, self.high = case, nodes, base, parts, low, high
@@ -278,7 +280,8 @@ class SweepSurface:
 
     @staticmethod
     def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> SigmaTable | None:
-        """The table of ln σ_eff at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol`` (:meth:`SigmaTable.checked`)."""
+        """The table of ln r (:func:`_regular`) at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol``
+        (:meth:`SigmaTable.checked`)."""
         exact = _regular(case, q0)
         table = SigmaTable(exact, high, SURFACE_P_POINTS[0], low / high)
         while table.ok:
@@ -292,16 +295,16 @@ class SweepSurface:
 
     @staticmethod
     def _difference(case: Case, q0: float, base: SigmaTable) -> tuple[FloatArray, FloatArray] | None:
-        """(points, values): ln σ_eff of the contact at ``q0`` less ``base``'s exact ln σ, at every 2^k-th point of
+        """(points, values): ln r (:func:`_regular`) of the contact at ``q0`` less ``base``'s exact ln r, at every 2^k-th point of
         ``base`` (from 9 points on), doubled until the interpolated difference agrees with exact values at the middles
         of its intervals (points of ``base`` too: all 8 of 9 points, every other one of 17, every fourth and the last
-        from 33 points on) within :data:`SURFACE_RTOL`/2 in ln σ; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
+        from 33 points on) within :data:`SURFACE_RTOL`/2 in ln r; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
         well, the surface is within :data:`SURFACE_RTOL` at its q0 points (and checked between them by :meth:`build`).
         None where the difference needs the points of ``base`` itself, or σ_eff vanishes."""
         exact = _regular(case, q0)
         size = base.s.size
         step = (size - 1) // 8
-        known: dict[int, float] = {}  # ln σ_eff at base's point i
+        known: dict[int, float] = {}  # ln r at base's point i
 
         def log_sigma(index: NDArray[np.intp]) -> FloatArray | None:
             new = [i for i in index.tolist() if i not in known]
@@ -333,8 +336,8 @@ class SweepSurface:
 
     def _at(self, q0: float) -> Callable[[FloatArray], FloatArray]:
         """σ_eff(p) of the load with ``q0`` inside [low, high]: the interpolation in ln q0 is linear in the values,
-        so ln σ = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
-        into one before ln p is interpolated, once per size of table."""
+        so ln r = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
+        into one before ln p is interpolated, once per size of table; ln σ = ln r + 3 ln(1 − p/p_c(q0))."""
         weights = [1.0] if self.nodes.size == 1 else [
             float(chebyshev_lobatto_interpolate(self.nodes, e, np.full(1, math.log(q0)))[0]) for e in np.eye(self.nodes.size)]
         combined: dict[int, tuple[FloatArray, FloatArray]] = {}
@@ -373,8 +376,9 @@ def bruggeman_threshold(case: Case, q0: float) -> float:
 
 def _regular(case: Case, q0: float) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p)/(1 − p/p_c)³ (m³/(Pa·s)) of the contact at ``q0`` (1/m), for pressures below its threshold p_c
-    (:func:`bruggeman_threshold`): σ_eff without the factor with which it vanishes at p_c (docs/theory.md eq. 5.6),
-    smooth in ln p up to p_c, what :class:`SweepSurface` tabulates."""
+    (:func:`bruggeman_threshold`): σ_eff without the factor with which it vanishes at p_c (docs/theory.md eq. 5.5), free of
+    the logarithmic singularity ln σ has there (a weaker term, O(δ² ln δ) in δ = 1 − p/p_c, remains), what
+    :class:`SweepSurface` tabulates."""
     exact, top = effective_medium_exact(case, persson_contact(case, q0)), bruggeman_threshold(case, q0)
 
     def regular(p: FloatArray) -> FloatArray:

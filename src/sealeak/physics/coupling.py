@@ -66,13 +66,18 @@ _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(32)
 NEAR_SEALED = 1e10
 #: Steps of the Fortran DOP853 within which a shot of Newton's method must cross the band (a shot takes ~10²).
 NEWTON_STEPS = 2_000
-#: The relative tolerance of a coupled band's flow q (:func:`coupled_band_flow`), and of the ODE in each shot
-#: (DOP853, absolute SHOT_RTOL·10⁻² ΔP), a tenth of it: the shots hold q to ~10⁻⁶ (on the 50-compression O-ring sweep
-#: within 6.6·10⁻⁷ of shots at 10⁻¹⁰). Both lie far below the error of the σ the band reads (its spline of ln σ, ~10⁻⁵;
-#: the effective medium's tables, 10⁻⁵ in R): until 2026-11-27 they were 10⁻⁹ and 10⁻¹⁰, which cost a quarter more
-#: slope evaluations for digits no input holds.
+#: FLOW_RTOL: the ``rtol`` of :func:`coupled_band_flow`, the tolerance of its root-finders on q (Newton's method stops at
+#: a step in ln q below 10 rtol, :func:`_settled`; Brent's method at rtol). SHOT_RTOL: the relative tolerance of the ODE
+#: in each of Newton's shots (DOP853, absolute SHOT_RTOL·10⁻² ΔP). The shots' own error sets q's accuracy, ~10⁻⁶ (on the
+#: 50-compression O-ring sweep q moved by at most 6.6·10⁻⁷ from shots at 10⁻¹⁰). Both lie far below the error of the σ
+#: the band reads (its spline of ln σ, ~10⁻⁵; the effective medium's tables, 10⁻⁵ in R): until 2026-11-27 they were
+#: 10⁻⁹ and 10⁻¹⁰, which cost a quarter more slope evaluations for digits no input holds.
 FLOW_RTOL = 1e-7
 SHOT_RTOL = 1e-8
+#: The tolerance a shot that failed at SHOT_RTOL or LOOSE_RTOL is shot again at (DOP853's step may shrink to nothing
+#: in a steep stretch it would follow at a tighter tolerance; a failure is otherwise taken as a flow too large), and of
+#: every shot on a near-sealed band (:data:`NEAR_SEALED`), where failures are what brackets the root.
+STRICT_RTOL = 1e-10
 #: Newton's shots far from the root — the first, and those after a step in ln q above LOOSE_STEP — integrate at this
 #: relative tolerance (absolute LOOSE_RTOL·10⁻² ΔP) instead of SHOT_RTOL: their error only moves the next trial flow, by far
 #: less than the step; the root is taken from shots at SHOT_RTOL alone.
@@ -424,8 +429,8 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     """q (m²/s) with p_f(w) = 0 by Newton's method on the Kirchhoff transform of the outlet pressure,
     ψ(p_f(w)) = ∫ σ(s) ds over [p_max − p_f(w), p_max] (docs/theory.md eq. 13.8: exactly linear in q where σ is
     exponential in s, close to linear where ln σ is smooth; zero where p_f(w) is), each shot carrying G = ∂p_f/∂ln q across
-    the band (eq. 13.9; ``pairs``, :func:`_liquid_slopes` with ``sensitivity``; DOP853 in Fortran at the tolerances of
-    :func:`_across`), dψ/dq = σ(p_max − p_f(w)) G/q. ``sigma`` is the band's σ(s) (its clipped spline; above p_max
+    the band (eq. 13.9; ``pairs``, :func:`_liquid_slopes` with ``sensitivity``; DOP853 in Fortran at :data:`SHOT_RTOL`,
+    or :data:`LOOSE_RTOL` far from the root), dψ/dq = σ(p_max − p_f(w)) G/q. ``sigma`` is the band's σ(s) (its clipped spline; above p_max
     σ(p_max), so ψ = σ(p_max) p_f(w) where p_f(w) < 0); ψ is a 32-point Gauss–Legendre sum (its accuracy sets the
     speed of convergence, not the root).
 
@@ -440,8 +445,10 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     Shots far from the root — the first, and those after a step above :data:`LOOSE_STEP` — integrate at
     :data:`LOOSE_RTOL` (about half the slope evaluations; not on a near-sealed band, where the integrator gives up
     just above the root): their error moves the next trial flow by far less than the step.
-    2–4 shots where bracketing and Brent's method take 8–15. A shot the Fortran code gives up on is taken as a flow
-    too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
+    2–4 shots where bracketing and Brent's method take 8–15. A near-sealed band shoots at :data:`STRICT_RTOL`
+    throughout, and a shot at SHOT_RTOL or LOOSE_RTOL the Fortran code gives up on is shot again at STRICT_RTOL (its step
+    may shrink to nothing in a steep stretch it follows at the tighter tolerance). A shot it gives up on at STRICT_RTOL is
+    taken as a flow too large (it does so where p_f(w) falls far below zero, σ falling by tens of decades across the band) once a
     smaller flow has crossed it (before, the next shot is ΔP/R); it is a bound, not an answer, so an answer is still a
     shot with a Newton step below the tolerance. Raises :class:`_GaveUp` at the fourth such shot, or where the shot at
     ΔP/R fails (the caller then brackets, with solve_ivp where the Fortran code gives up again, as near lift-off); not
@@ -462,10 +469,14 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     steep = hi - lo > math.log(NEAR_SEALED)
     loose = not steep
     previous: float | None = None  # |δ| of the Newton step that gave this trial flow
+    again = False  # the same flow once more at STRICT_RTOL: a shot at a looser tolerance failed
     for shots in range(1, 41):
         q = math.exp(x)
         y = [dp, 0.0]
-        rtol_ode, atol_ode = (LOOSE_RTOL, LOOSE_RTOL * 1e-2 * dp) if loose else (SHOT_RTOL, SHOT_RTOL * 1e-2 * dp)
+        shot_loose = loose and not (steep or again)
+        tolerance = STRICT_RTOL if steep or again else LOOSE_RTOL if shot_loose else SHOT_RTOL
+        again = False
+        rtol_ode, atol_ode = tolerance, tolerance * 1e-2 * dp
         for pair in pairs:
             solver = ode(pair(q)).set_integrator("dop853", rtol=rtol_ode, atol=atol_ode, nsteps=NEWTON_STEPS)
             with warnings.catch_warnings():  # (its failure is handled below)
@@ -473,6 +484,9 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
                 y = solver.set_initial_value(y, 0.0).integrate(math.pi).tolist()
             if not solver.successful():
                 break
+        if not solver.successful() and tolerance > STRICT_RTOL:  # (on a steep test band at 1e-8, below the root)
+            again = True
+            continue
         if not solver.successful():  # (as where p_f falls by hundreds of decades: taken as a flow too large)
             failed += 1
             start = min(max(math.log(q0), lo), hi)
@@ -488,22 +502,26 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             return CoupledBand(q, False, True, shots)
         # a loose shot's outlet pressure may have the wrong sign near the root (on a test band at 0.75 p_max one at 1e-6
         # gave −0.025 ΔP where the tight one gives +0.004 ΔP): it moves the trial flow, but only tight shots narrow the
-        # bracket, which a wrong end would close on the wrong side of the root
+        # bracket, which a wrong end would close on the wrong side of the root; where its Newton step leaves the
+        # bracket, the same flow is shot again tight (rather than bisecting a bracket the loose shots have not narrowed)
         if outlet > 0:
-            lo = x if not loose else lo
+            lo = x if not shot_loose else lo
             psi = kirchhoff(outlet)
             d_psi = float(sigma(np.array([p_max - outlet]))[0]) / top
-            psi_lo = psi if not loose else psi_lo
+            psi_lo = psi if not shot_loose else psi_lo
         else:
-            hi = x if not loose else hi
+            hi = x if not shot_loose else hi
             psi, d_psi = outlet, 1.0
-            psi_hi = psi if not loose else psi_hi
+            psi_hi = psi if not shot_loose else psi_hi
         ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
         step = math.log(ratio) if ratio > 0 else math.inf
-        if not loose and _settled(step, previous, rtol):
+        if not shot_loose and _settled(step, previous, rtol):
             return CoupledBand(math.exp(min(max(x + step, lo), hi)), False, True, shots)
         loose = abs(step) > LOOSE_STEP and not steep
         previous = None
+        if shot_loose and not lo < x + step < hi:  # the loose shot's step leaves the bracket: shoot this flow tight
+            loose = False
+            continue
         if lo < x + step < hi:
             x += step
             previous = abs(step)
@@ -655,7 +673,7 @@ def coupled_gas_band_flow(profile: PressureProfile, sheet: GasSheet | None, down
     """The pV flow per unit length q (Pa·m²/s) of a band with the gas pressure acting on it (docs/theory.md eq. 13.7).
 
     In y = P² (regular at a vacuum outlet), dy/dx = −2 q P/g(p(x) − (P − P_b), P) is integrated across the band
-    from y = P_a² (DOP853 in θ on each piece, as :func:`coupled_band_flow`, relative tolerance 1e-10; y below 0
+    from y = P_a² (DOP853 in θ on each piece, as :func:`coupled_band_flow`, here at relative tolerance 1e-10; y below 0
     continues with P = √|y|), and q is found by Brent's method such that P(w) = P_b (P = ±√|y|), bracketed by doubling or
     halving from the uniform seal at the mean pressure. ``sheet`` None (σ(p_max) = 0): sealed, q = 0. ΔP ≥ p_max
     lifts the seal: q is then that of ΔP = p_max.

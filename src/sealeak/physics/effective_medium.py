@@ -218,9 +218,9 @@ class _Mixture:
             dens = [lead * he[2 * k] / (math.factorial(2 * k) * hs ** (2 * k)) for k in range(_SERIES_TERMS)]
         ok = self.smooth & (kappa < _R) & np.all([np.isfinite(d) & (np.abs(d) < 1e290) for d in dens], axis=0)
         self.series_top = np.where(ok, _SERIES * hs / (kappa + 3.0), 0.0)
-        self.dens_coef = [np.where(ok, d, 0.0) for d in dens]
-        self.cdf_coef = [d / (2 * k + 1) for k, d in enumerate(self.dens_coef)]
-        self.dens_stack, self.cdf_stack = np.stack(self.dens_coef), np.stack(self.cdf_coef)  # (term, row, component)
+        self.dens_stack = np.stack([np.where(ok, d, 0.0) for d in dens])  # (term, row, component)
+        self.cdf_stack = self.dens_stack / (2.0 * np.arange(_SERIES_TERMS) + 1.0)[:, None, None]
+        self.dens_coef, self.cdf_coef = list(self.dens_stack), list(self.cdf_stack)  # (views, term by term)
         self.window_lo = np.maximum(self.series_top, self.bottom)  # exact evaluation for window_lo < u < top
         self.tail_top = np.where(w > 0, np.where(h > 0, c + _R_TAIL * np.where(h > 0, h, 0.0), c), -np.inf)
 

@@ -77,7 +77,7 @@ _SQRT2PI = np.sqrt(2.0 * np.pi)
 #: A lighter ζ-rule of :func:`gap_distribution` (its keywords) for σ_eff tables: 12 uniform, 16 geometric and 10 graded
 #: panels of 6 points instead of 32, 64 and 20 of 8, a quarter of the nodes. σ_eff, an integral over P(u) (the panels of
 #: :func:`~sealeak.physics.effective_medium.discretise` are rescaled to the exact CDF), stays within 2e-7 of a 4× finer
-#: rule up to 0.8 of the percolation threshold (the top of a sweep's σ surface) and within 6e-7 up to 0.99, where it errs
+#: rule up to 0.8 of the percolation threshold and within 6e-7 up to 0.99 (a sweep's σ surface reaches 0.95), where it errs
 #: most (tests/unit/test_effective_medium.py; 8 graded panels leave 2e-6 there, 4 leave 3e-3); P(u) itself, a sum of
 #: Gaussians at the nodes, is ~2e-3 bumpier pointwise at low pressure, so the figures and the uniform seal keep the default.
 CONDUCTIVITY_QUADRATURE: Mapping[str, int] = MappingProxyType(
