@@ -36,7 +36,17 @@ from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, CoupledBand, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import critical_junction
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
-from .band_tables import TABLE_FLOOR, TABLE_POINTS, TABLE_RTOL, SigmaTable, SweepSurface, effective_medium_exact, effective_medium_sigma_table, persson_contact
+from .band_tables import (
+    TABLE_FLOOR,
+    TABLE_POINTS,
+    TABLE_RTOL,
+    SigmaTable,
+    SweepSurface,
+    bruggeman_threshold,
+    effective_medium_exact,
+    effective_medium_sigma_table,
+    persson_contact,
+)
 from .model import BandSeal, Case
 from .notes import Note, NoteLike
 from .schema import case_keys
@@ -273,7 +283,7 @@ def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile,
     if float(exact(np.array([p_max]))[0]) <= 0:
         return series_resistance(profile, lambda p: np.zeros_like(p)), 0.0, True
     # plateaus (constant pieces) and p_max are evaluated exactly; the table serves the rest
-    table = SigmaTable(exact, p_max, TABLE_POINTS[0])
+    table = SigmaTable(exact, p_max, TABLE_POINTS[0], threshold=bruggeman_threshold(case, contact.q0))
     plateaus: dict[float, float] = {}
     if profile.shape == "table":
         flat = (np.diff(profile.pressure) == 0) & (np.diff(profile.x) > 0) & (profile.pressure[:-1] > 0)

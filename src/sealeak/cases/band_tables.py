@@ -30,7 +30,7 @@ FloatArray = NDArray[np.float64]
 #: The effective medium's σ(p) table: lowest pressure relative to p_max, Chebyshev points (first, most), and
 #: the relative change of R between two tables at which it stops (far below the ~10 % of the Bruggeman model itself).
 TABLE_FLOOR = 1e-3
-TABLE_POINTS = (9, 33)
+TABLE_POINTS = (9, 65)
 TABLE_RTOL = 1e-5
 #: Bytes of effective-medium σ_eff values kept by :func:`effective_medium_exact` (by contact, viscosity and list of pressures).
 KEPT_SIGMA_BYTES = 16 * 2**20
@@ -102,17 +102,32 @@ def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: Floa
 
 
 class SigmaTable:
-    """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind)."""
+    """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind).
 
-    def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int, floor: float = TABLE_FLOOR) -> None:
+    With ``threshold`` (p_c > p_max, Pa: the effective medium's Bruggeman threshold, :func:`bruggeman_threshold`) what is
+    interpolated is ln r = ln σ − 3 ln(1 − p/p_c), and σ = r (1 − p/p_c)³: σ_eff vanishes as (1 − p/p_c)³ (docs/theory.md
+    eq. 5.5), a logarithmic singularity of ln σ that a polynomial in ln p follows only far below p_c (on the `o-ring`
+    sweep, tables of 33 points of ln σ up to peaks near p_c left the band integral up to 20 % from converged).
+    ``values`` are σ itself, ``log_values`` ln r."""
+
+    def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int, floor: float = TABLE_FLOOR,
+                 threshold: float | None = None) -> None:
         self.lo, self.hi = np.log(p_max * floor), np.log(p_max)
+        self.threshold = threshold if threshold is not None and threshold > p_max else None
+        self.p_max = p_max
         s = self._nodes(n)
         self.s = s
         p = np.exp(s)
         p[-1] = p_max  # (exp(ln p_max) may be an ulp off: the top is p_max itself, whose σ a caller may have asked for)
+        self.p = p
         self.values = exact(p)
         self.ok = bool(np.all(self.values > 0))
-        self.log_values = np.log(np.where(self.values > 0, self.values, 1.0))
+        self.log_values = self._log(self.values, p)
+
+    def _log(self, values: FloatArray, p: FloatArray) -> FloatArray:
+        """ln σ, or with a threshold ln r = ln σ − 3 ln(1 − p/p_c), of the ``values`` at the pressures ``p``."""
+        out = np.log(np.where(values > 0, values, 1.0))
+        return out if self.threshold is None else out - THRESHOLD_EXPONENT * np.log1p(-p / self.threshold)
 
     def refine(self, exact: Callable[[FloatArray], FloatArray]) -> SigmaTable:
         """The table on twice the intervals (the old points are reused)."""
@@ -145,13 +160,17 @@ class SigmaTable:
         """The table on twice the intervals, from its ``added`` values (the old ones are reused)."""
         n = 2 * (self.s.size - 1) + 1
         new = SigmaTable.__new__(SigmaTable)
-        new.lo, new.hi = self.lo, self.hi
+        new.lo, new.hi, new.threshold, new.p_max = self.lo, self.hi, self.threshold, self.p_max
         values = np.empty(n)
         values[::2] = self.values
         values[1::2] = added
         new.s, new.values = new._nodes(n), values
+        p = np.empty(n)
+        p[::2] = self.p
+        p[1::2] = np.exp(new.s[1::2])
+        new.p = p
         new.ok = bool(np.all(values > 0))
-        new.log_values = np.log(np.where(values > 0, values, 1.0))
+        new.log_values = new._log(values, p)
         return new
 
     def _nodes(self, n: int) -> FloatArray:
@@ -165,19 +184,23 @@ class SigmaTable:
     def log_at(self, p: FloatArray) -> FloatArray:
         """ln σ interpolated at the pressures ``p`` (Pa; clipped to the table's range)."""
         s = np.clip(np.log(p), self.lo, self.hi)
-        return chebyshev_lobatto_interpolate(self.s, self.log_values, s)
+        out = chebyshev_lobatto_interpolate(self.s, self.log_values, s)
+        if self.threshold is None:
+            return out
+        return out + THRESHOLD_EXPONENT * np.log1p(-np.minimum(np.exp(s), self.p_max) / self.threshold)
 
 
 def effective_medium_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
                                  exact: Callable[[FloatArray], FloatArray] | None = None,
                                  ) -> Callable[[FloatArray], FloatArray]:
-    """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in ln σ
-    between them, refined until it agrees with σ within :data:`TABLE_RTOL` at the points checked
+    """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in
+    ln[σ/(1 − p/p_c)³] between them (p_c the contact's Bruggeman threshold, :class:`SigmaTable`), refined until it
+    agrees with σ within :data:`TABLE_RTOL` at the points checked
     (:meth:`SigmaTable.checked`), at most to
     2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range). ``exact``: σ_eff of
     this contact (default the effective medium itself; a sweep passes its :class:`SweepSurface`)."""
     exact = effective_medium_exact(case, contact) if exact is None else exact
-    table = SigmaTable(exact, p_max, TABLE_POINTS[0], floor)
+    table = SigmaTable(exact, p_max, TABLE_POINTS[0], floor, threshold=bruggeman_threshold(case, contact.q0))
     while table.ok and table.s.size < 2 * TABLE_POINTS[1] - 1:
         table, good = table.checked(exact, TABLE_RTOL)
         if good:
@@ -282,8 +305,8 @@ class SweepSurface:
     def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> SigmaTable | None:
         """The table of ln r (:func:`_regular`) at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol``
         (:meth:`SigmaTable.checked`)."""
-        exact = _regular(case, q0)
-        table = SigmaTable(exact, high, SURFACE_P_POINTS[0], low / high)
+        exact = effective_medium_exact(case, persson_contact(case, q0))
+        table = SigmaTable(exact, high, SURFACE_P_POINTS[0], low / high, threshold=bruggeman_threshold(case, q0))
         while table.ok:
             grow = table.s.size < SURFACE_P_POINTS[1]
             table, good = table.checked(exact, rtol, grow=grow)
