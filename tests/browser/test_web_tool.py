@@ -213,9 +213,11 @@ def test_pinned_results_are_overlaid_and_their_inputs_compared(page, artifacts):
     row = page.locator('#compare-table tr[data-key="rubber.youngs_modulus"]').locator("td").all_inner_texts()
     assert row == ["rubber.youngs_modulus", "5 MPa", "2.3 MPa"]
     assert page.locator("#compare-table tbody tr[data-key]").count() == 1  # only the input that differs
-    traces = page.evaluate("document.getElementById('plot-leak').data.map(t => ({name: t.name, y: t.y, dash: t.line && t.line.dash}))")
+    traces = page.evaluate("document.getElementById('plot-leak').data.map(t => ({name: t.name, y: t.y, dash: t.line && t.line.dash, "
+                           "colour: t.line && t.line.color}))")
     pin = next(t for t in traces if t["name"].startswith("#1 "))
     assert pin["dash"] == "dot" and pin["y"] == pinned_q
+    assert pin["colour"] and pin["colour"] != traces[0]["colour"]  # a colour of its own, not only a dotted line
     # a stiffer rubber makes less contact at the same squeeze pressure: wider gaps, more leak
     pairs = [(a, b) for a, b in zip(traces[0]["y"], pinned_q) if a and b]
     assert pairs and all(a > b for a, b in pairs)

@@ -284,6 +284,6 @@ def test_band_gas_figure_draws_the_specification_in_mbar_l_s(band):
     (r,) = band
     q = _records(r, "leak_rate_mbar_l_s")
     at = float(np.nanmedian(q[np.isfinite(q) & (q > 0)]))  # within the axis
-    ax = figure_band_leak_rate(band, limit=(at * PA_M3_PER_MBAR_L, f"{at:g} mbar*l/s")).axes[0]
+    ax = figure_band_leak_rate(band, limit=(at * 0.1, f"{at:g} mbar*l/s")).axes[0]  # (1 mbar·l/s = 0.1 Pa·m³/s)
     (line,) = [ln for ln in ax.get_lines() if ln.get_label().startswith("max_leak_rate = ")]
     assert line.get_ydata()[0] == pytest.approx(at, rel=1e-12, abs=0)

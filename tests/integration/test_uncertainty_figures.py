@@ -166,8 +166,10 @@ def test_fan_chart_cuts_its_axis_eight_decades_below_the_top_and_keeps_the_legen
 def test_fan_chart_draws_a_median_from_samples_outside_the_theory_hollow():
     band = _band()
     outside = X >= 300.0
+    flags = np.zeros((3, X.size), dtype=bool)
+    flags[1] = outside  # the median only
     fig = _build(lambda: figure_fan_chart([LeakBand(X, band.p05, band.p50, band.p95, band.p25, band.p75, band.nominal,
-                                                    median_outside=outside)], "squeeze pressure P0 (kPa)"))
+                                                    outside=flags)], "squeeze pressure P0 (kPa)"))
     assert not figure_problems(fig)
     ax = fig.axes[0]
     (hollow,) = [line for line in ax.get_lines() if line.get_label() == "median from samples outside the theory"]
@@ -177,15 +179,26 @@ def test_fan_chart_draws_a_median_from_samples_outside_the_theory_hollow():
     assert not [line for line in plain.get_lines() if "outside the theory" in line.get_label()]
 
 
+def test_fan_chart_says_the_axis_is_cut_only_where_it_is():
+    """A sealed 5th percentile (0) sits in the sealed strip, not below a cut axis: a band spanning a few decades is not
+    cut, and its subtitle does not say so, whatever outside flags come with it."""
+    band = _band(sealed_from=350.0)  # p05 = 0 at the last load
+    for flags in (None, np.zeros((3, X.size), dtype=bool)):
+        fig = _build(lambda flags=flags: figure_fan_chart([LeakBand(X, band.p05, band.p50, band.p95, band.p25, band.p75,
+                                                                    band.nominal, outside=flags)], "squeeze pressure P0 (kPa)"))
+        lo, hi = fig.axes[0].get_ylim()
+        assert np.log10(hi / lo) < 8.0 and "axis cut" not in fig.axes[0].get_title()
+
+
 def test_fan_chart_marks_a_band_edge_from_samples_outside_the_theory():
     """A 5th or 95th percentile taken from samples outside the theory gets a small hollow circle on its edge of the band,
     at that load only, with the subtitle saying so; the median's marker is not drawn where only an edge is outside."""
     band = _band()
-    edges = np.zeros((2, X.size), dtype=bool)
-    edges[1, -1] = True  # the 95th percentile at the highest load
-    edges[0, 0] = True  # the 5th at the lowest
+    flags = np.zeros((3, X.size), dtype=bool)
+    flags[2, -1] = True  # the 95th percentile at the highest load
+    flags[0, 0] = True  # the 5th at the lowest
     fig = _build(lambda: figure_fan_chart([LeakBand(X, band.p05, band.p50, band.p95, band.p25, band.p75, band.nominal,
-                                                    edges_outside=edges)], "squeeze pressure P0 (kPa)"))
+                                                    outside=flags)], "squeeze pressure P0 (kPa)"))
     assert not figure_problems(fig)
     ax = fig.axes[0]
     (marks,) = [line for line in ax.get_lines() if line.get_label() == "5th or 95th percentile from samples outside the theory"]

@@ -126,8 +126,24 @@ def test_a_shot_that_fails_at_the_looser_tolerance_is_shot_again_before_it_bound
     """On a steep band (σ ∝ e^(−24 s/p_max), ΔP = 0.84 p_max) a shot at coupling.SHOT_RTOL just below the root fails
     (DOP853's step shrinks to nothing), where at coupling.STRICT_RTOL it crosses the band. Taken as a flow too large, it
     closed the bracket below the root, and Newton's answer was 1.7e-5 off; shot again at STRICT_RTOL it is within the
-    shots' accuracy (~1e-6) of a solve with every shot at 1e-12, in a few shots. A loose step that leaves the bracket
-    is shot again tight instead of bisecting: before, 17 shots."""
+    shots' accuracy (~1e-6) of a solve with every shot at 1e-12, in a few shots."""
+    got, reference = _steep_band(monkeypatch, 0.84)
+    assert got.converged and reference.converged and got.shots <= 6
+    assert got.flow == pytest.approx(reference.flow, rel=1e-6, abs=0)
+
+
+def test_a_loose_step_that_leaves_the_bracket_is_shot_again_tight(monkeypatch):
+    """On the steep band at ΔP = 0.94 p_max a loose shot's Newton step leaves the bracket the tight shots have narrowed:
+    the same flow is shot again tight (18 shots) rather than bisecting that bracket or taking its false position (23),
+    and the answer is within the shots' accuracy of a solve with every shot at 1e-12."""
+    got, reference = _steep_band(monkeypatch, 0.94)
+    assert got.converged and reference.converged and got.shots <= 20
+    assert got.flow == pytest.approx(reference.flow, rel=1e-6, abs=0)
+
+
+def _steep_band(monkeypatch, fraction):
+    """(the flow of the band σ = 1e-15 e^(−24 s/p_max)/(1 + (s/p_max)²) at ΔP = ``fraction`` p_max, the same with every
+    shot at 1e-12)."""
     profile = PressureProfile.semi_elliptic(W, P_MAX)
 
     def steep(s):
@@ -135,13 +151,13 @@ def test_a_shot_that_fails_at_the_looser_tolerance_is_shot_again_before_it_bound
         return 1e-15 * np.exp(-24.0 * s / P_MAX) / (1.0 + (s / P_MAX) ** 2)
 
     clear_caches()
-    got = coupled_band_flow(profile, steep, 0.84 * P_MAX)
-    monkeypatch.setattr(coupling, "SHOT_RTOL", 1e-12)
-    monkeypatch.setattr(coupling, "STRICT_RTOL", 1e-12)
-    clear_caches()
-    reference = coupled_band_flow(profile, steep, 0.84 * P_MAX, rtol=1e-11)
-    assert got.converged and reference.converged and got.shots <= 6
-    assert got.flow == pytest.approx(reference.flow, rel=1e-6, abs=0)
+    got = coupled_band_flow(profile, steep, fraction * P_MAX)
+    with monkeypatch.context() as m:
+        m.setattr(coupling, "SHOT_RTOL", 1e-12)
+        m.setattr(coupling, "STRICT_RTOL", 1e-12)
+        clear_caches()
+        reference = coupled_band_flow(profile, steep, fraction * P_MAX, rtol=1e-11)
+    return got, reference
 
 
 @pytest.mark.parametrize("factor", [1.5, 30.0])

@@ -35,6 +35,7 @@ from ..io.quantities import quantity
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, CoupledBand, coupled_band_flow, effective_pressure_integral
 from ..physics.critical_junction import critical_junction
+from ..physics.effective_medium import bruggeman_threshold
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
 from .band_tables import (
     TABLE_FLOOR,
@@ -42,7 +43,6 @@ from .band_tables import (
     TABLE_RTOL,
     SigmaTable,
     SweepSurface,
-    bruggeman_threshold,
     effective_medium_exact,
     effective_medium_sigma_table,
     persson_contact,
@@ -283,7 +283,7 @@ def _em_integral(case: Case, contact: PerssonContact, profile: PressureProfile,
     if float(exact(np.array([p_max]))[0]) <= 0:
         return series_resistance(profile, lambda p: np.zeros_like(p)), 0.0, True
     # plateaus (constant pieces) and p_max are evaluated exactly; the table serves the rest
-    table = SigmaTable(exact, p_max, TABLE_POINTS[0], threshold=bruggeman_threshold(case, contact.q0))
+    table = SigmaTable(exact, p_max, TABLE_POINTS[0], threshold=bruggeman_threshold(contact))
     plateaus: dict[float, float] = {}
     if profile.shape == "table":
         flat = (np.diff(profile.pressure) == 0) & (np.diff(profile.x) > 0) & (profile.pressure[:-1] > 0)

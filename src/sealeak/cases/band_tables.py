@@ -15,14 +15,13 @@ from collections.abc import Callable
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import special
 
 from ..physics.contact import PerssonContact
-from ..physics.effective_medium import effective_medium
+from ..physics.effective_medium import bruggeman_threshold, effective_medium
 from ..physics.gaps import CONDUCTIVITY_QUADRATURE, ArrayCache, contact_key
 from .model import Case
 
-__all__ = ["SigmaTable", "SweepSurface", "bruggeman_threshold", "chebyshev_lobatto_interpolate", "effective_medium_exact",
+__all__ = ["SigmaTable", "SweepSurface", "chebyshev_lobatto_interpolate", "effective_medium_exact",
            "effective_medium_sigma_table", "lobatto_points", "persson_contact", "piecewise"]
 
 FloatArray = NDArray[np.float64]
@@ -46,7 +45,6 @@ SURFACE_Q0_POINTS = (5, 9)
 SURFACE_TOP = 0.95
 THRESHOLD_EXPONENT = 3.0
 
-_TWO_ERFINV_HALF = 2.0 * float(special.erfinv(0.5))
 _EM_SIGMA = ArrayCache(lambda: KEPT_SIGMA_BYTES)
 _INTERPOLATE_ROWS = 512  # points per block of chebyshev_lobatto_interpolate: 512 × 129 terms, ~0.5 MB an array
 
@@ -104,7 +102,7 @@ def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: Floa
 class SigmaTable:
     """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind).
 
-    With ``threshold`` (p_c > p_max, Pa: the effective medium's Bruggeman threshold, :func:`bruggeman_threshold`) what is
+    With ``threshold`` (p_c > p_max, Pa: the effective medium's Bruggeman threshold, :func:`~sealeak.physics.effective_medium.bruggeman_threshold`) what is
     interpolated is ln r = ln σ − 3 ln(1 − p/p_c), and σ = r (1 − p/p_c)³: σ_eff vanishes as (1 − p/p_c)³ (docs/theory.md
     eq. 5.5), a logarithmic singularity of ln σ that a polynomial in ln p follows only far below p_c (on the `o-ring`
     sweep, tables of 33 points of ln σ up to peaks near p_c left the band integral up to 20 % from converged).
@@ -115,19 +113,22 @@ class SigmaTable:
         self.lo, self.hi = np.log(p_max * floor), np.log(p_max)
         self.threshold = threshold if threshold is not None and threshold > p_max else None
         self.p_max = p_max
-        s = self._nodes(n)
-        self.s = s
-        p = np.exp(s)
-        p[-1] = p_max  # (exp(ln p_max) may be an ulp off: the top is p_max itself, whose σ a caller may have asked for)
-        self.p = p
-        self.values = exact(p)
+        self.s = self._nodes(n)
+        self.values = exact(self.pressures())
         self.ok = bool(np.all(self.values > 0))
-        self.log_values = self._log(self.values, p)
+        self.log_values = self._log(self.values)
 
-    def _log(self, values: FloatArray, p: FloatArray) -> FloatArray:
-        """ln σ, or with a threshold ln r = ln σ − 3 ln(1 − p/p_c), of the ``values`` at the pressures ``p``."""
+    def pressures(self) -> FloatArray:
+        """The table's points (Pa): e^s, the top p_max itself (exp(ln p_max) may be an ulp off, and a caller may have
+        asked for σ(p_max) already)."""
+        p = np.exp(self.s)
+        p[-1] = self.p_max
+        return p
+
+    def _log(self, values: FloatArray) -> FloatArray:
+        """ln σ of the ``values`` at the table's points, or with a threshold ln r = ln σ − 3 ln(1 − p/p_c)."""
         out = np.log(np.where(values > 0, values, 1.0))
-        return out if self.threshold is None else out - THRESHOLD_EXPONENT * np.log1p(-p / self.threshold)
+        return out if self.threshold is None else out - _vanishing(self.pressures(), self.threshold)
 
     def refine(self, exact: Callable[[FloatArray], FloatArray]) -> SigmaTable:
         """The table on twice the intervals (the old points are reused)."""
@@ -165,12 +166,8 @@ class SigmaTable:
         values[::2] = self.values
         values[1::2] = added
         new.s, new.values = new._nodes(n), values
-        p = np.empty(n)
-        p[::2] = self.p
-        p[1::2] = np.exp(new.s[1::2])
-        new.p = p
         new.ok = bool(np.all(values > 0))
-        new.log_values = new._log(values, p)
+        new.log_values = new._log(values)
         return new
 
     def _nodes(self, n: int) -> FloatArray:
@@ -187,7 +184,7 @@ class SigmaTable:
         out = chebyshev_lobatto_interpolate(self.s, self.log_values, s)
         if self.threshold is None:
             return out
-        return out + THRESHOLD_EXPONENT * np.log1p(-np.minimum(np.exp(s), self.p_max) / self.threshold)
+        return out + _vanishing(np.minimum(np.exp(s), self.p_max), self.threshold)
 
 
 def effective_medium_sigma_table(case: Case, contact: PerssonContact, p_max: float, floor: float,
@@ -200,7 +197,7 @@ def effective_medium_sigma_table(case: Case, contact: PerssonContact, p_max: flo
     2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range). ``exact``: σ_eff of
     this contact (default the effective medium itself; a sweep passes its :class:`SweepSurface`)."""
     exact = effective_medium_exact(case, contact) if exact is None else exact
-    table = SigmaTable(exact, p_max, TABLE_POINTS[0], floor, threshold=bruggeman_threshold(case, contact.q0))
+    table = SigmaTable(exact, p_max, TABLE_POINTS[0], floor, threshold=bruggeman_threshold(contact))
     while table.ok and table.s.size < 2 * TABLE_POINTS[1] - 1:
         table, good = table.checked(exact, TABLE_RTOL)
         if good:
@@ -215,7 +212,7 @@ class SweepSurface:
     q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
     function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
     (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. What is interpolated is the regular part
-    ln r = ln[σ_eff/(1 − p/p_c(q0))³] (:func:`_regular`; below, "ln r"). At the middle q0 point a :class:`SigmaTable`
+    ln r = ln[σ_eff/(1 − p/p_c(q0))³] (below, "ln r"; :class:`SigmaTable` with its threshold). At the middle q0 point a :class:`SigmaTable`
     of ln r against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact values to
     :data:`SURFACE_RTOL`/2 at a quarter of the points the next doubling would add (:meth:`SigmaTable.checked`); at the other
     q0 points only the difference ln r − ln r_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
@@ -243,7 +240,7 @@ class SweepSurface:
     def build(cls, case: Case, q0: FloatArray, low: float, high: float) -> SweepSurface | None:
         """The surface over the loads' ``q0`` (1/m) and pressures [``low``, ``high``] (Pa), or None."""
         q0 = np.unique(np.asarray(q0, dtype=float))
-        threshold = min(bruggeman_threshold(case, float(q)) for q in q0)
+        threshold = min(bruggeman_threshold(persson_contact(case, float(q))) for q in q0)
         high = min(high, SURFACE_TOP * threshold)
         if not high > low:
             return None
@@ -303,10 +300,10 @@ class SweepSurface:
 
     @staticmethod
     def _table(case: Case, q0: float, low: float, high: float, rtol: float) -> SigmaTable | None:
-        """The table of ln r (:func:`_regular`) at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol``
-        (:meth:`SigmaTable.checked`)."""
-        exact = effective_medium_exact(case, persson_contact(case, q0))
-        table = SigmaTable(exact, high, SURFACE_P_POINTS[0], low / high, threshold=bruggeman_threshold(case, q0))
+        """The table of ln r at ``q0`` over [``low``, ``high``] (Pa), checked to ``rtol`` (:meth:`SigmaTable.checked`)."""
+        contact = persson_contact(case, q0)
+        exact = effective_medium_exact(case, contact)
+        table = SigmaTable(exact, high, SURFACE_P_POINTS[0], low / high, threshold=bruggeman_threshold(contact))
         while table.ok:
             grow = table.s.size < SURFACE_P_POINTS[1]
             table, good = table.checked(exact, rtol, grow=grow)
@@ -318,13 +315,14 @@ class SweepSurface:
 
     @staticmethod
     def _difference(case: Case, q0: float, base: SigmaTable) -> tuple[FloatArray, FloatArray] | None:
-        """(points, values): ln r (:func:`_regular`) of the contact at ``q0`` less ``base``'s exact ln r, at every 2^k-th point of
+        """(points, values): ln r of the contact at ``q0`` less ``base``'s exact ln r, at every 2^k-th point of
         ``base`` (from 9 points on), doubled until the interpolated difference agrees with exact values at the middles
         of its intervals (points of ``base`` too: all 8 of 9 points, every other one of 17, every fourth and the last
         from 33 points on) within :data:`SURFACE_RTOL`/2 in ln r; with ``base`` checked to :data:`SURFACE_RTOL`/2 as
         well, the surface is within :data:`SURFACE_RTOL` at its q0 points (and checked between them by :meth:`build`).
         None where the difference needs the points of ``base`` itself, or σ_eff vanishes."""
-        exact = _regular(case, q0)
+        contact = persson_contact(case, q0)
+        exact, top, at = effective_medium_exact(case, contact), bruggeman_threshold(contact), base.pressures()
         size = base.s.size
         step = (size - 1) // 8
         known: dict[int, float] = {}  # ln r at base's point i
@@ -332,10 +330,10 @@ class SweepSurface:
         def log_sigma(index: NDArray[np.intp]) -> FloatArray | None:
             new = [i for i in index.tolist() if i not in known]
             if new:
-                values = exact(np.exp(base.s[new]))
+                values = exact(at[new])
                 if not np.all(values > 0):
                     return None
-                known.update(zip(new, np.log(values).tolist()))
+                known.update(zip(new, (np.log(values) - _vanishing(at[new], top)).tolist()))
             return np.array([known[i] for i in index.tolist()])
 
         while step >= 2:
@@ -355,14 +353,14 @@ class SweepSurface:
 
     def sigma(self, q0: float, p: FloatArray) -> FloatArray:
         """σ_eff (m³/(Pa·s)) of the load with ``q0`` (1/m) at pressures ``p`` inside [low, high] (Pa)."""
-        return self._at(q0)(p)
+        return self._at(persson_contact(self.case, q0))(p)
 
-    def _at(self, q0: float) -> Callable[[FloatArray], FloatArray]:
-        """σ_eff(p) of the load with ``q0`` inside [low, high]: the interpolation in ln q0 is linear in the values,
+    def _at(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+        """σ_eff(p) of the load with ``contact`` (its q0) inside [low, high]: the interpolation in ln q0 is linear in the values,
         so ln r = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
         into one before ln p is interpolated, once per size of table; ln σ = ln r + 3 ln(1 − p/p_c(q0))."""
         weights = [1.0] if self.nodes.size == 1 else [
-            float(chebyshev_lobatto_interpolate(self.nodes, e, np.full(1, math.log(q0)))[0]) for e in np.eye(self.nodes.size)]
+            float(chebyshev_lobatto_interpolate(self.nodes, e, np.full(1, math.log(contact.q0)))[0]) for e in np.eye(self.nodes.size)]
         combined: dict[int, tuple[FloatArray, FloatArray]] = {}
         if self.base is not None:
             combined[self.base.s.size] = (self.base.s, self.base.log_values)
@@ -371,18 +369,18 @@ class SweepSurface:
                 s, values = combined.get(part[0].size, (part[0], np.zeros(part[0].size)))
                 combined[part[0].size] = (s, values + w * part[1])
         lo, hi = self.span
-        top = bruggeman_threshold(self.case, q0)
+        top = bruggeman_threshold(contact)
 
         def sigma(p: FloatArray) -> FloatArray:
             x = np.clip(np.log(p), lo, hi)
             regular = np.sum([chebyshev_lobatto_interpolate(s, v, x) for s, v in combined.values()], axis=0)
-            return np.exp(regular + THRESHOLD_EXPONENT * np.log1p(-np.clip(p, self.low, self.high) / top))
+            return np.exp(regular + _vanishing(np.clip(p, self.low, self.high), top))
         return sigma
 
     def for_load(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
         """σ_eff(p) of one load's contact: the surface inside [low, high], the exact effective medium outside."""
         exact = effective_medium_exact(self.case, contact)
-        surface = self._at(contact.q0)
+        surface = self._at(contact)
 
         def sigma(p: FloatArray) -> FloatArray:
             p = np.asarray(p, dtype=float)
@@ -390,23 +388,10 @@ class SweepSurface:
         return sigma
 
 
-def bruggeman_threshold(case: Case, q0: float) -> float:
-    """p_c (Pa) of the case's contact at ``q0`` (1/m): the squeeze pressure at which A(ζ1)/A0 = erf(p/(2√G(ζ1))) reaches
-    1/2, Bruggeman's threshold (docs/theory.md §5.4), p_c = 2 erfinv(1/2) √G(ζ1), G(ζ1) = (π/4) E*² ∫_{q0}^{q1} q³C dq."""
-    m3 = case.spectrum.cumulative_moment(3, np.array([q0, case.spectrum.q_max]))
-    return _TWO_ERFINV_HALF * math.sqrt(0.25 * math.pi * case.e_star**2 * float(m3[1] - m3[0]))
-
-
-def _regular(case: Case, q0: float) -> Callable[[FloatArray], FloatArray]:
-    """σ_eff(p)/(1 − p/p_c)³ (m³/(Pa·s)) of the contact at ``q0`` (1/m), for pressures below its threshold p_c
-    (:func:`bruggeman_threshold`): σ_eff without the factor with which it vanishes at p_c (docs/theory.md eq. 5.5), free of
-    the logarithmic singularity ln σ has there (a weaker term, O(δ² ln δ) in δ = 1 − p/p_c, remains), what
-    :class:`SweepSurface` tabulates."""
-    exact, top = effective_medium_exact(case, persson_contact(case, q0)), bruggeman_threshold(case, q0)
-
-    def regular(p: FloatArray) -> FloatArray:
-        return exact(p) * np.exp(-THRESHOLD_EXPONENT * np.log1p(-p / top))
-    return regular
+def _vanishing(p: FloatArray, threshold: float) -> FloatArray:
+    """3 ln(1 − p/p_c): the logarithm of the factor with which σ_eff vanishes at its threshold p_c (Pa; docs/theory.md
+    eq. 5.5), which the tables of ln σ leave out (:class:`SigmaTable`, :class:`SweepSurface`)."""
+    return THRESHOLD_EXPONENT * np.log1p(-p / threshold)
 
 
 def _checked_points(n: int) -> NDArray[np.bool_]:

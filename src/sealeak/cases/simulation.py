@@ -34,10 +34,10 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import special
 
 from .. import numerics
 from ..io.quantities import quantity
+from ..physics.effective_medium import bruggeman_threshold
 from ..physics.spectrum import PowerSpectrum
 from .model import Case
 from .notes import Note, NoteLike
@@ -443,8 +443,7 @@ def _threshold_anchor(case: Case) -> float:
     A(ζ1)/A0 = erf(P0/(2√G(ζ1))) (docs/theory.md §2.4), so P0 = 2√G(ζ1) erf⁻¹(1/2). It depends on
     the surface and the rubber only, never on the squeeze pressures listed in the case.
     """
-    contact = case.contact()
-    return float(2.0 * np.sqrt(contact.G(contact.zeta_max)) * special.erfinv(0.5))
+    return bruggeman_threshold(case.contact())
 
 
 #: Ladder of the threshold search: pressures p_anchor·2^k, k = 0, ±1, ... up to this many steps.

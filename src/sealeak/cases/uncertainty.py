@@ -173,13 +173,15 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
     ``nominal`` the nominal cases' results (run here when not given); when h_rms, E, ν and ΔP vary too (a uniform
     liquid seal on the critical junction), the nominal contact at the scaled pressures P0/(k s) (:func:`_by_scaling`).
     """
-    return _sample(study, points, nominal)[0]
+    return _sample(study, points, nominal, validity=False)[0]
 
 
 def _sample(study: UncertainStudy, points: NDArray[np.float64], nominal: list[CaseResult] | None = None,
-            ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
+            validity: bool = True) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_] | None]:
     """(:func:`sample_values`, and per sample and row whether the theory shown is within its validity: the verdict of
-    the sample's own prediction, or of the nominal contact scaled as its leak rate is)."""
+    the sample's own prediction, or of the nominal contact scaled as its leak rate is). With ``validity`` False (the
+    Sobol' indices, which need the leak rates alone) the scaled samples' verdicts, a critical junction per sample and
+    row, are not computed (None)."""
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
         raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
@@ -188,7 +190,7 @@ def _sample(study: UncertainStudy, points: NDArray[np.float64], nominal: list[Ca
         return _scaled(study, points, nominal), np.tile(record_validity(nominal), (points.shape[0], 1))
     if _scales(study):
         nominal = nominal if nominal is not None else [run_case(c) for c in study.cases]
-        fast = _by_scaling(study, points, nominal)
+        fast = _by_scaling(study, points, nominal, validity)
         if fast is not None:
             return fast
     factors = _factors(study, points) if _scales_band(study) else None
@@ -315,10 +317,11 @@ def _scaling_holds(study: UncertainStudy, points: NDArray[np.float64]) -> bool:
     return True
 
 
-def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
-                nominal: list[CaseResult]) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]] | None:
-    """:func:`sample_values` by the scaling of the nominal contact (:mod:`sealeak.cases.scaling`), None where the
-    cases do not scale (then every sample is a full prediction); the nominal samples hold the nominal rows bit for bit."""
+def _by_scaling(study: UncertainStudy, points: NDArray[np.float64], nominal: list[CaseResult], validity: bool = True,
+                ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_] | None] | None:
+    """:func:`sample_values` by the scaling of the nominal contact (:mod:`sealeak.cases.scaling`), with the samples'
+    verdicts where ``validity``; None where the cases do not scale (then every sample is a full prediction); the nominal
+    samples hold the nominal rows bit for bit."""
     if not _scaling_holds(study, points):
         return None
     factors = _factors(study, points)
@@ -329,17 +332,19 @@ def _by_scaling(study: UncertainStudy, points: NDArray[np.float64],
             q = scaled_leak_rate(case, result.critical_junction, factors["length"], factors["modulus"], factors["flow"],
                                  factors["pressure_difference"])
             columns.append(np.where(np.isnan(q), 0.0, q))
-            verdicts.append(scaled_validity(case, result.critical_junction, factors["length"], factors["modulus"],
-                                            factors["pressure_difference"]))
+            if validity:
+                verdicts.append(scaled_validity(case, result.critical_junction, factors["length"], factors["modulus"],
+                                                factors["pressure_difference"]))
     except InputError:
         return None
     out = np.concatenate(columns, axis=1)
-    valid = np.concatenate(verdicts, axis=1)
+    valid = np.concatenate(verdicts, axis=1) if validity else None
     base = record_values(nominal)["leak_rate"]
     if base.shape != out.shape[1:]:  # records that are not one per squeeze pressure: not what the scaling computes
         return None
     out[factors["nominal"]] = base
-    valid[factors["nominal"]] = record_validity(nominal)
+    if valid is not None:
+        valid[factors["nominal"]] = record_validity(nominal)
     return {"leak_rate": out}, valid
 
 

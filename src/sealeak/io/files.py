@@ -53,34 +53,35 @@ def _kind(mode: int) -> str:
     return next((name for test, name in _KINDS if test(mode)), "not a regular file")
 
 
-def check_replaceable(path: str | Path) -> bool:
+def check_replaceable(path: str | Path, shown: str = "") -> bool:
     """Whether ``path`` exists as a regular file (True) or not at all (False).
 
-    Raises :class:`OutputExistsError` (one line naming the path) if anything else is there: a
-    folder, a symbolic link (to anything), a device node, a named pipe, a socket. Such a path is
+    Raises :class:`OutputExistsError` (one line naming the path, as ``shown`` where given: ``--json y.json``) if anything
+    else is there: a folder, a symbolic link (to anything), a device node, a named pipe, a socket. Such a path is
     never replaced, with or without ``--force``.
     """
     p = Path(path)
+    name = shown or str(p)
     try:
         st = os.lstat(p)
     except FileNotFoundError:
         return False
     except NotADirectoryError:
-        raise OutputExistsError(f"{p}: a part of the path above it is a file, not a folder") from None
+        raise OutputExistsError(f"{name}: a part of the path above it is a file, not a folder") from None
     except OSError as exc:
         raise OutputWriteError(p, exc) from None
     if stat.S_ISREG(st.st_mode):
         return True
     if stat.S_ISDIR(st.st_mode):
-        raise OutputExistsError(f"{p} is a folder: give a file name for this output")
+        raise OutputExistsError(f"{name} is a folder: give a file name for this output")
     if stat.S_ISLNK(st.st_mode):
         try:
             target = os.readlink(p)
         except OSError:  # pragma: no cover - raced away
             target = "?"
-        raise OutputExistsError(f"{p} is a symbolic link (to {target}): outputs replace regular files only, even with "
+        raise OutputExistsError(f"{name} is a symbolic link (to {target}): outputs replace regular files only, even with "
                                 "--force; give the path of a regular file itself, or another name")
-    raise OutputExistsError(f"{p} is {_kind(st.st_mode)}, not a regular file: outputs replace regular files only, "
+    raise OutputExistsError(f"{name} is {_kind(st.st_mode)}, not a regular file: outputs replace regular files only, "
                             "even with --force; give a file name")
 
 
@@ -141,15 +142,9 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
                 raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {problem}" if o.option
                                         else f"{o.path}: {problem}")
             continue
-        try:
-            _check_folder(Path(o.path))
-            if check_replaceable(o.path):
-                existing.append(str(o.path))
-        except OutputExistsError as exc:  # the option too, before the whole path ("--json y.json is a folder ...")
-            if not o.option:
-                raise
-            text = str(exc)
-            raise OutputExistsError(f"{o.option} {text}" if text.startswith(f"{o.path} ") else f"{o.option}: {text}") from None
+        _check_folder(Path(o.path), o.name())  # named with the option: "cannot write --json y/x.json: y is not a folder"
+        if check_replaceable(o.path, o.name()):  # "--json y.json is a folder ..."
+            existing.append(str(o.path))
     if existing and not force:
         shown = ", ".join(existing[:5]) + (f" and {len(existing) - 5} more" if len(existing) > 5 else "")
         raise OutputExistsError(f"{shown} already exist{'s' if len(existing) == 1 else ''}; "
@@ -198,27 +193,31 @@ def _output_folder_problem(folder: Path) -> str:
             return "" if os.access(folder, os.W_OK | os.X_OK) else "no permission to write into that folder"
         if folder.exists() or folder.is_symlink():
             return "exists and is not a folder: give a folder name (it is made if missing)"
-        existing = next((d for d in folder.parents if d.exists()), Path("."))
-        if not existing.is_dir():
-            return f"cannot be made: {existing} is not a folder"
+        existing, why = _writable_from(folder.parent)
     except OSError as exc:
         raise OutputWriteError(folder, exc) from None
-    return "" if os.access(existing, os.W_OK | os.X_OK) else f"cannot be made: no permission to write into {existing}"
+    return f"cannot be made: {why}" if why else ""
 
 
-def _check_folder(path: Path) -> None:
-    """The folder of ``path`` is (or will be created in) a folder the user may write into."""
-    parent = path.parent
+def _check_folder(path: Path, shown: str = "") -> None:
+    """The folder of ``path`` is (or will be created in) a folder the user may write into; ``shown`` names ``path`` in
+    the messages (as :func:`check_replaceable`)."""
     try:
-        existing = next((d for d in (parent, *parent.parents) if d.exists()), Path("."))
-        is_dir = existing.is_dir()
+        existing, why = _writable_from(path.parent)
     except OSError as exc:
         raise OutputWriteError(path, exc) from None
-    if not is_dir:
-        where = "" if existing == parent else f" (it is in the path of {path})"
-        raise OutputExistsError(f"cannot write {path}: {existing} is not a folder{where}")
-    if not os.access(existing, os.W_OK | os.X_OK):
-        raise OutputExistsError(f"cannot write {path}: no permission to write into the folder {existing}")
+    if why:
+        where = f" (it is in the path of {path})" if existing != path.parent and not existing.is_dir() else ""
+        raise OutputExistsError(f"cannot write {shown or path}: {why}{where}")
+
+
+def _writable_from(folder: Path) -> tuple[Path, str]:
+    """(``folder`` or the first of its parents that exists, why files cannot be made in ``folder`` from there: it is not
+    a folder, or the user may not write into it; "" where they can)."""
+    existing = next((d for d in (folder, *folder.parents) if d.exists()), Path("."))
+    if not existing.is_dir():
+        return existing, f"{existing} is not a folder"
+    return existing, "" if os.access(existing, os.W_OK | os.X_OK) else f"no permission to write into the folder {existing}"
 
 
 @contextmanager

@@ -473,7 +473,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
     for shots in range(1, 41):
         q = math.exp(x)
         y = [dp, 0.0]
-        shot_loose = loose and not (steep or again)
+        shot_loose = loose and not again  # (never loose on a near-sealed band: ``loose`` is False there)
         tolerance = STRICT_RTOL if steep or again else LOOSE_RTOL if shot_loose else SHOT_RTOL
         again = False
         rtol_ode, atol_ode = tolerance, tolerance * 1e-2 * dp
@@ -502,17 +502,15 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
             return CoupledBand(q, False, True, shots)
         # a loose shot's outlet pressure may have the wrong sign near the root (on a test band at 0.75 p_max one at 1e-6
         # gave −0.025 ΔP where the tight one gives +0.004 ΔP): it moves the trial flow, but only tight shots narrow the
-        # bracket, which a wrong end would close on the wrong side of the root; where its Newton step leaves the
-        # bracket, the same flow is shot again tight (rather than bisecting a bracket the loose shots have not narrowed)
+        # bracket, which a wrong end would close on the wrong side of the root
         if outlet > 0:
-            lo = x if not shot_loose else lo
-            psi = kirchhoff(outlet)
-            d_psi = float(sigma(np.array([p_max - outlet]))[0]) / top
-            psi_lo = psi if not shot_loose else psi_lo
+            psi, d_psi = kirchhoff(outlet), float(sigma(np.array([p_max - outlet]))[0]) / top
         else:
-            hi = x if not shot_loose else hi
             psi, d_psi = outlet, 1.0
-            psi_hi = psi if not shot_loose else psi_hi
+        if not shot_loose and outlet > 0:
+            lo, psi_lo = x, psi
+        elif not shot_loose:
+            hi, psi_hi = x, psi
         ratio = 1.0 - psi / (d_psi * g) if g < 0 else -1.0  # q_new/q of Newton's step in q
         step = math.log(ratio) if ratio > 0 else math.inf
         if not shot_loose and _settled(step, previous, rtol):
@@ -520,7 +518,7 @@ def _newton_shoot(pairs: list[Callable[[float], Callable[[float, FloatArray], An
         loose = abs(step) > LOOSE_STEP and not steep
         previous = None
         if shot_loose and not lo < x + step < hi:  # the loose shot's step leaves the bracket: shoot this flow tight
-            loose = False
+            loose = False  # (rather than bisect a bracket the loose shots have not narrowed)
             continue
         if lo < x + step < hi:
             x += step

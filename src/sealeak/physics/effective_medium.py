@@ -61,7 +61,7 @@ from .critical_junction import _pressures
 from .gaps import ArrayCache, GapDistribution, contact_key, folded_normal_cdf, gap_distribution
 from .validity import no_channel_note
 
-__all__ = ["EffectiveMediumResult", "effective_medium", "bruggeman_conductivity", "bruggeman_residual",
+__all__ = ["EffectiveMediumResult", "effective_medium", "bruggeman_conductivity", "bruggeman_residual", "bruggeman_threshold",
            "discretise", "BRUGGEMAN_THRESHOLD"]
 
 FloatArray = NDArray[np.float64]
@@ -73,6 +73,12 @@ BRUGGEMAN_THRESHOLD = 0.5
 DISCRETE_CACHE_BYTES = 32 * 2**20
 
 _DISCRETE = ArrayCache(lambda: DISCRETE_CACHE_BYTES)
+
+
+def bruggeman_threshold(contact: PerssonContact) -> float:
+    """p_c (Pa): the squeeze pressure at which A(ζ1)/A0 = erf(P0/(2√G(ζ1))) reaches :data:`BRUGGEMAN_THRESHOLD`,
+    p_c = 2 erfinv(1/2) √G(ζ1) (docs/theory.md §2.4, §5.4; σ_eff vanishes there as (1 − P0/p_c)³, eq. 5.5)."""
+    return 2.0 * float(special.erfinv(BRUGGEMAN_THRESHOLD)) * math.sqrt(float(contact.G(contact.zeta_max)))
 
 
 def _g_and_slope(x: FloatArray, w: FloatArray, contact: FloatArray, s: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -218,9 +224,8 @@ class _Mixture:
             dens = [lead * he[2 * k] / (math.factorial(2 * k) * hs ** (2 * k)) for k in range(_SERIES_TERMS)]
         ok = self.smooth & (kappa < _R) & np.all([np.isfinite(d) & (np.abs(d) < 1e290) for d in dens], axis=0)
         self.series_top = np.where(ok, _SERIES * hs / (kappa + 3.0), 0.0)
-        self.dens_stack = np.stack([np.where(ok, d, 0.0) for d in dens])  # (term, row, component)
-        self.cdf_stack = self.dens_stack / (2.0 * np.arange(_SERIES_TERMS) + 1.0)[:, None, None]
-        self.dens_coef, self.cdf_coef = list(self.dens_stack), list(self.cdf_stack)  # (views, term by term)
+        self.dens_coef = np.stack([np.where(ok, d, 0.0) for d in dens])  # (term, row, component)
+        self.cdf_coef = self.dens_coef / (2.0 * np.arange(_SERIES_TERMS) + 1.0)[:, None, None]
         self.window_lo = np.maximum(self.series_top, self.bottom)  # exact evaluation for window_lo < u < top
         self.tail_top = np.where(w > 0, np.where(h > 0, c + _R_TAIL * np.where(h > 0, h, 0.0), c), -np.inf)
 
@@ -350,7 +355,7 @@ class _Mixture:
     # ------------------------------------------------------------------ sorted grids (one row at a time)
     def density_on(self, i: int, u: FloatArray) -> FloatArray:
         """The density at the ascending separations ``u`` of row i (1/m)."""
-        out = _horner(_series_sums(u, self.series_top[i], self.dens_stack[:, i]), u * u)
+        out = _horner(_series_sums(u, self.series_top[i], self.dens_coef[:, i]), u * u)
         for (node, c, h, amp), sign in zip(self._pairs(i, u), (-1.0, 1.0)):
             for lo in range(0, node.size, _CHUNK):
                 part = slice(lo, lo + _CHUNK)
@@ -367,7 +372,7 @@ class _Mixture:
         """The CDF of the continuous part at the ascending separations ``u`` of row i."""
         order = np.argsort(self.top[i], kind="stable")
         full = np.concatenate([[0.0], np.cumsum(self.w[i, order])])[np.searchsorted(self.top[i, order], u, side="right")]
-        out = full + _horner(_series_sums(u, self.series_top[i], self.cdf_stack[:, i]), u * u) * u
+        out = full + _horner(_series_sums(u, self.series_top[i], self.cdf_coef[:, i]), u * u) * u
         # Φ((u - c)/h) - Φ((-u - c)/h): the second term only where (u + c)/h < √80 (elsewhere below 2e-19)
         for (node, c, h, amp), sign in zip(self._pairs(i, u), (-1.0, 1.0)):
             for lo in range(0, node.size, _CHUNK):
@@ -395,8 +400,8 @@ class _Mixture:
         return tuple(out)
 
 
-def _horner(coef: list[FloatArray], x: FloatArray) -> FloatArray:
-    """Σ_k coef[k] x^k."""
+def _horner(coef: FloatArray | list[FloatArray], x: FloatArray) -> FloatArray:
+    """Σ_k coef[k] x^k (``coef``: the terms along its first axis)."""
     out = coef[-1] * x
     for c in coef[-2:0:-1]:
         out += c

@@ -524,9 +524,10 @@ def figure_band_leak_rate(results: Sequence[CaseResult], limit: tuple[float, str
         notes = [plotstyle.gas_conditions_text(case) if len(conditions) == 1 else "gas conditions differ between the variants (see the text output)",
                  ", ".join(settings) + ("; dashed: helium equivalent (1 bar He against vacuum, 20 °C)"
                                         if any(s.style == "--" for s in series) else "")]
-        regime = plotstyle.gas_regime_text([g for r in results for g in (r.gas or {}).values()])
+        regime = plotstyle.gas_regime_text([g for r in results for g in (r.gas or {}).values()],
+                                           gap="h = u_c at the peak contact pressure")
         if regime:
-            notes.append(regime.replace("h the narrowest gap", "h = u_c at the peak contact pressure"))
+            notes.append(regime)
         ax.set_ylabel(f"{plotstyle.GAS_LEAK_LABEL} (mbar·l/s)")
     if not any(np.any(np.isfinite(s.y) & (s.y > 0)) for s in series):
         plotstyle.say_nothing(ax, f"no leak channel at any {word}:\nthe non-contact area does not percolate")

@@ -232,11 +232,11 @@ def gas_conditions_text(case: Any) -> str:
             f"P_b = {_pressure_text(gas.downstream_pressure)}; rarefaction {gas.rarefaction}")
 
 
-def gas_regime_text(rows: Sequence[Any]) -> str:
+def gas_regime_text(rows: Sequence[Any], gap: str = "h the narrowest gap") -> str:
     """Where the Knudsen numbers of the drawn rows lie, and their flow regimes (a subtitle line).
 
     ``rows``: :class:`~sealeak.cases.GasRows` of the drawn theories; Kn = λ/h at the mean pressure
-    (P_a + P_b)/2 and the narrowest gap h (docs/theory.md §11.9). Empty when nothing leaks.
+    (P_a + P_b)/2 and the narrowest gap h (docs/theory.md §11.9), which ``gap`` names. Empty when nothing leaks.
     """
     kn, regimes = [], []
     for r in rows:
@@ -249,7 +249,7 @@ def gas_regime_text(rows: Sequence[Any]) -> str:
         return ""
     lo, hi = min(kn), max(kn)
     span = f"{lo:.2g}" if hi <= lo * 1.005 else f"{lo:.2g} to {hi:.2g}"
-    return f"Kn = λ/h = {span} ({', '.join(regimes)}), λ at the mean pressure, h the narrowest gap"
+    return f"Kn = λ/h = {span} ({', '.join(regimes)}), λ at the mean pressure, {gap}"
 
 
 def gas_series(x: np.ndarray, rows: Any, valid: np.ndarray, why: tuple[str, ...], colour: str, label: str,

@@ -83,11 +83,10 @@ class LeakBand:
     p75: np.ndarray | None = None
     nominal: np.ndarray | None = None
     label: str = ""
-    #: Per load, whether the median is taken from samples outside the theory's validity (drawn hollow), or None.
-    median_outside: np.ndarray | None = None
-    #: Per load, whether the 5th and the 95th percentile are taken from such samples, [2, loads] (small hollow circles on
-    #: the band's edges), or None.
-    edges_outside: np.ndarray | None = None
+    #: Per percentile (5th, 50th, 95th) and load, [3, loads], whether it is taken from samples outside the theory's
+    #: validity (:meth:`~sealeak.cases.uncertainty.UncertaintyResult.outside`): the median drawn hollow, the band's edges
+    #: with small hollow circles; or None.
+    outside: np.ndarray | None = None
 
 
 def _positive(*arrays: np.ndarray | None) -> np.ndarray:
@@ -172,18 +171,18 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
         below = leaks & (np.asarray(b.p50, dtype=float) < strip_top)
         ax.plot(b.x, np.where(leaks & ~below, b.p50, np.nan), "-", marker="o" if len(b.x) <= 12 else "", ms=3, color=c,
                 label=f"{name}median")
-        outside = leaks & ~below & (np.asarray(b.median_outside, dtype=bool) if b.median_outside is not None else False)
+        flags = np.zeros((3, len(b.x)), dtype=bool) if b.outside is None else np.asarray(b.outside, dtype=bool)
+        outside = leaks & ~below & flags[1]
         if np.any(outside):
             outside_any = True
             ax.plot(np.asarray(b.x)[outside], np.asarray(b.p50, dtype=float)[outside], "o", mfc="white", mec=c, ms=6,
                     label=f"{name}median from samples outside the theory")
-        if b.edges_outside is not None:  # both edges in one line (one legend entry)
-            values = np.asarray([b.p05, b.p95], dtype=float)
-            marked = np.asarray(b.edges_outside, dtype=bool) & (values >= strip_top)
-            if marked.any():
-                edges_any = True
-                ax.plot(np.broadcast_to(np.asarray(b.x, dtype=float), values.shape)[marked], values[marked], "o",
-                        mfc="white", mec=c, ms=3.5, mew=0.8, label=f"{name}5th or 95th percentile from samples outside the theory")
+        edges = np.asarray([b.p05, b.p95], dtype=float)  # both edges in one line (one legend entry)
+        marked = flags[[0, 2]] & (edges >= strip_top)
+        if marked.any():
+            edges_any = True
+            ax.plot(np.broadcast_to(np.asarray(b.x, dtype=float), edges.shape)[marked], edges[marked], "o",
+                    mfc="white", mec=c, ms=3.5, mew=0.8, label=f"{name}5th or 95th percentile from samples outside the theory")
         if below.any():
             below_any = True
             ax.plot(np.asarray(b.x)[below], np.full(int(below.sum()), strip_top), "v", mfc="none", mec=c, ms=5,
@@ -350,7 +349,7 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
         idx = np.array([j for j, r in enumerate(rows) if r.case == i])
         idx = idx[np.argsort(loads[idx], kind="stable")]
         bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label,
-                              outside[1][idx], outside[[0, 2]][:, idx]))
+                              outside[:, idx]))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
     written = str(unc.study.max_leak_rate) if limit is not None else ""

@@ -586,16 +586,14 @@ function drawPrediction(pred) {
 // the colours of the cases whose uncertain inputs draw a band (the band filled, the curves in the same colour)
 const BAND_RGB = ["31,119,180", "255,127,14", "44,160,44", "214,39,40", "148,103,189"];
 // the colours of the other leak curves, one per curve in turn (given, not left to Plotly, so that the markers of a
-// curve's sealed points and points below the axis take its colour)
-const CURVE_COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+// curve's sealed points and points below the axis take its colour): one counter for the live curves and the pinned ones
+function curveColours() { let next = 0; return () => COLORS[next++ % COLORS.length]; }
 
 // the leak-rate curves of a prediction (and the pinned ones, dotted): sealed points at the axis' foot, invalid ones crossed;
 // with uncertain inputs the 5–95 % band of the samples and their median (bands: the traces whose sealed values, 0, go to the foot)
-function leakCurves(p, rows, tagAll, style = {}) {
+function leakCurves(p, rows, tagAll, style = {}, colour = curveColours()) {
   const traces = [], marks = [], bands = [];
   const kinds = new Set(p.leak.map(c => c.gas));
-  let next = 0;
-  const colour = () => CURVE_COLOURS[next++ % CURVE_COLOURS.length];
   p.leak.forEach((c, k) => {
     const tag = (tagAll || p.leak.length > 1 ? `${c.label}: ` : "") + (kinds.size > 1 ? `(${Units.name(c.gas ? "throughput" : "volume_flow")}) ` : "");
     const dim = c.gas ? "throughput" : "volume_flow";
@@ -609,22 +607,16 @@ function leakCurves(p, rows, tagAll, style = {}) {
       bands.push(line(x, hi, `${tag}5–95 % of ${c.band.samples} samples`, { fill: "tonexty", fillcolor: `rgba(${rgb},0.18)`, ...edge }));
       bands.push(line(x, med, `${tag}median of the samples`, { line: { dash: "dot", width: 2, color: `rgb(${rgb})` } }));
       traces.push(...bands.slice(-3));
-      const out = (c.band.p50_outside || []).map((o, i) => o && med[i] > 0 ? i : -1).filter(i => i >= 0);
-      if (out.length) {  // (a band trace: at the axis' foot where the median is below it)
-        bands.push({ x: out.map(i => x[i]), y: out.map(i => med[i]), type: "scatter", mode: "markers",
-          name: `${tag}median from samples outside the theory`, hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>",
-          marker: { symbol: "circle-open", size: 10, color: `rgb(${rgb})`, line: { width: 2 } } });
-        traces.push(bands[bands.length - 1]);
-      }
-      [["p05_outside", lo, "5th"], ["p95_outside", hi, "95th"]].forEach(([flag, ys, what]) => {
-        const at = (c.band[flag] || []).map((o, i) => o && ys[i] > 0 ? i : -1).filter(i => i >= 0);
-        if (at.length) {  // (a band trace: at the axis' foot where the percentile is below it)
+      // a percentile taken from samples outside the theory, circled (a band trace: at the axis' foot where it is below it)
+      [["p50_outside", med, "median", 10, 2], ["p05_outside", lo, "5th percentile", 6, 1.5], ["p95_outside", hi, "95th percentile", 6, 1.5]]
+        .forEach(([flag, ys, what, size, width]) => {
+          const at = (c.band[flag] || []).map((o, i) => o && ys[i] > 0 ? i : -1).filter(i => i >= 0);
+          if (!at.length) return;
           bands.push({ x: at.map(i => x[i]), y: at.map(i => ys[i]), type: "scatter", mode: "markers",
-            name: `${tag}${what} percentile from samples outside the theory`, hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>",
-            marker: { symbol: "circle-open", size: 6, color: `rgb(${rgb})`, line: { width: 1.5 } } });
+            name: `${tag}${what} from samples outside the theory`, hovertemplate: "%{x:.4~g}, %{y:.4~e}<extra>%{fullData.name}</extra>",
+            marker: { symbol: "circle-open", size, color: `rgb(${rgb})`, line: { width } } });
           traces.push(bands[bands.length - 1]);
-        }
-      });
+        });
     }
     const cj = leakSI(c, c.leak_rate).map(show);
     const cjName = `${tag}critical junction${c.band ? " (nominal inputs)" : ""}`, cjColour = rgb ? `rgb(${rgb})` : colour();
@@ -791,8 +783,9 @@ function drawPlots(pred) {
   p.sets = p.sets.map(s => ({ ...s, label: setLabel(s) }));
   p.gaps = { ...p.gaps, labels: p.sets.map(s => s.label) };
   const rows = pred.json.results;
-  const { traces: leak, marks, bands } = leakCurves(p, rows, false);
-  const pinned = Pins.curves();
+  const colour = curveColours();
+  const { traces: leak, marks, bands } = leakCurves(p, rows, false, {}, colour);
+  const pinned = Pins.curves(colour);
   const all = [...leak, ...pinned];
   const yr = fitRange(all.flatMap(t => t.y), true);
   // sealed points (no leak path: Q = 0) sit at the foot of the axis, in their curve's colour (nested: the later curves'
@@ -866,12 +859,12 @@ const Pins = {
   },
   unpin(n) { this.list = this.list.filter(x => x.n !== n); this.save(); },
 
-  // the pinned leak curves in the current units, dotted and grey-blue, named "#n title"
-  curves() {
+  // the pinned leak curves in the current units, dotted, named "#n title", in the colours after the live curves' (``colour``)
+  curves(colour) {
     const out = [];
     for (const pin of this.list) {
       const { traces } = leakCurves({ leak: pin.leak.map(c => ({ ...c, label: `#${pin.n} ${short(pin.title)}` })) }, pin.rows, true,
-        { line: { dash: "dot", width: 1.5 }, marker: { size: 4, symbol: "circle-open" }, opacity: 0.8 });
+        { line: { dash: "dot", width: 1.5 }, marker: { size: 4, symbol: "circle-open" }, opacity: 0.8 }, colour);
       out.push(...traces);
     }
     return out;
