@@ -132,6 +132,26 @@ def test_fields_that_is_a_file_is_refused(layout, tmp_path, capsys, monkeypatch)
     assert blocker.read_text() == "keep me\n" and not js.exists()
 
 
+def test_fields_folder_with_field_files_needs_force(tmp_path, capsys):
+    """An earlier run's field files are not replaced without --force: one line naming them, exit 2, nothing written
+    (other files in the folder do not count)."""
+    folder = tmp_path / "fields"
+    folder.mkdir()
+    (folder / "r0-p1.npz").write_bytes(b"earlier run")
+    (folder / "notes.txt").write_text("mine\n")
+    js = tmp_path / "s.json"
+    args = ["simulate", "--example", "reference-experiment", "--grid", "16", "--realizations", "1", "--no-threshold",
+            "--fields", str(folder), "--json", str(js)]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert str(folder / "r0-p1.npz") in err and "--force" in err
+    assert (folder / "r0-p1.npz").read_bytes() == b"earlier run" and not js.exists()
+    (folder / "r0-p1.npz").unlink()  # only other files there: the run goes ahead
+    assert main([*args, "-q"]) == 0
+    assert (folder / "notes.txt").read_text() == "mine\n" and (folder / "r0-p0.npz").is_file()
+
+
 # ---------------------------------------------------------------- Ctrl-C leaves no field files
 def _interrupt_after_first_field(args, folder, cwd):
     """Run ``sealeak simulate`` in a subprocess and send SIGINT once its first field file exists."""

@@ -196,13 +196,18 @@ def emit(args: argparse.Namespace, text: str, files: dict[str, str],
         say(args, f"wrote {written[0]}" if len(written) == 1 else f"wrote {len(written)} figures to {args.plots}/")
 
 
+#: The files a folder option writes under names not known up front (a glob pattern), refused without ``--force``.
+_FOLDER_FILES = {"fields": "r*-p*.npz"}
+
+
 def outputs(args: argparse.Namespace, figure_names: Iterable[str] = (), files: Iterable[str] = ("json",),
             folders: Iterable[str] = ("plots",)) -> list[Output]:
     """The outputs a command will write, for :func:`sealeak.io.files.check_outputs`.
 
     ``files`` and ``folders`` are the attribute names of the file options (``--json``) and of the
     folder options (``--plots``, ``--fields``) of ``args``; ``figure_names`` the files written into
-    ``--plots``. An option given as an empty string is kept, so that it is refused, not ignored.
+    ``--plots`` (``--fields`` writes ``r<r>-p<i>.npz``). An option given as an empty string is kept, so that it is
+    refused, not ignored.
     """
     out: list[Output] = []
     for attr in files:
@@ -211,7 +216,7 @@ def outputs(args: argparse.Namespace, figure_names: Iterable[str] = (), files: I
     for attr in folders:
         folder = getattr(args, attr, None)
         if folder is not None:
-            out.append(Output(folder, _option(attr), folder=True))
+            out.append(Output(folder, _option(attr), folder=True, replaces=_FOLDER_FILES.get(attr, "")))
             if attr == "plots" and folder:
                 out += [Output(str(Path(folder) / n), "--plots") for n in figure_names]
     return out

@@ -36,8 +36,6 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     names = tuple(dict.fromkeys(SIMULATION_FIGURE_NAMES + BAND_SIMULATION_FIGURE_NAMES + SIMULATION_GAS_FIGURE_NAMES
                                 + CONVERGENCE_FIGURE_NAMES))
     check_outputs(outputs(args, names, folders=("plots", "fields")), args.force, inputs=inputs(args))
-    if args.fields:
-        _check_fields_folder(Path(args.fields), args.force)
     cases = load(args)
     if len(cases) != 1:
         raise SealeakError("simulate takes a case without [study] (one surface)")
@@ -224,17 +222,6 @@ def _progress_line(event: TaskEvent) -> None:
 
 def _note(message: str) -> None:
     sys.stderr.write(f"note: {message}\n")
-
-
-def _check_fields_folder(folder: Path, force: bool) -> None:
-    """Refuse up front a ``--fields`` folder that cannot be one, or that holds field files without ``--force``."""
-    existing = next(d for d in (folder, *folder.parents, Path(".")) if d.exists())
-    if not existing.is_dir():
-        what = "is a file" if existing == folder else f"is inside {existing}, which is a file"
-        raise InputError("--fields", str(folder), f"{what}, not a folder: give a folder for the field files "
-                                                  "(it is created if missing)")
-    if existing == folder and any(folder.glob("r*-p*.npz")) and not force:
-        raise SealeakError(f"{folder} already holds field files; pass --force to overwrite, or choose another folder")
 
 
 def register(sub: argparse._SubParsersAction, add_case_args: Callable[[argparse.ArgumentParser], None]) -> None:

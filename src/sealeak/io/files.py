@@ -90,12 +90,15 @@ class Output:
     """One output of a command, for :func:`check_outputs`.
 
     ``path`` as the user gave it; ``option`` names it in messages (``"--json"``); ``folder`` marks a
-    folder the command writes files into (``--plots``, ``--fields``), as opposed to a file.
+    folder the command writes files into (``--plots``, ``--fields``), as opposed to a file; ``replaces`` (a glob
+    pattern) the files in that folder the command would replace when their names are not known up front
+    (``--fields``: ``r*-p*.npz``).
     """
 
     path: str | Path
     option: str = ""
     folder: bool = False
+    replaces: str = ""
 
     def name(self) -> str:
         """``--json y.json``, or the bare path when no option is known."""
@@ -116,7 +119,8 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
     the data it was computed from); a path that exists and is not a regular file (a folder, a
     symbolic link, a device such as ``/dev/null``, a named pipe, a socket: see
     :func:`check_replaceable`); a path below a file, or in a folder the user may not write into.
-    Refused without ``force``: a path that exists as a regular file.
+    Refused without ``force``: a path that exists as a regular file, and an output folder that holds files its
+    ``replaces`` pattern matches.
 
     The path ``-`` (:data:`STDOUT`) of one file output means standard output: it is not a file and is
     not checked; two outputs to ``-``, or an output folder ``-``, are refused.
@@ -141,6 +145,8 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
             if problem:  # named as simulate names its folders: "--plots = 'afile': exists and is not a folder ..."
                 raise OutputExistsError(f"{o.option} = {show_value(str(o.path))}: {problem}" if o.option
                                         else f"{o.path}: {problem}")
+            if o.replaces and Path(o.path).is_dir():
+                existing += sorted(str(p) for p in Path(o.path).glob(o.replaces))
             continue
         _check_folder(Path(o.path), o.name())  # named with the option: "cannot write --json y/x.json: y is not a folder"
         if check_replaceable(o.path, o.name()):  # "--json y.json is a folder ..."
