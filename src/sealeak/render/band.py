@@ -535,7 +535,7 @@ def figure_band_leak_rate(results: Sequence[CaseResult], limit: tuple[float, str
         plotstyle.finish_axes(ax)
         return fig
     plotstyle.draw_series(ax, series, logy=True)
-    if where := plotstyle.draw_limit(ax, limit, plotstyle.PA_M3_PER_MBAR_L if gas else 1.0):
+    if where := plotstyle.draw_limit(ax, plotstyle.limit_in_axis_unit(limit, gas)):
         notes.append(where)
     handles, labels = ax.get_legend_handles_labels()
     for s, _ in solid:  # a theory without a drawn point still names its colour (its × and dashed curve)

@@ -57,6 +57,7 @@ from .plotstyle import (
     gas_series,
     invalid_note,
     laid_out,
+    limit_in_axis_unit,
     log_axis,
     merge_identical,
     ml_per_min_axis,
@@ -423,8 +424,8 @@ def figure_gas_leak_rate(results: Sequence[CaseResult], log: bool, limit: tuple[
         finish_axes(ax)
         return fig
     qscale, qunit = (1.0, "mbar·l/s") if logy else power_unit(peaks, "mbar·l/s")
-    in_mbar_l_s = None if limit is None else (limit[0] / PA_M3_PER_MBAR_L, limit[1])  # (a gas's limit is in Pa·m³/s)
-    _finish_leak_rate(ax, results, series, notes, qscale, f"{GAS_LEAK_LABEL} ({qunit})", log, logy, pa_m3_axis, in_mbar_l_s)
+    _finish_leak_rate(ax, results, series, notes, qscale, f"{GAS_LEAK_LABEL} ({qunit})", log, logy, pa_m3_axis,
+                      limit_in_axis_unit(limit, gas=True))
     return fig
 
 

@@ -22,7 +22,7 @@ from ..cases import CaseResult
 from ..cases.life import life_variant, time_text, time_unit
 from ..cases.model import STANDARD_TEMPERATURE_CASE
 from ..cases.uncertainty import UncertaintyResult, record_values
-from ..io.leak_units import PA_M3_PER_MBAR_L, celsius
+from ..io.leak_units import celsius
 from .plotstyle import (
     GAS_LEAK_LABEL,
     STYLE,
@@ -32,6 +32,7 @@ from .plotstyle import (
     finish_axes,
     invalid_note,
     laid_out,
+    limit_in_axis_unit,
     limit_line,
     ml_per_min_axis,
     pa_m3_axis,
@@ -148,8 +149,7 @@ def life_figures(results: Sequence[CaseResult], limit: tuple[float, str] | None 
     call for (none without life cases); ``limit``: ``conditions.max_leak_rate`` (m³/s, or Pa·m³/s for a gas; as
     written), drawn as a line (:func:`volume_limit`)."""
     times, temps, q, valid, loads, gas = _grid(results)
-    if gas and limit is not None:  # drawn in the figure's mbar·l/s
-        limit = (limit[0] / PA_M3_PER_MBAR_L, limit[1])
+    limit = limit_in_axis_unit(limit, gas)  # drawn in the figure's mbar·l/s for a gas
     out: dict[str, Figure] = {}
     if times.size > 1:
         out["leak_rate_vs_time.png"] = figure_leak_rate_vs_time(times, temps, q, valid, loads, limit, gas)

@@ -30,7 +30,7 @@ __all__ = ["pressure_axis", "sweep_axis", "new_figure", "subtitle", "place_legen
            "ml_per_min_axis", "say_nothing", "Series", "draw_series", "color", "ML_PER_MIN_PER_M3_PER_S", "laid_out",
            "literal_text", "LITERAL_TEXT", "wrap_phrases",
            "invalid_note", "draw_limit", "limit_line",
-           "merge_identical", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "GAS_LEAK_LABEL",
+           "merge_identical", "series_peaks", "STYLE", "second_leak_axis", "pa_m3_axis", "PA_M3_PER_MBAR_L", "limit_in_axis_unit", "GAS_LEAK_LABEL",
            "gas_conditions_text", "gas_regime_text", "gas_series"]
 
 P = ParamSpec("P")
@@ -444,6 +444,14 @@ def merge_identical(curves: Sequence[Sequence[Any]], names: Sequence[str]) -> li
 
 #: Decades a log leak-rate axis is widened upwards, at most, to show ``conditions.max_leak_rate`` (:func:`draw_limit`).
 LIMIT_DECADES = 3.0
+
+
+def limit_in_axis_unit(limit: tuple[float, str] | None, gas: bool) -> tuple[float, str] | None:
+    """``conditions.max_leak_rate`` as :func:`~sealeak.render.life.volume_limit` gives it (m³/s, a gas's Pa·m³/s; and as
+    written) in the unit of a leak-rate figure's axis: m³/s, or mbar·l/s for a gas."""
+    if limit is None or not gas:
+        return limit
+    return limit[0] / PA_M3_PER_MBAR_L, limit[1]
 
 
 def draw_limit(ax: Axes, limit: tuple[float, str] | None, scale: float = 1.0) -> str:
