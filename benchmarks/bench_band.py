@@ -88,7 +88,8 @@ def main() -> None:
         counts["em"] += np.size(k["squeeze_pressure"])
         return em(*a, **k)
 
-    band_module.critical_junction, tables_module.effective_medium = count_cj, count_em
+    band_module.critical_junction = tables_module.critical_junction = count_cj
+    tables_module.effective_medium = count_em
     runs = (("critical-junction", "ignored"), ("both", "ignored"), ("critical-junction", "coupled"), ("both", "coupled"))
     for model, fluid_pressure in runs:
         case = sweep_case(model, fluid_pressure)
@@ -103,7 +104,8 @@ def main() -> None:
         print(f"{model:18s} fluid pressure {fluid_pressure:8s} 50 loads: {best:.2f} s (CPU {cpu:.2f} s)  "
               f"(critical-junction pressures {counts['cj']}, effective-medium pressures {counts['em']}; σ evaluations per load {nodes.min()}-{nodes.max()}; "
               f"largest estimated relative error {np.nanmax(res.critical_junction.change):.1e})")
-    band_module.critical_junction, tables_module.effective_medium = cj, em
+    band_module.critical_junction = tables_module.critical_junction = cj
+    tables_module.effective_medium = em
     if not args.skip_example:
         example_and_web_update()
 

@@ -11,11 +11,11 @@ import sealeak.cases.uncertainty as unc
 from sealeak.cases import example_text
 from sealeak.cases.band import ScaledJunctions, _junction_at_peak, junction_sigma, run_band, scaled_junctions
 from sealeak.cases.loader import parse_case_file
-from sealeak.cases.scaling import SCALING_TABLE_TOP, _percolation_limit, sigma_table
+from sealeak.cases.scaling import SCALING_TABLE_TOP, sigma_table
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
 from sealeak.physics.contact import PerssonContact
 from sealeak.physics.coupling import effective_pressure_integral
-from sealeak.physics.critical_junction import critical_junction
+from sealeak.physics.critical_junction import critical_junction, percolation_limit
 from sealeak.physics.effective_medium import effective_medium
 from sealeak.physics.spectrum import PowerSpectrum
 from tests.casefiles import BASE, ORING
@@ -91,7 +91,7 @@ def test_sigma_table_error_bound():
         calls.append(p.size)
         return exact(p)
     table = sigma_table(contact, counted, 1e4, 1e7, case.percolation_threshold)
-    top = SCALING_TABLE_TOP * _percolation_limit(contact, case.percolation_threshold, 1e7)
+    top = SCALING_TABLE_TOP * percolation_limit(contact, case.percolation_threshold)
     p = np.exp(np.random.default_rng(1).uniform(np.log(1e4), np.log(top), 3000))
     built = len(calls)
     got = table(p)
@@ -235,7 +235,7 @@ def test_a_band_samples_peak_junction_closed_at_the_end_of_the_roughness_is_zero
     percolate."""
     case = parse_case_file(ORING).cases[0]
     contact = PerssonContact(case.spectrum, case.e_star, 3000.0, case.gamma)
-    limit = _percolation_limit(contact, case.percolation_threshold, 1e9)
+    limit = percolation_limit(contact, case.percolation_threshold)
     closed = lambda p: np.zeros_like(p)  # noqa: E731
     with scaled_junctions(ScaledJunctions({contact.q0: closed}, 1.0, 1.0)):
         uc, lc = _junction_at_peak(case, contact, 0.5 * limit, closed)

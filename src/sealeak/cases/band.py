@@ -38,13 +38,16 @@ from ..physics.critical_junction import critical_junction
 from ..physics.effective_medium import bruggeman_threshold
 from ..physics.profile import RTOL, BandIntegral, PressureProfile, resistance_band, series_resistance
 from .band_tables import (
+    JUNCTION_RTOL,
     TABLE_FLOOR,
     TABLE_POINTS,
     TABLE_RTOL,
+    JunctionSurface,
     SigmaTable,
     SweepSurface,
     effective_medium_exact,
     effective_medium_sigma_table,
+    junction_exact,
     persson_contact,
 )
 from .model import BandSeal, Case
@@ -58,6 +61,11 @@ FloatArray = NDArray[np.float64]
 
 #: A sweep of this many loads or more shares one σ_eff surface (:class:`~sealeak.cases.band_tables.SweepSurface`).
 SURFACE_MIN_LOADS = 5
+#: ... and from this many loads on one critical-junction surface (:class:`~sealeak.cases.band_tables.JunctionSurface`):
+#: its 2 300–4 600 exact values cost what some ten loads' own calls of the junction do (the `o-ring` example's 9 loads take
+#: as long either way; 50 loads a quarter less with it), and a band evaluated again (a web update of ΔP or η) reads kept
+#: exact values faster than it interpolates the surface's 513 points.
+JUNCTION_SURFACE_MIN_LOADS = 16
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -227,17 +235,16 @@ def scaled_junctions(scaled: ScaledJunctions) -> Iterator[None]:
         _SCALED_JUNCTIONS.reset(token)
 
 
-def junction_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+def junction_sigma(case: Case, contact: PerssonContact, surface: JunctionSurface | None = None,
+                   ) -> Callable[[FloatArray], FloatArray]:
     """σ(p) = α u_c³/(12η) (m³/(Pa·s)), 0 where the non-contact area does not percolate; from the nominal contact's
-    table where :func:`scaled_junctions` gives one for this contact's q0 (exact where the table does not reach)."""
-    def exact(p: FloatArray) -> FloatArray:
-        res = critical_junction(contact, squeeze_pressure=p, pressure_difference=1.0, viscosity=case.fluid.viscosity,
-                                aspect_ratio=1.0, alpha=case.alpha, percolation_threshold=case.percolation_threshold)
-        return np.where(res.percolates, res.leak_rate, 0.0)
+    table where :func:`scaled_junctions` gives one for this contact's q0, else from a sweep's ``surface`` where given
+    (exact where the table or surface does not reach)."""
+    exact = junction_exact(case, contact)
     scaled = _SCALED_JUNCTIONS.get()
     table = scaled.tables.get(contact.q0) if scaled is not None else None
     if scaled is None or table is None:
-        return exact
+        return exact if surface is None else surface.for_load(case, contact)
     factor = case.alpha / case.fluid.viscosity * scaled.length**3
     stretch = scaled.modulus * scaled.length
 
@@ -252,14 +259,15 @@ def junction_sigma(case: Case, contact: PerssonContact) -> Callable[[FloatArray]
 
 
 def _junction_at_peak(case: Case, contact: PerssonContact, p_max: float,
-                      sigma: Callable[[FloatArray], FloatArray]) -> tuple[float, float]:
+                      sigma: Callable[[FloatArray], FloatArray], surface: JunctionSurface | None = None,
+                      ) -> tuple[float, float]:
     """(u_c, λc) (m, m) of the critical junction at a band's peak pressure ``p_max`` (Pa), NaN where it does not
     percolate. Where :func:`scaled_junctions` tabulates this contact's σ (an uncertainty sample: a new contact, whose
-    exact junction at one pressure costs ~1 ms), from the band's own ``sigma`` (:func:`junction_sigma`): u_c =
-    (12 η σ(p_max)/α)^(1/3) (docs/theory.md eq. 3.5, within the table's tolerance) and λc = 2π/(ζc q0), ζc in closed form
-    (eq. 3.3); otherwise the critical junction itself."""
+    exact junction at one pressure costs ~1 ms), or a sweep's ``surface`` reaches ``p_max``, from the band's own
+    ``sigma`` (:func:`junction_sigma`): u_c = (12 η σ(p_max)/α)^(1/3) (docs/theory.md eq. 3.5, within the table's
+    tolerance) and λc = 2π/(ζc q0), ζc in closed form (eq. 3.3); otherwise the critical junction itself."""
     scaled = _SCALED_JUNCTIONS.get()
-    if scaled is not None and contact.q0 in scaled.tables:
+    if (scaled is not None and contact.q0 in scaled.tables) or (surface is not None and surface.low <= p_max <= surface.high):
         zeta_c, percolates = contact.zeta_at_area(1.0 - case.percolation_threshold, np.array([p_max]))
         if not percolates[0]:
             return np.nan, np.nan
@@ -383,10 +391,10 @@ def _load_error(band: BandSeal, i: int, profile: PressureProfile, exc: InputErro
                                     + exc.allowed.replace("a larger squeeze pressure (Pa)", f"a larger {band.load_name}"))
 
 
-def _surface(case: Case, band: BandSeal) -> SweepSurface | None:
-    """The σ_eff surface of a sweep of at least :data:`SURFACE_MIN_LOADS` loads over every pressure its tables ask for
-    (down to :data:`LIFT_OFF_FLOOR` × the lowest mean pressure with the fluid pressure coupled, else
-    :data:`TABLE_FLOOR` × the lowest peak), or None."""
+def _sweep_range(case: Case, band: BandSeal) -> tuple[float, float] | None:
+    """The pressures (Pa) a sweep of at least :data:`SURFACE_MIN_LOADS` loads asks its surfaces for: down to
+    :data:`LIFT_OFF_FLOOR` × the lowest mean pressure with the fluid pressure coupled, else :data:`TABLE_FLOOR` × the
+    lowest peak, up to the highest peak; None for fewer loads."""
     if band.loads.size < SURFACE_MIN_LOADS:
         return None
     profiles = band.profiles
@@ -394,8 +402,29 @@ def _surface(case: Case, band: BandSeal) -> SweepSurface | None:
            else TABLE_FLOOR * min(p.max_pressure for p in profiles))
     if not (np.isfinite(low) and low > 0):
         return None
+    return low, max(p.max_pressure for p in profiles)
+
+
+def _surface(case: Case, band: BandSeal) -> SweepSurface | None:
+    """The σ_eff surface of a sweep over the pressures of :func:`_sweep_range`, or None."""
+    span = _sweep_range(case, band)
+    if span is None:
+        return None
     try:
-        return SweepSurface.build(case, np.asarray(band.q0, dtype=float), low, max(p.max_pressure for p in profiles))
+        return SweepSurface.build(case, np.asarray(band.q0, dtype=float), *span)
+    except InputError:  # a pressure the theory cannot use: the load that gives it says so below, exactly
+        return None
+
+
+def _junction_surface(case: Case, band: BandSeal) -> JunctionSurface | None:
+    """The critical junction's surface of a sweep of at least :data:`JUNCTION_SURFACE_MIN_LOADS` loads over the
+    pressures of :func:`_sweep_range`, or None (also where :func:`scaled_junctions` gives the loads' tables: an
+    uncertainty sample)."""
+    span = _sweep_range(case, band)
+    if span is None or band.loads.size < JUNCTION_SURFACE_MIN_LOADS or _SCALED_JUNCTIONS.get() is not None:
+        return None
+    try:
+        return JunctionSurface.build(case, np.asarray(band.q0, dtype=float), *span)
     except InputError:  # a pressure the theory cannot use: the load that gives it says so below, exactly
         return None
 
@@ -422,21 +451,22 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
     unit = replace(case, fluid=replace(case.fluid, viscosity=1.0))
     with case_keys():
         surface = _surface(unit, band) if want_em else None  # at η = 1 Pa·s too: the same bits for every fluid
+        junctions = _junction_surface(case, band)
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
             try:
                 contact = persson_contact(case, float(q0))
                 em_unit_exact = surface.for_load(contact) if surface is not None else None
                 em_exact = effective_medium_exact(case, contact) if em_unit_exact is None else _scaled(em_unit_exact, 1.0 / eta)
-                sigma = junction_sigma(case, contact)
+                sigma = junction_sigma(case, contact, junctions)
                 g = series_resistance(profile, sigma)
                 cj_int.append(g)
-                cj_change.append(g.change)
+                cj_change.append(g.change if junctions is None else max(g.change, JUNCTION_RTOL))
                 cj_ok.append(g.converged)
                 cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
                 if case.coupled:  # a band sealed at its peak stays sealed (coupled_band_flow's answer, without its table)
                     cj_flow.append(CoupledBand(0.0, dp >= profile.max_pressure, True, 0) if g.sealed
-                                   else _per_viscosity(coupled_band_flow(profile, junction_sigma(unit, contact), dp), eta))
-                uc, lc = _junction_at_peak(case, contact, profile.max_pressure, sigma)
+                                   else _per_viscosity(coupled_band_flow(profile, junction_sigma(unit, contact, junctions), dp), eta))
+                uc, lc = _junction_at_peak(case, contact, profile.max_pressure, sigma, junctions)
                 uc_max.append(uc)
                 lc_max.append(lc)
                 if want_em:

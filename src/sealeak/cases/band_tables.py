@@ -1,10 +1,11 @@
-"""The σ(p) tables of a band seal's effective medium (docs/theory.md §10.1): Chebyshev tables in ln p and the surface a
-sweep's loads share.
+"""The σ(p) tables of a band seal (docs/theory.md §10.1): Chebyshev tables in ln p and the surfaces a sweep's loads share.
 
 The effective medium costs ~5 ms per pressure (its P(u)), so a band takes σ_eff(p) from a table of ln σ against ln p
 through exact values at Chebyshev–Lobatto points (:class:`SigmaTable`, :func:`effective_medium_sigma_table`), and
 the loads of a sweep, each with its own q0, from one surface interpolated in ln q0 as well (:class:`SweepSurface`).
-Exact values are kept by contact, viscosity and list of pressures (:func:`effective_medium_exact`).
+Exact values are kept by contact, viscosity and list of pressures (:func:`effective_medium_exact`). The critical
+junction costs little per pressure but ~1 ms per call, and a band calls it some ten times (its quadrature's rounds, the
+coupled band's table, the peak): a sweep's loads take its u_c from one surface too (:class:`JunctionSurface`).
 """
 
 from __future__ import annotations
@@ -17,12 +18,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..physics.contact import PerssonContact
+from ..physics.critical_junction import critical_junction, percolation_limit
 from ..physics.effective_medium import bruggeman_threshold, effective_medium
 from ..physics.gaps import CONDUCTIVITY_QUADRATURE, ArrayCache, contact_key
 from .model import Case
 
-__all__ = ["SigmaTable", "SweepSurface", "chebyshev_lobatto_interpolate", "effective_medium_exact",
-           "effective_medium_sigma_table", "lobatto_points", "persson_contact", "piecewise"]
+__all__ = ["SigmaTable", "SweepSurface", "JunctionSurface", "chebyshev_lobatto_interpolate", "effective_medium_exact",
+           "effective_medium_sigma_table", "junction_exact", "lobatto_points", "persson_contact", "piecewise"]
 
 FloatArray = NDArray[np.float64]
 
@@ -45,7 +47,21 @@ SURFACE_Q0_POINTS = (5, 9)
 SURFACE_TOP = 0.95
 THRESHOLD_EXPONENT = 3.0
 
+#: The critical junction's u_c(p; q0) surface a sweep's loads share (:class:`JunctionSurface`): its relative error in
+#: σ = α u_c³/(12η) against the exact junction, checked off its points as it is built; its Chebyshev points in ln p
+#: (first, most) and in ln q0 (first, most); its top as a fraction of the lowest percolation limit of the loads (towards
+#: the limit u_c falls to 0 faster than any power, and the exact junction is taken above it).
+JUNCTION_RTOL = 1e-7
+JUNCTION_P_POINTS = (129, 1025)
+JUNCTION_Q0_POINTS = (5, 17)
+JUNCTION_TOP = 0.97
+
+#: Bytes of built junction surfaces kept (by contact, threshold, the loads' q0 and the range; ~40 kB each): a web update
+#: of ΔP, η or α builds the surface of the same loads again.
+KEPT_JUNCTION_SURFACE_BYTES = 4 * 2**20
+
 _EM_SIGMA = ArrayCache(lambda: KEPT_SIGMA_BYTES)
+_JUNCTION_SURFACES = ArrayCache(lambda: KEPT_JUNCTION_SURFACE_BYTES)
 _INTERPOLATE_ROWS = 512  # points per block of chebyshev_lobatto_interpolate: 512 × 129 terms, ~0.5 MB an array
 
 
@@ -71,6 +87,15 @@ def effective_medium_exact(case: Case, contact: PerssonContact) -> Callable[[Flo
                                    gap_quadrature=CONDUCTIVITY_QUADRATURE)
             kept = _EM_SIGMA.put(digest, (np.where(res.percolates, res.leak_rate, 0.0),))
         return kept[0].copy()
+    return sigma
+
+
+def junction_exact(case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+    """σ(p) = α u_c³/(12η) (m³/(Pa·s)) of the critical junction, 0 where it does not percolate (docs/theory.md eq. 3.5)."""
+    def sigma(p: FloatArray) -> FloatArray:
+        res = critical_junction(contact, squeeze_pressure=p, pressure_difference=1.0, viscosity=case.fluid.viscosity,
+                                aspect_ratio=1.0, alpha=case.alpha, percolation_threshold=case.percolation_threshold)
+        return np.where(res.percolates, res.leak_rate, 0.0)
     return sigma
 
 
@@ -359,8 +384,7 @@ class SweepSurface:
         """σ_eff(p) of the load with ``contact`` (its q0) inside [low, high]: the interpolation in ln q0 is linear in the values,
         so ln r = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
         into one before ln p is interpolated, once per size of table; ln σ = ln r + 3 ln(1 − p/p_c(q0))."""
-        weights = [1.0] if self.nodes.size == 1 else [
-            float(chebyshev_lobatto_interpolate(self.nodes, e, np.full(1, math.log(contact.q0)))[0]) for e in np.eye(self.nodes.size)]
+        weights = lobatto_weights(self.nodes, math.log(contact.q0)).tolist()
         combined: dict[int, tuple[FloatArray, FloatArray]] = {}
         if self.base is not None:
             combined[self.base.s.size] = (self.base.s, self.base.log_values)
@@ -388,6 +412,106 @@ class SweepSurface:
         return sigma
 
 
+class JunctionSurface:
+    """ln u_c(p; q0) (u_c in m) of the critical junction, shared by the loads of a sweep: interpolated in ln q0 and in
+    ln p (barycentric, Chebyshev–Lobatto points over the loads' q0 and over [``low``, ``high``] Pa), from exact values
+    computed all at once (one call of the junction per q0 point, where a band without it calls the junction some ten
+    times, ~1 ms a call).
+
+    u_c(p) is smooth in ln p except where ζc crosses a node of the spectrum (the roll-off), where a higher derivative
+    jumps: Chebyshev points converge there algebraically, 8–36 times per doubling. The points in ln p are doubled until
+    the table agrees with the exact u_c at the middle q0 point, at middles of its intervals
+    (:func:`_checked_points`), within :data:`JUNCTION_RTOL`/2 in σ ∝ u_c³; the q0 points until the surface agrees with
+    the exact u_c of the load farthest from them, at points of the table, within :data:`JUNCTION_RTOL`/2. ``high`` stays
+    a factor :data:`JUNCTION_TOP` below every load's percolation limit (closed form,
+    :func:`~sealeak.physics.critical_junction.percolation_limit`), where u_c falls to 0 faster than any power; pressures
+    outside [``low``, ``high``] take the exact junction. :meth:`build` returns None where the surface does not reach its
+    tolerance within :data:`JUNCTION_P_POINTS` and :data:`JUNCTION_Q0_POINTS`, or the junction does not percolate
+    everywhere in range. The surface does not depend on α or η.
+    """
+
+    def __init__(self, nodes: FloatArray, s: FloatArray, values: FloatArray, low: float, high: float) -> None:
+        """``values``: ln u_c at (ln q0 ``nodes``) × (ln p points ``s``)."""
+        self.nodes, self.s, self.values, self.low, self.high = nodes, s, values, low, high
+
+    @classmethod
+    def build(cls, case: Case, q0: FloatArray, low: float, high: float) -> JunctionSurface | None:
+        """The surface over the loads' ``q0`` (1/m) and pressures [``low``, ``high``] (Pa), or None; kept
+        (:data:`KEPT_JUNCTION_SURFACE_BYTES`) by everything it depends on."""
+        q0 = np.unique(np.asarray(q0, dtype=float))
+        key = (contact_key(persson_contact(case, float(q0[0])), case.percolation_threshold, low, high),
+               hashlib.blake2b(q0.tobytes(), digest_size=16).digest())
+        kept = _JUNCTION_SURFACES.get(key)
+        if kept is None:
+            built = cls._build(case, q0, low, high)
+            kept = _JUNCTION_SURFACES.put(key, () if built is None else
+                                          (built.nodes, built.s, built.values, np.array([built.low, built.high])))
+        return cls(kept[0], kept[1], kept[2], float(kept[3][0]), float(kept[3][1])) if kept else None
+
+    @classmethod
+    def _build(cls, case: Case, q0: FloatArray, low: float, high: float) -> JunctionSurface | None:
+        """:meth:`build` computed, over the sorted unique ``q0``."""
+        limit = min(percolation_limit(persson_contact(case, float(q)), case.percolation_threshold) for q in q0)
+        high = min(high, JUNCTION_TOP * limit)
+        if not high > low:
+            return None
+        m = np.log(q0)
+        nq, n = (1 if q0.size == 1 else JUNCTION_Q0_POINTS[0]), JUNCTION_P_POINTS[0]
+        while True:
+            nodes = np.array([float(m[0])]) if nq == 1 else lobatto_points(float(m[0]), float(m[-1]), nq)
+            s = lobatto_points(math.log(low), math.log(high), n)
+            rows = [cls._log_gap(case, SweepSurface._q0_at(node, q0, m), s) for node in nodes.tolist()]
+            if any(row is None for row in rows):
+                return None
+            surface = cls(nodes, s, np.array(rows), low, high)
+            middle = nodes.size // 2
+            between = ((s[1:] + s[:-1]) / 2.0)[_checked_points(n - 1)]
+            exact = cls._log_gap(case, SweepSurface._q0_at(float(nodes[middle]), q0, m), between)
+            if exact is None:
+                return None
+            p_good = bool(np.all(3.0 * np.abs(chebyshev_lobatto_interpolate(s, surface.values[middle], between) - exact)
+                                 < 0.5 * JUNCTION_RTOL))
+            far = int(np.argmax(np.min(np.abs(m[:, None] - nodes[None, :]), axis=1)))
+            q_good = True
+            if nq > 1 and np.min(np.abs(m[far] - nodes)) > 0:
+                at = s[::max(1, (n - 1) // 32)]
+                exact = cls._log_gap(case, float(q0[far]), at)
+                q_good = exact is not None and bool(np.all(
+                    3.0 * np.abs(lobatto_weights(nodes, float(m[far])) @ surface.values[:, ::max(1, (n - 1) // 32)] - exact)
+                    < 0.5 * JUNCTION_RTOL))
+            if p_good and q_good:
+                return surface
+            if (not p_good and 2 * n - 1 > JUNCTION_P_POINTS[1]) or (not q_good and 2 * nq - 1 > JUNCTION_Q0_POINTS[1]):
+                return None
+            n, nq = (n if p_good else 2 * n - 1), (nq if q_good else 2 * nq - 1)
+
+    @staticmethod
+    def _log_gap(case: Case, q0: float, s: FloatArray) -> FloatArray | None:
+        """ln u_c (u_c in m) of the contact at ``q0`` (1/m) at the pressures e^``s`` (Pa), or None where it does not
+        percolate (or u_c = 0) at one of them."""
+        res = critical_junction(persson_contact(case, q0), squeeze_pressure=np.exp(s), pressure_difference=1.0,
+                                viscosity=1.0, aspect_ratio=1.0, percolation_threshold=case.percolation_threshold)
+        gap = res.critical_gap
+        if not (res.percolates.all() and np.all(np.isfinite(gap) & (gap > 0))):
+            return None
+        return np.log(gap)
+
+    def for_load(self, case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
+        """σ(p) = α u_c³/(12η) (m³/(Pa·s)) of one load's contact with the case's α and η: the surface inside
+        [low, high], the exact junction outside (:func:`junction_exact`)."""
+        row = lobatto_weights(self.nodes, math.log(contact.q0)) @ self.values
+        factor = case.alpha / (12.0 * case.fluid.viscosity)
+        exact = junction_exact(case, contact)
+
+        def surface(p: FloatArray) -> FloatArray:
+            return factor * np.exp(3.0 * chebyshev_lobatto_interpolate(self.s, row, np.log(p)))
+
+        def sigma(p: FloatArray) -> FloatArray:
+            p = np.asarray(p, dtype=float)
+            return piecewise(p, (p >= self.low) & (p <= self.high), surface, exact)
+        return sigma
+
+
 def _vanishing(p: FloatArray, threshold: float) -> FloatArray:
     """3 ln(1 − p/p_c): the logarithm of the factor with which σ_eff vanishes at its threshold p_c (Pa; docs/theory.md
     eq. 5.5), which the tables of ln σ leave out (:class:`SigmaTable`, :class:`SweepSurface`)."""
@@ -396,7 +520,8 @@ def _vanishing(p: FloatArray, threshold: float) -> FloatArray:
 
 def _checked_points(n: int) -> NDArray[np.bool_]:
     """Which of ``n`` middles of a table's intervals a check evaluates: all of up to 15, every other one of 16 to 31,
-    every fourth from 32 on, and always the last (:meth:`SigmaTable.checked`, :meth:`SweepSurface._difference`)."""
+    every fourth from 32 on, and always the last (:meth:`SigmaTable.checked`, :meth:`SweepSurface._difference`,
+    :meth:`JunctionSurface.build`)."""
     pick = np.zeros(n, dtype=bool)
     pick[::min(4, max(1, n // 8))] = True
     pick[-1] = True
@@ -413,6 +538,21 @@ def piecewise(p: FloatArray, first: NDArray[np.bool_], f: Callable[[FloatArray],
     if not first.all():
         out[~first] = g(p[~first])
     return out
+
+
+def lobatto_weights(nodes: FloatArray, x: float) -> FloatArray:
+    """The weights l_k(x) with which the polynomial through values f_k at the Chebyshev–Lobatto ``nodes`` is
+    Σ l_k f_k at ``x`` (:func:`chebyshev_lobatto_interpolate`'s barycentric formula; 1 at a node, they sum to 1)."""
+    if nodes.size == 1:
+        return np.ones(1)
+    d = x - nodes
+    at = np.flatnonzero(d == 0)
+    if at.size:
+        return np.eye(nodes.size)[at[0]]
+    w = (-1.0) ** np.arange(nodes.size)
+    w[[0, -1]] *= 0.5
+    c = w / d
+    return c / np.cumsum(c)[-1]
 
 
 def lobatto_points(lo: float, hi: float, n: int) -> FloatArray:

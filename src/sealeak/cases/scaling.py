@@ -22,11 +22,10 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
-from scipy.optimize import brentq
 
 from ..physics.contact import PerssonContact
 from ..physics.coupling import LIFT_OFF_FLOOR, effective_pressure_integral
-from ..physics.critical_junction import CriticalJunctionResult, critical_junction
+from ..physics.critical_junction import CriticalJunctionResult, critical_junction, percolation_limit
 from .band import junction_sigma
 from .band_tables import persson_contact, piecewise
 from .model import Case
@@ -64,7 +63,7 @@ def sigma_table(contact: PerssonContact, exact: Callable[[FloatArray], FloatArra
     ``exact`` above it (and everywhere when the spline does not meet :data:`SCALING_RTOL`). ``limit``: that limit (Pa)
     when the caller has it."""
     if limit is None:
-        limit = _percolation_limit(contact, percolation_threshold, high)
+        limit = percolation_limit(contact, percolation_threshold)
     top = min(high, top * limit)
     if not top > low:
         return exact
@@ -102,7 +101,7 @@ def band_junction_tables(case: Case, length_low: float, length_high: float,
         contact = persson_contact(case, q0)
         exact = junction_sigma(unit, contact)
         low, high = 1e-7 * profile.mean_pressure / length_high, profile.max_pressure / length_low
-        limit = _percolation_limit(contact, case.percolation_threshold, high)
+        limit = percolation_limit(contact, case.percolation_threshold)
         table = sigma_table(contact, exact, low, high, case.percolation_threshold, BAND_TABLE_TOP, limit)
         if table is exact:
             continue
@@ -135,22 +134,6 @@ def _spliced(spline: CubicSpline, top: float, exact: Callable[[FloatArray], Floa
     def sigma(p: FloatArray) -> FloatArray:
         return piecewise(p, p <= top, lambda q: np.exp(spline(np.log(q))), exact)
     return sigma
-
-
-def _percolation_limit(contact: PerssonContact, percolation_threshold: float, high: float) -> float:
-    """The squeeze pressure (Pa) where A(ζ1)/A0 reaches 1 − p_c (no leak channel above), or ∞ if above 2^40 ``high``."""
-    def excess(log_p: float) -> float:
-        return float(contact.area(contact.zeta_max, np.array([np.exp(log_p)]))[0]) - (1.0 - percolation_threshold)
-    lo, hi = np.log(high), np.log(high)
-    while excess(lo) >= 0.0:
-        lo -= 1.0
-        if lo < np.log(high) - 60.0:
-            return 0.0
-    while excess(hi) < 0.0:
-        hi += 1.0
-        if hi > np.log(high) + 28.0:
-            return float("inf")
-    return float(np.exp(brentq(excess, lo, hi, xtol=1e-12, rtol=1e-12)))
 
 
 def scaled_leak_rate(case: Case, result: CriticalJunctionResult, length: FloatArray, modulus: FloatArray,

@@ -19,10 +19,12 @@ within the resolved roughness: the theory predicts no leak channel and no number
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy import special
 
 from ..errors import InputError
 from ..io.quantities import quantity
@@ -30,7 +32,8 @@ from .contact import PerssonContact
 from .gaps import ArrayCache, contact_key
 from .validity import no_channel_note, pressures_text
 
-__all__ = ["CriticalJunctionResult", "critical_junction", "poiseuille_leak_rate", "pressure_difference_not_small"]
+__all__ = ["CriticalJunctionResult", "critical_junction", "percolation_limit", "poiseuille_leak_rate",
+           "pressure_difference_not_small"]
 
 #: E* (Pa) above which a contact modulus is taken for a mistake rather than a material (diamond's E is 1.1e12 Pa).
 STIFFEST_MODULUS = 1.2e12
@@ -139,6 +142,15 @@ def _positive_array(name: str, value: ArrayLike, allow_zero: bool = False) -> Fl
 KEPT_JUNCTIONS_BYTES = 16 * 2**20
 
 _JUNCTIONS = ArrayCache(lambda: KEPT_JUNCTIONS_BYTES)
+
+
+def percolation_limit(contact: PerssonContact, percolation_threshold: float) -> float:
+    """The squeeze pressure (Pa) above which the non-contact area no longer percolates within the resolved roughness:
+    where A(ζ1)/A0 = erf(P0/(2√G(ζ1))) reaches 1 − p_c, P0 = 2 erfinv(1 − p_c) √G(ζ1) (docs/theory.md eq. 3.3 at ζc = ζ1).
+    Below it u_c > 0; towards it ζc runs to ζ1 and u_c falls to 0 faster than any power."""
+    if not 0.0 < percolation_threshold < 1.0:
+        raise InputError("percolation_threshold", percolation_threshold, "must lie in (0, 1)")
+    return 2.0 * float(special.erfinv(1.0 - percolation_threshold)) * math.sqrt(float(contact.G(contact.zeta_max)))
 
 
 def _junctions(contact: PerssonContact, threshold: float, p0: FloatArray,
