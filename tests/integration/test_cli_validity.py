@@ -136,3 +136,13 @@ def test_pressure_difference_beyond_lift_off_opens_the_seal(tmp_path):
     assert [r["lift_off_pressure_difference"] for r in rows] == [r["squeeze_pressure"] for r in rows]
     assert [r["valid"] for r in rows] == [False, True, True]
     assert "opens the seal" in rows[0]["validity"]
+
+
+def test_a_row_beyond_lift_off_is_explained_under_the_table(tmp_path, capsys):
+    """The row the fluid pressure opens (valid = NO) gets its note under the table, one line naming its pressure, as
+    every other invalid row does (with the fluid pressure ignored, the theory's own note says it)."""
+    path = _write(tmp_path, edit('pressure_difference = "10 kPa"', 'pressure_difference = "45 kPa"'))
+    assert main(["predict", str(path)]) == 0
+    out = capsys.readouterr().out
+    (line,) = [ln for ln in out.splitlines() if "lift-off" in ln]
+    assert line.startswith("note: critical junction, P0 = 20 kPa: valid = NO") and "opens the seal" in line

@@ -87,6 +87,44 @@ def test_passing_load_lies_between_the_rows_it_separates():
     assert "place it roughly" in line
 
 
+def test_passing_load_without_spread_is_where_the_leak_rate_reaches_the_limit():
+    """No spread: the probability of passing jumps from 0 to 1, and the passing load is where the deterministic Q
+    reaches the limit with ln Q linear between the rows (docs/theory.md eq. 14.4): for the limit Q0^(3/4) Q1^(1/4), a
+    quarter of the way from the first row to the second; not 95 % of the way, as P interpolated linearly would put it."""
+    q = run_case(parse_case_file(LEAKS).cases[0]).critical_junction.leak_rate
+    limit = float(q[0] ** 0.75 * q[1] ** 0.25)
+    text = LEAKS.replace('pressure_difference = "10 kPa"', f'pressure_difference = "10 kPa"\nmax_leak_rate = "{limit!r} m^3/s"')
+    result = propagate(parse_uncertain_case(spread(text, new='h_rms = "44 um ± 0 %"')), 8, seed=0)
+    (passing,) = result.passing_loads()
+    assert passing.between_passing_probability == (0.0, 1.0)
+    assert passing.passing_load == pytest.approx(20e3 + 0.25 * 40e3, rel=1e-9, abs=0.0)
+
+
+def test_passing_load_is_not_placed_towards_a_row_that_seals():
+    """Where at least 95 % of the samples seal at the first passing row there is no leak rate to interpolate towards:
+    no passing load, the two rows named (in the JSON and the sentence)."""
+    text = BASE.replace('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["20 kPa", "1 MPa"]')
+    nominal = run_case(parse_case_file(text).cases[0]).critical_junction
+    assert np.isfinite(nominal.leak_rate[0]) and not nominal.percolates[1]  # leaks at 20 kPa, sealed at 1 MPa
+    text = text.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1e-30 m^3/s"')
+    result = propagate(parse_uncertain_case(spread(text, new='h_rms = "44 um ± 1 %"')), 16, seed=0)
+    (passing,) = result.passing_loads()
+    assert np.isnan(passing.passing_load) and passing.between == (20e3, 1e6) and "seal" in passing.note
+    summary = json.loads(prediction_json(result.nominal, result))["uncertainty"]
+    assert summary["passing_loads"][0]["between"] == [20e3, 1e6] and summary["passing_loads"][0]["passing_load"] is None
+    (line,) = [a for a in summary["answers"] if "passes" in a]
+    assert "from somewhere between the rows at P0 = 20 kPa" in line and "P0 = 1000 kPa" in line
+
+
+def test_passing_at_the_lowest_load_says_how_many_samples_there_are_outside_the_theory():
+    """A seal that passes at its lowest load, where samples leak outside the theory (ΔP lifts the seal): the note says
+    what share, as it does between two rows."""
+    passing = unc._passing("", "squeeze_pressure", np.array([1e3, 2e3]), np.array([1.0, 1.0]), np.array([1e-9, 1e-10]),
+                           np.array([1e-6, 1e-6]), np.array([1.0, 0.5]))
+    assert np.isnan(passing.passing_load)
+    assert "already at the lowest squeeze pressure computed" in passing.note and "100 % of its samples leak outside" in passing.note
+
+
 def test_model_choice_samples_each_theory():
     """theory.model as a choice: u < 0.5 runs the critical junction, u >= 0.5 the effective medium."""
     both = run_case(parse_case_file(LEAKS.replace("alpha = 0.2", 'alpha = 0.2\nmodel = "both"')).cases[0])

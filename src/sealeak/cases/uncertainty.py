@@ -513,12 +513,14 @@ class PassingLoad:
     variant: str
     load_name: str
     passing_load: float = quantity("<load>", "the squeeze pressure (Pa) or compression (1) at which the probability of "
-                                             "passing first reaches 95 %, interpolated between rows (null: see the note)")
+                                             "passing first reaches 95 %: between the two rows it separates, where the "
+                                             "95th percentile of the leak rate reaches the limit (log-linear; null: see the note)")
     between: tuple[float, float] = quantity("<load>", "the loads of the two rows passing_load lies between: it is placed no "
-                                                      "better than they are close (null with passing_load)",
+                                                      "better than they are close (null where no two rows separate "
+                                                      "failing from passing)",
                                             default=(math.nan, math.nan))
     between_passing_probability: tuple[float, float] = quantity("1", "the probability of passing at those two rows (null "
-                                                                     "with passing_load)", default=(math.nan, math.nan))
+                                                                     "with between)", default=(math.nan, math.nan))
     note: str = ""
     #: The fraction of the samples at those two rows that leak outside the theory's validity.
     between_outside: tuple[float, float] = (0.0, 0.0)
@@ -619,38 +621,54 @@ class UncertaintyResult:
         """Per case, the load at which the probability of passing first reaches :data:`PASS_PROBABILITY` (None
         without ``conditions.max_leak_rate``)."""
         exceed = self.exceed_probability
-        if exceed is None:
+        if exceed is None or self.limit_keys is None or self.limits is None:
             return []
+        compared = np.column_stack([self.values[k][:, j] for j, k in enumerate(self.limit_keys)])
+        q95 = np.percentile(compared, 100.0 * PASS_PROBABILITY, axis=0)
         out: list[PassingLoad] = []
         rows = self.study.rows
         outside = self.outside_fraction
         for i, case in enumerate(self.study.cases):
             idx = np.array([j for j, r in enumerate(rows) if r.case == i])
-            loads = np.array([rows[j].load for j in idx])
-            order = np.argsort(loads, kind="stable")
-            out.append(_passing(case.label, rows[idx[0]].load_name, loads[order], 1.0 - exceed[idx][order],
-                                None if outside is None else outside[idx][order]))
+            idx = idx[np.argsort([rows[j].load for j in idx], kind="stable")]
+            out.append(_passing(case.label, rows[idx[0]].load_name, np.array([rows[j].load for j in idx]),
+                                1.0 - exceed[idx], q95[idx], self.limits[idx], None if outside is None else outside[idx]))
         return out
 
 
 def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: NDArray[np.float64],
-             outside: NDArray[np.float64] | None = None) -> PassingLoad:
-    """The load (ascending ``loads``) where ``p_pass`` first reaches :data:`PASS_PROBABILITY`, linear between rows;
-    ``outside``: per load the fraction of samples leaking outside the theory's validity, if known."""
+             q95: NDArray[np.float64], limits: NDArray[np.float64], outside: NDArray[np.float64] | None = None,
+             ) -> PassingLoad:
+    """The load (ascending ``loads``) where ``p_pass`` first reaches :data:`PASS_PROBABILITY` (docs/theory.md eq. 14.4):
+    between the last row below it and the first at it, where the 95th percentile of the leak rate compared (``q95``)
+    reaches its limit (``limits``), log Q95 linear in the load (not placed where the passing row's Q95 is 0: it seals
+    there); linear in ``p_pass`` where the percentiles do not bracket the limit. ``outside``: per load the fraction of samples
+    leaking outside the theory's validity, if known."""
     ok = np.flatnonzero(p_pass >= PASS_PROBABILITY)
+    name = load_name.replace("_", " ")
     if ok.size == 0:
         return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
                            note=f"the probability of passing stays below {100 * PASS_PROBABILITY:.0f} % up to the highest "
-                                f"{load_name.replace('_', ' ')} computed")
+                                f"{name} computed")
     i = int(ok[0])
     if i == 0:
+        shown = f"; {100 * outside[0]:.0f} % of its samples leak outside the theory's validity (the table's 'outside')" \
+            if outside is not None and outside[0] > 0 else ""
         return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
                            note=f"passes with at least {100 * PASS_PROBABILITY:.0f} % already at the lowest "
-                                f"{load_name.replace('_', ' ')} computed: compute lower loads to place it")
-    t = (PASS_PROBABILITY - p_pass[i - 1]) / (p_pass[i] - p_pass[i - 1])
-    return PassingLoad(variant=variant, load_name=load_name, passing_load=float(loads[i - 1] + t * (loads[i] - loads[i - 1])),
-                       between=(float(loads[i - 1]), float(loads[i])),
-                       between_passing_probability=(float(p_pass[i - 1]), float(p_pass[i])),
+                                f"{name} computed: compute lower loads to place it{shown}")
+    x0, x1, a, b, limit = float(loads[i - 1]), float(loads[i]), float(q95[i - 1]), float(q95[i]), float(limits[i])
+    if a > limit >= b and limits[i - 1] == limit and b == 0:
+        passing, note = math.nan, (f"passes with at least {100 * PASS_PROBABILITY:.0f} % somewhere between the two rows "
+                                   f"of 'between': at the higher {name} at least {100 * PASS_PROBABILITY:.0f} % of the "
+                                   "samples seal, which leaves no leak rate to interpolate towards; compute loads between "
+                                   "them to place it")
+    else:
+        f = (math.log(limit / a) / math.log(b / a) if a > limit >= b and limits[i - 1] == limit
+             else (PASS_PROBABILITY - p_pass[i - 1]) / (p_pass[i] - p_pass[i - 1]))
+        passing, note = x0 + f * (x1 - x0), ""
+    return PassingLoad(variant=variant, load_name=load_name, passing_load=passing, between=(x0, x1),
+                       between_passing_probability=(float(p_pass[i - 1]), float(p_pass[i])), note=note,
                        between_outside=(0.0, 0.0) if outside is None else (float(outside[i - 1]), float(outside[i])))
 
 

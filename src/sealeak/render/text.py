@@ -413,8 +413,12 @@ def validity_notes(result: CaseResult) -> list[str]:
                        result.validity_effective_medium))
     for name, valid, p0, gap, reasons in checks:
         small = np.array([bool(r) and "molecular" in r for r in reasons])
-        lifted = np.array([bool(r) and r.startswith("ΔP") for r in reasons])  # the theory's own note says it
+        lifted = np.array([bool(r) and r.startswith("ΔP") for r in reasons])
         thick = ~valid & ~small & ~lifted
+        if lifted.any() and result.case.coupled:  # (with the fluid pressure ignored the theory's own note says it)
+            out.append(f"{name}, {pressures_text(p0, lifted)}: valid = NO: ΔP reaches the lift-off pressure difference "
+                       "(ΔP ≥ P0): the fluid pressure opens the seal; the leak rate shown is the limit ΔP → P0, the open "
+                       "seal leaks more (theory §13.4)")
         if small.any():
             out.append(f"{name}, {pressures_text(p0, small)}: valid = NO: {gap} is below the molecular size of the "
                        f"fluid, {d}; a continuum theory of flow says nothing about a channel narrower than a molecule, "

@@ -138,12 +138,24 @@ def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
                 f"{load_text(p.load_name, hi)} ({100 * p_hi:.1f} %)")
         if _far_apart(p.load_name, lo, hi):
             line += ": rows that far apart place it roughly; compute loads between them to place it better"
-        fraction = [f for f in p.between_outside if f > 0]
-        if fraction:
-            line += (f"; {' and '.join(f'{100 * f:.0f} %' for f in fraction)} of the samples there leak outside the "
-                     "theory's validity (the table's 'outside')")
-        return line
+        return line + _outside_there(p)
+    if np.isfinite(p.between[0]):  # the higher row seals: nothing to interpolate towards
+        (lo, hi), (p_lo, p_hi) = p.between, p.between_passing_probability
+        return (f"{prefix}passes {unc.study.max_leak_rate} with {100 * PASS_PROBABILITY:.0f} % probability from somewhere "
+                f"between the rows at {load_text(p.load_name, lo)} (passes in {100 * p_lo:.1f} % of the samples) and "
+                f"{load_text(p.load_name, hi)} ({100 * p_hi:.1f} %), where at least {100 * PASS_PROBABILITY:.0f} % of the "
+                "samples seal: no leak rate to interpolate towards; compute loads between them to place it"
+                + _outside_there(p))
     return f"{prefix}{p.note}"
+
+
+def _outside_there(p: PassingLoad) -> str:
+    """"; 6 % and 53 % of the samples there leak outside the theory's validity (...)", or "" where none do."""
+    fraction = [f for f in p.between_outside if f > 0]
+    if not fraction:
+        return ""
+    return (f"; {' and '.join(f'{100 * f:.0f} %' for f in fraction)} of the samples there leak outside the theory's "
+            "validity (the table's 'outside')")
 
 
 def _far_apart(load_name: str, lo: float, hi: float) -> bool:
@@ -167,8 +179,8 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
         "passing_probability": PASS_PROBABILITY,
         "passing_loads": [{"variant": p.variant or None, "load": p.load_name,
                            "passing_load": None if not np.isfinite(p.passing_load) else p.passing_load,
-                           "between": None if not np.isfinite(p.passing_load) else list(p.between),
-                           "between_passing_probability": None if not np.isfinite(p.passing_load) else list(p.between_passing_probability),
+                           "between": None if not np.isfinite(p.between[0]) else list(p.between),
+                           "between_passing_probability": None if not np.isfinite(p.between[0]) else list(p.between_passing_probability),
                            "unit": "Pa" if p.load_name == "squeeze_pressure" else "1", "note": p.note or None}
                           for p in unc.passing_loads()],
         "answers": passing_lines(unc),
