@@ -8,13 +8,14 @@ import os
 import stat
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
 
 from sealeak.cases import example_path
 from sealeak.cli import main
-from sealeak.io.files import OutputExistsError, atomic_write, check_outputs, check_replaceable
+from sealeak.io.files import OutputExistsError, OutputWriteError, atomic_write, check_outputs, check_replaceable, write_files
 from tests.casefiles import edit
 from tests.cli_errors import one_line_error
 
@@ -283,3 +284,38 @@ def test_a_case_that_is_a_fifo_is_refused_not_read_forever(tmp_path, command):
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and str(fifo) in run.stderr, run.stderr
     assert "named pipe" in run.stderr and "Traceback" not in run.stderr
     assert [p.name for p in tmp_path.iterdir()] == ["case.toml"]
+
+
+# ------------------------------------------------------------------------------------ outputs all or none
+def test_outputs_are_written_all_or_none(tmp_path, monkeypatch):
+    """write_files: a failure on the third file (a full disk, say) leaves the first two as they were, no temporary file
+    and none of the folders it made."""
+    (tmp_path / "a.json").write_text("earlier\n")
+    real = tempfile.mkstemp
+
+    def full_disk(*args, **kwargs):
+        if kwargs.get("prefix", "").startswith(".c.png"):
+            raise OSError(28, "No space left on device")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(tempfile, "mkstemp", full_disk)
+    contents = {str(tmp_path / "a.json"): "new\n", str(tmp_path / "b.csv"): "x\n", str(tmp_path / "new" / "deep" / "c.png"): b"png"}
+    with pytest.raises(OutputWriteError, match="c.png: No space left on device"):
+        write_files(contents)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.json"] and (tmp_path / "a.json").read_text() == "earlier\n"
+    monkeypatch.setattr(tempfile, "mkstemp", real)
+    assert write_files(contents) == list(contents)
+    assert (tmp_path / "a.json").read_text() == "new\n" and (tmp_path / "new" / "deep" / "c.png").read_bytes() == b"png"
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="a folder no file can be made in: /proc")
+def test_a_figure_folder_that_fails_late_leaves_the_other_outputs_as_they_were(tmp_path, capsys):
+    """--plots in a folder that passes the up-front check (root may write anywhere, says os.access) but refuses files:
+    one line, exit 2, the --json it was to replace as it was and no --csv."""
+    old = tmp_path / "old.json"
+    old.write_text("earlier\n")
+    csv = tmp_path / "new.csv"
+    rc = main(["predict", REFERENCE, "--json", str(old), "--csv", str(csv), "--plots", "/proc/sealeak-nope/figs", "--force", "-q"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "cannot write /proc/sealeak-nope/figs/" in err
+    assert old.read_text() == "earlier\n" and not csv.exists()

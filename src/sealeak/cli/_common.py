@@ -8,6 +8,7 @@ Heavy imports (the case layer, rendering, matplotlib) stay inside the command fu
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import sys
 from collections.abc import Iterable
@@ -175,25 +176,32 @@ def say(args: argparse.Namespace, text: str) -> None:
 def emit(args: argparse.Namespace, text: str, files: dict[str, str],
          pngs: dict[str, bytes] | dict[str, Figure]) -> None:
     """The end of every command that writes results: print ``text`` (unless ``--quiet``), then write the
-    text ``files`` ({path: content}) and the figures ``pngs`` (PNG bytes, or figures that
-    :func:`~sealeak.render.save_figures` renders all before it writes one) into ``args.plots``, saying what was written.
+    text ``files`` ({path: content}) and the figures ``pngs`` (PNG bytes, or figures rendered here before any file is
+    written) into ``args.plots``, saying what was written.
 
-    Everything is rendered by the caller before this is called, so a failure while rendering
-    leaves no file behind; each file is written atomically. A file given as ``-`` goes to standard
-    output instead, and then ``text`` is not printed (standard output holds that file alone).
+    Everything is rendered before a file is written, and the files are written all or none
+    (:func:`~sealeak.io.files.write_files`): a failure leaves no new file behind and every existing one as it was. A
+    file given as ``-`` goes to standard output instead, and then ``text`` is not printed (standard output holds that
+    file alone).
     """
-    from ..io.files import STDOUT, write_output
-    from ..render import save_figures
+    from ..io.files import STDOUT, write_files
+    from ..render import render_figures
 
     if not getattr(args, "quiet", False) and STDOUT not in files:
         sys.stdout.write(text)
-    for path, content in files.items():
-        write_output(path, content)
+    rendered = render_figures({n: f for n, f in pngs.items() if not isinstance(f, bytes)})
+    plots = Path(args.plots) if pngs else Path(".")
+    contents: dict[str, str | bytes] = {path: content for path, content in files.items() if path != STDOUT}
+    contents |= {str(plots / n): f if isinstance(f, bytes) else rendered[n] for n, f in pngs.items()}
+    write_files(contents)
+    if STDOUT in files:
+        sys.stdout.write(files[STDOUT])
+        sys.stdout.flush()
+    for path in files:
         if path != STDOUT:
             say(args, f"wrote {path}")
     if pngs:
-        written = save_figures(pngs, args.plots)
-        say(args, f"wrote {written[0]}" if len(written) == 1 else f"wrote {len(written)} figures to {args.plots}/")
+        say(args, f"wrote {plots / next(iter(pngs))}" if len(pngs) == 1 else f"wrote {len(pngs)} figures to {plots}{os.sep}")
 
 
 #: The files a folder option writes under names not known up front (a glob pattern), refused without ``--force``.

@@ -27,7 +27,7 @@ from pathlib import Path
 from ..errors import FileFormatError, InputError, SealeakError, show_value
 
 __all__ = ["Output", "OutputExistsError", "OutputWriteError", "check_outputs", "check_replaceable", "atomic_write", "write_text",
-           "write_output", "STDOUT", "input_file"]
+           "write_output", "write_files", "STDOUT", "input_file"]
 
 #: The output path that means standard output (``--json -``).
 STDOUT = "-"
@@ -290,6 +290,47 @@ def write_text(path: str | Path, text: str) -> None:
     """Write ``text`` to ``path`` atomically (UTF-8)."""
     with atomic_write(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def write_files(contents: dict[str, str | bytes]) -> list[str]:
+    """Write the outputs of one run all or none: ``contents`` maps paths to text (UTF-8) or bytes. Each file is first
+    written in full to a temporary file beside it (its folder made where missing); only when every one is written are
+    they renamed into place, one rename each. A failure before that (no permission, a full disk, a pseudo-filesystem
+    that refuses files) removes the temporary files and the folders it made, and leaves every existing file as it
+    was: raises :class:`OutputWriteError` naming the file. Returns the paths written, in order.
+    """
+    staged: list[tuple[Path, Path]] = []
+    made: list[Path] = []
+    target = Path(".")
+    try:
+        try:
+            for path, content in contents.items():
+                target = Path(path)
+                check_replaceable(target)
+                missing = [d for d in (target.parent, *target.parent.parents) if not d.exists()]
+                target.parent.mkdir(parents=True, exist_ok=True)
+                made += missing
+                fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
+                staged.append((Path(tmp), target))
+                with os.fdopen(fd, "wb") as fh:
+                    fh.write(content.encode("utf-8") if isinstance(content, str) else content)
+                os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
+            for tmp_path, target in staged:
+                check_replaceable(target)  # something else may have appeared there meanwhile
+            for tmp_path, target in staged:
+                os.replace(tmp_path, target)
+        except OSError as exc:
+            raise OutputWriteError(target, exc) from None
+    except BaseException:
+        for tmp_path, _ in staged:
+            tmp_path.unlink(missing_ok=True)
+        for folder in made:  # deepest first; only what this call made, and only if it stayed empty
+            try:
+                folder.rmdir()
+            except OSError:
+                pass
+        raise
+    return [str(p) for p in contents]
 
 
 def write_output(path: str | Path, text: str) -> None:

@@ -38,7 +38,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from ..cases import Case, CaseResult, CurveSet, PredictionCurves, prediction_curves
-from ..io.files import atomic_write
+from ..io.files import write_files
 from ..io.units import length_unit
 from ..physics.validity import pressures_text
 from .band import BAND_FIGURE_NAMES, band_figures, is_band_run
@@ -659,15 +659,9 @@ def render_figures(figures: dict[str, Figure]) -> dict[str, bytes]:
 
 
 def save_figures(figures: dict[str, Figure] | dict[str, bytes], folder: str | Path) -> list[str]:
-    """Write figures (or their PNG bytes) into ``folder`` atomically, all rendered first; returns the paths written."""
-    pngs = {name: f if isinstance(f, bytes) else figure_png(f) for name, f in figures.items()}
-    written = []
-    for name, data in pngs.items():
-        path = Path(folder) / name
-        with atomic_write(path, "wb") as tmp:
-            tmp.write_bytes(data)
-        written.append(str(path))
-    return written
+    """Write figures (or their PNG bytes) into ``folder``, all rendered first, all or none
+    (:func:`~sealeak.io.files.write_files`); returns the paths written."""
+    return write_files({str(Path(folder) / name): f if isinstance(f, bytes) else figure_png(f) for name, f in figures.items()})
 
 
 PREDICTION_FIGURE_NAMES = ("spectrum.png", "contact_area.png", "separation.png", "gap_distribution.png", "leak_rate.png",
