@@ -138,9 +138,13 @@ def figure_problems(fig: Figure) -> list[str]:
         for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
             if axis.get_offset_text().get_visible() and axis.get_offset_text().get_text():
                 problems.append(f"{name} axis shows an offset text {axis.get_offset_text().get_text()!r}")
-            labels = [t for t, _ in _tick_labels(axis)]
+            ticks = _tick_labels(axis)
+            labels = [t for t, _ in ticks]
             if len(labels) != len(set(labels)):
                 problems.append(f"{name} axis repeats tick labels {labels}")
+            boxes = [b for _, b in ticks]
+            if any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:]):
+                problems.append(f"{name} axis prints tick labels over each other: {labels}")
             if axis.get_scale() == "log" and len(labels) < 2 and _data_lines(ax):
                 problems.append(f"log {name} axis with {len(labels)} labelled tick(s): {labels}")
     for ax in fig.axes:

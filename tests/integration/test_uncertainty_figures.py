@@ -205,3 +205,27 @@ def test_fan_chart_marks_a_band_edge_from_samples_outside_the_theory():
     assert sorted(zip(marks.get_xdata(), marks.get_ydata())) == [(X[0], band.p05[0]), (X[-1], band.p95[-1])]
     assert not [line for line in ax.get_lines() if line.get_label() == "median from samples outside the theory"]
     assert "a median or (small) a 5th or 95th percentile taken from samples" in ax.get_title().replace("\n", " ")
+
+
+def test_distribution_over_most_of_a_decade_keeps_its_tick_labels_apart():
+    """A log axis spanning 0.8 decades with labels m×10ⁿ: 8×10ⁿ, 9×10ⁿ and 10ⁿ⁺¹ would print over each other."""
+    q = np.geomspace(1.8e-7, 1.3e-6, 64)
+    fig = _build(lambda: figure_leak_distribution(q, max_leak_rate=1e-6, nominal=3e-7, unit="mbar·l/s"))
+    assert not figure_problems(fig)
+    labels = [t.get_text() for t in fig.axes[0].xaxis.get_ticklabels() if t.get_text()]
+    assert "8×10⁻⁷" not in labels and "2×10⁻⁷" in labels
+
+
+def test_fan_chart_of_several_variants_names_each_band_once_and_its_elements_once_in_grey():
+    """Six variants: one legend entry per band (its colour, its name) and one per element (median, 25–75 %, ...) in
+    grey, not every element of every band; the legend below grows the figure instead of squeezing the axes."""
+    bands = [LeakBand(X, MEDIAN / 5 * k, MEDIAN * k, MEDIAN * 5 * k, MEDIAN / 2 * k, MEDIAN * 2 * k, MEDIAN * 1.2 * k,
+                      f"variant {k}") for k in range(1, 7)]
+    fig = _build(lambda: figure_fan_chart(bands, "squeeze pressure P0 (kPa)", max_leak_rate=1e-11))
+    assert not figure_problems(fig)
+    legend = (fig.axes[0].get_legend() or fig.legends[0]).get_texts()
+    labels = [t.get_text() for t in legend]
+    assert labels[:6] == [f"variant {k}" for k in range(1, 7)]
+    assert sorted(labels[6:]) == sorted(["5–95 % of the samples", "25–75 %", "median", "deterministic (nominal inputs)",
+                                         "max_leak_rate = 1e-11 m³/s"])
+    assert fig.axes[0].get_window_extent().height > 0.3 * fig.bbox.height

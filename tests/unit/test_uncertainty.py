@@ -11,6 +11,8 @@ from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagat
 from sealeak.errors import InputError
 from sealeak.render import prediction_csv, prediction_json
 from sealeak.render.interactive import prediction_plot_data
+from sealeak.render.uncertainty import uncertainty_heading
+from sealeak.render.uncertainty_figures import uncertainty_figures
 from tests.casefiles import BASE, ORING
 
 #: BASE at two pressures where the seal leaks, h_rms given a spread (the leak rate rises steeply with it).
@@ -296,3 +298,13 @@ def test_the_sobol_samples_skip_the_verdicts_they_do_not_use(monkeypatch):
     values = unc.sample_values(study, unit_points(1, 16, seed=0))
     assert values["leak_rate"].shape[0] == 16 and not calls
     assert propagate(study, 16, seed=0).valid is not None and calls
+
+
+def test_a_specification_without_spreads_takes_one_sample_and_draws_no_band():
+    """max_leak_rate alone: every sample would be the nominal prediction, so one is taken; each probability is 0 or 1,
+    the heading says why, and there is no fan chart or distribution to draw."""
+    text = LEAKS.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1 ml/min"')
+    result = propagate(parse_uncertain_case(text), 256, seed=0)
+    assert result.samples == 1 and set(result.exceed_probability.tolist()) <= {0.0, 1.0}
+    assert "no uncertain inputs" in uncertainty_heading(result)
+    assert uncertainty_figures(result) == {}

@@ -674,8 +674,10 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
 
 def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int = 0, sampler: str = "sobol") -> UncertaintyResult:
     """Carry the study's uncertain inputs through the prediction with ``samples`` quasi-random points (``sampler``,
-    ``seed``): the same arguments give the same numbers bit for bit."""
-    points = unit_points(len(study.inputs), samples, seed, sampler)
+    ``seed``): the same arguments give the same numbers bit for bit. Without uncertain inputs (``conditions.max_leak_rate``
+    alone) every sample would be the nominal prediction: one sample is taken, and each probability is 0 or 1."""
+    check_sampling(samples, seed, sampler)
+    points = unit_points(len(study.inputs), samples, seed, sampler) if study.inputs else np.zeros((1, 0))
     nominal = [run_case(c) for c in study.cases]
     values, valid = _sample(study, points, nominal)
     keys, limits = _limits(study, study.cases) if study.max_leak_rate is not None else (None, None)

@@ -100,7 +100,8 @@ def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyRes
                               args.sampler or "sobol")
     check_sampling(samples, seed, sampler)
     say(args, f"sampling {len(study.inputs)} uncertain input{'s' if len(study.inputs) != 1 else ''} with {samples} samples "
-              "(each a full prediction) ...")
+              "(each a full prediction) ..." if study.inputs else
+              "no uncertain inputs: conditions.max_leak_rate is judged on the deterministic leak rates")
     return propagate(study, samples, seed, sampler)
 
 

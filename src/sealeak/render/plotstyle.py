@@ -100,7 +100,8 @@ def _log_label(v: float, plain: bool) -> str:
 
 
 def log_axis(axis: Axis, lo: float | None = None, hi: float | None = None) -> None:
-    """Ticks of a log axis: 1–9 within a decade, 1, 2, 5 over a few decades, powers of ten beyond.
+    """Ticks of a log axis: 1–9 within a decade (1, 2, 3, 5, 7 from 0.4 decades on where the labels are m×10ⁿ, which
+    8×10ⁿ, 9×10ⁿ and 10ⁿ⁺¹ would overprint), 1, 2, 5 over a few decades, powers of ten beyond.
 
     ``lo``, ``hi``: the axis range (default: its current view interval).
     """
@@ -109,9 +110,10 @@ def log_axis(axis: Axis, lo: float | None = None, hi: float | None = None) -> No
     if not (lo > 0 and hi > lo and np.isfinite(hi)):
         return
     decades = float(np.log10(hi / lo))
-    subs: Sequence[float] = [float(s) for s in range(1, 10)] if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
-    axis.set_major_locator(LogLocator(base=10.0, subs=subs, numticks=12))
     plain = lo >= 1e-3 and hi < 1e4  # one style per axis: plain numbers where they are all short
+    within: Sequence[float] = [float(s) for s in range(1, 10)] if plain or decades < 0.4 else (1.0, 2.0, 3.0, 5.0, 7.0)
+    subs: Sequence[float] = within if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
+    axis.set_major_locator(LogLocator(base=10.0, subs=subs, numticks=12))
     axis.set_major_formatter(FuncFormatter(lambda v, _pos: _log_label(v, plain)))
     # minor ticks at 2..9 while they can be told apart; beyond six decades they are noise (and slow to draw)
     axis.set_minor_locator(LogLocator(base=10.0, subs=[float(s) for s in range(2, 10)], numticks=12) if decades <= 6.0 else NullLocator())
@@ -513,6 +515,10 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
         if ncol == 1 or leg.get_window_extent().width <= 0.98 * fig.bbox.width:
             break
         leg.remove()
+    # the figure grows by the legend's height beyond a fifth of it, so that a long legend below does not squeeze the axes
+    extra = leg.get_window_extent().height / fig.dpi - 0.2 * fig.get_figheight()
+    if extra > 0:
+        fig.set_figheight(fig.get_figheight() + extra)
     return leg
 
 

@@ -73,9 +73,11 @@ def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[st
 def uncertainty_heading(unc: UncertaintyResult) -> str:
     """The sentence above the table: how many samples of which inputs."""
     inputs = unc.study.inputs
-    what = f"{len(inputs)} uncertain input{'s' if len(inputs) != 1 else ''}" if inputs else "no uncertain inputs"
-    return (f"uncertainty: {unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {what}"
-            + (":" if inputs else ""))
+    if not inputs:
+        return ("pass or fail: no uncertain inputs, so the leak rates are the deterministic ones and each probability "
+                "is 0 or 1 (give a value a spread for a band)")
+    return (f"uncertainty: {unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of "
+            f"{len(inputs)} uncertain input{'s' if len(inputs) != 1 else ''}:")
 
 
 def uncertainty_legend(unc: UncertaintyResult) -> str:

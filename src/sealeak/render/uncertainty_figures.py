@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from matplotlib.axis import Axis
@@ -63,6 +64,8 @@ _SEALED_STRIP = 0.09
 #: Decades a leak-rate axis spans at most below its largest value: a percentile of a load where nearly every sample
 #: seals may be 1e-38 m³/s, which would squeeze what matters into the top of the figure.
 _MAX_DECADES = 8.0
+#: The most variants (study values, a life case's times and temperatures) a fan chart draws a band for.
+MAX_FAN_BANDS = 6
 _SPEC_COLOUR = "tab:red"
 
 
@@ -162,38 +165,59 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     # a leak below the axis runs along its floor (above the strip of the sealed samples, which is not a leak rate)
     shown = lambda v: np.where(np.asarray(v, dtype=float) > 0, np.maximum(v, strip_top), at_sealed)  # noqa: E731
     below_any = outside_any = edges_any = False
+    # one band: every element in the legend; several: one entry per band (its colour, its name) and one per element in grey
+    single = len(bands) == 1
+    drawn: dict[str, tuple[str, dict[str, Any]]] = {}  # element label -> (marker or line style, keywords), for the grey entries
+
+    def label(text: str, style: str = "", **kw: Any) -> str:
+        if not single:
+            drawn.setdefault(text, (style, kw))
+        return text if single else "_nolegend_"
+
     for i, b in enumerate(bands):
-        c, name = color(i), (f"{b.label}: " if b.label and len(bands) > 1 else "")
-        ax.fill_between(b.x, shown(b.p05), shown(b.p95), color=c, alpha=0.18, lw=0, label=f"{name}5–95 % of the samples")
+        c = color(i)
+        ax.fill_between(b.x, shown(b.p05), shown(b.p95), color=c, alpha=0.18, lw=0,
+                        label="5–95 % of the samples" if single else b.label or f"variant {i + 1}")
         if b.p25 is not None and b.p75 is not None:
-            ax.fill_between(b.x, shown(b.p25), shown(b.p75), color=c, alpha=0.35, lw=0, label=f"{name}25–75 %")
+            ax.fill_between(b.x, shown(b.p25), shown(b.p75), color=c, alpha=0.35, lw=0, label=label("25–75 %", "fill"))
         leaks = np.asarray(b.p50) > 0
         below = leaks & (np.asarray(b.p50, dtype=float) < strip_top)
-        ax.plot(b.x, np.where(leaks & ~below, b.p50, np.nan), "-", marker="o" if len(b.x) <= 12 else "", ms=3, color=c,
-                label=f"{name}median")
+        marker = "o" if len(b.x) <= 12 else ""
+        ax.plot(b.x, np.where(leaks & ~below, b.p50, np.nan), "-", marker=marker, ms=3, color=c,
+                label=label("median", "-", marker=marker, ms=3))
         flags = np.zeros((3, len(b.x)), dtype=bool) if b.outside is None else np.asarray(b.outside, dtype=bool)
         outside = leaks & ~below & flags[1]
         if np.any(outside):
             outside_any = True
             ax.plot(np.asarray(b.x)[outside], np.asarray(b.p50, dtype=float)[outside], "o", mfc="white", mec=c, ms=6,
-                    label=f"{name}median from samples outside the theory")
+                    label=label("median from samples outside the theory", "o", mfc="white", ms=6))
         edges = np.asarray([b.p05, b.p95], dtype=float)  # both edges in one line (one legend entry)
         marked = flags[[0, 2]] & (edges >= strip_top)
         if marked.any():
             edges_any = True
             ax.plot(np.broadcast_to(np.asarray(b.x, dtype=float), edges.shape)[marked], edges[marked], "o",
-                    mfc="white", mec=c, ms=3.5, mew=0.8, label=f"{name}5th or 95th percentile from samples outside the theory")
+                    mfc="white", mec=c, ms=3.5, mew=0.8,
+                    label=label("5th or 95th percentile from samples outside the theory", "o", mfc="white", ms=3.5, mew=0.8))
         if below.any():
             below_any = True
             ax.plot(np.asarray(b.x)[below], np.full(int(below.sum()), strip_top), "v", mfc="none", mec=c, ms=5,
-                    clip_on=False, label=f"{name}median below the axis")
+                    clip_on=False, label=label("median below the axis", "v", mfc="none", ms=5))
         if (~leaks).any():
             ax.plot(np.asarray(b.x)[~leaks], np.full(int((~leaks).sum()), at_sealed), "v", mfc="none", mec=c, ms=5,
-                    label=f"{name}median sealed (half the samples or more)")
+                    label=label("median sealed (half the samples or more)", "v", mfc="none", ms=5))
         if b.nominal is not None:
             nominal = np.asarray(b.nominal, dtype=float)
             ax.plot(b.x, np.where(nominal >= strip_top, nominal, np.nan), "--", color=c, lw=1.0,
-                    label=f"{name}deterministic (nominal inputs)")
+                    label=label("deterministic (nominal inputs)", "--", lw=1.0))
+    if not single:  # what each element is, in grey, after the bands' names
+        ax.fill_between([], [], [], color="0.35", alpha=0.18, lw=0, label="5–95 % of the samples")
+        for text, (style, kw) in drawn.items():
+            if style == "fill":
+                ax.fill_between([], [], [], color="0.35", alpha=0.35, lw=0, label=text)
+            elif style in ("-", "--"):
+                ax.plot([], [], style, color="0.35", label=text, **kw)
+            else:
+                ax.plot([], [], style, mec="0.35", color="0.35", label=text, **kw)
     if max_leak_rate is not None:
         limit_line(ax, max_leak_rate, limit_text or f"{max_leak_rate:.3g} {unit}", _SPEC_COLOUR)
     ax.set_ylim(bottom, top)
@@ -336,7 +360,10 @@ def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
 def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None = None) -> dict[str, Figure]:
     """The figures of ``predict --plots`` for a case file with uncertain inputs, by file name
     (:func:`uncertainty_figure_names`): Q (m³/s; a gas's Q_pV in mbar·l/s) with its band, its distribution at the first case's middle load,
-    and with ``sensitivity`` the tornado chart there."""
+    and with ``sensitivity`` the tornado chart there. None without uncertain inputs (``conditions.max_leak_rate``
+    alone: no band, and the leak-rate figures draw the limit)."""
+    if not unc.study.inputs:
+        return {}
     key, unit, limit = _leak_key(unc)
     rows, q = unc.study.rows, unc.values[key]
     loads = np.array([r.load for r in rows])
@@ -352,6 +379,10 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
                               outside[:, idx]))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
+    if len(bands) > MAX_FAN_BANDS:  # a band each for every time and temperature of a life case would hide the axes
+        keep = sorted({int(round(k)) for k in np.linspace(0, len(bands) - 1, MAX_FAN_BANDS)})
+        sampled += f"\n{len(bands)} variants: the fan chart draws {len(keep)} of them, evenly spread (the table gives all)"
+        bands = [bands[k] for k in keep]
     written = str(unc.study.max_leak_rate) if limit is not None else ""
     figures = {"leak_rate_band.png": figure_fan_chart(bands, x_label, max_leak_rate=limit, unit=unit, log_x=spans_decades(loads),
                                                       limit_text=written,
