@@ -30,6 +30,8 @@ CASE_VALUES = [  # (old text, new text, field named)
     ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "1/0 MPa"', "rubber.youngs_modulus"),
     ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "(2 MPa"', "rubber.youngs_modulus"),
     ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "1e999999 Pa"', "rubber.youngs_modulus"),
+    ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "1e-200 Pa"', "rubber.youngs_modulus"),  # E*² would underflow
+    ('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "0.5 Pa"', "rubber.youngs_modulus"),
     ('h_rms = "44 um"', 'h_rms = "2**1000**1000 um"', "surface.h_rms"),
     ('h_rms = "44 um"', 'h_rms = "44,5 um"', "surface.h_rms"),
     ('pressure_difference = "10 kPa"', 'pressure_difference = "3 kPa + 2 kPa"', "conditions.pressure_difference"),

@@ -103,9 +103,17 @@ def contact_modulus(youngs_modulus: float, poisson_ratio: float,
     return 1.0 / inv
 
 
+#: The softest modulus (Pa) a contact takes: the softest gels are about 10 Pa; below 1 Pa a value is a unit slip, and far
+#: below it E*² underflows in G(ζ) (the same floor as a Prony series' moduli).
+SOFTEST_MODULUS = 1.0
+
+
 def _check_modulus(name: str, value: float) -> None:
     if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
         raise InputError(name, value, "must be a finite modulus > 0 (Pa)")
+    if value < SOFTEST_MODULUS:
+        raise InputError(name, value, f"must be at least {SOFTEST_MODULUS:g} Pa: no solid is softer (the softest gels are "
+                                      "about 10 Pa); check the value and its unit")
 
 
 def _check_poisson(name: str, value: float) -> None:

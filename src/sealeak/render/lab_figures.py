@@ -180,7 +180,7 @@ def figure_rig(rig: RigSetup, columns: dict[str, WaterColumn], p0: float, condit
     if condition is None:
         condition = f"P0 = {p0 / 1e3:.3g} kPa ({rig.load_note or 'load'})"
     subtitle(ax, f"{condition}\ncylinder {rig.cylinder_diameter * 100:.3g} cm, "
-                  f"ΔP = ρgH, ρ = {rig.density:g} kg/m³; dots: the final height reached")
+                  f"ΔP = ρgH, ρ = {rig.density:g} kg/m³; dots: when the level falls to the final height asked for")
     if not columns:
         say_nothing(ax, "no model to simulate")
     finish_axes(ax)

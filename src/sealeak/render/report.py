@@ -321,7 +321,7 @@ def _rig_section(result: CaseResult, number: int) -> list[str]:
                          "final height (cm)", "time to final height (min)"), rows))
     parts.append("<div class=\"figures\">" + _figure("rig.png", number, figure_rig(rig, pred.columns, pred.squeeze_pressure),
                                                     "Water height H against time in the virtual rig, for each model the "
-                                                    "case asks for; dots: the final height reached.") + "</div>")
+                                                    "case asks for; dots: when the level falls to the final height asked for.") + "</div>")
     for m in worded(pred.messages):
         parts.append(f"<p class=\"note\">{_e(m)}</p>")
     return parts
