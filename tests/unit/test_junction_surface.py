@@ -10,6 +10,7 @@ import pytest
 from scipy import special
 
 import sealeak.cases.band as band_module
+import sealeak.cases.band_tables as tables_module
 from sealeak.cases import example_path, load_cases
 from sealeak.cases.band import _junction_surface, run_band
 from sealeak.cases.band_tables import (
@@ -96,6 +97,20 @@ def test_surface_stops_below_the_percolation_limit_and_takes_the_exact_junction_
     sigma = surface.for_load(case, persson_contact(case, q))(p)
     exact = case.alpha * _gap(case, q, p) ** 3 / (12.0 * case.fluid.viscosity)
     assert sigma[:2].tolist() == exact[:2].tolist() and sigma[2] == 0.0 and np.isnan(exact[2])
+
+
+def test_beyond_its_percolation_limit_a_load_is_closed_without_a_call_of_the_junction(sweep, monkeypatch):
+    """σ = 0 beyond the load's own limit (closed form), as the exact junction says, and without calling it: a sealed
+    load's band integral stops at its peak."""
+    case, surface = sweep
+    contact = persson_contact(case, float(case.band.q0[7]))
+    limit = percolation_limit(contact, case.percolation_threshold)
+    p = limit * np.array([1.0 + 1e-6, 1.01, 2.0])
+    assert not critical_junction(contact, squeeze_pressure=p, pressure_difference=1.0, viscosity=1.0, aspect_ratio=1.0,
+                                 percolation_threshold=case.percolation_threshold).percolates.any()
+    calls = []
+    monkeypatch.setattr(tables_module, "critical_junction", lambda *a, **k: calls.append(k))
+    assert surface.for_load(case, contact)(p).tolist() == [0.0, 0.0, 0.0] and not calls
 
 
 @pytest.mark.parametrize("fluid_pressure", ["ignored", "coupled"])

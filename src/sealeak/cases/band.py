@@ -263,11 +263,11 @@ def _junction_at_peak(case: Case, contact: PerssonContact, p_max: float,
                       ) -> tuple[float, float]:
     """(u_c, λc) (m, m) of the critical junction at a band's peak pressure ``p_max`` (Pa), NaN where it does not
     percolate. Where :func:`scaled_junctions` tabulates this contact's σ (an uncertainty sample: a new contact, whose
-    exact junction at one pressure costs ~1 ms), or a sweep's ``surface`` reaches ``p_max``, from the band's own
-    ``sigma`` (:func:`junction_sigma`): u_c = (12 η σ(p_max)/α)^(1/3) (docs/theory.md eq. 3.5, within the table's
+    exact junction at one pressure costs ~1 ms), or a sweep has its ``surface``, from the band's own ``sigma``
+    (:func:`junction_sigma`; nothing beyond the percolation limit): u_c = (12 η σ(p_max)/α)^(1/3) (docs/theory.md eq. 3.5, within the table's
     tolerance) and λc = 2π/(ζc q0), ζc in closed form (eq. 3.3); otherwise the critical junction itself."""
     scaled = _SCALED_JUNCTIONS.get()
-    if (scaled is not None and contact.q0 in scaled.tables) or (surface is not None and surface.low <= p_max <= surface.high):
+    if (scaled is not None and contact.q0 in scaled.tables) or surface is not None:
         zeta_c, percolates = contact.zeta_at_area(1.0 - case.percolation_threshold, np.array([p_max]))
         if not percolates[0]:
             return np.nan, np.nan

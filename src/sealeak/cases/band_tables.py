@@ -55,6 +55,9 @@ JUNCTION_RTOL = 1e-7
 JUNCTION_P_POINTS = (129, 1025)
 JUNCTION_Q0_POINTS = (5, 17)
 JUNCTION_TOP = 0.97
+#: Beyond the load's percolation limit by this much (relative) σ is 0 without a call of the junction, which says the same
+#: (the limit is closed-form; the margin keeps the rounding of the two apart).
+CLOSED_MARGIN = 1e-9
 
 #: Bytes of built junction surfaces kept (by contact, threshold, the loads' q0 and the range; ~40 kB each): a web update
 #: of ΔP, η or α builds the surface of the same loads again.
@@ -498,17 +501,22 @@ class JunctionSurface:
 
     def for_load(self, case: Case, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
         """σ(p) = α u_c³/(12η) (m³/(Pa·s)) of one load's contact with the case's α and η: the surface inside
-        [low, high], the exact junction outside (:func:`junction_exact`)."""
+        [low, high], 0 beyond the load's percolation limit (by :data:`CLOSED_MARGIN`), the exact junction elsewhere
+        (:func:`junction_exact`)."""
         row = lobatto_weights(self.nodes, math.log(contact.q0)) @ self.values
         factor = case.alpha / (12.0 * case.fluid.viscosity)
         exact = junction_exact(case, contact)
+        closed = percolation_limit(contact, case.percolation_threshold) * (1.0 + CLOSED_MARGIN)
 
         def surface(p: FloatArray) -> FloatArray:
             return factor * np.exp(3.0 * chebyshev_lobatto_interpolate(self.s, row, np.log(p)))
 
+        def outside(p: FloatArray) -> FloatArray:
+            return piecewise(p, p > closed, np.zeros_like, exact)
+
         def sigma(p: FloatArray) -> FloatArray:
             p = np.asarray(p, dtype=float)
-            return piecewise(p, (p >= self.low) & (p <= self.high), surface, exact)
+            return piecewise(p, (p >= self.low) & (p <= self.high), surface, outside)
         return sigma
 
 
