@@ -305,12 +305,17 @@ def test_outputs_are_written_all_or_none(tmp_path, monkeypatch):
     with pytest.raises(OutputWriteError, match="c.png: No space left on device"):
         write_files(contents)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.json"] and (tmp_path / "a.json").read_text() == "earlier\n"
+    nested = {str(tmp_path / "out" / "r.json"): "x\n", str(tmp_path / "out" / "figs" / "c.png"): b"png"}  # folders it made,
+    with pytest.raises(OutputWriteError):  # one inside the other: both removed, the deeper first
+        write_files(nested)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.json"]
     monkeypatch.setattr(tempfile, "mkstemp", real)
     assert write_files(contents) == list(contents)
     assert (tmp_path / "a.json").read_text() == "new\n" and (tmp_path / "new" / "deep" / "c.png").read_bytes() == b"png"
 
 
-@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="a folder no file can be made in: /proc")
+@pytest.mark.skipif(not Path("/proc/self").is_dir() or not hasattr(os, "geteuid") or os.geteuid() != 0,
+                    reason="a folder no file can be made in that passes the up-front check: /proc, for root")
 def test_a_figure_folder_that_fails_late_leaves_the_other_outputs_as_they_were(tmp_path, capsys):
     """--plots in a folder that passes the up-front check (root may write anywhere, says os.access) but refuses files:
     one line, exit 2, the --json it was to replace as it was and no --csv."""

@@ -460,7 +460,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
                 sigma = junction_sigma(case, contact, junctions)
                 g = series_resistance(profile, sigma)
                 cj_int.append(g)
-                cj_change.append(g.change if junctions is None else max(g.change, JUNCTION_RTOL))
+                cj_change.append(g.change if junctions is None or g.sealed else max(g.change, JUNCTION_RTOL))
                 cj_ok.append(g.converged)
                 cj_mean.append(_mean_sigma(case, sigma, profile.mean_pressure))
                 if case.coupled:  # a band sealed at its peak stays sealed (coupled_band_flow's answer, without its table)

@@ -480,7 +480,7 @@ class JunctionSurface:
                 at = s[::max(1, (n - 1) // 32)]
                 exact = cls._log_gap(case, float(q0[far]), at)
                 q_good = exact is not None and bool(np.all(
-                    3.0 * np.abs(lobatto_weights(nodes, float(m[far])) @ surface.values[:, ::max(1, (n - 1) // 32)] - exact)
+                    3.0 * np.abs(_weighted_rows(lobatto_weights(nodes, float(m[far])), surface.values[:, ::max(1, (n - 1) // 32)]) - exact)
                     < 0.5 * JUNCTION_RTOL))
             if p_good and q_good:
                 return surface
@@ -503,7 +503,7 @@ class JunctionSurface:
         """σ(p) = α u_c³/(12η) (m³/(Pa·s)) of one load's contact with the case's α and η: the surface inside
         [low, high], 0 beyond the load's percolation limit (by :data:`CLOSED_MARGIN`), the exact junction elsewhere
         (:func:`junction_exact`)."""
-        row = lobatto_weights(self.nodes, math.log(contact.q0)) @ self.values
+        row = _weighted_rows(lobatto_weights(self.nodes, math.log(contact.q0)), self.values)
         factor = case.alpha / (12.0 * case.fluid.viscosity)
         exact = junction_exact(case, contact)
         closed = percolation_limit(contact, case.percolation_threshold) * (1.0 + CLOSED_MARGIN)
@@ -546,6 +546,12 @@ def piecewise(p: FloatArray, first: NDArray[np.bool_], f: Callable[[FloatArray],
     if not first.all():
         out[~first] = g(p[~first])
     return out
+
+
+def _weighted_rows(weights: FloatArray, rows: FloatArray) -> FloatArray:
+    """Σ_k w_k rows[k], added row after row (a fixed order, not a BLAS product whose grouping may vary): equal inputs,
+    equal bits."""
+    return np.cumsum(weights[:, None] * rows, axis=0)[-1]
 
 
 def lobatto_weights(nodes: FloatArray, x: float) -> FloatArray:

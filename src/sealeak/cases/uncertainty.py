@@ -641,9 +641,9 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
              ) -> PassingLoad:
     """The load (ascending ``loads``) where ``p_pass`` first reaches :data:`PASS_PROBABILITY` (docs/theory.md eq. 14.4):
     between the last row below it and the first at it, where the 95th percentile of the leak rate compared (``q95``)
-    reaches its limit (``limits``), log Q95 linear in the load (not placed where the passing row's Q95 is 0: it seals
-    there); linear in ``p_pass`` where the percentiles do not bracket the limit. ``outside``: per load the fraction of samples
-    leaking outside the theory's validity, if known."""
+    reaches its limit (``limits``), log Q95 linear in the load (not placed where the percentiles bracket the limit and
+    the passing row's Q95 is 0: it seals there); linear in ``p_pass`` where the percentiles do not bracket the limit.
+    ``outside``: per load the fraction of samples leaking outside the theory's validity, if known."""
     ok = np.flatnonzero(p_pass >= PASS_PROBABILITY)
     name = load_name.replace("_", " ")
     if ok.size == 0:

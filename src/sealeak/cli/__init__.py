@@ -48,7 +48,7 @@ def _cmd_predict(args: argparse.Namespace) -> int:
 
     case_file = load_case_file(args)  # read first: the figures of an O-ring or profile seal are other files
     cases = case_file.cases
-    uncertain = case_file.spreads.active
+    uncertain = case_file.spreads.active and bool(case_file.spreads.inputs)  # max_leak_rate alone draws no band
     check_sensitivity(args, case_file)  # before any sample runs
     names = prediction_figure_names(cases) + (uncertainty_figure_names(args.sensitivity is not None) if uncertain else ())
     check_outputs(outputs(args, names, files=("table", "json", "csv")), args.force, inputs=inputs(args))

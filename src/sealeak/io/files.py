@@ -1,8 +1,9 @@
 """Safe output files (private): never overwrite unasked, never leave half-written files, replace regular files only.
 
-Every writer goes through :func:`atomic_write`: the content is written to a temporary file in the
-target's folder and renamed over the target only when complete, so an interrupted run (Ctrl-C, a
-crash) leaves either the old file or none, never a truncated one.
+Every writer goes through :func:`atomic_write` or, for the outputs of a command, :func:`write_files`: the content is
+written to a temporary file in the target's folder and renamed over the target only when complete (with
+:func:`write_files`, only when every output of the run is), so an interrupted run (Ctrl-C, a crash) leaves either the
+old file or none, never a truncated one.
 
 What an output may replace: nothing, or a **regular file** (with ``--force``). Anything else at the
 output's path is refused, with or without ``--force``, because renaming a file over it would
@@ -324,7 +325,8 @@ def write_files(contents: dict[str, str | bytes]) -> list[str]:
     except BaseException:
         for tmp_path, _ in staged:
             tmp_path.unlink(missing_ok=True)
-        for folder in made:  # deepest first; only what this call made, and only if it stayed empty
+        for folder in sorted(set(made), key=lambda d: len(d.parts), reverse=True):  # deepest first; only what this call
+            # made, and only if it stayed empty
             try:
                 folder.rmdir()
             except OSError:

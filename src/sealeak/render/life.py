@@ -141,6 +141,8 @@ def volume_limit(unc: UncertaintyResult | None) -> tuple[float, str] | None:
     if unc is None or unc.limits is None or not unc.limit_keys or len(set(unc.limit_keys)) != 1 or \
             unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv") or len(set(unc.limits.tolist())) != 1:
         return None
+    if unc.limit_keys[0] == "leak_rate" and any(c.gas is not None for c in unc.study.cases):
+        return None  # a gas's figures draw Q_pV: a volume-flow limit is on none of their axes
     return float(unc.limits[0]), str(unc.study.max_leak_rate)
 
 

@@ -449,8 +449,9 @@ LIMIT_DECADES = 3.0
 
 
 def limit_in_axis_unit(limit: tuple[float, str] | None, gas: bool) -> tuple[float, str] | None:
-    """``conditions.max_leak_rate`` as :func:`~sealeak.render.life.volume_limit` gives it (m³/s, a gas's Pa·m³/s; and as
-    written) in the unit of a leak-rate figure's axis: m³/s, or mbar·l/s for a gas."""
+    """``conditions.max_leak_rate`` as :func:`~sealeak.render.life.volume_limit` gives it (m³/s, a gas's Pa·m³/s: for a
+    gas it gives only a limit compared with Q_pV; and as written) in the unit of a leak-rate figure's axis: m³/s, or
+    mbar·l/s for a gas."""
     if limit is None or not gas:
         return limit
     return limit[0] / PA_M3_PER_MBAR_L, limit[1]

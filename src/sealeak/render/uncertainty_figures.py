@@ -360,7 +360,7 @@ def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
 def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None = None) -> dict[str, Figure]:
     """The figures of ``predict --plots`` for a case file with uncertain inputs, by file name
     (:func:`uncertainty_figure_names`): Q (m³/s; a gas's Q_pV in mbar·l/s) with its band, its distribution at the first case's middle load,
-    and with ``sensitivity`` the tornado chart there. None without uncertain inputs (``conditions.max_leak_rate``
+    and with ``sensitivity`` the tornado chart there. None (an empty dict) without uncertain inputs (``conditions.max_leak_rate``
     alone: no band, and the leak-rate figures draw the limit)."""
     if not unc.study.inputs:
         return {}
