@@ -41,6 +41,7 @@ from .plotstyle import (
     color,
     finish_axes,
     laid_out,
+    limit_in_axis_unit,
     limit_line,
     log_axis,
     ml_per_min_axis,
@@ -90,6 +91,8 @@ class LeakBand:
     #: validity (:meth:`~sealeak.cases.uncertainty.UncertaintyResult.outside`): the median drawn hollow, the band's edges
     #: with small hollow circles; or None.
     outside: np.ndarray | None = None
+    #: The variant's place among all of them (its colour, as in the other figures), where the chart draws a selection.
+    index: int | None = None
 
 
 def _positive(*arrays: np.ndarray | None) -> np.ndarray:
@@ -175,9 +178,10 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
         return text if single else "_nolegend_"
 
     for i, b in enumerate(bands):
-        c = color(i)
+        k = i if b.index is None else b.index
+        c = color(k)
         ax.fill_between(b.x, shown(b.p05), shown(b.p95), color=c, alpha=0.18, lw=0,
-                        label="5–95 % of the samples" if single else b.label or f"variant {i + 1}")
+                        label="5–95 % of the samples" if single else b.label or f"variant {k + 1}")
         if b.p25 is not None and b.p75 is not None:
             ax.fill_between(b.x, shown(b.p25), shown(b.p75), color=c, alpha=0.35, lw=0, label=label("25–75 %", "fill"))
         leaks = np.asarray(b.p50) > 0
@@ -341,12 +345,9 @@ def _leak_key(unc: UncertaintyResult) -> tuple[str, str, float | None]:
     """(record key, unit, ``max_leak_rate`` in that unit or None) of the figures: a gas's pV throughput in mbar·l/s (the
     unit of its other figures), else Q in m³/s; the limit where every row compares that quantity with the same one."""
     gas = "leak_rate_mbar_l_s" in unc.values
-    key, unit, compared, factor = (("leak_rate_mbar_l_s", "mbar·l/s", "leak_rate_pv", 1.0 / PA_M3_PER_MBAR_L) if gas
-                                   else ("leak_rate", "m³/s", "leak_rate", 1.0))
-    limit = volume_limit(unc)  # one line only where every row compares the same quantity with the same limit
-    if limit is None or not unc.limit_keys or unc.limit_keys[0] != compared:
-        return key, unit, None
-    return key, unit, limit[0] * factor
+    key, unit = ("leak_rate_mbar_l_s", "mbar·l/s") if gas else ("leak_rate", "m³/s")
+    limit = limit_in_axis_unit(volume_limit(unc), gas)  # volume_limit: only a limit compared with what is drawn
+    return key, unit, None if limit is None else limit[0]
 
 
 def _load_x(load_name: str, loads: np.ndarray) -> tuple[float, str]:
@@ -376,7 +377,7 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
         idx = np.array([j for j, r in enumerate(rows) if r.case == i])
         idx = idx[np.argsort(loads[idx], kind="stable")]
         bands.append(LeakBand(loads[idx] / scale, p05[idx], p50[idx], p95[idx], p25[idx], p75[idx], nominal[idx], case.label,
-                              outside[:, idx]))
+                              outside[:, idx], i))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
     if len(bands) > MAX_FAN_BANDS:  # a band each for every time and temperature of a life case would hide the axes
