@@ -8,9 +8,12 @@ Cases (the issue's goals in brackets):
 * the same seal with α and the viscosity uncertain only: the samples share the nominal contact (Q ∝ α/η);
 * the O-ring of the ``o-ring`` example (water, critical junction), h_rms ± 10 %, 256 samples [≤ 30 s]: one band
   prediction per sample, its σ from the nominal contact's tables at the scaled pressures (docs/theory.md eq. 14.8);
-* the same O-ring with α ± 20 % only (shared contact).
+* the same O-ring with α ± 20 % only (shared contact);
+* the O-ring of the ``helium-test`` example (helium against vacuum, kinetic slit, the gas pressure coupled: every
+  sample solves eq. 13.7 of docs/theory.md per load), h_rms ± 10 %, 256 samples (no goal set).
 
-Run: .venv/bin/python benchmarks/bench_uncertainty.py [--quick]   (single-threaded NumPy)
+Run: .venv/bin/python benchmarks/bench_uncertainty.py [--quick] [--only=TEXT]   (single-threaded NumPy; --only: the
+cases whose name contains TEXT)
 """
 
 from __future__ import annotations
@@ -29,12 +32,14 @@ from sealeak.cases.uncertainty import parse_uncertain_case, propagate  # noqa: E
 
 def cases() -> dict[str, tuple[str, int]]:
     hrms = example_text("hrms-study").split("[study]")[0]
+    helium = example_text("helium-test")
     oring = example_text("o-ring").split("[study]")[0].replace('model = "both"', 'model = "critical-junction"')
     return {
         "uniform seal, h_rms ± 10 % and α, 512": (_hrms(hrms, spread=True), 512),
         "uniform seal, α and η only (shared contact), 512": (_hrms(hrms, spread=False), 512),
         "O-ring, h_rms ± 10 %, 256": (oring.replace('h_rms = "1.5 um"', 'h_rms = "1.5 um ± 10 %"'), 256),
         "O-ring, α ± 20 % only (shared contact), 256": (oring.replace("alpha = 1.0", 'alpha = "1.0 ± 0.2"'), 256),
+        "helium test O-ring, h_rms ± 10 %, 256": (helium.replace('h_rms = "1.5 um"', 'h_rms = "1.5 um ± 10 %"'), 256),
     }
 
 
@@ -50,9 +55,12 @@ def _hrms(text: str, spread: bool) -> str:
 
 def main(argv: list[str]) -> int:
     quick = "--quick" in argv
+    only = next((a.split("=", 1)[1] for a in argv if a.startswith("--only=")), "")
     print(f"sealeak uncertainty benchmark: {platform.processor() or platform.machine()}, Python {platform.python_version()}, "
           f"{time.strftime('%Y-%m-%d')}")
     for name, (text, n) in cases().items():
+        if only not in name:
+            continue
         n = min(n, 32) if quick else n
         study = parse_uncertain_case(text)
         t, cpu = time.perf_counter(), time.process_time()

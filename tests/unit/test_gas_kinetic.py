@@ -12,9 +12,11 @@ import pytest
 from sealeak.physics._kinetic_slit import (
     SIGMA_P,
     capped_rarefaction,
+    capped_rarefactions,
     finite_slit_free_molecular,
     knudsen_minimum,
     poiseuille_flow_rate,
+    poiseuille_flow_rate_at,
 )
 from sealeak.physics.gas import DEFAULT_RAREFACTION, RAREFACTION_MODELS, Gas, gas_leak, pressure_integral, slip_factor
 
@@ -126,3 +128,29 @@ def test_kinetic_leak_exceeds_beskok_karniadakis_and_reduces_to_no_slip(helium):
         assert kin.throughput > bk.throughput > kin.throughput_no_slip
     wide = gas_leak(k, 1e-2, helium, 2e5, 1e5)
     assert wide.throughput == pytest.approx(wide.throughput_no_slip, rel=1e-4, abs=0)
+
+
+def test_caps_of_many_lengths_at_once():
+    """The array form of the cap, as a gas sheet takes it at ~240 lengths: G_P(δ_ℓ) = G_fm(ℓ) on the free-molecular
+    side of the minimum, short slots at the minimum, longer slots lower, and past the G_fm table (ℓ > 500) too."""
+    ell = np.concatenate([[1.0, 5.0, 10.0], np.geomspace(20.0, 1e6, 40)])
+    caps = capped_rarefactions(ell)
+    g_fm = np.array([finite_slit_free_molecular(e) for e in ell])
+    delta_min, g_min = knudsen_minimum()
+    short = g_fm <= g_min
+    assert short[:3].all() and not short[3:].any()
+    assert np.all(caps[short] == delta_min)
+    assert np.all(caps[~short] < delta_min) and np.all(np.diff(caps[~short]) < 0)
+    assert poiseuille_flow_rate(caps[~short]) == pytest.approx(g_fm[~short], rel=1e-9, abs=0)
+    assert caps[10] == capped_rarefaction(float(ell[10]))
+
+
+def test_flow_rate_at_one_point_matches_the_array_form_and_its_asymptotes():
+    """The plain-float G_P an ODE calls: the array function's numbers inside the table and on both asymptotes
+    (the slip side δ > 50, the free-molecular side δ < 1e-4), G_P(0) = inf."""
+    delta = np.geomspace(1e-9, 1e4, 301)
+    one = np.array([poiseuille_flow_rate_at(float(d)) for d in delta])
+    assert one == pytest.approx(poiseuille_flow_rate(delta), rel=1e-14, abs=0)
+    assert poiseuille_flow_rate_at(1e4) == pytest.approx(1e4 / 6 + SIGMA_P, rel=1e-6, abs=0)
+    assert poiseuille_flow_rate_at(1e-9) == pytest.approx(-math.log(1e-9) / SQRT_PI + 0.3578, rel=1e-4, abs=0)
+    assert poiseuille_flow_rate_at(0.0) == math.inf

@@ -308,3 +308,17 @@ def test_a_specification_without_spreads_takes_one_sample_and_draws_no_band():
     assert result.samples == 1 and set(result.exceed_probability.tolist()) <= {0.0, 1.0}
     assert "no uncertain inputs" in uncertainty_heading(result)
     assert uncertainty_figures(result) == {}
+
+
+def test_progress_counts_the_samples_that_run_a_prediction_each():
+    """A band whose samples each run a prediction reports every one (the CLI's bar); the uniform seal's scaled
+    contact takes all samples at once and reports none, yet gives the same percentiles with or without a listener."""
+    steps: list[int] = []
+    study = parse_uncertain_case(spread(ORING, 'h_rms = "1.5 um"', 'h_rms = "1.5 um ± 10 %"'))
+    propagate(study, 4, seed=0, progress=steps.append)
+    assert steps == [1, 1, 1, 1]
+    steps.clear()
+    uniform = parse_uncertain_case(spread(LEAKS))
+    quiet = propagate(uniform, 8, seed=0)
+    heard = propagate(uniform, 8, seed=0, progress=steps.append)
+    assert steps == [] and np.array_equal(quiet.percentiles(), heard.percentiles())

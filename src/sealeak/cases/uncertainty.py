@@ -177,11 +177,13 @@ def sample_values(study: UncertainStudy, points: NDArray[np.float64],
 
 
 def _sample(study: UncertainStudy, points: NDArray[np.float64], nominal: list[CaseResult] | None = None,
-            validity: bool = True) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_] | None]:
+            validity: bool = True, progress: Callable[[int], object] | None = None,
+            ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_] | None]:
     """(:func:`sample_values`, and per sample and row whether the theory shown is within its validity: the verdict of
     the sample's own prediction, or of the nominal contact scaled as its leak rate is). With ``validity`` False (the
     Sobol' indices, which need the leak rates alone) the scaled samples' verdicts, a critical junction per sample and
-    row, are not computed (None)."""
+    row, are not computed (None). ``progress`` is called with 1 after each sample that takes a prediction of its own
+    (not on the fast paths, which take all samples at once)."""
     points = np.atleast_2d(np.asarray(points, dtype=float))
     if points.shape[1] != len(study.inputs):
         raise ValueError(f"points have {points.shape[1]} coordinates; the study has {len(study.inputs)} inputs")
@@ -214,6 +216,8 @@ def _sample(study: UncertainStudy, points: NDArray[np.float64], nominal: list[Ca
                                                           float(factors["modulus"][i]))):
                         results.append(run_case(case))
             done[tag], done_valid[tag] = record_values(results), record_validity(results)
+        if progress is not None:
+            progress(1)
         for key, v in done[tag].items():
             out.setdefault(key, []).append(v)
         valid.append(done_valid[tag])
@@ -672,13 +676,15 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
                        between_outside=(0.0, 0.0) if outside is None else (float(outside[i - 1]), float(outside[i])))
 
 
-def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int = 0, sampler: str = "sobol") -> UncertaintyResult:
+def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int = 0, sampler: str = "sobol",
+              progress: Callable[[int], object] | None = None) -> UncertaintyResult:
     """Carry the study's uncertain inputs through the prediction with ``samples`` quasi-random points (``sampler``,
     ``seed``): the same arguments give the same numbers bit for bit. Without uncertain inputs (``conditions.max_leak_rate``
-    alone) every sample would be the nominal prediction: one sample is taken, and each probability is 0 or 1."""
+    alone) every sample would be the nominal prediction: one sample is taken, and each probability is 0 or 1.
+    ``progress`` (as a progress bar's ``update``) is called with 1 after each sample that runs a prediction of its own."""
     check_sampling(samples, seed, sampler)
     points = unit_points(len(study.inputs), samples, seed, sampler) if study.inputs else np.zeros((1, 0))
     nominal = [run_case(c) for c in study.cases]
-    values, valid = _sample(study, points, nominal)
+    values, valid = _sample(study, points, nominal, progress=progress)
     keys, limits = _limits(study, study.cases) if study.max_leak_rate is not None else (None, None)
     return UncertaintyResult(study, points, values, nominal, sampler, seed, keys, limits, valid=valid)

@@ -86,6 +86,8 @@ def add_uncertainty_args(p: argparse.ArgumentParser) -> None:
 def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyResult | None:
     """The propagation of the case file's uncertain inputs (spreads or ``conditions.max_leak_rate``) with the
     options of :func:`add_uncertainty_args`, or None for a case file without them (the options are then refused)."""
+    from tqdm import tqdm
+
     from ..cases.uncertainty import DEFAULT_SAMPLES, check_sampling, propagate, uncertain_study
 
     options = {"--samples": args.samples, "--seed": args.seed, "--sampler": args.sampler}
@@ -100,9 +102,13 @@ def propagation(args: argparse.Namespace, case_file: CaseFile) -> UncertaintyRes
                               args.sampler or "sobol")
     check_sampling(samples, seed, sampler)
     say(args, f"sampling {len(study.inputs)} uncertain input{'s' if len(study.inputs) != 1 else ''} with {samples} samples "
-              "(each a full prediction) ..." if study.inputs else
+              "..." if study.inputs else
               "no uncertain inputs: conditions.max_leak_rate is judged on the deterministic leak rates")
-    return propagate(study, samples, seed, sampler)
+    # a bar for the samples that run a prediction each (the fast paths take all at once and never move it); tqdm
+    # draws it on a terminal only, and a bar never moved is not drawn
+    with tqdm(total=samples, desc="samples", unit="sample", disable=None if not getattr(args, "quiet", False) else True,
+              file=sys.stderr, delay=2.0, leave=False) as bar:
+        return propagate(study, samples, seed, sampler, progress=bar.update)
 
 
 def add_sensitivity_arg(p: argparse.ArgumentParser) -> None:

@@ -37,10 +37,11 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PchipInterpolator
-from scipy.optimize import brentq, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 __all__ = ["SIGMA_P", "FREE_MOLECULAR_CONSTANT", "poiseuille_flow_rate", "finite_slit_free_molecular",
-           "knudsen_minimum", "capped_rarefaction", "flow_rate_integral", "pressure_integral", "poiseuille_flow_rate_at"]
+           "knudsen_minimum", "capped_rarefaction", "capped_rarefactions",
+           "finite_slit_free_molecular_many", "flow_rate_integral", "pressure_integral", "poiseuille_flow_rate_at"]
 
 FloatArray = NDArray[np.float64]
 
@@ -111,13 +112,20 @@ def poiseuille_flow_rate(delta: ArrayLike) -> FloatArray:
 
 
 _GP_KNOTS = _GP_SPLINE.x.tolist()
+_SQRT_PI = math.sqrt(math.pi)
 _GP_PIECES = [tuple(_GP_SPLINE.c[:, i].tolist()) for i in range(len(_GP_KNOTS) - 1)]
 
 
 def poiseuille_flow_rate_at(delta: float) -> float:
-    """:func:`poiseuille_flow_rate` at one δ, in plain floats inside the table (an ODE calls it ~10⁴ times)."""
-    if not _D_LO <= delta <= _D_HI:
-        return float(poiseuille_flow_rate(delta))
+    """:func:`poiseuille_flow_rate` at one δ in plain floats, the asymptotes outside the table included (an ODE calls
+    it ~10⁵ times)."""
+    if delta > _D_HI:
+        return delta / 6.0 + SIGMA_P + _A_HI / delta
+    if delta < _D_LO:
+        if delta > 0:
+            ln_d = math.log(delta)
+            return -ln_d / _SQRT_PI + FREE_MOLECULAR_CONSTANT + _B_LO * delta * ln_d**2
+        return math.inf  # (as the array function: G_P(0) = inf)
     i = min(bisect.bisect_right(_GP_KNOTS, delta) - 1, len(_GP_PIECES) - 1)
     a, b, c, d = _GP_PIECES[i]
     h = delta - _GP_KNOTS[i]
@@ -127,10 +135,15 @@ def poiseuille_flow_rate_at(delta: float) -> float:
 def finite_slit_free_molecular(length_ratio: float) -> float:
     """G_fm(ℓ) (dimensionless): the free-molecular flow rate of a slit of length ℓ = L/h >= 1 (heights),
     ℓ W(ℓ)/√π with W the Clausing transmission probability; (ln ℓ + c)/√π beyond the table (ℓ > 500)."""
-    ell = float(length_ratio)
-    if ell > _LENGTH_RATIO[-1]:
-        return (math.log(ell) + _C_FM) / math.sqrt(math.pi)
-    return float(_FM_SPLINE(math.log(max(ell, 1.0))))
+    return float(finite_slit_free_molecular_many(np.array([float(length_ratio)]))[0])
+
+
+def finite_slit_free_molecular_many(length_ratio: ArrayLike) -> FloatArray:
+    """:func:`finite_slit_free_molecular` of every ℓ in an array (the same numbers, one call)."""
+    ell = np.asarray(length_ratio, dtype=float)
+    inside = ell <= _LENGTH_RATIO[-1]
+    far = (np.log(np.where(inside, _LENGTH_RATIO[-1], ell)) + _C_FM) / math.sqrt(math.pi)
+    return np.where(inside, _FM_SPLINE(np.log(np.clip(ell, 1.0, _LENGTH_RATIO[-1]))), far)
 
 
 def _minimum() -> tuple[float, float]:
@@ -146,6 +159,26 @@ def knudsen_minimum() -> tuple[float, float]:
     return _DELTA_MIN, _G_MIN
 
 
+def capped_rarefactions(length_ratio: ArrayLike) -> FloatArray:
+    """δ_ℓ of :func:`capped_rarefaction` for every ℓ in an array, by bisection in ln δ on all at once (a gas sheet
+    needs it at some 240 lengths; root found to 10⁻¹² in ln δ, as the scalar function's)."""
+    g_cap = finite_slit_free_molecular_many(length_ratio)
+    short = g_cap <= _G_MIN
+    # G_P(e^x) − g_cap decreases in x below the minimum; at x = lo it is ≈ 1 + C > 0 (free-molecular asymptote)
+    lo = np.where(short, 0.0, -math.sqrt(math.pi) * (g_cap + 1.0))
+    hi = np.where(short, 0.0, math.log(_DELTA_MIN))
+    # each δ_ℓ halves its own bracket until it is below 1e-12 (its number the same whatever the others'); a width of
+    # 2⁶⁰ takes 100 halvings; an infinite ℓ stays at δ_ℓ = 0, the infinite slit
+    for _ in range(200):
+        going = hi - lo > 1e-12
+        if not going.any():
+            break
+        mid = 0.5 * (lo + hi)
+        above = poiseuille_flow_rate(np.exp(mid)) > g_cap
+        lo, hi = np.where(going & above, mid, lo), np.where(going & ~above, mid, hi)
+    return np.where(short, _DELTA_MIN, np.exp(0.5 * (lo + hi)))
+
+
 @functools.lru_cache(maxsize=4096)
 def capped_rarefaction(length_ratio: float) -> float:
     """δ_ℓ: the smallest rarefaction parameter a slit of length ℓ = L/h sees (docs/theory.md §11.4).
@@ -153,15 +186,10 @@ def capped_rarefaction(length_ratio: float) -> float:
     The infinite slit's G_P grows without bound as δ → 0; a slit of length L cannot carry more than
     its free-molecular flow G_fm(ℓ). δ_ℓ solves G_P(δ_ℓ) = G_fm(ℓ) on the free-molecular side of the
     Knudsen minimum, and the flow rate of the finite slit is G_P(max(δ, δ_ℓ)); a slit too short to
-    reach the minimum's flow (G_fm(ℓ) <= min G_P) gets δ_ℓ at the minimum.
+    reach the minimum's flow (G_fm(ℓ) <= min G_P) gets δ_ℓ at the minimum. The numbers of
+    :func:`capped_rarefactions`, at one ℓ.
     """
-    g_cap = finite_slit_free_molecular(length_ratio)
-    if g_cap <= _G_MIN:
-        return _DELTA_MIN
-    # G_P(e^x) − g_cap decreases in x below the minimum; at x = lo it is ≈ 1 + C > 0 (free-molecular asymptote).
-    lo = -math.sqrt(math.pi) * (g_cap + 1.0)
-    x = brentq(lambda v: float(poiseuille_flow_rate(math.exp(v))) - g_cap, lo, math.log(_DELTA_MIN), xtol=1e-12)
-    return math.exp(x)
+    return float(capped_rarefactions(np.array([float(length_ratio)]))[0])
 
 
 def _low_integral(d: FloatArray) -> FloatArray:

@@ -33,6 +33,7 @@ import math
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -41,7 +42,7 @@ from scipy.integrate import ode, quad, solve_ivp
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
-from ._kinetic_slit import capped_rarefaction, poiseuille_flow_rate_at
+from ._kinetic_slit import capped_rarefactions, poiseuille_flow_rate_at
 from .gaps import ArrayCache
 from .gas import Gas, bk_pressure_integrand, check_rarefaction_model
 from .profile import PressureProfile, series_resistance
@@ -610,18 +611,36 @@ class GasSheet:
 
     def __call__(self, s: float, p: float) -> float:
         """g(s, P) in m³/s at the effective contact pressure s (Pa) and the absolute gas pressure P (Pa, >= 0)."""
-        ln_sigma, ln_h, cap = self.tables(math.log(s) if s > 0 else self.tables.lo)
-        sigma = self.scale * math.exp(ln_sigma)
-        if self.model == "no-slip":
-            return sigma * p
-        assert self.gas is not None, "a rarefied sheet needs its gas (for_gas)"
-        c = self.gas.rarefaction_pressure_scale / math.exp(ln_h)  # Kn = c/P
-        if self.model == "beskok-karniadakis":
-            return sigma * bk_pressure_integrand(p, c)
-        # kinetic: P f = (12 c/√π) G_P(max(δ, δ_ℓ)), δ = (√π/2) P/c (docs/theory.md §11.5); an infinite slit's
-        # G_P diverges (integrably) at P = 0: δ is kept above 1e-12
-        delta = max(0.5 * math.sqrt(math.pi) * p / c, math.exp(cap) if self.finite else 1e-12)
-        return sigma * 12.0 * c / math.sqrt(math.pi) * poiseuille_flow_rate_at(delta)
+        return self.pointwise(s, p)
+
+    @cached_property
+    def pointwise(self) -> Callable[[float, float], float]:
+        """g(s, P) (m³/s) as one function of plain floats, its constants taken once (an ODE calls it ~10⁵ times):
+        the three splines of :attr:`tables` share their knots, so the piece is found once for all three."""
+        knots, pieces, last = self.tables.knots, self.tables.pieces, len(self.tables.pieces) - 1
+        lo, hi = self.tables.lo, self.tables.hi
+        scale, model, finite = self.scale, self.model, self.finite
+        exp, log, right, sqrt_pi = math.exp, math.log, bisect.bisect_right, math.sqrt(math.pi)
+        if model != "no-slip":
+            assert self.gas is not None, "a rarefied sheet needs its gas (for_gas)"
+            lambda_p = self.gas.rarefaction_pressure_scale  # λ P (Pa·m): Kn = c/P with c = λ P/h
+
+        def g(s: float, p: float) -> float:
+            x = min(max(log(s) if s > 0 else lo, lo), hi)
+            i = min(max(right(knots, x) - 1, 0), last)
+            h = x - knots[i]
+            (a1, b1, c1, d1), (a2, b2, c2, d2), (a3, b3, c3, d3) = pieces[i]
+            sigma = scale * exp(((a1 * h + b1) * h + c1) * h + d1)
+            if model == "no-slip":
+                return sigma * p
+            c = lambda_p / exp(((a2 * h + b2) * h + c2) * h + d2)  # Kn = c/P
+            if model == "beskok-karniadakis":
+                return sigma * bk_pressure_integrand(p, c)
+            # kinetic: P f = (12 c/√π) G_P(max(δ, δ_ℓ)), δ = (√π/2) P/c (docs/theory.md §11.5); an infinite slit's
+            # G_P diverges (integrably) at P = 0: δ is kept above 1e-12
+            delta = max(0.5 * sqrt_pi * p / c, exp(((a3 * h + b3) * h + c3) * h + d3) if finite else 1e-12)
+            return sigma * 12.0 * c / sqrt_pi * poiseuille_flow_rate_at(delta)
+        return g
 
 
 def gas_sheet(sheet: Sheet, low: float, high: float) -> GasSheet | None:
@@ -632,7 +651,7 @@ def gas_sheet(sheet: Sheet, low: float, high: float) -> GasSheet | None:
     if not (np.all(sigma > 0) and np.all(np.isfinite(gap) & (gap > 0))):
         return None
     finite = bool(np.all(np.isfinite(length) & (length > 0)))
-    cap = np.log([capped_rarefaction(float(r)) for r in length / gap]) if finite else np.zeros(s.size)
+    cap = np.log(capped_rarefactions(length / gap)) if finite else np.zeros(s.size)
     return GasSheet(_Splines(np.log(s), (np.log(sigma), np.log(gap), cap)), finite)
 
 
@@ -667,42 +686,51 @@ def coupled_gas_integral(sheet: GasSheet, squeeze_pressure: ArrayLike, downstrea
 
 
 def coupled_gas_band_flow(profile: PressureProfile, sheet: GasSheet | None, downstream_pressure: float,
-                          pressure_difference: float, *, rtol: float = 1e-9) -> CoupledBand:
+                          pressure_difference: float, *, rtol: float = FLOW_RTOL) -> CoupledBand:
     """The pV flow per unit length q (Pa·m²/s) of a band with the gas pressure acting on it (docs/theory.md eq. 13.7).
 
     In y = P² (regular at a vacuum outlet), dy/dx = −2 q P/g(p(x) − (P − P_b), P) is integrated across the band
-    from y = P_a² (DOP853 in θ on each piece, as :func:`coupled_band_flow`, here at relative tolerance 1e-10; y below 0
-    continues with P = √|y|), and q is found by Brent's method such that P(w) = P_b (P = ±√|y|), bracketed by doubling or
-    halving from the uniform seal at the mean pressure. ``sheet`` None (σ(p_max) = 0): sealed, q = 0. ΔP ≥ p_max
-    lifts the seal: q is then that of ΔP = p_max.
+    from y = P_a² (DOP853 in θ on each piece, as :func:`coupled_band_flow`, relative tolerance 1e-10, absolute
+    1e-12 P_a²; y below 0 continues with P = √|y|; Hairer's Fortran code, or solve_ivp's DOP853 for a shot it gives
+    up on, :func:`_across`), and q is found by Brent's method to ``rtol`` such that P(w) = P_b (P = ±√|y|),
+    bracketed by doubling or halving from the uniform seal at the mean pressure. ``sheet`` None (σ(p_max) = 0):
+    sealed, q = 0. ΔP ≥ p_max lifts the seal: q is then that of ΔP = p_max.
+
+    ``rtol`` is :data:`FLOW_RTOL` (10⁻⁷), the shots' own noise: near a vacuum outlet P = √y turns y's absolute
+    tolerance into an error of ~10⁻⁷ ΔP on P(w), and Brent's steps below it follow that noise (until 2026-11-28
+    ``rtol`` was 10⁻⁹: 15–21 shots a band where 7–10 reach the same q within 10⁻⁷).
     """
     p_max, w = profile.max_pressure, profile.width
     lifted = pressure_difference >= p_max
     dp = min(float(pressure_difference), p_max)
     if sheet is None or dp <= 0:
         return CoupledBand(0.0, lifted, True, 0)
-    g = sheet
+    g = sheet.pointwise
     pb, pa = float(downstream_pressure), float(downstream_pressure) + dp
     pieces = _pieces(profile)
+    sqrt = math.sqrt
     shots = 0
+
+    def slope(q: float, dxdt: Callable[..., float], p: Callable[..., float]) -> Callable[[float, FloatArray], float]:
+        def rhs(t: float, u: FloatArray) -> float:
+            gas = sqrt(abs(u[0]))
+            return -2.0 * q * dxdt(t) * gas / g(p(t) - (gas - pb), gas) if gas > 0 else 0.0
+        return rhs
 
     def mismatch(q: float) -> float:
         nonlocal shots
         shots += 1
-        y = pa * pa
-
-        def rhs(t: float, u: NDArray[np.float64], dxdt: Callable[..., float], p: Callable[..., float]) -> list[float]:
-            gas = math.sqrt(abs(u[0]))
-            return [-2.0 * q * dxdt(t) * gas / g(p(t) - (gas - pb), gas)] if gas > 0 else [0.0]
-
-        for dxdt, p in pieces:
-            with np.errstate(invalid="ignore", divide="ignore"):
-                sol = solve_ivp(rhs, (0.0, np.pi), [y], method="DOP853", args=(dxdt, p), rtol=1e-10,
-                                atol=1e-12 * pa * pa)
-            y = float(sol.y[0, -1])
+        for fortran in (True, False):  # (solve_ivp for a shot the Fortran code gives up on)
+            y = pa * pa
+            try:
+                for dxdt, p in pieces:
+                    y = _across(slope(q, dxdt, p), y, pa * pa, fortran)
+                break
+            except _GaveUp:
+                continue
         return (math.copysign(math.sqrt(abs(y)), y) - pb) / dp  # in P, not y: linear in q on both sides of the root
 
-    q0 = float(coupled_gas_integral(g, profile.mean_pressure, pb, dp).value[0]) / w
+    q0 = float(coupled_gas_integral(sheet, profile.mean_pressure, pb, dp).value[0]) / w
     m0 = mismatch(q0)
     step = 2.0 if m0 > 0 else 0.5
     while m0 != 0:
