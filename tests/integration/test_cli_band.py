@@ -9,6 +9,7 @@ import pytest
 
 from sealeak.cli import main
 from tests.casefiles import FINE_SURFACE, ORING
+from tests.cli_errors import one_line_error
 
 PROFILE_CSV = """# a lip-like profile
 x (mm), pressure (MPa)
@@ -130,6 +131,13 @@ def test_predict_table_names_the_band_columns(tmp_path, capsys):
     (ORING.replace('compression = ["10 %", "15 %", "30 %"]', 'compression = ["10 mm"]'), "conditions.compression", ""),
     (PROFILE.replace('pressure_profile = "p.csv"', 'pressure_profile = "p.csv"\nshape = "ring"'), "seal.shape", "no shape"),
     (PROFILE.replace("profile_scale = [0.5, 1.0]", "profile_scale = [0.5, 0]"), "conditions.profile_scale[1]", "> 0"),
+    # a range's items were never written: the end outside the allowed values is named, as written
+    (ORING.replace('compression = ["10 %", "15 %", "30 %"]', 'compression = { start = "10 %", stop = "130 %", num = 9 }'),
+     "conditions.compression.stop", "= '130 %': must lie between"),
+    (ORING.replace('compression = ["10 %", "15 %", "30 %"]', 'compression = { start = "-10 %", stop = "30 %", num = 9 }'),
+     "conditions.compression.start", "= '-10 %': must lie between"),
+    (PROFILE.replace("profile_scale = [0.5, 1.0]", "profile_scale = { start = 0.5, stop = 1e9, num = 5 }"),
+     "conditions.profile_scale.stop", "= 1e+09: gives a peak contact pressure of 6e+14 Pa"),
     (PROFILE.replace("profile_scale = [0.5, 1.0]", 'compression = ["10 %"]'), "conditions.compression", "O-ring"),
     (PROFILE.replace('length = "100 mm"', ""), "seal.length", ""),
     (PROFILE.replace('pressure_profile = "p.csv"', 'pressure_profile = "missing.csv"'), "missing.csv", ""),
@@ -141,6 +149,13 @@ def test_bad_band_input_is_one_line_naming_the_field(tmp_path, capsys, text, fie
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     assert field in err and words in err
     assert not out.exists()
+
+
+def test_a_profile_file_beyond_any_seal_without_profile_scale_is_named(tmp_path, capsys):
+    """No profile_scale: the file's own peak is checked and the file named (it was a traceback)."""
+    path = _case(tmp_path, PROFILE.replace("profile_scale = [0.5, 1.0]", ""), PROFILE_CSV.replace("0.05, 0.6", "0.05, 6e9"))
+    assert main(["predict", str(path)]) == 2
+    one_line_error(capsys, "seal.pressure_profile = 'p.csv'", "peak contact pressure is 6e+15 Pa")
 
 
 @pytest.mark.parametrize("csv, words", [

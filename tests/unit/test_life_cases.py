@@ -231,6 +231,8 @@ def test_a_master_curve_is_given_alone(tmp_path):
     (ORING, 'youngs_modulus = "5 MPa"\nthermal_expansion = "2e-4 1/K"', "", "", "seal.gland_thermal_expansion"),
     (RING, 'youngs_modulus = "5 MPa"', 'time = "-1 s"', "", "conditions.time"),
     (RING, 'youngs_modulus = "5 MPa"', 'time = "3 kg"', "", "conditions.time"),
+    (RING, 'youngs_modulus = "5 MPa"', 'time = {start = "-1 h", stop = "1 a", num = 5}', "", "conditions.time.start"),
+    (RING, 'youngs_modulus = "5 MPa"', 'time = ["1 h", "-1 h"]', "", "conditions.time[1]"),
     (RING, 'youngs_modulus = "5 MPa"', "temperature = 20", "", "conditions.temperature"),
     (RING, 'youngs_modulus = "5 MPa"', 'time = {start = "0 s", stop = "1 a", num = 20}\n'
                                        'temperature = ["0 degC", "10 degC", "20 degC", "30 degC", "40 degC", "50 degC"]',

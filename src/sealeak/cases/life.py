@@ -50,7 +50,7 @@ from ..physics.viscoelastic import (
 from .limits import MAX_STUDY_VALUES, at_most
 from .model import STANDARD_TEMPERATURE_CASE, Case, LifePoint
 from .schema import Section, case_keys
-from .seals import condition_values, two_column_table
+from .seals import condition_values, failing_item, two_column_table
 
 __all__ = ["LIFE_KEYS", "life_cases", "life_label", "life_variant", "time_text", "time_unit", "read_master_curve"]
 
@@ -155,11 +155,10 @@ def _times(cond: Section) -> list[float]:
     """``conditions.time`` in s (>= 0): one value, a list or a range; default 0 s (just after assembly)."""
     if not cond.has("time"):
         return [0.0]
-    values, raw = condition_values(cond, "time", "time")
-    for i, t in enumerate(values):
-        if not (math.isfinite(t) and t >= 0):
-            raise InputError(f"conditions.time[{i}]" if len(values) > 1 else "conditions.time", raw[i],
-                             "must be >= 0 s: the time since assembly")
+    values, _ = condition_values(cond, "time", "time")
+    ok = np.isfinite(values) & (values >= 0)
+    if not ok.all():
+        raise InputError(*failing_item(cond, "time", ok)[1:], "must be >= 0 s: the time since assembly")
     return [float(t) for t in values]
 
 

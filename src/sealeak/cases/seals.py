@@ -88,6 +88,21 @@ def condition_values(cond: Section, key: str, dimension: str) -> tuple[NDArray[n
                      for i, v in enumerate(items)]), items
 
 
+def failing_item(cond: Section, key: str, ok: NDArray[np.bool_]) -> tuple[int, str, object]:
+    """The item of :func:`condition_values` that failed a check (``ok``: the check per item, not all True) to name in
+    the message: (its index, its field, its value as written). From a list its first failing item
+    (``conditions.compression[2]``, ``'35 %'``); one value as ``conditions.compression``; from a {start, stop, num}
+    range, whose items the user never wrote, the end that fails (its start if both do) as written
+    (``conditions.compression.stop``, ``'130 %'``): the checks bound a value from below or above, so an item between
+    two ends that pass passes too."""
+    value, field = cond.raw(key), cond.field(key)
+    if isinstance(value, dict):
+        end = "start" if not ok[0] or ok[-1] else "stop"
+        return (0 if end == "start" else ok.size - 1), f"{field}.{end}", value.get(end)
+    i = int(np.argmin(ok))
+    return (i, f"{field}[{i}]", value[i]) if isinstance(value, list) else (i, field, value)
+
+
 def _faces(seal: Section) -> int:
     faces = seal.raw("faces", 1)
     if isinstance(faces, bool) or faces not in (1, 2):
@@ -147,9 +162,9 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
                              if not has_c else "give either compression or groove_depth, not both")
         if has_c:
             eps, raw = condition_values(cond, "compression", "dimensionless")
-            for i, e in enumerate(eps):
-                if not MIN_COMPRESSION <= e < 1:
-                    raise InputError(f"conditions.compression[{i}]" if len(eps) > 1 else "conditions.compression", raw[i],
+            inside = (MIN_COMPRESSION <= eps) & (eps < 1)
+            if not inside.all():
+                raise InputError(*failing_item(cond, "compression", inside)[1:],
                                      f"must lie between {100 * MIN_COMPRESSION:g} % (a smaller squeeze is below any roughness) "
                                      "and 100 % (ε = squeeze / cross-section diameter)")
         else:
@@ -173,14 +188,14 @@ def build_band(kind: str, seal: Section, cond: Section, rubber: Section, youngs_
         base = read_pressure_profile(path)
         length = seal.quantity("length", "length")
         if cond.has("profile_scale"):
-            loads, raw = condition_values(cond, "profile_scale", "dimensionless")
-            for i, f in enumerate(loads):
-                if not (np.isfinite(f) and f > 0):
-                    raise InputError(f"conditions.profile_scale[{i}]" if len(loads) > 1 else "conditions.profile_scale",
-                                     raw[i], "must be > 0 (a factor on the file's pressures)")
+            loads, _ = condition_values(cond, "profile_scale", "dimensionless")
+            positive = np.isfinite(loads) & (loads > 0)
+            if not positive.all():
+                raise InputError(*failing_item(cond, "profile_scale", positive)[1:],
+                                 "must be > 0 (a factor on the file's pressures)")
         else:
             loads = np.ones(1)
-        _check_scales(cond, loads, raw, base)
+        _check_scales(cond, loads, base, (seal.field("pressure_profile"), name))
         profiles = tuple(base.scaled(float(f)) for f in loads)
         notes = (f"pressure profile from {path.name}: {base.x.size} points over w = {base.width * 1e3:.4g} mm, "
                  f"mean {base.mean_pressure / 1e6:.4g} MPa, max {base.max_pressure / 1e6:.4g} MPa (before profile_scale)",
@@ -204,15 +219,21 @@ PROFILE_WIDTH_LIMIT = 0.1
 MAX_CONTACT_PRESSURE = 1e12
 
 
-def _check_scales(cond: Section, loads: NDArray[np.float64], raw: list[object], base: PressureProfile) -> None:
-    """Each profile_scale gives a peak pressure that a float holds and the physics can use (<= MAX_CONTACT_PRESSURE)."""
+def _check_scales(cond: Section, loads: NDArray[np.float64], base: PressureProfile, file: tuple[str, object]) -> None:
+    """Each profile_scale gives a peak pressure that a float holds and the physics can use (<= MAX_CONTACT_PRESSURE);
+    without profile_scale the file's own peak, named by ``file`` (its field and value)."""
     with np.errstate(over="ignore"):
         peaks = loads * base.max_pressure
-    for i, peak in enumerate(peaks):
-        if not (np.isfinite(peak) and peak <= MAX_CONTACT_PRESSURE):
-            raise InputError(f"conditions.profile_scale[{i}]" if len(loads) > 1 else "conditions.profile_scale", raw[i],
-                             f"gives a peak contact pressure of {peak:.3g} Pa: at most {MAX_CONTACT_PRESSURE:.0e} Pa "
-                             f"(the file's peak is {base.max_pressure:.4g} Pa), far beyond any seal")
+    held = np.isfinite(peaks) & (peaks <= MAX_CONTACT_PRESSURE)
+    if held.all():
+        return
+    if not cond.has("profile_scale"):
+        raise InputError(*file, f"its peak contact pressure is {peaks[0]:.3g} Pa: at most {MAX_CONTACT_PRESSURE:.0e} Pa, "
+                                "far beyond any seal (are the file's pressures in the unit its header names?)")
+    i, field, written = failing_item(cond, "profile_scale", held)
+    raise InputError(field, written, f"gives a peak contact pressure of {peaks[i]:.3g} Pa: at most "
+                                     f"{MAX_CONTACT_PRESSURE:.0e} Pa (the file's peak is {base.max_pressure:.4g} Pa), "
+                                     "far beyond any seal")
 
 
 def _profile_warnings(seal: Section, path: Path, base: PressureProfile, length: float) -> tuple[str, ...]:
