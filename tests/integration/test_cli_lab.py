@@ -38,6 +38,37 @@ def test_fit_through_data_file_and_cli(case, sweep, tmp_path):
     assert (figs / "fit.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_a_liquid_weighed_is_fitted_as_its_volume_flow(case, sweep, tmp_path, capsys):
+    """Leak rates in g/h of a liquid: the fit takes ṁ/ρ, with fluid.density (1000 kg/m³ in the example), or the
+    property library's density of the named liquid when the case gives none; a liquid without either is refused,
+    naming the column and what to give."""
+    p0, cj, _ = sweep
+    q = 0.35 * cj  # m³/s
+    for name, rows in (("ml.csv", "leak_rate (ml/min)\n" + "\n".join(f"{p / 1e3:.10g}, {x * 6e7:.10g}" for p, x in zip(p0, q))),
+                       ("g.csv", "leak_rate (g/h)\n" + "\n".join(f"{p / 1e3:.10g}, {x * 1e3 * 3.6e6:.10g}" for p, x in zip(p0, q)))):
+        (tmp_path / name).write_text("squeeze_pressure (kPa), " + rows + "\n")
+    text = example_path("reference-experiment").read_text()
+    (tmp_path / "given.toml").write_text(text)
+    # (the rig's water column keeps its own density)
+    no_density = text.replace('density = "1000 kg/m^3"\n', "").replace("[rig]\n", '[rig]\ndensity = "1000 kg/m^3"\n')
+    (tmp_path / "library.toml").write_text(no_density)
+    (tmp_path / "unnamed.toml").write_text(no_density.replace('name = "water"\n', ""))
+    alpha = {}
+    for case_file, data in (("given", "ml"), ("given", "g"), ("library", "g")):
+        out = tmp_path / f"{case_file}-{data}.json"
+        assert main(["fit", str(tmp_path / f"{case_file}.toml"), "--data", str(tmp_path / f"{data}.csv"),
+                     "--json", str(out)]) == 0
+        printed = capsys.readouterr().out
+        assert ("are mass flows: fitted as the volume flows ṁ/ρ" in printed) == (data == "g")
+        alpha[case_file, data] = json.loads(out.read_text())["critical_junction"]["alpha"]
+    assert alpha["given", "g"] == pytest.approx(alpha["given", "ml"], rel=1e-9)
+    # water at 20 °C: 998.2 kg/m³, so the same grams are 0.18 % more volume than at 1000 kg/m³
+    assert alpha["library", "g"] == pytest.approx(alpha["given", "ml"] * 1000 / 998.2, rel=1e-4)
+    assert main(["fit", str(tmp_path / "unnamed.toml"), "--data", str(tmp_path / "g.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "column 'leak_rate (g/h)'" in err and "give fluid.density" in err and len(err.strip().splitlines()) == 1
+
+
 def test_non_percolating_points_are_excluded_with_a_message(case, tmp_path, capsys):
     data = tmp_path / "m.csv"
     data.write_text("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n"

@@ -19,6 +19,7 @@ from ..io.leak_units import pv_throughput
 from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
+from ..physics.properties import ATMOSPHERE, fluid_state
 from .band import BandResult, load_value
 from .capillarity import CapillaryRows, band_capillarity, uniform_capillarity
 from .gas import CoupledGasSeal, band_gas_seal, gas_throughput, uniform_gas_seals
@@ -243,10 +244,23 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     _check_load_column(case, data)
     if case.gas is not None:
         return _run_gas_fit(case, data)
+    column = data.columns.get("leak_rate", "leak_rate")
+    density = _liquid_density(case) if data.leak_rate_kind == "mass_flow" else None
+    if density is not None:
+        # a liquid's leak weighed (g/h, kg/s): its volume flow ṁ/ρ at the liquid's density
+        assert data.leak_rate_si is not None
+        weighed = Note("fit_mass_flow", {"column": column, "density": density})
+        fitted = run_fit(case, replace(data, leak_rate=data.leak_rate_si / density, leak_rate_kind="volume_flow"))
+        return replace(fitted, messages=(weighed, *fitted.messages))
+    if data.leak_rate_kind == "mass_flow":
+        raise FileFormatError(data.path, f"column '{column}': a mass flow of a liquid needs its density: give "
+                                         "fluid.density in the case (or name a liquid the property library knows), or "
+                                         "give a volume flow (e.g. 'ml/min')")
     if data.leak_rate_kind in _GAS_ONLY_KINDS:
-        raise FileFormatError(data.path, f"column '{data.columns.get('leak_rate', 'leak_rate')}': a {data.leak_rate_kind.replace('_', ' ')} "
+        raise FileFormatError(data.path, f"column '{column}': a {data.leak_rate_kind.replace('_', ' ')} "
                                          "is a gas's leak rate, and the case's fluid is a liquid: give a volume flow (e.g. "
-                                         "'ml/min'), or name the gas in the case ([fluid] name, absolute pressures)")
+                                         "'ml/min') or a mass flow (e.g. 'g/h'), or name the gas in the case ([fluid] "
+                                         "name, absolute pressures)")
     if case.band is not None:
         return _run_band_fit(case, data)
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
@@ -269,6 +283,21 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp,
                      same_pressure_difference=same, measured=measured, grid=grid, curves=curves,
                      messages=tuple(messages), outside_validity=outside)
+
+
+def _liquid_density(case: Case) -> float | None:
+    """ρ (kg/m³) of a liquid case: ``fluid.density``, else the property library's for a named liquid at the case's
+    temperature and 1 atm (a case that gives the viscosity of water looks nothing up until a mass flow needs it); None
+    for an unnamed liquid, or one the library does not know."""
+    if case.fluid.density is not None:
+        return case.fluid.density
+    if case.fluid.name is None:
+        return None
+    try:
+        state = fluid_state(case.fluid.name, case.temperature, ATMOSPHERE)
+    except InputError:  # (an oil, or a name the library does not know)
+        return None
+    return None if state.is_gas else state.density
 
 
 #: One theory of a gas fit at its loads: K at α = 1 (m³/(Pa·s)), the narrowest gap (m), the constriction's length λ_c

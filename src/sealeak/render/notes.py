@@ -309,6 +309,8 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "band_coupled_not_converged": _band_coupled_not_converged,
     "fit_excluded": _fit_excluded,
     "fit_single_point": lambda v: "with one usable point α has no standard error",
+    "fit_mass_flow": lambda v: (f"the leak rates of column '{v['column']}' are mass flows: fitted as the volume flows "
+                                f"ṁ/ρ with the liquid's density ρ = {v['density']:.6g} kg/m³"),
     "fit_outside_validity": _fit_outside_validity,
     "fit_pressure_difference_large": _fit_pressure_difference_large,
     "extrapolation_doubtful": _extrapolation_doubtful,
