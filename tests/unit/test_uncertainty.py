@@ -11,7 +11,7 @@ from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagat
 from sealeak.errors import InputError
 from sealeak.render import prediction_csv, prediction_json
 from sealeak.render.interactive import prediction_plot_data
-from sealeak.render.uncertainty import uncertainty_heading
+from sealeak.render.uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend
 from sealeak.render.uncertainty_figures import uncertainty_figures
 from tests.casefiles import BASE, ORING
 
@@ -302,12 +302,25 @@ def test_the_sobol_samples_skip_the_verdicts_they_do_not_use(monkeypatch):
 
 def test_a_specification_without_spreads_takes_one_sample_and_draws_no_band():
     """max_leak_rate alone: every sample would be the nominal prediction, so one is taken; each probability is 0 or 1,
-    the heading says why, and there is no fan chart or distribution to draw."""
+    the heading says why, and there is no fan chart or distribution to draw. The table is then a verdict per row: the
+    deterministic leak rate (not three equal percentiles) and whether it passes, and the line under it places the load
+    where the leak rate itself reaches the limit."""
     text = LEAKS.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1 ml/min"')
     result = propagate(parse_uncertain_case(text), 256, seed=0)
     assert result.samples == 1 and set(result.exceed_probability.tolist()) <= {0.0, 1.0}
     assert "no uncertain inputs" in uncertainty_heading(result)
     assert uncertainty_figures(result) == {}
+    headers, rows = uncertainty_columns(result)
+    assert headers == ["P0 (kPa)", "Q (ml/min)", "passes"]
+    q = result.nominal[0].critical_junction.leak_rate * 6e7
+    assert [float(r[1]) for r in rows] == pytest.approx(q, rel=1e-3, abs=0)
+    assert [r[2] for r in rows] == ["no" if v > 1.0 else "yes" for v in q]
+    assert "passes: the leak rate is at most conditions.max_leak_rate = 1 ml/min" in uncertainty_legend(result)
+    # a limit between the two rows' leak rates: placed where log Q, linear in P0, reaches it
+    limit = float(np.sqrt(q[0] * q[1]))
+    between = propagate(parse_uncertain_case(text.replace('"1 ml/min"', f'"{limit:.6g} ml/min"')), 8, seed=0)
+    (line,) = passing_lines(between)
+    assert line.startswith(f"passes {limit:.6g} ml/min from about P0 = 40 kPa on, where the leak rate reaches it"), line
 
 
 def test_progress_counts_the_samples_that_run_a_prediction_each():

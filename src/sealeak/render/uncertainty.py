@@ -49,7 +49,10 @@ def row_columns(rows: Sequence[ResultRow]) -> tuple[list[str], list[list[str]]]:
 
 def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[str]]]:
     """The headers and cells of the uncertainty table: per result row its variant (a study), load, the 5th, 50th and
-    95th percentiles of Q, the share of samples that seal, and the probability of exceeding ``max_leak_rate``."""
+    95th percentiles of Q, the share of samples that seal, and the probability of exceeding ``max_leak_rate``; without
+    uncertain inputs (``max_leak_rate`` alone) the pass-or-fail table of :func:`_verdict_columns`."""
+    if not unc.study.inputs:
+        return _verdict_columns(unc)
     headers, cols = row_columns(unc.study.rows)
     for key, name, convert in _shown(unc):
         p, outside = convert(unc.percentiles(key)), unc.outside(key)
@@ -62,7 +65,7 @@ def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[st
     outside_fraction = unc.outside_fraction
     if outside_fraction is not None and outside_fraction.any():
         headers.append("outside")
-        cols.append([f"{100 * v:.0f} %" if v else "0" for v in outside_fraction])
+        cols.append([f"{100 * v:.0f} %" for v in outside_fraction])
     exceed = unc.exceed_probability
     if exceed is not None:
         headers.append("P(Q > max)")
@@ -70,18 +73,43 @@ def uncertainty_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[st
     return headers, [list(r) for r in zip(*cols)]
 
 
+def _verdict_columns(unc: UncertaintyResult) -> tuple[list[str], list[list[str]]]:
+    """Per result row its load, the deterministic leak rates the table would show percentiles of (one sample: each
+    percentile is the same number; 0 without a leak channel, starred outside the theory's validity) and whether it
+    passes ``max_leak_rate``."""
+    headers, cols = row_columns(unc.study.rows)
+    for key, name, convert in _shown(unc):
+        q, outside = convert(unc.percentiles(key))[1], unc.outside(key)[1]
+        headers.append(name.replace(" {}", ""))
+        cols.append([(f"{v:.3e}" if v else "0") + ("*" if out and v else "") for v, out in zip(q, outside, strict=True)])
+    if unc.exceed_probability is not None:
+        headers.append("passes")
+        cols.append(["no" if v > 0 else "yes" for v in unc.exceed_probability])
+    return headers, [list(r) for r in zip(*cols)]
+
+
 def uncertainty_heading(unc: UncertaintyResult) -> str:
     """The sentence above the table: how many samples of which inputs."""
     inputs = unc.study.inputs
     if not inputs:
-        return ("pass or fail: no uncertain inputs, so the leak rates are the deterministic ones and each probability "
-                "is 0 or 1 (give a value a spread for a band)")
+        return ("pass or fail: no uncertain inputs, so the leak rates are the deterministic ones (give a value a spread "
+                "for a band and the probability of passing)")
     return (f"uncertainty: {unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of "
             f"{len(inputs)} uncertain input{'s' if len(inputs) != 1 else ''}:")
 
 
 def uncertainty_legend(unc: UncertaintyResult) -> str:
     """What the columns of the uncertainty table mean."""
+    if not unc.study.inputs:
+        text = "the leak rates of the table above (0: no leak channel)"
+        outside = unc.outside_fraction
+        if outside is not None and outside.any():
+            text += "; * outside the theory's validity (see the notes of the table above): not a leak rate to rely on"
+        if unc.limits is not None:
+            text += f"; passes: the leak rate is at most conditions.max_leak_rate = {unc.study.max_leak_rate}"
+            if unc.limit_keys and unc.limit_keys[0] == "leak_rate_helium_pv":
+                text += " (compared with the helium equivalent)"
+        return text
     text = ("p05, p50, p95: the 5th, 50th and 95th percentiles of the leak rate over the samples (a sample without a "
             "leak channel counts as 0); sealed: the share of samples without a leak channel")
     outside = unc.outside_fraction
@@ -132,6 +160,8 @@ def _holding_text(a: LifeAnswer, latest: str) -> str:
 
 def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
     prefix = f"{p.variant}: " if p.variant else ""
+    if not unc.study.inputs:
+        return prefix + _verdict_line(unc, p)
     if np.isfinite(p.passing_load):
         (lo, hi), (p_lo, p_hi) = p.between, p.between_passing_probability
         line = (f"{prefix}passes {unc.study.max_leak_rate} with {100 * PASS_PROBABILITY:.0f} % probability from about "
@@ -149,6 +179,33 @@ def _passing_line(unc: UncertaintyResult, p: PassingLoad) -> str:
                 "samples seal: no leak rate to interpolate towards; compute loads between them to place it"
                 + _outside_there(p))
     return f"{prefix}{p.note}"
+
+
+def _verdict_line(unc: UncertaintyResult, p: PassingLoad) -> str:
+    """Where a case without uncertain inputs passes ``max_leak_rate``: its deterministic leak rate reaching the limit
+    between two rows (log-linear, docs/theory.md eq. 14.4), or why no load is placed."""
+    spec, name = unc.study.max_leak_rate, p.load_name.replace("_", " ")
+    lo, hi = p.between
+    if np.isfinite(p.passing_load):
+        line = (f"passes {spec} from about {load_text(p.load_name, float(f'{p.passing_load:.3g}'))} on, where the leak "
+                f"rate reaches it (log-linear between the rows at {load_text(p.load_name, lo)} and "
+                f"{load_text(p.load_name, hi)})")
+        if _far_apart(p.load_name, lo, hi):
+            line += ": rows that far apart place it roughly; compute loads between them to place it better"
+    elif np.isfinite(lo):
+        line = (f"passes {spec} from somewhere between the rows at {load_text(p.load_name, lo)} and "
+                f"{load_text(p.load_name, hi)}, where it seals: no leak rate to interpolate towards; compute loads "
+                "between them to place it")
+    elif p.note.startswith("passes"):
+        line = f"passes {spec} already at the lowest {name} computed: compute lower loads to place where it starts to"
+    else:
+        line = f"exceeds {spec} at every {name} computed"
+    outside = [load_text(p.load_name, x) for x, f in zip(p.between, p.between_outside, strict=True) if f > 0]
+    if len(outside) == 1:
+        line += f"; the row at {outside[0]} lies outside the theory's validity (starred)"
+    elif outside:
+        line += f"; the rows at {' and '.join(outside)} lie outside the theory's validity (starred)"
+    return line
 
 
 def _outside_there(p: PassingLoad) -> str:
