@@ -499,7 +499,8 @@ def _uncertainty_section(unc: UncertaintyResult, sensitivity: SobolIndices | Non
     """The Uncertainty heading: the inputs, the percentiles per row (the table of ``sealeak predict``), the passing loads,
     the Sobol' indices with ``sensitivity``, and the figures numbered from ``number``."""
     header, rows = uncertainty_columns(unc)
-    parts = ["<h2 id=\"uncertainty\">Uncertainty</h2>", f"<p>{_e(uncertainty_heading(unc))}</p>"]
+    title = "Uncertainty" if unc.study.inputs else "Pass or fail"  # (max_leak_rate alone: no band, a verdict per row)
+    parts = [f"<h2 id=\"uncertainty\">{title}</h2>", f"<p>{_e(uncertainty_heading(unc))}</p>"]
     if unc.study.inputs:
         parts.append("<ul>" + "".join(f"<li>{_e(i.label)}</li>" for i in unc.study.inputs) + "</ul>")
     parts.append(_table(header, rows, left=0))
