@@ -11,9 +11,9 @@ import pytest
 from scipy import integrate, optimize
 
 import sealeak.physics.coupling as coupling
-from sealeak.physics.coupling import coupled_band_flow
+from sealeak.physics.coupling import coupled_band_flow, gas_sheet
 from sealeak.physics.gaps import clear_caches
-from sealeak.physics.profile import PressureProfile
+from sealeak.physics.profile import SIGMA_FLOOR, PressureProfile, series_resistance
 
 W, P_MAX = 1e-3, 2e6
 SIGMA0, S0 = 1e-15, P_MAX / 8
@@ -363,3 +363,29 @@ def test_a_trial_flow_not_from_a_newton_step_is_not_settled_early():
     assert not coupling._settled(1e-7, None, 1e-9)
     assert coupling._settled(1e-8, None, 1e-9)
     assert not coupling._settled(1e-7, 1e-7, 1e-9)  # (a step that did not shrink)
+
+
+def test_a_peak_a_hair_from_the_percolation_limit_seals_without_overflow():
+    """σ at the peak below the smallest normal double (u_c of ~1e-103 m: a peak within a hair of the percolation
+    limit) counts as no leak channel: the band is sealed, R infinite, no gas sheet, and no warning or math error (a
+    denormal σ made 1/σ overflow, R infinite and the shooting take ln 0: a traceback). Just above the floor the band
+    is solved as any other, its flow ΔP/R(p − ΔP) or less."""
+    profile = PressureProfile.semi_elliptic(W, P_MAX)
+
+    def closing(at_peak):
+        """σ falling exponentially to ``at_peak`` at p_max (m³/(Pa·s))."""
+        scale = np.log(SIGMA0 / at_peak) / P_MAX
+        return lambda s: SIGMA0 * np.exp(-np.asarray(s, dtype=float) * scale)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (an overflow warning fails the test)
+        clear_caches()
+        sealed = closing(1.5e-319)
+        band = coupled_band_flow(profile, sealed, 0.05 * P_MAX)
+        assert band.flow == 0.0 and band.converged
+        r = series_resistance(profile, sealed)
+        assert r.sealed and r.resistance == np.inf
+        assert gas_sheet(lambda s: (sealed(s), np.full(np.size(s), 1e-9), np.full(np.size(s), 1e-8)),
+                         1e-6 * P_MAX, P_MAX) is None
+        open_band = coupled_band_flow(profile, closing(1e3 * SIGMA_FLOOR), 0.05 * P_MAX)
+    assert 0.0 < open_band.flow and not series_resistance(profile, closing(1e3 * SIGMA_FLOOR)).sealed

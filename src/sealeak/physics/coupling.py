@@ -45,7 +45,7 @@ from scipy.optimize import brentq
 from ._kinetic_slit import capped_rarefactions, poiseuille_flow_rate_at
 from .gaps import ArrayCache
 from .gas import Gas, bk_pressure_integrand, check_rarefaction_model
-from .profile import PressureProfile, series_resistance
+from .profile import SIGMA_FLOOR, PressureProfile, series_resistance
 
 __all__ = ["LIFT_OFF_FLOOR", "FLOW_RTOL", "SHOT_RTOL", "CoupledIntegral", "CoupledBand", "effective_pressure_integral", "coupled_band_flow",
            "GasSheet", "gas_sheet", "coupled_gas_integral", "coupled_gas_band_flow"]
@@ -329,7 +329,7 @@ def coupled_band_flow(profile: PressureProfile, sheet_conductance: Callable[[Flo
     dp = min(float(pressure_difference), p_max)
     s_grid = np.geomspace(floor, p_max, TABLE_POINTS)
     sigma_grid = np.asarray(sheet_conductance(s_grid), dtype=float)
-    if not np.all(sigma_grid > 0):
+    if not np.all(sigma_grid > SIGMA_FLOOR):  # (σ(p_max) = 0, or below the smallest normal double: sealed)
         return CoupledBand(0.0, lifted, True, 0)
     if dp <= 0:
         return CoupledBand(0.0, lifted, True, 0)
@@ -648,7 +648,7 @@ def gas_sheet(sheet: Sheet, low: float, high: float) -> GasSheet | None:
     where σ vanishes somewhere in that range (the contact seals); no-slip until :meth:`GasSheet.for_gas`."""
     s = np.geomspace(min(low, 0.5 * high), high, TABLE_POINTS)
     sigma, gap, length = (np.asarray(v, dtype=float) for v in sheet(s))
-    if not (np.all(sigma > 0) and np.all(np.isfinite(gap) & (gap > 0))):
+    if not (np.all(sigma > SIGMA_FLOOR) and np.all(np.isfinite(gap) & (gap > 0))):
         return None
     finite = bool(np.all(np.isfinite(length) & (length > 0)))
     cap = np.log(capped_rarefactions(length / gap)) if finite else np.zeros(s.size)

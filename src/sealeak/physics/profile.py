@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..errors import InputError, positive_number
 from ._kernels import weighted_sum
 
-__all__ = ["PressureProfile", "BandIntegral", "series_resistance", "resistance_band"]
+__all__ = ["PressureProfile", "BandIntegral", "series_resistance", "resistance_band", "SIGMA_FLOOR"]
 
 FloatArray = NDArray[np.float64]
 
@@ -37,6 +37,10 @@ FloatArray = NDArray[np.float64]
 RTOL = 1e-8
 #: Fraction of the flow resistance the reported resistance band holds (docs/theory.md §10.1).
 RESISTANCE_FRACTION = 0.9
+#: A sheet conductance σ (m³/(Pa·s)) at or below this counts as no leak channel: the smallest normal double,
+#: 2.2·10⁻³⁰⁸ (a critical gap u_c of ~10⁻¹⁰³ m in water), where 1/σ overflows. A band whose peak sits within a hair of
+#: the percolation limit has such a σ: it seals for any purpose, and R = ∫dx/σ is infinite, not a number.
+SIGMA_FLOOR = float(np.finfo(float).tiny)
 
 
 @dataclass(frozen=True)
@@ -193,8 +197,8 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
     """R = ∫₀^w dx/σ(p(x)) in Pa·s/m² of a band with sheet conductance σ(p) in m³/(Pa·s) (docs/theory.md §10.1, eq. 10.1).
 
     ``sheet_conductance`` maps an array of pressures (Pa, all > 0) to σ (0 where the contact does
-    not percolate); σ is assumed to fall as p rises, so the band is sealed exactly when
-    σ(p_max) = 0. Strips at zero pressure add no resistance; constant pieces are exact, Δx/σ(p).
+    not percolate; at or below :data:`SIGMA_FLOOR` counts as 0); σ is assumed to fall as p rises, so the band is
+    sealed exactly when σ(p_max) = 0. Strips at zero pressure add no resistance; constant pieces are exact, Δx/σ(p).
     The varying pieces are integrated in θ (x = a + (b - a)(1 - cos θ)/2) by adaptive
     Gauss–Kronrod 7/15 quadrature (Piessens et al., QUADPACK (1983)): every sub-interval whose
     error estimate |K15 - G7| is among the largest is halved, all in one call of σ per round,
@@ -203,7 +207,7 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
     the sub-intervals gather there.
     """
     p_max = profile.max_pressure
-    if float(np.asarray(sheet_conductance(np.array([p_max])))[0]) <= 0:
+    if float(np.asarray(sheet_conductance(np.array([p_max])))[0]) <= SIGMA_FLOOR:
         return BandIntegral(resistance=float("inf"), sealed=True, converged=True, change=0.0, evaluations=1,
                             x=np.array([0.0]), dx=np.array([profile.width]),
                             pressure=np.array([p_max]), conductance=np.zeros(1))
@@ -225,7 +229,7 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
     if cp.size:
         pressed = cp > 0
         csig[pressed] = sheet_conductance(cp[pressed])
-        if np.any(csig[pressed] <= 0):
+        if np.any(csig[pressed] <= SIGMA_FLOOR):
             return BandIntegral(resistance=float("inf"), sealed=True, converged=True, change=0.0,
                                 evaluations=cp.size, x=cx, dx=cdx, pressure=cp, conductance=csig)
     r_const = float(np.sum(np.where(cp > 0, cdx / np.where(csig > 0, csig, 1.0), 0.0)))
@@ -248,7 +252,7 @@ def series_resistance(profile: PressureProfile, sheet_conductance: Callable[[Flo
         pressed = p > 0
         sigma[pressed] = sheet_conductance(p[pressed])
         evaluations += int(pressed.sum())
-        if np.any(sigma[pressed] <= 0):  # a strip below p_max that does not percolate: σ is not monotone
+        if np.any(sigma[pressed] <= SIGMA_FLOOR):  # a strip below p_max that does not percolate: σ is not monotone
             return BandIntegral(resistance=float("inf"), sealed=True, converged=True, change=0.0,
                                 evaluations=evaluations, x=x.ravel(), dx=(dxdt * half[:, None]).ravel(),
                                 pressure=p.ravel(), conductance=sigma.ravel())
