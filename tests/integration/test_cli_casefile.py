@@ -51,6 +51,15 @@ INVALID = [
      "surface.file = 'psd.csv': not used by model = 'self-affine'"),
     ("missing field says so", edit("hurst = 0.8\n", ""), {}, "surface.hurst is required"),
     ("output folder in the way", BASE, {"out.json/keep": "x"}, "out.json is a folder"),
+    # found by fuzzing the examples: each was a traceback
+    ("model a table", edit('model = "self-affine"', "model = {}"), {}, "surface.model = {}: allowed: 'self-affine'"),
+    ("model a list", edit('model = "self-affine"', 'model = ["table"]'), {}, "surface.model = ['table']: allowed"),
+    ("squeeze near the smallest double", edit('"60 kPa"', '"1e-320 MPa"'), {},
+     "conditions.squeeze_pressure[1] = '1e-320 MPa': must be at least 1 mPa"),
+    ("modulus beyond any solid", edit('"2.3 MPa"', '"1e308 Pa"'), {}, "rubber.youngs_modulus = 1e+308: must be at most 1e+13 Pa"),
+    ("a life case without [conditions]", BASE.split("[conditions]")[0] + "\n[rubber.compression_set]\n"
+     'times = ["1 h", "10 h", "100 h"]\ntemperatures = ["20 degC", "70 degC", "100 degC"]\nsets = ["5 %", "10 %", "20 %"]\n',
+     {}, "conditions: section [conditions] is missing"),
 ]
 
 

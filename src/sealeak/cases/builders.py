@@ -109,6 +109,8 @@ def _squeeze(sec: Section) -> np.ndarray:
             raise InputError(f"{field}.spacing", spacing, "allowed: 'log', 'linear'")
         if not stop > start:
             raise InputError(f"{field}.stop", value["stop"], f"must exceed start ({value['start']})")
+        if not start >= MIN_SQUEEZE_PRESSURE:
+            raise InputError(f"{field}.start", value["start"], _TOO_SMALL)
         return np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
     else:
         raise InputError(field, value, "must be a list of pressures or a {start, stop, num} range")
@@ -120,7 +122,18 @@ def _squeeze(sec: Section) -> np.ndarray:
     if bad.any():
         i = int(np.argmax(bad))
         raise InputError(f"{field}[{i}]", values[i], "must be > 0")
+    small = out < MIN_SQUEEZE_PRESSURE
+    if small.any():
+        i = int(np.argmax(small))
+        raise InputError(f"{field}[{i}]" if isinstance(value, list) else field, values[i], _TOO_SMALL)
     return out
+
+
+#: The smallest squeeze pressure a case may give (Pa): far below any seal's (kPa to MPa), and well above the pressures
+#: whose P0/E* (~10⁻⁹ and less) leave Persson's contact nothing to compute (refused there: the surfaces barely touch);
+#: a P0 near the smallest doubles (1e-320 MPa) overflowed the separation integrals' panel count.
+MIN_SQUEEZE_PRESSURE = 1e-3
+_TOO_SMALL = "must be at least 1 mPa: a seal's squeeze pressure is some kPa to MPa"
 
 
 def _self_affine(sec: Section, q0: float) -> tuple[PowerSpectrum, str]:
@@ -253,13 +266,8 @@ def _elastic(rubber: Section, sub: Any) -> tuple[float, float, float, tuple[str,
     return youngs, nu, e_star, input_warnings
 
 
-def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
-    """One :class:`Case` from a parsed case file (TOML document without its ``[study]``).
-
-    Errors the physics constructors raise with their own parameter names (``outer_diameter``)
-    come out with the case-file key (``seal.outer_diameter``): each constructor is called inside
-    :func:`~sealeak.cases.schema.case_keys`.
-    """
+def check_sections(doc: dict[str, Any]) -> None:
+    """Every top-level key of a case document is a known section or key, and every required section is there."""
     for key in doc:
         if key not in SECTIONS and key not in TOP_LEVEL:
             raise InputError(key, doc[key], f"unknown section or key; allowed sections: "
@@ -267,6 +275,16 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     for name in REQUIRED:
         if name not in doc:
             raise InputError(name, None, f"section [{name}] is missing")
+
+
+def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = "") -> Case:
+    """One :class:`Case` from a parsed case file (TOML document without its ``[study]``).
+
+    Errors the physics constructors raise with their own parameter names (``outer_diameter``)
+    come out with the case-file key (``seal.outer_diameter``): each constructor is called inside
+    :func:`~sealeak.cases.schema.case_keys`.
+    """
+    check_sections(doc)
     title = doc.get("title", Path(source).stem if source else "case")
     if not isinstance(title, str):
         raise InputError("title", title, "must be text")
@@ -338,7 +356,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
         "table": _table,
         **_SURFACE_MODELS,
     }
-    if model_name not in builders:
+    if not isinstance(model_name, str) or model_name not in builders:
         raise InputError("surface.model", model_name, f"allowed: {', '.join(repr(k) for k in builders)}")
     if model_name in SURFACE_KEYS:
         allowed = SURFACE_KEYS[model_name] | {"model", "label"}

@@ -55,7 +55,7 @@ from typing import Any
 from ..errors import FileFormatError, InputError, SealeakError, show_value
 from ..io.files import input_file
 from ..io.tomlscan import parse_toml
-from .builders import build_case
+from .builders import build_case, check_sections
 from .life import life_cases
 from .limits import MAX_CASE_FILE_BYTES, MAX_STUDY_VALUES, at_most
 from .model import Case
@@ -138,6 +138,7 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
     study = doc.pop("study", None)
 
     def build(variant: dict[str, Any], label: str = "") -> list[Case]:  # one case, or one per time and temperature
+        check_sections(variant)  # (before the life keys rewrite [conditions] and [rubber])
         life = life_cases(variant, lambda d, lbl: build_case(d, case_dir, source, label=lbl), label, case_dir)
         return [build_case(variant, case_dir, source, label=label)] if life is None else life
 

@@ -106,6 +106,8 @@ def contact_modulus(youngs_modulus: float, poisson_ratio: float,
 #: The softest modulus (Pa) a contact takes: the softest gels are about 10 Pa; below 1 Pa a value is a unit slip, and far
 #: below it E*² underflows in G(ζ) (the same floor as a Prony series' moduli).
 SOFTEST_MODULUS = 1.0
+#: The stiffest modulus (Pa) a contact takes: diamond's is about 1.2·10¹² Pa; far above it E*² overflows in G(ζ).
+STIFFEST_MODULUS = 1e13
 
 
 def _check_modulus(name: str, value: float) -> None:
@@ -114,6 +116,9 @@ def _check_modulus(name: str, value: float) -> None:
     if value < SOFTEST_MODULUS:
         raise InputError(name, value, f"must be at least {SOFTEST_MODULUS:g} Pa: no solid is softer (the softest gels are "
                                       "about 10 Pa); check the value and its unit")
+    if value > STIFFEST_MODULUS:
+        raise InputError(name, value, f"must be at most {STIFFEST_MODULUS:g} Pa: no solid is stiffer (diamond's is about "
+                                      "1.2e12 Pa); check the value and its unit")
 
 
 def _check_poisson(name: str, value: float) -> None:

@@ -530,8 +530,9 @@ class CompressionSet:
     def time_scale(self, temperature: ArrayLike) -> FloatArray:
         """τ(T) in s at temperatures T in K (eq. 16.11)."""
         temp = np.asarray(temperature, dtype=float)
-        return np.asarray(self.time_constant * np.exp(self.activation_energy / GAS_CONSTANT
-                                                      * (1 / temp - 1 / self.reference_temperature)), dtype=float)
+        with np.errstate(over="ignore"):  # (far below Tref τ → inf: no set forms, the right limit)
+            return np.asarray(self.time_constant * np.exp(self.activation_energy / GAS_CONSTANT
+                                                          * (1 / temp - 1 / self.reference_temperature)), dtype=float)
 
     def __call__(self, time: ArrayLike, temperature: ArrayLike) -> FloatArray:
         """c (1, between 0 and 1) after a time (s) held compressed at a temperature (K)."""
@@ -579,9 +580,15 @@ def fit_compression_set(times: ArrayLike, temperatures: ArrayLike, sets: ArrayLi
         ln_tau = p[1] + p[2] * x
         return np.asarray(-np.expm1(-np.exp(np.exp(p[0]) * (np.log(t) - ln_tau))), dtype=float)
 
-    result = least_squares(lambda p: model(p) - c, start, method="lm", xtol=1e-14, ftol=1e-14, gtol=1e-14)
-    p = result.x if result.success and np.all(np.isfinite(result.x)) else start
-    residual = float(np.sqrt(np.mean((model(p) - c) ** 2)))
+    # (trial parameters far off overflow the model: those trials fail, which is the fit's business, not an error)
+    with np.errstate(over="ignore", invalid="ignore"):
+        result = least_squares(lambda p: model(p) - c, start, method="lm", xtol=1e-14, ftol=1e-14, gtol=1e-14)
+        p = result.x if result.success and np.all(np.isfinite(result.x)) else start
+        residual = float(np.sqrt(np.mean((model(p) - c) ** 2)))
+    if not (np.all(np.isfinite(p)) and abs(p[0]) < 50.0 and abs(p[1]) < 700.0 and p[2] > 0 and np.isfinite(residual)):
+        raise InputError(f"{field}.sets", sets, "cannot be fitted by eqs. 16.10–16.11 with a finite time scale and an "
+                                               "activation energy > 0: a compression set grows with time, and faster "
+                                               "when warmer; check each point's time, temperature and set")
     return CompressionSet(time_constant=float(math.exp(p[1])), exponent=float(math.exp(p[0])),
                           activation_energy=float(p[2] * GAS_CONSTANT), reference_temperature=tref,
                           rms_residual=residual)
