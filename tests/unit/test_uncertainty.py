@@ -1,6 +1,7 @@
 """Uncertain inputs (issue 24): spreads in the case file, their propagation, percentiles and the probability of passing."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -196,6 +197,18 @@ def test_sample_out_of_range_names_the_key_and_sample():
     with pytest.raises(InputError) as exc:
         propagate(parse_uncertain_case(text), 64, seed=0)
     assert "surface.hurst" in exc.value.field and "uncertainty sample" in exc.value.field
+
+
+def test_a_sample_far_out_of_range_is_refused_without_a_warning():
+    """A Poisson ratio drawn up to 1e308 (a fuzzed [uncertainty] entry) of an O-ring: the sample's case is refused,
+    naming it, and the band's scaling factors computed before it (1 − ν² overflows) print no warning beside the
+    one-line error."""
+    text = ORING + '\n[uncertainty]\n"rubber.poisson_ratio" = { distribution = "triangular", low = 0, high = 1e308 }\n'
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError) as exc:
+            propagate(parse_uncertain_case(text), 8, seed=0)
+    assert "rubber.poisson_ratio" in exc.value.field and "uncertainty sample" in exc.value.field
 
 
 @pytest.mark.parametrize("samples, sampler", [(1, "sobol"), (100, "sobol"), (8, "halton")])

@@ -272,10 +272,12 @@ def _factors(study: UncertainStudy, points: NDArray[np.float64]) -> dict[str, ND
     for j, inp in enumerate(study.inputs):
         value[inp.key], nominal[inp.key] = inp.values(points[:, j]), quantity_parts(inp.key, inp.nominal)[0]
         same &= value[inp.key] == nominal[inp.key]
-    ratio = {key: value[key] / nominal[key] for key in _SCALED}
-    nu, nu0 = value["rubber.poisson_ratio"], nominal["rubber.poisson_ratio"]
-    modulus = ratio["rubber.youngs_modulus"] * ((1.0 - nu0**2) / (1.0 - nu**2) if "rubber.poisson_ratio" in
-                                                 {i.key for i in study.inputs} else 1.0)
+    # (a sample far outside its input's range overflows here: its case is refused, naming the sample, when it is built)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        ratio = {key: value[key] / nominal[key] for key in _SCALED}
+        nu, nu0 = value["rubber.poisson_ratio"], nominal["rubber.poisson_ratio"]
+        modulus = ratio["rubber.youngs_modulus"] * ((1.0 - nu0**2) / (1.0 - nu**2) if "rubber.poisson_ratio" in
+                                                     {i.key for i in study.inputs} else 1.0)
     return {"length": ratio["surface.h_rms"], "modulus": modulus,
             "flow": ratio["theory.alpha"] / ratio["fluid.viscosity"],
             "pressure_difference": ratio["conditions.pressure_difference"], "nominal": same}
