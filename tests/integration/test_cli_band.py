@@ -138,6 +138,8 @@ def test_predict_table_names_the_band_columns(tmp_path, capsys):
      "conditions.compression.start", "= '-10 %': must lie between"),
     (PROFILE.replace("profile_scale = [0.5, 1.0]", "profile_scale = { start = 0.5, stop = 1e9, num = 5 }"),
      "conditions.profile_scale.stop", "= 1e+09: gives a peak contact pressure of 6e+14 Pa"),
+    (PROFILE.replace("profile_scale = [0.5, 1.0]", "profile_scale = [1e-12, 1.0]"),
+     "conditions.profile_scale[0]", "= 1e-12: gives a peak contact pressure of 6e-07 Pa: at least 0.001 Pa"),
     (PROFILE.replace("profile_scale = [0.5, 1.0]", 'compression = ["10 %"]'), "conditions.compression", "O-ring"),
     (PROFILE.replace('length = "100 mm"', ""), "seal.length", ""),
     (PROFILE.replace('pressure_profile = "p.csv"', 'pressure_profile = "missing.csv"'), "missing.csv", ""),

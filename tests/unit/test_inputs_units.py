@@ -14,7 +14,16 @@ from hypothesis import strategies as st
 from sealeak.errors import FileFormatError, UnitError
 from sealeak.io.leak_units import ATMOSPHERE, leak_rate_factor
 from sealeak.io.tables import read_spectrum_table, read_unit_table
-from sealeak.io.units import DIMENSIONS, comma_advice, parse_number, parse_quantity, split_quantities, unit_dimension, unit_factor
+from sealeak.io.units import (
+    DIMENSIONS,
+    SI_RANGE,
+    comma_advice,
+    parse_number,
+    parse_quantity,
+    split_quantities,
+    unit_dimension,
+    unit_factor,
+)
 from sealeak.lab.data import read_leak_data
 
 FIELD = "rubber.youngs_modulus"
@@ -217,7 +226,14 @@ def test_fuzz_any_text_gives_a_finite_float_or_a_unit_error(text, dimension):
 @settings(max_examples=200, deadline=timedelta(seconds=2))
 @given(st.floats(allow_nan=False, allow_infinity=False, min_value=-1e300, max_value=1e300))
 def test_fuzz_every_float_written_with_a_unit_reads_back(x):
-    assert parse_quantity("field", f"{x!r} Pa", "pressure") == x
+    """A float written with a unit reads back exactly where its SI magnitude is 0 or within SI_RANGE (1e-100 to
+    1e100: far around any seal's), and is refused naming the field outside it; a bare number reads back always."""
+    low, high = SI_RANGE
+    if x == 0 or low <= abs(x) <= high:
+        assert parse_quantity("field", f"{x!r} Pa", "pressure") == x
+    else:
+        with pytest.raises(UnitError, match="too small|too large"):
+            parse_quantity("field", f"{x!r} Pa", "pressure")
     assert parse_quantity("field", f"{x!r}", "dimensionless") == x
 
 

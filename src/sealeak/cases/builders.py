@@ -29,7 +29,7 @@ from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import Analysis, analyze, case_option_names
 from .capillarity import build_wetting
-from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
+from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, MIN_SQUEEZE_PRESSURE, at_most, whole_number
 from .model import FLUID_PRESSURE, STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
 from .options import device_name, grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup
@@ -129,10 +129,6 @@ def _squeeze(sec: Section) -> np.ndarray:
     return out
 
 
-#: The smallest squeeze pressure a case may give (Pa): far below any seal's (kPa to MPa), and well above the pressures
-#: whose P0/E* (~10⁻⁹ and less) leave Persson's contact nothing to compute (refused there: the surfaces barely touch);
-#: a P0 near the smallest doubles (1e-320 MPa) overflowed the separation integrals' panel count.
-MIN_SQUEEZE_PRESSURE = 1e-3
 _TOO_SMALL = "must be at least 1 mPa: a seal's squeeze pressure is some kPa to MPa"
 
 

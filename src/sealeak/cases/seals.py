@@ -22,7 +22,7 @@ from ..io.units import format_quantity, parse_quantity, unit_factor
 from ..physics.oring import MIN_COMPRESSION, ForceTable, compression_from_groove_depth, oring_contact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
-from .limits import MAX_LOADS, at_most, whole_number
+from .limits import MAX_LOADS, MIN_SQUEEZE_PRESSURE, at_most, whole_number
 from .model import BandSeal
 from .schema import Section, case_keys
 
@@ -220,10 +220,19 @@ MAX_CONTACT_PRESSURE = 1e12
 
 
 def _check_scales(cond: Section, loads: NDArray[np.float64], base: PressureProfile, file: tuple[str, object]) -> None:
-    """Each profile_scale gives a peak pressure that a float holds and the physics can use (<= MAX_CONTACT_PRESSURE);
+    """Each profile_scale gives a peak pressure that the physics can use (MIN_SQUEEZE_PRESSURE to MAX_CONTACT_PRESSURE);
     without profile_scale the file's own peak, named by ``file`` (its field and value)."""
     with np.errstate(over="ignore"):
         peaks = loads * base.max_pressure
+    pressed = peaks >= MIN_SQUEEZE_PRESSURE
+    if not pressed.all():
+        if not cond.has("profile_scale"):
+            raise InputError(*file, f"its peak contact pressure is {peaks[0]:.3g} Pa: at least {MIN_SQUEEZE_PRESSURE:g} Pa, "
+                                    "a seal's contact pressure is some kPa to MPa")
+        i, field, written = failing_item(cond, "profile_scale", pressed)
+        raise InputError(field, written, f"gives a peak contact pressure of {peaks[i]:.3g} Pa: at least "
+                                         f"{MIN_SQUEEZE_PRESSURE:g} Pa (the file's peak is {base.max_pressure:.4g} Pa); a "
+                                         "seal's contact pressure is some kPa to MPa")
     held = np.isfinite(peaks) & (peaks <= MAX_CONTACT_PRESSURE)
     if held.all():
         return

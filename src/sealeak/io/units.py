@@ -43,7 +43,8 @@ import pint
 from ..errors import UnitError
 
 __all__ = ["registry", "parse_quantity", "parse_number", "is_number", "unit_factor", "unit_dimension", "to_si",
-           "comma_advice", "split_quantities", "format_quantity", "length_unit", "SI_UNITS", "DIMENSIONS"]
+           "comma_advice", "split_quantities", "format_quantity", "length_unit", "SI_UNITS", "DIMENSIONS",
+           "SI_RANGE", "MAX_TEMPERATURE"]
 
 #: SI unit of each physical dimension the project uses (the unit strings JSON output declares).
 SI_UNITS = {
@@ -437,11 +438,21 @@ def parse_quantity(field: str, value: Any, dimension: str) -> float:
     except _Unreadable as exc:
         raise UnitError(field, value, _with_allowed(str(exc), allowed)) from None
     out = magnitude * factor
-    if not math.isfinite(out):
-        raise UnitError(field, value, f"too large: beyond 1.8e308 {SI_UNITS[dimension]} in SI units; give {allowed}")
-    if out == 0.0 and magnitude != 0.0:
-        raise UnitError(field, value, f"too small: below 1e-308 {SI_UNITS[dimension]} in SI units; give {allowed}")
+    if not math.isfinite(out) or abs(out) > SI_RANGE[1]:
+        raise UnitError(field, value, f"too large: beyond {SI_RANGE[1]:g} {SI_UNITS[dimension]} in SI units, far beyond "
+                                      f"any seal's; give {allowed}")
+    if abs(out) < SI_RANGE[0] and magnitude != 0.0:
+        raise UnitError(field, value, f"too small: between 0 and {SI_RANGE[0]:g} {SI_UNITS[dimension]} in SI units, far "
+                                      f"below any seal's; give {allowed}")
     return out
+
+
+#: The magnitudes (SI units) a dimensional quantity of a case file may have, 0 aside: every real seal's lengths,
+#: pressures, wavevectors, spectra, times and flows lie far inside; near the ends of the doubles (1e-320 mm, 1e308 mm)
+#: the physics overflows or divides by zero.
+SI_RANGE = (1e-100, 1e100)
+#: The highest absolute temperature a case file may give (K): far above any rubber's.
+MAX_TEMPERATURE = 1e4
 
 
 def _with_allowed(reason: str, allowed: str) -> str:
@@ -598,6 +609,8 @@ def parse_temperature(field: str, value: Any) -> float:
         raise UnitError(field, value, f"cannot convert it to kelvin ({type(exc).__name__}); give {_TEMPERATURE_ALLOWED}") from None
     if not (math.isfinite(kelvin) and kelvin > 0):
         raise UnitError(field, value, f"is at or below absolute zero ({kelvin:.6g} K); give {_TEMPERATURE_ALLOWED}")
+    if kelvin > MAX_TEMPERATURE:
+        raise UnitError(field, value, f"is above {MAX_TEMPERATURE:g} K, far above any rubber's; give {_TEMPERATURE_ALLOWED}")
     return kelvin
 
 
