@@ -198,3 +198,16 @@ def test_the_capillarity_table_shows_the_records_values():
     head, _, cells, key = cols[3]
     assert key == "held_by_capillarity"
     assert cells == ["yes" if rec[key] else "no" for rec in records]
+
+
+def test_a_uniform_seal_held_by_capillarity_prints_and_reports_its_note(tmp_path, capsys):
+    """The critical junction's held-by-capillarity note of a uniform seal reaches the printed table and the report in
+    words (it was a note object the table added to a string: predict and report stopped with a TypeError)."""
+    case = tmp_path / "held.toml"
+    held = edit('pressure_difference = "10 kPa"', 'pressure_difference = "2 kPa"')  # below p_e at 60 and 100 kPa
+    case.write_text(edit("[fluid]\n", "[fluid]\ncontact_angle = 180\nsurface_tension = \"72 mN/m\"\n", held))
+    assert main(["predict", str(case)]) == 0
+    printed = capsys.readouterr().out
+    assert "note: critical junction: held by capillarity at P0 = " in printed
+    assert main(["report", str(case), "-o", str(tmp_path / "held.html")]) == 0
+    assert "held by capillarity at P0 = " in (tmp_path / "held.html").read_text()

@@ -438,8 +438,8 @@ def _result_block(r: CaseResult) -> list[str]:
                      "separation, &lt;u&gt;_P: mean of P(u), u_e: the gap whose u³/(12η) equals σ_eff.</p>")
         parts.append(_result_table(r, "effective-medium"))
     parts += _gas_tables(r)
-    notes = (list(res.messages) if r.shows_critical_junction else []) + (
-        [f"effective medium: {m}" for m in em.messages] if em is not None else [])
+    notes = (worded(res.messages) if r.shows_critical_junction else []) + (
+        [f"effective medium: {m}" for m in worded(em.messages)] if em is not None else [])
     for m in notes:
         parts.append(f"<p class=\"note\">{_e(m)}</p>")
     for m in validity_notes(r):

@@ -499,16 +499,14 @@ def prediction_table(results: Sequence[CaseResult], uncertainty: UncertaintyResu
             lines.extend(_table_lines(_cj_columns(r)))
             if case.gas is not None:
                 lines.append("          " + GAS_INCOMPRESSIBLE_NOTE)
-            for m in res.messages:
-                lines.append("note: " + m)
+            lines.extend("note: " + m for m in worded(res.messages))
         if em is not None:
             lines.append("")
             lines.append("effective medium (2D Bruggeman):")
             lines.extend(_table_lines(_em_columns(r)))
             lines.append("          <u>_P: mean of the gap distribution P(u) (>= ū(1): the folded Gaussians add to it); "
                          "u_e: the gap whose u³/(12η) equals σ_eff")
-            for m in em.messages:
-                lines.append("note: " + m)
+            lines.extend("note: " + m for m in worded(em.messages))
         lines.extend(_gas_block(r))
         lines.extend("note: " + m for m in validity_notes(r))
     if uncertainty is not None:
