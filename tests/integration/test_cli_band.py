@@ -168,6 +168,9 @@ def test_a_profile_file_beyond_any_seal_without_profile_scale_is_named(tmp_path,
     ("x (mm), pressure (kg)\n0, 1\n1, 1\n", "pressure"),
     ("position (mm), load (N)\n0, 1\n1, 1\n", "x and pressure"),
     ("x (mm); pressure (MPa)\n0; 1,5\n1; 1\n", "decimal point"),
+    # found by fuzzing: overflow warnings before the line, or a line naming surface.h_rms
+    ("x (mm), pressure (MPa)\n0, 1\n1e308, 1\n", "line 3: x = 1e+308 mm: beyond 1e+100 m in SI units"),
+    ("x (mm), pressure (MPa)\n0, 1\n1, 1e308\n", "line 3: pressure = 1e+308 MPa: beyond 1e+100 Pa in SI units"),
 ])
 def test_bad_profile_file_is_one_line_naming_the_file(tmp_path, capsys, csv, words):
     path = _case(tmp_path, PROFILE, csv)

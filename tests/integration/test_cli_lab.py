@@ -223,13 +223,19 @@ def test_report_is_valid_self_contained_html(tmp_path):
      "line 3: a leak rate of 2 ml/min at zero pressure difference"),
     ("", "no numeric rows"),
     ("squeeze_pressure (kPa); leak_rate (ml/min)\n30; 1,5\n60; 2,5\n", "use a decimal point"),
+    # found by fuzzing: a traceback, and an overflow warning before a line naming a case-file key
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n1e-320, 2\n", "line 3: squeeze_pressure = "),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n1e308, 2\n",
+     "line 3: squeeze_pressure = 1e+308 kPa: beyond 1e+100 Pa in SI units"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n1e-9, 2\n", "line 3: squeeze pressure 1e-09 kPa: at least 0.001 Pa"),
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, 1e308\n", "line 3: leak_rate = 1e+308 ml/min: beyond"),
 ])
 def test_bad_data_files_through_the_cli(tmp_path, capsys, content, problem):
     data = tmp_path / "bad.csv"
     data.write_text(content)
     assert main(["fit", str(example_path("reference-experiment")), "--data", str(data)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("sealeak: error: ") and "Traceback" not in err
+    assert err.startswith("sealeak: error: ") and "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert str(data) in err and problem in err
 
 

@@ -20,7 +20,7 @@ from ..errors import InputError, UnitError, show_value
 from ..io.leak_units import STANDARD_PRESSURE, celsius, parse_permeability
 from ..io.units import format_quantity, parse_quantity, parse_temperature
 from ..lab.rig import DecayRigSetup, RigSetup
-from ..physics.contact import contact_modulus
+from ..physics.contact import MIN_SQUEEZE_PRESSURE, contact_modulus
 from ..physics.fluid import Fluid
 from ..physics.gas import RAREFACTION_MODELS, Gas, check_pressures
 from ..physics.oring import shore_a_warnings, youngs_modulus_from_shore_a
@@ -29,7 +29,7 @@ from ..physics.seal import STANDARD_GRAVITY, Seal
 from ..physics.spectrum import PowerSpectrum
 from ..topography import Analysis, analyze, case_option_names
 from .capillarity import build_wetting
-from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, MIN_SQUEEZE_PRESSURE, at_most, whole_number
+from .limits import MAX_PRESSURES, MAX_REALIZATIONS, MAX_TOPOGRAPHY_FILES, at_most, whole_number
 from .model import FLUID_PRESSURE, STANDARD_TEMPERATURE_CASE, BandSeal, Case, GasConditions, RubberPermeation
 from .options import device_name, grid_number, parse_grid_list, seed_number
 from .rig_builders import RigSection, decay_rig_setup

@@ -34,10 +34,6 @@ MAX_WORKERS = 1_024
 MAX_TOPOGRAPHY_FILES = 100
 #: Grids of one convergence study (``--grid 64,128,256``, ``[simulation] grid = [...]``).
 MAX_GRIDS = 16
-#: The smallest squeeze pressure, or peak contact pressure of a profile seal, a case may give (Pa): far below any
-#: seal's (kPa to MPa), and well above the pressures whose P0/E* (~10⁻⁹ and less) leave Persson's contact nothing to
-#: compute (refused there: the surfaces barely touch); near the smallest doubles the separation integrals overflowed.
-MIN_SQUEEZE_PRESSURE = 1e-3
 
 
 def at_most(field: str, values: Sized, limit: int, what: str, shown: Any = None) -> None:

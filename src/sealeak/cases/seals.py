@@ -18,11 +18,12 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError, UnitError
 from ..io.tables import UnitTable, read_unit_table
-from ..io.units import format_quantity, parse_quantity, unit_factor
+from ..io.units import SI_UNITS, format_quantity, parse_quantity, unit_factor
+from ..physics.contact import MIN_SQUEEZE_PRESSURE
 from ..physics.oring import MIN_COMPRESSION, ForceTable, compression_from_groove_depth, oring_contact
 from ..physics.profile import PressureProfile
 from ..physics.seal import Seal
-from .limits import MAX_LOADS, MIN_SQUEEZE_PRESSURE, at_most, whole_number
+from .limits import MAX_LOADS, at_most, whole_number
 from .model import BandSeal
 from .schema import Section, case_keys
 
@@ -283,9 +284,10 @@ def two_column_table(path: Path, columns: tuple[_Column, _Column],
             raise FileFormatError(path, f"column '{table.names[i]}' has no unit: write it in parentheses, e.g. "
                                         f"'{table.names[i]} ({unit})'")
         try:
-            out.append(table.data[:, i] * unit_factor(f"column '{table.names[i]}' unit", table.units[i], dim))
+            factor = unit_factor(f"column '{table.names[i]}' unit", table.units[i], dim)
         except UnitError as exc:
             raise FileFormatError(path, str(exc)) from None
+        out.append(table.in_si(i, factor, SI_UNITS[dim]))
     return table, [i for i in found if i is not None], out
 
 

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
 from .files import input_file
-from .units import comma_advice, is_number, parse_number, unit_factor
+from .units import SI_RANGE, comma_advice, is_number, parse_number, unit_factor
 
 __all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
 
@@ -55,6 +55,25 @@ class UnitTable:
     def line_of(self, row: int) -> int:
         """Line number in the file of data row ``row`` (0-based)."""
         return self.lines[row] if self.lines else row + 1
+
+    def in_si(self, column: int, factor: float, unit: str) -> NDArray[np.float64]:
+        """Column ``column`` times ``factor`` (its unit's SI factor; ``unit`` the SI unit, for the message): each
+        value NaN (a missing cell, the caller's to judge), 0 or of a magnitude within
+        :data:`~sealeak.io.units.SI_RANGE`, as a case file's; else :class:`FileFormatError` naming the line and the
+        cell as written."""
+        raw = self.data[:, column]
+        with np.errstate(over="ignore"):
+            out = raw * factor
+        size = np.abs(out)
+        bad = (np.isinf(out) | (size > SI_RANGE[1]) | ((size < SI_RANGE[0]) & (out != 0))) & ~np.isnan(raw)
+        if bad.any():
+            i = int(np.argmax(bad))
+            where = "beyond" if size[i] > 1.0 else "below"
+            end = SI_RANGE[1] if size[i] > 1.0 else SI_RANGE[0]
+            shown = f"{self.names[column]} = {raw[i]:g}" + (f" {self.units[column]}" if self.units[column] else "")
+            raise FileFormatError(self.path, f"line {self.line_of(i)}: {shown}: {where} {end:g} {unit} in SI units, far "
+                                             f"{where} any seal's")
+        return out
 
 
 _SEPARATOR = re.compile(r"[,;\t]")
@@ -184,8 +203,8 @@ def read_spectrum_table(path: str | Path) -> tuple[NDArray[np.float64], NDArray[
         fc = unit_factor(f"{path}: column '{table.names[1]}' unit", table.units[1] or "m^4", "psd")
     except UnitError as exc:
         raise FileFormatError(path, str(exc)) from None
-    q = table.data[:, 0] * fq
-    c = table.data[:, 1] * fc
+    q = table.in_si(0, fq, "1/m")
+    c = table.in_si(1, fc, "m^4")
     for name, col in (("q", q), ("C", c)):
         bad = ~np.isfinite(col)
         if bad.any():

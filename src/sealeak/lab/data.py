@@ -48,6 +48,7 @@ from ..io.leak_units import ATMOSPHERE, leak_rate_factor, leak_rate_unit
 from ..io.quantities import quantity
 from ..io.tables import read_unit_table
 from ..io.units import unit_factor
+from ..physics.contact import MIN_SQUEEZE_PRESSURE
 
 __all__ = ["LOAD_COLUMNS", "LeakData", "read_leak_data", "read_rig_readings"]
 
@@ -159,6 +160,11 @@ def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may
     return table, found
 
 
+#: The SI unit of each kind of leak rate (:data:`sealeak.io.leak_units.LEAK_RATE_KINDS`), for a message.
+_SI_LEAK_UNITS = {"volume_flow": "m^3/s", "throughput": "Pa*m^3/s", "standard_volume_flow": "m^3/s", "molar_flow": "mol/s",
+                  "mass_flow": "kg/s"}
+
+
 def _factor(path: Path, table, i: int, dimension: str) -> float:
     unit = table.units[i]
     if not unit:
@@ -191,7 +197,7 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     for canon in ("squeeze_pressure", "pressure_difference"):
         if canon in found:
             i = found[canon]
-            out[canon] = table.data[:, i] * _factor(p, table, i, "pressure")
+            out[canon] = table.in_si(i, _factor(p, table, i, "pressure"), "Pa")
         else:
             out[canon] = np.full(n, np.nan)
     i = found["leak_rate"]
@@ -209,14 +215,19 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
             raise FileFormatError(p, str(exc)) from None
         throughput = fq != leak_rate_factor(table.units[i], 2.0 * reference_pressure, unit_field)
         kind, si_factor = ("throughput", fq * reference_pressure) if throughput else ("volume_flow", fq)
+    q_si = table.in_si(i, si_factor, _SI_LEAK_UNITS.get(kind, "SI"))
     q = table.data[:, i] * fq
-    q_si = table.data[:, i] * si_factor
     if (q_si < 0).any():
         r = int(np.argmax(q_si < 0))
         raise FileFormatError(p, f"line {table.line_of(r)}: leak rate {table.data[r, i]:g} {table.units[i]} is negative")
     if "squeeze_pressure" in found and (out["squeeze_pressure"] <= 0).any():
         r = int(np.argmax(out["squeeze_pressure"] <= 0))
         raise FileFormatError(p, f"line {table.line_of(r)}: squeeze pressure must be > 0")
+    if "squeeze_pressure" in found and (out["squeeze_pressure"] < MIN_SQUEEZE_PRESSURE).any():
+        r = int(np.argmax(out["squeeze_pressure"] < MIN_SQUEEZE_PRESSURE))
+        raise FileFormatError(p, f"line {table.line_of(r)}: squeeze pressure {table.data[r, found['squeeze_pressure']]:g} "
+                                 f"{table.units[found['squeeze_pressure']]}: at least {MIN_SQUEEZE_PRESSURE:g} Pa, a "
+                                 "seal's squeeze pressure is some kPa to MPa")
     dp = out["pressure_difference"]
     if "pressure_difference" in found and (dp < 0).any():
         r = int(np.argmax(dp < 0))

@@ -53,7 +53,7 @@ from ..errors import InputError
 from . import _kernels
 from .spectrum import PowerSpectrum
 
-__all__ = ["PerssonContact", "contact_modulus"]
+__all__ = ["PerssonContact", "contact_modulus", "MIN_SQUEEZE_PRESSURE", "SOFTEST_MODULUS", "STIFFEST_MODULUS"]
 
 FloatArray = NDArray[np.float64]
 
@@ -108,6 +108,11 @@ def contact_modulus(youngs_modulus: float, poisson_ratio: float,
 SOFTEST_MODULUS = 1.0
 #: The stiffest modulus (Pa) a contact takes: diamond's is about 1.2·10¹² Pa; far above it E*² overflows in G(ζ).
 STIFFEST_MODULUS = 1e13
+#: The smallest squeeze pressure, or peak contact pressure of a band, a case or a data file may give (Pa): far below
+#: any seal's (kPa to MPa), and well above the pressures whose P0/E* (~10⁻⁹ and less) leave this theory nothing to
+#: compute (refused by :func:`~sealeak.physics.critical_junction.critical_junction`: the surfaces barely touch); near
+#: the smallest doubles the separation integrals overflowed.
+MIN_SQUEEZE_PRESSURE = 1e-3
 
 
 def _check_modulus(name: str, value: float) -> None:
