@@ -225,25 +225,18 @@ def _check_scales(cond: Section, loads: NDArray[np.float64], base: PressureProfi
     without profile_scale the file's own peak, named by ``file`` (its field and value)."""
     with np.errstate(over="ignore"):
         peaks = loads * base.max_pressure
-    pressed = peaks >= MIN_SQUEEZE_PRESSURE
-    if not pressed.all():
+    for ok, bound, why in ((peaks >= MIN_SQUEEZE_PRESSURE, f"at least {MIN_SQUEEZE_PRESSURE:g} Pa",
+                            "a seal's contact pressure is some kPa to MPa"),
+                           (np.isfinite(peaks) & (peaks <= MAX_CONTACT_PRESSURE), f"at most {MAX_CONTACT_PRESSURE:.0e} Pa",
+                            "far beyond any seal")):
+        if ok.all():
+            continue
         if not cond.has("profile_scale"):
-            raise InputError(*file, f"its peak contact pressure is {peaks[0]:.3g} Pa: at least {MIN_SQUEEZE_PRESSURE:g} Pa, "
-                                    "a seal's contact pressure is some kPa to MPa")
-        i, field, written = failing_item(cond, "profile_scale", pressed)
-        raise InputError(field, written, f"gives a peak contact pressure of {peaks[i]:.3g} Pa: at least "
-                                         f"{MIN_SQUEEZE_PRESSURE:g} Pa (the file's peak is {base.max_pressure:.4g} Pa); a "
-                                         "seal's contact pressure is some kPa to MPa")
-    held = np.isfinite(peaks) & (peaks <= MAX_CONTACT_PRESSURE)
-    if held.all():
-        return
-    if not cond.has("profile_scale"):
-        raise InputError(*file, f"its peak contact pressure is {peaks[0]:.3g} Pa: at most {MAX_CONTACT_PRESSURE:.0e} Pa, "
-                                "far beyond any seal (are the file's pressures in the unit its header names?)")
-    i, field, written = failing_item(cond, "profile_scale", held)
-    raise InputError(field, written, f"gives a peak contact pressure of {peaks[i]:.3g} Pa: at most "
-                                     f"{MAX_CONTACT_PRESSURE:.0e} Pa (the file's peak is {base.max_pressure:.4g} Pa), "
-                                     "far beyond any seal")
+            raise InputError(*file, f"its peak contact pressure is {peaks[0]:.3g} Pa: {bound}, {why} (are the file's "
+                                    "pressures in the unit its header names?)")
+        i, field, written = failing_item(cond, "profile_scale", ok)
+        raise InputError(field, written, f"gives a peak contact pressure of {peaks[i]:.3g} Pa: {bound} (the file's peak "
+                                         f"is {base.max_pressure:.4g} Pa), {why}")
 
 
 def _profile_warnings(seal: Section, path: Path, base: PressureProfile, length: float) -> tuple[str, ...]:
