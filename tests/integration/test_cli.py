@@ -197,7 +197,7 @@ def test_vanishing_squeeze_pressure_is_refused(case_file, tmp_path, capsys):
     tiny.write_text(text)
     assert main(["predict", str(tiny)]) == 2
     err = capsys.readouterr().err
-    assert "conditions.squeeze_pressure = 1e-09" in err and "give a larger squeeze pressure" in err
+    assert "conditions.squeeze_pressure[0] = '1e-9 Pa': must be at least 1 mPa" in err
 
 
 def test_study_table_shows_each_variants_own_settings(case_file, tmp_path, capsys):

@@ -226,7 +226,7 @@ def _check_scales(cond: Section, loads: NDArray[np.float64], base: PressureProfi
     with np.errstate(over="ignore"):
         peaks = loads * base.max_pressure
     for ok, bound, why in ((peaks >= MIN_SQUEEZE_PRESSURE, f"at least {MIN_SQUEEZE_PRESSURE:g} Pa",
-                            "a seal's contact pressure is some kPa to MPa"),
+                            "a seal's contact pressure is some kPa to MPa: give a larger profile_scale"),
                            (np.isfinite(peaks) & (peaks <= MAX_CONTACT_PRESSURE), f"at most {MAX_CONTACT_PRESSURE:.0e} Pa",
                             "far beyond any seal")):
         if ok.all():

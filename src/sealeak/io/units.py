@@ -438,6 +438,10 @@ def parse_quantity(field: str, value: Any, dimension: str) -> float:
     except _Unreadable as exc:
         raise UnitError(field, value, _with_allowed(str(exc), allowed)) from None
     out = magnitude * factor
+    if dimension == "dimensionless":  # (a fraction in %, a factor: each key bounds its own)
+        if not math.isfinite(out):
+            raise UnitError(field, value, f"too large: beyond 1.8e308; give {allowed}")
+        return out
     if not math.isfinite(out) or abs(out) > SI_RANGE[1]:
         raise UnitError(field, value, f"too large: beyond {SI_RANGE[1]:g} {SI_UNITS[dimension]} in SI units, far beyond "
                                       f"any seal's; give {allowed}")
@@ -447,7 +451,8 @@ def parse_quantity(field: str, value: Any, dimension: str) -> float:
     return out
 
 
-#: The magnitudes (SI units) a dimensional quantity of a case file may have, 0 aside: every real seal's lengths,
+#: The magnitudes (SI units) a dimensional quantity of a case file may have (a quantity with a unit; not a fraction
+#: in % or another dimensionless one, which its key bounds), 0 aside: every real seal's lengths,
 #: pressures, wavevectors, spectra, times and flows lie far inside; near the ends of the doubles (1e-320 mm, 1e308 mm)
 #: the physics overflows or divides by zero.
 SI_RANGE = (1e-100, 1e100)
