@@ -83,6 +83,10 @@ def _seal(sec: Section) -> Seal:
     return Seal.rectangle(sec.quantity("width", "length"), sec.quantity("length", "length"))
 
 
+#: What a squeeze pressure below :data:`~sealeak.physics.contact.MIN_SQUEEZE_PRESSURE` is told.
+_TOO_SMALL = f"must be at least {MIN_SQUEEZE_PRESSURE * 1e3:g} mPa: a seal's squeeze pressure is some kPa to MPa"
+
+
 def _squeeze(sec: Section) -> np.ndarray:
     key = "squeeze_pressure"
     value = sec.raw(key)
@@ -127,9 +131,6 @@ def _squeeze(sec: Section) -> np.ndarray:
         i = int(np.argmax(small))
         raise InputError(f"{field}[{i}]" if isinstance(value, list) else field, values[i], _TOO_SMALL)
     return out
-
-
-_TOO_SMALL = "must be at least 1 mPa: a seal's squeeze pressure is some kPa to MPa"
 
 
 def _self_affine(sec: Section, q0: float) -> tuple[PowerSpectrum, str]:

@@ -530,6 +530,8 @@ class PassingLoad:
     note: str = ""
     #: The fraction of the samples at those two rows that leak outside the theory's validity.
     between_outside: tuple[float, float] = (0.0, 0.0)
+    #: Whether it passes already at the lowest load computed (no load placed: ``note`` says why).
+    passes_at_lowest: bool = False
 
 
 @dataclass(frozen=True)
@@ -660,7 +662,7 @@ def _passing(variant: str, load_name: str, loads: NDArray[np.float64], p_pass: N
     if i == 0:
         shown = f"; {100 * outside[0]:.0f} % of its samples leak outside the theory's validity (the table's 'outside')" \
             if outside is not None and outside[0] > 0 else ""
-        return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan,
+        return PassingLoad(variant=variant, load_name=load_name, passing_load=math.nan, passes_at_lowest=True,
                            note=f"passes with at least {100 * PASS_PROBABILITY:.0f} % already at the lowest "
                                 f"{name} computed: compute lower loads to place it{shown}")
     x0, x1, a, b, limit = float(loads[i - 1]), float(loads[i]), float(q95[i - 1]), float(q95[i]), float(limits[i])

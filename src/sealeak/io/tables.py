@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
 from .files import input_file
-from .units import SI_RANGE, comma_advice, is_number, parse_number, unit_factor
+from .units import SI_RANGE, comma_advice, is_number, outside_si_range, parse_number, unit_factor
 
 __all__ = ["UnitTable", "read_unit_table", "read_spectrum_table"]
 
@@ -64,12 +64,11 @@ class UnitTable:
         raw = self.data[:, column]
         with np.errstate(over="ignore"):
             out = raw * factor
-        size = np.abs(out)
-        bad = (np.isinf(out) | (size > SI_RANGE[1]) | ((size < SI_RANGE[0]) & (out != 0))) & ~np.isnan(raw)
+        bad = outside_si_range(out)
         if bad.any():
             i = int(np.argmax(bad))
-            where = "beyond" if size[i] > 1.0 else "below"
-            end = SI_RANGE[1] if size[i] > 1.0 else SI_RANGE[0]
+            where = "beyond" if abs(out[i]) > 1.0 else "below"
+            end = SI_RANGE[1] if abs(out[i]) > 1.0 else SI_RANGE[0]
             shown = f"{self.names[column]} = {raw[i]:g}" + (f" {self.units[column]}" if self.units[column] else "")
             raise FileFormatError(self.path, f"line {self.line_of(i)}: {shown}: {where} {end:g} {unit} in SI units, far "
                                              f"{where} any seal's")

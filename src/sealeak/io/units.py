@@ -39,12 +39,13 @@ from typing import Any
 
 import numpy as np
 import pint
+from numpy.typing import NDArray
 
 from ..errors import UnitError
 
 __all__ = ["registry", "parse_quantity", "parse_number", "is_number", "unit_factor", "unit_dimension", "to_si",
            "comma_advice", "split_quantities", "format_quantity", "length_unit", "SI_UNITS", "DIMENSIONS",
-           "SI_RANGE", "MAX_TEMPERATURE"]
+           "SI_RANGE", "MAX_TEMPERATURE", "outside_si_range"]
 
 #: SI unit of each physical dimension the project uses (the unit strings JSON output declares).
 SI_UNITS = {
@@ -442,13 +443,18 @@ def parse_quantity(field: str, value: Any, dimension: str) -> float:
         if not math.isfinite(out):
             raise UnitError(field, value, f"too large: beyond 1.8e308; give {allowed}")
         return out
-    if not math.isfinite(out) or abs(out) > SI_RANGE[1]:
-        raise UnitError(field, value, f"too large: beyond {SI_RANGE[1]:g} {SI_UNITS[dimension]} in SI units, far beyond "
-                                      f"any seal's; give {allowed}")
-    if abs(out) < SI_RANGE[0] and magnitude != 0.0:
-        raise UnitError(field, value, f"too small: between 0 and {SI_RANGE[0]:g} {SI_UNITS[dimension]} in SI units, far "
-                                      f"below any seal's; give {allowed}")
+    if outside_si_range(np.array([out]))[0] or (out == 0.0 and magnitude != 0.0):
+        raise UnitError(field, value, (f"too large: beyond {SI_RANGE[1]:g}" if abs(out) > 1.0 else
+                                       f"too small: between 0 and {SI_RANGE[0]:g}")
+                        + f" {SI_UNITS[dimension]} in SI units, far {'beyond' if abs(out) > 1.0 else 'below'} any "
+                          f"seal's; give {allowed}")
     return out
+
+
+def outside_si_range(values: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Per SI value: not 0 and not of a magnitude within :data:`SI_RANGE` (inf included; NaN, a missing cell, not)."""
+    size = np.abs(values)
+    return (size > SI_RANGE[1]) | ((size < SI_RANGE[0]) & (values != 0))
 
 
 #: The magnitudes (SI units) a dimensional quantity of a case file may have (a quantity with a unit; not a fraction

@@ -77,6 +77,7 @@ _G_FM = np.array([
 ])
 
 _LN_DELTA = _LOG10_DELTA * math.log(10.0)
+_SQRT_PI = math.sqrt(math.pi)
 _GP_SPLINE = PchipInterpolator(np.exp(_LN_DELTA), _G_P, extrapolate=False)
 _H_SPLINE = _GP_SPLINE.antiderivative()
 _FM_SPLINE = PchipInterpolator(np.log(_LENGTH_RATIO), _G_FM, extrapolate=False)
@@ -112,7 +113,6 @@ def poiseuille_flow_rate(delta: ArrayLike) -> FloatArray:
 
 
 _GP_KNOTS = _GP_SPLINE.x.tolist()
-_SQRT_PI = math.sqrt(math.pi)
 _GP_PIECES = [tuple(_GP_SPLINE.c[:, i].tolist()) for i in range(len(_GP_KNOTS) - 1)]
 
 
@@ -142,7 +142,7 @@ def finite_slit_free_molecular_many(length_ratio: ArrayLike) -> FloatArray:
     """:func:`finite_slit_free_molecular` of every ℓ in an array (the same numbers, one call)."""
     ell = np.asarray(length_ratio, dtype=float)
     inside = ell <= _LENGTH_RATIO[-1]
-    far = (np.log(np.where(inside, _LENGTH_RATIO[-1], ell)) + _C_FM) / math.sqrt(math.pi)
+    far = (np.log(np.where(inside, _LENGTH_RATIO[-1], ell)) + _C_FM) / _SQRT_PI
     return np.where(inside, _FM_SPLINE(np.log(np.clip(ell, 1.0, _LENGTH_RATIO[-1]))), far)
 
 
@@ -165,7 +165,7 @@ def capped_rarefactions(length_ratio: ArrayLike) -> FloatArray:
     g_cap = finite_slit_free_molecular_many(length_ratio)
     short = g_cap <= _G_MIN
     # G_P(e^x) − g_cap decreases in x below the minimum; at x = lo it is ≈ 1 + C > 0 (free-molecular asymptote)
-    lo = np.where(short, 0.0, -math.sqrt(math.pi) * (g_cap + 1.0))
+    lo = np.where(short, 0.0, -_SQRT_PI * (g_cap + 1.0))
     hi = np.where(short, 0.0, math.log(_DELTA_MIN))
     # each δ_ℓ halves its own bracket until it is below 1e-12 (its number the same whatever the others'); a width of
     # 2⁶⁰ takes 100 halvings; an infinite ℓ stays at δ_ℓ = 0, the infinite slit

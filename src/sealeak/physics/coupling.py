@@ -160,8 +160,8 @@ class CoupledBand:
 
 
 class _Splines:
-    """Cubic splines sharing their knots ``t`` (clipped to them), evaluated at one point in plain floats (an ODE calls
-    them ~10⁵ times)."""
+    """Cubic splines sharing their knots ``t``, with their pieces' coefficients as plain floats for the functions an
+    ODE calls ~10⁵ times (:func:`_liquid_slopes`, :attr:`GasSheet.pointwise`; clipped to the knots there)."""
 
     def __init__(self, t: FloatArray, values: Sequence[FloatArray]) -> None:
         self.splines = [CubicSpline(t, v) for v in values]
@@ -169,12 +169,6 @@ class _Splines:
         self.lo, self.hi = float(self.knots[0]), float(self.knots[-1])
         # per piece, per spline, its four coefficients (highest power first) as plain floats, in one conversion
         self.pieces: list[list[list[float]]] = np.stack([sp.c for sp in self.splines]).transpose(2, 0, 1).tolist()
-
-    def __call__(self, t: float) -> list[float]:
-        t = min(max(t, self.lo), self.hi)
-        i = min(max(bisect.bisect_right(self.knots, t) - 1, 0), len(self.pieces) - 1)
-        h = t - self.knots[i]
-        return [((a * h + b) * h + c) * h + d for a, b, c, d in self.pieces[i]]
 
 
 def _pieces(profile: PressureProfile) -> list[tuple[Callable[..., float], Callable[..., float]]]:
@@ -708,12 +702,11 @@ def coupled_gas_band_flow(profile: PressureProfile, sheet: GasSheet | None, down
     g = sheet.pointwise
     pb, pa = float(downstream_pressure), float(downstream_pressure) + dp
     pieces = _pieces(profile)
-    sqrt = math.sqrt
     shots = 0
 
     def slope(q: float, dxdt: Callable[..., float], p: Callable[..., float]) -> Callable[[float, FloatArray], float]:
         def rhs(t: float, u: FloatArray) -> float:
-            gas = sqrt(abs(u[0]))
+            gas = math.sqrt(abs(u[0]))
             return -2.0 * q * dxdt(t) * gas / g(p(t) - (gas - pb), gas) if gas > 0 else 0.0
         return rhs
 

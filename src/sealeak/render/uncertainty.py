@@ -196,7 +196,7 @@ def _verdict_line(unc: UncertaintyResult, p: PassingLoad) -> str:
         line = (f"passes {spec} from somewhere between the rows at {load_text(p.load_name, lo)} and "
                 f"{load_text(p.load_name, hi)}, where it seals: no leak rate to interpolate towards; compute loads "
                 "between them to place it")
-    elif p.note.startswith("passes"):
+    elif p.passes_at_lowest:
         line = f"passes {spec} already at the lowest {name} computed: compute lower loads to place where it starts to"
     else:
         line = f"exceeds {spec} at every {name} computed"
