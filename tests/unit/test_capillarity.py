@@ -211,3 +211,22 @@ def test_a_uniform_seal_held_by_capillarity_prints_and_reports_its_note(tmp_path
     assert "note: critical junction: held by capillarity at P0 = " in printed
     assert main(["report", str(case), "-o", str(tmp_path / "held.html")]) == 0
     assert "held by capillarity at P0 = " in (tmp_path / "held.html").read_text()
+
+
+def test_the_effective_mediums_held_note_names_its_theory_among_the_cases_notes(tmp_path, capsys):
+    """With both theories, the effective medium's held-by-capillarity note joins the case's notes (the JSON's
+    ``messages``) naming its theory, as its sentences do ("effective medium: ..."): it was a note object added to a
+    string, and predict stopped with a TypeError."""
+    held = edit('pressure_difference = "10 kPa"', 'pressure_difference = "2 kPa"', edit("alpha = 0.2", 'alpha = 0.2\nmodel = "both"'))
+    r = run_case(_case('contact_angle = 180\nsurface_tension = "72 mN/m"', held))
+    assert r.capillary["effective_medium"].held.any()
+    notes = worded(r.messages)
+    assert any(n.startswith("critical junction: held by capillarity at P0 = ") for n in notes)
+    assert any(n.startswith("effective medium: held by capillarity at P0 = ") for n in notes)
+    case = tmp_path / "held.toml"
+    case.write_text(edit("[fluid]\n", "[fluid]\ncontact_angle = 180\nsurface_tension = \"72 mN/m\"\n", held))
+    assert main(["predict", str(case), "--json", str(tmp_path / "held.json")]) == 0
+    messages = json.loads((tmp_path / "held.json").read_text())["messages"]
+    assert any(m.startswith("effective medium: held by capillarity") for m in messages)
+    printed = capsys.readouterr().out  # under its own heading the effective medium's note needs no prefix
+    assert "\nnote: held by capillarity at P0 = " in printed

@@ -62,6 +62,17 @@ def test_study_expands_into_variants():
     assert cases[0].label == "h_rms = 10 um"
 
 
+def test_a_study_names_its_value_only_where_the_value_is_at_fault():
+    study = '\n[study]\nvary = "surface.h_rms"\nvalues = ["10 um", "{}", "30 um"]\n'
+    with pytest.raises(InputError) as bad_value:
+        parse_cases(BASE + study.format("-20 um"))
+    assert str(bad_value.value) == "surface.h_rms (study value '-20 um') = '-20 um': must be > 0"
+    shared = edit('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "-2.3 MPa"') + study.format("20 um")
+    with pytest.raises(InputError) as bad_shared:  # every variant fails alike: the first value is not to blame
+        parse_cases(shared)
+    assert str(bad_shared.value) == "rubber.youngs_modulus = '-2.3 MPa': must be > 0"
+
+
 @pytest.mark.parametrize("name", example_names())
 def test_bundled_examples_load_and_print(name):
     assert len(example_names()) >= 3

@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import copy
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -166,19 +167,36 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
                                 for i, v in enumerate(values)])
     if not isinstance(labels, list) or len(labels) != len(values):
         raise InputError("study.labels", labels, f"must be a list of {len(values)} names")
-    cases, files = [], named_files(doc, case_dir)
-    for value, label in zip(values, labels):
+    def variant_of(value: Any) -> dict[str, Any]:
         variant = copy.deepcopy(doc)
         if whole:  # the table's keys replace the section's
             variant[section] = {**variant.get(section, {}), **value}
         else:
             variant.setdefault(section, {})[key] = value
+        return variant
+
+    cases, files = [], named_files(doc, case_dir)
+    for i, (value, label) in enumerate(zip(values, labels)):
+        variant = variant_of(value)
         files += named_files(variant, case_dir)
         try:
             cases += build(variant, str(label))
         except InputError as exc:
-            raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
+            if not _fails_alike(exc, lambda: build(variant_of(values[(i + 1) % len(values)]), "")):
+                raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
+            raise
     return cases, tuple(dict.fromkeys(files))
+
+
+def _fails_alike(exc: InputError, other: Callable[[], object]) -> bool:
+    """Whether building another study variant (``other``) fails with the same field, value and message as ``exc``: the
+    error then lies in a key the variants share (a negative modulus beside ``vary = "surface.h_rms"``), and naming the
+    study value beside it would blame the value for it. One study value alone shares every key."""
+    try:
+        other()
+    except InputError as second:
+        return str(second) == str(exc)
+    return False
 
 
 def parse_cases(text: str, case_dir: Path | str = ".", source: str = "<text>") -> list[Case]:

@@ -14,7 +14,7 @@ in :mod:`sealeak.cases.verdicts`, the gas rows in :mod:`sealeak.cases.gas` and t
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -29,7 +29,7 @@ from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarit
 from .gas import GAS_UNITS, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case, LifePoint
-from .notes import NoteLike
+from .notes import Note, NoteLike
 from .prediction import predict, predict_effective_medium
 from .rig import RigPrediction, rig_prediction
 from .verdicts import _band_verdicts, _uniform_verdicts, case_warnings
@@ -243,12 +243,20 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
         res, em, capillary = uniform_capillarity(case, res, em)
     messages: list[NoteLike] = list(res.messages)
     if em is not None:
-        messages += ["effective medium: " + m for m in em.messages]
+        messages += [_of_effective_medium(m) for m in em.messages]
     return CaseResult(case=case, critical_junction=res, effective_medium=em, rig=rig_result, messages=tuple(messages),
                       valid=valid, validity=validity, valid_effective_medium=valid_em,
                       validity_effective_medium=validity_em,
                       lift_off_pressure_difference=res.squeeze_pressure.copy() if case.coupled else None,
                       warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas, capillary=capillary)
+
+
+def _of_effective_medium(message: NoteLike) -> NoteLike:
+    """The effective medium's own note as the case's notes carry it, beside the critical junction's: a sentence
+    prefixed "effective medium: ", a note that names its theory (``theory``, "" under the theory's own heading) naming it."""
+    if isinstance(message, Note):
+        return replace(message, values={**message.values, "theory": "effective medium"}) if "theory" in message.values else message
+    return "effective medium: " + message
 
 
 def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
