@@ -7,6 +7,7 @@ import io
 import json
 import re
 import sys
+import tomllib
 import warnings
 import zipfile
 from pathlib import Path
@@ -73,6 +74,27 @@ def test_a_form_edit_keeps_the_comments_and_the_other_lines_of_the_case(client):
     toml = edited.json()["toml"]
     assert "# measured on rig 2, 2024-03-01" in toml and "[rubber]  # batch 17" in toml
     assert toml.replace('"2.5 MPa"', '"2.3 MPa"') == text  # only the edited value changed
+
+
+def test_a_form_list_is_written_whole_and_a_list_over_the_limit_is_refused_before_it_is_built(client):
+    """A list edited in the form reaches the case text as one TOML array, its tables inline (it was built item by
+    item in tomlkit, whose time grows with the square of the length: 40 000 pressures took 150 s, no limit checked);
+    more items than any case-file list may hold are refused naming the field."""
+    state = client.post("/api/case/example", json={"name": "reference-experiment"}).json()
+    pressures = [f"{k} kPa" for k in range(1, 2001)]
+    fields = dict(state["fields"], **{"conditions.squeeze_pressure": json.dumps(pressures)})
+    edited = client.put("/api/case/fields", json={"fields": fields}).json()
+    assert edited["valid"] and tomllib.loads(edited["toml"])["conditions"]["squeeze_pressure"] == pressures
+    fields["conditions.squeeze_pressure"] = '{start = "10 kPa", stop = "1 MPa", num = 5}'
+    fields["title"] = 'a "quoted" [title]'
+    edited = client.put("/api/case/fields", json={"fields": fields}).json()
+    doc = tomllib.loads(edited["toml"])
+    assert doc["conditions"]["squeeze_pressure"] == {"start": "10 kPa", "stop": "1 MPa", "num": 5}
+    assert doc["title"] == 'a "quoted" [title]'
+    fields["conditions.squeeze_pressure"] = json.dumps(["1 kPa"] * 10_001)
+    refused = client.put("/api/case/fields", json={"fields": fields}).json()
+    assert not refused["valid"] and refused["error"]["field"] == "conditions.squeeze_pressure"
+    assert refused["error"]["message"].endswith("10001 items: at most 10000 (docs/case-files.md, Limits)")
 
 
 def test_a_case_with_a_syntax_error_keeps_the_current_case_and_names_the_line(client):
