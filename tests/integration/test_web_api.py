@@ -228,6 +228,17 @@ def test_surface_analyze_refuses_what_the_cli_refuses(client, tmp_path, monkeypa
     assert r.json()["message"] == line.removesuffix(" (options: sealeak surface analyze --help)")
 
 
+def test_surface_analyze_refuses_a_switch_that_is_neither_on_nor_off(client, tmp_path):
+    """``periodic`` is a switch: "maybe" was read as off without a word."""
+    f = _height_file(tmp_path)
+    r = client.post("/api/surface/analyze", files=[("files", (f.name, f.read_bytes()))],
+                    data={"size": "1 mm", "height_unit": "um", "periodic": "maybe"})
+    assert r.status_code == 422 and r.json()["message"].startswith("sealeak: error: --periodic = 'maybe': must be true or false")
+    r = client.post("/api/surface/analyze", files=[("files", (f.name, f.read_bytes()))],
+                    data={"size": "1 mm", "height_unit": "um", "periodic": "Yes"})
+    assert r.status_code == 200
+
+
 def test_sessions_do_not_see_each_other():
     app = create_app()
     with web_client(app) as a, web_client(app) as b:

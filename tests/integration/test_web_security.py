@@ -27,11 +27,14 @@ with warnings.catch_warnings():  # starlette's TestClient on httpx 0.28 warns th
     from fastapi.testclient import TestClient
 
 import sealeak.web.routes.jobs as web_jobs
+import sealeak.web.sessions as sessions_module
 from sealeak.cases import example_text
+from sealeak.errors import InputError
 from sealeak.web import WebConfig, create_app
-from sealeak.web.casework import PredictionCache
+from sealeak.web.casework import MAX_WEB_SOLUTIONS, WAITING_PER_SLOT, PredictionCache
 from sealeak.web.jobs import Job
 from sealeak.web.security import PID_FILE, remove_orphans
+from sealeak.web.uploads import DiskLedger, Quota
 
 REF = example_text("reference-experiment")
 BASE = "http://127.0.0.1:8765"
@@ -241,6 +244,52 @@ def test_all_sessions_together_are_bounded_by_the_servers_quota(tmp_path):
         assert other.post("/api/uploads", files=[("files", ("b.csv", b"1" * 5000))]).status_code == 200
 
 
+def test_uploads_running_at_once_count_each_others_bytes():
+    """Each quota reads the disk when its request begins: two uploads running at once each saw room for itself (8
+    parallel uploads of 0.9 MB wrote 5.4 MB against quotas of 2 and 3 MB). The ledger counts the bytes of the
+    uploads still running, and of those that ended after a request began, against its quotas."""
+    ledger = DiskLedger()
+    server = Quota(10, 0, "server")
+    a, b = ledger.begin("s1"), ledger.begin("s2")
+    assert ledger.reserve(a, 6, [server]) is None
+    assert ledger.reserve(b, 6, [server]) is server  # 6 + 6 > 10: refused, nothing reserved
+    assert ledger.reserve(b, 4, [server]) is None
+    ledger.end(a)  # a's 6 bytes are on disk now, but b's reading of the disk predates them
+    assert ledger.reserve(b, 1, [server]) is server
+    c = ledger.begin("s1")  # c reads the disk after a ended: its quota's ``used`` holds a's 6 bytes
+    read = Quota(10, 6, "server")
+    assert ledger.reserve(c, 1, [read]) is read  # 6 + b's 4 + 1 > 10
+    own = Quota(8, 0, "session s2", session="s2")  # a session's quota counts only its own uploads
+    e = ledger.begin("s1")
+    assert ledger.reserve(e, 3, [Quota(100, 0, "server")]) is None  # another session's bytes
+    d = ledger.begin("s2")
+    assert ledger.reserve(d, 3, [own]) is None  # b's 4 + 3 <= 8 (e's 3 are not s2's)
+    assert ledger.reserve(d, 2, [own]) is own  # b's 4 + d's 3 + 2 > 8
+    for t in (b, c, d, e):
+        ledger.end(t)
+    assert ledger._live == {} and ledger._ended == []  # nothing running: nothing kept
+
+
+def test_parallel_uploads_keep_within_the_quotas(tmp_path):
+    """Eight uploads of 0.9 MB at once into one session with quotas of 2 MB (session) and 3 MB (server): at most
+    two fit, whatever the order the server reads them in."""
+    app = create_app(WebConfig(session_quota=2_000_000, server_quota=3_000_000, root=tmp_path / "root"))
+    with web_client(app) as c:
+        c.get("/api/uploads")  # the session, before the threads share its cookie
+        codes: list[int] = []
+        def upload(i: int) -> None:
+            codes.append(c.post("/api/uploads", files=[("files", (f"f{i}.bin", bytes(900_000)))]).status_code)
+        threads = [threading.Thread(target=upload, args=(i,)) for i in range(8)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(120.0)
+        assert sorted(codes) == [200] * codes.count(200) + [413] * codes.count(413) and len(codes) == 8
+        assert 1 <= codes.count(200) <= 2
+        stored = sum(p.stat().st_size for p in (tmp_path / "root").rglob("*") if p.is_file())
+        assert stored <= 2_000_000
+
+
 def test_a_sessions_simulation_results_count_against_its_quota_and_can_be_removed(monkeypatch, tmp_path):
     monkeypatch.setattr(web_jobs, "start_job", _fake_start)
     with web_client(create_app(WebConfig(session_quota=10_000, max_running=4, root=tmp_path / "root"))) as c:
@@ -292,6 +341,51 @@ def test_predictions_computed_at_once_are_capped_per_server(tmp_path):
         cache._slots.release()
     other = REF.replace("[surface]", "# another case\n[surface]").encode()
     assert cache.predict(other, "a.toml", tmp_path) is not None  # the slot is free again; nothing was left waiting
+
+
+def test_a_refused_case_needs_no_slot_and_waiting_predictions_are_capped(tmp_path):
+    """While every slot computes: a case the loader refuses is answered with its error at once (it waited for a slot,
+    and was 503 after a minute); of new cases at most WAITING_PER_SLOT per slot wait (each holds a server thread),
+    the next is refused at once."""
+    cache = PredictionCache(computing=1, wait=30.0)
+    cache._slots.acquire()  # a long prediction holds the server's only slot
+    waiting: list[threading.Thread] = []
+    answers: list[object] = []
+    try:
+        started = time.monotonic()
+        with pytest.raises(InputError, match="rubber.youngs_modulus = '-1 MPa'"):
+            cache.predict(REF.replace('youngs_modulus = "2.3 MPa"', 'youngs_modulus = "-1 MPa"').encode(), "a.toml", tmp_path)
+        assert time.monotonic() - started < 10.0  # not the 30 s wait
+        for i in range(WAITING_PER_SLOT):
+            other = REF.replace("[surface]", f"# case {i}\n[surface]").encode()
+            waiting.append(threading.Thread(target=lambda o=other: answers.append(cache.predict(o, "a.toml", tmp_path))))
+            waiting[-1].start()
+        deadline = time.monotonic() + 20.0
+        while cache._waiting < WAITING_PER_SLOT and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert cache._waiting == WAITING_PER_SLOT
+        started = time.monotonic()
+        with pytest.raises(StarletteHTTPException) as err:
+            cache.predict(REF.replace("[surface]", "# one more\n[surface]").encode(), "a.toml", tmp_path)
+        assert err.value.status_code == 503 and f"{WAITING_PER_SLOT} are waiting" in err.value.detail
+        assert time.monotonic() - started < 10.0
+    finally:
+        cache._slots.release()
+        for t in waiting:
+            t.join(60.0)
+    assert len(answers) == WAITING_PER_SLOT and cache._waiting == 0  # the waiting ones computed once the slot freed
+
+
+def test_a_web_prediction_asking_for_too_many_contact_solutions_is_refused(client):
+    """One request must not hold a computing slot for hours: a case whose samples × loads exceed MAX_WEB_SOLUTIONS
+    is refused naming what it asks for (the command line runs it)."""
+    ring = example_text("o-ring").replace("num = 9 }", "num = 1000 }")
+    spread = ring.replace("hurst = 0.8", 'hurst = "0.8 ± 2 %"')
+    assert spread != ring and "num = 1000" in spread
+    r = client.post("/api/predict", content=spread.encode())
+    assert r.status_code == 422, r.text
+    assert r.json()["field"] == "case" and f"at most {MAX_WEB_SOLUTIONS}" in r.json()["error"]
+    assert "256 uncertainty samples × 2000 loads" in r.json()["error"]
 
 
 # ------------------------------------------------------------------ per-server caps
@@ -363,6 +457,34 @@ def test_sessions_are_capped_per_server():
         for _ in range(5):  # a script without cookies: empty sessions make room for each other
             c.cookies.clear()
             assert c.post("/api/predict", content=REF.encode()).status_code == 200
+
+
+def test_a_flood_of_cookieless_requests_cannot_lock_new_browsers_out(monkeypatch):
+    """A script without the cookie that stores a case with each request (100 requests filled the server: every new
+    browser got 503, and its page a JSON error, for hours): a session holding only a case makes room; pages and
+    static files create no session at all; a session with files that has been idle long makes room too."""
+    app = create_app(WebConfig(max_sessions=3))
+    with web_client(app) as user, web_client(app) as script, web_client(app) as browser:
+        assert user.post("/api/uploads", files=[("files", ("a.csv", b"1"))]).status_code == 200
+        for _ in range(10):
+            script.cookies.clear()
+            assert script.post("/api/case/example", json={"name": "o-ring"}).status_code == 200
+        page = browser.get("/case")
+        assert page.status_code == 200 and "sealeak_session" not in page.cookies  # a page needs no session
+        assert browser.get("/static/style.css").status_code == 200
+        assert browser.post("/api/case/example", json={"name": "reference-experiment"}).status_code == 200
+        assert user.get("/api/uploads").json()["uploads"] == ["a.csv"]  # the user's files were kept
+        assert len(app.state.sessions) == 3
+    app = create_app(WebConfig(max_sessions=2))
+    with web_client(app) as a, web_client(app) as b, web_client(app) as late:
+        for c in (a, b):
+            assert c.post("/api/uploads", files=[("files", ("a.csv", b"1"))]).status_code == 200
+        assert late.get("/api/form").status_code == 503  # both in use
+        later = time.monotonic() + sessions_module.REPLACEABLE_AFTER + 1.0
+        monkeypatch.setattr(sessions_module.time, "monotonic", lambda: later)
+        assert late.get("/api/form").status_code == 200  # the least recently seen, idle for long, made room
+        kept = [app.state.sessions.get(c.cookies.get("sealeak_session")) is not None for c in (a, b)]
+        assert kept == [False, True]  # a was seen first: it made room, its folder gone
 
 
 # ------------------------------------------------------------------ a real server: raw HTTP, memory, orphans

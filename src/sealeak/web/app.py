@@ -51,6 +51,10 @@ log = logging.getLogger("sealeak.web")
 UPLOAD_PATHS = ("/api/uploads", "/api/surface/analyze", "/api/case/upload")
 
 
+#: The paths whose routes use the session (the API and the downloads); the rest create none.
+SESSION_PATHS = ("/api/", "/download/")
+
+
 class _Sessions(BaseHTTPMiddleware):
     """Attach the request's :class:`Session` (a new one, with its cookie, when it has none)."""
 
@@ -59,8 +63,11 @@ class _Sessions(BaseHTTPMiddleware):
         self.store = store
 
     async def dispatch(self, request: Request, call_next: Callable[[Request], Awaitable[Response]]) -> Response:
-        """Find or create the session, run the request, set the cookie of a new session."""
+        """Find or create the session, run the request, set the cookie of a new session. Pages and static files need
+        none: they create none (a browser gets its session with its first API call)."""
         session = self.store.get(request.cookies.get(COOKIE))
+        if session is None and not request.url.path.startswith(SESSION_PATHS):
+            return await call_next(request)
         new = session is None
         if session is None:
             try:

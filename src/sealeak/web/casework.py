@@ -12,6 +12,7 @@ upload name: never a path on the server (``/etc/passwd``, ``../x``, ``sub/x``).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
@@ -46,12 +47,20 @@ from ..render import prediction_json
 
 __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text",
            "text_value", "toml_text", "syntax_error", "check_files", "file_names", "upload_name", "resolve_files", "field_of",
-           "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES"]
+           "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES", "MAX_WEB_SOLUTIONS", "check_cost"]
 
 #: The most bytes the prediction cache holds (case texts and their results): 256 MB.
 DEFAULT_CACHE_BYTES = 256 * 2**20
 #: How long (s) a prediction waits for one of the server's computing slots before it is refused (status 503).
 PREDICTION_WAIT = 60.0
+#: Predictions that may wait for a computing slot at once, per slot: beyond, a prediction is refused at once (503)
+#: rather than hold a server thread while it waits.
+WAITING_PER_SLOT = 4
+#: The most contact solutions one prediction of the web app may ask for: (uncertainty samples, 1 without spreads) ×
+#: the loads of its cases (a band seal's compressions or forces, 1 for a uniform seal's whole sweep). The bundled
+#: examples ask for at most 40, the O-ring's uncertainty band 4 608 (~20 s); a case asking for more runs on the command
+#: line (``sealeak predict``), where the user owns the machine.
+MAX_WEB_SOLUTIONS = 20_000
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._ +()-]{0,127}$")
 
@@ -439,6 +448,7 @@ class PredictionCache:
         self._items: OrderedDict[tuple[Any, ...], Prediction] = OrderedDict()
         self._lock = threading.Lock()
         self._running: dict[tuple[Any, ...], threading.Event] = {}
+        self._waiting = 0  # predictions waiting for a slot
 
     def __len__(self) -> int:
         with self._lock:
@@ -480,16 +490,14 @@ class PredictionCache:
                     running = self._running[key] = threading.Event()
                     break
             running.wait()
-        if not self._slots.acquire(timeout=self.wait):  # the server's cores are busy with other cases
-            with self._lock:
-                del self._running[key]
-            running.set()
-            raise StarletteHTTPException(503, f"predict: {self.computing} predictions are running on this server "
-                                              f"already (at most {self.computing}); try again when one has finished")
+        slot = False
         try:
-            # a case naming "Probe Ø5.csv" is read with the name its upload is stored under
+            # read and checked before a computing slot is taken: a case the loader refuses needs none
+            # (a case naming "Probe Ø5.csv" is read with the name its upload is stored under)
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
             case_file = parse_case_bytes(loaded, uploads, source)
+            check_cost(case_file)
+            slot = self._take_slot()
             if case_file.spreads.active:  # as `sealeak predict` without options: its default samples and seed
                 unc = propagate(uncertain_study(case_file), DEFAULT_SAMPLES, 0)
                 result = Prediction(case_file, unc.nominal, uncertainty=unc)
@@ -504,10 +512,50 @@ class PredictionCache:
                     del self._sizes[old]
             return result
         finally:
-            self._slots.release()
+            if slot:
+                self._slots.release()
             with self._lock:
                 del self._running[key]
             running.set()
+
+    @contextlib.contextmanager
+    def slot(self) -> Iterator[None]:
+        """Hold one of the server's computing slots (as a prediction does) for other work: a surface analysis."""
+        self._take_slot()
+        try:
+            yield
+        finally:
+            self._slots.release()
+
+    def _take_slot(self) -> bool:
+        """One of the server's computing slots (True), waiting up to ``wait`` s; a 503 when none frees in time, or at
+        once when ``WAITING_PER_SLOT`` × ``computing`` predictions wait already (each holds a server thread)."""
+        with self._lock:
+            if self._waiting >= WAITING_PER_SLOT * self.computing:
+                raise StarletteHTTPException(503, f"predict: {self.computing} predictions are running on this server and "
+                                                  f"{self._waiting} are waiting (at most {self.computing} and "
+                                                  f"{WAITING_PER_SLOT * self.computing}); try again when one has finished")
+            self._waiting += 1
+        try:
+            if not self._slots.acquire(timeout=self.wait):  # the server's cores are busy with other cases
+                raise StarletteHTTPException(503, f"predict: {self.computing} predictions are running on this server "
+                                                  f"already (at most {self.computing}); try again when one has finished")
+        finally:
+            with self._lock:
+                self._waiting -= 1
+        return True
+
+
+def check_cost(case_file: CaseFile) -> None:
+    """Refuse a case whose prediction asks for more than :data:`MAX_WEB_SOLUTIONS` contact solutions (samples ×
+    loads), naming what it asks for: one request must not hold a computing slot for hours."""
+    loads = sum(len(c.band.loads) if c.band is not None else 1 for c in case_file.cases)
+    samples = DEFAULT_SAMPLES if case_file.spreads.active else 1
+    if samples * loads > MAX_WEB_SOLUTIONS:
+        what = f"{samples} uncertainty samples × {loads} loads" if samples > 1 else f"{loads} loads"
+        raise InputError("case", f"{len(case_file.cases)} case(s)",
+                         f"asks for {what} ({samples * loads} contact solutions): the web app computes at most "
+                         f"{MAX_WEB_SOLUTIONS} per prediction; run it with `sealeak predict` on the command line")
 
 
 def footprint(obj: Any, _seen: set[int] | None = None) -> int:

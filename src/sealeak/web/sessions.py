@@ -18,10 +18,14 @@ from typing import Any
 
 from ..errors import SealeakError
 
-__all__ = ["Session", "SessionStore", "SessionsFull", "COOKIE", "DEFAULT_MAX_SESSIONS"]
+__all__ = ["Session", "SessionStore", "SessionsFull", "COOKIE", "DEFAULT_MAX_SESSIONS", "REPLACEABLE_AFTER"]
 
 #: The most sessions one server holds at once.
 DEFAULT_MAX_SESSIONS = 100
+
+#: Seconds idle after which a session with files or jobs (none running) may be replaced by a new one when the server
+#: holds its most sessions.
+REPLACEABLE_AFTER = 600.0
 
 #: The name of the session cookie.
 COOKIE = "sealeak_session"
@@ -67,14 +71,15 @@ class Session:
 
 
 class SessionsFull(SealeakError):
-    """The server holds its most sessions, each with files, a case or jobs (status 503)."""
+    """The server holds its most sessions, each in use (files or jobs, seen lately; status 503)."""
 
 
 class SessionStore:
     """The sessions of one server, in folders under ``root``; idle ones expire after ``idle`` seconds.
 
-    At most ``limit`` sessions at once: a new one then replaces the least recently seen session that
-    stored nothing (no case, file or job); when every session holds something, :class:`SessionsFull`.
+    At most ``limit`` sessions at once: a new one then replaces the least recently seen session that stored nothing,
+    else one that holds only a case, else one idle for :data:`REPLACEABLE_AFTER` s with no simulation running; when
+    every session is in use, :class:`SessionsFull`.
     """
 
     def __init__(self, root: Path, idle: float = 4 * 3600.0, limit: int = DEFAULT_MAX_SESSIONS) -> None:
@@ -97,15 +102,33 @@ class SessionStore:
         token = secrets.token_urlsafe(32)
         s = Session(token=token,
                     folder=self.root / secrets.token_hex(8))  # its folder is made on its first upload or job
+        ended = None
         with self._lock:
             if len(self._sessions) >= self.limit:
-                empty = [o for o in self._sessions.values() if not _holds(o)]
-                if not empty:
-                    raise SessionsFull(f"the server holds {len(self._sessions)} sessions, its most: try again when one "
-                                       "has ended (after --session-timeout minutes idle)")
-                del self._sessions[min(empty, key=lambda o: o.last_seen).token]
+                ended = self._replaced()
+                if ended is None:
+                    raise SessionsFull(f"the server holds {len(self._sessions)} sessions, its most, each with files or "
+                                       f"jobs and seen in the last {REPLACEABLE_AFTER / 60:.0f} minutes: try again "
+                                       "when one has ended")
+                del self._sessions[ended.token]
             self._sessions[token] = s
+        if ended is not None:
+            _end(ended)
         return s
+
+    def _replaced(self) -> Session | None:
+        """The session a new one replaces when the server is full, least recently seen first among: those that stored
+        nothing; those that hold only a case (a text; a script without the cookie stores one with each request); those
+        idle for :data:`REPLACEABLE_AFTER` s with no simulation running. None: every session is in use."""
+        now = time.monotonic()
+        sessions = list(self._sessions.values())
+        for tier in ([o for o in sessions if not _holds(o)],
+                     [o for o in sessions if not (o.folder.exists() or o.jobs)],
+                     [o for o in sessions if now - o.last_seen > REPLACEABLE_AFTER
+                      and not any(j.state in ("starting", "running") for j in list(o.jobs.values()))]):
+            if tier:
+                return min(tier, key=lambda o: o.last_seen)
+        return None
 
     def running_jobs(self) -> int:
         """The simulations running (or starting) in all sessions."""

@@ -25,7 +25,7 @@ from ..render.interactive import prediction_plot_data
 from .casework import DEFAULT_CACHE_BYTES, Prediction, PredictionCache, doc_fields, field_of, load_toml
 from .security import DEFAULT_MAX_BODY
 from .sessions import DEFAULT_MAX_SESSIONS, Session, SessionStore
-from .uploads import Form, Quota, check_expansion, folder_bytes, read_form
+from .uploads import DiskLedger, Form, Quota, check_expansion, folder_bytes, read_form
 
 __all__ = ["WebConfig", "AppState", "StateDep", "SessionDep", "DEFAULT_MAX_UPLOAD", "DEFAULT_SESSION_QUOTA", "DEFAULT_SERVER_QUOTA", "disk_quotas",
            "DEFAULT_MAX_REALIZATIONS", "NO_CASE", "error_json", "error_response", "scrub", "case_state", "current",
@@ -94,6 +94,8 @@ class AppState:
     sessions: SessionStore
     cache: PredictionCache
     starting: threading.Lock = field(default_factory=threading.Lock)
+    #: the bytes uploads running at once are writing (:class:`~sealeak.web.uploads.DiskLedger`)
+    uploads: DiskLedger = field(default_factory=DiskLedger)
 
 
 async def _app_state(request: Request) -> AppState:
@@ -180,7 +182,7 @@ def disk_quotas(state: AppState, s: Session) -> list[Quota]:
     everything, session = folder_bytes(state.root, s.folder)  # one walk: the session's folder is in the server's
     return [Quota(cfg.session_quota, session,
                   f"the session's files would take more than its quota of {cfg.session_quota / 1e6:.6g} MB "
-                  "(sealeak serve --session-quota)"),
+                  "(sealeak serve --session-quota)", s.token),
             Quota(cfg.server_quota, everything,
                   f"the files of all sessions would take more than the server's limit of {cfg.server_quota / 1e6:.6g} MB "
                   "(sealeak serve --server-quota): try again later")]
@@ -188,7 +190,12 @@ def disk_quotas(state: AppState, s: Session) -> list[Quota]:
 
 async def receive(request: Request, state: AppState, s: Session, file_limit: int) -> Form:
     """The request's form, its files streamed into the session's folder (within the session's and the server's quotas)."""
-    return await read_form(request, s.folder / "incoming", file_limit=file_limit, quotas=disk_quotas(state, s))
+    ticket = state.uploads.begin(s.token)  # before the disk is read: uploads running beside it count too
+    try:
+        return await read_form(request, s.folder / "incoming", file_limit=file_limit, quotas=disk_quotas(state, s),
+                               ledger=state.uploads, ticket=ticket)
+    finally:
+        state.uploads.end(ticket)
 
 
 def form_files(form: Form, name: str) -> list[tuple[str, Path]]:

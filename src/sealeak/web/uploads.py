@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import math
 import secrets
+import threading
 import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import IO, BinaryIO
+from typing import IO, Any, BinaryIO
 
 from python_multipart import MultipartParser
 from python_multipart.exceptions import FormParserError
@@ -28,7 +29,7 @@ from ..topography import npy_header
 from .casework import upload_name
 from .security import BodyTooLarge
 
-__all__ = ["Form", "Quota", "read_form", "folder_bytes", "check_expansion"]
+__all__ = ["Form", "Quota", "DiskLedger", "read_form", "folder_bytes", "check_expansion"]
 
 #: The most file parts and text fields a form may have, and the most bytes of all its text fields.
 MAX_PARTS = 64
@@ -66,22 +67,72 @@ def folder_bytes(folder: Path, part: Path | None = None) -> tuple[int, int]:
 @dataclass(frozen=True)
 class Quota:
     """A disk limit: at most ``limit`` bytes, ``used`` taken already; ``what`` words it in a refusal
-    (``"the session's files would take more than its quota of 1000 MB (sealeak serve --session-quota)"``)."""
+    (``"the session's files would take more than its quota of 1000 MB (sealeak serve --session-quota)"``);
+    ``session``: the session whose files it limits (its token), None for the files of all sessions."""
 
     limit: int
     used: int
     what: str
+    session: str | None = None
 
     def left(self) -> int:
         """Bytes still free (may be negative)."""
         return self.limit - self.used
 
 
-async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas: Sequence[Quota]) -> Form:
+class DiskLedger:
+    """The bytes uploads of one server are writing, so that uploads running at once count each other's bytes.
+
+    A quota's ``used`` is a reading of the disk when its request began; an upload running beside it writes bytes
+    that reading does not hold. Each request takes a ticket (:meth:`begin`) before reading the disk and reserves
+    every chunk here before writing it (:meth:`reserve`): the chunks of the other requests still running, and of
+    those that ended after this one began (their files may be missing from its reading), count against its quotas.
+    A file being written can so be counted twice, which refuses early, never late.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._clock = 0
+        self._live: dict[int, list[Any]] = {}  # ticket → [session, bytes reserved, clock at begin]
+        self._ended: list[tuple[int, str, int]] = []  # (clock at end, session, bytes) of requests that ended
+
+    def begin(self, session: str) -> int:
+        """A ticket for a request of ``session`` (before its quotas read the disk)."""
+        with self._lock:
+            self._clock += 1
+            self._live[self._clock] = [session, 0, self._clock]
+            return self._clock
+
+    def reserve(self, ticket: int, nbytes: int, quotas: Sequence[Quota]) -> Quota | None:
+        """Reserve ``nbytes`` more for ``ticket``, or the first of ``quotas`` they would exceed (nothing reserved)."""
+        with self._lock:
+            session, mine, began = self._live[ticket]
+            others = [(s, b) for t, (s, b, _) in self._live.items() if t != ticket]
+            others += [(s, b) for end, s, b in self._ended if end > began]
+            for q in quotas:
+                pending = sum(b for s, b in others if q.session is None or s == q.session)
+                if q.used + pending + mine + nbytes > q.limit:
+                    return q
+            self._live[ticket][1] = mine + nbytes
+            return None
+
+    def end(self, ticket: int) -> None:
+        """The request of ``ticket`` has ended (its files are on disk, or removed)."""
+        with self._lock:
+            session, mine, _ = self._live.pop(ticket)
+            self._clock += 1
+            self._ended.append((self._clock, session, mine))
+            oldest = min((began for _, _, began in self._live.values()), default=self._clock + 1)
+            self._ended = [e for e in self._ended if e[0] > oldest]  # no request running began before these
+
+
+async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas: Sequence[Quota],
+                    ledger: DiskLedger | None = None, ticket: int = 0) -> Form:
     """Parse the multipart body of ``request``, writing each file into ``incoming`` as it streams in.
 
     ``file_limit``: the most bytes one file may have; ``quotas``: the disk limits the files count
-    against (the session's, the server's). Over any: :class:`BodyTooLarge` (413), the files written
+    against (the session's, the server's), each chunk reserved in ``ledger`` under ``ticket`` (its
+    :meth:`DiskLedger.begin`) where given. Over any: :class:`BodyTooLarge` (413), the files written
     so far removed. Not a multipart form: 400.
     """
     kind, options = parse_options_header(request.headers.get("content-type", ""))
@@ -137,9 +188,10 @@ async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas
         if part.size > file_limit:
             raise BodyTooLarge(f"upload: {form.files[-1][1]} is larger than the server's limit of {file_limit / 1e6:.6g} MB "
                                "for this kind of file")
-        for q in quotas:
-            if written > q.left():
-                raise BodyTooLarge(f"upload: {q.what}")
+        over = ledger.reserve(ticket, len(chunk), quotas) if ledger is not None else \
+            next((q for q in quotas if written > q.left()), None)
+        if over is not None:
+            raise BodyTooLarge(f"upload: {over.what}")
         part.file.write(chunk)
 
     def on_part_end() -> None:

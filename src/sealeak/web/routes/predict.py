@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import asyncio
-
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
+from starlette.concurrency import run_in_threadpool
 
 from ..casework import upload_name
 from ..models import TOML_BODY
@@ -22,5 +21,5 @@ async def api_predict(request: Request, state: StateDep, s: SessionDep, name: st
     the case file's name as the command line would see it, its ``source``)."""
     source = upload_name(name)
     data = await request.body()
-    pred = await asyncio.to_thread(state.cache.predict, data, source, s.uploads_path)
+    pred = await run_in_threadpool(state.cache.predict, data, source, s.uploads_path)  # (not asyncio's few threads)
     return Response(scrub(pred.json(), s, state.root), media_type="application/json")

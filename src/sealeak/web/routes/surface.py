@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-import asyncio
+from collections.abc import Callable
+from contextlib import AbstractContextManager
 from typing import Any
 
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
+from starlette.concurrency import run_in_threadpool
 
 from ...errors import SealeakError
 from ...render import analysis_json
@@ -48,17 +50,29 @@ def _number(opts: dict[str, str], key: str, default: float) -> float:
         raise SealeakError(f"--{key.replace('_', '-')} = '{text}': must be a number") from None
 
 
-def _analysis(s: Session, names: list[str], opts: dict[str, str]) -> str:
+def _flag(opts: dict[str, str], key: str) -> bool:
+    """The form field ``key`` as a switch (empty: off); anything but 1/0, true/false, on/off, yes/no refused naming
+    its option."""
+    text = opts.get(key, "").strip().lower()
+    if text in ("", "0", "false", "off", "no"):
+        return False
+    if text in ("1", "true", "on", "yes"):
+        return True
+    raise SealeakError(f"--{key.replace('_', '-')} = '{opts[key]}': must be true or false (1/0, on/off, yes/no)")
+
+
+def _analysis(s: Session, names: list[str], opts: dict[str, str], slot: Callable[[], AbstractContextManager[None]]) -> str:
     """``surface analyze --json`` of the session's files ``names`` with the form's options (text)."""
     with cli_option_names():  # the messages name --height-unit, --size, ... as the command line's do
         kwargs = analysis_options(
             size=opts.get("size") or None, pixel_size=opts.get("pixel_size") or None,
             height_unit=opts.get("height_unit") or None, lateral_unit=opts.get("lateral_unit") or None,
-            periodic=opts.get("periodic", "").lower() in ("1", "true", "on", "yes"),
+            periodic=_flag(opts, "periodic"),
             channel=opts.get("channel") or None, bins_per_decade=_number(opts, "bins_per_decade", 10.0),
             low_cut=_number(opts, "low_cut", 3.0), resolution=opts.get("resolution") or None,
             resolution_pixels=_number(opts, "resolution_pixels", 4.0))
-        an = analyze([s.uploads / n for n in names], **kwargs)
+        with slot():  # one of the server's computing slots, as a prediction
+            an = analyze([s.uploads / n for n in names], **kwargs)
     return analysis_json(an)
 
 
@@ -67,5 +81,5 @@ async def api_analyze(request: Request, state: StateDep, s: SessionDep) -> Respo
     """Uploaded topography files (form field ``files``) and the unit options as form fields → ``surface analyze --json``."""
     form = await receive(request, state, s, state.config.max_upload)
     names = save_uploads(state, s, form, "files")
-    text = await asyncio.to_thread(_analysis, s, names, form.fields)
+    text = await run_in_threadpool(_analysis, s, names, form.fields, state.cache.slot)
     return Response(scrub(text, s, state.root), media_type="application/json")
