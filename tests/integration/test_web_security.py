@@ -24,9 +24,12 @@ pytest.importorskip("fastapi", reason="the web extra (sealeak[web]) is not insta
 with warnings.catch_warnings():  # starlette's TestClient on httpx 0.28 warns that httpx2 exists
     warnings.simplefilter("ignore")
     import httpx
+    import uvicorn
     from fastapi.testclient import TestClient
 
 import sealeak.web.routes.jobs as web_jobs
+import sealeak.web.security as security_module
+import sealeak.web.server as server_module
 import sealeak.web.sessions as sessions_module
 from sealeak.cases import example_text
 from sealeak.errors import InputError
@@ -610,3 +613,40 @@ def test_a_page_reads_no_file_a_query_names(client):
     for query in ({"filename": "/etc/hostname"}, {"filename": "../app.py"}):
         r = client.get("/case", params=query)
         assert r.status_code == 200 and r.content == page.content
+
+
+@pytest.fixture
+def quick_deadlines(monkeypatch):
+    """The app served as ``sealeak serve`` serves it (its protocol class), in a thread, with deadlines of 0.5 s for a
+    connection's first request head and for a pause in a body: its port."""
+    monkeypatch.setattr(server_module, "HEAD_TIMEOUT", 0.5)
+    monkeypatch.setattr(security_module, "BODY_IDLE", 0.5)
+    sock = server_module.listen("127.0.0.1", 0)
+    port = sock.getsockname()[1]
+    server = uvicorn.Server(uvicorn.Config(create_app(WebConfig(host="127.0.0.1", port=port)), log_level="warning",
+                                           http=server_module._Protocol))
+    thread = threading.Thread(target=server.run, kwargs={"sockets": [sock]}, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 20.0
+    while not server.started and time.monotonic() < deadline:
+        time.sleep(0.02)
+    yield port
+    server.should_exit = True
+    thread.join(20.0)
+    sock.close()
+
+
+def test_slow_connections_are_closed_and_a_stalled_body_is_refused(quick_deadlines):
+    """Slowloris: a connection that sends half a request head, or a body shorter than its Content-Length, was held open
+    for ever (3000 of them held 3000 file descriptors). The head has HEAD_TIMEOUT s, each pause in a body BODY_IDLE s."""
+    port = quick_deadlines
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
+        s.sendall(b"GET /api/form HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nX-Slow: " % port)
+        started = time.monotonic()
+        assert s.recv(65536) == b""  # closed by the server, without an answer
+        assert time.monotonic() - started < 5.0
+    answer = _raw(port, b"POST /api/predict HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nContent-Type: application/toml\r\n"
+                        b"Content-Length: 1000\r\n\r\ntit" % port)
+    assert answer.startswith("HTTP/1.1 408") and "request body: no bytes for" in answer
+    ok = _raw(port, b"GET /api/form HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nConnection: close\r\n\r\n" % port)
+    assert ok.startswith("HTTP/1.1 200")  # a prompt request is served as before

@@ -43,7 +43,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from ..io.tomlscan import MAX_DEPTH, MAX_KEY_PARTS
 
-__all__ = ["Guard", "BodyTooLarge", "DEFAULT_MAX_BODY", "MAX_NESTING", "MAX_KEY_PARTS", "check_nesting", "allowed_hosts",
+__all__ = ["Guard", "BodyTooLarge", "BodyStalled", "BODY_IDLE", "DEFAULT_MAX_BODY", "MAX_NESTING", "MAX_KEY_PARTS", "check_nesting", "allowed_hosts",
            "content_security_policy", "remove_orphans", "write_pid", "PID_FILE", "ROOT_PREFIX"]
 
 #: The largest JSON or case-file request body (bytes): 2 MB.
@@ -55,6 +55,9 @@ MAX_NESTING = MAX_DEPTH
 ROOT_PREFIX = "sealeak-web-"
 PID_FILE = "server.pid"
 
+#: Seconds a request body may pause between two of its parts before it is refused (408): a body shorter than its
+#: Content-Length, or sent a few bytes a minute, would hold its connection and request open for ever.
+BODY_IDLE = 30.0
 #: The threads that check bodies' nesting (:func:`check_nesting`).
 _SCANS = ThreadPoolExecutor(max_workers=2, thread_name_prefix="sealeak-scan")
 _UNSAFE = frozenset({"POST", "PUT", "PATCH", "DELETE"})
@@ -203,15 +206,15 @@ class Guard:
             except BaseException:  # the limit, raised inside the app's task groups, comes back wrapped
                 if counted.over is None or started:
                     raise
-                await _refusal(413, str(counted.over.detail), counted.over.field)(scope, receive, send_headers)
+                await _refusal(counted.over.status_code, str(counted.over.detail), counted.over.field)(scope, receive, send_headers)
             return
         buffer = bytearray()  # a JSON or case body: read here (it is small), checked, handed on
         counted = _Counted(receive, limit, multipart)
         while True:
             try:
                 message = await counted()
-            except BodyTooLarge as exc:
-                await _refusal(413, str(exc.detail), exc.field)(scope, receive, send_headers)
+            except (BodyTooLarge, BodyStalled) as exc:
+                await _refusal(exc.status_code, str(exc.detail), exc.field)(scope, receive, send_headers)
                 return
             if message["type"] != "http.request":
                 break
@@ -267,19 +270,33 @@ def _limit_message(limit: int, multipart: bool) -> str:
     return f"request body: larger than the server's limit of {limit / 1e6:.6g} MB for a case file or a JSON request"
 
 
+class BodyStalled(HTTPException):
+    """A request body whose next bytes did not come within :data:`BODY_IDLE` seconds: status 408."""
+
+    def __init__(self) -> None:
+        super().__init__(408, f"request body: no bytes for {BODY_IDLE:.0f} s (a body shorter than its Content-Length, "
+                              "or a stalled connection): send it again")
+        self.field = "body"
+
+
 class _Counted:
-    """``receive`` that raises :class:`BodyTooLarge` (kept as ``over``) as soon as the bytes read pass ``limit``."""
+    """``receive`` that raises :class:`BodyTooLarge` (kept as ``over``) as soon as the bytes read pass ``limit``, and
+    :class:`BodyStalled` (kept as ``over`` too) when the next part of the body takes more than :data:`BODY_IDLE` s."""
 
     def __init__(self, receive: Receive, limit: int, multipart: bool) -> None:
         self.receive = receive
         self.limit = limit
         self.multipart = multipart
         self.seen = 0
-        self.over: BodyTooLarge | None = None
+        self.over: BodyTooLarge | BodyStalled | None = None
 
     async def __call__(self) -> Message:
         """The next message of the request, its body counted."""
-        message = await self.receive()
+        try:
+            message = await asyncio.wait_for(self.receive(), BODY_IDLE)
+        except TimeoutError:
+            self.over = BodyStalled()
+            raise self.over from None
         if message["type"] == "http.request":
             self.seen += len(message.get("body", b""))
             if self.seen > self.limit:

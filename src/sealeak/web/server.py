@@ -2,17 +2,43 @@
 
 from __future__ import annotations
 
+import asyncio
 import errno
 import socket
 import sys
 from dataclasses import replace
 
 import uvicorn
+from uvicorn.protocols.http.h11_impl import H11Protocol
 
 from ..errors import InputError
 from .app import WebConfig, create_app
 
-__all__ = ["serve", "listen"]
+__all__ = ["serve", "listen", "HEAD_TIMEOUT", "SHUTDOWN_WAIT"]
+
+#: Seconds a new connection may take to send the head (request line and headers) of its first request.
+HEAD_TIMEOUT = 30.0
+#: Seconds Ctrl-C waits for requests being answered before it stops the server anyway.
+SHUTDOWN_WAIT = 5
+
+
+class _Protocol(H11Protocol):
+    """uvicorn's HTTP/1.1 protocol with a deadline for a connection's first request head: a connection that sends
+    its headers a byte at a time, or nothing (slowloris), is closed after :data:`HEAD_TIMEOUT` s, where uvicorn
+    would keep it, and its file descriptor, for ever. (Later requests on a kept-alive connection have uvicorn's own
+    keep-alive timeout; a body that stalls, :data:`~sealeak.web.security.BODY_IDLE`.)"""
+
+    def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
+        super().connection_made(transport)
+        self._head_deadline = self.loop.call_later(HEAD_TIMEOUT, self._head_late)
+
+    def _head_late(self) -> None:
+        if self.cycle is None and not self.transport.is_closing():  # no request head came
+            self.transport.close()
+
+    def connection_lost(self, exc: Exception | None) -> None:
+        self._head_deadline.cancel()
+        super().connection_lost(exc)
 
 
 def listen(host: str, port: int) -> socket.socket:
@@ -53,7 +79,8 @@ def serve(host: str = "127.0.0.1", port: int = 8765, config: WebConfig | None = 
         if host not in ("127.0.0.1", "localhost", "::1"):
             print(f"sealeak: note: listening on {host}: anyone who can reach this machine can use the app "
                   "(there is no login)", file=sys.stderr, flush=True)
-    server = uvicorn.Server(uvicorn.Config(app, log_level="warning", access_log=False, server_header=False))
+    server = uvicorn.Server(uvicorn.Config(app, log_level="warning", access_log=False, server_header=False, http=_Protocol,
+                                           timeout_graceful_shutdown=SHUTDOWN_WAIT))
     try:
         server.run(sockets=[sock])
     except KeyboardInterrupt:  # uvicorn has shut down (sessions ended, files removed) and re-raises the Ctrl-C
