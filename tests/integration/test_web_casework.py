@@ -203,6 +203,16 @@ def test_a_simulation_option_given_as_a_float_is_named_as_given(client):
     assert client.get("/api/jobs").json() == []  # refused before any process started
 
 
+@pytest.mark.parametrize("grid", ["1048576", "1180591620717411303424"])
+def test_a_grid_no_memory_holds_is_refused_before_its_job_starts(client, grid):
+    """A grid of 2^20 points a side (or 2^70) was accepted (200), its process started, and failed there."""
+    client.post("/api/case/example", json={"name": "reference-experiment"})
+    r = client.post("/api/jobs", json={"grid": grid})
+    assert r.status_code == 422, r.text
+    assert f"--grid = {grid}: the {grid}x{grid} contact problem needs about" in r.json()["error"]
+    assert client.get("/api/jobs").json() == []  # refused before any process started
+
+
 def test_a_gpu_case_on_a_server_without_cupy_is_refused_naming_its_key(client, monkeypatch):
     monkeypatch.setitem(sys.modules, "cupy", None)  # `import cupy` fails, as on a server without the gpu extra
     up = client.post("/api/case/upload", files={"file": ("g.toml", (REF + '\n[simulation]\ndevice = "cuda"\n').encode())})

@@ -164,3 +164,28 @@ def test_a_rubber_without_a_modulus_is_told_of_both_ways_to_give_it():
     assert exc.value.field == "rubber.youngs_modulus" and "rubber.shore_a" in str(exc.value)
     (case,) = parse_cases(edit('youngs_modulus = "2.3 MPa"', "shore_a = 70", BASE))
     assert 3e6 < case.e_star * 0.75 < 1e7  # Gent's relation at 70 Shore A: E of about 5.5 MPa
+
+
+@pytest.mark.parametrize("edit_from, edit_to, message", [
+    ("alpha = 0.2", "alpha = 1e-320", "theory.alpha = 9.99989e-321: must lie in [1e-06, 1e+06]"),
+    ("alpha = 0.2", "alpha = 1e308", "theory.alpha = 1e+308: must lie in [1e-06, 1e+06]"),
+    ("alpha = 0.2", 'alpha = "1e-7"', "theory.alpha = '1e-7': must lie in [1e-06, 1e+06]"),
+    ("alpha = 0.2", "alpha = 0.2\npercolation_threshold = 1e-320", "theory.percolation_threshold = 9.99989e-321: must lie in [0.01, 0.99]"),
+    ("alpha = 0.2", "alpha = 0.2\npercolation_threshold = 0.999", "theory.percolation_threshold = 0.999: must lie in [0.01, 0.99]"),
+])
+def test_alpha_and_the_percolation_threshold_are_refused_far_from_their_physical_range(edit_from, edit_to, message):
+    """α = 1e-320 gave every leak rate 0 ("sealed") and valid; p_c = 1e-320 rounded the area 1 − p_c to 1, refused by
+    the contact theory without naming the key."""
+    with pytest.raises(InputError) as err:
+        parse_cases(edit(edit_from, edit_to))
+    assert str(err.value) == message
+    for ok in ("alpha = 1e-6", "alpha = 1e6"):  # both ends allowed
+        assert parse_cases(edit("alpha = 0.2", ok))[0].alpha in (1e-6, 1e6)
+
+
+@pytest.mark.parametrize("line", ["force_factor = 1.2", 'force_table = "forces.csv"'])
+def test_an_o_rings_force_keys_on_a_ring_are_refused_not_ignored(line):
+    """``seal.force_factor`` scales an O-ring's line load; a ring seal took it (even ``"x"``) and ignored it."""
+    with pytest.raises(InputError) as err:
+        parse_cases(edit('shape = "ring"', 'shape = "ring"\n' + line))
+    assert err.value.field == "seal." + line.split(" ")[0] and "is for an O-ring" in str(err.value)

@@ -36,7 +36,7 @@ from .rig_builders import RigSection, decay_rig_setup
 from .schema import REQUIRED, SECTIONS, SURFACE_KEYS, TOP_LEVEL, Section, case_keys
 from .seals import SEAL_SHAPES, build_band, is_band_seal
 
-__all__ = ["build_case", "register_surface_model", "SurfaceBuilder", "parse_grid_list", "topography_analysis"]
+__all__ = ["build_case", "ALPHA_RANGE", "PERCOLATION_RANGE", "register_surface_model", "SurfaceBuilder", "parse_grid_list", "topography_analysis"]
 
 #: A ``[surface] model = ...`` builder: (section, case folder, q0) -> (spectrum, description, kind).
 SurfaceBuilder = Callable[[Section, Path, float], tuple[PowerSpectrum, str]]
@@ -67,6 +67,9 @@ def _seal(sec: Section) -> Seal:
     for key in ("cross_section_diameter", "mean_diameter", "faces"):
         if sec.has(key):
             raise InputError(sec.field(key), sec.raw(key), "is for an O-ring (shape = \"o-ring\") or a pressure-profile seal")
+    for key in ("force_factor", "force_table"):  # (read by an O-ring's line load only: here they were ignored)
+        if sec.has(key):
+            raise InputError(sec.field(key), sec.raw(key), "is for an O-ring (shape = \"o-ring\")")
     shape = sec.choice("shape", SEAL_SHAPES)
     if sec.has("height"):  # the ring's cross-section height: described, not used by the theory
         sec.quantity("height", "length")
@@ -84,6 +87,9 @@ def _seal(sec: Section) -> Seal:
 
 
 #: What a squeeze pressure below :data:`~sealeak.physics.contact.MIN_SQUEEZE_PRESSURE` is told.
+#: The α (theory.alpha) and p_c (theory.percolation_threshold) a case may give, both ends allowed.
+ALPHA_RANGE = (1e-6, 1e6)
+PERCOLATION_RANGE = (0.01, 0.99)
 _TOO_SMALL = f"must be at least {MIN_SQUEEZE_PRESSURE * 1e3:g} mPa: a seal's squeeze pressure is some kPa to MPa"
 
 
@@ -326,8 +332,12 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
                                f"width, is {w.min() * 1e6:.4g} … {w.max() * 1e6:.4g} µm here), the longest roughness wavelength "
                                "the contact sees; remove it unless you mean that (theory.lowest_wavevector sets q0 directly)",)
     dp = fl.pressure_difference
-    alpha = theory.number("alpha", 1.0, low=0.0)
-    pc = theory.number("percolation_threshold", 0.6, low=0.0, high=1.0)
+    # α is of order one (0.1 to 2 in the literature); far outside, a leak rate underflows to 0 or overflows. p_c is a
+    # contact-area fraction near 0.4 to 0.6; at 1e-320 the area 1 − p_c rounds to 1 and the contact theory refused it
+    # without naming the key
+    alpha = theory.number("alpha", 1.0, low=ALPHA_RANGE[0], high=ALPHA_RANGE[1], low_open=False, high_open=False)
+    pc = theory.number("percolation_threshold", 0.6, low=PERCOLATION_RANGE[0], high=PERCOLATION_RANGE[1],
+                       low_open=False, high_open=False)
     gamma = theory.number("gamma", 1.0, low=0.0, high=1.0, high_open=False)
     model = theory.choice("model", ("critical-junction", "effective-medium", "both"), "critical-junction")
     fluid_pressure = theory.choice("fluid_pressure", FLUID_PRESSURE, FLUID_PRESSURE[0])

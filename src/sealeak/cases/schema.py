@@ -114,7 +114,7 @@ class Section:
         if high is not None:
             ok &= value < high if high_open else value <= high
         if not ok:
-            raise InputError(self.field(key), value, f"must lie in {rng}")
+            raise InputError(self.field(key), self.data[key], f"must lie in {rng}")  # as written (1e-320, not 9.99989e-321)
         return value
 
     def choice(self, key: str, options: tuple[str, ...], default: str | None = None) -> str:

@@ -10,7 +10,8 @@ from fastapi.responses import PlainTextResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from ...cases import Case, simulation_options
-from ...errors import InputError, SealeakError
+from ...errors import InputError, ResourceError, SealeakError
+from ...numerics import check_memory
 from ..casework import file_names, load_toml, resolve_files, toml_text
 from ..jobs import Job, start_job
 from ..models import JobBody
@@ -36,9 +37,13 @@ def _options(body: JobBody, case: Case, config: WebConfig) -> dict[str, int | No
             opts[key] = int(str(value).strip())
         except ValueError:
             raise InputError(f"--{key}", value, "must be an integer") from None
-    simulation_options(grid=opts["grid"], realizations=opts["realizations"], seed=opts["seed"], workers=opts["workers"],
+    chosen = simulation_options(grid=opts["grid"], realizations=opts["realizations"], seed=opts["seed"], workers=opts["workers"],
                        defaults=case.simulation, max_realizations=config.max_realizations,
                        max_workers=config.max_workers, limit_note=" (this server's limit)")
+    try:  # before a process starts: a grid of 2^20 points a side was accepted (200) and failed in its job
+        check_memory(max(chosen.grids), "contact")
+    except ResourceError as exc:
+        raise InputError(chosen.grid_field, max(chosen.grids), str(exc)) from None
     return opts  # the given values: a case's own grid list still runs its convergence study
 
 
