@@ -34,11 +34,27 @@ def test_a_distribution_that_is_no_name_is_one_line_naming_it(entry):
 
 @pytest.mark.parametrize("sd", ["1e300 %", "1e308 um"])
 def test_a_huge_lognormal_spread_gives_a_finite_log_sd_not_an_overflow(sd):
-    """sd/median of 1e300 overflows its square; sigma = sqrt(ln(1 + r²)) is still about sqrt(2 ln r)."""
+    """sd/median of 1e300 overflows its square; σ² = ln x with x(x − 1) = r² is still about ln r."""
     study = parse_uncertain_case(BASE + f'[uncertainty]\n"surface.h_rms" = {{ distribution = "lognormal", sd = "{sd}" }}\n')
     inp = study.inputs[0]
     ratio = inp.parameters["sd"] / inp.parameters["median"]
-    assert inp.parameters["sigma"] == pytest.approx(math.sqrt(2 * math.log(ratio)), rel=1e-6)
+    assert inp.parameters["sigma"] == pytest.approx(math.sqrt(math.log(ratio)), rel=1e-6)
+
+
+@pytest.mark.parametrize("sd", ["1 %", "25 %", "100 %", "300 %", "5 um"])
+def test_a_lognormal_spread_is_the_standard_deviation_of_the_value_around_its_median(sd):
+    """The value written is the median m and ``sd`` the standard deviation of the sampled values: a lognormal's is
+    m e^(σ²/2) √(e^(σ²) − 1) (its mean m e^(σ²/2) times the coefficient of variation), checked in closed form and
+    for a small spread against the spread of the values at evenly spaced probabilities."""
+    study = parse_uncertain_case(BASE + f'[uncertainty]\n"surface.h_rms" = {{ distribution = "lognormal", sd = "{sd}" }}\n')
+    inp = study.inputs[0]
+    m, sigma, want = inp.parameters["median"], inp.parameters["sigma"], inp.parameters["sd"]
+    assert m * math.exp(sigma**2 / 2) * math.sqrt(math.expm1(sigma**2)) == pytest.approx(want, rel=1e-12, abs=0)
+    u = (np.arange(200_000) + 0.5) / 200_000  # the distribution's values (in SI) at evenly spaced probabilities
+    x = inp.ppf(u)
+    assert np.median(x) == pytest.approx(44e-6, rel=1e-4, abs=0)  # the value written
+    if sigma < 0.3:  # the samples' z is cut at ±3 (TRUNCATION): 1.3 % less spread for a small σ, more for a wide one
+        assert np.std(x) / np.median(x) == pytest.approx(want / m, rel=3e-2, abs=0)
 
 
 #: A gas case (a flat seal of height 2 mm, helium against vacuum) whose rubber has a permeability in Barrer.

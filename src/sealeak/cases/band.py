@@ -211,7 +211,7 @@ class BandResult:
 
 @dataclass(frozen=True)
 class ScaledJunctions:
-    """The critical junction of a case whose contact is a nominal one scaled (docs/theory.md eq. 14.6): h_rms × s
+    """The critical junction of a case whose contact is a nominal one scaled (docs/theory.md eqs. 14.6, 14.8): h_rms × s
     (``length``) and E* × k (``modulus``) give u_c(p) = s u_c,nom(p/(k s)), so σ(p) = (α/η) s³ σ̃_nom(p/(k s)) with
     σ̃_nom the nominal σ at α = 1 and η = 1 Pa·s. ``tables`` holds σ̃_nom by the load's q0 (1/m): a function of
     scaled pressures (Pa) that is NaN where it does not reach (the exact σ is taken there). Set for a block of code by

@@ -39,8 +39,8 @@ KEPT_SIGMA_BYTES = 16 * 2**20
 #: The σ_eff surface the loads of a sweep share (:class:`SweepSurface`): its relative
 #: error against the exact σ_eff, checked off its points as it is built; its Chebyshev points in ln p (first, most) and
 #: in ln q0 (first, most); its top as a fraction of the lowest Bruggeman threshold pressure of the loads. It tabulates
-#: σ_eff/(1 − p/p_c)^:data:`THRESHOLD_EXPONENT` (docs/theory.md eq. 5.5): σ_eff vanishes as (p_c − p)³ at the threshold p_c,
-#: which in ln σ is a logarithmic singularity the Chebyshev points of ln σ alone resolve only up to ~0.8 p_c.
+#: σ_eff/(1 − p/P0_B)^:data:`THRESHOLD_EXPONENT` (docs/theory.md eq. 5.5): σ_eff vanishes as (P0_B − p)³ at the threshold P0_B,
+#: which in ln σ is a logarithmic singularity the Chebyshev points of ln σ alone resolve only up to ~0.8 P0_B.
 SURFACE_RTOL = 1e-6
 SURFACE_P_POINTS = (33, 129)
 SURFACE_Q0_POINTS = (5, 9)
@@ -130,10 +130,10 @@ def chebyshev_lobatto_interpolate(nodes: FloatArray, values: FloatArray, x: Floa
 class SigmaTable:
     """σ(p) interpolated in ln σ against ln p through exact values at Chebyshev points (second kind).
 
-    With ``threshold`` (p_c > p_max, Pa: the effective medium's Bruggeman threshold, :func:`~sealeak.physics.effective_medium.bruggeman_threshold`) what is
-    interpolated is ln r = ln σ − 3 ln(1 − p/p_c), and σ = r (1 − p/p_c)³: σ_eff vanishes as (1 − p/p_c)³ (docs/theory.md
-    eq. 5.5), a logarithmic singularity of ln σ that a polynomial in ln p follows only far below p_c (on the `o-ring`
-    sweep, tables of 33 points of ln σ up to peaks near p_c left the band integral up to 20 % from converged).
+    With ``threshold`` (P0_B > p_max, Pa: the effective medium's Bruggeman threshold, :func:`~sealeak.physics.effective_medium.bruggeman_threshold`) what is
+    interpolated is ln r = ln σ − 3 ln(1 − p/P0_B), and σ = r (1 − p/P0_B)³: σ_eff vanishes as (1 − p/P0_B)³ (docs/theory.md
+    eq. 5.5), a logarithmic singularity of ln σ that a polynomial in ln p follows only far below P0_B (on the `o-ring`
+    sweep, tables of 33 points of ln σ up to peaks near P0_B left the band integral up to 20 % from converged).
     ``values`` are σ itself, ``log_values`` ln r."""
 
     def __init__(self, exact: Callable[[FloatArray], FloatArray], p_max: float, n: int, floor: float = TABLE_FLOOR,
@@ -154,7 +154,7 @@ class SigmaTable:
         return p
 
     def _log(self, values: FloatArray) -> FloatArray:
-        """ln σ of the ``values`` at the table's points, or with a threshold ln r = ln σ − 3 ln(1 − p/p_c)."""
+        """ln σ of the ``values`` at the table's points, or with a threshold ln r = ln σ − 3 ln(1 − p/P0_B)."""
         out = np.log(np.where(values > 0, values, 1.0))
         return out if self.threshold is None else out - _vanishing(self.pressures(), self.threshold)
 
@@ -219,7 +219,7 @@ def effective_medium_sigma_table(case: Case, contact: PerssonContact, p_max: flo
                                  exact: Callable[[FloatArray], FloatArray] | None = None,
                                  ) -> Callable[[FloatArray], FloatArray]:
     """σ_eff(p) (m³/(Pa·s)) over [floor·p_max, p_max] (Pa): exact at Chebyshev points in ln p, interpolated in
-    ln[σ/(1 − p/p_c)³] between them (p_c the contact's Bruggeman threshold, :class:`SigmaTable`), refined until it
+    ln[σ/(1 − p/P0_B)³] between them (P0_B the contact's Bruggeman threshold, :class:`SigmaTable`), refined until it
     agrees with σ within :data:`TABLE_RTOL` at the points checked
     (:meth:`SigmaTable.checked`), at most to
     2·``TABLE_POINTS[1]`` − 1 points (the exact σ where it vanishes somewhere in the range). ``exact``: σ_eff of
@@ -240,7 +240,7 @@ class SweepSurface:
     q0 enters Persson's contact only as the lower limit of G(ζ) = (π/4)E*² ∫_{q0}^{q} q³C dq (everything else is a
     function of q = ζq0 itself), so σ_eff changes smoothly and little with it: σ_eff is interpolated in ln q0
     (barycentric, Chebyshev–Lobatto points over the loads' range) and in ln p. What is interpolated is the regular part
-    ln r = ln[σ_eff/(1 − p/p_c(q0))³] (below, "ln r"; :class:`SigmaTable` with its threshold). At the middle q0 point a :class:`SigmaTable`
+    ln r = ln[σ_eff/(1 − p/P0_B(q0))³] (below, "ln r"; :class:`SigmaTable` with its threshold). At the middle q0 point a :class:`SigmaTable`
     of ln r against ln p over [``low``, ``high``] Pa is doubled until it agrees with the exact values to
     :data:`SURFACE_RTOL`/2 at a quarter of the points the next doubling would add (:meth:`SigmaTable.checked`); at the other
     q0 points only the difference ln r − ln r_mid is tabulated (:meth:`_difference`), on every 2^k-th point of that
@@ -249,8 +249,8 @@ class SweepSurface:
     there before it would need the middle table's own points, every q0 point takes a full table (as the middle one).
     The q0 points are doubled until the surface agrees with exact values of the load farthest from them, at pressures
     off the tables' points, to :data:`SURFACE_RTOL`. ``high`` stays a factor :data:`SURFACE_TOP` below every load's
-    Bruggeman threshold p_c (A(ζ1)/A0 = 1/2, closed form); ln r has no logarithmic singularity at p_c, which ln σ has
-    (σ vanishes as (1 − p/p_c)³ at leading order, docs/theory.md eq. 5.5), so 0.95 p_c costs no more points than 0.8 did
+    Bruggeman threshold P0_B (A(ζ1)/A0 = 1/2, closed form); ln r has no logarithmic singularity at P0_B, which ln σ has
+    (σ vanishes as (1 − p/P0_B)³ at leading order, docs/theory.md eq. 5.5), so 0.95 P0_B costs no more points than 0.8 did
     in ln σ; pressures outside [``low``, ``high``] take
     the exact σ_eff. :meth:`build` returns None where the surface does not reach its tolerance within
     :data:`SURFACE_P_POINTS` and :data:`SURFACE_Q0_POINTS`.
@@ -386,7 +386,7 @@ class SweepSurface:
     def _at(self, contact: PerssonContact) -> Callable[[FloatArray], FloatArray]:
         """σ_eff(p) of the load with ``contact`` (its q0) inside [low, high]: the interpolation in ln q0 is linear in the values,
         so ln r = base + Σ_j w_j part_j (the weights sum to 1: the base once), and the parts on the same points combine
-        into one before ln p is interpolated, once per size of table; ln σ = ln r + 3 ln(1 − p/p_c(q0))."""
+        into one before ln p is interpolated, once per size of table; ln σ = ln r + 3 ln(1 − p/P0_B(q0))."""
         weights = lobatto_weights(self.nodes, math.log(contact.q0)).tolist()
         combined: dict[int, tuple[FloatArray, FloatArray]] = {}
         if self.base is not None:
@@ -521,7 +521,7 @@ class JunctionSurface:
 
 
 def _vanishing(p: FloatArray, threshold: float) -> FloatArray:
-    """3 ln(1 − p/p_c): the logarithm of the factor with which σ_eff vanishes at its threshold p_c (Pa; docs/theory.md
+    """3 ln(1 − p/P0_B): the logarithm of the factor with which σ_eff vanishes at its threshold P0_B (Pa; docs/theory.md
     eq. 5.5), which the tables of ln σ leave out (:class:`SigmaTable`, :class:`SweepSurface`)."""
     return THRESHOLD_EXPONENT * np.log1p(-p / threshold)
 

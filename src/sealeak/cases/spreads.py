@@ -179,11 +179,14 @@ def _number(field: str, value: Any, unit: str, *, relative_to: float | None = No
 
 
 def _log_sd(ratio: float) -> float:
-    """The standard deviation of the logarithm of a lognormal whose standard deviation is ``ratio`` times its median,
-    sqrt(ln(1 + ratio²)), without overflowing for a large ratio (inf where even that overflows)."""
+    """σ, the standard deviation of the logarithm, of a lognormal whose standard deviation is ``ratio`` times its median
+    m (docs/theory.md eq. 14.2). Its standard deviation is m √(x (x − 1)) with x = e^(σ²), so x = (1 + √(1 + 4 ratio²))/2:
+    σ² = ln x = ln(1 + 2 ratio²/(1 + √(1 + 4 ratio²))), and ≈ ln ratio + ln(1 + 1/(2 ratio)) where ratio² would overflow.
+    (√ln(1 + ratio²) is the σ for a spread relative to the *mean*: with the value as the median it gave a standard
+    deviation 3 % too large at 25 %, 41 % at 100 %.)"""
     if ratio < 1e150:
-        return math.sqrt(math.log1p(ratio * ratio))
-    return math.sqrt(2.0 * math.log(ratio) + math.log1p(1.0 / (ratio * ratio)))
+        return math.sqrt(math.log1p(2.0 * ratio * ratio / (1.0 + math.hypot(1.0, 2.0 * ratio))))
+    return math.sqrt(math.log(ratio) + math.log1p(0.5 / ratio))
 
 
 def _bound(field: str, value: Any, unit: str) -> float:

@@ -64,8 +64,9 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
 
     Each judges the band's narrowest constriction: u_c and λc at the peak contact pressure (critical junction),
     or u_e = (12 μ σ_min)^(1/3) against the contact width w (effective medium), against the fluid's molecular
-    size; and, with ``pressure_difference``, ΔP against the peak contact pressure p_max/2 (the fit notes that one
-    on its own). A load without a leak channel is valid.
+    size; and, with ``pressure_difference``, ΔP against the peak contact pressure p_max (coupled: the fluid opens the
+    seal there), or p_max/2 with the fluid pressure ignored (the fit notes that one on its own). A load without a leak
+    channel is valid.
     """
     d = case.fluid.molecular_length
     dp, p_max = case.pressure_difference, band.max_contact_pressure

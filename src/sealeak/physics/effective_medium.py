@@ -76,8 +76,8 @@ _DISCRETE = ArrayCache(lambda: DISCRETE_CACHE_BYTES)
 
 
 def bruggeman_threshold(contact: PerssonContact) -> float:
-    """p_c (Pa): the squeeze pressure at which A(ζ1)/A0 = erf(P0/(2√G(ζ1))) reaches :data:`BRUGGEMAN_THRESHOLD`,
-    p_c = 2 erfinv(1/2) √G(ζ1) (docs/theory.md §2.4, §5.4; σ_eff vanishes there as (1 − P0/p_c)³, eq. 5.5)."""
+    """P0_B (Pa): the squeeze pressure at which A(ζ1)/A0 = erf(P0/(2√G(ζ1))) reaches :data:`BRUGGEMAN_THRESHOLD`,
+    P0_B = 2 erfinv(1/2) √G(ζ1) (docs/theory.md §2.4, §5.4; σ_eff vanishes there as (1 − P0/P0_B)³, eq. 5.5)."""
     return 2.0 * float(special.erfinv(BRUGGEMAN_THRESHOLD)) * math.sqrt(float(contact.G(contact.zeta_max)))
 
 
