@@ -32,6 +32,7 @@ import sealeak.web.security as security_module
 import sealeak.web.server as server_module
 import sealeak.web.sessions as sessions_module
 from sealeak.cases import example_text
+from sealeak.cli import main
 from sealeak.errors import InputError
 from sealeak.web import WebConfig, create_app
 from sealeak.web.casework import MAX_WEB_SOLUTIONS, WAITING_PER_SLOT, PredictionCache
@@ -132,6 +133,19 @@ def test_deep_json_is_refused_before_parsing(client):
     shallow = client.put("/api/case/fields", json={"fields": {"title": "[[[[[[ not a list"}})
     assert shallow.status_code == 200  # brackets inside a JSON string are text
     assert alive(client)
+
+
+@pytest.mark.parametrize("quotes", ['"""', "'''"])
+def test_brackets_in_a_multi_line_string_are_text_as_on_the_command_line(client, tmp_path, monkeypatch, capsys, quotes):
+    """A description in a TOML multi-line string with 40 "[" was refused (400, "nested 41 levels") by the web app's
+    pre-scan, which took only one-line strings for text; the command line runs it."""
+    case = REF.replace("[surface]", f"description = {quotes}\nsteps: {'[' * 40}\n{quotes}\n\n[surface]", 1)
+    r = client.post("/api/predict", content=case.encode())
+    assert r.status_code == 200, r.text
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "ml.toml").write_text(case)
+    assert main(["predict", "ml.toml"]) == 0
+    capsys.readouterr()
 
 
 DEEP = {"array": "[" * 5000 + "]" * 5000, "inline table": "{a = " * 3000 + "1" + "}" * 3000,

@@ -98,6 +98,7 @@ def test_uploaded_names_pass():
 @pytest.mark.parametrize("given, stored", [
     ("Probe Ø5 µm #3;b.csv", "Probe O5 um _3_b.csv"), ("Rauheit_ü.txt", "Rauheit_u.txt"), ("../../evil.csv", "evil.csv"),
     ("C:\\data\\scan.plu", "scan.plu"), (".hidden", "hidden"), ("..", "file"), ("ＡＢＣ.csv", "ABC.csv"), ("", "file"),
+    ("名前.txt", "file.txt"), ("😀.csv", "file.csv"),  # a name of no letters kept its suffix alone ("txt"): no format to read
 ])
 def test_uploaded_file_names_are_stored_under_a_safe_name(given, stored):
     assert upload_name(given) == stored

@@ -321,13 +321,18 @@ def upload_name(name: str) -> str:
     """The safe name under which an uploaded file is stored: ``name`` without any folder, its letters
     folded to ASCII (NFKC, then accents dropped: ``ü`` → ``u``, ``µ`` → ``u``, ``Ø`` → ``O``), every
     other character outside ``A-Z a-z 0-9 . _ - + ( )`` and space replaced by ``_``, no leading dot or
-    ``..``, at most 128 characters (the suffix kept). Never refused: ``Probe Ø5 µm #3;b.csv`` is
-    stored as ``Probe O5 um _3_b.csv``; the user's name is only ever shown, never used as a path."""
+    ``..``, at most 128 characters (the suffix kept; a name of no letters before it, ``名前.txt``, is ``file.txt``).
+    Never refused: ``Probe Ø5 µm #3;b.csv`` is stored as ``Probe O5 um _3_b.csv``; the user's name is only ever
+    shown, never used as a path."""
     base = str(name).replace("\\", "/").rsplit("/", 1)[-1]
     text = unicodedata.normalize("NFKC", base).translate(_ASCII)
     text = "".join(c for c in unicodedata.normalize("NFKD", text) if not unicodedata.combining(c))
     text = re.sub(r"[^A-Za-z0-9._ +()-]+", "_", text)
-    text = re.sub(r"\.{2,}", ".", text).strip(" ._")
+    text = re.sub(r"\.{2,}", ".", text)
+    stem, dot, suffix = text.rpartition(".")
+    if stem and not stem.strip(" ._-+()") and suffix.strip(" _"):  # "名前.txt" (now "_.txt") keeps its suffix: "file.txt"
+        text = "file." + suffix.strip(" _")
+    text = text.strip(" ._")
     stem, dot, suffix = text.rpartition(".")
     if len(text) > 128:
         text = (stem[: 127 - len(suffix)] + dot + suffix) if dot and len(suffix) <= 16 else text[:128]
