@@ -239,6 +239,24 @@ def test_surface_analyze_refuses_a_switch_that_is_neither_on_nor_off(client, tmp
     assert r.status_code == 200
 
 
+@pytest.mark.parametrize("body, kind, error", [
+    (b'{"name": ', "application/json", "request body: not valid JSON at character 9 (Expecting value)"),
+    (b'\xff\xfe{"name": 1}', "application/json", "request body: not JSON that can be read (not UTF-8"),
+    (b'{"name": ' + b"9" * 5000 + b"}", "application/json", "request body: not JSON that can be read"),
+    (b'{"name": "o-ring"}', "text/plain", "request body: must be a JSON object, sent with Content-Type: application/json"),
+    (b"[1, 2]", "application/json", "request body: must be a JSON object"),
+])
+def test_a_body_that_is_not_a_json_object_is_named_as_such(client, body, kind, error):
+    """Malformed JSON was '9: JSON decode error' with field '9' (its position); text sent as another type read 'Input
+    should be a valid dictionary'; unreadable bytes 'There was an error parsing the body'."""
+    r = client.post("/api/case/example", content=body, headers={"content-type": kind})
+    assert r.status_code == 400 and r.json()["field"] == "body" and r.json()["error"].startswith(error), r.text
+
+
+def test_pages_answer_head_requests(client):
+    assert client.head("/case").status_code == 200 and client.head("/static/style.css").status_code == 200
+
+
 def test_sessions_do_not_see_each_other():
     app = create_app()
     with web_client(app) as a, web_client(app) as b:

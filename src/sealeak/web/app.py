@@ -132,12 +132,23 @@ async def _bad_request(request: Request, exc: Exception) -> JSONResponse:
     refused = refusal(errors, model) if model is not None else None
     if refused is not None:
         return await _sealeak_error(request, refused)
-    where = ".".join(str(x) for x in first.get("loc", ())[1:]) or "request"
+    loc = first.get("loc", ())
+    if first.get("type") == "json_invalid":  # loc ("body", position): the place in the text, not a field
+        at = loc[1] if len(loc) > 1 else "?"
+        why = first.get("ctx", {}).get("error", "malformed")
+        return error_json(f"request body: not valid JSON at character {at} ({why})", "body", 400)
+    if len(loc) == 1 and loc[0] == "body":  # the body as a whole: a list, a number, or text sent as another type
+        return error_json("request body: must be a JSON object, sent with Content-Type: application/json (docs/web.md "
+                          "lists each request's members)", "body", 400)
+    where = ".".join(str(x) for x in loc[1:]) or "request"
     return error_json(f"{where}: {first.get('msg', 'malformed request')}", where, 400)
 
 
 async def _http_error(request: Request, exc: Exception) -> JSONResponse:
     assert isinstance(exc, StarletteHTTPException)
+    if exc.status_code == 400 and exc.detail == "There was an error parsing the body":  # FastAPI's words, without why
+        return error_json("request body: not JSON that can be read (not UTF-8, or a number of thousands of digits)",
+                          "body", 400)
     return error_json(str(exc.detail), getattr(exc, "field", ""), exc.status_code)
 
 

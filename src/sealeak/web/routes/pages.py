@@ -59,10 +59,10 @@ def _page(name: str) -> Callable[[], Response]:
 
 
 for _name in PAGES:
-    router.add_api_route(f"/{_name}", _page(_name), methods=["GET"], name=f"page_{_name}")
+    router.add_api_route(f"/{_name}", _page(_name), methods=["GET", "HEAD"], name=f"page_{_name}")
 
 
-@router.get("/static/{name}")
+@router.api_route("/static/{name}", methods=["GET", "HEAD"])
 def static(name: str) -> Response:
     """A script or style sheet of the pages (``[a-z]+.js``, ``[a-z]+.css``), or Plotly.js."""
     if name == "plotly.min.js":
