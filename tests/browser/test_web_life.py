@@ -3,6 +3,8 @@ from the rows of the JSON, with the specification line; legends under their axis
 
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from sealeak.cases import example_text
@@ -80,12 +82,26 @@ def test_life_plots_draw_the_rows_against_time_and_temperature(page, artifacts):
     by_temp = _data(page, "plot-life-temperature")
     assert not by_temp["hidden"] and by_temp["layout"]["xaxis"]["title"]["text"] == "temperature T (°C)"
     for n, yaxis in enumerate(["y", "y2"]):
-        curves = [c for c in by_temp["data"] if c["yaxis"] == yaxis and c["name"].startswith("t = ")]
+        curves = [c for c in by_temp["data"] if c["yaxis"] == yaxis and c["name"].startswith("t = ")
+                  and not c["name"].endswith(": below the axis")]
         assert len(curves) == len(times)
         for t, c in zip(times, curves):  # a curve per time, in order
             assert c["x"] == pytest.approx([T - 273.15 for T in temps], rel=1e-9)
             _approx(c["y"], [q(t, T, n) for T in temps])
 
+    # points more than 20 decades under a panel's top (a cold seal) were cut off the axis: open triangles at its foot
+    marked = 0
+    for n, yaxis in enumerate(["y", "y2"]):
+        lo = by_temp["layout"]["yaxis" if n == 0 else "yaxis2"]["range"][0]
+        foot = 10 ** (lo + 0.1)
+        for c in by_temp["data"]:
+            if c["yaxis"] != yaxis or not c["name"].startswith("t = ") or c["name"].endswith("below the axis"):
+                continue
+            below = [x for x, y in zip(c["x"], c["y"]) if y is not None and y < foot]
+            marks = [m for m in by_temp["data"] if m["name"] == f"{c['name']}: below the axis" and m["yaxis"] == yaxis]
+            assert [x for m in marks for x in m["x"]] == below
+            marked += len(below)
+    assert marked > 0  # the example's cold, young seal leaks more than 20 decades under its hot, old one
     page.select_option("#unit-throughput", "Pa·m³/s")  # the unit chosen: the curves follow it
     page.wait_for_function("document.getElementById('plot-life-time').layout.yaxis.title.text.includes('Pa·m³/s')")
     first = _data(page, "plot-life-time")["data"][0]
@@ -138,3 +154,13 @@ def test_life_plots_of_a_study_draw_each_variant_on_its_own_curves(page, artifac
     assert not [c for c in by_time["data"] if c["yaxis"] == "y3"]
     _boxes_apart(page, "plot-life-time")
     page.locator("#plot-life-time").screenshot(path=str(artifacts / "prediction-life-study.png"))
+
+
+def test_the_leak_plot_of_a_life_file_gives_each_of_its_20_cases_a_colour(page):
+    """The life example's 20 (time, temperature) cases drawn against the load: ten colours repeated, so that
+    "t = 1 h, T = -40 °C" and "t = 1 a, T = 20 °C" were the same blue."""
+    _predicted(page, example_text("nbr-o-ring-life"))
+    colours = page.evaluate("document.getElementById('plot-leak').data.filter(t => t.mode && t.mode.includes('lines'))"
+                            ".map(t => [t.name, t.line && t.line.color])")
+    hue = {name.split(":")[0]: re.sub(r"rgba?\((\d+),(\d+),(\d+).*", r"\1,\2,\3", c) for name, c in colours if c}
+    assert len(hue) == 20 and len(set(hue.values())) == 20, hue

@@ -656,7 +656,9 @@ function leakTitle(gas) {
 // the units of a time, as sealeak.cases.life has them (a: the Julian year)
 const TIME_UNITS = [["a", 365.25 * 86400], ["d", 86400], ["h", 3600], ["min", 60], ["s", 1]];
 // Plotly's colours, one per temperature (or time) in every panel
-const COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+// twenty colours (matplotlib's tab10, then its tab20's light tones): a life file's 20 cases each have their own
+const COLORS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
+  "#aec7e8", "#ffbb78", "#98df8a", "#ff9896", "#c5b0d5", "#c49c94", "#f7b6d2", "#c7c7c7", "#dbdb8d", "#9edae5"];
 // the most loads a life plot draws a panel for (evenly spread beyond), its panels' height and the gap (px) for a heading
 const LIFE = { panels: 4, height: 210, gap: 46 };
 const KELVIN = 273.15;  // 0 °C in K
@@ -726,6 +728,7 @@ function lifePlot(id, title, x, curves, grid, key, limit, rows) {
   const q = r => { const v = r && (gas ? r.leak_rate_pv : r.leak_rate); return typeof v === "number" && v > 0 ? Units.show(v, dim, rows) : null; };
   const n = grid.panels.length, area = n * LIFE.height + (n - 1) * LIFE.gap;
   const traces = [], extra = { annotations: [], margin: { t: 64 } };
+  let belowKey = false;  // the legend's one entry for the points below an axis
   grid.panels.forEach((load, k) => {
     const yaxis = k ? `y${k + 1}` : "y", first = k === 0;
     const out = [];  // the points outside the theory
@@ -742,8 +745,24 @@ function lifePlot(id, title, x, curves, grid, key, limit, rows) {
     if (lim) traces.push(line([Math.min(...xs), Math.max(...xs)], [lim, lim], `max_leak_rate = ${limit.text}`,
       { yaxis, legendgroup: "limit", showlegend: first, line: { dash: "dashdot", color: "#333", width: 1.5 } }));
     const top = 1 - k * (LIFE.height + LIFE.gap) / area;
+    const range = fitRange(lim ? [...ys, lim] : ys, true, 20);  // a cold, young seal may leak decades less: shown
+    if (range) {  // points more than 20 decades under the top: open triangles at the axis' foot, in their curve's colour
+      const foot = Math.pow(10, range[0] + 0.1);
+      panel.forEach((t, i) => {
+        const below = t.x.filter((_, j) => t.y[j] !== null && t.y[j] < foot);
+        if (!below.length) return;
+        traces.push({ x: below, y: below.map(() => foot), name: `${t.name}: below the axis`, type: "scatter", mode: "markers",
+          yaxis, showlegend: false, marker: { symbol: "triangle-down-open", size: 9, color: t.line.color, line: { width: 2 } },
+          hovertemplate: "%{x:.4~g}: %{fullData.name}<extra></extra>" });
+        if (!belowKey) {
+          belowKey = true;
+          traces.push({ x: [null], y: [null], name: "below the axis (more than 20 decades under the top)", type: "scatter",
+            mode: "markers", yaxis, marker: { symbol: "triangle-down-open", size: 10, color: "#555" } });
+        }
+      });
+    }
     extra[k ? `yaxis${k + 1}` : "yaxis"] = { ...axis(leakTitle(gas), true), anchor: "x", domain: [top - LIFE.height / area, top],
-      range: fitRange(lim ? [...ys, lim] : ys, true, 20) };  // a cold, young seal may leak decades less: shown
+      range };
     extra.annotations.push({ text: lifeHeading(grid, load, key), xref: "paper", yref: "paper", x: 0, y: top, xanchor: "left",
       yanchor: "bottom", showarrow: false, font: { size: 12 } });
   });
