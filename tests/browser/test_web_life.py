@@ -164,3 +164,18 @@ def test_the_leak_plot_of_a_life_file_gives_each_of_its_20_cases_a_colour(page):
                             ".map(t => [t.name, t.line && t.line.color])")
     hue = {name.split(":")[0]: re.sub(r"rgba?\((\d+),(\d+),(\d+).*", r"\1,\2,\3", c) for name, c in colours if c}
     assert len(hue) == 20 and len(set(hue.values())) == 20, hue
+
+
+def test_a_case_sealed_at_every_load_draws_its_triangles_at_the_foot_of_an_axis_without_numbers(page, artifacts):
+    """The water-o-ring example seals at every compression: the axis fitted itself around 10⁻³⁰ with the sealed
+    triangles mid-axis, as if the leak rate were 10⁻³⁰ m³/s."""
+    rows = _predicted(page, example_text("water-o-ring"))
+    assert rows and all(r["leak_rate"] in (0, 0.0, None) for r in rows)
+    layout = page.evaluate("document.getElementById('plot-leak').layout.yaxis")
+    assert layout["showticklabels"] is False and layout["title"]["text"].endswith(": 0 everywhere")
+    marks = page.evaluate("document.getElementById('plot-leak').data.filter(t => (t.name || '').endsWith(': sealed'))"
+                          ".map(t => t.y)")
+    low = 10 ** layout["range"][0]
+    assert marks and all(low < y < 10 ** (layout["range"][0] + 0.5) for m in marks for y in m)  # at the foot
+    page.locator("#plot-leak").scroll_into_view_if_needed()
+    page.locator("#plot-leak").screenshot(path=str(artifacts / "prediction-all-sealed.png"))

@@ -810,7 +810,7 @@ function drawPlots(pred) {
   // sealed points (no leak path: Q = 0) sit at the foot of the axis, in their curve's colour (nested: the later curves'
   // markers smaller, so that curves sealed at the same load all show); points below the axis (the axis spans 8 decades)
   // are open triangles there; points outside the theory (valid = NO) are crossed
-  const foot = yr ? Math.pow(10, yr[0] + 0.1) : 1e-30;
+  const foot = Math.pow(10, (yr ? yr[0] : 0) + 0.1);
   // a band's percentile sealed, or below the axis, runs along the foot: the median stays between its percentiles
   for (const t of bands) t.y = t.y.map(v => v === null ? null : v > foot ? v : foot);
   const ix = [], iy = [], legend = new Set();
@@ -845,8 +845,11 @@ function drawPlots(pred) {
   const xa = X_AXES[c0.x] || X_AXES.profile_scale;
   const kinds = new Set(p.leak.map(c => c.gas));
   const ytitle = kinds.size > 1 ? "leak rate (the unit of each curve in its legend)" : leakTitle(c0.gas);
-  plot("plot-leak", all, "Leak rate", { ...axis(xa.title(), xa.log), range: fitRange(all.flatMap(t => t.x), xa.log) },
-    { ...axis(ytitle, true), range: yr });
+  // no point leaks (every one sealed): an axis of no numbers, its triangles at the foot (an auto-range put them at 10⁻³⁰,
+  // mid-axis, as if Q were 10⁻³⁰)
+  const yaxis = yr ? { ...axis(ytitle, true), range: yr }
+    : { ...axis(`${ytitle}: 0 everywhere`, true), range: [0, 1], showticklabels: false };
+  plot("plot-leak", all, "Leak rate", { ...axis(xa.title(), xa.log), range: fitRange(all.flatMap(t => t.x), xa.log) }, yaxis);
   plot("plot-psd", p.spectra.map(s => line(s.q, s.C, s.label)), "Power spectrum C(q)",
     { ...axis("wavevector q (1/m)", true), range: fitRange(p.spectra.flatMap(s => s.q), true, 12) },
     { ...axis("C(q) (m⁴)", true), range: fitRange(p.spectra.flatMap(s => s.C), true, 30) });
