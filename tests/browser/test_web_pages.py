@@ -114,6 +114,18 @@ def test_bad_value_shows_the_cli_message_next_to_its_field(page, artifacts, tmp_
     assert "poisson_ratio = 0.5" in Path(dl.value.path()).read_text()
 
 
+def test_the_prediction_page_without_a_case_shows_no_empty_results(page, artifacts):
+    """With no case yet the page showed "Leak rate Q at :", empty plot frames and download buttons whose files were a
+    JSON error; its results appear once a case has run."""
+    goto(page, "/prediction")
+    assert page.is_hidden("#results") and page.is_hidden("#leak-rate")
+    page.screenshot(path=str(artifacts / "prediction-empty.png"), full_page=False)
+    load_example(page)
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    assert page.is_visible("#results") and page.is_visible("#leak-rate")
+
+
 def test_uploaded_case_and_the_file_it_names(page, tmp_path):
     (tmp_path / "lip.toml").write_text(example_text("lip-profile"), encoding="utf-8")
     (tmp_path / "lip-profile.csv").write_text(example_text("lip-profile.csv"), encoding="utf-8")

@@ -923,12 +923,15 @@ function refresh() {
 
 async function pagePrediction() {
   const both = $("#both-theories");
+  $("#results").hidden = true;  // until a case has run (below)
   await Form.init(true, state => {
     const model = $('#case-form [name="theory.model"]');
     if (model) both.checked = model.value === "both";
     if (state.prediction) { lastState = state; refresh(); }
-    // while the case has an error the results shown are those of the last valid case: greyed out
+    // while the case has an error the results shown are those of the last valid case: greyed out; before any (no case,
+    // or one that never ran) none: no dangling "Leak rate Q at :", empty plots or downloads that answer an error
     $("#results").classList.toggle("stale", !!state.error);
+    $("#results").hidden = !lastState;
   });
   for (const sel of $$("#units select")) {
     const dim = sel.dataset.dim;
