@@ -1,5 +1,7 @@
 """Gap distribution P(u) and the Bruggeman effective-medium leak rate (docs/theory.md § 5)."""
 
+import importlib
+
 import numpy as np
 import pytest
 from scipy import integrate, special
@@ -256,3 +258,23 @@ def test_conductivity_quadrature_against_a_finer_rule(where):
     assert light.weights.shape[1] <= 0.25 * gap_distribution(contact, p[:1]).weights.shape[1]  # a quarter of the nodes
     fewer = _sigma(gap_distribution(contact, p[-3:], **{**CONDUCTIVITY_QUADRATURE, "graded_panels": 4}), 0.25)
     assert np.max(np.abs(fewer / want[-3:] - 1)) > 1e-3  # (the check has teeth: 4 graded panels miss near the threshold)
+
+
+def test_pressures_in_blocks_give_the_rows_of_one_list(contact, monkeypatch):
+    """A long list of pressures is computed in blocks (its P(u) in blocks of gaps.ROWS_AT_ONCE, its discretisation and
+    Bruggeman equation in blocks of effective_medium.ROWS_AT_ONCE), so that memory stays bounded (5 000 pressures of a
+    fit took 16 GB at once). P(u)'s rows are computed each on its own: the same bits. σ_eff's padded grids differ
+    with the block, within rounding."""
+    em_module = importlib.import_module("sealeak.physics.effective_medium")  # (the package exports a function of that name)
+    gaps_module = importlib.import_module("sealeak.physics.gaps")
+    p0 = np.geomspace(2e4, 2e5, 11)
+    whole = effective_medium(contact, squeeze_pressure=p0, pressure_difference=1e4, viscosity=1e-3, aspect_ratio=2.0)
+    gaps_module.clear_caches()
+    monkeypatch.setattr(gaps_module, "ROWS_AT_ONCE", 4)
+    monkeypatch.setattr(em_module, "ROWS_AT_ONCE", 3)
+    blocks = effective_medium(contact, squeeze_pressure=p0, pressure_difference=1e4, viscosity=1e-3, aspect_ratio=2.0)
+    for name in ("weights", "centres", "widths", "contact_fraction", "mean_gap"):
+        assert np.array_equal(getattr(blocks.distribution, name), getattr(whole.distribution, name)), name
+    assert whole.percolates.any()
+    np.testing.assert_allclose(blocks.leak_rate, whole.leak_rate, rtol=1e-12, atol=0)
+    assert np.array_equal(blocks.percolates, whole.percolates)

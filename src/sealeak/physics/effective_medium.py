@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import cast
 
 import numpy as np
@@ -543,6 +543,37 @@ class EffectiveMediumResult:
         return int(self.squeeze_pressure.size)
 
 
+#: Distinct squeeze pressures whose P(u) is discretised and whose Bruggeman equation is solved together.
+ROWS_AT_ONCE = 256
+
+
+def _rows(dist: GapDistribution, block: slice) -> GapDistribution:
+    """The rows ``block`` of a gap distribution."""
+    return GapDistribution(**{f.name: getattr(dist, f.name)[block] for f in fields(GapDistribution)})
+
+
+def _joined(parts: list[GapDistribution]) -> GapDistribution:
+    """Gap distributions of consecutive blocks of pressures as one (their rows in order)."""
+    return GapDistribution(**{f.name: np.concatenate([getattr(d, f.name) for d in parts]) for f in fields(GapDistribution)})
+
+
+def _solve(contact: PerssonContact, pressures: FloatArray, quadrature: dict[str, int], viscosity: float,
+           distribution: GapDistribution | None) -> tuple[GapDistribution, FloatArray, FloatArray]:
+    """(P(u), σ_eff, residual) at the distinct ``pressures`` (Pa), P(u) computed unless ``distribution`` is given."""
+    if distribution is None:
+        # the discretisation of a list of pressures (each row on its own panels, padded to the longest) depends on the
+        # contact, the ζ-rule and the list alone, not on η: a second fluid, or the same σ table again, takes it from
+        # the cache
+        key = (contact_key(contact, *quadrature.values()), tuple(quadrature), pressures.tobytes())
+        kept = _DISCRETE.get(key)
+        distribution = gap_distribution(contact, pressures, **quadrature)
+        gaps, weights = kept if kept is not None else _DISCRETE.put(key, discretise(distribution))
+    else:
+        gaps, weights = discretise(distribution)
+    sigma, resid = bruggeman_conductivity(gaps, weights, distribution.contact_fraction, viscosity)
+    return distribution, sigma, resid
+
+
 def effective_medium(
     contact: PerssonContact,
     *,
@@ -583,19 +614,18 @@ def effective_medium(
             raise InputError(name, v, "must be finite and > 0")
     # one distribution per distinct pressure
     uniq, inverse = np.unique(p0, return_inverse=True)
-    if distribution is None or distribution.squeeze_pressure.shape != uniq.shape or \
-            not np.array_equal(distribution.squeeze_pressure, uniq):
-        # the discretisation of a list of pressures (each row on its own panels, padded to the longest) depends on the
-        # contact, the ζ-rule and the list alone, not on η: a second fluid, or the same σ table again, takes it from
-        # the cache
-        key = (contact_key(contact, *quadrature.values()), tuple(quadrature), uniq.tobytes())
-        kept = _DISCRETE.get(key)
-        distribution = gap_distribution(contact, uniq, **quadrature)
-        gaps, weights = kept if kept is not None else _DISCRETE.put(key, discretise(distribution))
-    else:
-        gaps, weights = discretise(distribution)
-    dist = distribution
-    sigma, resid = bruggeman_conductivity(gaps, weights, dist.contact_fraction, viscosity)
+    given = distribution is not None and distribution.squeeze_pressure.shape == uniq.shape and \
+        np.array_equal(distribution.squeeze_pressure, uniq)
+    # in blocks of at most ROWS_AT_ONCE pressures (a list of them is discretised on one padded grid: 2 000 pressures took
+    # 1 GB at once, the 5 000 of a fit 16 GB); up to one block, the list as before
+    parts = []
+    for start in range(0, uniq.size, ROWS_AT_ONCE):
+        block = slice(start, start + ROWS_AT_ONCE)
+        parts.append(_solve(contact, uniq[block], quadrature, viscosity,
+                            _rows(distribution, block) if given and distribution is not None else None))
+    dist = parts[0][0] if len(parts) == 1 else _joined([d for d, _, _ in parts])
+    sigma = np.concatenate([sg for _, sg, _ in parts])
+    resid = np.concatenate([r for _, _, r in parts])
     percolates = sigma > 0
     sigma, resid, percolates = sigma[inverse], resid[inverse], percolates[inverse]
     area = dist.contact_fraction[inverse]

@@ -85,6 +85,10 @@ CONDUCTIVITY_QUADRATURE: Mapping[str, int] = MappingProxyType(
 
 #: Bytes of P(u) rows kept for reuse (least recently used dropped first): ~30 kB per squeeze pressure.
 GAP_CACHE_BYTES = 128 * 2**20
+#: Squeeze pressures whose P(u) is computed together: the separation integrals of one pressure's nodes take ~3 MB of
+#: intermediate arrays (a fit of 5 000 measured pressures took 16 GB at once); each row is computed on its own, so
+#: the blocks change no bit.
+ROWS_AT_ONCE = 64
 
 
 def folded_normal_mean(centre: ArrayLike, width: ArrayLike) -> FloatArray:
@@ -232,9 +236,10 @@ def gap_distribution(
     key = contact_key(contact, uniform_panels, log_panels, graded_panels, order, unresolved)
     kept = {p: row for p in p0.tolist() if (row := _ROWS.get((key, p))) is not None}
     missing = np.array(sorted({p for p in p0.tolist() if p not in kept}))
-    if missing.size:
-        new = _compute(contact, missing, uniform_panels, log_panels, graded_panels, order, unresolved)
-        for i, p in enumerate(missing.tolist()):
+    for start in range(0, missing.size, ROWS_AT_ONCE):  # (rows are independent: in blocks, the memory stays bounded)
+        block = missing[start:start + ROWS_AT_ONCE]
+        new = _compute(contact, block, uniform_panels, log_panels, graded_panels, order, unresolved)
+        for i, p in enumerate(block.tolist()):
             kept[p] = _ROWS.put((key, p), tuple(np.array(getattr(new, name)[i]) for name in _FIELDS))
     rows = [kept[p] for p in p0.tolist()]
     return GapDistribution(**{name: np.array([row[k] for row in rows]) for k, name in enumerate(_FIELDS)})
