@@ -253,6 +253,30 @@ def test_bad_readings_and_missing_files(tmp_path, capsys):
         read_leak_data(tmp_path / "none.csv")
 
 
+@pytest.mark.parametrize("example, header, rows", [
+    ("reference-experiment", "time (min), height (cm)", "0, 100\n1e-300, 82\n2e-300, 67\n"),
+    ("pressure-decay", "time (min), pressure (mbar)", "0, 2000\n1e-300, 1999\n2e-300, 1998\n"),
+])
+def test_readings_of_times_below_the_si_range_are_refused_naming_the_cell(tmp_path, capsys, example, header, rows):
+    """Times of 1e-300 min left no time between readings: a ZeroDivisionError traceback (pressure decay), or warnings
+    on stderr and K = inf ± nan with exit 0 (water column). A reading holds the case file's SI range."""
+    readings = tmp_path / "r.csv"
+    readings.write_text(header + "\n" + rows)
+    assert main(["rig", "--example", example, "--readings", str(readings)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "line 3: time = 1e-300 min: below 1e-100 s in SI units" in err
+
+
+def test_a_rig_whose_column_would_empty_in_no_time_is_refused(tmp_path, capsys):
+    """A cylinder of 1e-90 m: the Radau solver overflowed into a traceback, warnings first."""
+    case = tmp_path / "c.toml"
+    case.write_text(example_path("reference-experiment").read_text().replace('cylinder_diameter = "3 cm"',
+                                                                             'cylinder_diameter = "1e-90 m"'))
+    assert main(["rig", str(case)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "the column would empty within 1e-06 s" in err and "rig.cylinder_diameter" in err
+
+
 def test_rows_with_an_empty_pressure_difference_use_the_case_value_through_the_cli(case, tmp_path):
     data = tmp_path / "m.csv"
     data.write_text("squeeze_pressure (kPa), leak_rate (ml/min), pressure_difference (kPa)\n"

@@ -275,6 +275,6 @@ def read_rig_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
     """Rig readings: columns time and height with units (e.g. 'time (min), height (cm)'); returns (s, m)."""
     p = Path(path)
     table, found = _columns(p, ("time", "height"), ())
-    t = table.data[:, found["time"]] * _factor(p, table, found["time"], "time")
-    h = table.data[:, found["height"]] * _factor(p, table, found["height"], "length")
+    t = table.in_si(found["time"], _factor(p, table, found["time"], "time"), "s")  # (1e-300 min: refused, naming the cell)
+    h = table.in_si(found["height"], _factor(p, table, found["height"], "length"), "m")
     return t, h

@@ -22,6 +22,7 @@ is what presses the cylinder down).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -165,6 +166,10 @@ class WaterColumn:
     time_to_stop: float = float("nan")
 
 
+#: The shortest time scale A H0/Q0 (s) of a water column the rig simulates: a microsecond (a real one takes minutes to days).
+MIN_TIME_SCALE = 1e-6
+
+
 def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *, t_end: float | None = None,
                  t_eval: ArrayLike | None = None, rtol: float = 1e-12, atol: float | None = None,
                  entry_pressure: float = 0.0) -> WaterColumn:
@@ -189,11 +194,16 @@ def water_column(rig: RigSetup, leak_rate: Callable[[FloatArray], FloatArray], *
         t_end = float(np.max(np.asarray(t_eval, dtype=float)))
     if t_end is None:
         t_end = rig.duration
+    tau = area * rig.initial_height / q0 if q0 > 0 else math.inf  # the column's time scale A H0/Q0 (s)
+    if tau < MIN_TIME_SCALE:  # (a cylinder of 1e-90 m: the ODE overflowed into a traceback)
+        raise InputError("rig", f"A H0/Q0 = {tau:.3g} s",
+                         f"the column would empty within {MIN_TIME_SCALE:g} s (cylinder area A = {area:.3g} m², initial "
+                         f"height H0 = {rig.initial_height:.3g} m, leak rate Q0 = {q0:.3g} m³/s): check "
+                         "rig.cylinder_diameter and rig.initial_height")
     if t_end is None:
         if q0 == 0:
             t_end = 3600.0
         else:  # linear estimate: τ = A H0/Q0; go to the final level and a bit beyond
-            tau = area * rig.initial_height / q0
             t_end = tau * max(1.5 * np.log(rig.initial_height / h1), 1.0)
     if t_eval is None:
         t_eval = np.linspace(0.0, t_end, 401)
@@ -391,5 +401,6 @@ def read_decay_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
         if not np.isfinite(values).all():
             r = int(np.argmax(~np.isfinite(values)))
             raise FileFormatError(p, f"line {table.line_of(r)}, column '{table.names[i]}': not a finite number")
-        out.append(values * factor)
+        # a value within the case file's SI range (times of 1e-300 min left no time between readings: a traceback)
+        out.append(table.in_si(i, factor, "s" if canon == "time" else "Pa"))
     return out[0], out[1]
