@@ -102,6 +102,19 @@ def test_linearity_cli(tmp_path, capsys):
     assert "line 3, column 'pressure_difference': is empty" in capsys.readouterr().err
 
 
+def test_linearity_of_a_liquid_weighed_reads_its_volume_flow(tmp_path, capsys):
+    """A linearity file of mass flows (g/h) was refused as 'NaN or inf' though every cell was finite; as fit does, the
+    leak is read as ṁ/ρ with the case's density (the reference case: 1000 kg/m³)."""
+    data = tmp_path / "lin.csv"
+    data.write_text("pressure_difference (kPa), leak_rate (g/h)\n2, 10\n5, 25\n10, 50\n")
+    out = tmp_path / "lin.json"
+    assert main(["fit", "--example", "reference-experiment", "--linearity", "--data", str(data), "--json", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert doc["linearity"]["slope"] == pytest.approx(10e-3 / 3600 / 1000 / 2e3, rel=1e-9, abs=0)  # (kg/s)/(kg/m³)/Pa
+    assert any("mass flows" in m for m in doc["messages"])
+    capsys.readouterr()
+
+
 def test_at_pressure_option(tmp_path, case):
     data = tmp_path / "m.csv"
     data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s)\n30, 0.5\n60, 0.1\n")

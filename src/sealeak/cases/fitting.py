@@ -28,7 +28,7 @@ from .notes import Note, NoteLike
 from .prediction import FloatArray, Model, _band_at, _band_conductance, _band_effective_gap, _band_k, leak_curve, predict, predict_effective_medium
 from .verdicts import Verdicts, _band_verdicts, _uniform_verdicts
 
-__all__ = ["fit_models", "FitResult", "run_fit", "seal_description"]
+__all__ = ["fit_models", "FitResult", "run_fit", "seal_description", "volume_flows"]
 
 #: Points of a band seal's critical-junction curve in the fit figure (about 30 ms each).
 BAND_CURVE_POINTS = 30
@@ -245,17 +245,10 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     if case.gas is not None:
         return _run_gas_fit(case, data)
     column = data.columns.get("leak_rate", "leak_rate")
-    density = _liquid_density(case) if data.leak_rate_kind == "mass_flow" else None
-    if density is not None:
-        # a liquid's leak weighed (g/h, kg/s): its volume flow ṁ/ρ at the liquid's density
-        assert data.leak_rate_si is not None
-        weighed = Note("fit_mass_flow", {"column": column, "density": density})
-        fitted = run_fit(case, replace(data, leak_rate=data.leak_rate_si / density, leak_rate_kind="volume_flow"))
+    data, weighed = volume_flows(case, data)
+    if weighed is not None:
+        fitted = run_fit(case, data)
         return replace(fitted, messages=(weighed, *fitted.messages))
-    if data.leak_rate_kind == "mass_flow":
-        raise FileFormatError(data.path, f"column '{column}': a mass flow of a liquid needs its density: give "
-                                         "fluid.density in the case (or name a liquid the property library knows), or "
-                                         "give a volume flow (e.g. 'ml/min')")
     if data.leak_rate_kind in _GAS_ONLY_KINDS:
         raise FileFormatError(data.path, f"column '{column}': a {data.leak_rate_kind.replace('_', ' ')} "
                                          "is a gas's leak rate, and the case's fluid is a liquid: give a volume flow (e.g. "
@@ -283,6 +276,23 @@ def run_fit(case: Case, data: LeakData) -> FitResult:
     return FitResult(case=case, data=data, fits=fits, reference_pressure_difference=ref_dp,
                      same_pressure_difference=same, measured=measured, grid=grid, curves=curves,
                      messages=tuple(messages), outside_validity=outside)
+
+
+def volume_flows(case: Case, data: LeakData) -> tuple[LeakData, Note | None]:
+    """A liquid's data with its leak rates weighed (g/h, kg/s) as the volume flows ṁ/ρ at the liquid's density, and the
+    note saying so (``data`` and None when they are not mass flows); a mass flow without a density known is a
+    FileFormatError naming the column."""
+    if data.leak_rate_kind != "mass_flow":
+        return data, None
+    column = data.columns.get("leak_rate", "leak_rate")
+    density = _liquid_density(case)
+    if density is None:
+        raise FileFormatError(data.path, f"column '{column}': a mass flow of a liquid needs its density: give "
+                                         "fluid.density in the case (or name a liquid the property library knows), or "
+                                         "give a volume flow (e.g. 'ml/min')")
+    assert data.leak_rate_si is not None
+    return (replace(data, leak_rate=data.leak_rate_si / density, leak_rate_kind="volume_flow"),
+            Note("fit_mass_flow", {"column": column, "density": density}))
 
 
 def _liquid_density(case: Case) -> float | None:

@@ -10,7 +10,7 @@ pressure (eq. 12.3); the straight line through it at the measured ΔP gives the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -21,7 +21,7 @@ from ..io.quantities import quantity
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .capillarity import entry_pressures
-from .fitting import _check_file_loads, _check_load_column
+from .fitting import _check_file_loads, _check_load_column, volume_flows
 from .model import Case
 from .notes import Note, NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name, leak_curve
@@ -147,7 +147,9 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
         if case.band is not None:
             _check_file_loads(case, data, load[:1])
         squeeze_pressure, squeeze_pressure_source = float(load[0]), "the data file"
-    return linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
+    data, weighed = volume_flows(case, data)  # a liquid's leak weighed: ṁ/ρ, as fit does (it read 'NaN or inf')
+    check = linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
+    return check if weighed is None else replace(check, messages=(weighed, *check.messages))
 
 
 #: The models a linearity check compares with, in the order their slopes are reported.
