@@ -326,3 +326,12 @@ def test_a_figure_folder_that_fails_late_leaves_the_other_outputs_as_they_were(t
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1 and "cannot write /proc/sealeak-nope/figs/" in err
     assert old.read_text() == "earlier\n" and not csv.exists()
+
+
+def test_a_file_output_ending_in_a_slash_is_refused_not_written_as_a_file(tmp_path, capsys, monkeypatch):
+    """``report -o out/new/`` wrote a regular file named ``out/new``."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["report", str(example_path("reference-experiment")), "-o", "new/"]) == 2
+    assert "names a folder (it ends in '/'): give a file name" in capsys.readouterr().err
+    assert not (tmp_path / "new").exists()
+    check_outputs([Path("plots")], force=False)  # (a path object never ends in '/': a file name)

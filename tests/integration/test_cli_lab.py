@@ -115,6 +115,20 @@ def test_linearity_of_a_liquid_weighed_reads_its_volume_flow(tmp_path, capsys):
     capsys.readouterr()
 
 
+@pytest.mark.parametrize("option, problem", [
+    ("100 kPa", "differs from the data file's squeeze_pressure column (60000 Pa)"),  # it replaced 60 kPa without a word
+    ("0.0001 Pa", "must be at least 1 mPa"),  # the case file's floor
+])
+def test_linearity_squeeze_pressure_option_is_checked(tmp_path, capsys, option, problem):
+    data = tmp_path / "lin.csv"
+    data.write_text("squeeze_pressure (kPa), pressure_difference (kPa), leak_rate (ml/min)\n60, 2, 1\n60, 5, 2.5\n60, 10, 5\n")
+    args = ["fit", "--example", "reference-experiment", "--linearity", "--data", str(data), "--squeeze-pressure"]
+    assert main([*args, option]) == 2
+    assert problem in capsys.readouterr().err
+    assert main([*args, "60 kPa"]) == 0  # the same value as the file's
+    assert "P0         60 kPa (from --squeeze-pressure)" in capsys.readouterr().out
+
+
 def test_at_pressure_option(tmp_path, case):
     data = tmp_path / "m.csv"
     data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s)\n30, 0.5\n60, 0.1\n")
@@ -242,6 +256,8 @@ def test_report_is_valid_self_contained_html(tmp_path):
      "line 3: squeeze_pressure = 1e+308 kPa: beyond 1e+100 Pa in SI units"),
     ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n1e-9, 2\n", "line 3: squeeze pressure 1e-09 kPa: at least 0.001 Pa"),
     ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, 1e308\n", "line 3: leak_rate = 1e+308 ml/min: beyond"),
+    # a cell whose SI value underflows to 0 was read as a zero leak (excluded without a word)
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, 1e-320\n", "line 3: leak_rate = 9.99989e-321 ml/min: below 1e-100"),
 ])
 def test_bad_data_files_through_the_cli(tmp_path, capsys, content, problem):
     data = tmp_path / "bad.csv"

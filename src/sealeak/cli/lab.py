@@ -126,6 +126,7 @@ def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # 
     from ..cases.fitting import seal_description
     from ..cases.linearity_check import run_linearity
     from ..lab import read_leak_data
+    from ..physics.contact import MIN_SQUEEZE_PRESSURE
     from ..render import figure_linearity, linearity_json, linearity_text, render_figures
 
     p0, source = None, ""
@@ -135,9 +136,17 @@ def _fit_linearity(args: argparse.Namespace, case, reference: float) -> int:  # 
                              f"is for a seal pressed uniformly; this case's seal is {seal_description(case)}: leave the "
                              f"option out (the data file's {case.band.load_name} column or the case's single value sets it)")
         p0, source = positive_pressure("--squeeze-pressure", args.squeeze_pressure), "--squeeze-pressure"
+        if p0 < MIN_SQUEEZE_PRESSURE:  # the case file's floor (0.0001 Pa was taken)
+            raise InputError("--squeeze-pressure", args.squeeze_pressure,
+                             f"must be at least {MIN_SQUEEZE_PRESSURE * 1e3:g} mPa: a seal's squeeze pressure is some kPa to MPa")
     data = read_leak_data(args.data, reference_pressure=reference, required=("pressure_difference", "leak_rate"))
     if len(data) < 3:
         raise SealeakError(f"{data.path}: a linearity check needs at least 3 rows, found {len(data)}")
+    if p0 is not None and data.load_name == "squeeze_pressure" and \
+            any(abs(v - p0) > 1e-6 * p0 for v in data.load.tolist()):
+        raise InputError("--squeeze-pressure", args.squeeze_pressure,
+                         f"differs from the data file's squeeze_pressure column ({data.load[0]:.6g} Pa): give one of "
+                         "them (the option replaced the file's value without a word)")
     check = run_linearity(case, data, p0, source)
     text, doc = linearity_text(case, data, check), linearity_json(case, data, check) if args.json else ""
     pngs = render_figures({"linearity.png": figure_linearity(data.pressure_difference, data.leak_rate, check)}) if args.plots else {}

@@ -132,6 +132,8 @@ def check_outputs(paths: Iterable[str | Path | Output], force: bool, *, inputs: 
             raise InputError(o.option or "output", "", f"is empty: give a {'folder' if o.folder else 'file'} name (or leave the option out)")
         if str(o.path) == STDOUT and o.folder:
             raise InputError(o.option or "output", STDOUT, "'-' (standard output) is for a file output; give a folder name")
+        if not o.folder and str(o.path).endswith(("/", os.sep)):  # ("out/new/" was written as a file named "out/new")
+            raise InputError(o.option or "output", str(o.path), "names a folder (it ends in '/'): give a file name")
     to_stdout = [o for o in given if str(o.path) == STDOUT]
     if len(to_stdout) > 1:
         raise InputError(to_stdout[1].option or "output", STDOUT,

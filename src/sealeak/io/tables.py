@@ -64,7 +64,7 @@ class UnitTable:
         raw = self.data[:, column]
         with np.errstate(over="ignore"):
             out = raw * factor
-        bad = outside_si_range(out)
+        bad = outside_si_range(out) | ((out == 0.0) & (raw != 0.0))  # (1e-320 ml/min underflows to 0 in SI: not a zero)
         if bad.any():
             i = int(np.argmax(bad))
             where = "beyond" if abs(out[i]) > 1.0 else "below"
