@@ -328,3 +328,17 @@ def test_readings_of_a_rising_level_are_refused(case, tmp_path, capsys):
     assert main(["rig", "--example", "reference-experiment", "--readings", str(bad)]) == 2
     err = capsys.readouterr().err
     assert str(bad) in err and "does not fall" in err
+
+
+def test_the_rig_says_the_ode_agrees_only_where_it_does(tmp_path, capsys):
+    """"the ODE solution agrees" was printed whatever the numbers: at H0 = 1e20 m the ODE's time to the final height
+    was 28 058 s against the closed form's 24 498 s."""
+    assert main(["rig", "--example", "reference-experiment"]) == 0
+    assert "the ODE solution agrees" in capsys.readouterr().out
+    case = tmp_path / "h.toml"
+    text = example_path("reference-experiment").read_text()
+    case.write_text(text.replace('initial_height = "1 m"', 'initial_height = "1e20 m"'))
+    assert 'initial_height = "1e20 m"' in case.read_text()
+    assert main(["rig", str(case)]) == 0
+    out = capsys.readouterr().out
+    assert "the ODE solution agrees" not in out and "the ODE solution's time differs from it by" in out
