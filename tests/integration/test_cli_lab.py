@@ -342,3 +342,15 @@ def test_the_rig_says_the_ode_agrees_only_where_it_does(tmp_path, capsys):
     assert main(["rig", str(case)]) == 0
     out = capsys.readouterr().out
     assert "the ODE solution agrees" not in out and "the ODE solution's time differs from it by" in out
+
+
+def test_a_fitted_alpha_no_case_file_would_take_is_flagged(tmp_path, capsys):
+    """Leak rates of 1e-99 m³/s fitted α = 5e-95 without a word: computed, and flagged."""
+    data = tmp_path / "far.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (m^3/s)\n20, 1e-99\n40, 1e-99\n")
+    assert main(["fit", "--example", "reference-experiment", "--data", str(data)]) == 0
+    out = capsys.readouterr().out
+    for theory in ("critical junction", "effective medium"):
+        assert f"note: {theory}: the fitted α = " in out and "lies far outside what a case file accepts (1e-06 to 1e+06" in out
+    assert main(["fit", "--example", "reference-experiment", "--data", str(example_path("reference-experiment").parent / "reference-measured.csv")]) == 0
+    assert "fit_alpha_far" not in capsys.readouterr().out  # the paper's data: α of order one
