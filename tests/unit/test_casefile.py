@@ -189,3 +189,16 @@ def test_an_o_rings_force_keys_on_a_ring_are_refused_not_ignored(line):
     with pytest.raises(InputError) as err:
         parse_cases(edit('shape = "ring"', 'shape = "ring"\n' + line))
     assert err.value.field == "seal." + line.split(" ")[0] and "is for an O-ring" in str(err.value)
+
+
+@pytest.mark.parametrize("key, text", [("title", 'title = "line1\\u001b[31m red"'), ("title", 'title = "a\\u0000b"'),
+                                       ("title", 'title = "two\\nlines"'), ("surface.label", 'label = "x\\u0007"')])
+def test_control_characters_in_printed_text_are_refused(key, text):
+    """A title reaches the terminal and the report: an escape sequence recoloured the terminal, a NUL byte reached the
+    HTML. A description may hold line breaks."""
+    doc = edit('title = "test case"', text) if key == "title" else edit('model = "self-affine"', 'model = "self-affine"\n' + text)
+    with pytest.raises(InputError) as err:
+        parse_cases(doc)
+    assert err.value.field == key and "holds the control character U+" in str(err.value)
+    (case,) = parse_cases(edit('title = "test case"', 'title = "test case"\ndescription = """first\nsecond\tthird"""'))
+    assert case.title == "test case"

@@ -9,6 +9,7 @@ re-labelled here with the case-file key (:func:`relabel`).
 
 from __future__ import annotations
 
+import unicodedata
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -87,6 +88,17 @@ def _seal(sec: Section) -> Seal:
 
 
 #: What a squeeze pressure below :data:`~sealeak.physics.contact.MIN_SQUEEZE_PRESSURE` is told.
+def _printable(field: str, text: str, newlines: bool = False) -> None:
+    """Refuse a control character in text the outputs print (a title goes to the terminal and into the report: an
+    escape sequence recoloured the terminal, a NUL byte reached the HTML); tabs, and line breaks where ``newlines``,
+    are text."""
+    allowed = "\t\n\r" if newlines else "\t"
+    bad = next((c for c in text if unicodedata.category(c) == "Cc" and c not in allowed), None)
+    if bad is not None:
+        raise InputError(field, text, f"holds the control character U+{ord(bad):04X}: write it as text "
+                                      f"without control characters{'' if newlines else ' or line breaks'}")
+
+
 #: The α (theory.alpha) and p_c (theory.percolation_threshold) a case may give, both ends allowed.
 ALPHA_RANGE = (1e-6, 1e6)
 PERCOLATION_RANGE = (0.01, 0.99)
@@ -291,13 +303,16 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     title = doc.get("title", Path(source).stem if source else "case")
     if not isinstance(title, str):
         raise InputError("title", title, "must be text")
+    _printable("title", title)
     if not isinstance(doc.get("description", ""), str):
         raise InputError("description", doc["description"], "must be text")
+    _printable("description", doc.get("description", ""), newlines=True)
     for section in ("rubber", "substrate", "surface"):
         key = "label" if section == "surface" else "name"
         value = doc.get(section, {}).get(key, "") if isinstance(doc.get(section), dict) else ""
         if not isinstance(value, str):
             raise InputError(f"{section}.{key}", value, "must be text")
+        _printable(f"{section}.{key}", value)
     rubber = Section("rubber", doc["rubber"])
     youngs, nu, e_star, input_warnings = _elastic(rubber, doc.get("substrate"))
     seal_section = Section("seal", doc["seal"])
