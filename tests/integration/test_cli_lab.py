@@ -354,3 +354,12 @@ def test_a_fitted_alpha_no_case_file_would_take_is_flagged(tmp_path, capsys):
         assert f"note: {theory}: the fitted α = " in out and "lies far outside what a case file accepts (1e-06 to 1e+06" in out
     assert main(["fit", "--example", "reference-experiment", "--data", str(example_path("reference-experiment").parent / "reference-measured.csv")]) == 0
     assert "fit_alpha_far" not in capsys.readouterr().out  # the paper's data: α of order one
+
+
+def test_a_rig_load_too_small_to_press_the_seal_is_named(tmp_path, capsys):
+    """rig.load = "1e-90 kg" was reported as conditions.squeeze_pressure = 1.78374e-86, a key the user never wrote."""
+    case = tmp_path / "l.toml"
+    case.write_text(example_path("reference-experiment").read_text().replace('load = "3.4 kg"', 'load = "1e-90 kg"'))
+    assert main(["rig", str(case)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("sealeak: error: rig.load = '1e-90 kg': gives a squeeze pressure of 1.78e-86 Pa")

@@ -399,6 +399,11 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
                         f"must be below the roughness cut-off q1 = {spectrum.q_max:.6g} 1/m")
     permeation = _permeation(rubber, seal_section, fl.gas is not None, band, fl.temperature)
     rig = _rig(doc["rig"], fluid, band, doc) if "rig" in doc else None  # the rig's objects under case_keys, in _rig
+    if isinstance(rig, RigSetup) and band is None and rig.squeeze_pressure(seal) < MIN_SQUEEZE_PRESSURE:
+        # (named here, not as conditions.squeeze_pressure = 1.78e-86, the value the contact theory was handed)
+        raise InputError("rig.load", doc["rig"].get("load"),
+                         f"gives a squeeze pressure of {rig.squeeze_pressure(seal):.3g} Pa over the seal's area: "
+                         f"{_TOO_SMALL}")
     simulation = _simulation(Section("simulation", doc["simulation"])) if "simulation" in doc else {}
     return Case(
         title=title, spectrum=spectrum, spectrum_note=note, youngs_modulus=youngs, poisson_ratio=nu,
