@@ -1,6 +1,7 @@
 """Fitting α, leak-test units, the virtual rig, the HTML report and bad data files (docs/theory.md § 4)."""
 
 import json
+import warnings
 from dataclasses import replace
 from html.parser import HTMLParser
 
@@ -363,3 +364,15 @@ def test_a_rig_load_too_small_to_press_the_seal_is_named(tmp_path, capsys):
     assert main(["rig", str(case)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("sealeak: error: rig.load = '1e-90 kg': gives a squeeze pressure of 1.78e-86 Pa")
+
+
+def test_a_figure_whose_labels_cannot_fit_warns_nobody(tmp_path, capsys):
+    """initial_height = "1e90 m" gives 100-digit tick labels: matplotlib's "constrained_layout not applied" warning
+    reached the user's stderr beside the command's own lines."""
+    case = tmp_path / "h.toml"
+    case.write_text(example_path("reference-experiment").read_text().replace('initial_height = "1 m"', 'initial_height = "1e90 m"'))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert main(["rig", str(case), "--plots", str(tmp_path / "plots")]) == 0
+    assert not [w for w in caught if "constrained_layout" in str(w.message)]
+    assert "Warning" not in capsys.readouterr().err and (tmp_path / "plots" / "rig.png").is_file()

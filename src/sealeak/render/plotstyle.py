@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import textwrap
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ParamSpec, TypeVar
@@ -325,10 +326,18 @@ def laid_out(make: Callable[P, Figure]) -> Callable[P, Figure]:
         fig = make(*args, **kwargs)
         engine = fig.get_layout_engine()
         if engine is not None and not isinstance(engine, PlaceHolderLayoutEngine):
-            engine.execute(fig)
+            _lay_out(engine, fig)
             fig.set_layout_engine("none")
         return fig
     return wrapper
+
+
+def _lay_out(engine: Any, fig: Figure) -> None:
+    """Run the figure's layout engine. Where labels are too long to fit (an absurd input's 100-digit ticks) the
+    figure keeps matplotlib's own layout, and the engine's warning stays off the user's stderr."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="constrained_layout not applied", category=UserWarning)
+        engine.execute(fig)
 
 
 def subtitle(ax: Axes, text: str) -> None:
@@ -499,7 +508,7 @@ def place_legend(ax: Axes, handles: Sequence[Artist] | None = None, labels: Sequ
     ax.get_xlim(), ax.get_ylim()  # settle the autoscaled limits
     engine = fig.get_layout_engine()
     if engine is not None:
-        engine.execute(fig)  # lay out (not a full draw): the data's display positions are final from here
+        _lay_out(engine, fig)  # lay out (not a full draw): the data's display positions are final from here
     points = _drawn_points(ax)
     texts = [t.get_window_extent() for t in ax.texts if t.get_visible() and t.get_text()]
     areas = _drawn_areas(ax)
