@@ -257,6 +257,9 @@ def test_report_is_valid_self_contained_html(tmp_path):
      "line 3: squeeze_pressure = 1e+308 kPa: beyond 1e+100 Pa in SI units"),
     ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n1e-9, 2\n", "line 3: squeeze pressure 1e-09 kPa: at least 0.001 Pa"),
     ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, 1e308\n", "line 3: leak_rate = 1e+308 ml/min: beyond"),
+    # a cell of 100 000 digits was repeated whole in a 100 kB error line
+    ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, " + "1" * 100_000 + "\n",
+     "line 3: the number 111111111111111111...111111111111111111 is too large"),
     # a cell whose SI value underflows to 0 was read as a zero leak (excluded without a word)
     ("squeeze_pressure (kPa), leak_rate (ml/min)\n30, 1.0\n60, 1e-320\n", "line 3: leak_rate = 9.99989e-321 ml/min: below 1e-100"),
 ])

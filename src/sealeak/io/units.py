@@ -237,13 +237,18 @@ def parse_number(text: str) -> float:
     return _finite(s)
 
 
+def _short(number: str) -> str:
+    """A number as written, its middle cut beyond 40 characters (a data cell of 100 000 digits made a 100 kB line)."""
+    return number if len(number) <= 40 else number[:18] + "..." + number[-18:]
+
+
 def _finite(number: str) -> float:
     value = float(number)
     if math.isinf(value):
-        raise ValueError(f"the number {number} is too large (a float holds at most 1.8e308)")
+        raise ValueError(f"the number {_short(number)} is too large (a float holds at most 1.8e308)")
     mantissa = re.split(r"[eE]", number)[0]
     if value == 0.0 and re.search(r"[1-9]", mantissa):
-        raise ValueError(f"the number {number} is too small (below 1e-308 a float reads it as 0)")
+        raise ValueError(f"the number {_short(number)} is too small (below 1e-308 a float reads it as 0)")
     return value
 
 
