@@ -379,3 +379,14 @@ def test_a_figure_whose_labels_cannot_fit_warns_nobody(tmp_path, capsys):
         assert main(["rig", str(case), "--plots", str(tmp_path / "plots")]) == 0
     assert not [w for w in caught if "constrained_layout" in str(w.message)]
     assert "Warning" not in capsys.readouterr().err and (tmp_path / "plots" / "rig.png").is_file()
+
+
+def test_linearity_notes_a_pressure_difference_not_small_against_p0(tmp_path, capsys):
+    """``fit`` says where ΔP is not small against P0; ``fit --linearity`` said nothing (ΔP up to 10 kPa at P0 = 1 kPa)."""
+    data = tmp_path / "lin.csv"
+    data.write_text("pressure_difference (kPa), leak_rate (ml/min)\n2, 1\n5, 2.5\n10, 5\n")
+    args = ["fit", "--example", "reference-experiment", "--linearity", "--data", str(data), "--squeeze-pressure"]
+    assert main([*args, "1 kPa"]) == 0
+    assert "note: line 2: ΔP = 2000 Pa is not small against P0 = 1000 Pa (3 row(s) like it)" in capsys.readouterr().out
+    assert main([*args, "100 kPa"]) == 0
+    assert "not small against P0" not in capsys.readouterr().out

@@ -21,7 +21,7 @@ from ..io.quantities import quantity
 from ..lab.data import LeakData
 from ..lab.fitting import LinearFit, fit_line
 from .capillarity import entry_pressures
-from .fitting import _check_file_loads, _check_load_column, volume_flows
+from .fitting import _check_file_loads, _check_load_column, _large_pressure_difference, volume_flows
 from .model import Case
 from .notes import Note, NoteLike
 from .prediction import FloatArray, Model, _band_conductance, _conductance, _model_name, leak_curve
@@ -149,7 +149,11 @@ def run_linearity(case: Case, data: LeakData, squeeze_pressure: float | None = N
         squeeze_pressure, squeeze_pressure_source = float(load[0]), "the data file"
     data, weighed = volume_flows(case, data)  # a liquid's leak weighed: ṁ/ρ, as fit does (it read 'NaN or inf')
     check = linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure, squeeze_pressure_source)
-    return check if weighed is None else replace(check, messages=(weighed, *check.messages))
+    notes: list[NoteLike] = [] if weighed is None else [weighed]
+    if case.band is None and check.squeeze_pressure is not None:  # ΔP not small against P0: as fit says (it said nothing)
+        p0 = np.full(len(data), check.squeeze_pressure)
+        notes += _large_pressure_difference(data, data.pressure_difference, p0, "squeeze_pressure", p0, case.coupled)
+    return replace(check, messages=(*notes, *check.messages)) if notes else check
 
 
 #: The models a linearity check compares with, in the order their slopes are reported.
