@@ -390,3 +390,12 @@ def test_linearity_notes_a_pressure_difference_not_small_against_p0(tmp_path, ca
     assert "note: line 2: ΔP = 2000 Pa is not small against P0 = 1000 Pa (3 row(s) like it)" in capsys.readouterr().out
     assert main([*args, "100 kPa"]) == 0
     assert "not small against P0" not in capsys.readouterr().out
+
+
+def test_a_gas_fit_notes_a_pressure_difference_that_opens_the_seal(tmp_path, capsys):
+    """A liquid's fit says where ΔP reaches P0; a gas's (ΔP = 1000 bar against P0 = 200 kPa) said nothing."""
+    data = tmp_path / "g.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (mbar*l/s), pressure_difference (bar)\n200, 1e-3, 1000\n200, 1e-4, 1\n")
+    assert main(["fit", "--example", "pressure-decay", "--data", str(data)]) == 0
+    out = capsys.readouterr().out
+    assert "note: line 2: ΔP = 1e+08 Pa reaches the lift-off pressure difference, P0 = 200000 Pa (1 row(s) like it)" in out

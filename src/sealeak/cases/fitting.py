@@ -382,6 +382,8 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     messages = _fit_messages(data, fits, load_name, loads)
     notes, outside = _outside_validity(data, fits, verdicts, inverse, load_name, loads)
     messages += notes
+    if case.band is None:  # ΔP not small against P0, as a liquid's fit says (1000 bar against 200 kPa said nothing)
+        messages += _large_pressure_difference(data, dp, loads, "squeeze_pressure", loads, case.coupled)
     messages.append(Note("fit_pv_throughputs", {"gas": gas.gas.name, "temperature": float(gas.temperature),
                                                 "downstream_pressure": float(gas.downstream_pressure)}))
     same = bool(np.allclose(dp, dp[0]))
