@@ -142,6 +142,20 @@ def test_uploaded_case_and_the_file_it_names(page, tmp_path):
     assert page.inner_text("#uploads") == "lip-profile.csv" and box.inner_text() == ""
 
 
+def test_the_example_list_names_the_case_in_the_form(page, tmp_path):
+    """Coming back to the Case page, the list of examples showed the first one (helium-test) whatever case was loaded."""
+    load_example(page, "o-ring")
+    goto(page, "/prediction")
+    goto(page, "/case")
+    assert page.input_value("#example") == "o-ring"
+    (tmp_path / "mine.toml").write_text(example_text("reference-experiment"), encoding="utf-8")
+    page.set_input_files("#case-file", str(tmp_path / "mine.toml"))
+    page.wait_for_selector("#status:has-text('the case is valid')")
+    goto(page, "/case")
+    assert page.input_value("#example") == ""
+    assert page.locator("#example option:checked").inner_text() == "mine.toml (the case in the form)"
+
+
 def test_surface_upload_shows_the_cli_h_rms(page, artifacts, tmp_path, monkeypatch, capsys):
     rng = np.random.default_rng(7)
     n = 64

@@ -57,6 +57,7 @@ function markNav() {
 function setCaseName(state) {
   const el = $("#case-name");
   if (el) el.textContent = state && state.toml ? `case: ${state.name}` : "no case yet";
+  document.body.dataset.caseName = state && state.toml ? state.name : "";
   const up = $("#uploads");
   if (up && state && state.uploads) {
     // each file under the name it is stored (and named in the case) by, with the name it was uploaded as
@@ -408,6 +409,16 @@ async function pageCase() {
     const o = document.createElement("option");
     o.value = ex.name; o.textContent = `${ex.name} — ${ex.description}`;
     sel.appendChild(o);
+  }
+  // the list names the case in the form (it showed the first example whatever case the session held)
+  const name = document.body.dataset.caseName || "";
+  const shown = Form.examples.find(ex => `${ex.name}.toml` === name);
+  if (shown) sel.value = shown.name;
+  else if (name) {
+    const o = document.createElement("option");
+    o.value = ""; o.textContent = `${name} (the case in the form)`;
+    sel.prepend(o);
+    sel.value = "";
   }
 }
 
