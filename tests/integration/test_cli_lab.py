@@ -399,3 +399,13 @@ def test_a_gas_fit_notes_a_pressure_difference_that_opens_the_seal(tmp_path, cap
     assert main(["fit", "--example", "pressure-decay", "--data", str(data)]) == 0
     out = capsys.readouterr().out
     assert "note: line 2: ΔP = 1e+08 Pa reaches the lift-off pressure difference, P0 = 200000 Pa (1 row(s) like it)" in out
+
+
+def test_a_data_files_load_the_theory_cannot_use_is_named_by_its_line(tmp_path, capsys):
+    """An O-ring row at 0.0001 % compression was reported as conditions.compression[0], a key the user never wrote."""
+    data = tmp_path / "oc.csv"
+    data.write_text("compression (%), leak_rate (ml/min)\n0.0001, 1\n20, 2\n")
+    assert main(["fit", "--example", "o-ring", "--variant", "water", "--data", str(data)]) == 2
+    err = capsys.readouterr().err
+    assert f"{data}: line 2, column 'compression (%)': compression 0.0001 %: gives a mean contact pressure" in err
+    assert "conditions.compression" not in err

@@ -424,6 +424,20 @@ def _check_file_loads(case: Case, data: LeakData, loads: NDArray[np.float64]) ->
         raise
 
 
+def _row_error(data: LeakData, loads: FloatArray, exc: InputError) -> SealeakError:
+    """``exc`` about a band's load (``conditions.compression[i] = '0.0001 %': ...``, the data file's loads run as the
+    case's) as the data file's line and column that gave it; ``exc`` itself where it names no load of the file."""
+    name = data.load_name
+    if not name or not str(exc.field).startswith(f"conditions.{name}"):
+        return exc
+    rows = [i for i, v in enumerate(loads.tolist()) if load_value(name, v) == exc.value]
+    if not rows:
+        return exc
+    column = data.columns.get(name, name)
+    return FileFormatError(data.path, f"line {data.line_of(rows[0])}, column '{column}': {name.replace('_', ' ')} "
+                                      f"{exc.value}: {exc.allowed}")
+
+
 def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     """:func:`run_fit` of an O-ring or pressure-profile seal: the band's leak rate at each row's load (docs/theory.md §10.5)."""
     band = case.band
@@ -432,7 +446,10 @@ def _run_band_fit(case: Case, data: LeakData) -> FitResult:
     dp_used = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
     _check_file_loads(case, data, loads)
     distinct = np.unique(loads)
-    fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
+    try:
+        fits, res, inverse = _band_fit(case, loads, dp_used, data.leak_rate)
+    except InputError as exc:  # a row's load the contact theory cannot use: its line, not conditions.compression[0]
+        raise _row_error(data, loads, exc) from None
     messages = _fit_messages(data, fits, band.load_name, loads)
     notes, outside = _outside_validity(data, fits, _band_verdicts(case, res, pressure_difference=False), inverse,
                                        band.load_name, loads)
