@@ -33,6 +33,7 @@ __all__ = [
     "SolutionCheckError",
     "ResourceError",
     "show_value",
+    "cut_middle",
     "positive_number",
     "positive_values",
 ]
@@ -123,11 +124,15 @@ def show_value(value: Any) -> str:
     """A value in a message as the user wrote it, in TOML syntax (never a Python repr), at most :data:`SHOWN_VALUE`
     characters: a longer one is cut in the middle, so that a long path still shows its folder's start and its file's
     name (``'/home/ana/projects/seals/2026/lab-cam...ring-nbr70/simulations/grid-2048/store'``)."""
-    text = _toml(value, 0)
-    if len(text) <= SHOWN_VALUE:
+    return cut_middle(_toml(value, 0))
+
+
+def cut_middle(text: str, width: int = SHOWN_VALUE) -> str:
+    """``text`` of more than ``width`` characters cut in its middle to ``width`` ("..." in place of the cut)."""
+    if len(text) <= width:
         return text
-    head = (SHOWN_VALUE - 3) // 2
-    return text[:head] + "..." + text[len(text) - (SHOWN_VALUE - 3 - head):]
+    head = (width - 3) // 2
+    return text[:head] + "..." + text[len(text) - (width - 3 - head):]
 
 
 def _spelling(text: str) -> str:

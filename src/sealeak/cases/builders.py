@@ -88,6 +88,24 @@ def _seal(sec: Section) -> Seal:
 
 
 #: What a squeeze pressure below :data:`~sealeak.physics.contact.MIN_SQUEEZE_PRESSURE` is told.
+def _texts(doc: dict[str, Any], source: str) -> str:
+    """The case's title (default: the file's name), its description and labels checked as text the outputs print."""
+    title = doc.get("title", Path(source).stem if source else "case")
+    if not isinstance(title, str):
+        raise InputError("title", title, "must be text")
+    _printable("title", title)
+    if not isinstance(doc.get("description", ""), str):
+        raise InputError("description", doc["description"], "must be text")
+    _printable("description", doc.get("description", ""), newlines=True)
+    for section in ("rubber", "substrate", "surface"):
+        key = "label" if section == "surface" else "name"
+        value = doc.get(section, {}).get(key, "") if isinstance(doc.get(section), dict) else ""
+        if not isinstance(value, str):
+            raise InputError(f"{section}.{key}", value, "must be text")
+        _printable(f"{section}.{key}", value)
+    return str(title)
+
+
 def _printable(field: str, text: str, newlines: bool = False) -> None:
     """Refuse a control character in text the outputs print (a title goes to the terminal and into the report: an
     escape sequence recoloured the terminal, a NUL byte reached the HTML); tabs, and line breaks where ``newlines``,
@@ -300,19 +318,7 @@ def build_case(doc: dict[str, Any], case_dir: Path, source: str, label: str = ""
     :func:`~sealeak.cases.schema.case_keys`.
     """
     check_sections(doc)
-    title = doc.get("title", Path(source).stem if source else "case")
-    if not isinstance(title, str):
-        raise InputError("title", title, "must be text")
-    _printable("title", title)
-    if not isinstance(doc.get("description", ""), str):
-        raise InputError("description", doc["description"], "must be text")
-    _printable("description", doc.get("description", ""), newlines=True)
-    for section in ("rubber", "substrate", "surface"):
-        key = "label" if section == "surface" else "name"
-        value = doc.get(section, {}).get(key, "") if isinstance(doc.get(section), dict) else ""
-        if not isinstance(value, str):
-            raise InputError(f"{section}.{key}", value, "must be text")
-        _printable(f"{section}.{key}", value)
+    title = _texts(doc, source)
     rubber = Section("rubber", doc["rubber"])
     youngs, nu, e_star, input_warnings = _elastic(rubber, doc.get("substrate"))
     seal_section = Section("seal", doc["seal"])

@@ -41,7 +41,7 @@ import numpy as np
 import pint
 from numpy.typing import NDArray
 
-from ..errors import UnitError
+from ..errors import UnitError, cut_middle
 
 __all__ = ["registry", "parse_quantity", "parse_number", "is_number", "unit_factor", "unit_dimension", "to_si",
            "comma_advice", "split_quantities", "format_quantity", "length_unit", "SI_UNITS", "DIMENSIONS",
@@ -237,18 +237,14 @@ def parse_number(text: str) -> float:
     return _finite(s)
 
 
-def _short(number: str) -> str:
-    """A number as written, its middle cut beyond 40 characters (a data cell of 100 000 digits made a 100 kB line)."""
-    return number if len(number) <= 40 else number[:18] + "..." + number[-18:]
-
-
 def _finite(number: str) -> float:
     value = float(number)
     if math.isinf(value):
-        raise ValueError(f"the number {_short(number)} is too large (a float holds at most 1.8e308)")
+        # (cut: a data cell of 100 000 digits made a 100 kB line)
+        raise ValueError(f"the number {cut_middle(number, 39)} is too large (a float holds at most 1.8e308)")
     mantissa = re.split(r"[eE]", number)[0]
     if value == 0.0 and re.search(r"[1-9]", mantissa):
-        raise ValueError(f"the number {_short(number)} is too small (below 1e-308 a float reads it as 0)")
+        raise ValueError(f"the number {cut_middle(number, 39)} is too small (below 1e-308 a float reads it as 0)")
     return value
 
 

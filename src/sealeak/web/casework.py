@@ -47,7 +47,7 @@ from ..render import prediction_json
 
 __all__ = ["FILE_KEYS", "DISPLAY_UNITS", "display_units", "form_schema", "doc_fields", "fields_doc", "edit_text", "value_text",
            "text_value", "toml_text", "syntax_error", "check_files", "file_names", "upload_name", "resolve_files", "field_of",
-           "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES", "MAX_WEB_SOLUTIONS", "check_cost"]
+           "load_toml", "Prediction", "PredictionCache", "DEFAULT_CACHE_BYTES", "MAX_WEB_SOLUTIONS"]
 
 #: The most bytes the prediction cache holds (case texts and their results): 256 MB.
 DEFAULT_CACHE_BYTES = 256 * 2**20
@@ -495,19 +495,18 @@ class PredictionCache:
                     running = self._running[key] = threading.Event()
                     break
             running.wait()
-        slot = False
         try:
             # read and checked before a computing slot is taken: a case the loader refuses needs none
             # (a case naming "Probe Ø5.csv" is read with the name its upload is stored under)
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
             case_file = parse_case_bytes(loaded, uploads, source)
-            check_cost(case_file)
-            slot = self._take_slot()
-            if case_file.spreads.active:  # as `sealeak predict` without options: its default samples and seed
-                unc = propagate(uncertain_study(case_file), DEFAULT_SAMPLES, 0)
-                result = Prediction(case_file, unc.nominal, uncertainty=unc)
-            else:
-                result = Prediction(case_file, [run_case(c) for c in case_file.cases])
+            _check_cost(case_file)
+            with self.slot():
+                if case_file.spreads.active:  # as `sealeak predict` without options: its default samples and seed
+                    unc = propagate(uncertain_study(case_file), DEFAULT_SAMPLES, 0)
+                    result = Prediction(case_file, unc.nominal, uncertainty=unc)
+                else:
+                    result = Prediction(case_file, [run_case(c) for c in case_file.cases])
             size = len(data) + footprint((result.results, result.uncertainty))
             with self._lock:
                 if size <= self.max_bytes:
@@ -517,23 +516,21 @@ class PredictionCache:
                     del self._sizes[old]
             return result
         finally:
-            if slot:
-                self._slots.release()
             with self._lock:
                 del self._running[key]
             running.set()
 
     @contextlib.contextmanager
     def slot(self) -> Iterator[None]:
-        """Hold one of the server's computing slots (as a prediction does) for other work: a surface analysis."""
+        """Hold one of the server's computing slots (a prediction's computation, a surface analysis)."""
         self._take_slot()
         try:
             yield
         finally:
             self._slots.release()
 
-    def _take_slot(self) -> bool:
-        """One of the server's computing slots (True), waiting up to ``wait`` s; a 503 when none frees in time, or at
+    def _take_slot(self) -> None:
+        """Take one of the server's computing slots, waiting up to ``wait`` s; a 503 when none frees in time, or at
         once when ``WAITING_PER_SLOT`` × ``computing`` predictions wait already (each holds a server thread)."""
         with self._lock:
             if self._waiting >= WAITING_PER_SLOT * self.computing:
@@ -548,10 +545,9 @@ class PredictionCache:
         finally:
             with self._lock:
                 self._waiting -= 1
-        return True
 
 
-def check_cost(case_file: CaseFile) -> None:
+def _check_cost(case_file: CaseFile) -> None:
     """Refuse a case whose prediction asks for more than :data:`MAX_WEB_SOLUTIONS` contact solutions (samples ×
     loads), naming what it asks for: one request must not hold a computing slot for hours."""
     loads = sum(len(c.band.loads) if c.band is not None else 1 for c in case_file.cases)

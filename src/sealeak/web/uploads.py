@@ -127,12 +127,12 @@ class DiskLedger:
 
 
 async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas: Sequence[Quota],
-                    ledger: DiskLedger | None = None, ticket: int = 0) -> Form:
+                    ledger: DiskLedger, ticket: int) -> Form:
     """Parse the multipart body of ``request``, writing each file into ``incoming`` as it streams in.
 
     ``file_limit``: the most bytes one file may have; ``quotas``: the disk limits the files count
     against (the session's, the server's), each chunk reserved in ``ledger`` under ``ticket`` (its
-    :meth:`DiskLedger.begin`) where given. Over any: :class:`BodyTooLarge` (413), the files written
+    :meth:`DiskLedger.begin`). Over any: :class:`BodyTooLarge` (413), the files written
     so far removed. Not a multipart form: 400.
     """
     kind, options = parse_options_header(request.headers.get("content-type", ""))
@@ -141,7 +141,6 @@ async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas
     form = Form()
     part = _Part()
     pending = [b"", b""]  # the header name and value being read
-    written = 0
     field_bytes = 0
 
     def on_part_begin() -> None:
@@ -175,7 +174,7 @@ async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas
             opened.append(part.file)
 
     def on_part_data(data: bytes, start: int, end: int) -> None:
-        nonlocal written, field_bytes
+        nonlocal field_bytes
         chunk = data[start:end]
         if part.file is None:
             field_bytes += len(chunk)
@@ -184,12 +183,10 @@ async def read_form(request: Request, incoming: Path, *, file_limit: int, quotas
             part.text += chunk
             return
         part.size += len(chunk)
-        written += len(chunk)
         if part.size > file_limit:
             raise BodyTooLarge(f"upload: {form.files[-1][1]} is larger than the server's limit of {file_limit / 1e6:.6g} MB "
                                "for this kind of file")
-        over = ledger.reserve(ticket, len(chunk), quotas) if ledger is not None else \
-            next((q for q in quotas if written > q.left()), None)
+        over = ledger.reserve(ticket, len(chunk), quotas)
         if over is not None:
             raise BodyTooLarge(f"upload: {over.what}")
         part.file.write(chunk)
