@@ -50,6 +50,7 @@ from .band_tables import (
     junction_exact,
     persson_contact,
 )
+from .cancel import check as check_cancelled
 from .model import BandSeal, Case
 from .notes import Note, NoteLike
 from .schema import case_keys
@@ -453,6 +454,7 @@ def run_band(case: Case, *, effective: bool | None = None) -> BandResult:
         surface = _surface(unit, band) if want_em else None  # at η = 1 Pa·s too: the same bits for every fluid
         junctions = _junction_surface(case, band)
         for i, (profile, q0) in enumerate(zip(band.profiles, band.q0, strict=True)):
+            check_cancelled()  # (a client that has gone stops the band between loads)
             try:
                 contact = persson_contact(case, float(q0))
                 em_unit_exact = surface.for_load(contact) if surface is not None else None

@@ -32,6 +32,7 @@ from ..io.leak_units import LEAK_RATE_KINDS, leak_rate_unit, pv_throughput
 from ..io.quantities import quantity, record_fields, units_of
 from ..io.units import quantity_parts
 from .band import ScaledJunctions, scaled_junctions
+from .cancel import check as check_cancelled
 from .gas import HELIUM_TEST, helium_test_gas
 from .limits import whole_number
 from .loader import CaseFile, build_cases, parse_case_file, read_case_file
@@ -206,6 +207,7 @@ def _sample(study: UncertainStudy, points: NDArray[np.float64], nominal: list[Ca
         values = [w[i] for w in written]
         tag = repr(values)
         if tag not in done:
+            check_cancelled()  # (a client that has gone stops the samples between predictions)
             cases = [_shown_theory(c) for c in _sample_cases(study, values)]
             if tables is None or factors is None or factors["nominal"][i]:
                 results = [run_case(c) for c in cases]

@@ -35,6 +35,7 @@ from starlette.middleware.base import BaseHTTPMiddleware
 from starlette.types import ASGIApp
 
 from .._version import __version__
+from ..cases.cancel import Cancelled
 from ..errors import SealeakError
 from .casework import PredictionCache
 from .models import body_model, refusal
@@ -152,6 +153,11 @@ async def _http_error(request: Request, exc: Exception) -> JSONResponse:
     return error_json(str(exc.detail), getattr(exc, "field", ""), exc.status_code)
 
 
+async def _cancelled(request: Request, exc: Exception) -> JSONResponse:
+    """A computation stopped because its client has gone (sealeak.cases.cancel): nobody reads this answer."""
+    return error_json("request stopped: its client disconnected before the answer was ready", "", 503)
+
+
 async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
     log.exception("unexpected error in %s %s", request.method, request.url.path)
     return error_json("internal error: the server could not answer this request (its log has the details)", "", 500)
@@ -176,6 +182,7 @@ def create_app(config: WebConfig | None = None) -> FastAPI:
     app.add_exception_handler(SealeakError, _sealeak_error)
     app.add_exception_handler(RequestValidationError, _bad_request)
     app.add_exception_handler(StarletteHTTPException, _http_error)
+    app.add_exception_handler(Cancelled, _cancelled)
     app.add_exception_handler(Exception, _unexpected)
     for router in ROUTERS:
         app.include_router(router)

@@ -18,6 +18,7 @@ import json
 import math
 import re
 import threading
+import time
 import tomllib
 import unicodedata
 from collections import OrderedDict
@@ -32,7 +33,7 @@ import tomlkit
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from tomlkit.exceptions import TOMLKitError
 
-from ..cases import CaseFile, CaseResult, parse_case_bytes, run_case
+from ..cases import CaseFile, CaseResult, cancel, parse_case_bytes, run_case
 from ..cases.form import FORM_SECTIONS, field_kind
 from ..cases.form_help import FIELD_HELP
 from ..cases.limits import MAX_PRESSURES, at_most
@@ -56,6 +57,9 @@ PREDICTION_WAIT = 60.0
 #: Predictions that may wait for a computing slot at once, per slot: beyond, a prediction is refused at once (503)
 #: rather than hold a server thread while it waits.
 WAITING_PER_SLOT = 4
+#: How often (s) a request waiting for a computing slot, or for the same prediction computed by another request, looks
+#: whether its client has gone (it then stops waiting; a prediction nobody waits for stops, :mod:`sealeak.cases.cancel`).
+CLIENT_POLL = 0.25
 #: The most contact solutions one prediction of the web app may ask for: (uncertainty samples, 1 without spreads) ×
 #: the loads of its cases (a band seal's compressions or forces, 1 for a uniform seal's whole sweep). The bundled
 #: examples ask for at most 40, the O-ring's uncertainty band 4 608 (~20 s); a case asking for more runs on the command
@@ -453,6 +457,7 @@ class PredictionCache:
         self._items: OrderedDict[tuple[Any, ...], Prediction] = OrderedDict()
         self._lock = threading.Lock()
         self._running: dict[tuple[Any, ...], threading.Event] = {}
+        self._clients: dict[tuple[Any, ...], list[Callable[[], bool]]] = {}  # per running key: has each request's client gone?
         self._waiting = 0  # predictions waiting for a slot
 
     def __len__(self) -> int:
@@ -484,6 +489,7 @@ class PredictionCache:
         # a case that names no file is the same case in every session; one that does depends on the files' contents
         files = tuple(sorted((n, (uploads / n).stat().st_size, (uploads / n).stat().st_mtime_ns) for n in named))
         key = (data, source, str(uploads) if named or doc is None else "", files)
+        gone = cancel.current() or _STAYS  # whether this request's client has gone (the web server's Guard tells)
         while True:
             with self._lock:
                 hit = self._items.get(key)
@@ -493,15 +499,24 @@ class PredictionCache:
                 running = self._running.get(key)
                 if running is None:  # this thread computes it; the same request arriving meanwhile waits for it
                     running = self._running[key] = threading.Event()
+                    self._clients[key] = [gone]
                     break
-            running.wait()
+                self._clients[key].append(gone)
+            try:
+                while not running.wait(CLIENT_POLL):
+                    cancel.check()
+            finally:
+                with self._lock:
+                    if key in self._clients:
+                        self._clients[key].remove(gone)
         try:
             # read and checked before a computing slot is taken: a case the loader refuses needs none
             # (a case naming "Probe Ø5.csv" is read with the name its upload is stored under)
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
             case_file = parse_case_bytes(loaded, uploads, source)
             _check_cost(case_file)
-            with self.slot():
+            # stopped (cancel.Cancelled) once every request waiting for it has gone: nobody would read the result
+            with self.slot(), cancel.cancellable(lambda: self._abandoned(key)):
                 if case_file.spreads.active:  # as `sealeak predict` without options: its default samples and seed
                     unc = propagate(uncertain_study(case_file), DEFAULT_SAMPLES, 0)
                     result = Prediction(case_file, unc.nominal, uncertainty=unc)
@@ -518,7 +533,13 @@ class PredictionCache:
         finally:
             with self._lock:
                 del self._running[key]
+                del self._clients[key]
             running.set()
+
+    def _abandoned(self, key: tuple[Any, ...]) -> bool:
+        """Whether every request that waits for the prediction of ``key`` has lost its client."""
+        with self._lock:
+            return all(gone() for gone in self._clients.get(key, ()))
 
     @contextlib.contextmanager
     def slot(self) -> Iterator[None]:
@@ -539,12 +560,24 @@ class PredictionCache:
                                                   f"{WAITING_PER_SLOT * self.computing}); try again when one has finished")
             self._waiting += 1
         try:
-            if not self._slots.acquire(timeout=self.wait):  # the server's cores are busy with other cases
+            deadline = time.monotonic() + self.wait
+            while not self._slots.acquire(timeout=max(min(CLIENT_POLL, deadline - time.monotonic()), 0.0)):
+                cancel.check()  # (a request whose client has gone stops waiting)
+                if time.monotonic() < deadline:
+                    continue
+                # the server's cores are busy with other cases
                 raise StarletteHTTPException(503, f"predict: {self.computing} predictions are running on this server "
                                                   f"already (at most {self.computing}); try again when one has finished")
         finally:
             with self._lock:
                 self._waiting -= 1
+
+
+def _stays() -> bool:
+    return False
+
+
+_STAYS = _stays  # a request without a client to lose (a call from Python, a test)
 
 
 def _check_cost(case_file: CaseFile) -> None:

@@ -30,6 +30,7 @@ import os
 import re
 import shutil
 import socket
+import threading
 from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
 from importlib import resources
@@ -41,6 +42,7 @@ from starlette.exceptions import HTTPException
 from starlette.responses import JSONResponse
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from ..cases.cancel import cancellable
 from ..io.tomlscan import MAX_DEPTH, MAX_KEY_PARTS
 
 __all__ = ["Guard", "BodyTooLarge", "BodyStalled", "BODY_IDLE", "DEFAULT_MAX_BODY", "MAX_NESTING", "MAX_KEY_PARTS", "check_nesting", "allowed_hosts",
@@ -229,15 +231,30 @@ class Guard:
             await _refusal(400, f"request body {why}", "body")(scope, receive, send_headers)
             return
         sent = False
+        # after the body the server has only one message left to give, http.disconnect: awaited from the start, it
+        # tells the request's computations that their client has gone (sealeak.cases.cancel), and is the answer to
+        # every later receive of the app's
+        left = threading.Event()
+
+        async def watch() -> Message:
+            message = await receive()
+            left.set()
+            return message
+
+        watcher = asyncio.ensure_future(watch())
 
         async def replay() -> Message:
             nonlocal sent
             if not sent:
                 sent = True
                 return {"type": "http.request", "body": body, "more_body": False}
-            return await receive()
+            return await asyncio.shield(watcher)
 
-        await self.app(scope, replay, send_headers)
+        try:
+            with cancellable(left.is_set):
+                await self.app(scope, replay, send_headers)
+        finally:
+            watcher.cancel()
 
     def _refusal(self, scope: Scope, headers: Headers) -> JSONResponse | None:
         """The answer to a request refused by its headers (Host, Origin, lengths), or None."""
