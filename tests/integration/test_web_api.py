@@ -226,6 +226,7 @@ def test_surface_analyze_refuses_what_the_cli_refuses(client, tmp_path, monkeypa
     assert r.status_code == 422
     # the same words; the command line adds where to read its options
     assert r.json()["message"] == line.removesuffix(" (options: sealeak surface analyze --help)")
+    assert r.json()["field"]  # the field or option at fault (a bad number named none)
 
 
 def test_surface_analyze_refuses_a_switch_that_is_neither_on_nor_off(client, tmp_path):
@@ -234,6 +235,7 @@ def test_surface_analyze_refuses_a_switch_that_is_neither_on_nor_off(client, tmp
     r = client.post("/api/surface/analyze", files=[("files", (f.name, f.read_bytes()))],
                     data={"size": "1 mm", "height_unit": "um", "periodic": "maybe"})
     assert r.status_code == 422 and r.json()["message"].startswith("sealeak: error: --periodic = 'maybe': must be true or false")
+    assert r.json()["field"] == "--periodic"  # the option it names (it was "")
     r = client.post("/api/surface/analyze", files=[("files", (f.name, f.read_bytes()))],
                     data={"size": "1 mm", "height_unit": "um", "periodic": "Yes"})
     assert r.status_code == 200

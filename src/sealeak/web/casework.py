@@ -409,10 +409,14 @@ def check_files(doc: dict[str, Any], uploaded: set[str]) -> None:
 
 
 _FIELD = re.compile(r"^((?:[a-z_]+\.)?[A-Za-z0-9_]+)")
+_OPTION = re.compile(r"^--[a-z][a-z0-9-]*$")
 
 
 def field_of(exc: InputError) -> str:
-    """The form field an error names: ``conditions.squeeze_pressure[1]`` → ``conditions.squeeze_pressure``."""
+    """The form field an error names: ``conditions.squeeze_pressure[1]`` → ``conditions.squeeze_pressure``; an option
+    of the surface analysis by its command-line name (``--periodic``)."""
+    if _OPTION.match(exc.field):
+        return exc.field
     m = _FIELD.match(exc.field)
     return m.group(1) if m else ""
 

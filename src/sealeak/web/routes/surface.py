@@ -10,7 +10,7 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 from starlette.concurrency import run_in_threadpool
 
-from ...errors import SealeakError
+from ...errors import InputError
 from ...render import analysis_json
 from ...topography import analysis_options, analyze, cli_option_names
 from ..models import multipart_body
@@ -47,7 +47,7 @@ def _number(opts: dict[str, str], key: str, default: float) -> float:
     try:
         return float(text)
     except ValueError:
-        raise SealeakError(f"--{key.replace('_', '-')} = '{text}': must be a number") from None
+        raise InputError(f"--{key.replace('_', '-')}", text, "must be a number") from None
 
 
 def _flag(opts: dict[str, str], key: str) -> bool:
@@ -58,7 +58,7 @@ def _flag(opts: dict[str, str], key: str) -> bool:
         return False
     if text in ("1", "true", "on", "yes"):
         return True
-    raise SealeakError(f"--{key.replace('_', '-')} = '{opts[key]}': must be true or false (1/0, on/off, yes/no)")
+    raise InputError(f"--{key.replace('_', '-')}", opts[key], "must be true or false (1/0, on/off, yes/no)")
 
 
 def _analysis(s: Session, names: list[str], opts: dict[str, str], slot: Callable[[], AbstractContextManager[None]]) -> str:
