@@ -192,3 +192,26 @@ def test_u1_goes_to_infinity_near_zeta_one_without_a_warning():
     for u1 in curves:  # +inf where A' underflows near ζ = 1, else finite and positive; never NaN
         assert np.all(np.isposinf(u1) | (np.isfinite(u1) & (u1 > 0)))
         assert np.isfinite(u1[-1]) and not np.isposinf(u1[len(u1) // 2:]).any()
+
+
+class _OtherCPU(PerssonContact):
+    """The cumulative moment of an array a last bit lower than of the scalar (another CPU's SIMD kernel), as a
+    measured spectrum whose first node lies above q0 gave here: G(ζ = 1) came out −3·10⁻⁹ Pa² instead of 0."""
+
+    def _m3(self, q):
+        m = super()._m3(q)
+        return np.nextafter(m, -np.inf) if np.ndim(q) > 0 and np.size(q) > 1 else m
+
+
+def test_round_off_below_zero_in_g_at_zeta_one_is_no_nan(model):
+    contact = _OtherCPU(model, E_STAR, Q0)
+    zeta = np.array([1.0, 2.0, 10.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # (√ of a negative G warned, then int(NaN) raised in the ū panels)
+        g = contact.G(zeta)
+        ubar = contact.mean_gap(zeta, 2e4)
+        area = contact.area(zeta, 2e4)
+    assert g[0] == 0.0 and np.all(g[1:] > 0)
+    assert np.all(np.isfinite(ubar)) and area[0] == 1.0
+    exact = PerssonContact(model, E_STAR, Q0)
+    assert ubar == pytest.approx(exact.mean_gap(zeta, 2e4), rel=1e-12, abs=0)

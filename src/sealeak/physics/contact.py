@@ -71,6 +71,13 @@ def _row_sums(values: FloatArray, count: NDArray[np.intp]) -> FloatArray:
     return out
 
 
+def _positive_band(g: FloatArray) -> FloatArray:
+    """G(ζ) (Pa²) from the difference M3(ζq0) − M3(q0), which is >= 0: at ζ = 1 the two moments may differ in their
+    last bit (M3 of an array and of a scalar take different SIMD paths on some CPUs), and −3·10⁻⁹ Pa² made √G NaN;
+    such round-off is taken as 0."""
+    return np.maximum(g, 0.0)
+
+
 def _area(g: FloatArray, p0: FloatArray) -> FloatArray:
     """A(ζ)/A0 = erf(P0/(2√G)) from G(ζ) (Pa²) and P0 (Pa) (docs/theory.md eq. 2.4)."""
     with np.errstate(divide="ignore"):
@@ -190,7 +197,7 @@ class PerssonContact:
     def G(self, zeta: ArrayLike) -> FloatArray:
         """G(ζ) = (π/4) E*² ∫_{q0}^{ζq0} q³C dq in Pa² (Persson (2001); docs/theory.md §2.3, eq. 2.3)."""
         z = np.asarray(zeta, dtype=float)
-        return 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - self._m3_fixed[0])
+        return _positive_band(0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - self._m3_fixed[0]))
 
     def dG_dzeta(self, zeta: ArrayLike) -> FloatArray:
         """dG/dζ = (π/4) E*² q0 (ζq0)³ C(ζq0) in Pa² (docs/theory.md §2.3, eq. 2.3)."""
@@ -242,7 +249,7 @@ class PerssonContact:
         qz = np.maximum(z * self.q0, spec.q_min)
         m_lo = self._m3(qz)
         big_t = m3_top - m_lo  # t at q1
-        g = 0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - m3_q0)  # G(ζ)
+        g = _positive_band(0.25 * np.pi * self.e_star**2 * (self._m3(z * self.q0) - m3_q0))  # G(ζ)
         area = _area(g, p0)
         p = p0 / area
         kappa = p / (self.e_star * np.sqrt(np.pi))  # y = kappa / sqrt(t)
