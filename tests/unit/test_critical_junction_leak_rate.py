@@ -68,6 +68,10 @@ def test_no_percolation_gives_no_number(contact):
     assert np.isnan(r.critical_gap[1]) and np.isnan(r.critical_magnification[1])
     assert r.contact_area_at_cutoff[1] > 0.4
     assert any("does not percolate" in m or "never percolates" in m for m in r.messages)
+    # the resolved roughness is named: a coarse measurement (a scan ending at 0.9 mm) seals for want of finer roughness
+    (note,) = [m for m in r.messages if "never percolates" in m]
+    cutoff = 2 * np.pi / contact.spectrum.q_max
+    assert f"down to 2π/q1 = {cutoff * 1e6:.3g} µm" in note, (note, cutoff)
 
 
 def test_ring_geometry():

@@ -28,6 +28,7 @@ from scipy import special
 
 from ..errors import InputError
 from ..io.quantities import quantity
+from ..io.units import format_quantity
 from .contact import PerssonContact
 from .gaps import ArrayCache, contact_key
 from .validity import no_channel_note, pressures_text
@@ -246,7 +247,9 @@ def critical_junction(
 
     note = no_channel_note(p0, percolates, area_cut,
                            f", above 1 - p_c = {1 - percolation_threshold:.3f}, so the non-contact area never percolates "
-                           "within the resolved roughness; the theory predicts no leak channel (no leak-rate number).")
+                           f"within the resolved roughness (down to 2π/q1 = "
+                           f"{format_quantity(2.0 * np.pi / contact.spectrum.q_max, 'length', 3)}; finer roughness would lower "
+                           "the contact area further); the theory predicts no leak channel (no leak-rate number).")
     messages = [note] if note else []
     large = pressure_difference_not_small(p0, dp) & fluid_pressure_neglected
     if large.any():
