@@ -355,9 +355,17 @@ def test_a_fitted_alpha_no_case_file_would_take_is_flagged(tmp_path, capsys):
     assert main(["fit", "--example", "reference-experiment", "--data", str(data)]) == 0
     out = capsys.readouterr().out
     for theory in ("critical junction", "effective medium"):
-        assert f"note: {theory}: the fitted α = " in out and "lies far outside what a case file accepts (1e-06 to 1e+06" in out
+        assert f"note: {theory}: the fitted α = " in out and "lies outside 0.01 to 100" in out
     assert main(["fit", "--example", "reference-experiment", "--data", str(example_path("reference-experiment").parent / "reference-measured.csv")]) == 0
     assert "fit_alpha_far" not in capsys.readouterr().out  # the paper's data: α of order one
+    # leak rates ~10⁴ times the paper's: α ~ 10³, which a case file takes but predict warns about; fit said nothing
+    measured = [line for line in (example_path("reference-experiment").parent / "reference-measured.csv").read_text()
+                .splitlines() if line.strip() and not line.startswith("#")]
+    header, rows = measured[0], [line.split(",") for line in measured[1:]]
+    data.write_text(header + "\n" + "\n".join(f"{p}, {float(q) * 1e4:.6g}" for p, q, *_ in rows) + "\n")
+    assert main(["fit", "--example", "reference-experiment", "--data", str(data)]) == 0
+    out = capsys.readouterr().out
+    assert "lies outside 0.01 to 100" in out and "(fit_alpha_far)" in out
 
 
 def test_a_rig_load_too_small_to_press_the_seal_is_named(tmp_path, capsys):

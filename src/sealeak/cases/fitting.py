@@ -20,8 +20,8 @@ from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
 from ..physics.critical_junction import pressure_difference_not_small
 from ..physics.properties import ATMOSPHERE, fluid_state
+from ..physics.validity import ALPHA_RANGE as PLAUSIBLE_ALPHA
 from .band import BandResult, load_value
-from .builders import ALPHA_RANGE
 from .capillarity import CapillaryRows, band_capillarity, uniform_capillarity
 from .gas import CoupledGasSeal, band_gas_seal, gas_throughput, uniform_gas_seals
 from .model import Case
@@ -217,7 +217,7 @@ def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], load_name: str, loa
         for name, f in fits.items() for i, reason in f.excluded]
     if not any(f.n_used > 1 for f in fits.values()):
         messages.append(Note("fit_single_point"))
-    low, high = ALPHA_RANGE  # a fitted α no case file would take: computed, and flagged
+    low, high = PLAUSIBLE_ALPHA  # a fitted α far from order one (predict warns at the same values): computed, and flagged
     messages += [Note("fit_alpha_far", {"theory": name.replace("_", " "), "alpha": f.alpha, "low": low, "high": high})
                  for name, f in fits.items() if f.fitted and not low <= f.alpha <= high]
     return messages

@@ -309,8 +309,9 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "band_coupled_not_converged": _band_coupled_not_converged,
     "fit_excluded": _fit_excluded,
     "fit_single_point": lambda v: "with one usable point α has no standard error",
-    "fit_alpha_far": lambda v: (f"{v['theory']}: the fitted α = {v['alpha']:.3g} lies far outside what a case file accepts "
-                                f"({v['low']:g} to {v['high']:g}; α is of order one, 0.1 to 2 in the literature): the model "
+    "fit_alpha_far": lambda v: (f"{v['theory']}: the fitted α = {v['alpha']:.3g} lies outside {v['low']:g} to {v['high']:g} "
+                                "(α is a shape factor of order one, 0.1 to 2 in the literature; predict warns outside the "
+                                "same range): the model "
                                 "does not describe these data as given; check the data's units and load column, and the "
                                 "case's roughness, rubber and seal (fit_alpha_far)"),
     "fit_mass_flow": lambda v: (f"the leak rates of column '{v['column']}' are mass flows: fitted as the volume flows "
