@@ -6,7 +6,9 @@ import sys
 import pytest
 
 from sealeak.cases.loader import parse_cases
+from sealeak.cases.run import run_case
 from sealeak.physics.properties import fluid_state
+from sealeak.render.notes import worded
 from tests.casefiles import edit
 
 ABSOLUTE = 'upstream_pressure = "3 bar"\ndownstream_pressure = "1 bar"'
@@ -59,3 +61,24 @@ def test_a_named_liquid_with_absolute_pressures_takes_library_viscosity_and_dens
     assert case.fluid.density == pytest.approx(state.density, rel=1e-12)
     assert case.fluid.viscosity < 0.6e-3  # water at 60 °C is about half as viscous as at 20 °C
     assert not case.input_warnings
+
+
+@pytest.mark.parametrize("coupled", [True, False])
+def test_a_helium_test_that_opens_the_seal_is_noted_at_its_rows(coupled):
+    """He-eq is helium at 1 bar against vacuum: where P0 <= 100 kPa that ΔP reaches the contact pressure and the test
+    lifts the seal (docs/theory.md §13.4); those rows' He-eq (a limit, or a contact the gas does not touch) were shown
+    without a word."""
+    text = edit('squeeze_pressure = ["20 kPa", "60 kPa", "0.1 MPa"]', 'squeeze_pressure = ["60 kPa", "99.9 kPa", "100.1 kPa", "200 kPa"]',
+                edit('viscosity = "1 mPa*s"', 'name = "air"', edit('pressure_difference = "10 kPa"',
+                                                                   'upstream_pressure = "1.1 bar"\ndownstream_pressure = "1 bar"\n'
+                                                                   'helium_equivalent = true')))
+    if not coupled:
+        text = edit("[theory]", '[theory]\nfluid_pressure = "ignored"', text)
+    result = run_case(parse_cases(text)[0])
+    notes = [n for n in worded(result.messages) if n.startswith("He-eq at")]
+    assert notes == [n for n in worded(result.critical_junction.messages) if n.startswith("He-eq at")]  # (printed)
+    (note,) = notes
+    assert note.startswith("He-eq at P0 = 60, 99.9 kPa: the helium test's ΔP = 100 kPa")  # not 100.1 or 200 kPa
+    assert ("a lower bound" in note) == coupled and ("ignored" in note) == (not coupled)
+    quiet = run_case(parse_cases(text.replace('"60 kPa", "99.9 kPa", ', ""))[0])
+    assert not [n for n in worded(quiet.messages) if n.startswith("He-eq at")]

@@ -26,7 +26,7 @@ from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings
 from .band import BandColumns, BandEffectiveMediumColumns, BandResult, run_band
 from .capillarity import CAPILLARY_UNITS, SUFFIX, CapillaryRows, band_capillarity, uniform_capillarity
-from .gas import GAS_UNITS, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
+from .gas import GAS_UNITS, HELIUM_TEST, HELIUM_UNITS, PERMEATION_UNITS, GasRows, _band_gas, _uniform_gas
 from .leak_tests import DecayPrediction
 from .model import Case, LifePoint
 from .notes import Note, NoteLike
@@ -241,6 +241,9 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     capillary = None
     if case.capillarity is not None:  # after the gas rows: helium passes where the liquid is held
         res, em, capillary = uniform_capillarity(case, res, em)
+    lifts = _helium_test_lifts(case, gas, "squeeze_pressure", res.squeeze_pressure, res.squeeze_pressure)
+    if lifts:  # (with the critical junction's notes, which the text, JSON and report show for a uniform seal)
+        res = _noted(res, lifts)
     messages: list[NoteLike] = list(res.messages)
     if em is not None:
         messages += [_of_effective_medium(m) for m in em.messages]
@@ -249,6 +252,32 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
                       validity_effective_medium=validity_em,
                       lift_off_pressure_difference=res.squeeze_pressure.copy() if case.coupled else None,
                       warnings=case.input_warnings + tuple(case_warnings(case, res)), gas=gas, capillary=capillary)
+
+
+def _noted(result: Any, notes: list[NoteLike]) -> Any:
+    """``result`` (a theory's result, whose physics-layer ``messages`` are typed as sentences) with ``notes`` added, as
+    :func:`sealeak.cases.capillarity` adds its own."""
+    return replace(result, messages=(*result.messages, *notes))
+
+
+def _helium_test_lifts(case: Case, gas: dict[str, GasRows] | None, load_name: str, loads: NDArray[np.float64],
+                       lift_off: NDArray[np.float64]) -> list[NoteLike]:
+    """A note on the rows whose helium-equivalent leak rate comes from a helium test that opens the seal: the test's
+    pressure difference (1 bar against vacuum) reaches the contact pressure that holds the seal shut, P0 or a band's
+    peak (docs/theory.md §13.4), at rows where either theory has a helium leak."""
+    if gas is None or not case.helium_equivalent:
+        return []
+    dp = HELIUM_TEST["upstream_pressure"] - HELIUM_TEST["downstream_pressure"]
+    leaking = np.zeros(loads.size, dtype=bool)
+    for rows in gas.values():
+        if rows.helium is not None:
+            leaking |= np.isfinite(rows.helium) & (rows.helium > 0)
+    opens = leaking & (dp >= lift_off)
+    if not opens.any():
+        return []
+    return [Note("helium_test_lifts", {"load_name": load_name, "loads": tuple(float(v) for v in loads[opens]),
+                                       "pressure_difference": dp, "coupled": case.coupled,
+                                       "band": load_name != "squeeze_pressure"})]
 
 
 def _of_effective_medium(message: NoteLike) -> NoteLike:
@@ -277,6 +306,7 @@ def _run_band_case(case: Case, *, rig: bool = False) -> CaseResult:
     messages: list[NoteLike] = list(band.critical_junction.messages)
     if band.effective_medium is not None:
         messages += list(band.effective_medium.messages)
+    messages += _helium_test_lifts(case, gas, band.band.load_name, band.band.loads, band.max_contact_pressure)
     return CaseResult(case=case, critical_junction=res, rig=rig_result, messages=tuple(messages), valid=valid,
                       validity=validity, valid_effective_medium=valid_em, validity_effective_medium=validity_em,
                       lift_off_pressure_difference=band.max_contact_pressure.copy() if case.coupled else None,

@@ -109,6 +109,15 @@ def _band_sealed(v: Mapping[str, Any]) -> str:
             "highest the non-contact area does not percolate, which seals the whole band")
 
 
+def _helium_test_lifts(v: Mapping[str, Any]) -> str:
+    where = "the band's peak contact pressure" if v["band"] else "the squeeze pressure P0"
+    limit = ("the limit ΔP → lift-off, a lower bound: the open seal leaks more" if v["coupled"] else
+             "computed with the contact unchanged by the gas (theory.fluid_pressure = \"ignored\"), which the open seal "
+             "is not")
+    return (f"He-eq at {loads_text(v['load_name'], v['loads'])}: the helium test's ΔP = {v['pressure_difference'] / 1e3:g} kPa "
+            f"(1 bar against vacuum) reaches {where}, so the helium test opens the seal there; the He-eq shown is {limit}")
+
+
 def _band_coupled_not_converged(v: Mapping[str, Any]) -> str:
     return (f"{v['theory']}: the coupled flow (the fluid pressure in the band) did not converge at "
             f"{loads_text(v['load_name'], v['loads'])}; the leak rate shown is its upper bound, with the full pressure "
@@ -307,6 +316,7 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "band_sealed": _band_sealed,
     "band_not_converged": _band_not_converged,
     "band_coupled_not_converged": _band_coupled_not_converged,
+    "helium_test_lifts": _helium_test_lifts,
     "fit_excluded": _fit_excluded,
     "fit_single_point": lambda v: "with one usable point α has no standard error",
     "fit_alpha_far": lambda v: (f"{v['theory']}: the fitted α = {v['alpha']:.3g} lies outside {v['low']:g} to {v['high']:g} "
