@@ -335,7 +335,8 @@ def test_a_specification_without_spreads_takes_one_sample_and_draws_no_band():
     (line,) = passing_lines(between)
     assert line.startswith(f"passes {limit:.6g} ml/min from about P0 = 40 kPa on, where the leak rate reaches it"), line
     # a limit above both rows' leak rates, and one below both: no load placed, and the line says which
-    for spec, words in ((f"{10 * q.max():.6g} ml/min", "already at the lowest squeeze pressure computed"),
+    for spec, words in ((f"{10 * q.max():.6g} ml/min", "already at the lowest squeeze pressure computed: compute lower "
+                                                        "loads to find where it starts to pass"),
                         (f"{0.1 * q.min():.6g} ml/min", "at every squeeze pressure computed")):
         (line,) = passing_lines(propagate(parse_uncertain_case(text.replace('"1 ml/min"', f'"{spec}"')), 8, seed=0))
         assert words in line, line

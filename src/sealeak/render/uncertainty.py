@@ -197,7 +197,7 @@ def _verdict_line(unc: UncertaintyResult, p: PassingLoad) -> str:
                 f"{load_text(p.load_name, hi)}, where it seals: no leak rate to interpolate towards; compute loads "
                 "between them to place it")
     elif p.passes_at_lowest:
-        line = f"passes {spec} already at the lowest {name} computed: compute lower loads to place where it starts to"
+        line = f"passes {spec} already at the lowest {name} computed: compute lower loads to find where it starts to pass"
     else:
         line = f"exceeds {spec} at every {name} computed"
     outside = [load_text(p.load_name, x) for x, f in zip(p.between, p.between_outside, strict=True) if f > 0]
