@@ -42,6 +42,8 @@ CASE_VALUES = [  # (old text, new text, field named)
     ('rolloff_wavevector = "9.1e3 1/m"', 'rolloff_wavevector = "9,1e3 1/m"', "surface.rolloff_wavevector"),
     ("alpha = 0.2", 'alpha = "0,2"', "theory.alpha"),
     ("hurst = 0.8", 'hurst = "--0.8"', "surface.hurst"),
+    # named as written, with the value it must exceed (it was "seal.outer_diameter = 0.02: ... diameter 0.03 m")
+    ('outer_diameter = "4 cm"', 'outer_diameter = "2 cm"', "seal.outer_diameter = '2 cm': must exceed seal.inner_diameter = '3 cm'"),
 ]
 
 

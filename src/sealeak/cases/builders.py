@@ -80,6 +80,9 @@ def _seal(sec: Section) -> Seal:
                 raise InputError(sec.field(k), sec.raw(k), "a ring seal takes inner_diameter and outer_diameter")
         di = sec.quantity("inner_diameter", "length")
         do = sec.quantity("outer_diameter", "length")
+        if not di < do:  # (named as written: Seal.ring names it in metres)
+            raise InputError(sec.field("outer_diameter"), sec.raw("outer_diameter"),
+                             f"must exceed seal.inner_diameter = {show_value(sec.raw('inner_diameter'))}")
         return Seal.ring(di, do)
     for k in ("inner_diameter", "outer_diameter"):
         if sec.has(k):
