@@ -12,7 +12,7 @@ from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagat
 from sealeak.errors import InputError
 from sealeak.render import prediction_csv, prediction_json
 from sealeak.render.interactive import prediction_plot_data
-from sealeak.render.uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend
+from sealeak.render.uncertainty import passing_lines, uncertainty_columns, uncertainty_heading, uncertainty_legend, uncertainty_summary
 from sealeak.render.uncertainty_figures import uncertainty_figures
 from tests.casefiles import BASE, ORING
 
@@ -323,6 +323,11 @@ def test_a_specification_without_spreads_takes_one_sample_and_draws_no_band():
     assert result.samples == 1 and set(result.exceed_probability.tolist()) <= {0.0, 1.0}
     assert "no uncertain inputs" in uncertainty_heading(result)
     assert uncertainty_figures(result) == {}
+    # nor percentiles in the records or a band in the web plot, which read as sampled; the pass or fail stays
+    assert [set(r) for r in result.row_fields()] == [{"exceed_probability"}] * 2
+    summary = uncertainty_summary(result)
+    assert summary["samples"] == 0 and summary["sampler"] is None and summary["percentiles"] is None
+    assert all(curve["band"] is None for curve in prediction_plot_data(result.nominal, result)["leak"])
     headers, rows = uncertainty_columns(result)
     assert headers == ["P0 (kPa)", "Q (ml/min)", "passes"]
     q = result.nominal[0].critical_junction.leak_rate * 6e7

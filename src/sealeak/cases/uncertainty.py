@@ -618,8 +618,12 @@ class UncertaintyResult:
                                   outside_fraction=self.outside_fraction, exceed_probability=self.exceed_probability)
 
     def row_fields(self) -> list[dict[str, Any]]:
-        """One dict per row of the fields :meth:`columns` holds (None fields left out), plain floats."""
+        """One dict per row of the fields :meth:`columns` holds (None fields left out), plain floats. Without uncertain
+        inputs (``max_leak_rate`` alone: one sample, the nominal prediction) only ``exceed_probability`` (0 or 1): three
+        equal "percentiles" and a sealed fraction of 0 or 1 would read as a sampled band."""
         cols = {k: v for k, v in record_fields(self.columns()).items() if v is not None}
+        if not self.study.inputs:
+            cols = {k: v for k, v in cols.items() if k == "exceed_probability"}
         return [{k: float(v[i]) for k, v in cols.items()} for i in range(len(self.study.rows))]
 
     @property

@@ -30,7 +30,7 @@ def _list(a: Any) -> list[Any]:
 def _bands(results: Sequence[CaseResult], unc: UncertaintyResult | None) -> list[dict[str, Any] | None]:
     """Per case, the 5th, 50th and 95th percentiles of its leak rate over the samples (m³/s, a gas's mbar·l/s; 0: sealed
     in at least that share of the samples), in the order of its records; None without uncertain inputs."""
-    if unc is None:
+    if unc is None or not unc.study.inputs:  # (max_leak_rate alone: the nominal prediction, no band to draw)
         return [None] * len(results)
     out: list[dict[str, Any] | None] = []
     per_key: dict[str, tuple[Any, Any]] = {}  # the percentiles of every row, and which are taken from samples outside

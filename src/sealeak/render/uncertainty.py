@@ -228,8 +228,10 @@ def uncertainty_summary(unc: UncertaintyResult) -> dict[str, Any]:
     """The JSON ``uncertainty`` object: how it was sampled, the inputs, the specification and each case's passing load,
     and the sentences ``predict`` prints under its uncertainty table (``answers``: :func:`passing_lines`), which the web
     app shows."""
+    sampled = bool(unc.study.inputs)  # (without uncertain inputs: the nominal prediction alone, nothing sampled)
     return {
-        "samples": unc.samples, "sampler": unc.sampler, "seed": unc.seed, "percentiles": [5, 50, 95],
+        "samples": unc.samples if sampled else 0, "sampler": unc.sampler if sampled else None,
+        "seed": unc.seed if sampled else None, "percentiles": [5, 50, 95] if sampled else None,
         "inputs": [{"key": i.key, "label": i.label, "distribution": i.distribution, "value": i.nominal,
                     "unit": i.unit or None, "parameters": i.parameters or None, "choices": list(i.choices) or None}
                    for i in unc.study.inputs],
