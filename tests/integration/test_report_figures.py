@@ -153,6 +153,9 @@ def test_report_rig_gives_q_at_the_initial_height_and_the_time_constant(reports)
         assert float(row["Q at H0 (ml/min)"]) == pytest.approx(q0 * 6e7, rel=2e-3)
         area = math.pi * rig.cylinder_diameter ** 2 / 4
         assert float(row["τ (min)"]) * 60 == pytest.approx(area / (k * rig.density * 9.80665), rel=2e-3)
+    # one theory computed: neither "both theories" nor a legend of Q_CJ/Q_EM columns the tables do not have
+    assert len(table) == 2 and "The theory is linear in ΔP" in text and "Both theories" not in text
+    assert "Q_EM" not in text and "Q_CJ" not in text
 
 
 # ---------------------------------------------------------------------- figures through the command line

@@ -308,7 +308,8 @@ def _rig_section(result: CaseResult, number: int) -> list[str]:
     dp0 = float(rig.pressure_difference(rig.initial_height))
     parts.append(f"<p>Load {rig.load:.4g} N ({_e(rig.load_note)}) on the seal: P0 = {pred.squeeze_pressure / 1e3:.4g} kPa; "
                  f"cylinder diameter {rig.cylinder_diameter * 100:.4g} cm, initial height H0 = {rig.initial_height * 100:.4g} cm "
-                 f"(ΔP = ρgH0 = {dp0 / 1e3:.4g} kPa), ρ = {rig.density:g} kg/m³, ΔP = ρgH. Both theories are linear in ΔP, so "
+                 f"(ΔP = ρgH0 = {dp0 / 1e3:.4g} kPa), ρ = {rig.density:g} kg/m³, ΔP = ρgH. "
+                 f"{'Both theories are' if len(pred.conductance) > 1 else 'The theory is'} linear in ΔP, so "
                  "Q = K ΔP and the level falls exponentially with time constant τ = A_cyl/(K ρ g).</p>")
     rows = []
     for name, k in pred.conductance.items():
@@ -450,14 +451,18 @@ def _result_block(r: CaseResult) -> list[str]:
 def _results_section(results: Sequence[CaseResult], band: bool) -> list[str]:
     """The Results heading, the legend of its columns and each result's block."""
     parts = ["<h2 id=\"results\">Results</h2>"]
+    # Q_CJ and Q_EM name the columns where both theories are shown side by side; one theory's column is plain Q
+    both = ("Q_CJ: Q critical junction; Q_EM: Q effective medium; "
+            if any(r.effective_medium is not None or (r.band is not None and r.band.effective_medium is not None)
+                   for r in results) else "")
     if band:
-        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. Q_CJ: Q "
-                     f"critical junction; Q_EM: Q effective medium; {_e(band_legend(results[0]))}; a verdict: yes, NO "
+        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>, one row per load. "
+                     f"{both}{_e(band_legend(results[0]))}; a verdict: yes, NO "
                      "(outside the theory's validity where the pressure is highest: the row's numbers are the formula's, not a "
                      "prediction; highlighted) or — (no leak channel: the band seals).</p>")
     else:
-        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. Q_CJ: Q critical junction; "
-                     "Q_EM: Q effective medium; valid: yes, NO (outside the theory's validity: the row's numbers are the "
+        parts.append("<p class=\"legend\">The columns and digits of <code>sealeak predict</code>. "
+                     f"{both}valid: yes, NO (outside the theory's validity: the row's numbers are the "
                      "formula's, not a prediction; highlighted) or — (no leak channel).</p>")
     if any(r.case.gas is not None for r in results):
         parts.append(f"<p class=\"legend\">{_e(GAS_INCOMPRESSIBLE_NOTE[0].upper() + GAS_INCOMPRESSIBLE_NOTE[1:])}.</p>")
