@@ -205,6 +205,7 @@ def test_fit_flags_hurst_outside_zero_one(exponent, bound):
     assert f.hurst == bound and not f.hurst_in_range
     assert f.hurst_wanted == pytest.approx(-exponent / 2 - 1, abs=1e-6)
     assert "outside" in f.warning and np.isnan(f.hurst_err)
+    assert "nan" not in repr(f) and f"H = {bound:.3f} (H held at a bound)" in repr(f)  # ("H = 1.000 ± nan" in the log)
     inside = fit_self_affine(PowerSpectrum.from_arrays(q, 1e-30 * (q / 1e4) ** -3.0))
     assert inside.hurst_in_range and inside.warning is None and inside.hurst == pytest.approx(0.5, abs=1e-6)
 

@@ -105,10 +105,15 @@ class SelfAffineFit:
         return "; ".join(self.warnings) if self.warnings else None
 
     def __repr__(self) -> str:
-        qr = (f"{self.q_rolloff:.4g} ± {self.q_rolloff_err:.2g} 1/m" if self.rolloff_resolved
-              else "not resolved")
-        return (f"SelfAffineFit(H = {self.hurst:.3f} ± {self.hurst_err:.3f}, q_r = {qr}, "
-                f"C0 = {self.C0:.4g} ± {self.C0_err:.2g} m⁴, h_rms = {self.h_rms:.4g} ± {self.h_rms_err:.2g} m)")
+        qr = f"{self.q_rolloff:.4g}{_error(self.q_rolloff_err, '.2g')} 1/m" if self.rolloff_resolved else "not resolved"
+        bound = "" if np.isfinite(self.hurst_err) else " (H held at a bound)"
+        return (f"SelfAffineFit(H = {self.hurst:.3f}{_error(self.hurst_err, '.3f')}{bound}, q_r = {qr}, "
+                f"C0 = {self.C0:.4g}{_error(self.C0_err, '.2g')} m⁴, h_rms = {self.h_rms:.4g}{_error(self.h_rms_err, '.2g')} m)")
+
+
+def _error(err: float, spec: str) -> str:
+    """" ± err", or "" where the fit has no standard error (NaN: H held at its bound, and what depends on it)."""
+    return f" ± {err:{spec}}" if np.isfinite(err) else ""
 
 
 def _model(p: FloatArray, lq: FloatArray) -> FloatArray:
