@@ -184,6 +184,14 @@ def test_both_model_band_report_highlights_a_row_either_theory_rejects(oring_bot
     table = re.search(r"<table>(<tr><th[^>]*>ε \(%\).*?)</table>", text.replace("\n", ""), re.S).group(1)
     header = [html.unescape(h) for h in re.findall(r"<th[^>]*>([^<]*)</th>", table)]
     assert "valid CJ" in header and "valid EM" in header and "Q_u,CJ(p_mean) (m³/s)" in header
+    # each theory's leak rate in ml/min too (the effective medium's had none)
+    assert {"Q_CJ (m³/s)", "Q_CJ (ml/min)", "Q_EM (m³/s)", "Q_EM (ml/min)"} <= set(header)
+    cells = [[html.unescape(c) for c in re.findall(r"<td[^>]*>([^<]*)</td>", row)]
+             for row in re.findall(r"<tr(?: class=\"[^\"]*\")?>(<td.*?)</tr>", table)]
+    column = header.index("Q_EM (ml/min)")
+    for row, record in zip(cells, rows, strict=True):
+        if record["percolates_effective_medium"]:
+            assert float(row[column]) == pytest.approx(record["leak_rate_effective_medium"] * 6e7, rel=1e-3, abs=0)
     classes = re.findall(r'<tr(?: class="([^"]*)")?><td', table)
     assert classes == ["invalid" if not (r["valid"] and r["valid_effective_medium"]) else "" for r in rows]
     assert "valid EM = NO (effective medium)" in html.unescape(text)

@@ -296,8 +296,9 @@ def _band_columns(r: CaseResult) -> list[Column]:
     if cj.leak_rate is not None and r.shows_critical_junction:
         cols += [(q("Q_CJ" if both else "Q", "m³/s"), 12, [fmt(cj.leak_rate[i], ".3e") for i in n]),
                  (q("Q_CJ" if both else "Q", "ml/min"), 14, [fmt(to_ml_per_min(cj.leak_rate[i]), ".4g") for i in n])]
-    if em is not None:
-        cols += [(q("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n])]
+    if em is not None:  # (in ml/min too, as the critical junction's and as the uniform seal's tables give both)
+        cols += [(q("Q_EM", "m³/s"), 12, [fmt(em.leak_rate[i], ".3e") for i in n]),
+                 (q("Q_EM", "ml/min"), 14, [fmt(to_ml_per_min(em.leak_rate[i]), ".4g") for i in n])]
     main = cj if r.shows_critical_junction else em
     assert main is not None
     cols += [(q("Q_u,CJ(p_mean)" if both else "Q_u(p_mean)", "m³/s"), 17, [fmt(main.uniform_mean_pressure[i], ".3e") for i in n]),
