@@ -5,7 +5,7 @@ each time, written by ``predict --plots`` when a file has several times or tempe
 import numpy as np
 import pytest
 
-from sealeak.cases import parse_case_file, run_case
+from sealeak.cases import example_text, parse_case_file, run_case
 from sealeak.render import prediction_figures
 from sealeak.render.figures import prediction_figure_names
 from sealeak.render.life import life_figures
@@ -172,3 +172,17 @@ def test_each_study_variant_gets_panels_of_its_own():
         assert np.allclose(line.get_ydata() * _axis_scale(ax), [r.records()[n]["leak_rate"] for r in mine],
                            rtol=1e-9, atol=0.0)
     _assert_reads_right(figures)
+
+
+def test_the_band_figure_of_a_life_file_names_its_time_and_tells_the_helium_equivalent_apart():
+    """A life file's leak_rate.png draws the seal as assembled: its title names that time (it named the temperature
+    alone), and where each curve is a lone point the helium equivalent's marker differs from the gas's (both were dots
+    of one colour, told apart by line styles a lone point does not have)."""
+    results = [run_case(c) for c in parse_case_file(example_text("nbr-o-ring-life")).cases]
+    figures = _build(lambda: prediction_figures(results))
+    (ax,) = [ax for ax in figures["leak_rate.png"].axes if _data_lines(ax)]
+    assert ax._sealeak_heading.endswith("against compression at t = 1 h")
+    markers = {ln.get_label(): ln.get_marker() for ln in _data_lines(ax) if not ln.get_label().startswith("_")}
+    gas = [m for label, m in markers.items() if label.endswith("critical junction")]
+    helium = [m for label, m in markers.items() if label.endswith("helium equivalent")]
+    assert gas == ["o"] and helium == ["s"], markers

@@ -32,6 +32,7 @@ from matplotlib.lines import Line2D
 
 from ..cases import CaseResult
 from ..cases.band import BandResult
+from ..cases.life import time_text
 from ..cases.model import BandSeal
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
 from . import plotstyle
@@ -493,7 +494,11 @@ def figure_band_leak_rate(results: Sequence[CaseResult], limit: tuple[float, str
     word = "compression" if first.load_name == "compression" else "profile scale"
     gas = _is_gas(results)
     names = sorted({r.case.gas.gas.name for r in results if r.case.gas is not None})
-    fig, ax = plotstyle.new_figure(f"Leak rate of {' / '.join(names)} against {word}" if gas else f"Leak rate against {word}")
+    # the seal over its life draws here the case as assembled: at which time (its other times have figures of their own)
+    life = results[0].case.life
+    when = f" at t = {time_text(life.time)}" if life is not None and len(results) == 1 else ""
+    fig, ax = plotstyle.new_figure(f"Leak rate of {' / '.join(names)} against {word}{when}" if gas
+                                   else f"Leak rate against {word}{when}")
     x_all = np.concatenate([_load_axis(_band(r).band)[0] for r in results])
     ax.set_xlabel(_load_axis(first)[1])
     lo_x, hi_x = float(x_all.min()), float(x_all.max())

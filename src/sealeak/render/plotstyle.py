@@ -557,6 +557,10 @@ def _invalid_label(reasons: Sequence[str]) -> str:
     return "; ".join(kinds) or "outside the theory's validity"
 
 
+#: The marker of a few points' series by its line style (:func:`draw_series`).
+_MARKERS = {"-": "o", "--": "s", ":": "D", "-.": "^"}
+
+
 def draw_series(ax: Axes, series: Sequence[Series], logy: bool = False, logx: bool = False,
                 bottom_zero: bool = False) -> bool:
     """Draw the valid points of each series as a curve and the invalid ones hollow; True if anything was drawn.
@@ -579,7 +583,9 @@ def draw_series(ax: Axes, series: Sequence[Series], logy: bool = False, logx: bo
             finite &= x > 0
         # on a log axis a valid Q = 0 has no place; an invalid one (e.g. u_c = 0) goes below the axis
         ok, bad = finite & s.valid & ((y > 0) if logy else True), finite & ~s.valid
-        marker = "o" if x.size <= 12 else ""
+        # few points get markers, of a shape per line style: a dashed series (a helium equivalent) stays told apart
+        # where its points stand alone (one load per curve, as a life case's)
+        marker = _MARKERS.get(s.style, "o") if x.size <= 12 else ""
         if ok.any():
             ax.plot(x, np.where(ok, y, np.nan), s.style, marker=marker, ms=3, color=s.color, label=s.label)
             drawn = True
