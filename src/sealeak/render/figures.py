@@ -351,6 +351,9 @@ def _finish_leak_rate(ax: Any, results: Sequence[CaseResult], series: list[Serie
     notes = list(notes)
     if where := draw_limit(ax, limit, qscale):
         notes.append(where)
+    elif limit is not None and not logy:  # (Q falls about exponentially with the load: a chord overstates it)
+        notes.append("linear axis: straight lines join the rows, so where they cross max_leak_rate is not where Q does; "
+                     "read that on leak_rate_log.png")
     if not log and logy:
         notes.append("log scale: the curves differ by decades")
     notes += _missing_note(results, leak_rates=True)
