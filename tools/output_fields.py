@@ -65,7 +65,10 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
     ("sealeak predict --json / --csv (uncertain inputs)",
      "A case file with uncertain inputs (docs/case-files.md, Uncertain inputs) adds these fields to each row; the gas "
      "and helium percentiles where the row has those leak rates, `exceed_probability` with `conditions.max_leak_rate`. "
-     "The JSON's `uncertainty` object lists per case its `passing_loads` (`<load>`: `Pa` for a squeeze pressure, `1` "
+     "A case file with `conditions.max_leak_rate` but no uncertain input is the nominal prediction alone: its rows add "
+     "only `exceed_probability` (0: passes, 1: fails), and its `uncertainty` object has `samples` 0 and no `sampler`, "
+     "`seed` or `percentiles` (nothing was sampled). The JSON's `uncertainty` object lists per case its "
+     "`passing_loads` (`<load>`: `Pa` for a squeeze pressure, `1` "
      "for a compression or profile scale) and, for the seal over its life with `conditions.max_leak_rate`, per load "
      "its `life` answers (`load`, its `values` in `unit`, and the fields below from `temperatures` on); its `answers` "
      "are the same in words, the sentences `predict` prints under its uncertainty table.",
@@ -91,7 +94,9 @@ SECTIONS: tuple[tuple[str, str, tuple[Any, ...]], ...] = (
     ("sealeak fit --json",
      "Per model the fitted α; a gas fit's `rows` hold each row's leak rates (`<model>`: each model's name).",
      (ScaleFit, LeakData, GasFitRow)),
-    ("sealeak fit --linearity --json", "The line Q = slope ΔP + intercept and the models' slopes at P0.",
+    ("sealeak fit --linearity --json", "The line Q = slope ΔP + intercept and the models' slopes at P0. The per-model "
+     "objects (`model_slopes`, `model_intercepts`, `model_nonlinearity`, `capillary_entry_pressure`) are keyed "
+     "`critical_junction` and `effective_medium`; `model_labels` gives each its display name (`critical junction (α = 0.2)`).",
      (LinearFit, LinearityCheck)),
     ("sealeak rig --json (a water column)",
      "The load, each model's `models` object and, with `--readings`, the readings; a band seal adds its load and "

@@ -197,7 +197,7 @@ def test_linearity_of_a_profile_seal(tmp_path, capsys):
     assert main(["fit", str(case_file), "--data", str(data), "--linearity", "--json", str(out)]) == 0
     assert "load       profile scale 1.5 (from the data file)" in capsys.readouterr().out
     doc = json.loads(out.read_text())["linearity"]
-    assert doc["model_slopes"]["critical junction (α = 0.5)"] == pytest.approx(k, rel=1e-9, abs=0)
+    assert doc["model_slopes"]["critical_junction"] == pytest.approx(k, rel=1e-9, abs=0)
     assert doc["alpha_from_slope"] == pytest.approx(2 * 0.5, rel=1e-9) and doc["profile_scale"] == 1.5
     out.unlink()
     _refused(capsys, ["fit", str(case_file), "--data", str(data), "--linearity", "--squeeze-pressure", "1 MPa",

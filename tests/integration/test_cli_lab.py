@@ -96,6 +96,9 @@ def test_linearity_cli(tmp_path, capsys):
     assert doc["slope"] == pytest.approx(7.2e-6 / 60 / 1e3, rel=1e-3, abs=0)
     assert abs(doc["intercept"]) < 3 * doc["intercept_std"]
     assert doc["alpha_from_slope"] > 0 and (tmp_path / "linearity.png").exists()
+    # the implied α is the critical junction's, on a line of its own (it stood under the effective medium's model line)
+    (line,) = [ln for ln in text.splitlines() if "implied by the measured slope" in ln]
+    assert line.startswith(f"alpha      {doc['alpha_from_slope']:.3g}: the critical junction's α"), line
     # in the linearity test ΔP is the abscissa: an empty cell is an error, not "the case's ΔP"
     gap = tmp_path / "gap.csv"
     gap.write_text("pressure_difference (kPa), leak_rate (ml/min)\n2, 14\n, 29\n6, 43\n")

@@ -129,9 +129,11 @@ def test_linearity_outputs_carry_the_models_lines(tmp_path):
     data = read_leak_data(path, required=("pressure_difference", "leak_rate"))
     check = linearity(case, data.pressure_difference, data.leak_rate, squeeze_pressure=P)
     doc = json.loads(linearity_json(case, data, check))["linearity"]
-    assert doc["model_intercepts"][CJ] == pytest.approx(check.model_intercepts[CJ], rel=1e-12, abs=0)
-    assert doc["model_nonlinearity"][CJ] > 0  # coupled: Q/ΔP rises over the data
-    assert doc["capillary_entry_pressure"][CJ] == pytest.approx(check.capillary_entry_pressure[CJ], rel=1e-12)
+    # keyed by the model's record key, its display name (which holds α) beside it
+    assert doc["model_labels"] == {"critical_junction": CJ, "effective_medium": "effective medium (Bruggeman)"}
+    assert doc["model_intercepts"]["critical_junction"] == pytest.approx(check.model_intercepts[CJ], rel=1e-12, abs=0)
+    assert doc["model_nonlinearity"]["critical_junction"] > 0  # coupled: Q/ΔP rises over the data
+    assert doc["capillary_entry_pressure"]["critical_junction"] == pytest.approx(check.capillary_entry_pressure[CJ], rel=1e-12)
     text = linearity_text(case, data, check)
     assert "Q/ΔP rises by" in text and "capillary entry pressure" in text
     plain = json.loads(linearity_json(uniform_case(), data, linearity(uniform_case(), data.pressure_difference,

@@ -64,6 +64,9 @@ class LinearityCheck:
         there (Pa) and ``squeeze_pressure_source`` says where the load came from.
     curve_pressure_difference, model_curves
         ΔP (Pa) from 0 past the largest measured one, and each model's Q there (m³/s), for the figure.
+    model_keys
+        Each display name's model as a record key (``critical_junction``, ``effective_medium``): what the JSON keys
+        the models by (a display name holds α, "critical junction (α = 0.2)").
     """
 
     line: LinearFit
@@ -84,6 +87,7 @@ class LinearityCheck:
                                   default=None, key="<load>")
     curve_pressure_difference: FloatArray = field(default_factory=lambda: np.zeros(0))
     model_curves: dict[str, FloatArray] = field(default_factory=dict)
+    model_keys: dict[str, str] = field(default_factory=dict)
 
     @property
     def intercept_z(self) -> float:
@@ -178,8 +182,10 @@ def _compare(case: Case, line: LinearFit, dp: FloatArray, q: FloatArray, load: f
     curves: dict[str, FloatArray] = {}
     messages: list[NoteLike] = []
     alpha_from_slope = None
+    keys: dict[str, str] = {}
     for model, (k, notes) in conductances.items():
         name = _model_name(case, model)
+        keys[name] = model.replace("-", "_")
         if model in entry:
             out["capillary_entry_pressure"][name] = entry[model]
         if not k[0] > 0:
@@ -201,7 +207,7 @@ def _compare(case: Case, line: LinearFit, dp: FloatArray, q: FloatArray, load: f
             messages.append(Note("linearity_held_by_capillarity", {
                 "model": name, "entry_pressure": p_e, "points": int(held.sum()), "leaking": int((q[held] > 0).sum())}))
     return {**out, "alpha_from_slope": alpha_from_slope, "messages": tuple(messages), "curve_pressure_difference": grid,
-            "model_curves": curves}
+            "model_curves": curves, "model_keys": keys}
 
 
 def _band_linearity(case: Case, line: LinearFit, dp: FloatArray, q: FloatArray, load: float | None,

@@ -239,7 +239,8 @@ def linearity_text(case: Case, data: LeakData, check: LinearityCheck) -> str:
             lines.append(f"           {name}: capillary entry pressure {fmt(p_e / 1e3 if np.isfinite(p_e) else None, '.4g')} "
                          "kPa (Q = 0 below it)")
         if check.alpha_from_slope is not None:
-            lines.append(f"           α implied by the measured slope: {check.alpha_from_slope:.3g}")
+            lines.append(f"alpha      {check.alpha_from_slope:.3g}: the critical junction's α implied by the measured slope "
+                         "(the slope over the critical junction's at α = 1)")
     lines += ["note: " + m for m in worded(check.messages)]
     return "\n".join(lines) + "\n"
 
@@ -252,6 +253,11 @@ def _model_nonlinearity(check: LinearityCheck, name: str) -> str:
     return f"; its Q/ΔP {'rises' if change > 0 else 'falls'} by {abs(change) * 100:.3g} % over the measured ΔP"
 
 
+def _by_model(check: LinearityCheck, values: dict[str, float]) -> dict[str, Any]:
+    """A per-model field keyed by the model's record key (``critical_junction``), not its display name."""
+    return {check.model_keys.get(k, k): json_value(v) for k, v in values.items()}
+
+
 def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
     """The ``sealeak fit --linearity --json`` document."""
     line, p0 = check.line, check.squeeze_pressure
@@ -260,15 +266,16 @@ def linearity_json(case: Case, data: LeakData, check: LinearityCheck) -> str:
                          "intercept": json_value(line.intercept), "intercept_std": json_value(line.intercept_std),
                          "r_squared": json_value(line.r_squared), "points": line.n,
                          "squeeze_pressure": json_value(p0) if p0 is not None else None,
-                         "model_slopes": {k: json_value(v) for k, v in check.model_slopes.items()},
-                         "model_intercepts": {k: json_value(v) for k, v in check.model_intercepts.items()},
-                         "model_nonlinearity": {k: json_value(v) for k, v in check.model_nonlinearity.items()},
+                         "model_labels": {v: k for k, v in check.model_keys.items()},
+                         "model_slopes": _by_model(check, check.model_slopes),
+                         "model_intercepts": _by_model(check, check.model_intercepts),
+                         "model_nonlinearity": _by_model(check, check.model_nonlinearity),
                          "alpha_from_slope": (json_value(check.alpha_from_slope)
                                               if check.alpha_from_slope is not None else None)},
            "units": dict(LINEARITY_UNITS),
            "messages": worded(check.messages)}
     if case.capillarity is not None:
-        doc["linearity"]["capillary_entry_pressure"] = {k: json_value(v) for k, v in check.capillary_entry_pressure.items()}
+        doc["linearity"]["capillary_entry_pressure"] = _by_model(check, check.capillary_entry_pressure)
         doc["units"]["capillary_entry_pressure"] = "Pa"
     if case.band is not None:  # the band's load; squeeze_pressure is its mean contact pressure
         doc["linearity"][check.load_name] = json_value(check.load) if check.load is not None else None
