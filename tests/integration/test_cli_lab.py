@@ -420,3 +420,16 @@ def test_a_data_files_load_the_theory_cannot_use_is_named_by_its_line(tmp_path, 
     err = capsys.readouterr().err
     assert f"{data}: line 2, column 'compression (%)': compression 0.0001 %: gives a mean contact pressure" in err
     assert "conditions.compression" not in err
+
+
+def test_rig_values_are_named_as_written(tmp_path, capsys):
+    """A final height above the initial one was named in metres without a unit ("rig.final_height = 2.0"), and a
+    sealed rig's note gave P0 as "6.06473e+10 Pa"."""
+    text = example_path("reference-experiment").read_text()
+    case = tmp_path / "r.toml"
+    case.write_text(text.replace('final_height = "0.5 m"', 'final_height = "2 m"'))
+    assert main(["rig", str(case)]) == 2
+    assert capsys.readouterr().err.strip() == "sealeak: error: rig.final_height = '2 m': must be below rig.initial_height = '1 m'"
+    case.write_text(text.replace('load = "3.4 kg"', 'load = "3400 t"'))
+    assert main(["rig", str(case)]) == 0
+    assert "no leak at P0 = 60.65 GPa, the level stays at 1 m" in capsys.readouterr().out

@@ -718,6 +718,9 @@ def _rig(raw: Any, fluid: Fluid, band: BandSeal | None = None, doc: dict[str, An
     duration = sec.quantity("duration", "time") if sec.has("duration") else None
     diameter = sec.quantity("cylinder_diameter", "length")
     height = sec.quantity("initial_height", "length")
+    if final is not None and final > 0 and not final < height:  # (named as written: RigSetup names it in metres)
+        raise InputError(sec.field("final_height"), sec.raw("final_height"),
+                         f"must be below rig.initial_height = {show_value(sec.raw('initial_height'))}")
     with case_keys():
         return RigSetup(cylinder_diameter=diameter, initial_height=height, load=load, density=density,
                         final_height=final, gravity=gravity, duration=duration, load_note=note)

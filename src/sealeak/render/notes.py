@@ -216,7 +216,8 @@ def _decay_pressure_difference_large(v: Mapping[str, Any]) -> str:
 
 
 def _rig_no_leak(v: Mapping[str, Any]) -> str:
-    return f"{v['model']}: no leak at P0 = {v['squeeze_pressure']:.6g} Pa, the level stays at {v['initial_height']:g} m"
+    return (f"{v['model']}: no leak at P0 = {format_quantity(v['squeeze_pressure'], 'pressure', 4)}, the level stays at "
+            f"{format_quantity(v['initial_height'], 'length', 4)}")
 
 
 def _rig_held_by_capillarity(v: Mapping[str, Any]) -> str:
