@@ -433,3 +433,22 @@ def test_rig_values_are_named_as_written(tmp_path, capsys):
     case.write_text(text.replace('load = "3.4 kg"', 'load = "3400 t"'))
     assert main(["rig", str(case)]) == 0
     assert "no leak at P0 = 60.65 GPa, the level stays at 1 m" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("mass, opens", [("0.2 kg", True), ("0.8 kg", False)])
+def test_a_coupled_rig_notes_where_the_water_column_opens_the_seal(tmp_path, capsys, mass, opens):
+    """With the fluid pressure coupled the models take ΔP off the contact: a note says where ΔP = ρgH0 reaches P0 (the
+    seal opens; it said 'the theory assumes P0 >> ΔP', the uncoupled wording, and also where P0/2 < ΔP < P0, which the
+    coupling handles). Readings implying an α far from order one are flagged as fit flags a fitted one."""
+    text = example_path("reference-experiment").read_text().replace('fluid_pressure = "ignored"', 'fluid_pressure = "coupled"')
+    case = tmp_path / "r.toml"
+    case.write_text(text.replace('load = "3.4 kg"', f'load = "{mass}"'))  # P0 = 3.6 / 14 kPa against ΔP = 9.8 kPa
+    readings = tmp_path / "rd.csv"
+    readings.write_text("time (min), height (cm)\n0, 100\n10, 90\n20, 81\n30, 73\n")
+    assert main(["rig", str(case), "--readings", str(readings)]) == 0
+    out = capsys.readouterr().out
+    assert ("reaches the lift-off pressure difference" in out and "opens the seal" in out) == opens
+    assert "the theory assumes P0 >> ΔP" not in out
+    (line,) = [ln for ln in out.splitlines() if ln.startswith("α implied by the readings")]
+    alpha = float(line.split(":")[1].split()[0])
+    assert ("outside 0.01 to 100" in line) == (not 0.01 <= alpha <= 100), line

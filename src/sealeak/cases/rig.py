@@ -163,14 +163,12 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
             messages.append(Note("rig_held_by_capillarity", {
                 "model": name, "entry_pressure": p_e, "stop_height": col.stop_height,
                 "initial_height": float(rig.initial_height), "time_to_stop": col.time_to_stop}))
-    if band is not None:
-        p_max = float(band.max_contact_pressure[0])
-        if pressure_difference_not_small(p_max, dp0):
-            messages.append(Note("rig_pressure_difference_large", {"pressure_difference": dp0, "pressure": p_max,
-                                                                   "band": True}))
-    elif pressure_difference_not_small(p0, dp0):
-        messages.append(Note("rig_pressure_difference_large", {"pressure_difference": dp0, "pressure": float(p0),
-                                                               "band": False}))
+    # large: ΔP reaches the pressure and opens the seal (the fluid pressure coupled: the models take it off the contact
+    # below that, docs/theory.md §13.4), or ΔP > pressure/2 (the fluid pressure ignored; §3.6)
+    held = float(band.max_contact_pressure[0]) if band is not None else float(p0)
+    if dp0 >= held if case.coupled else pressure_difference_not_small(held, dp0):
+        messages.append(Note("rig_pressure_difference_large", {"pressure_difference": dp0, "pressure": held,
+                                                               "band": band is not None, "coupled": case.coupled}))
     return RigPrediction(squeeze_pressure=p0, conductance=k_of, columns=columns, time_constant=tau, drain_time=t_final,
                          messages=tuple(messages), band=band, entry_pressure=entry)
 

@@ -24,6 +24,7 @@ from ..lab.fitting import LinearFit, ScaleFit
 from ..lab.pressure_decay import DecayReadings, PressureDecaySetup, ScaleFromDecay
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, RigSetup
 from ..physics.gas import Gas
+from ..physics.validity import ALPHA_RANGE as PLAUSIBLE_ALPHA
 from .notes import load_text, worded
 from .records import json_document, json_value
 from .text import fmt
@@ -372,8 +373,8 @@ def rig_text(case: Case, pred: RigPrediction, readings: ReadingsAnalysis | None 
                      f"m³/(s·Pa), rms residual {readings.rms_log_residual:.2g} decades")
         for name, k in pred.conductance.items():
             if k > 0 and name.startswith("critical"):
-                lines.append(f"α implied by the readings: {case.alpha * readings.conductance / k:.3g} "
-                             f"(case α = {case.alpha:g})")
+                alpha = case.alpha * readings.conductance / k
+                lines.append(f"α implied by the readings: {alpha:.3g} (case α = {case.alpha:g}){_far(alpha)}")
     lines += ["note: " + m for m in worded(pred.messages)]
     return "\n".join(lines) + "\n"
 
@@ -482,9 +483,19 @@ def decay_text(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
         for name, sc in readings.scale.items():
             what = "α implied by the readings" if name.startswith("critical") else "factor on its K implied by the readings"
             lines.append(f"{name}: {what}: {sc.alpha:.4g} ± {sc.alpha_std:.2g}"
-                         + (f" (case α = {case.alpha:g})" if name.startswith("critical") else ""))
+                         + (f" (case α = {case.alpha:g})" if name.startswith("critical") else "") + _far(sc.alpha))
     lines += ["note: " + m for m in worded(pred.messages)]
     return "\n".join(lines) + "\n"
+
+
+def _far(alpha: float) -> str:
+    """What an α implied by readings far from order one says (outside the range in which predict warns about a given α
+    and fit flags a fitted one, fit_alpha_far), or ""."""
+    low, high = PLAUSIBLE_ALPHA
+    if not np.isfinite(alpha) or low <= alpha <= high:
+        return ""
+    return (f"; outside {low:g} to {high:g} (α is a shape factor of order one): the model does not describe these "
+            "readings as given; check their units, the rig's load and the case")
 
 
 def decay_json(case: Case, pred: DecayPrediction, readings: DecayReadingsResult | None = None) -> str:

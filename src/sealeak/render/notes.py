@@ -232,6 +232,12 @@ def _rig_held_by_capillarity(v: Mapping[str, Any]) -> str:
 
 
 def _rig_pressure_difference_large(v: Mapping[str, Any]) -> str:
+    if v.get("coupled"):
+        against = (f"the peak contact pressure {format_quantity(v['pressure'], 'pressure', 4)}" if v["band"]
+                   else f"P0 = {format_quantity(v['pressure'], 'pressure', 4)}")
+        return (f"ΔP = ρgH0 = {format_quantity(v['pressure_difference'], 'pressure', 4)} reaches the lift-off pressure "
+                f"difference, {against}: the water column opens the seal; the models there are the limit at lift-off "
+                "(the open seal leaks more)")
     if v["band"]:
         return (f"ΔP = ρgH0 = {v['pressure_difference']:.4g} Pa is not small against the peak contact pressure "
                 f"{v['pressure']:.4g} Pa: the theory assumes p >> ΔP")
