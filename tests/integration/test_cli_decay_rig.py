@@ -218,3 +218,15 @@ def test_band_rig_initial_leak_is_predicts_gas_leak():
     # the interpolated Q(P) below P1 lies between 0 and Q(P1) and falls with P
     q = model.decay.throughput
     assert np.all(np.diff(q) < 0) and q[-1] > 0
+
+
+@pytest.mark.parametrize("load, opens", [("40 N", True), ("165 N", False)])
+def test_a_coupled_decay_test_notes_where_the_gas_opens_the_seal(load, opens, capsys):
+    """The fluid pressure coupled (the default), a test whose P1 − P2 reaches P0 lifts the seal: said, where nothing
+    was (the note was kept for the fluid pressure ignored)."""
+    text = example_path("pressure-decay").read_text().replace('load = "165 N"', f'load = "{load}"')
+    (case,) = parse_cases(text)
+    assert case.coupled
+    words = " ".join(str(m) for m in decay_prediction(case).messages)
+    assert ("decay_pressure_difference_large" in words) == opens, words
+    assert main(["rig", "--example", "pressure-decay"]) == 0 and "lift-off" not in capsys.readouterr().out

@@ -265,9 +265,10 @@ def decay_prediction(case: Case) -> DecayPrediction:
                                                     "duration": float(decay.time[-1])}))
     dp = p1 - p2
     p_ref = float(band.max_contact_pressure[0]) if band is not None else p0
-    if dp > 0.1 * p_ref and not case.coupled:  # coupled: the gas pressure's action on the contact is computed
+    # coupled: the gas pressure's action on the contact is computed, up to lift-off (ΔP reaching p_ref opens the seal)
+    if dp >= p_ref if case.coupled else dp > 0.1 * p_ref:
         messages.append(Note("decay_pressure_difference_large", {"pressure_difference": float(dp), "pressure": float(p_ref),
-                                                                 "band": band is not None}))
+                                                                 "band": band is not None, "coupled": case.coupled}))
     return DecayPrediction(squeeze_pressure=p0, models=out, messages=tuple(messages), band=band)
 
 

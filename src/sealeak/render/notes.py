@@ -211,6 +211,10 @@ def _decay_not_lost(v: Mapping[str, Any]) -> str:
 
 def _decay_pressure_difference_large(v: Mapping[str, Any]) -> str:
     what = "the peak contact pressure" if v["band"] else "P0"
+    if v.get("coupled"):
+        return (f"P1 − P2 = {format_quantity(v['pressure_difference'], 'pressure', 4)} reaches the lift-off pressure "
+                f"difference, {what} = {format_quantity(v['pressure'], 'pressure', 4)}: the gas opens the seal; the "
+                "models there are the limit at lift-off (the open seal leaks more)")
     return (f"P1 − P2 = {v['pressure_difference']:.4g} Pa is not small against {what} {v['pressure']:.4g} Pa: the "
             "theory assumes that the gas pressure does not change the contact (p >> ΔP)")
 
