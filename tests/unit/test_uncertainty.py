@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import sealeak.cases.uncertainty as unc
-from sealeak.cases import parse_case_file, run_case
+from sealeak.cases import example_text, parse_case_file, run_case
 from sealeak.cases.uncertainty import leak_rates, parse_uncertain_case, propagate, unit_points
 from sealeak.errors import InputError
 from sealeak.render import prediction_csv, prediction_json
@@ -221,6 +221,17 @@ def test_gas_limit_needs_a_gas_or_the_helium_equivalent():
     text = LEAKS.replace('pressure_difference = "10 kPa"', 'pressure_difference = "10 kPa"\nmax_leak_rate = "1e-6 mbar*l/s"')
     with pytest.raises(InputError, match="helium_equivalent"):
         parse_uncertain_case(spread(text))
+
+
+@pytest.mark.parametrize("limit", ["1e-12 m^3/s", "1 ml/min"])
+def test_a_gas_limit_in_a_plain_volume_flow_is_refused(limit):
+    """A gas's plain volume flow was compared with its Q column, the incompressible K ΔP shown for comparison: the
+    helium test at 10 % compression passed 1e-12 m³/s while its pV throughput is ~2.8e-11 m³/s at 1 bar."""
+    text = example_text("helium-test").replace('[theory]', f'max_leak_rate = "{limit}"\n[theory]', 1)
+    assert "max_leak_rate" in text.split("[theory]")[0]
+    with pytest.raises(InputError, match="plain volume flow, which for a gas depends on the pressure") as err:
+        parse_uncertain_case(text.replace('h_rms = "1.5 um"', 'h_rms = "1.5 um ± 10 %"'))
+    assert err.value.field == "conditions.max_leak_rate"
 
 
 def test_a_limit_that_is_no_leak_rate_is_named_as_written():

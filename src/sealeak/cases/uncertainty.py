@@ -444,6 +444,10 @@ def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArra
     limits: list[float] = []
     for row in study.rows:
         case = cases[row.case]
+        if kind == "volume_flow" and case.gas is not None:  # (its Q column is the incompressible K ΔP, for comparison)
+            raise InputError(field, value, "is a plain volume flow, which for a gas depends on the pressure it is counted "
+                                           "at: give the gas's limit as a pV throughput ('1e-6 mbar*l/s'), a standard "
+                                           "flow ('2 sccm'), a mass flow ('5 g/a') or a molar flow")
         if kind == "volume_flow":
             keys.append("leak_rate")
             limits.append(number * factor)
