@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from sealeak.cases import parse_case_file
 from sealeak.cases.uncertainty import parse_uncertain_case
 from sealeak.errors import InputError
 from sealeak.io.leak_units import parse_permeability
@@ -35,8 +36,8 @@ def test_a_distribution_that_is_no_name_is_one_line_naming_it(entry):
 @pytest.mark.parametrize("sd", ["1e300 %", "1e308 um"])
 def test_a_huge_lognormal_spread_gives_a_finite_log_sd_not_an_overflow(sd):
     """sd/median of 1e300 overflows its square; σ² = ln x with x(x − 1) = r² is still about ln r."""
-    study = parse_uncertain_case(BASE + f'[uncertainty]\n"surface.h_rms" = {{ distribution = "lognormal", sd = "{sd}" }}\n')
-    inp = study.inputs[0]
+    # (the spread itself, as read: a case file with it is refused, its ends being no h_rms)
+    inp = parse_case_file(BASE + f'[uncertainty]\n"surface.h_rms" = {{ distribution = "lognormal", sd = "{sd}" }}\n').spreads.inputs[0]
     ratio = inp.parameters["sd"] / inp.parameters["median"]
     assert inp.parameters["sigma"] == pytest.approx(math.sqrt(math.log(ratio)), rel=1e-6)
 

@@ -191,12 +191,19 @@ def test_bad_spreads_are_one_line_naming_the_key(edit, field):
     assert exc.value.field.startswith(field) and "\n" not in str(exc.value)
 
 
-def test_sample_out_of_range_names_the_key_and_sample():
-    """hurst = 0.95 ± 0.03 reaches H >= 1 in some samples: the builder's refusal names the sample."""
+def test_a_spread_that_reaches_out_of_range_is_refused_whatever_the_samples():
+    """hurst = 0.95 ± 0.03 reaches H = 1.04 at its end (±3 sd): refused before any sample, naming that end; it used to
+    be refused at 256 samples and accepted at 4 (no sample drew H >= 1). So is α beyond its range, whose samples take
+    a path that builds no case (the nominal Q scaled), where 0.1 .. 1e7 ran and gave leak rates 10⁷ times the nominal."""
     text = spread(LEAKS, old="hurst = 0.8", new='hurst = "0.95 ± 0.03"')
     with pytest.raises(InputError) as exc:
-        propagate(parse_uncertain_case(text), 64, seed=0)
-    assert "surface.hurst" in exc.value.field and "uncertainty sample" in exc.value.field
+        parse_uncertain_case(text)
+    assert exc.value.field == "surface.hurst (the end of its spread surface.hurst = 1.04)"
+    alpha = LEAKS + '[uncertainty]\n"theory.alpha" = { distribution = "uniform", low = 0.1, high = 1e7 }\n'
+    with pytest.raises(InputError, match=r"theory\.alpha \(the end of its spread theory\.alpha = 1e\+07\) = 1e\+07: must lie in"):
+        parse_uncertain_case(alpha)
+    inside = parse_uncertain_case(spread(LEAKS, old="hurst = 0.8", new='hurst = "0.9 ± 0.03"'))  # 0.81 .. 0.99
+    assert [propagate(inside, n, seed=0).samples for n in (4, 256)] == [4, 256]
 
 
 def test_a_sample_far_out_of_range_is_refused_without_a_warning():
@@ -208,7 +215,7 @@ def test_a_sample_far_out_of_range_is_refused_without_a_warning():
         warnings.simplefilter("error")
         with pytest.raises(InputError) as exc:
             propagate(parse_uncertain_case(text), 8, seed=0)
-    assert "rubber.poisson_ratio" in exc.value.field and "uncertainty sample" in exc.value.field
+    assert "rubber.poisson_ratio" in exc.value.field and "the end of its spread" in exc.value.field
 
 
 @pytest.mark.parametrize("samples, sampler", [(1, "sobol"), (100, "sobol"), (8, "halton")])
@@ -265,7 +272,7 @@ def test_alpha_and_viscosity_samples_share_the_contact(text, monkeypatch):
 
 def test_every_value_of_a_choice_is_checked_before_any_sample_runs():
     text = BASE + '[uncertainty]\n"theory.alpha" = { distribution = "choice", values = [0.2, 0.3, 0.4, "zz"] }\n'
-    with pytest.raises(InputError, match=r"theory\.alpha \(uncertainty sample theory\.alpha = .?zz"):
+    with pytest.raises(InputError, match=r"theory\.alpha \(a value of its choice theory\.alpha = .?zz"):
         parse_uncertain_case(text)
 
 

@@ -103,9 +103,13 @@ def uncertain_study(case_file: CaseFile) -> UncertainStudy:
     study = UncertainStudy(case_file, case_file.spreads.inputs, _rows(case_file.cases))
     if study.max_leak_rate is not None:
         _limits(study, case_file.cases)  # checked now: one line before any sample runs
-    for inp in study.inputs:  # each value of a choice builds (a sample may not draw it)
-        for value in inp.choices:
-            _sample_cases(replace(study, inputs=(inp,)), [value])
+    for inp in study.inputs:  # each value of a choice builds (a sample may not draw it), and so do both ends of every
+        # other spread (the normal and lognormal ones truncated at ±TRUNCATION sd): whether a case file is accepted does
+        # not depend on how many samples are drawn, nor on a sample taking a path that builds no case (α, η: scaled)
+        choice = inp.distribution == "choice"
+        ends = inp.choices if choice else () if inp.is_zero else inp.written(np.array([0.0, 1.0]))
+        for value in ends:
+            _sample_cases(replace(study, inputs=(inp,)), [value], "a value of its choice" if choice else "the end of its spread")
     return study
 
 
@@ -402,8 +406,9 @@ def _shown_theory(case: Case) -> Case:
     return replace(case, model="critical-junction") if case.model == "both" else case
 
 
-def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
-    """The cases of one sample: the nominal document with ``values`` written in (one per input)."""
+def _sample_cases(study: UncertainStudy, values: list[Any], what: str = "uncertainty sample") -> list[Case]:
+    """The cases of one sample: the nominal document with ``values`` written in (one per input); ``what`` names the
+    values in a refusal."""
     cf = study.case_file
     doc = copy.deepcopy(cf.document or {})
     for inp, value in zip(study.inputs, values):
@@ -413,7 +418,7 @@ def _sample_cases(study: UncertainStudy, values: list[Any]) -> list[Case]:
         return build_cases(doc, cf.case_dir, cf.source)[0]
     except InputError as exc:
         sample = ", ".join(f"{inp.key} = {show_value(v)}" for inp, v in zip(study.inputs, values))
-        raise InputError(f"{exc.field} (uncertainty sample {sample})", exc.value,
+        raise InputError(f"{exc.field} ({what} {sample})", exc.value,
                          exc.allowed + "; narrow the spread or use a distribution that stays in range "
                                        "(docs/case-files.md, Uncertain inputs)") from None
 
