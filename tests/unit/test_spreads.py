@@ -21,9 +21,13 @@ def test_a_value_that_is_no_finite_number_is_refused_as_such_not_as_text(value):
 
 
 def test_a_word_with_a_spread_is_refused_as_text():
+    """A choice is text as written: "ring ± 1" is no shape (a spread needs a number where a key takes one)."""
     with pytest.raises(InputError) as exc:
         parse_uncertain_case(BASE.replace('shape = "ring"', 'shape = "ring ± 1"'))
-    assert exc.value.field == "seal.shape" and "is text" in str(exc.value)
+    assert exc.value.field == "seal.shape" and "allowed: 'ring', 'rectangle', 'o-ring'" in str(exc.value)
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(BASE.replace("hurst = 0.8", 'hurst = "high ± 1"'))
+    assert exc.value.field == "surface.hurst" and "is text" in str(exc.value)
 
 
 @pytest.mark.parametrize("entry", ['{ distribution = ["normal"], sd = "1 %" }', '{ distribution = { a = 1 }, sd = "1 %" }'])
@@ -83,3 +87,17 @@ def test_a_spread_in_the_wrong_unit_is_refused_quoting_what_was_written(written)
         parse_uncertain_case(BASE.replace('h_rms = "44 um"', f'h_rms = "{written}"'))
     assert exc.value.field == "surface.h_rms" and exc.value.value == written.replace("+/-", "±") and "\n" not in str(exc.value)
     assert "does not convert to the value's unit 'um'" in str(exc.value)
+
+
+def test_a_plus_minus_in_text_is_no_spread():
+    """A rubber named "PDMS 2.3 ± 0.2 MPa batch" made every command refuse the case (a spread needs a number), and a
+    label "5 ± 0.1" was sampled as a number; names, labels, files and choices are text as written."""
+    text = (BASE.replace('youngs_modulus = "2.3 MPa"', 'name = "PDMS 2.3 ± 0.2 MPa batch"\nyoungs_modulus = "2.3 MPa"')
+            .replace('model = "self-affine"', 'model = "self-affine"\nlabel = "5 ± 0.1"'))
+    assert "± 0.2 MPa batch" in text and 'label = "5 ± 0.1"' in text
+    case_file = parse_case_file(text)
+    assert not case_file.spreads.inputs
+    assert case_file.document["rubber"]["name"] == "PDMS 2.3 ± 0.2 MPa batch"
+    assert case_file.document["surface"]["label"] == "5 ± 0.1"
+    spread = parse_case_file(text.replace('h_rms = "44 um"', 'h_rms = "44 um ± 10 %"'))  # a quantity's still is
+    assert [i.key for i in spread.spreads.inputs] == ["surface.h_rms"]

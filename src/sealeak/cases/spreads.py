@@ -37,6 +37,7 @@ from scipy import stats
 from ..errors import InputError, did_you_mean
 from ..io.leak_units import barrer_as_molar
 from ..io.units import difference_factor, pint_unit, quantity_parts, registry
+from .form import FIELD_KINDS
 from .limits import at_most
 from .schema import SECTIONS
 
@@ -293,6 +294,16 @@ def _studied(doc: dict[str, Any]) -> str:
     return vary if isinstance(vary, str) else ""
 
 
+#: Kinds of key whose value is text as written (a name, a label, a file, a choice): a "±" in it is no spread.
+_TEXT_KINDS = frozenset({"text", "choice", "file", "files", "bool"})
+
+
+def _is_text(section: str, key: str) -> bool:
+    """Whether ``section.key`` holds text, not a quantity ("PDMS 2.3 ± 0.2 MPa batch" is a rubber's name)."""
+    kind = FIELD_KINDS.get(f"{section}.{key}")
+    return kind is not None and kind.kind in _TEXT_KINDS
+
+
 def split_spreads(doc: dict[str, Any]) -> Spreads:
     """Take the spreads, ``[uncertainty]`` and ``conditions.max_leak_rate`` out of a parsed case document (in place):
     what is left is the nominal document, which the builders read as a deterministic case."""
@@ -304,7 +315,7 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
         for key, value in table.items():
             if isinstance(value, (list, dict)):
                 _check_no_nested(f"{section}.{key}", value)
-            elif isinstance(value, str) and _PLUS_MINUS.search(value):
+            elif isinstance(value, str) and _PLUS_MINUS.search(value) and not _is_text(section, key):
                 name = f"{section}.{key}"
                 if section in _NO_SPREAD:
                     raise InputError(name, value, f"[{section}] takes no spreads")
