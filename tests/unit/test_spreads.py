@@ -101,3 +101,27 @@ def test_a_plus_minus_in_text_is_no_spread():
     assert case_file.document["surface"]["label"] == "5 ± 0.1"
     spread = parse_case_file(text.replace('h_rms = "44 um"', 'h_rms = "44 um ± 10 %"'))  # a quantity's still is
     assert [i.key for i in spread.spreads.inputs] == ["surface.h_rms"]
+
+
+@pytest.mark.parametrize("where", ["inline", "table"])
+def test_the_specification_takes_no_spread(where):
+    """max_leak_rate with a spread was refused as an unknown key of [conditions] (whose list of keys left it out), and
+    in [uncertainty] as naming no case-file key."""
+    spec = 'max_leak_rate = "1 ml/min ± 10 %"' if where == "inline" else 'max_leak_rate = "1 ml/min"'
+    text = BASE.replace('pressure_difference = "10 kPa"', f'pressure_difference = "10 kPa"\n{spec}')
+    if where == "table":
+        text += '[uncertainty]\n"conditions.max_leak_rate" = { distribution = "normal", sd = "10 %" }\n'
+    with pytest.raises(InputError, match="is the specification the samples are compared with: it takes no spread") as exc:
+        parse_uncertain_case(text)
+    assert exc.value.field == ("conditions.max_leak_rate" if where == "inline" else "uncertainty.conditions.max_leak_rate")
+
+
+def test_a_choice_of_theory_is_between_single_theories():
+    """["critical-junction", "both"] gave three equal percentiles (both's rows show the critical junction) without a word."""
+    text = (BASE.replace("[theory]", '[theory]\nmodel = "critical-junction"')
+            + '[uncertainty]\n"theory.model" = { distribution = "choice", values = ["critical-junction", "both"] }\n')
+    with pytest.raises(InputError, match="choose between single theories") as exc:
+        parse_uncertain_case(text)
+    assert exc.value.field == "uncertainty.theory.model.values"
+    fine = parse_uncertain_case(text.replace('"both"', '"effective-medium"'))
+    assert fine.inputs[0].choices == ("critical-junction", "effective-medium")

@@ -215,6 +215,10 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
         values = params.get("values")
         if not isinstance(values, list) or not 2 <= len(values) <= _CHOICE_MAX:
             raise InputError(f"uncertainty.{key}.values", values, f"must be a list of 2 to {_CHOICE_MAX} values to choose from")
+        if key == "theory.model" and "both" in values:  # (its rows show the critical junction: the spread collapsed)
+            raise InputError(f"uncertainty.{key}.values", values, "choose between single theories ('critical-junction', "
+                                                                  "'effective-medium'): 'both' computes both and its rows "
+                                                                  "show the critical junction, which it would sample again")
         return UncertainInput(key, f"{key}: one of {', '.join(map(str, values))}", "choice", nominal,
                               choices=tuple(values))
     if isinstance(nominal, str) and not _PLUS_MINUS.search(nominal) and not _NUMBER_START.match(nominal):
@@ -294,6 +298,10 @@ def _studied(doc: dict[str, Any]) -> str:
     return vary if isinstance(vary, str) else ""
 
 
+#: The specification, which is compared with the samples and takes no spread of its own.
+_SPECIFICATION = "conditions.max_leak_rate"
+_NO_SPECIFICATION_SPREAD = ("is the specification the samples are compared with: it takes no spread; give the limit "
+                            "itself, e.g. '1e-6 mbar*l/s'")
 #: Kinds of key whose value is text as written (a name, a label, a file, a choice): a "±" in it is no spread.
 _TEXT_KINDS = frozenset({"text", "choice", "file", "files", "bool"})
 
@@ -317,6 +325,8 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
                 _check_no_nested(f"{section}.{key}", value)
             elif isinstance(value, str) and _PLUS_MINUS.search(value) and not _is_text(section, key):
                 name = f"{section}.{key}"
+                if name == _SPECIFICATION:
+                    raise InputError(name, value, _NO_SPECIFICATION_SPREAD)
                 if section in _NO_SPREAD:
                     raise InputError(name, value, f"[{section}] takes no spreads")
                 nominal, spread = _plus_minus(name, value)
@@ -326,6 +336,8 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
     for name, spec in (_table_entries(table) if table is not None else {}).items():
         where = f"uncertainty.{name}"
         section, _, entry = name.partition(".")
+        if name == _SPECIFICATION:
+            raise InputError(where, spec, _NO_SPECIFICATION_SPREAD)
         if section not in SECTIONS or section in _NO_SPREAD or entry not in SECTIONS[section]:
             known = [f"{s}.{k}" for s in SECTIONS if s not in _NO_SPREAD for k in sorted(SECTIONS[s])]
             raise InputError(where, spec, "names no case-file key: write \"section.key\", e.g. \"surface.h_rms\""
