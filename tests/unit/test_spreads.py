@@ -9,7 +9,7 @@ from sealeak.cases import parse_case_file
 from sealeak.cases.uncertainty import parse_uncertain_case
 from sealeak.errors import InputError
 from sealeak.io.leak_units import parse_permeability
-from tests.casefiles import BASE
+from tests.casefiles import BASE, ORING
 
 
 @pytest.mark.parametrize("value", ["nan um ± 10 %", "inf um ± 10 %", "-inf um ± 10 %", "NaN ± 0.1 um"])
@@ -125,3 +125,15 @@ def test_a_choice_of_theory_is_between_single_theories():
     assert exc.value.field == "uncertainty.theory.model.values"
     fine = parse_uncertain_case(text.replace('"both"', '"effective-medium"'))
     assert fine.inputs[0].choices == ("critical-junction", "effective-medium")
+
+
+@pytest.mark.parametrize("written", ['"1.2 ± 10 %"', '"1.2"', '"120 %"'])
+def test_an_o_ring_force_factor_takes_a_spread_and_a_number_written_as_text(written):
+    """force_factor = "1.2 ± 10 %" was refused as 'must be a number from 0.001 to 1000' (1.2 is), as was "1.2"."""
+    text = ORING.replace('inner_diameter = "20 mm"', f'inner_diameter = "20 mm"\nforce_factor = {written}')
+    study = parse_uncertain_case(text)
+    (case,) = study.cases
+    plain = parse_uncertain_case(ORING.replace('inner_diameter = "20 mm"', 'inner_diameter = "20 mm"\nforce_factor = 1.2'))
+    assert case.band.profiles[0].force_per_length == pytest.approx(plain.cases[0].band.profiles[0].force_per_length,
+                                                                    rel=1e-12, abs=0)
+    assert [i.key for i in study.inputs] == (["seal.force_factor"] if "±" in written else [])

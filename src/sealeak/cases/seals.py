@@ -349,12 +349,12 @@ def read_force_table(path: Path) -> ForceTable:
 def _force_relation(seal: Section, case_dir: Path) -> tuple[float, ForceTable | None]:
     """``force_factor`` (default 1) and ``force_table`` (or None) of an O-ring's [seal] (docs/case-files.md)."""
     factor, table = 1.0, None
-    if seal.has("force_factor"):
-        factor = seal.raw("force_factor")
-        if isinstance(factor, bool) or not isinstance(factor, (int, float)) or not 1e-3 <= factor <= 1e3:
-            raise InputError(seal.field("force_factor"), factor,
-                             "must be a number from 0.001 to 1000 (a factor on the O-ring's force per length; 1: as published)")
-        factor = float(factor)
+    if seal.has("force_factor"):  # a number, also written as text ("1.2", "120 %", what a spread leaves)
+        try:
+            factor = seal.number("force_factor", low=1e-3, high=1e3, low_open=False, high_open=False)
+        except InputError as exc:
+            raise InputError(exc.field, exc.value, "must be a number from 0.001 to 1000 (a factor on the O-ring's force "
+                                                   "per length; 1: as published)") from None
     if seal.has("force_table"):
         name = seal.raw("force_table")
         if not isinstance(name, str) or not name:
