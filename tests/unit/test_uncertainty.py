@@ -377,3 +377,13 @@ def test_progress_counts_the_samples_that_run_a_prediction_each():
     quiet = propagate(uniform, 8, seed=0)
     heard = propagate(uniform, 8, seed=0, progress=steps.append)
     assert steps == [] and np.array_equal(quiet.percentiles(), heard.percentiles())
+
+
+@pytest.mark.parametrize("limit", ["1e300 ml/min", "1e-300 ml/min", "1e101 m^3/s"])
+def test_a_limit_beyond_what_a_case_file_holds_is_refused(limit):
+    """Every quantity of a case file lies within 1e-100 .. 1e100 in SI; max_leak_rate did not, and 1e300 ml/min
+    overflowed in the distribution figure (warnings on stderr, an axis of 300 decades)."""
+    text = LEAKS.replace('pressure_difference = "10 kPa"', f'pressure_difference = "10 kPa"\nmax_leak_rate = "{limit}"')
+    with pytest.raises(InputError, match=r"must lie within 1e-100 \.\. 1e\+100 in SI units") as exc:
+        parse_uncertain_case(spread(text))
+    assert exc.value.field == "conditions.max_leak_rate"

@@ -30,7 +30,7 @@ from scipy.stats import qmc
 from ..errors import InputError, show_value
 from ..io.leak_units import LEAK_RATE_KINDS, leak_rate_unit, pv_throughput
 from ..io.quantities import quantity, record_fields, units_of
-from ..io.units import quantity_parts
+from ..io.units import SI_RANGE, outside_si_range, quantity_parts
 from .band import ScaledJunctions, scaled_junctions
 from .cancel import check as check_cancelled
 from .gas import HELIUM_TEST, helium_test_gas
@@ -445,6 +445,9 @@ def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArra
         raise InputError(field, value, exc.allowed + "; for a liquid a volume flow ('ml/min', 'm^3/s')") from None
     if not number > 0:
         raise InputError(field, value, "must be > 0")
+    if outside_si_range(np.array([number * factor])).any():  # (1e300 ml/min overflowed in the figures)
+        raise InputError(field, value, f"must lie within {SI_RANGE[0]:g} .. {SI_RANGE[1]:g} in SI units, as every "
+                                       "quantity of a case file")
     keys: list[str] = []
     limits: list[float] = []
     for row in study.rows:
