@@ -387,3 +387,12 @@ def test_a_limit_beyond_what_a_case_file_holds_is_refused(limit):
     with pytest.raises(InputError, match=r"must lie within 1e-100 \.\. 1e\+100 in SI units") as exc:
         parse_uncertain_case(spread(text))
     assert exc.value.field == "conditions.max_leak_rate"
+
+
+def test_samples_times_rows_are_bounded_before_any_work():
+    """10 000 squeeze pressures × 8192 samples grew past 2.8 GB: each limit held, their product had none."""
+    text = LEAKS.replace('squeeze_pressure = ["20 kPa", "60 kPa"]', 'squeeze_pressure = { start = "20 kPa", stop = "250 kPa", num = 2000 }')
+    study = parse_uncertain_case(spread(text))
+    with pytest.raises(InputError, match=r"× 2000 rows is 16384000 leak rates per array; at most 10000000") as exc:
+        propagate(study, 8192, seed=0)
+    assert exc.value.field == "--samples"

@@ -34,6 +34,9 @@ MAX_WORKERS = 1_024
 MAX_TOPOGRAPHY_FILES = 100
 #: Grids of one convergence study (``--grid 64,128,256``, ``[simulation] grid = [...]``).
 MAX_GRIDS = 16
+#: The most numbers one uncertainty analysis may hold per array (≈ 80 MB of float64): samples × rows of a band, the
+#: Sobol' design's points × inputs and its answers, points × rows.
+MAX_EVALUATIONS = 10_000_000
 
 
 def at_most(field: str, values: Sized, limit: int, what: str, shown: Any = None) -> None:

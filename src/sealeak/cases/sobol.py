@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..io.quantities import quantity
+from .limits import MAX_EVALUATIONS
 from .uncertainty import UncertainStudy
 
 __all__ = ["SobolIndices", "SensitivityColumns", "check_base_samples", "check_design",
@@ -24,9 +25,6 @@ __all__ = ["SobolIndices", "SensitivityColumns", "check_base_samples", "check_de
 #: The fewest and most base samples N (a power of two): Saltelli's design runs the model N·(d + 2) times.
 MIN_BASE_SAMPLES = 16
 MAX_BASE_SAMPLES = 65536
-#: The most numbers one analysis may hold in memory (≈ 80 MB of float64): the design's points × inputs, and the
-#: model's answers, points × rows.
-MAX_EVALUATIONS = 10_000_000
 #: The most predictions one ``predict --sensitivity`` may run (each a full prediction of every row).
 MAX_PREDICTIONS = 16384
 #: The confidence level of the bootstrap intervals and the number of bootstrap resamples.

@@ -34,7 +34,7 @@ from ..io.units import SI_RANGE, outside_si_range, quantity_parts
 from .band import ScaledJunctions, scaled_junctions
 from .cancel import check as check_cancelled
 from .gas import HELIUM_TEST, helium_test_gas
-from .limits import whole_number
+from .limits import MAX_EVALUATIONS, whole_number
 from .loader import CaseFile, build_cases, parse_case_file, read_case_file
 from .model import Case
 from .run import CaseResult, run_case
@@ -705,6 +705,9 @@ def propagate(study: UncertainStudy, samples: int = DEFAULT_SAMPLES, seed: int =
     alone) every sample would be the nominal prediction: one sample is taken, and each probability is 0 or 1.
     ``progress`` (as a progress bar's ``update``) is called with 1 after each sample that runs a prediction of its own."""
     check_sampling(samples, seed, sampler)
+    if study.inputs and samples * len(study.rows) > MAX_EVALUATIONS:  # (each leak rate's array is samples × rows)
+        raise InputError("--samples", samples, f"× {len(study.rows)} rows is {samples * len(study.rows)} leak rates per "
+                                               f"array; at most {MAX_EVALUATIONS}: give fewer samples or rows")
     points = unit_points(len(study.inputs), samples, seed, sampler) if study.inputs else np.zeros((1, 0))
     nominal = [run_case(c) for c in study.cases]
     values, valid = _sample(study, points, nominal, progress=progress)
