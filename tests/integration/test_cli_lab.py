@@ -452,3 +452,12 @@ def test_a_coupled_rig_notes_where_the_water_column_opens_the_seal(tmp_path, cap
     (line,) = [ln for ln in out.splitlines() if ln.startswith("α implied by the readings")]
     alpha = float(line.split(":")[1].split()[0])
     assert ("outside 0.01 to 100" in line) == (not 0.01 <= alpha <= 100), line
+
+
+def test_a_file_of_measured_leak_rates_is_bounded(tmp_path, capsys):
+    """10 000 rows took a minute and a GB; 200 000 ran on: at most as many rows as a case has squeeze pressures."""
+    data = tmp_path / "big.csv"
+    data.write_text("squeeze_pressure (kPa), leak_rate (ml/min)\n" + "".join(f"{20 + i / 100:.2f}, 400\n" for i in range(10_001)))
+    assert main(["fit", "--example", "reference-experiment", "--data", str(data)]) == 2
+    assert capsys.readouterr().err.strip().endswith("big.csv: has 10001 data rows: at most 10000 (each row is a prediction "
+                                                    "at its own load); average repeated measurements first")

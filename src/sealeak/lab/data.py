@@ -56,6 +56,8 @@ FloatArray = NDArray[np.float64]
 
 #: The columns that give a row's load: a uniform squeeze pressure, an O-ring's compression, a profile's scale factor.
 LOAD_COLUMNS = ("squeeze_pressure", "compression", "profile_scale")
+#: The most data rows of a file of measured leak rates (fit, --linearity): as many as a case's squeeze pressures.
+MAX_DATA_ROWS = 10_000
 
 _ALIASES = {
     "squeeze_pressure": {"squeeze_pressure", "p0", "squeezing_pressure", "contact_pressure", "nominal_pressure"},
@@ -193,6 +195,9 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     empty_ok = ("pressure_difference",) if "pressure_difference" not in required else ()
     table, found = _columns(p, required, optional, may_be_empty=empty_ok, load_column=load_column)
     n = table.data.shape[0]
+    if n > MAX_DATA_ROWS:  # (each row a prediction at its load: 10 000 took a minute and a GB; 200 000 ran on)
+        raise FileFormatError(p, f"has {n} data rows: at most {MAX_DATA_ROWS} (each row is a prediction at its own "
+                                 "load); average repeated measurements first")
     out: dict[str, FloatArray] = {}
     for canon in ("squeeze_pressure", "pressure_difference"):
         if canon in found:
