@@ -137,3 +137,20 @@ def test_an_o_ring_force_factor_takes_a_spread_and_a_number_written_as_text(writ
     assert case.band.profiles[0].force_per_length == pytest.approx(plain.cases[0].band.profiles[0].force_per_length,
                                                                     rel=1e-12, abs=0)
     assert [i.key for i in study.inputs] == (["seal.force_factor"] if "±" in written else [])
+
+
+@pytest.mark.parametrize("written, refused", [('"20 degC ± 7 K"', False), ('"0 degC ± 5 K"', False),
+                                              ('"293.15 K ± 10 %"', False), ('"20 degC ± 10 %"', True),
+                                              ('"0 degC ± 10 %"', True), ('"20 degC ± 200 K"', True)])
+def test_a_temperature_in_celsius_is_spread_on_the_absolute_scale(written, refused):
+    """20 °C ± 7 K was refused as 'above 1/3 of the value (20 degC)' while 293.15 K ± 7 K ran, and '± 10 %' of a value
+    in °C was 10 % of the number in °C (0 at 0 °C, 2 K at 20 °C against 29 K for 293.15 K)."""
+    text = BASE.replace('viscosity = "1 mPa*s"', f'viscosity = "1 mPa*s"\ntemperature = {written}')
+    if not refused:
+        (inp,) = parse_uncertain_case(text).inputs
+        assert inp.key == "fluid.temperature" and inp.parameters["sd"] > 0
+        return
+    with pytest.raises(InputError) as exc:
+        parse_uncertain_case(text)
+    assert exc.value.field == "fluid.temperature"
+    assert ("arbitrary zero" in str(exc.value)) == ("%" in written), str(exc.value)

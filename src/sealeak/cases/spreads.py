@@ -179,6 +179,11 @@ def _number(field: str, value: Any, unit: str, *, relative_to: float | None = No
     return magnitude * difference_factor(field, value, u, unit)
 
 
+def _is_relative(value: Any) -> bool:
+    """Whether a spread as written is relative ("10 %")."""
+    return isinstance(value, str) and value.strip().endswith("%")
+
+
 def _log_sd(ratio: float) -> float:
     """σ, the standard deviation of the logarithm, of a lognormal whose standard deviation is ``ratio`` times its median
     m (docs/theory.md eq. 14.2). Its standard deviation is m √(x (x − 1)) with x = e^(σ²), so x = (1 + √(1 + 4 ratio²))/2:
@@ -227,6 +232,13 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
     x, unit = quantity_parts(key, nominal)
     p: dict[str, float] = {}
     if distribution in ("normal", "lognormal"):
+        # a temperature in °C or °F counts from an arbitrary zero: its spread is judged on the absolute temperature
+        offset = math.isnan(_si_factor(key, unit))
+        if offset and (distribution == "lognormal" or _is_relative(params["sd"])):
+            raise InputError(where, shown, f"a {'lognormal' if distribution == 'lognormal' else 'relative spread'} of a "
+                                           f"value in {unit} counts from that scale's arbitrary zero: give the spread in "
+                                           "kelvin ('± 5 K'), or the value in K")
+        absolute = _bound(key, nominal, "K") if offset else x
         try:
             sd = _number(where, params["sd"], unit, relative_to=x)
         except InputError as exc:  # named as written: "1.5 um ± 10", not its spread "10" alone
@@ -234,7 +246,7 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
         if not (math.isfinite(sd) and sd >= 0):
             raise InputError(where, shown, "the spread must be a standard deviation >= 0")
         if distribution == "normal":
-            if x > 0 and sd > 0 and sd * TRUNCATION >= x:
+            if absolute > 0 and sd > 0 and sd * TRUNCATION >= absolute:
                 raise InputError(where, shown, f"a normal spread must stay below 1/{TRUNCATION:g} of the value "
                                                       f"({x:g} {unit}) so that no sample reaches zero (the normal is "
                                                       f"truncated at ±{TRUNCATION:g} sd); use a lognormal for wider spreads")
