@@ -459,5 +459,6 @@ def test_a_file_of_measured_leak_rates_is_bounded(tmp_path, capsys):
     data = tmp_path / "big.csv"
     data.write_text("squeeze_pressure (kPa), leak_rate (ml/min)\n" + "".join(f"{20 + i / 100:.2f}, 400\n" for i in range(10_001)))
     assert main(["fit", "--example", "reference-experiment", "--data", str(data)]) == 2
-    assert capsys.readouterr().err.strip().endswith("big.csv: has 10001 data rows: at most 10000 (each row is a prediction "
-                                                    "at its own load); average repeated measurements first")
+    assert capsys.readouterr().err.strip().endswith("big.csv: has 10001 data rows: at most 10000 (as many as a case's "
+                                                    "squeeze pressures; each row is a prediction); average repeated "
+                                                    "measurements first")

@@ -7,6 +7,7 @@ from __future__ import annotations
 import socket
 import threading
 import time
+import types
 import warnings
 
 import pytest
@@ -157,3 +158,52 @@ def test_a_client_that_closes_its_connection_stops_its_prediction(served):
     with socket.create_connection(("127.0.0.1", port), timeout=30) as s:
         s.sendall(b"GET /api/form HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nConnection: close\r\n\r\n" % port)
         assert s.recv(64).startswith(b"HTTP/1.1 200")
+
+
+def test_a_waiter_woken_late_after_a_failed_computation_answers_normally(monkeypatch, tmp_path):
+    """A's computation fails (nothing cached); B, waiting for it, wakes late, after C has started the next computation
+    under the same key: B's leaving A's list removed an entry of C's (ValueError, a 500) or C's own."""
+    calls, release, started = {"n": 0}, threading.Event(), threading.Event()
+
+    def run(case):
+        calls["n"] += 1
+        if calls["n"] == 1:
+            started.set()
+            release.wait(10)
+            raise RuntimeError("A's computation fails")
+        time.sleep(1.0)
+        return real_run_case(case)
+
+    class LateWake(threading.Event):  # the thread that waited is scheduled late after the set()
+        def wait(self, timeout=None):
+            woke = super().wait(timeout)
+            if woke:
+                time.sleep(0.5)
+            return woke
+
+    monkeypatch.setattr(casework, "run_case", run)
+    shim = types.SimpleNamespace(**{k: getattr(threading, k) for k in dir(threading) if not k.startswith("__")})
+    shim.Event = LateWake  # (casework's threading alone: the rest of the process keeps its own Event)
+    monkeypatch.setattr(casework, "threading", shim)
+    cache, out = PredictionCache(computing=2), {}
+
+    def client(name):
+        with cancel.cancellable(lambda: False):
+            try:
+                out[name] = cache.predict(BASE.encode(), "case.toml", tmp_path)
+            except BaseException as exc:  # noqa: BLE001 (what a request would answer)
+                out[name] = exc
+    a = threading.Thread(target=client, args=("a",))
+    a.start()
+    assert started.wait(10)
+    b = threading.Thread(target=client, args=("b",))
+    b.start()
+    time.sleep(0.3)
+    release.set()
+    time.sleep(0.1)
+    c = threading.Thread(target=client, args=("c",))
+    c.start()
+    for t in (a, b, c):
+        t.join(60)
+    assert isinstance(out["a"], RuntimeError)
+    assert out["b"] is out["c"] and out["c"].results  # one computation after A's, answered to both

@@ -63,8 +63,9 @@ def test_a_named_liquid_with_absolute_pressures_takes_library_viscosity_and_dens
     assert not case.input_warnings
 
 
-@pytest.mark.parametrize("coupled", [True, False])
-def test_a_helium_test_that_opens_the_seal_is_noted_at_its_rows(coupled):
+@pytest.mark.parametrize("coupled, model", [(True, "critical-junction"), (False, "critical-junction"),
+                                            (True, "effective-medium")])
+def test_a_helium_test_that_opens_the_seal_is_noted_at_its_rows(coupled, model):
     """He-eq is helium at 1 bar against vacuum: where P0 <= 100 kPa that ΔP reaches the contact pressure and the test
     lifts the seal (docs/theory.md §13.4); those rows' He-eq (a limit, or a contact the gas does not touch) were shown
     without a word."""
@@ -74,9 +75,11 @@ def test_a_helium_test_that_opens_the_seal_is_noted_at_its_rows(coupled):
                                                                    'helium_equivalent = true')))
     if not coupled:
         text = edit("[theory]", '[theory]\nfluid_pressure = "ignored"', text)
+    text = edit("[theory]", f'[theory]\nmodel = "{model}"', text)
     result = run_case(parse_cases(text)[0])
     notes = [n for n in worded(result.messages) if n.startswith("He-eq at")]
-    assert notes == [n for n in worded(result.critical_junction.messages) if n.startswith("He-eq at")]  # (printed)
+    shown = result.critical_junction if model == "critical-junction" else result.effective_medium  # (its notes printed)
+    assert notes == [n for n in worded(shown.messages) if n.startswith("He-eq at")]
     (note,) = notes
     assert note.startswith("He-eq at P0 = 60, 99.9 kPa: the helium test's ΔP = 100 kPa")  # not 100.1 or 200 kPa
     assert ("a lower bound" in note) == coupled and ("ignored" in note) == (not coupled)

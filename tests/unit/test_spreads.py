@@ -154,3 +154,23 @@ def test_a_temperature_in_celsius_is_spread_on_the_absolute_scale(written, refus
         parse_uncertain_case(text)
     assert exc.value.field == "fluid.temperature"
     assert ("arbitrary zero" in str(exc.value)) == ("%" in written), str(exc.value)
+
+
+def test_a_plus_minus_in_a_list_of_text_is_no_spread_and_an_end_on_an_open_bound_builds():
+    """Study labels "40 ± 2 um" were refused as a spread on a list item; a uniform h_rms from 0 (an end no sample
+    reaches, on the open bound h_rms > 0) was refused by the check of the spread's ends."""
+    study = BASE.replace('h_rms = "44 um"', 'h_rms = "44 um"') + (
+        '[study]\nvary = "surface.h_rms"\nvalues = ["40 um", "44 um"]\nlabels = ["40 ± 2 um", "44 ± 2 um"]\n')
+    assert parse_case_file(study).document["study"]["labels"] == ["40 ± 2 um", "44 ± 2 um"]
+    uniform = BASE + '[uncertainty]\n"surface.h_rms" = { distribution = "uniform", low = "0 um", high = "50 um" }\n'
+    (inp,) = parse_uncertain_case(uniform).inputs
+    assert inp.parameters["low"] == 0.0
+
+
+def test_a_temperature_in_fahrenheit_is_spread_in_kelvin_against_the_absolute_temperature():
+    """68 °F ± 100 °F (± 55.6 K around 293 K) was refused: °F degrees were compared with kelvin."""
+    text = BASE.replace('viscosity = "1 mPa*s"', 'viscosity = "1 mPa*s"\ntemperature = "68 degF ± 100 degF"')
+    (inp,) = parse_uncertain_case(text).inputs
+    assert inp.key == "fluid.temperature"
+    with pytest.raises(InputError, match=r"below 1/3 of the value \(293\.15 K\)"):
+        parse_uncertain_case(text.replace("± 100 degF", "± 200 degF"))

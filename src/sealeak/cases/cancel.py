@@ -5,8 +5,9 @@ computation calls :func:`check` between its steps (each load of a band seal, :fu
 each uncertainty sample that runs a prediction of its own, :func:`sealeak.cases.uncertainty.propagate`), which
 raises :class:`Cancelled` once that function answers True. Outside :func:`cancellable` :func:`check` never raises,
 so the command line and the library run as before. The function is held in a context variable: it follows the
-computation into the thread that runs it (asyncio's and anyio's worker threads copy the caller's context), and
-two computations on two threads each see their own.
+computation into the thread that runs it (anyio's worker threads, which Starlette's ``run_in_threadpool`` and
+FastAPI's plain routes use, copy the caller's context; ``loop.run_in_executor`` does not), and two computations on two
+threads each see their own.
 
 Nothing a stopped computation has finished is lost: the values kept for reuse (P(u) rows, σ tables, solved bands)
 stay kept, each complete; what is abandoned is the result being assembled.

@@ -242,7 +242,9 @@ def run_case(case: Case, *, rig: bool = False) -> CaseResult:
     if case.capillarity is not None:  # after the gas rows: helium passes where the liquid is held
         res, em, capillary = uniform_capillarity(case, res, em)
     lifts = _helium_test_lifts(case, gas, "squeeze_pressure", res.squeeze_pressure, res.squeeze_pressure)
-    if lifts:  # (with the critical junction's notes, which the text, JSON and report show for a uniform seal)
+    if lifts and em is not None and case.model == "effective-medium":  # (the notes of the theory the tables show,
+        em = _noted(em, lifts)                                            # which the text and report print under it)
+    elif lifts:
         res = _noted(res, lifts)
     messages: list[NoteLike] = list(res.messages)
     if em is not None:

@@ -234,11 +234,12 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
     if distribution in ("normal", "lognormal"):
         # a temperature in °C or °F counts from an arbitrary zero: its spread is judged on the absolute temperature
         offset = math.isnan(_si_factor(key, unit))
-        if offset and (distribution == "lognormal" or _is_relative(params["sd"])):
-            raise InputError(where, shown, f"a {'lognormal' if distribution == 'lognormal' else 'relative spread'} of a "
-                                           f"value in {unit} counts from that scale's arbitrary zero: give the spread in "
-                                           "kelvin ('± 5 K'), or the value in K")
-        absolute = _bound(key, nominal, "K") if offset else x
+        if offset and distribution == "lognormal":
+            raise InputError(where, shown, f"a lognormal of a value in {unit} counts from that scale's arbitrary zero: "
+                                           "give the value in K")
+        if offset and _is_relative(params["sd"]):
+            raise InputError(where, shown, f"a relative spread of a value in {unit} counts from that scale's arbitrary "
+                                           "zero: give the spread in kelvin ('± 5 K'), or the value in K")
         try:
             sd = _number(where, params["sd"], unit, relative_to=x)
         except InputError as exc:  # named as written: "1.5 um ± 10", not its spread "10" alone
@@ -246,9 +247,12 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
         if not (math.isfinite(sd) and sd >= 0):
             raise InputError(where, shown, "the spread must be a standard deviation >= 0")
         if distribution == "normal":
-            if absolute > 0 and sd > 0 and sd * TRUNCATION >= absolute:
+            # a temperature in °C or °F: the spread in kelvin against the absolute temperature
+            absolute, size, shown_value = ((_bound(key, nominal, "K"), sd * difference_factor(where, nominal, unit, "K"),
+                                            f"{_bound(key, nominal, 'K'):g} K") if offset else (x, sd, f"{x:g} {unit}"))
+            if absolute > 0 and size > 0 and size * TRUNCATION >= absolute:
                 raise InputError(where, shown, f"a normal spread must stay below 1/{TRUNCATION:g} of the value "
-                                                      f"({x:g} {unit}) so that no sample reaches zero (the normal is "
+                                                      f"({shown_value}) so that no sample reaches zero (the normal is "
                                                       f"truncated at ±{TRUNCATION:g} sd); use a lognormal for wider spreads")
             p = {"mean": x, "sd": sd}
         else:
@@ -316,12 +320,14 @@ _NO_SPECIFICATION_SPREAD = ("is the specification the samples are compared with:
                             "itself, e.g. '1e-6 mbar*l/s'")
 #: Kinds of key whose value is text as written (a name, a label, a file, a choice): a "±" in it is no spread.
 _TEXT_KINDS = frozenset({"text", "choice", "file", "files", "bool"})
+#: Lists of text the form shows as lists: a study's labels.
+_TEXT_LISTS = frozenset({"study.labels"})
 
 
 def _is_text(section: str, key: str) -> bool:
     """Whether ``section.key`` holds text, not a quantity ("PDMS 2.3 ± 0.2 MPa batch" is a rubber's name)."""
     kind = FIELD_KINDS.get(f"{section}.{key}")
-    return kind is not None and kind.kind in _TEXT_KINDS
+    return f"{section}.{key}" in _TEXT_LISTS or (kind is not None and kind.kind in _TEXT_KINDS)
 
 
 def split_spreads(doc: dict[str, Any]) -> Spreads:
@@ -333,7 +339,7 @@ def split_spreads(doc: dict[str, Any]) -> Spreads:
         if not isinstance(table, dict):
             continue
         for key, value in table.items():
-            if isinstance(value, (list, dict)):
+            if isinstance(value, (list, dict)) and not _is_text(section, key):
                 _check_no_nested(f"{section}.{key}", value)
             elif isinstance(value, str) and _PLUS_MINUS.search(value) and not _is_text(section, key):
                 name = f"{section}.{key}"

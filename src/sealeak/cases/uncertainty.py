@@ -107,10 +107,15 @@ def uncertain_study(case_file: CaseFile) -> UncertainStudy:
         # other spread (the normal and lognormal ones truncated at ±TRUNCATION sd): whether a case file is accepted does
         # not depend on how many samples are drawn, nor on a sample taking a path that builds no case (α, η: scaled)
         choice = inp.distribution == "choice"
-        ends = inp.choices if choice else () if inp.is_zero else inp.written(np.array([0.0, 1.0]))
+        ends = inp.choices if choice else () if inp.is_zero else inp.written(np.array([_END, 1.0 - _END]))
         for value in ends:
             _sample_cases(replace(study, inputs=(inp,)), [value], "a value of its choice" if choice else "the end of its spread")
     return study
+
+
+#: Where a spread's ends are checked, as points of the unit interval: a hair inside, where the samples can fall (a
+#: uniform's low = 0 is an end no sample reaches, on an open bound such as h_rms > 0).
+_END = 1e-9
 
 
 def read_uncertain_case(path: str | Path) -> UncertainStudy:

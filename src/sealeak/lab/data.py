@@ -196,8 +196,8 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     table, found = _columns(p, required, optional, may_be_empty=empty_ok, load_column=load_column)
     n = table.data.shape[0]
     if n > MAX_DATA_ROWS:  # (each row a prediction at its load: 10 000 took a minute and a GB; 200 000 ran on)
-        raise FileFormatError(p, f"has {n} data rows: at most {MAX_DATA_ROWS} (each row is a prediction at its own "
-                                 "load); average repeated measurements first")
+        raise FileFormatError(p, f"has {n} data rows: at most {MAX_DATA_ROWS} (as many as a case's squeeze pressures; "
+                                 "each row is a prediction); average repeated measurements first")
     out: dict[str, FloatArray] = {}
     for canon in ("squeeze_pressure", "pressure_difference"):
         if canon in found:

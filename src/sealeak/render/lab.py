@@ -483,7 +483,7 @@ def decay_text(case: Case, pred: DecayPrediction, readings: DecayReadingsResult 
         for name, sc in readings.scale.items():
             what = "α implied by the readings" if name.startswith("critical") else "factor on its K implied by the readings"
             lines.append(f"{name}: {what}: {sc.alpha:.4g} ± {sc.alpha_std:.2g}"
-                         + (f" (case α = {case.alpha:g})" if name.startswith("critical") else "") + _far(sc.alpha))
+                         + (f" (case α = {case.alpha:g}){_far(sc.alpha)}" if name.startswith("critical") else ""))
     lines += ["note: " + m for m in worded(pred.messages)]
     return "\n".join(lines) + "\n"
 

@@ -106,7 +106,7 @@ class SelfAffineFit:
 
     def __repr__(self) -> str:
         qr = f"{self.q_rolloff:.4g}{_error(self.q_rolloff_err, '.2g')} 1/m" if self.rolloff_resolved else "not resolved"
-        bound = "" if np.isfinite(self.hurst_err) else " (H held at a bound)"
+        bound = "" if self.hurst_in_range else " (H held at a bound)"
         return (f"SelfAffineFit(H = {self.hurst:.3f}{_error(self.hurst_err, '.3f')}{bound}, q_r = {qr}, "
                 f"C0 = {self.C0:.4g}{_error(self.C0_err, '.2g')} m⁴, h_rms = {self.h_rms:.4g}{_error(self.h_rms_err, '.2g')} m)")
 

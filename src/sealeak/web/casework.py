@@ -461,7 +461,7 @@ class PredictionCache:
         self._items: OrderedDict[tuple[Any, ...], Prediction] = OrderedDict()
         self._lock = threading.Lock()
         self._running: dict[tuple[Any, ...], threading.Event] = {}
-        self._clients: dict[tuple[Any, ...], list[Callable[[], bool]]] = {}  # per running key: has each request's client gone?
+        self._clients: dict[tuple[Any, ...], list[_Client]] = {}  # per running key: the requests waiting for it
         self._waiting = 0  # predictions waiting for a slot
 
     def __len__(self) -> int:
@@ -493,7 +493,9 @@ class PredictionCache:
         # a case that names no file is the same case in every session; one that does depends on the files' contents
         files = tuple(sorted((n, (uploads / n).stat().st_size, (uploads / n).stat().st_mtime_ns) for n in named))
         key = (data, source, str(uploads) if named or doc is None else "", files)
-        gone = cancel.current() or _STAYS  # whether this request's client has gone (the web server's Guard tells)
+        # this request, as one entry of a computation's list of requests (whether its client has gone: the web
+        # server's Guard tells; a call from Python never goes): an object of its own, so that it removes itself only
+        me = _Client(cancel.current() or _stays)
         while True:
             with self._lock:
                 hit = self._items.get(key)
@@ -503,24 +505,25 @@ class PredictionCache:
                 running = self._running.get(key)
                 if running is None:  # this thread computes it; the same request arriving meanwhile waits for it
                     running = self._running[key] = threading.Event()
-                    self._clients[key] = [gone]
+                    self._clients[key] = [me]
                     break
-                self._clients[key].append(gone)
+                clients = self._clients[key]  # (that computation's list: another may follow it under the same key)
+                clients.append(me)
             try:
                 while not running.wait(CLIENT_POLL):
                     cancel.check()
             finally:
                 with self._lock:
-                    if key in self._clients:
-                        self._clients[key].remove(gone)
+                    clients.remove(me)
         try:
             # read and checked before a computing slot is taken: a case the loader refuses needs none
             # (a case naming "Probe Ø5.csv" is read with the name its upload is stored under)
             loaded = data if resolved is doc or resolved is None else toml_text(resolved).encode("utf-8")
             case_file = parse_case_bytes(loaded, uploads, source)
             _check_cost(case_file)
-            # stopped (cancel.Cancelled) once every request waiting for it has gone: nobody would read the result
-            with self.slot(), cancel.cancellable(lambda: self._abandoned(key)):
+            # stopped (cancel.Cancelled) once every request waiting for it has gone, while it waits for a slot too:
+            # nobody would read the result
+            with cancel.cancellable(lambda: self._abandoned(key)), self.slot():
                 if case_file.spreads.active:  # as `sealeak predict` without options: its default samples and seed
                     unc = propagate(uncertain_study(case_file), DEFAULT_SAMPLES, 0)
                     result = Prediction(case_file, unc.nominal, uncertainty=unc)
@@ -543,7 +546,8 @@ class PredictionCache:
     def _abandoned(self, key: tuple[Any, ...]) -> bool:
         """Whether every request that waits for the prediction of ``key`` has lost its client."""
         with self._lock:
-            return all(gone() for gone in self._clients.get(key, ()))
+            clients = self._clients.get(key, [])
+            return bool(clients) and all(c.gone() for c in clients)
 
     @contextlib.contextmanager
     def slot(self) -> Iterator[None]:
@@ -578,10 +582,15 @@ class PredictionCache:
 
 
 def _stays() -> bool:
+    """A request without a client to lose (a call from Python, a test)."""
     return False
 
 
-_STAYS = _stays  # a request without a client to lose (a call from Python, a test)
+@dataclass(eq=False)
+class _Client:
+    """One request waiting for a prediction: ``gone`` answers whether its client has left (compared by identity)."""
+
+    gone: Callable[[], bool]
 
 
 def _check_cost(case_file: CaseFile) -> None:
