@@ -18,7 +18,7 @@ from ..errors import FileFormatError, InputError, SealeakError
 from ..io.leak_units import pv_throughput
 from ..lab.data import LeakData
 from ..lab.fitting import ScaleFit, fit_scale
-from ..physics.critical_junction import pressure_difference_not_small
+from ..physics.critical_junction import pressure_difference_large
 from ..physics.properties import ATMOSPHERE, fluid_state
 from ..physics.validity import ALPHA_RANGE as PLAUSIBLE_ALPHA
 from .band import BandResult, load_value
@@ -229,7 +229,7 @@ def _large_pressure_difference(data: LeakData, dp: FloatArray, pressure: FloatAr
     pressure at the row's load), with how many rows are like it; none if no row is. Large: ΔP reaches the
     pressure and opens the seal (``coupled``, the fluid pressure in the band; docs/theory.md §13.4), or
     ΔP > pressure/2 (the fluid pressure ignored; §3.6)."""
-    large = dp >= pressure if coupled else pressure_difference_not_small(pressure, dp)
+    large = pressure_difference_large(pressure, dp, coupled)
     if not large.any():
         return []
     i = int(np.argmax(large))

@@ -17,7 +17,7 @@ from scipy.interpolate import PchipInterpolator
 from ..errors import InputError
 from ..io.quantities import quantity
 from ..lab.rig import DecayRigSetup, ReadingsAnalysis, WaterColumn, drain_time, leak_rate_from_readings, water_column
-from ..physics.critical_junction import pressure_difference_not_small
+from ..physics.critical_junction import pressure_difference_large
 from ..physics.validity import strain_warning
 from .band import BandResult
 from .capillarity import entry_pressures
@@ -166,7 +166,7 @@ def rig_prediction(case: Case) -> RigPrediction | DecayPrediction:
     # large: ΔP reaches the pressure and opens the seal (the fluid pressure coupled: the models take it off the contact
     # below that, docs/theory.md §13.4), or ΔP > pressure/2 (the fluid pressure ignored; §3.6)
     held = float(band.max_contact_pressure[0]) if band is not None else float(p0)
-    if dp0 >= held if case.coupled else pressure_difference_not_small(held, dp0):
+    if pressure_difference_large(held, dp0, case.coupled):
         messages.append(Note("rig_pressure_difference_large", {"pressure_difference": dp0, "pressure": held,
                                                                "band": band is not None, "coupled": case.coupled}))
     return RigPrediction(squeeze_pressure=p0, conductance=k_of, columns=columns, time_constant=tau, drain_time=t_final,

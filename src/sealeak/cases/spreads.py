@@ -248,8 +248,8 @@ def _make(key: str, nominal: Any, distribution: str, params: dict[str, Any], wri
             raise InputError(where, shown, "the spread must be a standard deviation >= 0")
         if distribution == "normal":
             # a temperature in °C or °F: the spread in kelvin against the absolute temperature
-            absolute, size, shown_value = ((_bound(key, nominal, "K"), sd * difference_factor(where, nominal, unit, "K"),
-                                            f"{_bound(key, nominal, 'K'):g} K") if offset else (x, sd, f"{x:g} {unit}"))
+            absolute, size = (_bound(key, nominal, "K"), sd * difference_factor(where, nominal, unit, "K")) if offset else (x, sd)
+            shown_value = f"{absolute:g} K" if offset else f"{x:g} {unit}"
             if absolute > 0 and size > 0 and size * TRUNCATION >= absolute:
                 raise InputError(where, shown, f"a normal spread must stay below 1/{TRUNCATION:g} of the value "
                                                       f"({shown_value}) so that no sample reaches zero (the normal is "

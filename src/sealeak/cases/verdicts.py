@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ..physics.critical_junction import CriticalJunctionResult, pressure_difference_not_small
+from ..physics.critical_junction import CriticalJunctionResult, pressure_difference_large
 from ..physics.effective_medium import EffectiveMediumResult
 from ..physics.validity import assumption_warnings, continuum_verdict
 from .band import BandResult
@@ -39,11 +39,10 @@ def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMedi
     # ΔP not small against P0: the fluid pressure would change the contact (docs/theory.md §3.6, §9.2); coupled:
     # the fluid pressure reaches P0 and opens the seal (§13.4)
     p0, dp = res.squeeze_pressure, res.pressure_difference
+    lifted = pressure_difference_large(p0, dp, case.coupled)
     if case.coupled:
-        lifted = dp >= p0
         reason = [opens_text(float(dp[i]), "P0", float(p0[i])) for i in range(p0.size)]
     else:
-        lifted = pressure_difference_not_small(p0, dp)
         reason = [f"ΔP = {dp[i]:.4g} Pa is not small against P0 = {p0[i]:.4g} Pa: the fluid pressure would lift the seal, "
                   "which the theory (P0 >> ΔP) does not model" for i in range(p0.size)]
     valid, validity = _lifted(valid, validity, lifted, res.percolates, reason)
@@ -70,11 +69,10 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
     """
     d = case.fluid.molecular_length
     dp, p_max = case.pressure_difference, band.max_contact_pressure
+    lifted = pressure_difference_large(p_max, dp, case.coupled) & pressure_difference
     if case.coupled:  # the fluid pressure reaches the peak and opens the seal (docs/theory.md §13.4)
-        lifted = (dp >= p_max) & pressure_difference
         reason = [opens_text(dp, "the peak contact pressure", float(p)) for p in p_max]
     else:
-        lifted = pressure_difference_not_small(p_max, dp) & pressure_difference
         reason = [f"ΔP = {dp:.4g} Pa is not small against the peak contact pressure {p:.4g} Pa: the fluid pressure would "
                   "open the seal, which the theory (p >> ΔP) does not model" for p in p_max]
 

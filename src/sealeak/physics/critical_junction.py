@@ -33,7 +33,7 @@ from .contact import PerssonContact
 from .gaps import ArrayCache, contact_key
 from .validity import no_channel_note, pressures_text
 
-__all__ = ["CriticalJunctionResult", "critical_junction", "percolation_limit", "poiseuille_leak_rate",
+__all__ = ["pressure_difference_large", "CriticalJunctionResult", "critical_junction", "percolation_limit", "poiseuille_leak_rate",
            "pressure_difference_not_small"]
 
 #: E* (Pa) above which a contact modulus is taken for a mistake rather than a material (diamond's E is 1.1e12 Pa).
@@ -46,6 +46,15 @@ LARGE_PRESSURE_RATIO = 0.5
 def pressure_difference_not_small(squeeze_pressure: ArrayLike, pressure_difference: ArrayLike) -> NDArray[np.bool_]:
     """Where ΔP > LARGE_PRESSURE_RATIO · P0: the theories' assumption P0 >> ΔP is doubtful (Pa, Pa; docs/theory.md §3.6)."""
     return np.asarray(pressure_difference, dtype=float) > LARGE_PRESSURE_RATIO * np.asarray(squeeze_pressure, dtype=float)
+
+
+def pressure_difference_large(pressure: ArrayLike, pressure_difference: ArrayLike, coupled: bool) -> NDArray[np.bool_]:
+    """Where ΔP is large against the contact pressure that holds the seal shut (Pa: P0, or a band's peak; ΔP in Pa):
+    with the fluid pressure coupled, where ΔP reaches it and opens the seal (docs/theory.md §13.4); with it ignored,
+    where the theories' assumption p >> ΔP is doubtful (:func:`pressure_difference_not_small`, §3.6)."""
+    if coupled:
+        return np.asarray(pressure_difference, dtype=float) >= np.asarray(pressure, dtype=float)
+    return pressure_difference_not_small(pressure, pressure_difference)
 
 FloatArray = NDArray[np.float64]
 
