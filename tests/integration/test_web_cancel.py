@@ -53,6 +53,20 @@ def _client(cache: PredictionCache, tmp_path, gone: threading.Event, out: dict[s
     return thread
 
 
+def _until(condition, what: str, timeout: float = 20.0) -> None:
+    """Wait until ``condition()`` holds (the threads' order observed, not guessed from a sleep)."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"not reached in {timeout} s: {what}"
+        time.sleep(0.01)
+
+
+def _waiting(cache: PredictionCache, n: int) -> bool:
+    """Whether ``n`` requests wait for the one computation running."""
+    with cache._lock:
+        return [len(c) for c in cache._clients.values()] == [n]
+
+
 def _two_clients(cache: PredictionCache, tmp_path, started: threading.Event):
     """Client a computes the case, then client b asks for the same and waits for a's computation:
     (a's and b's departure, their answers, their threads)."""
@@ -60,7 +74,7 @@ def _two_clients(cache: PredictionCache, tmp_path, started: threading.Event):
     a = _client(cache, tmp_path, gone_a, out, "a")
     assert started.wait(10)
     b = _client(cache, tmp_path, gone_b, out, "b")
-    time.sleep(0.3)
+    _until(lambda: _waiting(cache, 2), "b waits for a's computation")
     return gone_a, gone_b, out, a, b
 
 
@@ -69,7 +83,7 @@ def test_a_prediction_goes_on_while_one_of_its_clients_stays(held, tmp_path):
     cache = PredictionCache(computing=1)
     gone_a, gone_b, out, a, b = _two_clients(cache, tmp_path, started)
     gone_a.set()  # a's client leaves; b's stays
-    time.sleep(0.3)
+    time.sleep(0.3)  # (a computation looks every 10 ms whether to stop: it must not)
     release.set()
     a.join(30)
     b.join(30)
@@ -100,7 +114,7 @@ def test_a_request_waiting_for_a_slot_stops_waiting_when_its_client_leaves(held,
     assert started.wait(10)
     other = threading.Thread(target=lambda: out.update(c=_other(cache, tmp_path, gone_c)))
     other.start()
-    time.sleep(0.3)
+    _until(lambda: cache._waiting == 1, "c waits for a computing slot")
     gone_c.set()
     other.join(5)
     assert not other.is_alive() and isinstance(out["c"], cancel.Cancelled)  # not after the 60 s wait
@@ -198,9 +212,9 @@ def test_a_waiter_woken_late_after_a_failed_computation_answers_normally(monkeyp
     assert started.wait(10)
     b = threading.Thread(target=client, args=("b",))
     b.start()
-    time.sleep(0.3)
+    _until(lambda: _waiting(cache, 2), "b waits for a's computation")
     release.set()
-    time.sleep(0.1)
+    _until(lambda: not cache._running, "A's computation has ended")  # (B wakes 0.5 s late: C starts the next)
     c = threading.Thread(target=client, args=("c",))
     c.start()
     for t in (a, b, c):
