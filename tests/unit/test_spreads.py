@@ -174,3 +174,14 @@ def test_a_temperature_in_fahrenheit_is_spread_in_kelvin_against_the_absolute_te
     assert inp.key == "fluid.temperature"
     with pytest.raises(InputError, match=r"below 1/3 of the value \(293\.15 K\)"):
         parse_uncertain_case(text.replace("± 100 degF", "± 200 degF"))
+
+
+@pytest.mark.parametrize(("written", "sd"), [("20 degC ± 5 delta_degC", 5.0), ("20 degC ± 9 delta_degF", 5.0),
+                                             ("68 degF ± 9 delta_degF", 9.0), ("20 degC ± 5 K", 5.0)])
+def test_a_temperature_spread_in_a_difference_unit_is_read_as_the_difference_it_is(written, sd):
+    """"± 5 delta_degC" (pint's name for a temperature difference in °C) was refused as not converting to °C, while
+    "± 5 degC" and "± 5 K" were read as differences; 9 °F of difference are 5 K."""
+    text = BASE.replace('viscosity = "1 mPa*s"', f'viscosity = "1 mPa*s"\ntemperature = "{written}"')
+    (inp,) = parse_uncertain_case(text).inputs
+    assert inp.key == "fluid.temperature"
+    assert inp.parameters["sd"] == pytest.approx(sd, rel=1e-12, abs=0.0)

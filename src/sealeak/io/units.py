@@ -669,9 +669,13 @@ def difference_factor(field: str, value: Any, from_unit: str, to_unit: str) -> f
         return 1.0
     ureg = registry()
     try:
-        a, b = (ureg.Quantity(x, _unit(from_unit) if from_unit else ureg.dimensionless) for x in (1.0, 2.0))
+        source = _unit(from_unit) if from_unit else ureg.dimensionless
         target = _unit(to_unit) if to_unit else ureg.dimensionless
-        factor = float(b.to(target).magnitude - a.to(target).magnitude)
+        try:
+            a, b = (ureg.Quantity(x, source) for x in (1.0, 2.0))
+            factor = float(b.to(target).magnitude - a.to(target).magnitude)
+        except Exception:  # a difference unit ("5 delta_degC") against an offset unit (degC, degF): to its difference
+            factor = float(ureg.Quantity(1.0, source).to(_offset_difference(target)).magnitude)
     except Exception:  # pint's DimensionalityError and the like: one line naming the field
         shown = to_unit or "a plain number"
         raise UnitError(field, value, f"the spread's unit '{from_unit or '1'}' does not convert to the value's unit "
@@ -679,6 +683,11 @@ def difference_factor(field: str, value: Any, from_unit: str, to_unit: str) -> f
     if not (math.isfinite(factor) and factor > 0):
         raise UnitError(field, value, "the spread's unit is not a positive multiple of the value's unit")
     return factor
+
+
+def _offset_difference(unit: Any) -> Any:
+    """The difference unit of an offset unit: degC → delta_degC (pint's name for a temperature difference in °C)."""
+    return registry().Unit("delta_" + str(unit))
 
 
 def pint_unit(field: str, unit: str) -> Any:
