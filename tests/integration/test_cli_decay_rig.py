@@ -230,3 +230,18 @@ def test_a_coupled_decay_test_notes_where_the_gas_opens_the_seal(load, opens, ca
     words = " ".join(str(m) for m in decay_prediction(case).messages)
     assert ("decay_pressure_difference_large" in words) == opens, words
     assert main(["rig", "--example", "pressure-decay"]) == 0 and "lift-off" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("load, flagged", [("165 N", False), ("60 N", True)])
+def test_an_uncoupled_decay_test_flags_a_large_pressure_difference_where_predict_does(load, flagged):
+    """With the fluid pressure ignored, P1 − P2 = 1 bar against P0 = 3.0 bar (165 N) is not flagged by predict, the
+    fit or the other rigs (ΔP/P0 = 0.33 is below their ratio 1/2); the pressure-decay rig flagged it at 1/10. Against
+    P0 = 1.09 bar (60 N) every one of them flags it."""
+    text = example_path("pressure-decay").read_text().replace('load = "165 N"', f'load = "{load}"').replace(
+        "[theory]", '[theory]\nfluid_pressure = "ignored"')
+    (case,) = parse_cases(text)
+    assert not case.coupled
+    decay = decay_prediction(case)
+    ratio = 1e5 / decay.squeeze_pressure  # (P1 − P2: 2 bar − 1 bar, as the example gives them)
+    assert (ratio > 0.5) == flagged, ratio
+    assert any(m.code == "decay_pressure_difference_large" for m in decay.messages) == flagged

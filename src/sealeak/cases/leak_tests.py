@@ -32,7 +32,7 @@ from ..errors import InputError
 from ..io.quantities import quantity
 from ..lab.pressure_decay import DecayReadings, PressureDecay, ScaleFromDecay, leak_rate_from_decay, pressure_decay, scale_factor_from_decay, viscous_decay_time
 from ..lab.rig import DecayRigSetup
-from ..physics.critical_junction import critical_junction
+from ..physics.critical_junction import critical_junction, pressure_difference_large
 from ..physics.effective_medium import effective_medium
 from ..physics.gas import Gas, GasLeak, gas_leak, pressure_integral, with_throughput
 from ..physics.validity import strain_warning
@@ -265,8 +265,9 @@ def decay_prediction(case: Case) -> DecayPrediction:
                                                     "duration": float(decay.time[-1])}))
     dp = p1 - p2
     p_ref = float(band.max_contact_pressure[0]) if band is not None else p0
-    # coupled: the gas pressure's action on the contact is computed, up to lift-off (ΔP reaching p_ref opens the seal)
-    if dp >= p_ref if case.coupled else dp > 0.1 * p_ref:
+    # coupled: the gas pressure's action on the contact is computed, up to lift-off (ΔP reaching p_ref opens the seal);
+    # ignored: flagged where p >> ΔP is doubtful, as predict, fit and the other rigs flag it
+    if pressure_difference_large(p_ref, dp, case.coupled):
         messages.append(Note("decay_pressure_difference_large", {"pressure_difference": float(dp), "pressure": float(p_ref),
                                                                  "band": band is not None, "coupled": case.coupled}))
     return DecayPrediction(squeeze_pressure=p0, models=out, messages=tuple(messages), band=band)
