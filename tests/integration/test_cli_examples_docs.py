@@ -51,3 +51,12 @@ def test_fit_to_the_data_file_finds_the_alpha_it_was_made_with(tmp_path):
     assert main(["fit", "--example", "reference-experiment", "--data", str(tmp_path / "m.csv"), "--json", str(out),
                  "-q"]) == 0
     assert json.loads(out.read_text())["critical_junction"]["alpha"] == pytest.approx(fit.alpha, rel=1e-12, abs=0)
+
+
+def test_fit_of_rows_repeating_one_measurement_says_alpha_has_no_standard_error(tmp_path, capsys):
+    """Four copies of one row of the bundled data printed "± se 0" and no note."""
+    header, row = [line for line in example_text(DATA).splitlines() if not line.startswith("#")][:2]
+    (tmp_path / "same.csv").write_text("\n".join([header] + [row] * 4) + "\n")
+    assert main(["fit", "--example", "reference-experiment", "--data", str(tmp_path / "same.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "4 usable rows repeat one measurement" in out and "α has no standard error" in out

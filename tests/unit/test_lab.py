@@ -51,6 +51,19 @@ def test_stated_error_has_the_right_coverage(sweep, model):
     assert 0.60 < hits / trials < 0.74
 
 
+def test_rows_repeating_one_measurement_give_alpha_no_standard_error():
+    """Four copies of one row printed α ± 0 (no scatter among copies), which reads as certainty: like one point, they
+    give no standard error. Points that lie exactly on the model's curve at different loads keep se = 0, their
+    scatter; one differing copy brings a standard error back."""
+    q, model = np.full(4, 3e-8), np.full(4, 2e-7)
+    f = fit_scale(q, model)
+    assert f.alpha == pytest.approx(0.15, rel=1e-14, abs=0) and f.n_used == 4
+    assert np.isnan(f.alpha_std) and np.isnan(f.log10_alpha_std)
+    exact = fit_scale(0.15 * np.array([1e-7, 2e-7, 4e-7]), np.array([1e-7, 2e-7, 4e-7]))
+    assert exact.alpha_std == pytest.approx(0.0, abs=1e-15)
+    assert fit_scale(np.array([3e-8, 3e-8, 3e-8, 3.3e-8]), model).alpha_std > 0
+
+
 def test_rows_without_pressure_difference_use_the_case_value(case):
     p0 = np.array([3e4, 6e4])
     a = fit_models(case, p0, [np.nan, np.nan], [1e-6, 1e-7])["critical_junction"].prediction

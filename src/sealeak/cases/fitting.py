@@ -217,6 +217,8 @@ def _fit_messages(data: LeakData, fits: dict[str, ScaleFit], load_name: str, loa
         for name, f in fits.items() for i, reason in f.excluded]
     if not any(f.n_used > 1 for f in fits.values()):
         messages.append(Note("fit_single_point"))
+    elif not any(f.n_used > 1 and np.isfinite(f.alpha_std) for f in fits.values()):
+        messages.append(Note("fit_repeated_point", {"rows": max(f.n_used for f in fits.values())}))
     low, high = PLAUSIBLE_ALPHA  # a fitted α far from order one (predict warns at the same values): computed, and flagged
     messages += [Note("fit_alpha_far", {"theory": name.replace("_", " "), "alpha": f.alpha, "low": low, "high": high})
                  for name, f in fits.items() if f.fitted and not low <= f.alpha <= high]

@@ -81,7 +81,8 @@ def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model", h
     A point is excluded when the prediction is missing (NaN: no leak channel) or zero (no pressure
     difference), or the measurement is 0, or ``held`` marks it (the model holds the liquid by capillarity there,
     Q = 0 whatever α: docs/theory.md eq. 12.3; the reason says whether the measurement leaked all the same).
-    ln α = mean(ln Q_i - ln q_i), se(ln α) = std(ddof=1)/√n (docs/theory.md §8.1). Both arrays in m³/s (any
+    ln α = mean(ln Q_i - ln q_i), se(ln α) = std(ddof=1)/√n (docs/theory.md §8.1); NaN from one point, or from rows
+    that all repeat one measurement (the same Q against the same prediction). Both arrays in m³/s (any
     common unit: α is a ratio).
     """
     q = np.asarray(measured, dtype=float).ravel()
@@ -108,7 +109,9 @@ def fit_scale(measured: ArrayLike, predicted: ArrayLike, model: str = "model", h
                         n_used=0, used=used, prediction=p, excluded=tuple(sorted(excluded)))
     r = np.log(q[used]) - np.log(p[used])
     ln_alpha = float(np.mean(r))
-    se = float(np.std(r, ddof=1) / np.sqrt(n)) if n > 1 else np.nan
+    # rows that repeat one measurement (the same Q at the same load) carry no scatter: no standard error, as one point
+    distinct = np.unique(np.stack([q[used], p[used]]), axis=1).shape[1]
+    se = float(np.std(r, ddof=1) / np.sqrt(n)) if distinct > 1 else np.nan
     alpha = float(np.exp(ln_alpha))
     rms = float(np.sqrt(np.mean((r - ln_alpha) ** 2)) / np.log(10.0))
     return ScaleFit(model=model, alpha=alpha, alpha_std=alpha * se, log10_alpha_std=se / np.log(10.0),

@@ -330,6 +330,9 @@ _WORDING: dict[str, Callable[[Mapping[str, Any]], str]] = {
     "helium_test_lifts": _helium_test_lifts,
     "fit_excluded": _fit_excluded,
     "fit_single_point": lambda v: "with one usable point α has no standard error",
+    "fit_repeated_point": lambda v: (f"the {v['rows']} usable rows repeat one measurement (the same leak rate at the same "
+                                     "load): their scatter is none, so α has no standard error; the measurement's own "
+                                     "uncertainty is not known to the fit"),
     "fit_alpha_far": lambda v: (f"{v['theory']}: the fitted α = {v['alpha']:.3g} lies outside {v['low']:g} to {v['high']:g} "
                                 "(α is a shape factor of order one, 0.1 to 2 in the literature; predict warns outside the "
                                 "same range): the model "
