@@ -317,7 +317,10 @@ def band_legend(r: CaseResult) -> str:
     return ("w: contact width; p_mean, p_max: mean and peak contact pressure; "
             + ("Q_u,CJ(p_mean)" if both else "Q_u(p_mean)")
             + ": the leak rate of a uniform seal of the same width and length at the mean contact pressure p_mean = f/w"
-            + (" (critical junction)" if both else "") + ", for comparison (docs/theory.md §10.1); 90% of R: the width "
+            + (" (critical junction)" if both else "") + ", for comparison (docs/theory.md §10.1)"
+            + ("; it takes no capillarity: on a row the liquid is held (Q = 0) it is the uniform seal's leak rate once "
+               "the liquid passes" if r.capillary and any(c.held.any() for c in r.capillary.values()) else "")
+            + "; 90% of R: the width "
             "of the band holding 90 % of the flow resistance"
             + ("; valid CJ, valid EM: the verdicts of the critical junction and of the effective medium" if both else ""))
 
