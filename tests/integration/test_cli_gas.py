@@ -320,6 +320,25 @@ def test_fit_of_a_coupled_band_gas_case_recovers_alpha(tmp_path, capsys):
     assert fit["alpha"] == pytest.approx(0.3, rel=1e-6)
 
 
+@pytest.mark.parametrize("coupling, dp_bar, said", [
+    ('fluid_pressure = "ignored"', 5.0, "is not small against the peak contact pressure"),  # ΔP > p_max/2
+    ("", 7.0, "reaches the lift-off pressure difference, the peak contact pressure")])  # ΔP >= p_max
+def test_a_band_gas_fit_says_where_the_pressure_difference_is_large_against_the_peak(tmp_path, capsys, coupling, dp_bar,
+                                                                                   said):
+    """The helium test's O-ring (peak contact pressure 6.4 bar at 10 % compression, theory eq. 10.4) fitted to a row at
+    ΔP = 5 bar (fluid pressure ignored: p >> ΔP doubtful) or 7 bar (coupled: the gas opens the seal): a liquid's band
+    fit and a uniform gas fit say so; a band gas fit said nothing."""
+    text = Path(example_path("helium-test")).read_text().replace("[theory]", f"[theory]\n{coupling}")
+    (tmp_path / "case.toml").write_text(text)
+    data = tmp_path / "measured.csv"
+    data.write_text("compression (%), pressure_difference (bar), leak_rate (mbar*l/s)\n"
+                    f"10, 1, 1e-6\n10, {dp_bar}, 2e-5\n15, 1, 1e-8\n")
+    assert main(["fit", str(tmp_path / "case.toml"), "--data", str(data)]) == 0
+    out = capsys.readouterr().out
+    assert f"line 3: ΔP = {dp_bar * 1e5:g} Pa {said}" in out and "at compression 10 % (1 row(s) like it)" in out
+    assert "line 2:" not in out and "line 4:" not in out  # 1 bar against 6.4 and 9.6 bar: not large
+
+
 @pytest.mark.parametrize("unit", ["sccm", "mol/s", "kg/s"])
 def test_a_gas_leak_unit_for_a_liquid_case_is_one_line(tmp_path, capsys, unit):
     case = tmp_path / "case.toml"

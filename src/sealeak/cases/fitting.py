@@ -342,9 +342,10 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                       pressure=data.reference_pressure)
     dp = np.where(np.isfinite(data.pressure_difference), data.pressure_difference, case.pressure_difference)
 
-    def models(at: Case, loads: FloatArray) -> tuple[dict[str, _GasModel], Verdicts]:
+    def models(at: Case, loads: FloatArray) -> tuple[dict[str, _GasModel], Verdicts, FloatArray]:
         """(K at α = 1, gap, length λ_c, coupled seals at α = 1 or None) of both theories at ``loads`` (those of
-        :func:`gas_rows`), and their verdicts there."""
+        :func:`gas_rows`), their verdicts there, and the pressure that holds the seal shut at each (Pa: P0, or the
+        band's peak contact pressure)."""
         one = replace(at, alpha=1.0)
         if at.band is not None:
             ks, res = _band_conductance(one, loads, ("critical-junction", "effective-medium"))
@@ -359,7 +360,7 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                                            band_seals("critical-junction", res.critical_junction.percolates)),
                      "effective_medium": (ks["effective-medium"][0], _band_effective_gap(at, res.effective_medium), lam,
                                           band_seals("effective-medium", res.effective_medium.percolates))},
-                    _band_verdicts(at, res, pressure_difference=False))
+                    _band_verdicts(at, res, pressure_difference=False), res.max_contact_pressure)
         # K = Q/ΔP: at ΔP → 0 as printed; with the fluid pressure coupled at the case's ΔP, as predict (theory §13.5)
         dp_k = at.pressure_difference if at.coupled else 1.0
         cj = predict(one, squeeze_pressure=loads, pressure_difference=dp_k)
@@ -372,11 +373,11 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
                  "effective_medium": (np.where(em.percolates, em.leak_rate / dp_k, 0.0),
                                       np.where(em.percolates, em.effective_gap, np.nan), cj.critical_wavelength,
                                       seals("effective-medium", em.percolates))},
-                _uniform_verdicts(at, cj, em, pressure_difference=False))
+                _uniform_verdicts(at, cj, em, pressure_difference=False), loads)
 
     loads = data.band_load if case.band is not None and data.band_load is not None else data.squeeze_pressure
     distinct, inverse = np.unique(loads, return_inverse=True)
-    at_distinct, verdicts = models(case, distinct)
+    at_distinct, verdicts, holding = models(case, distinct)
     fits = {name: fit_scale(q, gas_throughput(case, k[inverse], gap[inverse], dp, lam[inverse],
                                               None if seals is None else [seals[j] for j in inverse]), name)
             for name, (k, gap, lam, seals) in at_distinct.items()}
@@ -384,8 +385,8 @@ def _run_gas_fit(case: Case, data: LeakData) -> FitResult:
     messages = _fit_messages(data, fits, load_name, loads)
     notes, outside = _outside_validity(data, fits, verdicts, inverse, load_name, loads)
     messages += notes
-    if case.band is None:  # ΔP not small against P0, as a liquid's fit says (1000 bar against 200 kPa said nothing)
-        messages += _large_pressure_difference(data, dp, loads, "squeeze_pressure", loads, case.coupled)
+    # ΔP large against P0 or the band's peak, as a liquid's fit says (1000 bar against 200 kPa said nothing)
+    messages += _large_pressure_difference(data, dp, holding[inverse], load_name, loads, case.coupled)
     messages.append(Note("fit_pv_throughputs", {"gas": gas.gas.name, "temperature": float(gas.temperature),
                                                 "downstream_pressure": float(gas.downstream_pressure)}))
     same = bool(np.allclose(dp, dp[0]))
