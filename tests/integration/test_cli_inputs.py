@@ -15,7 +15,7 @@ import pytest
 
 from sealeak.cases import example_path
 from sealeak.cli import main
-from sealeak.io.files import OutputExistsError, OutputWriteError, atomic_write, check_outputs, check_replaceable, write_files
+from sealeak.io.files import Output, OutputExistsError, OutputWriteError, atomic_write, check_outputs, check_replaceable, write_files
 from tests.casefiles import edit
 from tests.cli_errors import one_line_error
 
@@ -337,3 +337,16 @@ def test_a_file_output_ending_in_a_slash_is_refused_not_written_as_a_file(tmp_pa
     assert "names a folder (it ends in '/'): give a file name" in capsys.readouterr().err
     assert not (tmp_path / "new").exists()
     check_outputs([Path("plots")], force=False)  # (a path object never ends in '/': a file name)
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+def test_a_folder_where_no_file_can_be_made_is_refused_before_the_run(tmp_path, capsys):
+    """/proc takes no new file, yet the superuser's os.access says it may write there: the run computed the whole case
+    and failed on its last step. A file made and removed in the folder up front is the answer; a writable folder keeps
+    no trace of it."""
+    with pytest.raises(OutputExistsError, match=r"cannot write --json /proc/sealeak-x\.json: "):
+        check_outputs([Output("/proc/sealeak-x.json", option="--json")], force=False)
+    assert main(["predict", "--example", "reference-experiment", "--json", "/proc/sealeak-x.json"]) == 2
+    one_line_error(capsys, "/proc")
+    check_outputs([Output(tmp_path / "out.json", option="--json"), Output(tmp_path / "new" / "plots", folder=True)], force=False)
+    assert list(tmp_path.iterdir()) == []

@@ -226,7 +226,17 @@ def _writable_from(folder: Path) -> tuple[Path, str]:
     existing = next((d for d in (folder, *folder.parents) if d.exists()), Path("."))
     if not existing.is_dir():
         return existing, f"{existing} is not a folder"
-    return existing, "" if os.access(existing, os.W_OK | os.X_OK) else f"no permission to write into the folder {existing}"
+    if not os.access(existing, os.W_OK | os.X_OK):
+        return existing, f"no permission to write into the folder {existing}"
+    # os.access answers for the permission bits: a superuser is told yes for /proc or /sys, where no file can be made,
+    # and a read-only mount may pass; a file made and removed at once is the answer the run would meet at its end
+    try:
+        handle, probe = tempfile.mkstemp(prefix=".sealeak-probe-", dir=existing)
+    except OSError as exc:
+        return existing, f"no file can be made in the folder {existing} ({exc.strerror or exc})"
+    os.close(handle)
+    os.unlink(probe)
+    return existing, ""
 
 
 @contextmanager
