@@ -316,18 +316,24 @@ def test_outputs_are_written_all_or_none(tmp_path, monkeypatch):
     assert (tmp_path / "a.json").read_text() == "new\n" and (tmp_path / "new" / "deep" / "c.png").read_bytes() == b"png"
 
 
-@pytest.mark.skipif(not Path("/proc/self").is_dir() or not hasattr(os, "geteuid") or os.geteuid() != 0,
-                    reason="a folder no file can be made in that passes the up-front check: /proc, for root")
-def test_a_figure_folder_that_fails_late_leaves_the_other_outputs_as_they_were(tmp_path, capsys):
-    """--plots in a folder that passes the up-front check (root may write anywhere, says os.access) but refuses files:
-    one line, exit 2, the --json it was to replace as it was and no --csv."""
+def test_a_figure_folder_that_fails_late_leaves_the_other_outputs_as_they_were(tmp_path, capsys, monkeypatch):
+    """--plots in a folder that passes the up-front check but refuses the figures when they are written (a disk that
+    fills during the run): one line, exit 2, the --json it was to replace as it was and no --csv."""
+    real = tempfile.mkstemp
+
+    def full_disk(*args, **kwargs):
+        if kwargs.get("prefix", "").endswith(".png."):
+            raise OSError(28, "No space left on device")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(tempfile, "mkstemp", full_disk)
     old = tmp_path / "old.json"
     old.write_text("earlier\n")
     csv = tmp_path / "new.csv"
-    rc = main(["predict", REFERENCE, "--json", str(old), "--csv", str(csv), "--plots", "/proc/sealeak-nope/figs", "--force", "-q"])
+    rc = main(["predict", REFERENCE, "--json", str(old), "--csv", str(csv), "--plots", str(tmp_path / "figs"), "--force", "-q"])
     err = capsys.readouterr().err
-    assert rc == 2 and err.count("\n") == 1 and "cannot write /proc/sealeak-nope/figs/" in err
-    assert old.read_text() == "earlier\n" and not csv.exists()
+    assert rc == 2 and err.count("\n") == 1 and "No space left on device" in err, err
+    assert old.read_text() == "earlier\n" and not csv.exists() and not (tmp_path / "figs").exists()
 
 
 def test_a_file_output_ending_in_a_slash_is_refused_not_written_as_a_file(tmp_path, capsys, monkeypatch):
