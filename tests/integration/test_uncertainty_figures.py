@@ -229,3 +229,34 @@ def test_fan_chart_of_several_variants_names_each_band_once_and_its_elements_onc
     assert sorted(labels[6:]) == sorted(["5–95 % of the samples", "25–75 %", "median", "deterministic (nominal inputs)",
                                          "max_leak_rate = 1e-11 m³/s"])
     assert fig.axes[0].get_window_extent().height > 0.3 * fig.bbox.height
+
+
+@pytest.mark.parametrize("limit, where", [(1e-3, "above the top"), (1e-30, "below the foot")])
+def test_a_specification_far_from_the_leak_rates_is_named_at_the_axis_edge_not_made_its_end(limit, where):
+    """A 1e-3 ml/min limit over an O-ring's leak rates near 1e-19 m³/s made the axis's top: cut 8 decades below it,
+    every band ran along the floor and every median was a ▽ below the axis. A limit farther than 3 decades above the
+    leak rates (or below the cut) is a legend entry saying how far it lies, and the axis holds the leak rates."""
+    fig = _build(lambda: figure_fan_chart([_band()], "squeeze pressure P0 (kPa)", max_leak_rate=limit))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    lo, hi = ax.get_ylim()
+    assert lo <= (MEDIAN / 5).min() and hi >= (MEDIAN * 5).max() and hi < 1e-7  # every band on the axis
+    assert not [line for line in ax.get_lines() if line.get_label() == "median below the axis"]
+    (named,) = [line.get_label() for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")]
+    decades = abs(np.log10(limit) - np.log10(hi if where == "above the top" else lo))
+    assert f"{decades:.1f} decades {where} of the axis" in named
+    near = _build(lambda: figure_fan_chart([_band()], "squeeze pressure P0 (kPa)", max_leak_rate=1e-7))
+    assert near.axes[0].get_ylim()[1] >= 1e-7  # 2 decades above the largest leak rate: the axis reaches it
+
+
+def test_a_distribution_far_below_the_specification_keeps_its_axis_on_the_samples():
+    rng = np.random.default_rng(2)
+    q = 10.0 ** rng.normal(-19.0, 1.0, 256)
+    fig = _build(lambda: figure_leak_distribution(q, max_leak_rate=1.7e-11, nominal=1e-19))
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    lo, hi = ax.get_xlim()
+    assert hi < 1e-14 and lo <= q.min()
+    assert "100.0 %" in ax.get_title()  # every sample passes, as before
+    (named,) = [line.get_label() for line in ax.get_lines() if line.get_label().startswith("max_leak_rate = ")]
+    assert "decades beyond the axis' right end" in named

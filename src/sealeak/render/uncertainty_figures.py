@@ -65,6 +65,10 @@ _SEALED_STRIP = 0.09
 #: Decades a leak-rate axis spans at most below its largest value: a percentile of a load where nearly every sample
 #: seals may be 1e-38 m³/s, which would squeeze what matters into the top of the figure.
 _MAX_DECADES = 8.0
+#: Decades above (or below) the leak rates within which a leak-rate axis reaches out to ``max_leak_rate``; a limit
+#: farther away is named at the axis' edge, with how far it lies: as the axis' end it would squeeze the leak rates into
+#: its floor (a 1e-3 ml/min limit over leak rates near 1e-19 m³/s left every median below the axis).
+_LIMIT_REACH = 3.0
 #: The most variants (study values, a life case's times and temperatures) a fan chart draws a band for.
 MAX_FAN_BANDS = 6
 _SPEC_COLOUR = "tab:red"
@@ -115,6 +119,16 @@ def _leak_limits(values: np.ndarray, sealed: bool) -> tuple[float, float, float]
     return 10.0 ** (lo_d - strip), 10.0 ** lo_d, 10.0 ** hi_d
 
 
+def _far_from(leaking: np.ndarray, limit: float | None) -> str:
+    """"above" or "below" where ``limit`` lies more than :data:`_LIMIT_REACH` decades above the largest of the positive
+    ``leaking`` values, or farther below it than the axis reaches (:data:`_MAX_DECADES`); "" otherwise (or without
+    either)."""
+    if limit is None or not (np.isfinite(limit) and limit > 0) or not leaking.size:
+        return ""
+    gap = float(np.log10(limit) - np.log10(leaking.max()))
+    return "above" if gap > _LIMIT_REACH else "below" if gap < -_MAX_DECADES else ""
+
+
 def _sealed_strip(ax, top: float, bottom: float) -> None:
     """Shade the strip of sealed samples (below ``top``); :func:`_sealed_tick` names it."""
     ax.axhspan(bottom, top, color="0.88", zorder=0, lw=0)
@@ -153,8 +167,9 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
     fig, ax = new_figure("Leak rate with its uncertainty: median and 5–95 % band")
     ax.set_xlabel(x_label)
     ax.set_ylabel(_leak_label(unit))
-    values = _positive(*[a for b in bands for a in (b.p05, b.p25, b.p50, b.p75, b.p95, b.nominal)],
-                       np.array([max_leak_rate if max_leak_rate is not None else np.nan]))
+    leaking = _positive(*[a for b in bands for a in (b.p05, b.p25, b.p50, b.p75, b.p95, b.nominal)])
+    far = _far_from(leaking, max_leak_rate)
+    values = leaking if far else _positive(leaking, np.array([max_leak_rate if max_leak_rate is not None else np.nan]))
     if not values.size:
         say_nothing(ax, "sealed in every sample at every load: no leak rate to draw")
         subtitle(ax, notes)
@@ -222,8 +237,13 @@ def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: 
                 ax.plot([], [], style, color="0.35", label=text, **kw)
             else:
                 ax.plot([], [], style, mec="0.35", color="0.35", label=text, **kw)
-    if max_leak_rate is not None:
+    if max_leak_rate is not None and not far:
         limit_line(ax, max_leak_rate, limit_text or f"{max_leak_rate:.3g} {unit}", _SPEC_COLOUR)
+    elif max_leak_rate is not None:  # named in the legend, with how far beyond the axis it lies
+        decades = abs(np.log10(max_leak_rate) - np.log10(top if far == "above" else strip_top))
+        side = "above the top" if far == "above" else "below the foot"
+        ax.plot([], [], "^" if far == "above" else "v", color=_SPEC_COLOUR, ms=7,
+                label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}: {decades:.1f} decades {side} of the axis")
     ax.set_ylim(bottom, top)
     if sealed_any:
         _sealed_strip(ax, strip_top, bottom)
@@ -323,10 +343,17 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
         ax.axvline(median, color="0.2", lw=1.2, label="median")
     if nominal is not None and np.isfinite(nominal) and nominal > 0:
         ax.axvline(nominal, color="0.2", ls="--", lw=1.0, label="deterministic (nominal inputs)")
-    if max_leak_rate is not None:
-        ax.axvline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
-    shown = [bins[0], bins[-1]] + [v for v in (nominal, max_leak_rate) if v is not None and np.isfinite(v) and v > 0]
+    far = _far_from(_positive(v, np.array([nominal if nominal is not None else np.nan])), max_leak_rate)
+    shown = [bins[0], bins[-1]] + [v for v in (nominal, None if far else max_leak_rate) if v is not None and np.isfinite(v) and v > 0]
     ax.set_xlim(min(shown) / 10 ** 0.1, max(shown) * 10 ** 0.1)  # the bins and the lines, a tenth of a decade beyond
+    if max_leak_rate is not None and not far:
+        ax.axvline(max_leak_rate, color=_SPEC_COLOUR, ls="-.", lw=1.2, label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}")
+    elif max_leak_rate is not None:  # far from the samples: named in the legend with how far it lies, not the axis' end
+        edge = max(shown) * 10 ** 0.1 if far == "above" else min(shown) / 10 ** 0.1
+        decades = abs(np.log10(max_leak_rate / edge))
+        ax.plot([], [], ">" if far == "above" else "<", color=_SPEC_COLOUR, ms=7,
+                label=f"max_leak_rate = {limit_text or f'{max_leak_rate:.3g} {unit}'}: {decades:.1f} decades "
+                      f"beyond the axis' {'right' if far == 'above' else 'left'} end")
     subtitle(ax, "\n".join(lines))
     finish_axes(ax)
     place_legend(ax)
