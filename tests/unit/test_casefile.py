@@ -1,5 +1,7 @@
 """Case files: units, examples, studies, and the catalogue of invalid inputs."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -71,6 +73,22 @@ def test_a_study_names_its_value_only_where_the_value_is_at_fault():
     with pytest.raises(InputError) as bad_shared:  # every variant fails alike: the first value is not to blame
         parse_cases(shared)
     assert str(bad_shared.value) == "rubber.youngs_modulus = '-2.3 MPa': must be > 0"
+
+
+@pytest.mark.parametrize("base, study, field", [
+    ('h_rms = "-3 um"', '[study]\nvary = "surface.h_rms"\nvalues = ["10 um", "20 um"]\n', "surface.h_rms"),
+    ('viscosity = "-5 banana"', '[study]\nvary = "fluid"\nvalues = [{ viscosity = "1 mPa*s" }, { viscosity = "30 mPa*s" }]\n',
+     "fluid.viscosity")])
+def test_a_value_every_study_value_replaces_is_checked_all_the_same(base, study, field):
+    """A base value that no case uses (every study value replaces it) passed unread: "-5 banana" as the viscosity of
+    the [fluid] a whole-section study replaces. It is checked as written; a valid one, or none, builds as before."""
+    key = field.split(".")[1]
+    text = re.sub(rf'(?m)^{key} = .*$', base, BASE) + "\n" + study
+    with pytest.raises(InputError) as exc:
+        parse_cases(text)
+    assert exc.value.field == field and "every study value replaces it" in str(exc.value)
+    assert len(parse_cases(BASE + "\n" + study)) == 2
+    assert len(parse_cases(re.sub(rf'(?m)^{key} = .*$', "", BASE) + "\n" + study)) == 2
 
 
 @pytest.mark.parametrize("name", example_names())

@@ -185,7 +185,30 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
             if not _fails_alike(exc, lambda: build(variant_of(values[(i + 1) % len(values)]), "")):
                 raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
             raise
+    _check_shadowed(doc, section, [key] if not whole else list(values[0]), values, lambda d: build(d))
     return cases, tuple(dict.fromkeys(files))
+
+
+def _check_shadowed(doc: dict[str, Any], section: str, keys: list[str], values: list[Any],
+                    build: Callable[[dict[str, Any]], object]) -> None:
+    """Check the values of ``section`` that every study value replaces (``keys``: the varied key, or a whole section's
+    keys of the first value): no case is built with them, yet the file gives them. The first variant is built again
+    with them; an error of one of them is raised as it stands ("-5 banana" as the base viscosity passed silently)."""
+    base = doc.get(section)
+    if not isinstance(base, dict):
+        return
+    shadowed = [k for k in keys if k in base and all(not isinstance(v, dict) or k in v for v in values)]
+    if not shadowed:
+        return
+    check = copy.deepcopy(doc)
+    first = values[0]
+    check[section] = {**base, **({k: v for k, v in first.items() if k not in shadowed} if isinstance(first, dict) else {})}
+    try:
+        build(check)
+    except InputError as exc:
+        if exc.field.partition("[")[0] in {f"{section}.{k}" for k in shadowed}:
+            raise InputError(exc.field, exc.value, exc.allowed + " (every study value replaces it, but the case file gives "
+                                                                 "it: it must be valid too, or left out)") from None
 
 
 def _fails_alike(exc: InputError, other: Callable[[], object]) -> bool:
