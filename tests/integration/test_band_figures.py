@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sealeak.cases import example_path, read_case_file, run_case
+from sealeak.cases import example_path, parse_case_file, read_case_file, run_case
 from sealeak.cli import main
 from sealeak.physics.profile import PressureProfile, resistance_band, series_resistance
 from sealeak.render import html_report, prediction_figures
@@ -317,3 +317,27 @@ def test_report_of_a_study_describes_a_shared_seal_once(runs):
     for r in results:  # each variant's band table
         assert f"<h3>{html.escape(r.case.label)}</h3>" in text
     assert text.count("force per length f (N/m)") == 1
+
+
+def test_a_sealed_load_the_fluid_pressure_opens_is_a_hollow_triangle_and_the_legend_says_why():
+    """An O-ring at ΔP = 25 bar, above its peaks of 0.64, 1.3 and 2.2 MPa: the 10 % and 20 % loads leak at the lift-off
+    limit, the 30 % load has no leak channel at its peak but the fluid opens it too. Its × said "the band seals"; the
+    hollow markers' legend said "not a thin film" for the lift-off. The title gave ΔP as 2.5e+03 kPa."""
+    text = re.sub(r'(?m)^pressure_difference = .*$', 'pressure_difference = "25 bar"', _oring_text())
+    results = [run_case(c) for c in parse_case_file(text).cases]
+    r = results[0]
+    assert r.band.critical_junction.percolates.tolist()[-1] is False and not r.valid[-1]
+    fig = _build(lambda: prediction_figures(results))["leak_rate.png"]
+    assert not figure_problems(fig)
+    ax = fig.axes[0]
+    triangles = [ln for ln in ax.get_lines() if ln.get_marker() == "^" and ln.get_markerfacecolor() == "none"
+                 and len(ln.get_xdata())]
+    bottom = [ln for ln in triangles if np.all(_xy(ln)[1] < 1.01 * ax.get_ylim()[0] * (ax.get_ylim()[1] / ax.get_ylim()[0]) ** 0.1)]
+    assert len(bottom) == 2  # water and oil, side by side at 30 %
+    assert all(_xy(ln)[0] == pytest.approx([30.0], rel=0.03) for ln in bottom)
+    assert not [ln for ln in ax.get_lines() if ln.get_marker() == "x" and len(ln.get_xdata())]
+    labels = [t.get_text() for leg in [*fig.legends, ax.get_legend()] if leg for t in leg.get_texts()]
+    assert any("sealed but for ΔP, which opens it: valid = NO" in t for t in labels)
+    assert any(t.startswith("ΔP ≥ lift-off (its limit)") for t in labels)
+    assert not any(t.startswith("ΔP below") or "not a thin film" in t for t in labels)
+    assert "ΔP = 2.5 MPa" in ax.get_title()

@@ -50,6 +50,7 @@ from sealeak.render.figures import (
     figure_critical_magnification,
     figure_leak_rate,
     figure_pressure_difference,
+    log_axis,
     new_figure,
     prediction_figure_names,
 )
@@ -450,3 +451,21 @@ def test_critical_junction_figures_say_why_a_pressure_has_no_point(tmp_path):
         assert ax.get_xlim()[1] >= 1000.0  # the axis still spans the sealed pressure (kPa)
     ax = _build(lambda: figure_critical_junction(_results(BASE, tmp_path))).axes[0]
     assert "missing points" not in ax.get_title()
+
+
+def test_a_log_axis_over_a_small_part_of_a_decade_labels_each_tick_apart():
+    """2.2 to 2.6 ×10⁻⁹ is ticked every 0.05 ×10⁻⁹: two digits labelled "2.2×10⁻⁹" and "2.5×10⁻⁹" twice each."""
+    fig, ax = new_figure("test")
+    ax.set_yscale("log")
+    ax.plot([1.0, 2.0], [2.2e-9, 2.6e-9])
+    ax.set_ylim(2.18e-9, 2.62e-9)
+    log_axis(ax.yaxis)
+    fig.canvas.draw()
+    labels = [t.get_text() for t in ax.yaxis.get_ticklabels() if t.get_text()]
+    assert len(labels) >= 3 and len(set(labels)) == len(labels), labels
+    wide, wax = new_figure("test")
+    wax.set_yscale("log")
+    wax.set_ylim(1e-9, 1e-6)
+    log_axis(wax.yaxis)
+    wide.canvas.draw()
+    assert "2×10⁻⁹" in [t.get_text() for t in wax.yaxis.get_ticklabels()]  # over decades: two digits, as before

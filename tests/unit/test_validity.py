@@ -17,7 +17,8 @@ from sealeak.physics.validity import (
     molecular_size,
     pressures_text,
 )
-from tests.casefiles import BASE, edit
+from sealeak.render.text import prediction_table
+from tests.casefiles import BASE, ORING, edit
 
 # ---------------------------------------------------------------------- verdicts
 
@@ -153,3 +154,30 @@ def test_junction_at_the_end_of_the_band_gives_zero_gap_flagged_not_an_error():
 def test_h_rms_beyond_any_real_surface_is_refused_naming_it(h_rms):
     with pytest.raises(InputError, match=r"^h_rms = .*must lie in"):
         PowerSpectrum.self_affine(hurst=0.8, q_rolloff=1e4, q_cutoff=1e7, h_rms=h_rms)
+
+
+@pytest.mark.parametrize("coupling, dp, lifted", [
+    ("", "50 bar", [True, True, True]),  # ΔP above every peak (0.63, 0.96, 2.24 MPa)
+    ("", "10 bar", [True, True, False]),  # above the first two peaks only
+    ('fluid_pressure = "ignored"', "15 bar", [True, True, True]),  # ΔP > p_max/2 at every load
+])
+def test_a_band_the_fluid_pressure_opens_is_not_valid_whether_or_not_it_has_a_leak_channel(coupling, dp, lifted):
+    """An O-ring at ΔP = 50 bar against a 2.2 MPa peak, its contact sealed there (no leak channel at the peak without
+    the fluid's pressure), was reported sealed and valid: the fluid pressure that opens the seal was not said. Every
+    row whose ΔP reaches the peak (coupled), or is not small against it (ignored), is now not valid, with the reason
+    first; a sealed row's reason says that the theory's 'sealed' does not hold, and an O-ring's that the model leaves
+    out pressure energisation."""
+    text = ORING.replace('pressure_difference = "1 bar"', f'pressure_difference = "{dp}"') + f"\n[theory]\n{coupling}\n"
+    r = run_case(parse_cases(text)[0])
+    percolates = r.band.critical_junction.percolates
+    assert percolates.tolist() == [True, True, False]  # the 30 % row seals at its peak
+    assert (~r.valid).tolist() == lifted
+    for i, reason in enumerate(r.validity):
+        if not lifted[i]:
+            assert reason == ""
+            continue
+        assert reason.startswith("ΔP = ")
+        assert ("does not hold" in reason) == (not percolates[i])
+        assert ("pressure energisation" in reason) == (coupling == "")
+    table = prediction_table([r])
+    assert ("compression 30 %: valid = NO" in table) == lifted[2]

@@ -51,10 +51,19 @@ def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMedi
     return valid, validity, valid_em, validity_em
 
 
+#: Added to an O-ring's lift-off verdict: what the contact model leaves out (docs/theory.md §13.4).
+ENERGISED = ("; an O-ring in a groove is also pushed by the fluid against the groove's wall (pressure energisation), "
+             "which this model of a ring squeezed between two plates leaves out: in a gland its contact pressure rises "
+             "with ΔP, and it holds more")
+
+
 def opens_text(dp: float, name: str, lift_off: float) -> str:
     """Why a row whose ΔP reaches the lift-off pressure difference is not valid (docs/theory.md §13.4)."""
     return (f"ΔP = {dp:.4g} Pa reaches the lift-off pressure difference ({name} = {lift_off:.4g} Pa): the fluid pressure "
-            "opens the seal; the leak rate shown is the limit ΔP → lift-off, the open seal leaks more")
+            "opens the seal" + _AT_LIMIT)
+
+
+_AT_LIMIT = "; the leak rate shown is the limit ΔP → lift-off, the open seal leaks more"
 
 
 def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = True) -> Verdicts:
@@ -71,7 +80,8 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
     dp, p_max = case.pressure_difference, band.max_contact_pressure
     lifted = pressure_difference_large(p_max, dp, case.coupled) & pressure_difference
     if case.coupled:  # the fluid pressure reaches the peak and opens the seal (docs/theory.md §13.4)
-        reason = [opens_text(dp, "the peak contact pressure", float(p)) for p in p_max]
+        reason = [opens_text(dp, "the peak contact pressure", float(p)) + (ENERGISED if band.band.oring is not None else "")
+                  for p in p_max]
     else:
         reason = [f"ΔP = {dp:.4g} Pa is not small against the peak contact pressure {p:.4g} Pa: the fluid pressure would "
                   "open the seal, which the theory (p >> ΔP) does not model" for p in p_max]
@@ -93,10 +103,17 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
             reason: list[str]) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
-    """Add the verdict ``reason[i]`` (ΔP not small against P0, or the seal opens) to rows ``lifted`` that have a leak
-    channel and no other reason."""
-    flag = lifted & percolates & valid
-    return valid & ~flag, tuple(reason[i] if flag[i] else r for i, r in enumerate(reasons))
+    """Add the verdict ``reason[i]`` (ΔP not small against P0, or the seal opens) to the rows ``lifted``, before any
+    other reason (it explains the number shown: the limit at lift-off). A lifted row without a leak channel is not
+    valid either: the theory's seal, shut without the fluid's pressure, is opened by it (an O-ring at 50 bar against
+    a 10 bar peak was "sealed", valid)."""
+    def why(i: int) -> str:
+        shut = ("; the theory's answer, sealed (no leak channel without the fluid's pressure), does not hold: the open "
+                "seal leaks, by how much the theory does not say")
+        said = (reason[i] if percolates[i] else reason[i].replace(_AT_LIMIT, shut) if _AT_LIMIT in reason[i]
+                else reason[i] + shut)
+        return said if valid[i] else f"{said}; also {reasons[i]}"
+    return valid & ~lifted, tuple(why(i) if lifted[i] else r for i, r in enumerate(reasons))
 
 
 def case_warnings(case: Case, result: CriticalJunctionResult) -> list[str]:

@@ -34,6 +34,7 @@ from ..cases import CaseResult
 from ..cases.band import BandResult
 from ..cases.life import time_text
 from ..cases.model import BandSeal
+from ..io.units import format_quantity
 from ..physics.profile import RESISTANCE_FRACTION, BandIntegral, PressureProfile
 from . import plotstyle
 from .notes import load_axis_label, load_text, loads_text
@@ -510,7 +511,7 @@ def figure_band_leak_rate(results: Sequence[CaseResult], limit: tuple[float, str
     series, solid = _leak_series(results, gas)
     case = results[0].case
     etas = {r.case.fluid.viscosity for r in results}
-    settings = [f"ΔP = {case.pressure_difference / 1e3:.3g} kPa", f"Ly = {first.length * 1e3:.4g} mm"]
+    settings = [f"ΔP = {format_quantity(case.pressure_difference, 'pressure', 3)}", f"Ly = {first.length * 1e3:.4g} mm"]
     if len(etas) == 1:
         settings.append(f"η = {case.fluid.viscosity * 1e3:.3g} mPa·s")
     if any(r.shows_critical_junction for r in results):
@@ -550,15 +551,25 @@ def figure_band_leak_rate(results: Sequence[CaseResult], limit: tuple[float, str
     if any(mask.any() for _, mask in solid):
         at = _bottom_band(ax)
         sealed = [(s, mask) for s, mask in solid if mask.any()]
+        opened = False  # a row sealed without the fluid's pressure, which opens it (not valid): ▲, hollow
         for j, (s, mask) in enumerate(sealed):
             # side by side where several theories or variants seal at the same load
             shift = 0.014 * (j - (len(sealed) - 1) / 2.0)
-            x = s.x[mask] * (hi_x / lo_x) ** shift if ax.get_xscale() == "log" else s.x[mask] + shift * (hi_x - lo_x)
-            ax.plot(x, np.full(int(mask.sum()), at), "x", color=s.color, ms=5, mew=1.4)
-        handles.append(Line2D([], [], ls="none", marker="x", color="0.3", ms=6, mew=1.5))
-        held = any(rows.held.any() for r in results for rows in (r.capillary or {}).values())
-        labels.append("no leak channel, or the liquid held by capillarity (× at the bottom)" if held
-                      else "no leak channel: the band seals (× at the bottom)")
+            x = s.x * (hi_x / lo_x) ** shift if ax.get_xscale() == "log" else s.x + shift * (hi_x - lo_x)
+            shut = mask & np.asarray(s.valid, dtype=bool)
+            ax.plot(x[shut], np.full(int(shut.sum()), at), "x", color=s.color, ms=5, mew=1.4)
+            if (mask & ~shut).any():
+                opened = True
+                ax.plot(x[mask & ~shut], np.full(int((mask & ~shut).sum()), at), "^", mfc="none", mec=s.color, ms=6,
+                        mew=1.3)
+        if any((mask & np.asarray(s.valid, dtype=bool)).any() for s, mask in sealed):
+            handles.append(Line2D([], [], ls="none", marker="x", color="0.3", ms=6, mew=1.5))
+            held = any(rows.held.any() for r in results for rows in (r.capillary or {}).values())
+            labels.append("no leak channel, or the liquid held by capillarity (× at the bottom)" if held
+                          else "no leak channel: the band seals (× at the bottom)")
+        if opened:
+            handles.append(Line2D([], [], ls="none", marker="^", mfc="none", mec="0.3", ms=6, mew=1.3))
+            labels.append("sealed but for ΔP, which opens it: valid = NO (△ at the bottom)")
     if not gas:
         handles.append(Line2D([], [], ls="--", color="0.4"))
         labels.append("uniform seal at the mean contact pressure")

@@ -88,8 +88,9 @@ def power_unit(values: Any, unit: str) -> tuple[float, str]:
     return 10.0 ** k, f"10{str(k).translate(_SUPERSCRIPT)} {unit}"
 
 
-def _log_label(v: float, plain: bool) -> str:
-    """Tick label of a log axis: a plain number (``plain``), else 10ⁿ or m×10ⁿ (text, not mathtext: quick to lay out)."""
+def _log_label(v: float, plain: bool, digits: int = 2) -> str:
+    """Tick label of a log axis: a plain number (``plain``), else 10ⁿ or m×10ⁿ (text, not mathtext: quick to lay out),
+    m to ``digits`` significant digits."""
     if not (np.isfinite(v) and v > 0):
         return ""
     if plain:
@@ -97,7 +98,7 @@ def _log_label(v: float, plain: bool) -> str:
     e = int(np.floor(np.log10(v) + 1e-9))
     m = v / 10.0 ** e
     power = "10" + str(e).translate(_SUPERSCRIPT)
-    return power if abs(m - 1.0) < 1e-6 else f"{m:.2g}×{power}"
+    return power if abs(m - 1.0) < 1e-6 else f"{m:.{digits}g}×{power}"
 
 
 def log_axis(axis: Axis, lo: float | None = None, hi: float | None = None) -> None:
@@ -115,7 +116,10 @@ def log_axis(axis: Axis, lo: float | None = None, hi: float | None = None) -> No
     within: Sequence[float] = [float(s) for s in range(1, 10)] if plain or decades < 0.4 else (1.0, 2.0, 3.0, 5.0, 7.0)
     subs: Sequence[float] = within if decades < 1.0 else (1.0, 2.0, 5.0) if decades <= 3.0 else (1.0,)
     axis.set_major_locator(LogLocator(base=10.0, subs=subs, numticks=12))
-    axis.set_major_formatter(FuncFormatter(lambda v, _pos: _log_label(v, plain)))
+    # an axis of a small part of a decade is ticked linearly by matplotlib (2.2, 2.25, 2.3 ...): m needs more digits
+    # (two gave "2.2×10⁻⁹" twice)
+    digits = 2 + max(0, int(np.ceil(np.log10(0.3 / decades)))) if decades < 0.3 else 2
+    axis.set_major_formatter(FuncFormatter(lambda v, _pos: _log_label(v, plain, digits)))
     # minor ticks at 2..9 while they can be told apart; beyond six decades they are noise (and slow to draw)
     axis.set_minor_locator(LogLocator(base=10.0, subs=[float(s) for s in range(2, 10)], numticks=12) if decades <= 6.0 else NullLocator())
     axis.set_minor_formatter(NullFormatter())
@@ -549,10 +553,16 @@ class Series:
 def _invalid_label(reasons: Sequence[str]) -> str:
     """Legend text of the hollow markers, from the verdicts' reasons (docs/theory.md §9.11)."""
     kinds = []
-    if any("molecular" in r for r in reasons):
-        gaps = dict.fromkeys(r.split(" ", 1)[0] for r in reasons if "molecular" in r)  # u_c, u_e: each theory's gap
+    # ΔP against the contact pressure comes first in a reason; a gap's verdict may follow it ("...; also u_c ...")
+    if any(r.startswith("ΔP") and "lift-off" in r for r in reasons):
+        kinds.append("ΔP ≥ lift-off (its limit)")
+    if any(r.startswith("ΔP") and "not small" in r for r in reasons):
+        kinds.append("ΔP not small against p: outside the theory")
+    rest = [r.split("; also ", 1)[1] if "; also " in r else "" if r.startswith("ΔP") else r for r in reasons]
+    if any("molecular" in r for r in rest):
+        gaps = dict.fromkeys(r.split(" ", 1)[0] for r in rest if "molecular" in r)  # u_c, u_e: each theory's gap
         kinds.append(f"{', '.join(gaps)} below molecular size: outside the continuum theory")
-    if any(r and "molecular" not in r for r in reasons):
+    if any(r and "molecular" not in r for r in rest):
         kinds.append("not a thin film: outside the theory")
     return "; ".join(kinds) or "outside the theory's validity"
 

@@ -345,7 +345,8 @@ def _band_setting(r: CaseResult) -> list[str]:
 
 
 def _verdict(percolates: bool, valid: bool) -> str:
-    return "—" if not percolates else "yes" if valid else "NO"
+    """A row's verdict: — for a valid row without a leak channel (nothing to judge), NO for one the fluid opens."""
+    return "NO" if not valid else "—" if not percolates else "yes"
 
 
 def _em_columns(r: CaseResult) -> list[Column]:
@@ -407,22 +408,30 @@ def validity_notes(result: CaseResult) -> list[str]:
             if theory == "critical junction" and not result.shows_critical_junction:
                 continue
             column = f"valid {'CJ' if theory == 'critical junction' else 'EM'}" if both else "valid"
-            for i in np.flatnonzero(~valid & percolates):
+            for i in np.flatnonzero(~valid):  # (a row without a leak channel too: the fluid pressure opens it)
                 out.append(f"{load_text(b.band.load_name, b.band.loads[i])}: {column} = NO ({theory}): {reasons[i]}")
         return out
-    checks = [("critical junction", result.valid, result.critical_junction.squeeze_pressure, "u_c", result.validity)]
+    res = result.critical_junction
+    checks = [("critical junction", result.valid, res.squeeze_pressure, "u_c", result.validity, res.percolates)]
     if (result.effective_medium is not None and result.valid_effective_medium is not None
             and result.validity_effective_medium is not None):
-        checks.append(("effective medium", result.valid_effective_medium, result.effective_medium.squeeze_pressure, "u_e",
-                       result.validity_effective_medium))
-    for name, valid, p0, gap, reasons in checks:
-        small = np.array([bool(r) and "molecular" in r for r in reasons])
+        em = result.effective_medium
+        checks.append(("effective medium", result.valid_effective_medium, em.squeeze_pressure, "u_e",
+                       result.validity_effective_medium, em.percolates))
+    for name, valid, p0, gap, reasons, percolates in checks:
         lifted = np.array([bool(r) and r.startswith("ΔP") for r in reasons])
+        small = np.array([bool(r) and "molecular" in r for r in reasons]) & ~lifted
         thick = ~valid & ~small & ~lifted
-        if lifted.any() and result.case.coupled:  # (with the fluid pressure ignored the theory's own note says it)
-            out.append(f"{name}, {pressures_text(p0, lifted)}: valid = NO: ΔP reaches the lift-off pressure difference "
-                       "(ΔP ≥ P0): the fluid pressure opens the seal; the leak rate shown is the limit ΔP → P0, the open "
-                       "seal leaks more (theory §13.4)")
+        if (lifted & percolates).any() and result.case.coupled:  # (ignored: the theory's own note says it)
+            out.append(f"{name}, {pressures_text(p0, lifted & percolates)}: valid = NO: ΔP reaches the lift-off pressure "
+                       "difference (ΔP ≥ P0): the fluid pressure opens the seal; the leak rate shown is the limit ΔP → P0, "
+                       "the open seal leaks more (theory §13.4)")
+        if (lifted & ~percolates).any():
+            out.append(f"{name}, {pressures_text(p0, lifted & ~percolates)}: valid = NO: "
+                       + ("ΔP reaches the lift-off pressure difference (ΔP ≥ P0)" if result.case.coupled else
+                          "ΔP is not small against P0") + ": the fluid pressure opens the seal that the theory finds shut "
+                       "(no leak channel at P0 without the fluid's pressure): the open seal leaks, by how much the theory "
+                       "does not say (theory §13.4)")
         if small.any():
             out.append(f"{name}, {pressures_text(p0, small)}: valid = NO: {gap} is below the molecular size of the "
                        f"fluid, {d}; a continuum theory of flow says nothing about a channel narrower than a molecule, "
