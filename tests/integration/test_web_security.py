@@ -110,6 +110,16 @@ def test_own_origin_and_programs_without_origin_are_served(client):
     assert client.get("/api/case", headers={"origin": "http://evil.example.com"}).status_code == 200  # reading is no change
 
 
+@pytest.mark.parametrize("name, second", [("origin", "http://evil.example.com"),
+                                          ("referer", "http://evil.example.com/page.html")])
+def test_an_origin_given_twice_is_refused_not_half_read(client, name, second):
+    """Origin: <own> then Origin: <evil> passed: only the first was read. Given twice, Origin or Referer is refused."""
+    own = BASE if name == "origin" else BASE + "/prediction"
+    r = client.post("/api/predict", content=REF.encode(), headers=[(name, own), (name, second)])
+    assert r.status_code == 400 and r.json()["field"] == "origin" and "given 2 times" in r.json()["error"], r.text
+    assert client.post("/api/predict", content=REF.encode(), headers=[(name, own)]).status_code == 200
+
+
 @pytest.mark.parametrize("path", ["/case", "/static/app.js", "/api/form", "/api/jobs/nope", "/download/case.toml"])
 def test_every_answer_has_the_security_headers(client, path):
     r = client.get(path)
@@ -664,3 +674,25 @@ def test_slow_connections_are_closed_and_a_stalled_body_is_refused(quick_deadlin
     assert answer.startswith("HTTP/1.1 408") and "request body: no bytes for" in answer
     ok = _raw(port, b"GET /api/form HTTP/1.1\r\nHost: 127.0.0.1:%d\r\nConnection: close\r\n\r\n" % port)
     assert ok.startswith("HTTP/1.1 200")  # a prompt request is served as before
+
+
+@pytest.mark.parametrize("path, method, body", [
+    ("/api/case/toml", "put", b'{"toml": "title = \\"\\ud800\\"", "predict": false}'),
+    ("/api/case/fields", "put", b'{"fields": {"surface.h_rms": "44 \\udc80m"}, "predict": false}'),
+    ("/api/case/fields", "put", b'{"fields": {"\\ud800": "1"}, "predict": false}'),
+    ("/api/case/example", "post", b'{"name": "\\ud800"}'),
+])
+def test_a_lone_surrogate_escape_is_refused_and_the_session_goes_on(path, method, body):
+    """JSON may escape half a surrogate pair ("\\ud800"): no Unicode text. Stored in the session's case it made every
+    later request of that session answer 500 until it expired; as an example's name the error answer itself failed
+    (the connection reset). The body is refused with 400, naming the escape, and the session answers as before; a
+    character outside the BMP written as a pair of escapes is text."""
+    with web_client(create_app()) as c:
+        assert c.post("/api/case/example", json={"name": "reference-experiment"}).status_code == 200
+        r = getattr(c, method)(path, content=body, headers={"content-type": "application/json"})
+        assert r.status_code == 400 and "lone surrogate escape" in r.json()["error"], r.text
+        assert c.get("/api/case?predict=false").status_code == 200
+        assert c.get("/download/case.toml").status_code == 200
+        pair = c.put("/api/case/toml", content=b'{"toml": "title = \\"\\ud83d\\ude00\\"", "predict": false}',
+                     headers={"content-type": "application/json"})
+        assert pair.status_code == 200 and c.get("/api/case?predict=false").json()["toml"].startswith("title = \"😀\"")

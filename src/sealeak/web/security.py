@@ -26,6 +26,7 @@ import asyncio
 import base64
 import hashlib
 import ipaddress
+import json
 import os
 import re
 import shutil
@@ -45,8 +46,8 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from ..cases.cancel import cancellable
 from ..io.tomlscan import MAX_DEPTH, MAX_KEY_PARTS
 
-__all__ = ["Guard", "BodyTooLarge", "BodyStalled", "BODY_IDLE", "DEFAULT_MAX_BODY", "MAX_NESTING", "MAX_KEY_PARTS", "check_nesting", "allowed_hosts",
-           "content_security_policy", "remove_orphans", "write_pid", "PID_FILE", "ROOT_PREFIX"]
+__all__ = ["Guard", "BodyTooLarge", "BodyStalled", "BODY_IDLE", "DEFAULT_MAX_BODY", "MAX_NESTING", "MAX_KEY_PARTS", "check_nesting",
+           "check_text", "allowed_hosts", "content_security_policy", "remove_orphans", "write_pid", "PID_FILE", "ROOT_PREFIX"]
 
 #: The largest JSON or case-file request body (bytes): 2 MB.
 DEFAULT_MAX_BODY = 2 * 10**6
@@ -99,6 +100,37 @@ def check_nesting(data: bytes) -> str | None:
         return f"is nested {depth} levels deep ([ ] and {{ }}): at most {MAX_NESTING} levels are allowed"
     if _DOTTED.search(bare):
         return f"has a dotted key of more than {MAX_KEY_PARTS} parts: at most {MAX_KEY_PARTS} are allowed"
+    return None
+
+
+def check_text(data: bytes) -> str | None:
+    """Why a request body is refused before any parser sees it (:func:`check_nesting`, then a JSON text holding a lone
+    surrogate escape such as ``"\\ud800"``), or None.
+
+    JSON may write half of a UTF-16 surrogate pair as an escape; the string it gives is no Unicode text, and every
+    answer that later held it (the case's TOML, an error message) failed to encode: a session answered 500 to every
+    request until it expired. A body that is not JSON is left to its parser.
+    """
+    why = check_nesting(data)
+    if why is not None or b"\\u" not in data:
+        return why
+    try:
+        doc = json.loads(data)
+    except ValueError:  # not JSON (a case file), or malformed: its parser answers
+        return None
+    stack = [doc]
+    while stack:  # (nested MAX_NESTING deep at most, checked above)
+        item = stack.pop()
+        if isinstance(item, str):
+            try:
+                item.encode("utf-8")
+            except UnicodeEncodeError as exc:
+                return (f"holds a lone surrogate escape (\\u{ord(item[exc.start]):04x}), which is no character: send the "
+                        "text as UTF-8, or a character outside the BMP as a pair of escapes")
+        elif isinstance(item, dict):
+            stack += [*item.keys(), *item.values()]
+        elif isinstance(item, list):
+            stack += item
     return None
 
 
@@ -226,7 +258,7 @@ class Guard:
                 break
         body = bytes(buffer)
         # ~0.2 s for 2 MB: off the event loop, and on threads of its own (not those computing predictions)
-        why = await asyncio.get_running_loop().run_in_executor(_SCANS, check_nesting, body) if body else None
+        why = await asyncio.get_running_loop().run_in_executor(_SCANS, check_text, body) if body else None
         if why is not None:
             await _refusal(400, f"request body {why}", "body")(scope, receive, send_headers)
             return
@@ -268,6 +300,10 @@ class Guard:
             return _refusal(421, f"Host '{raw_host}': this server answers only to {', '.join(sorted(self.hosts))} "
                                  "at its own port (sealeak serve --allow-host NAME adds a name)", "host")
         if scope["method"] in _UNSAFE:
+            for name in ("origin", "referer"):  # (a second one would go unchecked: the first alone is read)
+                if len(headers.getlist(name)) > 1:
+                    return _refusal(400, f"{name.capitalize()} given {len(headers.getlist(name))} times: send it once",
+                                    "origin")
             own = f"{scope.get('scheme', 'http')}://{raw_host}".lower()
             origin, referer = headers.get("origin"), headers.get("referer")
             given = origin if origin is not None else referer

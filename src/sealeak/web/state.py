@@ -113,7 +113,9 @@ SessionDep = Annotated[Session, Depends(_session)]
 
 
 def error_json(msg: str, field: str, status: int) -> JSONResponse:
-    """The JSON of every error: ``{"error": msg, "field": field, "message": "sealeak: error: msg"}``."""
+    """The JSON of every error: ``{"error": msg, "field": field, "message": "sealeak: error: msg"}`` (a character that is
+    no Unicode text, half a surrogate pair, written as its escape: the answer must encode)."""
+    msg, field = (t.encode("utf-8", "backslashreplace").decode("utf-8") for t in (msg, field))
     return JSONResponse({"error": msg, "field": field, "message": f"sealeak: error: {msg}"}, status_code=status)
 
 
