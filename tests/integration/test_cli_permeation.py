@@ -147,3 +147,26 @@ def test_a_ring_with_its_height_permeates_through_the_slab(tmp_path, capsys):
         assert row["leak_rate_total_pv"] == pytest.approx(total, rel=1e-12)
     for thin, thick in zip(rows["2 mm"], rows["4 mm"], strict=True):
         assert thick["leak_rate_permeation_pv"] == pytest.approx(2 * thin["leak_rate_permeation_pv"], rel=1e-12, abs=0)
+
+
+def test_the_pass_or_fail_of_a_gas_case_with_permeation_compares_the_total(tmp_path, capsys):
+    """max_leak_rate against a helium test: the leak test measures the interface leak plus permeation (the table's
+    Q_total), but the probability of exceeding compared the interface leak alone: a row sealed at its interface, its
+    permeation 2 times the limit, 'passed'. With h_rms uncertain the rows carry Q_total's percentiles too."""
+    limit = 5e-8  # mbar·l/s, below every row's permeation (closed form in test_permeation_columns_and_total)
+    text = HELIUM.replace(RUBBER, PERM).replace("[conditions]", f'[conditions]\nmax_leak_rate = "{limit} mbar*l/s"')
+    rc, out, _ = _run(tmp_path, capsys, text)
+    assert rc == 0
+    rows = json.loads(out.read_text())["results"]
+    assert any(r["leak_rate_pv"] is None for r in rows)  # a row sealed at the interface, leaking by permeation
+    for r in rows:
+        assert r["leak_rate_total_mbar_l_s"] > limit
+        assert r["exceed_probability"] == 1.0
+    spread = text.replace('h_rms = "1.5 um"', 'h_rms = "1.5 um ± 5 %"')
+    assert spread != text
+    rc, out, _ = _run(tmp_path, capsys, spread, "--samples", "16")
+    rows = json.loads(out.read_text())["results"]
+    for r in rows:
+        assert r["leak_rate_total_mbar_l_s_p05"] <= r["leak_rate_total_mbar_l_s_p50"] <= r["leak_rate_total_mbar_l_s_p95"]
+        assert r["leak_rate_total_mbar_l_s_p05"] >= r["leak_rate_permeation_pv"] * 10 * (1 - 1e-12)  # never below it
+        assert r["exceed_probability"] == 1.0

@@ -57,7 +57,8 @@ MAX_SAMPLES = 8192
 #: The probability of passing at which :class:`PassingLoad` places a case's passing load.
 PASS_PROBABILITY = 0.95
 #: The leak-rate fields of a record whose spread is computed (those the case's records hold).
-SPREAD_KEYS = ("leak_rate", "leak_rate_pv", "leak_rate_mbar_l_s", "leak_rate_helium_pv", "leak_rate_helium_mbar_l_s")
+SPREAD_KEYS = ("leak_rate", "leak_rate_pv", "leak_rate_mbar_l_s", "leak_rate_helium_pv", "leak_rate_helium_mbar_l_s",
+               "leak_rate_total_pv", "leak_rate_total_mbar_l_s")
 
 
 @dataclass(frozen=True)
@@ -439,7 +440,8 @@ def leak_rates(study: UncertainStudy, points: NDArray[np.float64],
 
 def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArray[np.float64]]:
     """Per row, the record key and the threshold that ``conditions.max_leak_rate`` compares: a volume flow with Q
-    (m³/s); a gas leak-test unit with the gas's pV throughput (Pa·m³/s), or a liquid's helium equivalent."""
+    (m³/s); a gas leak-test unit with the gas's pV throughput (Pa·m³/s; with permeation through the rubber, the
+    interface leak plus permeation, what the test measures), or a liquid's helium equivalent."""
     field, value = "conditions.max_leak_rate", study.max_leak_rate
     if isinstance(value, bool) or not isinstance(value, str):
         raise InputError(field, value, "must be a leak rate with its unit, e.g. '1e-6 mbar*l/s' or '0.1 ml/min'")
@@ -465,8 +467,9 @@ def _limits(study: UncertainStudy, cases: list[Case]) -> tuple[list[str], NDArra
             keys.append("leak_rate")
             limits.append(number * factor)
             continue
-        if case.gas is not None:
-            key, gas, pressure = "leak_rate_pv", case.gas.gas, case.gas.upstream_pressure
+        if case.gas is not None:  # with permeation what a leak test measures: the interface leak plus permeation
+            key = "leak_rate_total_pv" if case.permeation is not None else "leak_rate_pv"
+            gas, pressure = case.gas.gas, case.gas.upstream_pressure
         elif case.helium_equivalent:
             key, gas, pressure = "leak_rate_helium_pv", helium_test_gas(), HELIUM_TEST["upstream_pressure"]
         else:
@@ -519,6 +522,18 @@ class UncertaintyColumns:
         "mbar*l/s", "median of the helium leak in mbar·l/s", default=None)
     leak_rate_helium_mbar_l_s_p95: NDArray[np.float64] | None = quantity(
         "mbar*l/s", "95th percentile of the helium leak in mbar·l/s", default=None)
+    leak_rate_total_pv_p05: NDArray[np.float64] | None = quantity(
+        "Pa*m^3/s", "5th percentile of the gas's interface leak plus permeation (what a leak test measures)", default=None)
+    leak_rate_total_pv_p50: NDArray[np.float64] | None = quantity(
+        "Pa*m^3/s", "median of the gas's interface leak plus permeation", default=None)
+    leak_rate_total_pv_p95: NDArray[np.float64] | None = quantity(
+        "Pa*m^3/s", "95th percentile of the gas's interface leak plus permeation", default=None)
+    leak_rate_total_mbar_l_s_p05: NDArray[np.float64] | None = quantity(
+        "mbar*l/s", "5th percentile of the interface leak plus permeation in mbar·l/s", default=None)
+    leak_rate_total_mbar_l_s_p50: NDArray[np.float64] | None = quantity(
+        "mbar*l/s", "median of the interface leak plus permeation in mbar·l/s", default=None)
+    leak_rate_total_mbar_l_s_p95: NDArray[np.float64] | None = quantity(
+        "mbar*l/s", "95th percentile of the interface leak plus permeation in mbar·l/s", default=None)
     sealed_fraction: NDArray[np.float64] = quantity("1", "fraction of the samples without a leak channel (the seal seals)")
     outside_fraction: NDArray[np.float64] | None = quantity(
         "1", "fraction of the samples that leak outside the theory's validity (a gap narrower than the fluid's molecules, "

@@ -20,11 +20,13 @@ __all__ = ["row_columns", "uncertainty_columns", "uncertainty_heading", "uncerta
 
 
 def _shown(unc: UncertaintyResult) -> list[tuple[str, str, Any]]:
-    """(record key, column name, SI → shown unit) of the leak rates the table shows: the gas's mbar·l/s, else Q in
-    ml/min; a liquid's helium equivalent beside it."""
+    """(record key, column name, SI → shown unit) of the leak rates the table shows: the gas's mbar·l/s (and with
+    permeation the total, interface leak plus permeation), else Q in ml/min; a liquid's helium equivalent beside it."""
     out: list[tuple[str, str, Any]] = []
     if "leak_rate_mbar_l_s" in unc.values:
         out.append(("leak_rate_mbar_l_s", "Q {} (mbar·l/s)", lambda v: v))
+        if "leak_rate_total_mbar_l_s" in unc.values:  # with permeation: what a leak test measures (and max_leak_rate)
+            out.append(("leak_rate_total_mbar_l_s", "Q_total {} (mbar·l/s)", lambda v: v))
     else:
         out.append(("leak_rate", "Q {} (ml/min)", to_ml_per_min))
         if "leak_rate_helium_mbar_l_s" in unc.values:
@@ -107,8 +109,7 @@ def uncertainty_legend(unc: UncertaintyResult) -> str:
             text += "; * outside the theory's validity (see the notes of the table above): not a leak rate to rely on"
         if unc.limits is not None:
             text += f"; passes: the leak rate is at most conditions.max_leak_rate = {unc.study.max_leak_rate}"
-            if unc.limit_keys and unc.limit_keys[0] == "leak_rate_helium_pv":
-                text += " (compared with the helium equivalent)"
+            text += _compared(unc)
         return text
     text = ("p05, p50, p95: the 5th, 50th and 95th percentiles of the leak rate over the samples (a sample without a "
             "leak channel counts as 0); sealed: the share of samples without a leak channel")
@@ -119,9 +120,18 @@ def uncertainty_legend(unc: UncertaintyResult) -> str:
                  "percentile taken from such samples: not a leak rate to rely on")
     if unc.limits is not None:
         text += f"; P(Q > max): the probability that the leak rate exceeds conditions.max_leak_rate = {unc.study.max_leak_rate}"
-        if unc.limit_keys and unc.limit_keys[0] == "leak_rate_helium_pv":
-            text += " (compared with the helium equivalent)"
+        text += _compared(unc)
     return text
+
+
+def _compared(unc: UncertaintyResult) -> str:
+    """What ``max_leak_rate`` is compared with, where it is not the leak rate itself."""
+    keys = set(unc.limit_keys or ())
+    if "leak_rate_helium_pv" in keys:
+        return " (compared with the helium equivalent)"
+    if "leak_rate_total_pv" in keys:
+        return " (compared with Q_total, the interface leak plus permeation through the rubber: what a leak test measures)"
+    return ""
 
 
 def passing_lines(unc: UncertaintyResult) -> list[str]:

@@ -157,16 +157,17 @@ def _blank_below(axis: Axis, limit: float) -> None:
 
 @laid_out
 def figure_fan_chart(bands: Sequence[LeakBand], x_label: str, *, max_leak_rate: float | None = None, unit: str = "m³/s",
-                     notes: str = "", log_x: bool = False, limit_text: str = "") -> Figure:
+                     notes: str = "", log_x: bool = False, limit_text: str = "", y_label: str = "") -> Figure:
     """The leak rate with its 5–95 % band against the load, per case (see the module's text).
 
     ``unit``: the unit of the leak rates (m³/s adds an axis in ml/min, a gas's mbar·l/s one in Pa·m³/s); ``max_leak_rate``: the
     specification in that unit, or None (``limit_text``: as the case file writes it, for the legend);
-    ``notes``: subtitle lines (samples, seed, inputs); ``log_x``: a log load axis.
+    ``notes``: subtitle lines (samples, seed, inputs); ``log_x``: a log load axis; ``y_label``: the leak rate's axis
+    label, where not the unit's usual one.
     """
     fig, ax = new_figure("Leak rate with its uncertainty: median and 5–95 % band")
     ax.set_xlabel(x_label)
-    ax.set_ylabel(_leak_label(unit))
+    ax.set_ylabel(y_label or _leak_label(unit))
     leaking = _positive(*[a for b in bands for a in (b.p05, b.p25, b.p50, b.p75, b.p95, b.nominal)])
     far = _far_from(leaking, max_leak_rate)
     values = leaking if far else _positive(leaking, np.array([max_leak_rate if max_leak_rate is not None else np.nan]))
@@ -305,7 +306,7 @@ def figure_tornado(labels: Sequence[str], first: np.ndarray, total: np.ndarray, 
 
 @laid_out
 def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = None, nominal: float | None = None,
-                             unit: str = "m³/s", notes: str = "", limit_text: str = "") -> Figure:
+                             unit: str = "m³/s", notes: str = "", limit_text: str = "", x_label: str = "") -> Figure:
     """The distribution of the leak rate at one load over the samples: a histogram on a log axis.
 
     ``q``: the samples' leak rates (0 or NaN: sealed, counted in the legend, not drawn);
@@ -317,7 +318,7 @@ def figure_leak_distribution(q: np.ndarray, *, max_leak_rate: float | None = Non
     leaks = np.isfinite(q) & (q > 0)
     sealed = 1.0 - float(leaks.mean()) if q.size else 0.0
     fig, ax = new_figure("Distribution of the leak rate over the samples")
-    ax.set_xlabel(_leak_label(unit))
+    ax.set_xlabel(x_label or _leak_label(unit))
     ax.set_ylabel("share of the samples per bin (1)")
     lines = [notes] if notes else []
     lines.append(f"{q.size} samples; {100 * sealed:.0f} % sealed (Q = 0, not drawn)")
@@ -372,6 +373,10 @@ def _leak_key(unc: UncertaintyResult) -> tuple[str, str, float | None]:
     """(record key, unit, ``max_leak_rate`` in that unit or None) of the figures: a gas's pV throughput in mbar·l/s (the
     unit of its other figures), else Q in m³/s; the limit where every row compares that quantity with the same one."""
     gas = "leak_rate_mbar_l_s" in unc.values
+    if "leak_rate_total_mbar_l_s" in unc.values:  # with permeation: the total, which max_leak_rate is compared with
+        keys, limits = unc.limit_keys, unc.limits
+        one = keys is not None and limits is not None and set(keys) == {"leak_rate_total_pv"} and len(set(limits.tolist())) == 1
+        return "leak_rate_total_mbar_l_s", "mbar·l/s", float(limits[0]) / PA_M3_PER_MBAR_L if one and limits is not None else None
     key, unit = ("leak_rate_mbar_l_s", "mbar·l/s") if gas else ("leak_rate", "m³/s")
     limit = limit_in_axis_unit(volume_limit(unc), gas)  # volume_limit: only a limit compared with what is drawn
     return key, unit, None if limit is None else limit[0]
@@ -407,18 +412,23 @@ def uncertainty_figures(unc: UncertaintyResult, sensitivity: SobolIndices | None
                               outside[:, idx], i))
     inputs = ", ".join(inp.key for inp in unc.study.inputs)
     sampled = f"{unc.samples} samples ({SAMPLER_NAMES[unc.sampler]}, seed {unc.seed}) of {inputs}"
+    label = ""
+    if key == "leak_rate_total_mbar_l_s":
+        sampled += "\nthe leak rate drawn: the interface leak plus permeation through the rubber, what a leak test measures"
+        label = f"gas leak rate Q_total ({unit})"
     if len(bands) > MAX_FAN_BANDS:  # a band each for every time and temperature of a life case would hide the axes
         keep = sorted({int(round(k)) for k in np.linspace(0, len(bands) - 1, MAX_FAN_BANDS)})
         sampled += f"\n{len(bands)} variants: the fan chart draws {len(keep)} of them, evenly spread (the table gives all)"
         bands = [bands[k] for k in keep]
     written = str(unc.study.max_leak_rate) if limit is not None else ""
     figures = {"leak_rate_band.png": figure_fan_chart(bands, x_label, max_leak_rate=limit, unit=unit, log_x=spans_decades(loads),
-                                                      limit_text=written,
+                                                      limit_text=written, y_label=label,
                                                       notes=sampled + "\ndashed: the deterministic prediction; bands: 5–95 % and 25–75 %")}
     j = chosen_rows(unc.study)[0]
     at = (f"{rows[j].variant}, " if rows[j].variant else "") + load_text(rows[j].load_name, rows[j].load)
     figures["leak_rate_distribution.png"] = figure_leak_distribution(q[:, j], max_leak_rate=limit, nominal=float(nominal[j]), unit=unit,
-                                                                     notes=f"at {at}; sampled: {inputs}", limit_text=written)
+                                                                     notes=f"at {at}; sampled: {inputs}", limit_text=written,
+                                                                     x_label=label)
     if sensitivity is not None:
         labels = [inp.label for inp in unc.study.inputs]
         figures["sensitivity.png"] = figure_tornado(labels, sensitivity.first[j], sensitivity.total[j], sensitivity.first_conf[j],
