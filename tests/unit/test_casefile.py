@@ -220,3 +220,17 @@ def test_control_characters_in_printed_text_are_refused(key, text):
     assert err.value.field == key and "holds the control character U+" in str(err.value)
     (case,) = parse_cases(edit('title = "test case"', 'title = "test case"\ndescription = """first\nsecond\tthird"""'))
     assert case.title == "test case"
+
+
+@pytest.mark.parametrize("surface, field", [
+    ('model = "topography"\nfile = "nosuch.plu"', "surface.file"),
+    ('model = "topography"\nfiles = ["nosuch.plu"]', "surface.files[0]"),
+    ('model = "table"\nfile = "nosuch.csv"', "surface.file"),
+])
+def test_a_missing_surface_file_is_named_by_its_key_and_where_it_was_looked_for(tmp_path, surface, field):
+    """'nosuch.plu: no such file' named neither the key nor the folder a relative name is read from."""
+    text = re.sub(r"(?s)\[surface\].*?(?=\n\[)", "[surface]\n" + surface + "\n", BASE, count=1)
+    with pytest.raises(InputError) as exc:
+        parse_cases(text, tmp_path)
+    assert exc.value.field == field and "no such file" in str(exc.value)
+    assert str(tmp_path / "nosuch") in str(exc.value)

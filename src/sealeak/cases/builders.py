@@ -207,8 +207,17 @@ def _table(sec: Section, case_dir: Path, q0: float) -> tuple[PowerSpectrum, str]
     path = Path(name)
     if not path.is_absolute():
         path = case_dir / path
+    _check_exists(sec.field("file"), name, path)
     spec = PowerSpectrum.from_table(path, label=sec.raw("label", ""))
     return spec, f"tabulated spectrum from {path.name} ({spec.q.size} points, log-log interpolation)"
+
+
+def _check_exists(field: str, name: str, path: Path) -> None:
+    """A file a case names must exist: else one line naming its key, as written and where it was looked for (a relative
+    name is read from the case file's folder)."""
+    if not path.exists():
+        where = "" if Path(name).is_absolute() else f" (looked for {path.absolute()}: a relative name is read from the case file's folder)"
+        raise InputError(field, name, "no such file" + where)
 
 
 def topography_analysis(sec: Section, case_dir: Path, *, fit: bool = True) -> tuple[Analysis, list[Path]]:
@@ -222,6 +231,9 @@ def topography_analysis(sec: Section, case_dir: Path, *, fit: bool = True) -> tu
         raise InputError(sec.field("file"), files, "is required for model = 'topography': a file name or a list")
     at_most(sec.field("files"), names, MAX_TOPOGRAPHY_FILES, "files")
     paths = [Path(n) if Path(n).is_absolute() else case_dir / n for n in names]
+    key = "files" if sec.has("files") else "file"
+    for i, (name, path) in enumerate(zip(names, paths, strict=True)):
+        _check_exists(sec.field(key) + (f"[{i}]" if isinstance(files, list) else ""), name, path)
 
     def lengths(key: str) -> float | tuple[float, float] | None:
         if not sec.has(key):
