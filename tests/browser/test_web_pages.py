@@ -250,3 +250,25 @@ def test_simulation_runs_and_cancels(page, artifacts, server):
     page.wait_for_selector(f"#jobs tr[data-job='{long_id}']", state="detached")
     assert not folder.exists()
     assert page.locator("#jobs tr:has-text('grid 32') .show").count() == 1  # the finished one stays
+
+
+def test_the_prediction_plots_fit_their_cells_and_the_page_its_window(page, artifacts):
+    """The plots were drawn while the results were hidden, at Plotly's default 700 px, in cells of 451 px: each covered
+    the next and the page scrolled sideways (1629 px at a 1400 px window); on a 420 px phone the form and the results
+    shared the width, a word per line. Each plot is now as wide as its cell, and no page is wider than its window."""
+    load_example(page)
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    widths = page.evaluate("['plot-leak','plot-psd','plot-area','plot-gap','plot-gaps'].map(id => "
+                           "[document.getElementById(id).clientWidth, document.getElementById(id)._fullLayout.width])")
+    assert all(0 < drawn <= cell for cell, drawn in widths), widths
+    assert page.evaluate("document.documentElement.scrollWidth") <= 1400
+    page.set_viewport_size({"width": 420, "height": 900})
+    goto(page, "/prediction")
+    page.wait_for_function("document.querySelector('#leak-rate').dataset.si !== ''")
+    page.wait_for_timeout(600)  # (the plots are drawn again 250 ms after a resize)
+    assert page.evaluate("document.documentElement.scrollWidth") <= 420
+    widths = page.evaluate("['plot-leak','plot-psd'].map(id => "
+                           "[document.getElementById(id).clientWidth, document.getElementById(id)._fullLayout.width])")
+    assert all(0 < drawn <= cell for cell, drawn in widths), widths
+    page.screenshot(path=str(artifacts / "prediction-phone.png"), full_page=True)

@@ -517,7 +517,10 @@ function plot(id, traces, title, x, y, extra = {}, area = AREA) {
   if (!el || typeof Plotly === "undefined") return;
   const room = legendRoom(el, traces, { ...LAYOUT.margin, ...extra.margin }, area);
   el.style.height = `${room.height}px`;  // CSSOM, not a style attribute (the pages' CSP)
-  Plotly.react(el, traces, { ...LAYOUT, title: { text: title, font: { size: 14 } }, xaxis: x, yaxis: y, ...extra, ...room }, CONFIG);
+  // as wide as its cell is now: a width Plotly took from an earlier layout drew the plot past its cell, under the next
+  const width = el.clientWidth || undefined;
+  Plotly.react(el, traces, { ...LAYOUT, title: { text: title, font: { size: 14 } }, xaxis: x, yaxis: y, ...extra, ...room,
+    width }, CONFIG);
 }
 
 function line(x, y, name, extra = {}) {
@@ -938,11 +941,12 @@ async function pagePrediction() {
   await Form.init(true, state => {
     const model = $('#case-form [name="theory.model"]');
     if (model) both.checked = model.value === "both";
-    if (state.prediction) { lastState = state; refresh(); }
+    if (state.prediction) lastState = state;
     // while the case has an error the results shown are those of the last valid case: greyed out; before any (no case,
     // or one that never ran) none: no dangling "Leak rate Q at :", empty plots or downloads that answer an error
     $("#results").classList.toggle("stale", !!state.error);
     $("#results").hidden = !lastState;
+    if (state.prediction) refresh();  // (shown first: a plot drawn hidden took Plotly's 700 px, past its cell)
   });
   for (const sel of $$("#units select")) {
     const dim = sel.dataset.dim;
