@@ -15,10 +15,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, InputError
+from ..io.units import SI_RANGE
 from ._types import NO_DATA_MAGNITUDE, LineScans, Topography
 from ._units import MissingUnitsError, option_name, parse_length
 
-__all__ = ["MAX_POINTS", "check_points", "npy_header", "Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
+__all__ = ["MAX_POINTS", "check_points", "check_lengths",
+           "npy_header", "Surface", "LengthLike", "INSTALL_HINT", "require_units", "lateral_size", "ignored_notes",
            "resample_nonuniform", "mark_no_data"]
 
 Surface = Topography | LineScans
@@ -46,6 +48,16 @@ def check_points(path: Path | str, shape: Sequence[int]) -> None:
     if n > MAX_POINTS:
         raise FileFormatError(Path(path), f"declares {' × '.join(str(int(k)) for k in shape)} = {n:,} heights; "
                                           f"at most {MAX_POINTS:,} (8192 × 8192) are read: crop or resample the map")
+
+
+def check_lengths(path: Path | str, what: str, lengths: Sequence[float]) -> None:
+    """Refuse lengths in m read from (or derived from) a file outside :data:`~sealeak.io.units.SI_RANGE`
+    (1e-100 m to 1e100 m, as the ``size`` option): FileFormatError naming the file and ``what`` (the entry)."""
+    for i, v in enumerate(lengths):
+        if not (math.isfinite(v) and SI_RANGE[0] <= v <= SI_RANGE[1]):
+            name = what if len(lengths) == 1 else f"{what} ({'xy'[i] if i < 2 else i})"
+            raise FileFormatError(Path(path), f"{name} = {v:.6g} m: a length between {SI_RANGE[0]:g} m and "
+                                              f"{SI_RANGE[1]:g} m is allowed")
 
 
 # ---------------------------------------------------------------------------- unit helpers

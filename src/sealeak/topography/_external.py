@@ -18,13 +18,14 @@ import logging
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import FileFormatError, InputError, UnitError
-from ._common import INSTALL_HINT, Surface, check_points, ignored_notes, lateral_size, mark_no_data, require_units, resample_nonuniform
+from ._common import INSTALL_HINT, Surface, check_lengths, check_points, ignored_notes, lateral_size, mark_no_data, require_units, resample_nonuniform
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, option_name
 
@@ -147,19 +148,19 @@ def read_external(path: Path, *, pixel_size: Any, size: Any, height_unit: str | 
 
 def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: str | None, lateral_unit: str | None,
           periodic: bool, channel: int | str | None) -> Surface:
-    channels = list(reader.channels)
-    if not channels:
+    names = _channel_names(path, reader)
+    if not names:
         raise FileFormatError(path, "the file holds no data channels (it may be truncated or damaged)")
-    index = _channel_index(path, reader, channels, channel)
-    ch = channels[index]
+    index = _channel_index(path, reader, names, channel)
+    ch = _channel(path, reader, index)
     notes = [f"read {path.name} with SurfaceTopography ({type(reader).__name__}), channel {index} {ch.name!r}"]
     unit = ch.unit
     if unit is not None and not isinstance(unit, str):
         raise UnitError(option_name("channel"), channel, f"{path}: channel {index} {ch.name!r} does not hold heights "
-                                                         f"(unit {unit!r}); choose a height channel: {_list(channels)}")
+                                                         f"(unit {_short(unit)}); choose a height channel: {_list(names)}")
     file_sizes = ch.physical_sizes
-    check_points(path, tuple(ch.nb_grid_pts))  # before the data are read (a compressed file can expand)
-    is_profile = len(tuple(ch.nb_grid_pts)) == 1
+    check_points(path, ch.nb_grid_pts)  # before the data are read (a compressed file can expand)
+    is_profile = len(ch.nb_grid_pts) == 1
     # everything the user must give, in one message
     require_units(path, height=unit is None and height_unit is None,
                   size=file_sizes is None and pixel_size is None and size is None,
@@ -170,14 +171,17 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
         kwargs["physical_sizes"] = tuple(float(n) for n in ch.nb_grid_pts)  # placeholder: replaced below
     if unit is None:
         kwargs["unit"] = "m"  # placeholder: SurfaceTopography wants one; the user's units are applied below
-    try:
+    try:  # everything SurfaceTopography computes, and the conversion of what it returns
         with _quiet():
             topo = reader.topography(**kwargs)
             heights = topo.heights()
-            positions = None if topo.is_uniform else topo.positions()
-    except Exception as exc:
+            positions = None if topo.is_uniform else np.asarray(topo.positions(), dtype=float)
+            h: np.ndarray = np.asarray(np.ma.filled(np.ma.asarray(heights, dtype=float), np.nan), dtype=float)
+            info = getattr(topo, "info", {}) or {}
+            instrument = info.get("instrument", {}) if isinstance(info, dict) else {}
+            instrument_name = str(instrument["name"]) if isinstance(instrument, dict) and instrument.get("name") else None
+    except Exception as exc:  # noqa: BLE001 - a damaged file makes the foreign reader raise anything
         raise FileFormatError(path, f"channel {index} cannot be read ({_why(exc)})") from None
-    h: np.ndarray = np.asarray(np.ma.filled(np.ma.asarray(heights, dtype=float), np.nan), dtype=float)
     if h.size == 0:
         raise FileFormatError(path, "channel holds no data points")
     if np.isnan(h).all():
@@ -203,23 +207,23 @@ def _read(path: Path, reader: Any, *, pixel_size: Any, size: Any, height_unit: s
         else:
             lf = hf
             notes += ignored_notes(pixel_size=pixel_size, size=size, lateral_unit=lateral_unit)
-        sizes = tuple(float(s) * lf for s in np.atleast_1d(file_sizes))
-    info = getattr(topo, "info", {}) or {}
-    instrument = info.get("instrument", {}) if isinstance(info, dict) else {}
-    if isinstance(instrument, dict) and instrument.get("name"):
-        notes.append(f"instrument: {instrument['name']}")
-    source = f"{path} [channel {index}: {ch.name}]" if len(channels) > 1 else str(path)
+        sizes = tuple(s * lf for s in file_sizes)
+        check_lengths(path, "physical size", sizes)
+    if instrument_name:
+        notes.append(f"instrument: {_printable(instrument_name)}")
+    source = f"{path} [channel {index}: {ch.name}]" if len(names) > 1 else str(path)
     resolution = _resolution(topo, hf if unit is not None else None, notes)  # ST states it in the file unit
     try:
         if h.ndim == 1:
             if positions is not None:
-                x = np.asarray(positions, dtype=float).ravel()
+                x = positions.ravel()
                 order = np.argsort(x, kind="stable")
                 x, h = x[order], h[order]
                 if (np.diff(x) <= 0).any():
                     raise FileFormatError(path, "line scan with repeated x positions")
                 lf_x = sizes[0] / float(x[-1] - x[0]) if file_sizes is None else (hf if unit else lf)
                 h, length, note = resample_nonuniform(x, h)
+                check_lengths(path, "line scan length (from its x positions)", (length * lf_x,))
                 if note:
                     notes.append(note)
                 return LineScans(heights=h * hf, length=length * lf_x, periodic=periodic, source=source,
@@ -269,22 +273,68 @@ def _quantity(d: Any) -> str:
         return str(d)
 
 
-def _channel_index(path: Path, reader: Any, channels: list, channel: int | str | None) -> int:
+def _channel_index(path: Path, reader: Any, names: list[str], channel: int | str | None) -> int:
     if channel is None:
         try:
-            return int(reader.default_channel.index)
+            with _quiet():
+                return int(reader.default_channel.index)
         except Exception:
             return 0
     if isinstance(channel, (int, np.integer)) and not isinstance(channel, bool):
-        if 0 <= int(channel) < len(channels):
+        if 0 <= int(channel) < len(names):
             return int(channel)
     elif isinstance(channel, str):
-        for i, ch in enumerate(channels):
-            if str(ch.name).lower() == channel.lower():
+        for i, name in enumerate(names):
+            if name.lower() == channel.lower():
                 return i
-        if channel.isdigit() and int(channel) < len(channels):
+        if channel.isdigit() and int(channel) < len(names):
             return int(channel)
-    raise InputError(option_name("channel"), channel, f"{path} has channels {_list(channels)}")
+    raise InputError(option_name("channel"), channel, f"{path} has channels {_list(names)}")
+
+
+@dataclass(frozen=True)
+class _Channel:
+    """What SurfaceTopography says of a channel before its data are read, as plain values."""
+
+    name: str
+    unit: Any  # a length unit (str), None (not stated), or something else (not heights)
+    nb_grid_pts: tuple[int, ...]
+    physical_sizes: tuple[float, ...] | None  # in the channel's (lateral) unit; None: not stated
+
+
+def _unreadable(path: Path, exc: Exception) -> FileFormatError:
+    """The error for a file SurfaceTopography fails on while parsing it (damaged header or data)."""
+    return FileFormatError(path, f"cannot be read: SurfaceTopography failed to parse it ({_why(exc)}); the file may be "
+                                 f"truncated or damaged")
+
+
+def _channel_names(path: Path, reader: Any) -> list[str]:
+    """The names of the file's channels: parsing its header, SurfaceTopography may fail on a damaged file."""
+    try:
+        with _quiet():
+            return [_printable(str(ch.name)) for ch in reader.channels]
+    except Exception as exc:  # noqa: BLE001 - a foreign reader on a damaged file raises anything
+        raise _unreadable(path, exc) from None
+
+
+def _channel(path: Path, reader: Any, index: int) -> _Channel:
+    """Channel ``index`` as plain values, checked: a damaged header fails here, before any data are read."""
+    try:
+        with _quiet():
+            ch = list(reader.channels)[index]
+            name, unit, grid, sizes = _printable(str(ch.name)), ch.unit, ch.nb_grid_pts, ch.physical_sizes
+            nb_grid_pts = tuple(int(n) for n in np.ravel(grid))
+            physical_sizes = None if sizes is None else tuple(float(v) for v in np.ravel(sizes))
+    except Exception as exc:  # noqa: BLE001 - a foreign reader on a damaged file raises anything
+        raise _unreadable(path, exc) from None
+    shown = " × ".join(str(n) for n in nb_grid_pts)
+    if len(nb_grid_pts) not in (1, 2) or min(nb_grid_pts) < 1:
+        raise FileFormatError(path, f"channel {index} declares a grid of {shown or 'no'} points; expected a map "
+                                    f"(nx × ny) or a line scan (n), at least 1 each (the file may be damaged)")
+    if physical_sizes is not None and len(physical_sizes) != len(nb_grid_pts):
+        raise FileFormatError(path, f"channel {index} states {len(physical_sizes)} physical size(s) for a grid of "
+                                    f"{shown} points (the file may be damaged)")
+    return _Channel(name=name, unit=unit, nb_grid_pts=nb_grid_pts, physical_sizes=physical_sizes)
 
 
 def _reader_name(reader: Any) -> str:
@@ -292,8 +342,18 @@ def _reader_name(reader: Any) -> str:
     return getattr(reader, "_format", None) or getattr(reader, "name", None) or name
 
 
-def _list(channels: list) -> str:
-    return ", ".join(f"{i}: {ch.name!r}" for i, ch in enumerate(channels))
+def _list(names: list[str]) -> str:
+    return ", ".join(f"{i}: {name!r}" for i, name in enumerate(names))
+
+
+def _printable(text: str, limit: int = 200) -> str:
+    """``text`` of a foreign file as one line of at most ``limit`` characters ('?' for what does not print)."""
+    return "".join(c if c.isprintable() else "?" for c in text[:limit])
+
+
+def _short(value: Any) -> str:
+    """A foreign value in one short line."""
+    return _printable(repr(value), 80)
 
 
 def _why(exc: Exception, with_type: bool = True) -> str:
@@ -301,7 +361,7 @@ def _why(exc: Exception, with_type: bool = True) -> str:
     text = lines[0] if lines else ""
     if text.endswith(":") and len(lines) > 1:  # "tried XReader:" followed by the reason
         text = f"{text} {lines[1]}"
-    text = "".join(c if c.isprintable() else "?" for c in text[:200])
+    text = _printable(text)
     if not with_type:
         return text or type(exc).__name__
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__

@@ -31,6 +31,7 @@ from ._common import (
     INSTALL_HINT,
     LengthLike,
     Surface,
+    check_lengths,
     check_points,
     ignored_notes,
     lateral_size,
@@ -40,7 +41,7 @@ from ._common import (
     resample_nonuniform,
 )
 from ._external import read_external
-from ._text import NotPlainText, RawTable, looks_binary, parse_text
+from ._text import MAX_TEXT_BYTES, NotPlainText, RawTable, looks_binary, parse_text
 from ._types import LineScans, Topography
 from ._units import length_unit_factor, option_name, parse_length
 
@@ -124,6 +125,9 @@ def read_topography(
     if p.suffix.lower() == ".npz":
         return _read_npz(p, pixel_size=pixel_size, size=size, height_unit=height_unit, periodic=periodic)
     if p.suffix.lower() in TEXT_SUFFIXES and not looks_binary(data):
+        if p.stat().st_size > MAX_TEXT_BYTES:  # refused before it is read into memory
+            raise FileFormatError(p, f"text file of {p.stat().st_size / 2**20:.0f} MiB is larger than the "
+                                     f"{MAX_TEXT_BYTES / 2**20:.0f} MiB the text reader accepts; save it as .npy")
         full = p.read_bytes()
         try:
             raw = parse_text(p, full)
@@ -187,9 +191,9 @@ def _stated(path: Path, origin: str, items: dict[str, tuple[str, Any]]) -> _Stat
             if key in ("size", "pixel_size"):
                 v = _lengths_text(value) if isinstance(value, str) else value
                 if isinstance(v, (list, tuple, np.ndarray)):
-                    v = tuple(np.asarray(v).ravel().tolist()) if not isinstance(v, tuple) else v
-                    if not 1 <= len(v) <= 2:
+                    if not 1 <= len(v if not isinstance(v, np.ndarray) else v.ravel()) <= 2:
                         raise ValueError("one length or two (x, y)")
+                    v = tuple(np.asarray(v).ravel().tolist()) if not isinstance(v, tuple) else v
                     v = tuple(parse_length(x, key) for x in v)
                     v = v[0] if len(v) == 1 else v
                 else:
@@ -203,10 +207,26 @@ def _stated(path: Path, origin: str, items: dict[str, tuple[str, Any]]) -> _Stat
             elif key == "periodic":
                 out.periodic = _bool_text(value)
         except (ValueError, InputError) as exc:
-            raise FileFormatError(path, f"{where}: {key} = {value!r} cannot be used ({exc})") from None
+            raise FileFormatError(path, f"{where}: {key} = {_shown(value)} cannot be used ({_one_line(str(exc))})") from None
     if out.size is not None and out.pixel_size is not None:
         raise FileFormatError(path, f"{origin} states both size and pixel_size; keep one")
     return out
+
+
+def _shown(value: Any) -> str:
+    """A value a file states, in one short line: an array of more than two values by its shape and type."""
+    if isinstance(value, np.ndarray) and value.size > 2:
+        return f"an array of shape {value.shape} ({value.dtype})"
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    return _one_line(repr(value))
+
+
+def _one_line(text: str, limit: int = 120) -> str:
+    """``text`` as one line of at most ``limit`` characters (escapes for what does not print)."""
+    if not text.isprintable():
+        text = text.encode("unicode_escape").decode("ascii")
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def _merge(stated: _Stated, *, pixel_size: Any, size: Any, height_unit: str | None, lateral_unit: str | None,
@@ -261,6 +281,7 @@ def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_u
             if int(np.isfinite(heights).sum()) < 4:
                 raise FileFormatError(path, "x h columns: fewer than 4 defined heights")
             h, length, note = resample_nonuniform(raw.x, heights)  # type: ignore[arg-type]
+            check_lengths(path, f"profile length (x column × {option_name('lateral_unit')})", (length * lf,))
             if note:
                 notes.append(note)
             return LineScans(heights=h * hf, length=length * lf, periodic=periodic, source=str(path),
@@ -270,6 +291,7 @@ def _from_raw(path: Path, raw: RawTable, *, pixel_size: Any, size: Any, height_u
         dx = float(np.diff(raw.x).mean())
         dy = float(np.diff(raw.y).mean())
         nx, ny = heights.shape
+        check_lengths(path, f"map size (x, y columns × {option_name('lateral_unit')})", (nx * dx * lf, ny * dy * lf))
         return Topography(heights=heights * hf, size=(nx * dx * lf, ny * dy * lf), periodic=periodic,
                           source=str(path), notes=tuple(notes), warnings=warned)
     return _from_matrix(path, raw.heights, notes, pixel_size=pixel_size, size=size,
@@ -285,6 +307,7 @@ def _from_matrix(path: Path, h: NDArray[np.float64], notes: list[str], *, pixel_
     require_units(path, height=height_unit is None, size=pixel_size is None and size is None)
     hf = length_unit_factor(height_unit, option_name("height_unit"))  # type: ignore[arg-type]
     sizes = lateral_size(path, h.shape, pixel_size, size)
+    check_lengths(path, "size (pixel size × points)" if pixel_size is not None else "size", sizes)
     notes.append(f"heights in {height_unit}, size {' × '.join(f'{s:.6g}' for s in sizes)} m")
     try:
         if h.ndim == 1:

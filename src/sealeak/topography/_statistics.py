@@ -90,6 +90,18 @@ def _spectral(spectrum: PowerSpectrum | None) -> dict[str, float | None]:
             "spectrum_curvature_rms": spectrum.curvature_rms, "spectrum_area_ratio": spectrum.area_ratio}
 
 
+def _rms(values: FloatArray) -> float:
+    """√<v²> (in the unit of ``values``) computed in units of the largest magnitude, so that neither the squares
+    overflow (values above ~1e154, as the curvature of a map of sub-1e-100 m pixels) nor underflow: the result
+    is finite wherever √<v²> is. NaN for no values, inf when some value is infinite."""
+    if not values.size:
+        return float("nan")
+    scale = float(np.max(np.abs(values)))
+    if not (np.isfinite(scale) and scale > 0):
+        return scale  # 0, inf or nan
+    return scale * float(np.sqrt(np.mean((values / scale) ** 2)))
+
+
 def _spectral_derivatives(h: FloatArray, size: tuple[float, float]) -> tuple[FloatArray, FloatArray, FloatArray]:
     nx, ny = h.shape
     F = sfft.rfft2(h)
@@ -161,10 +173,12 @@ def surface_statistics(
     h = np.asarray(s.heights)
     good = prepared.defined
     hv = h[good]
-    m2 = float(np.mean(hv**2))
-    h_rms = float(np.sqrt(m2))
-    skew = float(np.mean(hv**3) / m2**1.5) if m2 > 0 else float("nan")
-    kurt = float(np.mean(hv**4) / m2**2) if m2 > 0 else float("nan")
+    h_rms = _rms(hv)
+    if h_rms > 0:  # moments of the heights in units of h_rms: no overflow of hv**4 for any height a double holds
+        u = hv / h_rms
+        skew, kurt = float(np.mean(u**3)), float(np.mean(u**4))
+    else:
+        skew = kurt = float("nan")
     if isinstance(s, Topography):
         dx, dy = s.pixel_size
         if s.periodic:
@@ -180,10 +194,10 @@ def surface_statistics(
             lap += np.gradient(np.gradient(sm, dy, axis=1), dy, axis=1)
             del sm, sx, sy
             method = "spectral derivatives of the periodic component + finite differences of the smooth one"
-        g2 = gx**2 + gy**2
-        slope = float(np.sqrt(np.mean(g2[good])))
-        area = float(np.mean(np.sqrt(1.0 + g2[good])))
-        curv = float(np.sqrt(np.mean(lap[good] ** 2)))
+        grad = np.hypot(gx, gy)[good]  # |∇h|, without squaring (a steep map's |∇h|² can overflow)
+        slope = _rms(grad)
+        area = float(np.mean(np.hypot(1.0, grad)))
+        curv = _rms(lap[good])
     else:
         dx = s.pixel_size
         if s.periodic:
@@ -196,10 +210,9 @@ def surface_statistics(
             c += np.gradient(np.gradient(sm, dx, axis=1), dx, axis=1)
             method = ("spectral derivatives of the periodic component + finite differences of the smooth one, "
                       "along the profiles, converted for an isotropic surface")
-        slope = float(np.sqrt(2.0 * np.mean(g[good] ** 2)))
+        slope = float(np.sqrt(2.0)) * _rms(g[good])
         cg = c[good]
-        cg = cg[np.isfinite(cg)]
-        curv = float(np.sqrt(8.0 / 3.0 * np.mean(cg**2))) if cg.size else float("nan")
+        curv = float(np.sqrt(8.0 / 3.0)) * _rms(cg[np.isfinite(cg)])
         area = float(area_ratio_from_slope(slope))
     return SurfaceStatistics(h_rms=h_rms, slope_rms=slope, curvature_rms=curv, area_ratio=area, skewness=skew,
                              kurtosis=kurt, **_spectral(spectrum), method=method)

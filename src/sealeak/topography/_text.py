@@ -26,6 +26,7 @@ This module only parses; units are applied by :mod:`._readers`. Every failure is
 from __future__ import annotations
 
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -34,6 +35,7 @@ from numpy.typing import NDArray
 
 from ..errors import FileFormatError
 from ..io.units import comma_advice, is_number
+from ._common import MAX_POINTS
 
 __all__ = ["RawTable", "parse_text", "looks_binary", "NotPlainText"]
 
@@ -48,6 +50,17 @@ _HEADER = re.compile(r"^(?:#|%|//)\s*(size|pixel[ _]size|height[ _]unit|lateral[
                      re.IGNORECASE)
 _COMMENT = ("#", "%", "//")
 MAX_TEXT_BYTES = 512 * 2**20
+#: Text is read in pieces of whole lines of at least this many characters (parsed by numpy at once).
+_PIECE_CHARS = 2**18
+_COMMENT_CHARS = ("#", "%", "//")
+_COMMENT_LINE = re.compile(r"^[^\S\n]*(?:#|%|//)[^\n]*", re.MULTILINE)  # a comment line (white space before it)
+_ODD_BREAK = re.compile("[\r\v\f\x1c\x1d\x1e\x85\u2028\u2029]")  # what str.splitlines() takes for a line end besides \n
+_NON_COMMA_SEPARATORS = (";", " ", "\t", "\x1f")
+_SEPARATORS_TO_SPACE = str.maketrans(",;", "  ")
+_SPACE = re.compile(r"\s")
+#: The ASCII characters str.split() takes for white space, by code.
+_ASCII_SPACE = np.zeros(256, dtype=bool)
+_ASCII_SPACE[[ord(c) for c in " \t\n\v\f\r\x1c\x1d\x1e\x1f"]] = True
 
 
 @dataclass(frozen=True)
@@ -81,41 +94,169 @@ def _decode(path: Path, data: bytes) -> str:
 
 
 def _table(path: Path, text: str, meta: dict[str, tuple[int, str]] | None = None) -> NDArray[np.float64]:
-    rows: list[list[float]] = []
-    width = None
-    first_line = 0
-    for lineno, line in enumerate(text.splitlines(), start=1):
-        stripped = line.strip()
-        if not stripped or stripped.startswith(_COMMENT):
-            m = _HEADER.match(stripped) if meta is not None else None
-            if m:
-                assert meta is not None  # m is only matched when headers are kept
-                key = m.group(1).lower().replace(" ", "_")
-                if key in meta:
-                    raise FileFormatError(path, f"line {lineno}: header {key!r} given twice (first on line "
-                                                f"{meta[key][0]})")
-                meta[key] = (lineno, m.group(2))
-            continue
-        tokens = [t for t in _SPLIT.split(stripped) if t]
-        if not tokens:
-            continue
-        _refuse_comma_numbers(path, lineno, stripped)
-        try:
-            values = [float(t) for t in tokens]
-        except ValueError:
-            bad = next(t for t in tokens if not is_number(t, float))
-            raise NotPlainText(path, f"line {lineno}: {bad[:40]!r} is not a number "
-                                        f"(plain text files must hold numbers only; comments start with #)") from None
-        if width is None:
-            width, first_line = len(values), lineno
-        elif len(values) != width:
-            raise FileFormatError(path, f"line {lineno} has {len(values)} values but line {first_line} has {width} "
-                                        f"(ragged table: truncated or malformed file)")
-        rows.append(values)
-    if not rows:
+    """The numeric table of ``text`` (rows × columns), header lines into ``meta``.
+
+    Read in pieces of whole lines (:data:`_PIECE_CHARS` characters or more): each piece is parsed with numpy
+    at once (a few bytes per character of text, 8 per value); a piece numpy cannot take (a bad token, a
+    ragged row, a decimal comma, unusual line breaks or characters) is read line by line, which names the
+    first bad line. A table of more than :data:`MAX_POINTS` heights is refused as soon as it is reached.
+    """
+    scan = _Scan(path, {} if meta is None else meta, keep_headers=meta is not None)
+    lineno = 0
+    for piece in _pieces(text):
+        lineno = scan.piece(piece, lineno)
+    if not scan.blocks:
         raise FileFormatError(path, "no numeric data (empty or only comments)")
     # infinite heights (or numbers beyond float64) are no-data markers, dealt with when units are applied
-    return np.asarray(rows, dtype=float)
+    return scan.blocks[0] if len(scan.blocks) == 1 else np.concatenate(scan.blocks)
+
+
+def _pieces(text: str) -> Iterator[str]:
+    """``text`` in pieces of whole lines, each of at least :data:`_PIECE_CHARS` characters (but the last)."""
+    start, n = 0, len(text)
+    while start < n:
+        newline = text.find("\n", start + _PIECE_CHARS - 1)
+        end = n if newline < 0 else newline + 1
+        yield text[start:end]
+        start = end
+
+
+class _Scan:
+    """The state of reading a table piece by piece: the width, the header lines and the rows read so far."""
+
+    def __init__(self, path: Path, meta: dict[str, tuple[int, str]], keep_headers: bool) -> None:
+        self.path = path
+        self.meta = meta
+        self.keep_headers = keep_headers
+        self.width: int | None = None
+        self.first_line = 0
+        self.blocks: list[NDArray[np.float64]] = []
+        self.heights = 0
+
+    def piece(self, piece: str, lineno: int) -> int:
+        """Read ``piece`` (whole lines; the first is line ``lineno + 1``); the number of the last line read."""
+        fast = self._fast(piece, lineno)
+        if fast is None:
+            return self._lines(piece, lineno)
+        rows, last, headers, width, first_line = fast
+        self.meta.update(headers)
+        if width is not None and self.width is None:
+            self.width, self.first_line = width, first_line
+        self._add(rows, last)
+        return last
+
+    def _add(self, rows: NDArray[np.float64], last: int) -> None:
+        if not rows.size:
+            return
+        self.blocks.append(rows)
+        self.heights += rows.shape[0] if rows.shape[1] in (2, 3) else rows.size  # x h and x y h: one height a row
+        if self.heights > MAX_POINTS:
+            raise FileFormatError(self.path, f"more than {MAX_POINTS:,} heights by line {last}; at most {MAX_POINTS:,} "
+                                             f"(8192 × 8192) are read: crop or resample the data, or save them as .npy")
+
+    def _fast(self, piece: str, lineno: int) -> tuple[NDArray[np.float64], int, dict[str, tuple[int, str]], int | None, int] | None:
+        """The rows of ``piece`` parsed at once, or None when it needs reading line by line."""
+        piece = piece.replace("\r\n", "\n")
+        if _ODD_BREAK.search(piece):  # line breaks besides \n: counted line by line
+            return None
+        nlines = piece.count("\n") + (0 if piece.endswith("\n") else 1)
+        headers: dict[str, tuple[int, str]] = {}
+        if any(c in piece for c in _COMMENT_CHARS):
+            at, number = 0, lineno + 1
+            for m in _COMMENT_LINE.finditer(piece):
+                number += piece.count("\n", at, m.start())
+                at = m.start()
+                h = _HEADER.match(m.group().strip()) if self.keep_headers else None
+                if h:
+                    key = h.group(1).lower().replace(" ", "_")
+                    if key in self.meta or key in headers:
+                        return None  # refused line by line, in the order of the lines
+                    headers[key] = (number, h.group(2))
+            piece = _COMMENT_LINE.sub("", piece)
+        if not piece.isascii():
+            return None
+        if "," in piece and any(c in piece for c in _NON_COMMA_SEPARATORS):
+            for line in piece.split("\n"):
+                if "," in line and _comma_number(line.strip()) is not None:
+                    return None
+        table = piece.translate(_SEPARATORS_TO_SPACE)
+        chars = np.frombuffer(table.encode("ascii"), dtype=np.uint8)
+        space = _ASCII_SPACE[chars]
+        starts = np.flatnonzero(~space & np.concatenate(([True], space[:-1])))  # where each value begins
+        counts = np.bincount(np.searchsorted(np.flatnonzero(chars == 10), starts), minlength=nlines)
+        data_lines = np.flatnonzero(counts)
+        if not data_lines.size:
+            return np.empty((0, 1)), lineno + nlines, headers, None, 0
+        width = int(counts[data_lines[0]]) if self.width is None else self.width
+        if (counts[data_lines] != width).any():
+            return None  # a ragged row: named line by line
+        try:
+            values = np.concatenate([np.array(part.split(), dtype=float) for part in _parts(table)])
+        except ValueError:
+            return None  # a value that is not a number: named line by line
+        if values.size != starts.size:  # pragma: no cover - the counts and the split agree on ASCII text
+            return None
+        return values.reshape(-1, width), lineno + nlines, headers, width, lineno + int(data_lines[0]) + 1
+
+    def _lines(self, piece: str, lineno: int) -> int:
+        """Read ``piece`` line by line (the first is line ``lineno + 1``); the number of its last line."""
+        rows: list[list[float]] = []
+        for lineno, line in enumerate(piece.splitlines(), start=lineno + 1):
+            stripped = line.strip()
+            if not stripped or stripped.startswith(_COMMENT):
+                m = _HEADER.match(stripped) if self.keep_headers else None
+                if m:
+                    key = m.group(1).lower().replace(" ", "_")
+                    if key in self.meta:
+                        raise FileFormatError(self.path, f"line {lineno}: header {key!r} given twice (first on line "
+                                                         f"{self.meta[key][0]})")
+                    self.meta[key] = (lineno, m.group(2))
+                continue
+            tokens = [t for t in _SPLIT.split(stripped) if t]
+            if not tokens:
+                continue
+            _refuse_comma_numbers(self.path, lineno, stripped)
+            try:
+                values = [float(t) for t in tokens]
+            except ValueError:
+                bad = next(t for t in tokens if not is_number(t, float))
+                raise NotPlainText(self.path, f"line {lineno}: {bad[:40]!r} is not a number (plain text files must "
+                                              f"hold numbers only; comments start with #)") from None
+            if self.width is None:
+                self.width, self.first_line = len(values), lineno
+            elif len(values) != self.width:
+                raise FileFormatError(self.path, f"line {lineno} has {len(values)} values but line {self.first_line} has "
+                                                 f"{self.width} (ragged table: truncated or malformed file)")
+            rows.append(values)
+            if len(rows) * self.width > _PIECE_CHARS:  # a long stretch of lines: kept as an array
+                self._add(np.asarray(rows, dtype=float), lineno)
+                rows = []
+        if rows:
+            self._add(np.asarray(rows, dtype=float), lineno)
+        return lineno
+
+
+def _parts(table: str) -> Iterator[str]:
+    """``table`` (values separated by white space) cut at white space into parts of about :data:`_PIECE_CHARS`
+    characters, so that a very long line is not split into all its values at once."""
+    start, n = 0, len(table)
+    while start < n:
+        end = start + _PIECE_CHARS
+        if end < n:
+            m = _SPACE.search(table, end)
+            end = n if m is None else m.start()
+        yield table[start:end]
+        start = end
+
+
+def _comma_number(line: str) -> str | None:
+    """The first value of ``line`` written with a comma between digits, where the line's values are separated by
+    ';' or white space (so the comma is a decimal comma or a thousands separator); None if there is none. A line
+    separated by commas alone (also ``0.1, 0.2``, a comma next to a space) has none."""
+    if ";" not in line and (not re.search(r"\s", line) or re.search(r",\s|\s,", line)):
+        return None
+    cells = [c for c in _OTHER_SPLIT.split(line) if c]
+    return next((c for c in cells if _COMMA_NUMBER.fullmatch(c)), None)
 
 
 def _refuse_comma_numbers(path: Path, lineno: int, line: str) -> None:
@@ -123,10 +264,7 @@ def _refuse_comma_numbers(path: Path, lineno: int, line: str) -> None:
     comma between its digits (a decimal comma, or a thousands separator): read with ',' as a separator
     it would give twice the values, silently. A line separated by commas alone (also ``0.1, 0.2``, a comma
     next to a space) is left to the caller."""
-    if ";" not in line and (not re.search(r"\s", line) or re.search(r",\s|\s,", line)):
-        return
-    cells = [c for c in _OTHER_SPLIT.split(line) if c]
-    bad = next((c for c in cells if _COMMA_NUMBER.fullmatch(c)), None)
+    bad = _comma_number(line)
     if bad is not None:
         raise FileFormatError(path, f"line {lineno}: {bad[:40]!r}: {comma_advice(bad)} (the values are separated "
                                     f"by {repr(';') if ';' in line else 'spaces or tabs'}, so a ',' inside a value is a decimal comma)")

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import UnitError
-from ..io.units import parse_quantity, unit_factor
+from ..io.units import SI_RANGE, parse_quantity, unit_factor
 
 __all__ = ["length_unit_factor", "parse_length", "cli_option_names", "option_name", "option_example",
            "MissingUnitsError"]
@@ -36,7 +36,8 @@ def length_unit_factor(unit: str, field: str = "unit") -> float:
 
 
 def parse_length(value: Any, field: str) -> float:
-    """A length in metres from a number (already in m) or a string with unit (``"0.5 um"``), > 0."""
+    """A length in metres from a number (already in m) or a string with unit (``"0.5 um"``), within
+    :data:`~sealeak.io.units.SI_RANGE` (1e-100 m to 1e100 m)."""
     if isinstance(value, str):
         v = parse_quantity(field, value, "length")
     elif isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -45,6 +46,9 @@ def parse_length(value: Any, field: str) -> float:
         v = float(value)
     if not (np.isfinite(v) and v > 0):
         raise UnitError(field, value, "a positive length like '0.5 um' or a number in m")
+    if not SI_RANGE[0] <= v <= SI_RANGE[1]:  # as a length with a unit (parse_quantity): near the ends of the doubles
+        raise UnitError(field, value, f"a length between {SI_RANGE[0]:g} m and {SI_RANGE[1]:g} m, far "
+                                      f"{'beyond' if v > 1.0 else 'below'} any seal's")
     return v
 
 
