@@ -171,12 +171,12 @@ def _cmd_rig(args: argparse.Namespace) -> int:
                                       f"initial_height{load} and optionally final_height, density")
     if case.rig.kind == "pressure-decay":
         return _decay_rig(args, case)
-    pred = rig_prediction(case)
-    assert isinstance(pred, RigPrediction)  # a pressure-decay [rig] went to _decay_rig above
     analysis = None
-    if args.readings:
+    if args.readings:  # read and checked before the model runs: bad readings are refused at once
         t, h = read_rig_readings(args.readings)
         analysis = rig_readings(case, t, h, source=args.readings)
+    pred = rig_prediction(case)
+    assert isinstance(pred, RigPrediction)  # a pressure-decay [rig] went to _decay_rig above
     text, doc = rig_text(case, pred, analysis, args.readings or ""), rig_json(case, pred, analysis) if args.json else ""
     pngs = {}
     if args.plots:  # rendered before anything is written: a failure leaves no file behind
@@ -196,10 +196,11 @@ def _decay_rig(args: argparse.Namespace, case) -> int:  # type: ignore[no-untype
     from ..render.lab import decay_condition, decay_json, decay_text
     from ..render.lab_figures import figure_decay, figure_decay_readings
 
+    # the readings are read and checked against the rig's test before the model runs: bad ones are refused at once
+    t, p = read_decay_readings(args.readings, case.rig.test) if args.readings else (None, None)
     pred = decay_prediction(case)
     readings = None
-    if args.readings:
-        t, p = read_decay_readings(args.readings)
+    if t is not None and p is not None:
         readings = decay_readings(case, pred, t, p, source=args.readings)
     text, doc = decay_text(case, pred, readings, args.readings or ""), decay_json(case, pred, readings) if args.json else ""
     pngs = {}

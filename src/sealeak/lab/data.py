@@ -37,6 +37,7 @@ is NaN for the three gas-only kinds, which a liquid case refuses.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,13 +45,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import FileFormatError, UnitError
+from ..io.files import input_file
 from ..io.leak_units import ATMOSPHERE, leak_rate_factor, leak_rate_unit
 from ..io.quantities import quantity
-from ..io.tables import read_unit_table
+from ..io.tables import UnitTable, read_unit_table
 from ..io.units import unit_factor
 from ..physics.contact import MIN_SQUEEZE_PRESSURE
 
-__all__ = ["LOAD_COLUMNS", "LeakData", "read_leak_data", "read_rig_readings"]
+__all__ = ["LOAD_COLUMNS", "MAX_DATA_BYTES", "MAX_DATA_ROWS", "MAX_READINGS", "LeakData", "read_bounded_table",
+           "read_leak_data", "read_readings_table", "read_rig_readings"]
 
 FloatArray = NDArray[np.float64]
 
@@ -58,6 +61,14 @@ FloatArray = NDArray[np.float64]
 LOAD_COLUMNS = ("squeeze_pressure", "compression", "profile_scale")
 #: The most data rows of a file of measured leak rates (fit, --linearity): as many as a case's squeeze pressures.
 MAX_DATA_ROWS = 10_000
+#: The most readings of a rig's readings file (water column or pressure decay): one every 10 s for more than a day.
+MAX_READINGS = 10_000
+#: The most bytes of a data or readings file, refused before it is read: 10 000 rows of a few numbers take under 1 MiB.
+MAX_DATA_BYTES = 2 * 1024 * 1024
+#: A line as str.splitlines (and so :func:`~sealeak.io.tables.read_unit_table`) cuts a text into lines.
+_LINE = re.compile(r"[^\n\r\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029]+")
+_DATA_ROWS_WHY = " (as many as a case's squeeze pressures; each row is a prediction); average repeated measurements first"
+_READINGS_WHY = " (one every 10 s for more than a day); thin the readings out"
 
 _ALIASES = {
     "squeeze_pressure": {"squeeze_pressure", "p0", "squeezing_pressure", "contact_pressure", "nominal_pressure"},
@@ -118,11 +129,56 @@ def _canonical(name: str) -> str | None:
     return None
 
 
+def read_bounded_table(path: str | Path, *, max_rows: int, rows: str = "data rows", why: str = "",
+                       min_columns: int = 1) -> UnitTable:
+    """:func:`~sealeak.io.tables.read_unit_table` of a file of at most :data:`MAX_DATA_BYTES` bytes and ``max_rows``
+    rows, checked before the table is parsed: a larger file is refused on its size before a byte is read, and the
+    lines are counted up to the first one past the limit (a header and that row allowed for), so a file far over
+    the limit costs no more than one at it. ``rows`` names the rows and ``why`` follows the limit in the message,
+    e.g. ``big.csv: has more than 10000 data rows: at most 10000 (...)``."""
+    p = input_file(path)
+    raw = b""
+    try:
+        size = p.stat().st_size
+        if size <= MAX_DATA_BYTES:
+            with p.open("rb") as f:
+                raw = f.read(MAX_DATA_BYTES + 1)  # (a file that grew since: read no further than the limit)
+            size = max(size, len(raw))
+    except OSError as exc:
+        raise FileFormatError(p, f"cannot read it: {exc.strerror or exc}") from None
+    if size > MAX_DATA_BYTES:
+        raise FileFormatError(p, f"is {size} bytes: at most {MAX_DATA_BYTES} bytes ({MAX_DATA_BYTES // 2**20} MiB, "
+                                 f"ample for {max_rows} {rows}); average or thin the rows out")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise FileFormatError(p, "is not a UTF-8 text table") from None
+    count = 0
+    for line in _LINE.finditer(text):
+        cells = line.group().strip()
+        if cells and not cells.startswith("#"):
+            count += 1
+            if count > max_rows + 2:  # (a header and the first row past the limit are the table's to count exactly)
+                raise FileFormatError(p, f"has more than {max_rows} {rows}: at most {max_rows}{why}")
+    table = read_unit_table(p, min_columns=min_columns)
+    n = table.data.shape[0]
+    if n > max_rows:
+        raise FileFormatError(p, f"has {n} {rows}: at most {max_rows}{why}")
+    return table
+
+
+def read_readings_table(path: str | Path, min_columns: int = 1) -> UnitTable:
+    """A rig's readings as a table: :func:`read_bounded_table` with at most :data:`MAX_READINGS` rows."""
+    return read_bounded_table(path, max_rows=MAX_READINGS, rows="readings", why=_READINGS_WHY, min_columns=min_columns)
+
+
 def _columns(path: Path, wanted: tuple[str, ...], optional: tuple[str, ...], may_be_empty: tuple[str, ...] = (),
-             load_column: str | None = None):
+             load_column: str | None = None, *, max_rows: int = MAX_DATA_ROWS, rows: str = "data rows",
+             why: str = _DATA_ROWS_WHY):
     """The table and {column: index}. ``"load"`` in ``wanted``/``optional`` stands for one of :data:`LOAD_COLUMNS`
-    (``load_column``: the one the caller's case takes, named when none is found)."""
-    table = read_unit_table(path, min_columns=1)
+    (``load_column``: the one the caller's case takes, named when none is found). At most ``max_rows`` rows
+    (:func:`read_bounded_table`)."""
+    table = read_bounded_table(path, max_rows=max_rows, rows=rows, why=why, min_columns=1)
     if not table.has_header:
         raise FileFormatError(path, "the first row must name every column with its unit, e.g. "
                                     "'squeeze_pressure (kPa), leak_rate (ml/min)'")
@@ -167,11 +223,15 @@ _SI_LEAK_UNITS = {"volume_flow": "m^3/s", "throughput": "Pa*m^3/s", "standard_vo
                   "mass_flow": "kg/s"}
 
 
+#: A unit to show for a column of each dimension that has none.
+_EXAMPLE_UNITS = {"pressure": "kPa", "time": "min", "length": "cm", "dimensionless": "1"}
+
+
 def _factor(path: Path, table, i: int, dimension: str) -> float:
     unit = table.units[i]
     if not unit:
         raise FileFormatError(path, f"column '{table.names[i]}' has no unit: write it in parentheses, "
-                                    f"e.g. '{table.names[i]} (kPa)'")
+                                    f"e.g. '{table.names[i]} ({_EXAMPLE_UNITS.get(dimension, 'kPa')})'")
 
     try:
         return unit_factor(f"column '{table.names[i]}' unit", unit, dimension)
@@ -194,10 +254,7 @@ def read_leak_data(path: str | Path, *, reference_pressure: float = ATMOSPHERE,
     # an empty ΔP cell means "the case's ΔP", unless ΔP is a required column (the linearity test's x)
     empty_ok = ("pressure_difference",) if "pressure_difference" not in required else ()
     table, found = _columns(p, required, optional, may_be_empty=empty_ok, load_column=load_column)
-    n = table.data.shape[0]
-    if n > MAX_DATA_ROWS:  # (each row a prediction at its load: 10 000 took a minute and a GB; 200 000 ran on)
-        raise FileFormatError(p, f"has {n} data rows: at most {MAX_DATA_ROWS} (as many as a case's squeeze pressures; "
-                                 "each row is a prediction); average repeated measurements first")
+    n = table.data.shape[0]  # at most MAX_DATA_ROWS (each row a prediction at its load: 10 000 took a minute and a GB)
     out: dict[str, FloatArray] = {}
     for canon in ("squeeze_pressure", "pressure_difference"):
         if canon in found:
@@ -277,9 +334,10 @@ def _band_load(path: Path, table, name: str, i: int) -> FloatArray:
 
 
 def read_rig_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
-    """Rig readings: columns time and height with units (e.g. 'time (min), height (cm)'); returns (s, m)."""
+    """Rig readings: columns time and height with units (e.g. 'time (min), height (cm)'); returns (s, m).
+    At most :data:`MAX_READINGS` readings in at most :data:`MAX_DATA_BYTES` bytes, checked before the file is parsed."""
     p = Path(path)
-    table, found = _columns(p, ("time", "height"), ())
+    table, found = _columns(p, ("time", "height"), (), max_rows=MAX_READINGS, rows="readings", why=_READINGS_WHY)
     t = table.in_si(found["time"], _factor(p, table, found["time"], "time"), "s")  # (1e-300 min: refused, naming the cell)
     h = table.in_si(found["height"], _factor(p, table, found["height"], "length"), "m")
     return t, h

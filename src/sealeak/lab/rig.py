@@ -33,11 +33,11 @@ from scipy.integrate import solve_ivp
 
 from ..errors import ConvergenceError, FileFormatError, InputError, UnitError, positive_number
 from ..io.quantities import quantity
-from ..io.tables import read_unit_table
 from ..io.units import unit_factor
 from ..physics.gas import DEFAULT_RAREFACTION, Gas, check_rarefaction_model
 from ..physics.seal import STANDARD_GRAVITY, Seal
-from .pressure_decay import PressureDecaySetup
+from .data import read_readings_table
+from .pressure_decay import PressureDecaySetup, leak_rate_from_decay
 
 __all__ = ["RIG_KINDS", "RigSetup", "WaterColumn", "water_column", "exponential_height", "drain_time",
            "ReadingsAnalysis", "leak_rate_from_readings", "DecayRigSetup",
@@ -365,13 +365,16 @@ class DecayRigSetup:
         return seal.squeeze_pressure_from_load(self.load)
 
 
-def read_decay_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
+def read_decay_readings(path: str | Path, setup: PressureDecaySetup | None = None) -> tuple[FloatArray, FloatArray]:
     """Pressure-decay readings: columns time and pressure with units (e.g. 'time (min), pressure (mbar)');
     returns t (s) and the absolute pressure P (Pa). A missing or unknown column, a column without a
-    unit or in a unit of the wrong kind, or a value that is not a finite number is a
-    :class:`FileFormatError` naming the file and the column."""
+    unit or in a unit of the wrong kind, a value that is not a finite number, more than
+    :data:`~sealeak.lab.data.MAX_READINGS` readings or a file over :data:`~sealeak.lab.data.MAX_DATA_BYTES` bytes is a
+    :class:`FileFormatError` naming the file and the column. With ``setup`` (the rig's test) the readings are also
+    checked against it as :func:`~sealeak.lab.pressure_decay.leak_rate_from_decay` does (at least two, times
+    increasing, pressures above the outside one and falling), so a caller can refuse them before any model runs."""
     p = Path(path)
-    table = read_unit_table(p, min_columns=2)
+    table = read_readings_table(p, min_columns=2)
     if not table.has_header:
         raise FileFormatError(p, "the first row must name every column with its unit, e.g. 'time (min), pressure (mbar)'")
     found: dict[str, int] = {}
@@ -403,4 +406,6 @@ def read_decay_readings(path: str | Path) -> tuple[FloatArray, FloatArray]:
             raise FileFormatError(p, f"line {table.line_of(r)}, column '{table.names[i]}': not a finite number")
         # a value within the case file's SI range (times of 1e-300 min left no time between readings: a traceback)
         out.append(table.in_si(i, factor, "s" if canon == "time" else "Pa"))
+    if setup is not None:
+        leak_rate_from_decay(setup, out[0], out[1], source=str(path))
     return out[0], out[1]
