@@ -37,7 +37,7 @@ INVALID = [
     ("text for a number", edit("hurst = 0.8", 'hurst = "high"'), {}, "surface.hurst = 'high'"),
     ("table missing file", edit('model = "self-affine"\nh_rms = "44 um"\nhurst = 0.8\nrolloff_wavevector = "9.1e3 1/m"\n'
                                 'cutoff_wavelength = "20 um"', 'model = "table"\nfile = "none.csv"'), {},
-     "none.csv: file not found"),
+     "surface.file = 'none.csv': no such file (looked for "),
     ("table with NaN", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e4, nan\n1e5, 1e-24\n"}, "C is nan"),
     ("table unsorted", None, {"psd.csv": "q (1/m), C (m^4)\n1e3, 1e-18\n1e5, 1e-21\n1e4, 1e-24\n"},
      "q must be strictly increasing"),
