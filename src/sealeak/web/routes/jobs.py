@@ -33,10 +33,11 @@ def _options(body: JobBody, case: Case, config: WebConfig) -> dict[str, int | No
         if value in (None, ""):
             opts[key] = None
             continue
-        try:
-            opts[key] = int(str(value).strip())
-        except ValueError:
-            raise InputError(f"--{key}", value, "must be an integer") from None
+        text = str(value).strip()
+        # the digits 0-9 only, as the command line and the case files read them: int() takes "٦٤" for 64
+        if isinstance(value, bool) or not (isinstance(value, int) or (text.isascii() and text.lstrip("+-").isdigit())):
+            raise InputError(f"--{key}", value, "must be an integer, written with the digits 0-9")
+        opts[key] = int(text)
     chosen = simulation_options(grid=opts["grid"], realizations=opts["realizations"], seed=opts["seed"], workers=opts["workers"],
                        defaults=case.simulation, max_realizations=config.max_realizations,
                        max_workers=config.max_workers, limit_note=" (this server's limit)")
