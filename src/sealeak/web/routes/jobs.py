@@ -36,7 +36,7 @@ def _options(body: JobBody, case: Case, config: WebConfig) -> dict[str, int | No
         text = str(value).strip()
         # the digits 0-9 only, as the command line and the case files read them: int() takes "٦٤" for 64
         if isinstance(value, bool) or not (isinstance(value, int) or (text.isascii() and text.lstrip("+-").isdigit())):
-            raise InputError(f"--{key}", value, "must be an integer, written with the digits 0-9")
+            raise InputError(f"--{key}", value, "must be an integer" + ("" if text.isascii() else ", written with the digits 0-9"))
         opts[key] = int(text)
     chosen = simulation_options(grid=opts["grid"], realizations=opts["realizations"], seed=opts["seed"], workers=opts["workers"],
                        defaults=case.simulation, max_realizations=config.max_realizations,
