@@ -291,18 +291,24 @@ def test_a_case_that_is_a_fifo_is_refused_not_read_forever(tmp_path, command):
 
 
 # ------------------------------------------------------------------------------------ outputs all or none
-def test_outputs_are_written_all_or_none(tmp_path, monkeypatch):
-    """write_files: a failure on the third file (a full disk, say) leaves the first two as they were, no temporary file
-    and none of the folders it made."""
-    (tmp_path / "a.json").write_text("earlier\n")
+def _full_disk(monkeypatch, fails):
+    """tempfile.mkstemp failing with ENOSPC for the temporary files whose prefix ``fails`` takes; the real one."""
     real = tempfile.mkstemp
 
     def full_disk(*args, **kwargs):
-        if kwargs.get("prefix", "").startswith(".c.png"):
+        if fails(kwargs.get("prefix", "")):
             raise OSError(28, "No space left on device")
         return real(*args, **kwargs)
 
     monkeypatch.setattr(tempfile, "mkstemp", full_disk)
+    return real
+
+
+def test_outputs_are_written_all_or_none(tmp_path, monkeypatch):
+    """write_files: a failure on the third file (a full disk, say) leaves the first two as they were, no temporary file
+    and none of the folders it made."""
+    (tmp_path / "a.json").write_text("earlier\n")
+    real = _full_disk(monkeypatch, lambda prefix: prefix.startswith(".c.png"))
     contents = {str(tmp_path / "a.json"): "new\n", str(tmp_path / "b.csv"): "x\n", str(tmp_path / "new" / "deep" / "c.png"): b"png"}
     with pytest.raises(OutputWriteError, match="c.png: No space left on device"):
         write_files(contents)
@@ -319,14 +325,7 @@ def test_outputs_are_written_all_or_none(tmp_path, monkeypatch):
 def test_a_figure_folder_that_fails_late_leaves_the_other_outputs_as_they_were(tmp_path, capsys, monkeypatch):
     """--plots in a folder that passes the up-front check but refuses the figures when they are written (a disk that
     fills during the run): one line, exit 2, the --json it was to replace as it was and no --csv."""
-    real = tempfile.mkstemp
-
-    def full_disk(*args, **kwargs):
-        if kwargs.get("prefix", "").endswith(".png."):
-            raise OSError(28, "No space left on device")
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(tempfile, "mkstemp", full_disk)
+    _full_disk(monkeypatch, lambda prefix: prefix.endswith(".png."))  # (the figures' temporary files)
     old = tmp_path / "old.json"
     old.write_text("earlier\n")
     csv = tmp_path / "new.csv"

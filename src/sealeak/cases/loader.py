@@ -185,7 +185,7 @@ def build_cases(doc: dict[str, Any], case_dir: Path, source: str) -> tuple[list[
             if not _fails_alike(exc, lambda: build(variant_of(values[(i + 1) % len(values)]), "")):
                 raise InputError(f"{exc.field} (study value {show_value(value)})", exc.value, exc.allowed) from None
             raise
-    _check_shadowed(doc, section, [key] if not whole else list(values[0]), values, lambda d: build(d))
+    _check_shadowed(doc, section, [key] if not whole else list(values[0]), values, build)
     return cases, tuple(dict.fromkeys(files))
 
 
@@ -197,11 +197,12 @@ def _check_shadowed(doc: dict[str, Any], section: str, keys: list[str], values: 
     base = doc.get(section)
     if not isinstance(base, dict):
         return
-    shadowed = [k for k in keys if k in base and all(not isinstance(v, dict) or k in v for v in values)]
+    first = values[0]
+    shadowed = [k for k in keys if k in base and all(not isinstance(v, dict) or k in v for v in values)
+                and base[k] != (first.get(k) if isinstance(first, dict) else first)]  # (as the first value: built already)
     if not shadowed:
         return
     check = copy.deepcopy(doc)
-    first = values[0]
     check[section] = {**base, **({k: v for k, v in first.items() if k not in shadowed} if isinstance(first, dict) else {})}
     try:
         build(check)

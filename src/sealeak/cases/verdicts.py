@@ -17,7 +17,7 @@ from .band import BandResult
 from .model import Case
 from .prediction import _band_effective_gap
 
-__all__ = ["Verdicts", "case_warnings", "opens_text"]
+__all__ = ["Verdicts", "case_warnings"]
 
 #: Verdicts per row: (valid, reasons) of the critical junction, and of the effective medium (None, None if not run).
 Verdicts = tuple[NDArray[np.bool_], tuple[str, ...], NDArray[np.bool_] | None, tuple[str, ...] | None]
@@ -41,13 +41,13 @@ def _uniform_verdicts(case: Case, res: CriticalJunctionResult, em: EffectiveMedi
     p0, dp = res.squeeze_pressure, res.pressure_difference
     lifted = pressure_difference_large(p0, dp, case.coupled)
     if case.coupled:
-        reason = [opens_text(float(dp[i]), "P0", float(p0[i])) for i in range(p0.size)]
+        cause = [_opens(float(dp[i]), "P0", float(p0[i])) for i in range(p0.size)]
     else:
-        reason = [f"ΔP = {dp[i]:.4g} Pa is not small against P0 = {p0[i]:.4g} Pa: the fluid pressure would lift the seal, "
-                  "which the theory (P0 >> ΔP) does not model" for i in range(p0.size)]
-    valid, validity = _lifted(valid, validity, lifted, res.percolates, reason)
+        cause = [f"ΔP = {dp[i]:.4g} Pa is not small against P0 = {p0[i]:.4g} Pa: the fluid pressure would lift the seal, "
+                 "which the theory (P0 >> ΔP) does not model" for i in range(p0.size)]
+    valid, validity = _lifted(valid, validity, lifted, res.percolates, cause, case.coupled)
     if em is not None and valid_em is not None and validity_em is not None:
-        valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, reason)
+        valid_em, validity_em = _lifted(valid_em, validity_em, lifted, em.percolates, cause, case.coupled)
     return valid, validity, valid_em, validity_em
 
 
@@ -57,13 +57,18 @@ ENERGISED = ("; an O-ring in a groove is also pushed by the fluid against the gr
              "with ΔP, and it holds more")
 
 
-def opens_text(dp: float, name: str, lift_off: float) -> str:
-    """Why a row whose ΔP reaches the lift-off pressure difference is not valid (docs/theory.md §13.4)."""
+def _opens(dp: float, name: str, lift_off: float) -> str:
+    """Why a row whose ΔP reaches the lift-off pressure difference is not valid (docs/theory.md §13.4): the cause, which
+    :func:`_lifted` completes with what the row's number is."""
     return (f"ΔP = {dp:.4g} Pa reaches the lift-off pressure difference ({name} = {lift_off:.4g} Pa): the fluid pressure "
-            "opens the seal" + _AT_LIMIT)
+            "opens the seal")
 
 
+#: What a lifted row's number is: with a leak channel, coupled, the limit at lift-off (docs/theory.md §13.4); without
+#: one, none (the theory's "sealed" is opened by the fluid).
 _AT_LIMIT = "; the leak rate shown is the limit ΔP → lift-off, the open seal leaks more"
+_SHUT = ("; the theory's answer, sealed (no leak channel without the fluid's pressure), does not hold: the open seal leaks, "
+         "by how much the theory does not say")
 
 
 def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = True) -> Verdicts:
@@ -80,15 +85,15 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
     dp, p_max = case.pressure_difference, band.max_contact_pressure
     lifted = pressure_difference_large(p_max, dp, case.coupled) & pressure_difference
     if case.coupled:  # the fluid pressure reaches the peak and opens the seal (docs/theory.md §13.4)
-        reason = [opens_text(dp, "the peak contact pressure", float(p)) + (ENERGISED if band.band.oring is not None else "")
-                  for p in p_max]
+        cause = [_opens(dp, "the peak contact pressure", float(p)) for p in p_max]
     else:
-        reason = [f"ΔP = {dp:.4g} Pa is not small against the peak contact pressure {p:.4g} Pa: the fluid pressure would "
-                  "open the seal, which the theory (p >> ΔP) does not model" for p in p_max]
+        cause = [f"ΔP = {dp:.4g} Pa is not small against the peak contact pressure {p:.4g} Pa: the fluid pressure would "
+                 "open the seal, which the theory (p >> ΔP) does not model" for p in p_max]
+    energised = ENERGISED if case.coupled and band.band.oring is not None else ""
 
     def judged(valid: NDArray[np.bool_], reasons: tuple[str, ...], percolates: NDArray[np.bool_]
                ) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
-        return _lifted(valid, reasons, lifted, percolates, reason)
+        return _lifted(valid, reasons, lifted, percolates, cause, case.coupled, energised)
 
     cj = band.critical_junction
     valid, validity = judged(*continuum_verdict(band.critical_gap_at_max_pressure, d, "u_c at the peak pressure",
@@ -102,16 +107,13 @@ def _band_verdicts(case: Case, band: BandResult, pressure_difference: bool = Tru
 
 
 def _lifted(valid: NDArray[np.bool_], reasons: tuple[str, ...], lifted: NDArray[np.bool_], percolates: NDArray[np.bool_],
-            reason: list[str]) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
-    """Add the verdict ``reason[i]`` (ΔP not small against P0, or the seal opens) to the rows ``lifted``, before any
-    other reason (it explains the number shown: the limit at lift-off). A lifted row without a leak channel is not
-    valid either: the theory's seal, shut without the fluid's pressure, is opened by it (an O-ring at 50 bar against
-    a 10 bar peak was "sealed", valid)."""
+            cause: list[str], coupled: bool, suffix: str = "") -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+    """Add the verdict ``cause[i]`` (ΔP not small against P0, or the seal opens), completed with what the row's number is
+    and ``suffix``, to the rows ``lifted``, before any other reason (it explains the number shown: the limit at
+    lift-off). A lifted row without a leak channel is not valid either: the theory's seal, shut without the fluid's
+    pressure, is opened by it (an O-ring at 50 bar against a 10 bar peak was "sealed", valid)."""
     def why(i: int) -> str:
-        shut = ("; the theory's answer, sealed (no leak channel without the fluid's pressure), does not hold: the open "
-                "seal leaks, by how much the theory does not say")
-        said = (reason[i] if percolates[i] else reason[i].replace(_AT_LIMIT, shut) if _AT_LIMIT in reason[i]
-                else reason[i] + shut)
+        said = cause[i] + ((_AT_LIMIT if coupled else "") if percolates[i] else _SHUT) + suffix
         return said if valid[i] else f"{said}; also {reasons[i]}"
     return valid & ~lifted, tuple(why(i) if lifted[i] else r for i, r in enumerate(reasons))
 

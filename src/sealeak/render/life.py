@@ -133,13 +133,14 @@ def life_figure_names(times: int, temperatures: int) -> tuple[str, ...]:
     return tuple(n for n, k in zip(LIFE_FIGURE_NAMES, (times, temperatures)) if k > 1)
 
 
-def volume_limit(unc: UncertaintyResult | None) -> tuple[float, str] | None:
+def volume_limit(unc: UncertaintyResult | None, drawn: str | None = None) -> tuple[float, str] | None:
     """``conditions.max_leak_rate`` as compared and as written: a leak rate Q (m³/s) where it is compared with Q (a
-    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV; else None (none given, a liquid's helium
+    volume flow), a gas's pV throughput (Pa·m³/s) where with Q_pV (or with ``drawn``, the record key a figure draws
+    where not these: a gas's total with permeation, ``leak_rate_total_pv``); else None (none given, a liquid's helium
     equivalent: on neither axis, or a limit that is no one line: a standard or molar flow, or a mass flow, is a pV
     throughput that differs with the gas's temperature from case to case)."""
     if unc is None or unc.limits is None or not unc.limit_keys or len(set(unc.limit_keys)) != 1 or \
-            unc.limit_keys[0] not in ("leak_rate", "leak_rate_pv") or len(set(unc.limits.tolist())) != 1:
+            unc.limit_keys[0] not in ((drawn,) if drawn else ("leak_rate", "leak_rate_pv")) or len(set(unc.limits.tolist())) != 1:
         return None
     if unc.limit_keys[0] == "leak_rate" and any(c.gas is not None for c in unc.study.cases):
         return None  # a gas's figures draw Q_pV: a volume-flow limit is on none of their axes

@@ -36,6 +36,7 @@ from .life import volume_limit
 from .notes import load_axis_label, load_text
 from .plotstyle import (
     GAS_LEAK_LABEL,
+    LIMIT_DECADES,
     ML_PER_MIN_PER_M3_PER_S,
     PA_M3_PER_MBAR_L,
     color,
@@ -65,10 +66,6 @@ _SEALED_STRIP = 0.09
 #: Decades a leak-rate axis spans at most below its largest value: a percentile of a load where nearly every sample
 #: seals may be 1e-38 m³/s, which would squeeze what matters into the top of the figure.
 _MAX_DECADES = 8.0
-#: Decades above (or below) the leak rates within which a leak-rate axis reaches out to ``max_leak_rate``; a limit
-#: farther away is named at the axis' edge, with how far it lies: as the axis' end it would squeeze the leak rates into
-#: its floor (a 1e-3 ml/min limit over leak rates near 1e-19 m³/s left every median below the axis).
-_LIMIT_REACH = 3.0
 #: The most variants (study values, a life case's times and temperatures) a fan chart draws a band for.
 MAX_FAN_BANDS = 6
 _SPEC_COLOUR = "tab:red"
@@ -120,13 +117,15 @@ def _leak_limits(values: np.ndarray, sealed: bool) -> tuple[float, float, float]
 
 
 def _far_from(leaking: np.ndarray, limit: float | None) -> str:
-    """"above" or "below" where ``limit`` lies more than :data:`_LIMIT_REACH` decades above the largest of the positive
-    ``leaking`` values, or farther below it than the axis reaches (:data:`_MAX_DECADES`); "" otherwise (or without
-    either)."""
+    """"above" or "below" where ``limit`` lies more than :data:`~sealeak.render.plotstyle.LIMIT_DECADES` above the
+    largest of the positive ``leaking`` values (as far as the other leak-rate figures widen their axes for it, see
+    :func:`~sealeak.render.plotstyle.draw_limit`), or farther below it than the axis reaches (:data:`_MAX_DECADES`);
+    "" otherwise (or without either). As the axis' end, such a limit would squeeze the leak rates into its floor (a
+    1e-3 ml/min limit over leak rates near 1e-19 m³/s left every median below the axis): it is named in the legend."""
     if limit is None or not (np.isfinite(limit) and limit > 0) or not leaking.size:
         return ""
     gap = float(np.log10(limit) - np.log10(leaking.max()))
-    return "above" if gap > _LIMIT_REACH else "below" if gap < -_MAX_DECADES else ""
+    return "above" if gap > LIMIT_DECADES else "below" if gap < -_MAX_DECADES else ""
 
 
 def _sealed_strip(ax, top: float, bottom: float) -> None:
@@ -373,12 +372,10 @@ def _leak_key(unc: UncertaintyResult) -> tuple[str, str, float | None]:
     """(record key, unit, ``max_leak_rate`` in that unit or None) of the figures: a gas's pV throughput in mbar·l/s (the
     unit of its other figures), else Q in m³/s; the limit where every row compares that quantity with the same one."""
     gas = "leak_rate_mbar_l_s" in unc.values
-    if "leak_rate_total_mbar_l_s" in unc.values:  # with permeation: the total, which max_leak_rate is compared with
-        keys, limits = unc.limit_keys, unc.limits
-        one = keys is not None and limits is not None and set(keys) == {"leak_rate_total_pv"} and len(set(limits.tolist())) == 1
-        return "leak_rate_total_mbar_l_s", "mbar·l/s", float(limits[0]) / PA_M3_PER_MBAR_L if one and limits is not None else None
-    key, unit = ("leak_rate_mbar_l_s", "mbar·l/s") if gas else ("leak_rate", "m³/s")
-    limit = limit_in_axis_unit(volume_limit(unc), gas)  # volume_limit: only a limit compared with what is drawn
+    total = "leak_rate_total_mbar_l_s" in unc.values  # with permeation: the total, which max_leak_rate is compared with
+    key, unit = ("leak_rate_total_mbar_l_s" if total else "leak_rate_mbar_l_s", "mbar·l/s") if gas else ("leak_rate", "m³/s")
+    # volume_limit: only a limit compared with what is drawn
+    limit = limit_in_axis_unit(volume_limit(unc, "leak_rate_total_pv" if total else None), gas)
     return key, unit, None if limit is None else limit[0]
 
 
